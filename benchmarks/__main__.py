@@ -1,0 +1,26 @@
+"""`python -m benchmarks [NAME ...]`: run every benchmark module (or the named ones) and print
+its figures. Times are medians over repeated runs; ratios are against floors measured in the
+same run, never absolute assertions."""
+from __future__ import annotations
+
+import importlib
+import pkgutil
+import sys
+
+import benchmarks
+
+
+def main(argv: list[str]) -> int:
+    names = sorted(m.name for m in pkgutil.iter_modules(benchmarks.__path__)
+                   if m.name.startswith("bench_"))
+    if argv:
+        names = [n for n in names if any(a in n for a in argv)]
+    for name in names:
+        print(f"== {name}", flush=True)
+        for line in importlib.import_module(f"benchmarks.{name}").run():
+            print(line, flush=True)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))

@@ -1,0 +1,443 @@
+"""Radar configuration: the AWR2944 waveform, antenna, DDMA/TDMA schedule and RF budget.
+
+`RadarConfig` is the single description of a radar that every stage reads. It is a frozen
+dataclass with units in its field names; every chip or method limit of DESIGN section 4.4 is
+checked at construction and named in the error. Derived quantities (resolutions, unambiguous
+velocity, phase codes, virtual array) are read-only properties.
+
+References
+----------
+.. [1] TI, "AWR2944 DDMA waveform for corner radar" (seed 000), tables 2-4, figure 20, eq. 1-10.
+.. [2] TI, "AWR1642 velocity disambiguation" (seed 001), TDMA Vmax = lambda / (4 Nt Tc).
+"""
+from __future__ import annotations
+
+import dataclasses
+import math
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+__all__ = [
+    "RadarConfig", "MIMO_SCHEMES", "PHASE_QUANTIZATIONS", "ANTENNA_PATTERNS",
+    "C_MPS", "K_BOLTZMANN", "MAX_ADC_RATE_SPS", "MAX_IF_BANDWIDTH_HZ", "BAND_MIN_HZ",
+    "BAND_MAX_HZ",
+]
+
+C_MPS = 299_792_458.0
+K_BOLTZMANN = 1.380649e-23
+MAX_ADC_RATE_SPS = 37.5e6  # AWR2944 real ADC chain
+MAX_IF_BANDWIDTH_HZ = 15e6  # AWR2944 IF bandwidth
+BAND_MIN_HZ = 76e9
+BAND_MAX_HZ = 81e9
+MAX_N_TX = 4
+MAX_N_RX = 4
+ADC_FULL_SCALE_CODE = 32767
+
+#: MIMO schemes: how the transmitters share a frame.
+MIMO_SCHEMES = {
+    "ddma": "Doppler-division: all Tx every chirp, per-Tx phase step, empty sub-bands",
+    "tdma": "time-division: one Tx per chirp, in turn",
+}
+#: How a programmed phase is mapped onto the shifter's codes.
+PHASE_QUANTIZATIONS = {
+    "floor": "code = floor(phase / lsb), as seed 000 table 4",
+    "round": "code = round(phase / lsb), as TI's SDK",
+    "none": "ideal shifter (no quantisation)",
+}
+#: Element gain patterns.
+ANTENNA_PATTERNS = {
+    "cosine": "power gain G0 cos(az)^n_az cos(el)^n_el inside +/-90 deg, 0 behind",
+    "isotropic": "G0 in every direction (tests)",
+}
+
+# AWR2944 EVM element positions (DESIGN 4.2) in wavelengths: (y, z). y grows to the left.
+_TX_POS_WL = {1: (0.0, 0.0), 2: (1.0, 0.8), 3: (2.0, 0.0), 4: (4.0, 0.0)}
+_RX_POS_WL = {1: (0.0, 0.0), 2: (0.5, 0.0), 3: (1.0, 0.0), 4: (1.5, 0.0)}
+
+
+def _default_tx_order(n_tx: int) -> tuple[int, ...]:
+    # Horizontal Tx first (Tx1, Tx3, Tx4), the raised Tx2 last, as the R79 demo (seed 000 3.3).
+    return tuple(t for t in (1, 3, 4, 2) if t <= n_tx)
+
+
+@dataclass(frozen=True, kw_only=True, slots=True)
+class RadarConfig:
+    """One AWR2944 radar: waveform, MIMO schedule, antenna and RF budget.
+
+    Parameters (all SI, unit in the name)
+    ----------
+    mimo : {"ddma", "tdma"}
+        MIMO scheme, see `MIMO_SCHEMES`.
+    n_tx, n_rx : int
+        Active transmitters (Tx1..Tx{n_tx}) and receivers, 1..4 each.
+    start_freq_hz, slope_hz_per_s : float
+        Ramp start frequency and slope.
+    idle_time_s, adc_start_time_s, ramp_end_time_s, chirp_period_s : float
+        Chirp timing; the period must equal idle + ramp end time.
+    n_samples : int
+        Real ADC samples per chirp and Rx.
+    adc_rate_sps : float
+        ADC sampling rate (real samples per second).
+    n_chirps : int
+        Chirps per frame (all transmitters together).
+    n_subbands : int or None
+        DDMA Doppler sub-bands; default Nt + 2 for Nt = 4, Nt + 1 otherwise (seed 000 3.3).
+        Ignored for TDMA.
+    tx_order : tuple of int or None
+        DDMA: which Tx occupies sub-band 0, 1, ...; TDMA: which Tx fires in slot 0, 1, ...
+        Default (1, 3, 4, 2) restricted to the active Tx.
+    phase_shifter_bits : int
+        Shifter resolution (AWR2944: 6 bits, 5.625 deg per LSB).
+    phase_quantization : {"floor", "round", "none"}
+        How programmed phases map to codes, see `PHASE_QUANTIZATIONS`.
+    tx_phase_error_deg, tx_gain_error_db : tuple of float or None
+        Static per-Tx phase and gain errors (uncalibrated shifters: > +/-10 deg).
+    phase_noise_deg_rms : float
+        Random per-chirp, per-Tx phase error, deg rms (independent Gaussian).
+    tx_power_dbm : float
+        Power per transmitter at the antenna port.
+    tx_antenna_gain_dbi, rx_antenna_gain_dbi : float
+        Element boresight gains.
+    antenna_pattern : {"cosine", "isotropic"}
+        Element pattern, see `ANTENNA_PATTERNS`.
+    pattern_exponent_az, pattern_exponent_el : float
+        Exponents n of the cosine power pattern (per element, one way).
+    noise_figure_db, system_loss_db, temperature_k : float
+        Receiver noise figure, lumped losses (radome, cabling, implementation), noise temperature.
+    adc_full_scale_dbm : float
+        Input-referred power of a full-scale sine at the ADC (receiver gain folded in).
+
+    Raises
+    ------
+    ValueError
+        For every limit of DESIGN 4.4 and every out-of-domain value; the message names the
+        field, the value and the limit.
+    """
+
+    mimo: str = "ddma"
+    n_tx: int = 4
+    n_rx: int = 4
+    start_freq_hz: float = 77e9
+    slope_hz_per_s: float = 8.883e12
+    idle_time_s: float = 5e-6
+    adc_start_time_s: float = 5e-6
+    ramp_end_time_s: float = 18.81e-6
+    chirp_period_s: float = 23.81e-6
+    n_samples: int = 384
+    adc_rate_sps: float = 30e6
+    n_chirps: int = 768
+    n_subbands: int | None = None
+    tx_order: tuple[int, ...] | None = None
+    phase_shifter_bits: int = 6
+    phase_quantization: str = "floor"
+    tx_phase_error_deg: tuple[float, ...] | None = None
+    tx_gain_error_db: tuple[float, ...] | None = None
+    phase_noise_deg_rms: float = 0.0
+    tx_power_dbm: float = 12.0
+    tx_antenna_gain_dbi: float = 10.0
+    rx_antenna_gain_dbi: float = 10.0
+    antenna_pattern: str = "cosine"
+    pattern_exponent_az: float = 1.2
+    pattern_exponent_el: float = 4.0
+    noise_figure_db: float = 12.0
+    system_loss_db: float = 3.0
+    temperature_k: float = 290.0
+    adc_full_scale_dbm: float = -20.0
+
+    def __post_init__(self) -> None:
+        _set = lambda name, value: object.__setattr__(self, name, value)  # noqa: E731
+        if self.mimo not in MIMO_SCHEMES:
+            raise ValueError(f"mimo={self.mimo!r} is not one of {sorted(MIMO_SCHEMES)}")
+        for name, hi in (("n_tx", MAX_N_TX), ("n_rx", MAX_N_RX)):
+            val = getattr(self, name)
+            if not isinstance(val, (int, np.integer)) or not 1 <= val <= hi:
+                raise ValueError(f"{name}={val!r} must be an integer in 1..{hi} (AWR2944)")
+        for name in ("n_samples", "n_chirps"):
+            val = getattr(self, name)
+            if not isinstance(val, (int, np.integer)) or val < 2:
+                raise ValueError(f"{name}={val!r} must be an integer >= 2")
+        if self.n_samples % 2:
+            raise ValueError(f"n_samples={self.n_samples} must be even (real ADC: "
+                             "n_samples/2 range bins)")
+        for name in ("start_freq_hz", "slope_hz_per_s", "idle_time_s", "ramp_end_time_s",
+                     "chirp_period_s", "adc_rate_sps", "temperature_k"):
+            val = getattr(self, name)
+            if not (math.isfinite(val) and val > 0):
+                raise ValueError(f"{name}={val!r} must be a finite positive number")
+        if not (math.isfinite(self.adc_start_time_s) and self.adc_start_time_s >= 0):
+            raise ValueError(f"adc_start_time_s={self.adc_start_time_s!r} must be >= 0")
+        for name in ("tx_power_dbm", "tx_antenna_gain_dbi", "rx_antenna_gain_dbi",
+                     "noise_figure_db", "system_loss_db", "adc_full_scale_dbm",
+                     "phase_noise_deg_rms", "pattern_exponent_az", "pattern_exponent_el"):
+            if not math.isfinite(getattr(self, name)):
+                raise ValueError(f"{name}={getattr(self, name)!r} must be finite")
+        for name in ("noise_figure_db", "system_loss_db", "phase_noise_deg_rms",
+                     "pattern_exponent_az", "pattern_exponent_el"):
+            if getattr(self, name) < 0:
+                raise ValueError(f"{name}={getattr(self, name)!r} must be >= 0")
+
+        # DESIGN 4.4: chip limits.
+        if self.adc_rate_sps > MAX_ADC_RATE_SPS:
+            raise ValueError(f"adc_rate_sps={self.adc_rate_sps:g} exceeds the AWR2944 limit "
+                             f"{MAX_ADC_RATE_SPS:g} sps")
+        if self.max_beat_frequency_hz > MAX_IF_BANDWIDTH_HZ * (1 + 1e-9):
+            raise ValueError(f"adc_rate_sps={self.adc_rate_sps:g}: beat (IF) frequency span "
+                             f"{self.max_beat_frequency_hz:g} Hz exceeds the IF bandwidth "
+                             f"limit {MAX_IF_BANDWIDTH_HZ:g} Hz")
+        if self.start_freq_hz < BAND_MIN_HZ:
+            raise ValueError(f"start_freq_hz={self.start_freq_hz:g} is below the band limit "
+                             f"{BAND_MIN_HZ:g} Hz")
+        ramp_top = self.start_freq_hz + self.slope_hz_per_s * self.ramp_end_time_s
+        if ramp_top > BAND_MAX_HZ * (1 + 1e-12):
+            raise ValueError(f"slope_hz_per_s={self.slope_hz_per_s:g}: ramp end frequency "
+                             f"start + slope x ramp_end = {ramp_top:g} Hz exceeds the band "
+                             f"limit {BAND_MAX_HZ:g} Hz")
+        adc_end = self.adc_start_time_s + self.n_samples / self.adc_rate_sps
+        if adc_end > self.ramp_end_time_s * (1 + 1e-9):
+            raise ValueError(f"n_samples={self.n_samples}: ADC window ends at "
+                             f"adc_start_time_s + n_samples / adc_rate_sps = {adc_end:g} s, "
+                             f"after ramp_end_time_s={self.ramp_end_time_s:g} s")
+        period = self.idle_time_s + self.ramp_end_time_s
+        if not math.isclose(self.chirp_period_s, period, rel_tol=1e-6):
+            raise ValueError(f"chirp_period_s={self.chirp_period_s:g} must equal idle_time_s + "
+                             f"ramp_end_time_s = {period:g} s")
+        if not isinstance(self.phase_shifter_bits, (int, np.integer)) or \
+                self.phase_shifter_bits != 6:
+            raise ValueError(f"phase_shifter_bits={self.phase_shifter_bits!r}: the AWR2944 "
+                             "phase shifter has 6 bits")
+        if self.phase_quantization not in PHASE_QUANTIZATIONS:
+            raise ValueError(f"phase_quantization={self.phase_quantization!r} is not one of "
+                             f"{sorted(PHASE_QUANTIZATIONS)}")
+        if self.antenna_pattern not in ANTENNA_PATTERNS:
+            raise ValueError(f"antenna_pattern={self.antenna_pattern!r} is not one of "
+                             f"{sorted(ANTENNA_PATTERNS)}")
+
+        # MIMO schedule.
+        order = _default_tx_order(self.n_tx) if self.tx_order is None else \
+            tuple(int(t) for t in self.tx_order)
+        if sorted(order) != list(range(1, self.n_tx + 1)):
+            raise ValueError(f"tx_order={order!r} must be a permutation of Tx 1..{self.n_tx}")
+        _set("tx_order", order)
+        if self.n_subbands is None:
+            _set("n_subbands", self.n_tx + 2 if self.n_tx == 4 else self.n_tx + 1)
+        elif not isinstance(self.n_subbands, (int, np.integer)) or \
+                self.n_subbands <= self.n_tx:
+            raise ValueError(f"n_subbands={self.n_subbands!r} must be an integer > n_tx="
+                             f"{self.n_tx} (empty-band DDMA needs at least one empty band)")
+        if self.mimo == "ddma" and self.n_chirps % self.n_subbands:
+            raise ValueError(f"n_chirps={self.n_chirps} must be divisible by the number of "
+                             f"DDMA sub-bands n_subbands={self.n_subbands}")
+        if self.mimo == "tdma" and self.n_chirps % self.n_tx:
+            raise ValueError(f"n_chirps={self.n_chirps} must be divisible by n_tx={self.n_tx} "
+                             "for TDMA")
+        for name in ("tx_phase_error_deg", "tx_gain_error_db"):
+            val = getattr(self, name)
+            if val is None:
+                _set(name, (0.0,) * self.n_tx)
+                continue
+            val = tuple(float(v) for v in val)
+            if len(val) != self.n_tx or not all(math.isfinite(v) for v in val):
+                raise ValueError(f"{name} must hold {self.n_tx} finite values (one per Tx), "
+                                 f"got {val!r}")
+            _set(name, val)
+
+    # ------------------------------------------------------------------ derived: waveform
+    @property
+    def wavelength_m(self) -> float:
+        """Wavelength at the start frequency, m (77 GHz: 3.893 mm)."""
+        return C_MPS / self.start_freq_hz
+
+    @property
+    def sampled_bandwidth_hz(self) -> float:
+        """Bandwidth swept while the ADC samples, Hz (R79: 113.7 MHz)."""
+        return self.slope_hz_per_s * self.n_samples / self.adc_rate_sps
+
+    @property
+    def n_range_bins(self) -> int:
+        """Range bins kept after the real FFT: n_samples / 2."""
+        return self.n_samples // 2
+
+    @property
+    def range_resolution_m(self) -> float:
+        """c / 2B, m (R79: 1.318 m)."""
+        return C_MPS / (2 * self.sampled_bandwidth_hz)
+
+    @property
+    def max_range_m(self) -> float:
+        """Range of the last kept bin edge, n_samples/2 x resolution, m (R79: 253 m)."""
+        return self.n_range_bins * self.range_resolution_m
+
+    @property
+    def max_beat_frequency_hz(self) -> float:
+        """Highest beat frequency the real ADC can represent: adc_rate / 2, Hz."""
+        return self.adc_rate_sps / 2
+
+    @property
+    def noise_bandwidth_hz(self) -> float:
+        """Noise bandwidth of the real ADC samples (Nyquist band), Hz."""
+        return self.adc_rate_sps / 2
+
+    @property
+    def frame_time_s(self) -> float:
+        """Duration of the chirp burst, n_chirps x chirp period, s (R79: 18.29 ms)."""
+        return self.n_chirps * self.chirp_period_s
+
+    @property
+    def n_virtual(self) -> int:
+        """Number of virtual antennas, n_tx x n_rx."""
+        return self.n_tx * self.n_rx
+
+    @property
+    def n_doppler_bins(self) -> int:
+        """Doppler bins per transmitter after demodulation: chirps per sub-band (DDMA) or per
+        Tx (TDMA)."""
+        return self.n_chirps // (self.n_subbands if self.mimo == "ddma" else self.n_tx)
+
+    @property
+    def velocity_resolution_mps(self) -> float:
+        """lambda / (2 N Tc) with N the chirps of one Tx's slow-time sequence, m/s.
+
+        DDMA: every Tx fires all 768 chirps at Tc (0.1065 m/s). TDMA: 192 chirps at 4 Tc,
+        which spans the same frame time, so the resolution is the same."""
+        return self.wavelength_m / (2 * self.frame_time_s)
+
+    @property
+    def max_unambiguous_velocity_mps(self) -> float:
+        """Radial velocity the chain reports without aliasing, +/- this value, m/s.
+
+        DDMA: lambda / (4 Tc) (40.9 m/s), recovered by empty-band demodulation (seed 000 3.3).
+        TDMA: lambda / (4 Nt Tc) (10.22 m/s for Nt = 4) before any disambiguation."""
+        tc = self.chirp_period_s * (1 if self.mimo == "ddma" else self.n_tx)
+        return self.wavelength_m / (4 * tc)
+
+    @property
+    def subband_width_mps(self) -> float:
+        """DDMA sub-band width in velocity, 2 Vmax / n_subbands (R79: 13.63 m/s)."""
+        return 2 * self.wavelength_m / (4 * self.chirp_period_s) / self.n_subbands
+
+    # ------------------------------------------------------------------ derived: MIMO
+    @property
+    def phase_lsb_deg(self) -> float:
+        """Phase-shifter step, deg (6 bits: 5.625 deg)."""
+        return 360.0 / 2 ** self.phase_shifter_bits
+
+    @property
+    def subband_of_tx(self) -> dict[int, int]:
+        """DDMA sub-band (or TDMA slot) of each Tx, keyed by 1-based Tx number."""
+        return {tx: i for i, tx in enumerate(self.tx_order)}
+
+    def ideal_phase_step_rad(self) -> np.ndarray:
+        """(n_tx,) DDMA phase step per chirp of Tx1..Tx{n_tx}: 2 pi p / N, p the sub-band."""
+        p = np.array([self.subband_of_tx[t] for t in range(1, self.n_tx + 1)], dtype=float)
+        return 2 * np.pi * p / self.n_subbands
+
+    def programmed_phase_deg(self) -> np.ndarray:
+        """(n_tx, n_subbands) ideal phase programmed into the shifters over one code period, deg.
+
+        The shifter delays the signal, so the programmed phase is the negative of the step,
+        wrapped to [0, 360) (seed 000 table 3)."""
+        c = np.arange(self.n_subbands)
+        step_deg = np.degrees(self.ideal_phase_step_rad())
+        return np.mod(-step_deg[:, None] * c[None, :], 360.0)
+
+    def phase_codes(self) -> np.ndarray:
+        """(n_tx, n_subbands) int shifter codes over one code period (seed 000 table 4).
+
+        `floor` reproduces table 4 (Tx3: 0, 53, 42, 32, 21, 10); `round` is the SDK's rule;
+        `none` returns the nearest code but `applied_phase_rad` then uses ideal phases."""
+        prog = self.programmed_phase_deg() / self.phase_lsb_deg
+        n_codes = 2 ** self.phase_shifter_bits
+        if self.phase_quantization == "floor":
+            # A tiny tolerance keeps exact multiples (e.g. 180/5.625 = 32) from flooring down.
+            codes = np.floor(prog + 1e-9)
+        else:
+            codes = np.round(prog)
+        return np.mod(codes, n_codes).astype(np.int64)
+
+    def applied_phase_rad(self) -> np.ndarray:
+        """(n_tx, n_subbands) phase actually imposed on each Tx's signal per chirp of one code
+        period, rad, before static and random errors: the negative of the programmed shifter
+        phase (ideal or quantised)."""
+        if self.mimo == "tdma":
+            return np.zeros((self.n_tx, self.n_subbands))
+        if self.phase_quantization == "none":
+            prog_deg = self.programmed_phase_deg()
+        else:
+            prog_deg = self.phase_codes() * self.phase_lsb_deg
+        return -np.radians(prog_deg)
+
+    # ------------------------------------------------------------------ derived: antenna
+    @property
+    def tx_positions_m(self) -> np.ndarray:
+        """(n_tx, 3) positions of Tx1..Tx{n_tx} in the radar frame, m (DESIGN 4.2)."""
+        yz = np.array([_TX_POS_WL[t] for t in range(1, self.n_tx + 1)])
+        return self.wavelength_m * np.column_stack([np.zeros(self.n_tx), yz])
+
+    @property
+    def rx_positions_m(self) -> np.ndarray:
+        """(n_rx, 3) positions of Rx1..Rx{n_rx} in the radar frame, m (lambda/2 line)."""
+        yz = np.array([_RX_POS_WL[r] for r in range(1, self.n_rx + 1)])
+        return self.wavelength_m * np.column_stack([np.zeros(self.n_rx), yz])
+
+    @property
+    def virtual_positions_m(self) -> np.ndarray:
+        """(n_tx x n_rx, 3) virtual element positions t_k + r_r in the demodulated order:
+        Tx in `tx_order` (Tx1, Tx3, Tx4, Tx2), Rx1..Rx{n_rx} within each, m."""
+        t = self.tx_positions_m[np.array(self.tx_order) - 1]
+        return (t[:, None, :] + self.rx_positions_m[None, :, :]).reshape(-1, 3)
+
+    # ------------------------------------------------------------------ derived: RF budget
+    @property
+    def noise_power_w(self) -> float:
+        """Thermal noise power of the real ADC samples, k T NF B with B = adc_rate / 2, W."""
+        return K_BOLTZMANN * self.temperature_k * 10 ** (self.noise_figure_db / 10) * \
+            self.noise_bandwidth_hz
+
+    @property
+    def adc_code_per_sqrt_w(self) -> float:
+        """Scale from input-referred amplitude (sqrt(W), sine peak = sqrt(2 P)) to ADC codes:
+        a sine of power `adc_full_scale_dbm` reaches the full-scale code 32767."""
+        p_fs_w = 1e-3 * 10 ** (self.adc_full_scale_dbm / 10)
+        return ADC_FULL_SCALE_CODE / math.sqrt(2 * p_fs_w)
+
+    @property
+    def noise_rms_lsb(self) -> float:
+        """Standard deviation of the thermal noise at the ADC, LSB."""
+        return math.sqrt(self.noise_power_w) * self.adc_code_per_sqrt_w
+
+    # ------------------------------------------------------------------ (de)serialisation
+    def to_dict(self) -> dict[str, Any]:
+        """Plain dict of the fields (tuples as lists), suitable for TOML/JSON."""
+        out = {}
+        for f in dataclasses.fields(self):
+            v = getattr(self, f.name)
+            out[f.name] = list(v) if isinstance(v, tuple) else v
+        return out
+
+    @classmethod
+    def from_dict(cls, data: dict[str, Any]) -> "RadarConfig":
+        """Build from a dict; unknown keys raise ValueError naming them."""
+        names = {f.name for f in dataclasses.fields(cls)}
+        unknown = sorted(set(data) - names)
+        if unknown:
+            raise ValueError(f"unknown RadarConfig field(s) {unknown}; known: {sorted(names)}")
+        kw = {k: tuple(v) if isinstance(v, list) else v for k, v in data.items()}
+        return cls(**kw)
+
+    def replace(self, **changes: Any) -> "RadarConfig":
+        """A copy with some fields changed (validated again); unknown fields raise ValueError.
+
+        `tx_order`, `n_subbands` and the per-Tx error tuples are re-derived when `n_tx` changes
+        and they are not given."""
+        names = {f.name for f in dataclasses.fields(self)}
+        unknown = sorted(set(changes) - names)
+        if unknown:
+            raise ValueError(f"unknown RadarConfig field(s) {unknown}")
+        data = {f.name: getattr(self, f.name) for f in dataclasses.fields(self)}
+        if "n_tx" in changes and changes["n_tx"] != self.n_tx:
+            for k in ("tx_order", "n_subbands", "tx_phase_error_deg", "tx_gain_error_db"):
+                data[k] = None
+        data.update(changes)
+        return RadarConfig(**data)

@@ -1,0 +1,121 @@
+"""Point scatterers in the radar frame: the interface between the RCS model and the front end.
+
+A `Scatterers` set is what the front end sees of a scene at one frame: K points with position,
+velocity (relative to the radar, ego motion included) and radar cross-section. Conventions of
+DESIGN section 3: radar frame x along boresight, y left, z up; metres, m/s, m^2.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+__all__ = ["Scatterers"]
+
+
+def _as_float_array(name: str, value, shape_tail: tuple[int, ...]) -> np.ndarray:
+    arr = np.asarray(value, dtype=np.float64)
+    if arr.ndim != 1 + len(shape_tail) or arr.shape[1:] != shape_tail:
+        want = "(K, " + ", ".join(map(str, shape_tail)) + ")" if shape_tail else "(K,)"
+        raise ValueError(f"{name} must have shape {want}, got {arr.shape}")
+    if not np.all(np.isfinite(arr)):
+        raise ValueError(f"{name} contains non-finite values")
+    return arr
+
+
+@dataclass(frozen=True, slots=True, init=False)
+class Scatterers:
+    """K point scatterers in the radar frame.
+
+    Parameters
+    ----------
+    position_m : (K, 3) float
+        Position at the frame's reference time (the middle of the chirp burst), radar frame, m.
+    velocity_mps : (K, 3) float
+        Velocity relative to the radar (ego motion included), radar frame, m/s.
+    rcs_m2 : (K,) float
+        Radar cross-section, m^2, >= 0.
+    actor_id : (K,) int, optional
+        Ground-truth actor of each scatterer; -1 for none (clutter, multipath). Default all -1.
+
+    Raises
+    ------
+    ValueError
+        On a wrong shape, a non-finite value, a negative RCS, a scatterer at the radar
+        (range < 1 mm) or mismatched K.
+    """
+
+    position_m: np.ndarray
+    velocity_mps: np.ndarray
+    rcs_m2: np.ndarray
+    actor_id: np.ndarray
+
+    def __init__(self, position_m, velocity_mps, rcs_m2, actor_id=None) -> None:
+        pos = _as_float_array("position_m", np.reshape(position_m, (-1, 3))
+                              if np.size(position_m) == 0 else position_m, (3,))
+        vel = _as_float_array("velocity_mps", np.reshape(velocity_mps, (-1, 3))
+                              if np.size(velocity_mps) == 0 else velocity_mps, (3,))
+        rcs = _as_float_array("rcs_m2", rcs_m2, ())
+        k = pos.shape[0]
+        if vel.shape[0] != k or rcs.shape[0] != k:
+            raise ValueError(f"position_m, velocity_mps and rcs_m2 must have the same K, got "
+                             f"{pos.shape[0]}, {vel.shape[0]}, {rcs.shape[0]}")
+        if np.any(rcs < 0):
+            raise ValueError(f"rcs_m2 must be >= 0, got min {rcs.min():g}")
+        if k and np.min(np.linalg.norm(pos, axis=1)) < 1e-3:
+            raise ValueError("position_m: a scatterer sits at the radar (range < 1 mm)")
+        if actor_id is None:
+            aid = np.full(k, -1, dtype=np.int64)
+        else:
+            aid = np.asarray(actor_id)
+            if aid.shape != (k,) or not np.issubdtype(aid.dtype, np.integer):
+                raise ValueError(f"actor_id must be an integer array of shape ({k},), got "
+                                 f"{aid.dtype} {aid.shape}")
+            aid = aid.astype(np.int64)
+        for name, arr in (("position_m", pos), ("velocity_mps", vel), ("rcs_m2", rcs),
+                          ("actor_id", aid)):
+            arr.setflags(write=False)
+            object.__setattr__(self, name, arr)
+
+    def __len__(self) -> int:
+        return self.rcs_m2.shape[0]
+
+    @classmethod
+    def empty(cls) -> "Scatterers":
+        """A set with K = 0 scatterers (pure-noise frame)."""
+        return cls(np.zeros((0, 3)), np.zeros((0, 3)), np.zeros(0))
+
+    @classmethod
+    def concatenate(cls, parts: list["Scatterers"]) -> "Scatterers":
+        """Join several sets into one (order preserved)."""
+        if not parts:
+            return cls.empty()
+        return cls(np.concatenate([p.position_m for p in parts]),
+                   np.concatenate([p.velocity_mps for p in parts]),
+                   np.concatenate([p.rcs_m2 for p in parts]),
+                   np.concatenate([p.actor_id for p in parts]))
+
+    @property
+    def range_m(self) -> np.ndarray:
+        """(K,) slant range, m."""
+        return np.linalg.norm(self.position_m, axis=1)
+
+    @property
+    def unit_vector(self) -> np.ndarray:
+        """(K, 3) unit vectors from the radar to each scatterer."""
+        return self.position_m / self.range_m[:, None]
+
+    @property
+    def radial_velocity_mps(self) -> np.ndarray:
+        """(K,) d(range)/dt, m/s; negative = approaching (DESIGN 3)."""
+        return np.einsum("kd,kd->k", self.velocity_mps, self.unit_vector)
+
+    @property
+    def azimuth_deg(self) -> np.ndarray:
+        """(K,) atan2(y, x), deg, positive to the left."""
+        return np.degrees(np.arctan2(self.position_m[:, 1], self.position_m[:, 0]))
+
+    @property
+    def elevation_deg(self) -> np.ndarray:
+        """(K,) asin(z / r), deg."""
+        return np.degrees(np.arcsin(np.clip(self.position_m[:, 2] / self.range_m, -1, 1)))
