@@ -1,0 +1,313 @@
+"""ADC frame to point cloud: the empty-band DDMA chain of TI's R79 demo and a TDMA baseline.
+
+DDMA (seed 000 section 5): range FFT -> Doppler FFT over all chirps -> empty-band demodulation
+(cyclic sub-band sum, table 11), which both separates the transmitters and unwraps the velocity
+over +/-lambda/(4 Tc) -> zero-padded azimuth FFT of the 12 horizontal virtual antennas ->
+Doppler-azimuth map per range bin -> OS-CFAR along Doppler (cyclic) and a 4-neighbour local
+maximum (figure 19) -> azimuth interpolation (table 14) and elevation (table 15).
+
+TDMA (seed 001): range FFT -> Doppler FFT per transmitter slot (n_chirps / n_tx chirps at
+n_tx Tc) -> CFAR on the non-coherent range-Doppler map summed over the virtual antennas ->
+Doppler-phase compensation of later slots (eq. 8-10) -> velocity disambiguation by hypothesis
+testing over v_est + 2 k Vmax (section 4): the hypothesis whose compensation gives the largest
+azimuth-FFT peak wins -> the same angle estimation as DDMA.
+
+`snr_db` is the detection's peak power in the coherent (range, Doppler, azimuth) spectrum over
+the mean noise power of that spectrum, estimated by the CFAR and converted from its order
+statistic to a mean (`cfar.noise_mean_factor`), so DDMA and TDMA values compare directly.
+"""
+from __future__ import annotations
+
+import numpy as np
+import pandas as pd
+import scipy.fft
+
+from radarsim.config import C_MPS, RadarConfig
+
+from .cfar import noise_mean_factor
+from .config import WINDOWS, ProcessingConfig
+from .kernels import (array_layout, candidate_cfar, ddma_metric, doppler_fft,
+                      estimate_angles, local_max_mask, parabolic_offset, range_fft, window)
+
+__all__ = ["process_frame", "frame_spectra", "MIMO_CHAINS", "POINT_CLOUD_COLUMNS"]
+
+#: Columns of every point cloud, in order.
+POINT_CLOUD_COLUMNS = ["range_m", "azimuth_deg", "elevation_deg", "radial_velocity_mps",
+                       "snr_db", "x_m", "y_m", "z_m", "range_bin", "doppler_bin",
+                       "azimuth_bin"]
+
+
+def _check_frame(cfg: RadarConfig, adc: np.ndarray) -> None:
+    if not isinstance(cfg, RadarConfig):
+        raise ValueError(f"cfg must be a radarsim.RadarConfig, got {type(cfg).__name__}")
+    if not isinstance(adc, np.ndarray):
+        raise ValueError(f"adc must be a numpy.ndarray, got {type(adc).__name__}")
+    if adc.dtype != np.int16:
+        raise ValueError(f"adc dtype must be int16 (real ADC samples), got {adc.dtype}")
+    want = (cfg.n_chirps, cfg.n_rx, cfg.n_samples)
+    if adc.shape != want:
+        raise ValueError(f"adc shape {adc.shape} does not match the config "
+                         f"(n_chirps, n_rx, n_samples) = {want}")
+
+
+def _log(p: np.ndarray) -> np.ndarray:
+    return np.log(np.maximum(p, 1e-30))
+
+
+def _point_cloud(cfg: RadarConfig, proc: ProcessingConfig, range_pos: np.ndarray,
+                 velocity: np.ndarray, az: np.ndarray, el: np.ndarray, snr_db: np.ndarray,
+                 bins: dict[str, np.ndarray]) -> pd.DataFrame:
+    rng_m = range_pos * cfg.range_resolution_m
+    if proc.correct_range_doppler_coupling:
+        # f_beat = 2 S R / c + f_D with f_D = -2 v / lambda: undo the Doppler shift.
+        rng_m = rng_m + velocity * C_MPS / (cfg.slope_hz_per_s * cfg.wavelength_m)
+    cos_el = np.cos(el)
+    df = pd.DataFrame({
+        "range_m": rng_m,
+        "azimuth_deg": np.degrees(az),
+        "elevation_deg": np.degrees(el),
+        "radial_velocity_mps": velocity,
+        "snr_db": snr_db,
+        "x_m": rng_m * cos_el * np.cos(az),
+        "y_m": rng_m * cos_el * np.sin(az),
+        "z_m": rng_m * np.sin(el),
+        **bins,
+    })
+    return df.sort_values(["range_bin", "doppler_bin", "azimuth_bin"], ignore_index=True)
+
+
+def _azimuth_spectrum(virt: np.ndarray, h_idx: np.ndarray, h_pos: np.ndarray,
+                      n_fft: int) -> np.ndarray:
+    """Zero-padded FFT over the horizontal row: (..., n_virtual) -> (..., n_fft) complex."""
+    h = np.zeros(virt.shape[:-1] + (n_fft,), dtype=np.complex64)
+    h[..., h_pos] = virt[..., h_idx]
+    return scipy.fft.fft(h, axis=-1, workers=-1)
+
+
+def _interp_azimuth(power_az: np.ndarray, a: np.ndarray) -> np.ndarray:
+    """wx / pi from the azimuth bin of each peak and its cyclic neighbours.
+
+    power_az : (n, n_fft) float; a : (n,) int -> (n,) sin(az) cos(el)."""
+    n_fft = power_az.shape[-1]
+    rows = np.arange(a.size)
+    y = _log(power_az)
+    off = parabolic_offset(y[rows, (a - 1) % n_fft], y[rows, a], y[rows, (a + 1) % n_fft])
+    k = a + off
+    k = np.where(k >= n_fft / 2, k - n_fft, k)  # table 14 step 4: mirror to [-N/2, N/2)
+    return 2.0 * k / n_fft
+
+
+def _interp_range(power_r: np.ndarray, r: np.ndarray, n_range: int) -> np.ndarray:
+    """Fractional range bin from the log power at r-1, r, r+1 (edges not interpolated).
+
+    power_r : (n, 3) float for bins r-1, r, r+1."""
+    y = _log(power_r)
+    off = parabolic_offset(y[:, 0], y[:, 1], y[:, 2])
+    off = np.where((r <= 0) | (r >= n_range - 1), 0.0, off)
+    return r + off
+
+
+# --------------------------------------------------------------------------------------- DDMA
+def _steering_dft(cfg: RadarConfig, n_fft: int) -> np.ndarray:
+    """(n_virtual, n_fft) complex64 zero-padded DFT of the horizontal row as a matrix: row m of a
+    horizontal element at position p is exp(-2j pi p k / n_fft); other elements get zeros."""
+    h_idx, h_pos, *_ = array_layout(cfg.virtual_positions_m, cfg.wavelength_m)
+    w = np.zeros((cfg.n_virtual, n_fft), dtype=np.complex64)
+    w[h_idx] = np.exp(-2j * np.pi * np.outer(h_pos, np.arange(n_fft)) / n_fft)
+    return w
+
+
+def _ddma(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) -> pd.DataFrame:
+    n_sb, n_tx, n_rx = cfg.n_subbands, cfg.n_tx, cfg.n_rx
+    n_dop = cfg.n_chirps // n_sb
+    n_az = proc.n_azimuth_bins
+    rf = range_fft(adc, window(WINDOWS[proc.range_window], cfg.n_samples))  # (C, R, B)
+    n_range = rf.shape[-1]
+    # Slow time last and contiguous for the Doppler FFT and the demodulation gather.
+    spec = doppler_fft(np.ascontiguousarray(rf.transpose(2, 1, 0)),
+                       window(WINDOWS[proc.doppler_window], cfg.n_chirps), axis=-1)  # (B, R, C)
+    energy = (spec.real ** 2 + spec.imag ** 2).sum(axis=1)  # (B, C), summed over Rx
+    z = ddma_metric(energy.T, n_sb, n_tx)  # (N, D, B)
+    tx1_band = np.argmax(z, axis=0)  # (D, B)
+    # Demodulation (table 11): Tx p of Doppler bin d sits at d + n_dop ((band + p) mod N).
+    idx = ((tx1_band.T[:, :, None] + np.arange(n_tx)) % n_sb) * n_dop + \
+        np.arange(n_dop)[None, :, None]  # (B, D, P)
+    virt = np.take_along_axis(spec, idx.reshape(n_range, 1, -1), axis=2)  # (B, R, D*P)
+    virt = virt.reshape(n_range, n_rx, n_dop, n_tx).transpose(0, 2, 3, 1)  # (B, D, P, R)
+    virt = virt.reshape(n_range, n_dop, n_tx * n_rx)  # demodulated order Tx1Rx1..Tx2Rx4
+    # Zero-padded azimuth FFT over the horizontal row as one complex GEMM, then the power map
+    # laid out (range, azimuth, Doppler) so the Doppler CFAR runs along contiguous memory.
+    az_spec = virt.reshape(-1, n_tx * n_rx) @ _steering_dft(cfg, n_az)  # (B*D, A)
+    power = np.abs(az_spec) ** 2
+    power = np.ascontiguousarray(power.reshape(n_range, n_dop, n_az).transpose(0, 2, 1))
+
+    cf = proc.cfar
+    alpha = cf.scale(looks=1)
+    if cf.mode == "os":
+        # Exact necessary condition: the k-th smallest of a subset of the Doppler column is
+        # >= the k-th smallest of the whole column, so alpha x that bounds the threshold.
+        col_k = np.partition(power, cf.os_rank - 1, axis=2)[:, :, cf.os_rank - 1: cf.os_rank]
+        pre = power > alpha * col_k
+    else:
+        pre = np.ones(power.shape, dtype=bool)
+    pre[: proc.min_range_bin] = False
+    local_max_mask(power, {1: True, 2: True}, mask=pre)  # figure 19: 4-neighbour maximum
+    cand = np.unravel_index(np.flatnonzero(pre), power.shape)
+    noise = candidate_cfar(power, cand, 2, cf.guard_cells, cf.window_cells, cf.mode,
+                           cf.os_rank)
+    peak = power[cand]
+    hit = peak > alpha * noise
+    r, a, d = (c[hit] for c in cand)
+    noise, peak = noise[hit], peak[hit]
+    if r.size == 0:
+        return pd.DataFrame({c: pd.Series(dtype=float) for c in POINT_CLOUD_COLUMNS})
+
+    # Range: interpolate on the coherent map at the same (Doppler, azimuth) cell.
+    pr = power[np.clip(r[:, None] + np.arange(-1, 2), 0, n_range - 1), a[:, None], d[:, None]]
+    range_pos = _interp_range(pr, r, n_range)
+    # Doppler: true bin d + n_dop x (Tx1 band); interpolate on the Rx-summed energy of all Tx.
+    k_true = d + n_dop * tx1_band[d, r]
+    offs = (k_true[:, None, None] + np.arange(-1, 2)[None, :, None]
+            + n_dop * np.arange(n_tx)[None, None, :]) % cfg.n_chirps
+    y = _log(energy[r[:, None, None], offs].sum(axis=-1))  # (n, 3)
+    k_frac = k_true + parabolic_offset(y[:, 0], y[:, 1], y[:, 2])
+    k_signed = (k_frac + cfg.n_chirps / 2) % cfg.n_chirps - cfg.n_chirps / 2
+    velocity = -k_signed / (cfg.n_chirps * cfg.chirp_period_s) * cfg.wavelength_m / 2
+    # Angles.
+    h_idx, h_pos, v_idx, v_pos, v_h = array_layout(cfg.virtual_positions_m, cfg.wavelength_m)
+    sin_term = _interp_azimuth(power[r, :, d], a)
+    az, el = estimate_angles(virt[r, d], sin_term, h_idx, h_pos, v_idx, v_pos, v_h)
+    noise_mean = noise / noise_mean_factor(cf.mode, cf.n_training, cf.os_rank, 1)
+    snr_db = 10 * np.log10(peak / noise_mean)
+    return _point_cloud(cfg, proc, range_pos, velocity, az, el, snr_db,
+                        {"range_bin": r, "doppler_bin": k_true % cfg.n_chirps,
+                         "azimuth_bin": a})
+
+
+# --------------------------------------------------------------------------------------- TDMA
+def _tdma(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) -> pd.DataFrame:
+    n_tx = cfg.n_tx
+    n_dop = cfg.n_chirps // n_tx
+    n_az = proc.n_azimuth_bins
+    rf = range_fft(adc, window(WINDOWS[proc.range_window], cfg.n_samples))  # (C, R, B)
+    rf = rf.reshape(n_dop, n_tx, cfg.n_rx, -1)  # chirp = n_tx c' + slot
+    spec = doppler_fft(rf, window(WINDOWS[proc.doppler_window], n_dop))  # (D, S, R, B)
+    n_range = spec.shape[-1]
+    virt_all = np.moveaxis(spec, 3, 0).reshape(n_range, n_dop, -1)  # (B, D, 16) slot-major
+    rd = (np.abs(virt_all) ** 2).sum(axis=-1)  # (B, D), L = n_virtual looks per cell
+
+    cf = proc.cfar
+    looks = cfg.n_virtual
+    alpha = cf.scale(looks=looks)
+    cand_mask = local_max_mask(rd, {0: False, 1: True})
+    cand_mask[: proc.min_range_bin] = False
+    cand = np.nonzero(cand_mask)
+    noise = candidate_cfar(rd, cand, 1, cf.guard_cells, cf.window_cells, cf.mode, cf.os_rank)
+    hit = rd[cand] > alpha * noise
+    r, d = (c[hit] for c in cand)
+    noise = noise[hit]
+    if r.size == 0:
+        return pd.DataFrame({c: pd.Series(dtype=float) for c in POINT_CLOUD_COLUMNS})
+
+    range_pos = _interp_range(rd[np.clip(r[:, None] + np.arange(-1, 2), 0, n_range - 1),
+                                 d[:, None]], r, n_range)
+    y = _log(rd[r[:, None], (d[:, None] + np.arange(-1, 2)) % n_dop])
+    d_frac = d + parabolic_offset(y[:, 0], y[:, 1], y[:, 2])
+    d_signed = (d_frac + n_dop / 2) % n_dop - n_dop / 2
+    t_slot = n_tx * cfg.chirp_period_s
+    v_est = -d_signed / (n_dop * t_slot) * cfg.wavelength_m / 2
+    v_max = cfg.max_unambiguous_velocity_mps
+    if proc.tdma_disambiguation:
+        # Hypotheses v_est + 2 k Vmax covering the full +/- lambda / (4 Tc) span (seed 001 eq.12).
+        k = np.arange(-(n_tx // 2) - 1, n_tx // 2 + 2)
+        v_hyp = v_est[:, None] + 2 * k[None, :] * v_max  # (n, H)
+        span = n_tx * v_max
+        valid = (v_hyp >= -span) & (v_hyp < span)
+    else:
+        v_hyp = v_est[:, None]
+        valid = np.ones_like(v_hyp, dtype=bool)
+    h_idx, h_pos, v_idx, v_pos, v_h = array_layout(cfg.virtual_positions_m, cfg.wavelength_m)
+    virt = virt_all[r, d].reshape(-1, 1, n_tx, cfg.n_rx)  # (n, 1, S, R)
+    # Doppler phase of slot s: 2 pi f_D s Tc, f_D = -2 v / lambda (eq. 8-10): remove it.
+    f_hyp = -2 * v_hyp / cfg.wavelength_m
+    comp = np.exp(-2j * np.pi * f_hyp[:, :, None] * np.arange(n_tx) * cfg.chirp_period_s)
+    virt_h = (virt * comp[:, :, :, None]).reshape(r.size, v_hyp.shape[1], -1)  # (n, H, 16)
+    az_pow = np.abs(_azimuth_spectrum(virt_h, h_idx, h_pos, n_az)) ** 2  # (n, H, A)
+    score = np.where(valid, az_pow.max(axis=-1), -np.inf)
+    best = np.argmax(score, axis=1)
+    rows = np.arange(r.size)
+    velocity = v_hyp[rows, best]
+    power_az = az_pow[rows, best]  # (n, A)
+    a = np.argmax(power_az, axis=1)
+    peak = power_az[rows, a]
+    sin_term = _interp_azimuth(power_az, a)
+    az, el = estimate_angles(virt_h[rows, best], sin_term, h_idx, h_pos, v_idx, v_pos, v_h)
+    # Noise per virtual channel from the L-look CFAR estimate; the coherent azimuth spectrum
+    # of n_h unit-weight channels has n_h times that noise power.
+    sigma2 = noise / (noise_mean_factor(cf.mode, cf.n_training, cf.os_rank, looks) * looks)
+    snr_db = 10 * np.log10(peak / (h_idx.size * sigma2))
+    d_true = np.rint(-2 * velocity / cfg.wavelength_m * n_dop * t_slot).astype(int)
+    return _point_cloud(cfg, proc, range_pos, velocity, az, el, snr_db,
+                        {"range_bin": r, "doppler_bin": d_true % (n_tx * n_dop),
+                         "azimuth_bin": a})
+
+
+#: MIMO scheme -> chain.
+MIMO_CHAINS = {"ddma": _ddma, "tdma": _tdma}
+
+
+def process_frame(cfg: RadarConfig, adc: np.ndarray,
+                  proc: ProcessingConfig | None = None) -> pd.DataFrame:
+    """Turn one ADC frame into a point cloud.
+
+    Parameters
+    ----------
+    cfg : radarsim.RadarConfig
+        The radar that produced the frame (`cfg.mimo` selects the chain).
+    adc : (n_chirps, n_rx, n_samples) int16
+        Real ADC samples.
+    proc : ProcessingConfig, optional
+        Windows, CFAR and TDMA settings; default `ProcessingConfig()`.
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per detection, radar frame: range_m, azimuth_deg, elevation_deg,
+        radial_velocity_mps (negative = approaching), snr_db, x_m, y_m, z_m, range_bin,
+        doppler_bin (0..n_chirps-1 in the full unambiguous Doppler span), azimuth_bin.
+
+    Raises
+    ------
+    ValueError
+        If `adc` is not an int16 array of the config's shape, or `cfg`/`proc` are of the
+        wrong type.
+    """
+    _check_frame(cfg, adc)
+    proc = ProcessingConfig() if proc is None else proc
+    if not isinstance(proc, ProcessingConfig):
+        raise ValueError(f"proc must be a pipeline.ProcessingConfig, got {type(proc).__name__}")
+    return MIMO_CHAINS[cfg.mimo](cfg, adc, proc)
+
+
+def frame_spectra(cfg: RadarConfig, adc: np.ndarray,
+                  proc: ProcessingConfig | None = None) -> dict[str, np.ndarray]:
+    """Range-Doppler map of a frame for plots and tests.
+
+    Returns
+    -------
+    dict
+        "range_doppler_db": (n_range, n_doppler) power summed over virtual channels, dB, with
+        Doppler in natural FFT order over the full slow-time sequence (DDMA: all chirps, before
+        demodulation; TDMA: per-slot Doppler).
+    """
+    _check_frame(cfg, adc)
+    proc = ProcessingConfig() if proc is None else proc
+    rf = range_fft(adc, window(WINDOWS[proc.range_window], cfg.n_samples))
+    if cfg.mimo == "ddma":
+        spec = doppler_fft(rf, window(WINDOWS[proc.doppler_window], cfg.n_chirps))
+        p = (np.abs(spec) ** 2).sum(axis=1)
+    else:
+        rf = rf.reshape(cfg.n_chirps // cfg.n_tx, cfg.n_tx, cfg.n_rx, -1)
+        spec = doppler_fft(rf, window(WINDOWS[proc.doppler_window], rf.shape[0]))
+        p = (np.abs(spec) ** 2).sum(axis=(1, 2))
+    return {"range_doppler_db": 10 * np.log10(np.maximum(p.T, 1e-30))}

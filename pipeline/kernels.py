@@ -1,0 +1,229 @@
+"""Pure numpy kernels of the signal chain: FFT stages, DDMA demodulation, peak interpolation,
+local maxima, candidate CFAR and angle estimation. Axis order: chirp/Doppler first, then Rx,
+then fast time / range (DESIGN 3), unless a docstring says otherwise.
+
+References
+----------
+.. [1] TI, AWR2944 DDMA application note (seed 000): section 5, tables 11, 14, 15, figure 19.
+.. [2] TI, AWR1642 TDM-MIMO velocity disambiguation (seed 001): eq. 8-12, section 4.
+"""
+from __future__ import annotations
+
+import numpy as np
+import scipy.fft
+from scipy.signal import get_window
+
+from .cfar import noise_estimate, training_offsets
+
+__all__ = ["window", "range_fft", "doppler_fft", "ddma_metric", "ddma_gather",
+           "array_layout", "local_max_mask", "parabolic_offset", "candidate_cfar",
+           "estimate_angles"]
+
+
+def window(name: str, n: int) -> np.ndarray:
+    """(n,) float32 periodic (DFT-even) window by scipy name."""
+    return get_window(name, n, fftbins=True).astype(np.float32)
+
+
+def range_fft(adc: np.ndarray, win: np.ndarray) -> np.ndarray:
+    """Windowed real FFT of each chirp and Rx, keeping the n_samples / 2 positive bins.
+
+    Parameters
+    ----------
+    adc : (n_chirps, n_rx, n_samples) int16
+    win : (n_samples,) float32
+
+    Returns
+    -------
+    (n_chirps, n_rx, n_samples // 2) complex64
+    """
+    x = adc.astype(np.float32)
+    x *= win
+    return scipy.fft.rfft(x, axis=-1, workers=-1)[..., : adc.shape[-1] // 2]
+
+
+def doppler_fft(x: np.ndarray, win: np.ndarray, axis: int = 0) -> np.ndarray:
+    """Windowed complex FFT over slow time along `axis` (in natural bin order 0..N-1)."""
+    shape = [1] * x.ndim
+    shape[axis] = -1
+    return scipy.fft.fft(x * win.reshape(shape), axis=axis, workers=-1)
+
+
+def ddma_metric(power: np.ndarray, n_subbands: int, n_tx: int) -> np.ndarray:
+    """Empty-band DDMA metric Z_j = sum_{m < n_tx} S_{(j+m) mod N} (seed 000 table 11).
+
+    Parameters
+    ----------
+    power : (n_chirps, ...) float
+        Energy per Doppler bin (summed over Rx), Doppler first, bins in natural order.
+
+    Returns
+    -------
+    (n_subbands, n_chirps // n_subbands, ...) float
+        Z_j for every Doppler bin d of a sub-band.
+    """
+    s = power.reshape(n_subbands, -1, *power.shape[1:])
+    z = s.copy()
+    for m in range(1, n_tx):  # n_tx - 1 <= 3 shifted adds, not a loop over bins
+        z += np.roll(s, -m, axis=0)
+    return z
+
+
+def ddma_gather(spec: np.ndarray, tx1_band: np.ndarray, n_subbands: int,
+                n_tx: int) -> np.ndarray:
+    """Extract the n_tx transmitters' spectra from the Doppler spectrum (DDMA demodulation).
+
+    Parameters
+    ----------
+    spec : (n_chirps, n_rx, n_range) complex64
+        Doppler spectrum, natural bin order.
+    tx1_band : (n_dop, n_range) int
+        Sub-band where the first Tx of `tx_order` sits for each Doppler bin d of a sub-band.
+
+    Returns
+    -------
+    (n_range, n_dop, n_tx, n_rx) complex64
+        Transmitter p (in sub-band order, i.e. `tx_order`) at Doppler bin d: bin
+        d + n_dop ((tx1_band + p) mod N) of `spec`.
+    """
+    n_chirps, n_rx, n_range = spec.shape
+    n_dop = n_chirps // n_subbands
+    band = (tx1_band.T[:, :, None] + np.arange(n_tx)) % n_subbands  # (B, D, P)
+    idx = band * n_dop + np.arange(n_dop)[None, :, None]
+    spec_t = np.moveaxis(spec, 2, 0)  # (B, C, R)
+    return spec_t[np.arange(n_range)[:, None, None], idx]  # (B, D, P, R)
+
+
+def array_layout(virtual_positions_m: np.ndarray, wavelength_m: float):
+    """Horizontal and vertical sub-arrays of the virtual array, in lambda/2 units.
+
+    Parameters
+    ----------
+    virtual_positions_m : (n_virtual, 3) float
+        Virtual element positions in the demodulated order.
+
+    Returns
+    -------
+    h_idx : (n_h,) int
+        Virtual elements on the z = 0 row, one per horizontal position, sorted by position.
+    h_pos : (n_h,) int
+        Their positions in lambda/2 (0, 1, ...).
+    v_idx, v_pos : (n_v,) int
+        Elements of the raised row and their horizontal positions.
+    v_height_wl : float
+        Height of the raised row in wavelengths (0 if none).
+    """
+    y = np.rint(virtual_positions_m[:, 1] / (wavelength_m / 2)).astype(int)
+    z = virtual_positions_m[:, 2] / wavelength_m
+    low = np.isclose(z, 0.0)
+    h_pos, first = np.unique(y[low], return_index=True)
+    h_idx = np.flatnonzero(low)[first]
+    v_idx = np.flatnonzero(~low)
+    v_height = float(z[v_idx[0]]) if v_idx.size else 0.0
+    return h_idx, h_pos, v_idx, y[v_idx], v_height
+
+
+def local_max_mask(power: np.ndarray, axes_cyclic: dict[int, bool],
+                   mask: np.ndarray | None = None) -> np.ndarray:
+    """Cells strictly greater than their two neighbours along each listed axis.
+
+    Parameters
+    ----------
+    power : (...) float
+    axes_cyclic : {axis: cyclic}
+        Axes to compare along; a non-cyclic axis never calls its edge cells maxima.
+    mask : (...) bool, optional
+        Prior mask to AND into (modified in place and returned).
+
+    Returns
+    -------
+    (...) bool
+    """
+    mask = np.ones(power.shape, dtype=bool) if mask is None else mask
+    for axis, cyclic in axes_cyclic.items():
+        p = np.moveaxis(power, axis, -1)  # views: no copies of the map
+        m = np.moveaxis(mask, axis, -1)
+        m[..., 1:] &= p[..., 1:] > p[..., :-1]
+        m[..., :-1] &= p[..., :-1] > p[..., 1:]
+        if cyclic:
+            m[..., 0] &= p[..., 0] > p[..., -1]
+            m[..., -1] &= p[..., -1] > p[..., 0]
+        else:
+            m[..., 0] = False
+            m[..., -1] = False
+    return mask
+
+
+def parabolic_offset(y_minus: np.ndarray, y0: np.ndarray, y_plus: np.ndarray) -> np.ndarray:
+    """Peak offset 0.5 (y+ - y-) / (2 y0 - y+ - y-) in bins, clipped to +/-0.5
+    (seed 000 table 14; applied to log magnitudes it is Gaussian interpolation)."""
+    den = 2 * y0 - y_plus - y_minus
+    with np.errstate(divide="ignore", invalid="ignore"):
+        off = np.where(den > 0, 0.5 * (y_plus - y_minus) / den, 0.0)
+    return np.clip(off, -0.5, 0.5)
+
+
+def candidate_cfar(power: np.ndarray, cand: tuple[np.ndarray, ...], axis: int,
+                   guard_cells: int, window_cells: int, mode: str,
+                   os_rank: int) -> np.ndarray:
+    """Noise estimate of a CFAR along a cyclic `axis`, only at candidate cells.
+
+    Gathers the 2 x `window_cells` training cells of each candidate (cyclic) with one flat
+    `take` and reduces them with `cfar.noise_estimate`; equals `cfar.cfar_map(...)[cand]`.
+
+    Parameters
+    ----------
+    power : (...) float, C-contiguous
+    cand : tuple of (n,) int arrays
+        Indices of the candidate cells (as from np.nonzero).
+
+    Returns
+    -------
+    (n,) float
+    """
+    lag, lead = training_offsets(guard_cells, window_cells)
+    size = power.shape[axis]
+    stride = int(np.prod(power.shape[axis + 1:], dtype=np.int64))
+    flat = np.ravel_multi_index(cand, power.shape)
+    pos = cand[axis]
+    flat_power = power.reshape(-1)
+
+    def gather(offsets):
+        shift = (pos[:, None] + offsets[None, :]) % size - pos[:, None]
+        return flat_power[flat[:, None] + shift * stride]
+
+    return noise_estimate(gather(lag), gather(lead), mode, os_rank)
+
+
+def estimate_angles(virt: np.ndarray, sin_az_cos_el: np.ndarray, h_idx: np.ndarray,
+                    h_pos: np.ndarray, v_idx: np.ndarray, v_pos: np.ndarray,
+                    v_height_wl: float) -> tuple[np.ndarray, np.ndarray]:
+    """Azimuth and elevation from the virtual-array samples (seed 000 table 15).
+
+    A e^{j psi} = h . conj(e^{j m wx}) over the horizontal row, A e^{j(psi + wz)} the same over
+    the raised row; wz = arg of their product with conjugate; sin(el) = wz / (2 pi h / lambda)
+    (1.6 pi for the 0.8 lambda EVM row). The FFT measures wx = pi sin(az) cos(el), so
+    sin(az) = (wx / pi) / cos(el).
+
+    Parameters
+    ----------
+    virt : (n, n_virtual) complex
+        Virtual-antenna samples at each detection, in the demodulated order.
+    sin_az_cos_el : (n,) float
+        wx / pi from the interpolated azimuth FFT peak.
+
+    Returns
+    -------
+    azimuth_rad, elevation_rad : (n,) float
+    """
+    wx = np.pi * sin_az_cos_el
+    if v_idx.size:
+        a_h = np.einsum("nm,nm->n", virt[:, h_idx], np.exp(-1j * wx[:, None] * h_pos[None, :]))
+        a_v = np.einsum("nm,nm->n", virt[:, v_idx], np.exp(-1j * wx[:, None] * v_pos[None, :]))
+        wz = np.angle(a_v * np.conj(a_h))
+        sin_el = np.clip(wz / (2 * np.pi * v_height_wl), -1.0, 1.0)
+    else:
+        sin_el = np.zeros_like(wx)
+    cos_el = np.sqrt(1 - sin_el ** 2)
+    sin_az = np.clip(sin_az_cos_el / cos_el, -1.0, 1.0)
+    return np.arcsin(sin_az), np.arcsin(sin_el)
