@@ -35,14 +35,16 @@ CFAR_MODES = {
 }
 
 
-def training_offsets(guard_cells: int, window_cells: int) -> tuple[np.ndarray, np.ndarray]:
-    """Offsets of the lagging (negative) and leading (positive) training cells.
+def training_offsets(guard_cells: int, window_cells: int,
+                     stride: int = 1) -> tuple[np.ndarray, np.ndarray]:
+    """Offsets of the lagging (negative) and leading (positive) training cells: `window_cells`
+    cells every `stride` bins, starting `guard_cells` + 1 away from the cell under test.
 
     Returns
     -------
     lag, lead : (window_cells,) int
     """
-    lead = np.arange(guard_cells + 1, guard_cells + window_cells + 1)
+    lead = guard_cells + 1 + stride * np.arange(window_cells)
     return -lead[::-1], lead
 
 
@@ -163,7 +165,7 @@ def noise_estimate(train_lag: np.ndarray, train_lead: np.ndarray, mode: str,
 
 
 def cfar_map(power: np.ndarray, axis: int, guard_cells: int, window_cells: int, mode: str,
-             os_rank: int) -> np.ndarray:
+             os_rank: int, stride: int = 1) -> np.ndarray:
     """Noise estimate for every cell of `power` along a cyclic `axis` (full-map reference).
 
     Uses scipy.ndimage rank and uniform filters with `mode="wrap"`, so the result equals the
@@ -183,12 +185,15 @@ def cfar_map(power: np.ndarray, axis: int, guard_cells: int, window_cells: int, 
     from scipy import ndimage
 
     power = np.asarray(power)
-    size = 2 * (guard_cells + window_cells) + 1
+    lag, lead = training_offsets(guard_cells, window_cells, stride)
+    half = int(lead[-1])
+    size = 2 * half + 1
     shape = [1] * power.ndim
     shape[axis] = size
     lag_fp = np.zeros(size, bool)
-    lag_fp[:window_cells] = True
-    lead_fp = lag_fp[::-1].copy()
+    lag_fp[lag + half] = True
+    lead_fp = np.zeros(size, bool)
+    lead_fp[lead + half] = True
     if mode == "os":
         fp = (lag_fp | lead_fp).reshape(shape)
         return ndimage.rank_filter(power, os_rank - 1, footprint=fp, mode="wrap")

@@ -29,7 +29,7 @@ from .config import WINDOWS, ProcessingConfig
 from .kernels import (array_layout, candidate_cfar, ddma_metric, doppler_fft,
                       estimate_angles, local_max_mask, parabolic_offset, range_fft, window)
 
-__all__ = ["process_frame", "frame_spectra", "MIMO_CHAINS", "POINT_CLOUD_COLUMNS"]
+__all__ = ["process_frame", "frame_spectra", "detection_map", "MIMO_CHAINS", "POINT_CLOUD_COLUMNS"]
 
 #: Columns of every point cloud, in order.
 POINT_CLOUD_COLUMNS = ["range_m", "azimuth_deg", "elevation_deg", "radial_velocity_mps",
@@ -117,7 +117,13 @@ def _steering_dft(cfg: RadarConfig, n_fft: int) -> np.ndarray:
     return w
 
 
-def _ddma(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) -> pd.DataFrame:
+def _ddma_maps(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) -> dict:
+    """Range FFT, Doppler FFT, empty-band demodulation and the coherent detection map.
+
+    Returns a dict with "power" (n_range, n_az, n_dop) float32 Doppler-azimuth maps,
+    "virt" (n_range, n_dop, n_virtual) complex64 demodulated samples, "energy"
+    (n_range, n_chirps) Rx-summed Doppler energy before demodulation and "tx1_band"
+    (n_dop, n_range) int."""
     n_sb, n_tx, n_rx = cfg.n_subbands, cfg.n_tx, cfg.n_rx
     n_dop = cfg.n_chirps // n_sb
     n_az = proc.n_azimuth_bins
@@ -140,7 +146,15 @@ def _ddma(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) -> pd.DataF
     az_spec = virt.reshape(-1, n_tx * n_rx) @ _steering_dft(cfg, n_az)  # (B*D, A)
     power = np.abs(az_spec) ** 2
     power = np.ascontiguousarray(power.reshape(n_range, n_dop, n_az).transpose(0, 2, 1))
+    return {"power": power, "virt": virt, "energy": energy, "tx1_band": tx1_band}
 
+
+def _ddma(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) -> pd.DataFrame:
+    maps = _ddma_maps(cfg, adc, proc)
+    power, virt, energy, tx1_band = maps["power"], maps["virt"], maps["energy"], \
+        maps["tx1_band"]
+    n_range, n_az, n_dop = power.shape
+    n_tx = cfg.n_tx
     cf = proc.cfar
     alpha = cf.scale(looks=1)
     if cf.mode == "os":
@@ -151,12 +165,17 @@ def _ddma(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) -> pd.DataF
     else:
         pre = np.ones(power.shape, dtype=bool)
     pre[: proc.min_range_bin] = False
-    local_max_mask(power, {1: True, 2: True}, mask=pre)  # figure 19: 4-neighbour maximum
+    # Figure 19: 4-neighbour maximum in (azimuth, Doppler), optionally also along range.
+    axes = {0: False, 1: True, 2: True} if proc.range_peak_check else {1: True, 2: True}
+    local_max_mask(power, axes, mask=pre)
     cand = np.unravel_index(np.flatnonzero(pre), power.shape)
     noise = candidate_cfar(power, cand, 2, cf.guard_cells, cf.window_cells, cf.mode,
-                           cf.os_rank)
+                           cf.os_rank, cf.training_stride)
     peak = power[cand]
     hit = peak > alpha * noise
+    if proc.azimuth_sidelobe_db is not None:
+        strongest = power[cand[0], :, cand[2]].max(axis=1)
+        hit &= peak >= strongest * 10 ** (-proc.azimuth_sidelobe_db / 10)
     r, a, d = (c[hit] for c in cand)
     noise, peak = noise[hit], peak[hit]
     if r.size == 0:
@@ -185,24 +204,36 @@ def _ddma(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) -> pd.DataF
 
 
 # --------------------------------------------------------------------------------------- TDMA
-def _tdma(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) -> pd.DataFrame:
+def _tdma_maps(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) -> dict:
+    """Range and per-slot Doppler FFT; "power" is the (n_range, n_dop) non-coherent map
+    summed over the virtual antennas, "virt" (n_range, n_dop, n_virtual) slot-major samples."""
     n_tx = cfg.n_tx
     n_dop = cfg.n_chirps // n_tx
-    n_az = proc.n_azimuth_bins
     rf = range_fft(adc, window(WINDOWS[proc.range_window], cfg.n_samples))  # (C, R, B)
     rf = rf.reshape(n_dop, n_tx, cfg.n_rx, -1)  # chirp = n_tx c' + slot
     spec = doppler_fft(rf, window(WINDOWS[proc.doppler_window], n_dop))  # (D, S, R, B)
     n_range = spec.shape[-1]
     virt_all = np.moveaxis(spec, 3, 0).reshape(n_range, n_dop, -1)  # (B, D, 16) slot-major
     rd = (np.abs(virt_all) ** 2).sum(axis=-1)  # (B, D), L = n_virtual looks per cell
+    return {"power": rd, "virt": virt_all}
+
+
+def _tdma(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) -> pd.DataFrame:
+    n_tx = cfg.n_tx
+    n_dop = cfg.n_chirps // n_tx
+    n_az = proc.n_azimuth_bins
+    maps = _tdma_maps(cfg, adc, proc)
+    rd, virt_all = maps["power"], maps["virt"]
+    n_range = rd.shape[0]
 
     cf = proc.cfar
     looks = cfg.n_virtual
     alpha = cf.scale(looks=looks)
-    cand_mask = local_max_mask(rd, {0: False, 1: True})
+    cand_mask = local_max_mask(rd, {0: False, 1: True} if proc.range_peak_check else {1: True})
     cand_mask[: proc.min_range_bin] = False
     cand = np.nonzero(cand_mask)
-    noise = candidate_cfar(rd, cand, 1, cf.guard_cells, cf.window_cells, cf.mode, cf.os_rank)
+    noise = candidate_cfar(rd, cand, 1, cf.guard_cells, cf.window_cells, cf.mode, cf.os_rank,
+                           cf.training_stride)
     hit = rd[cand] > alpha * noise
     r, d = (c[hit] for c in cand)
     noise = noise[hit]
@@ -287,6 +318,27 @@ def process_frame(cfg: RadarConfig, adc: np.ndarray,
     if not isinstance(proc, ProcessingConfig):
         raise ValueError(f"proc must be a pipeline.ProcessingConfig, got {type(proc).__name__}")
     return MIMO_CHAINS[cfg.mimo](cfg, adc, proc)
+
+
+def detection_map(cfg: RadarConfig, adc: np.ndarray,
+                  proc: ProcessingConfig | None = None) -> tuple[np.ndarray, int, int]:
+    """The square-law map the CFAR runs on, for tests of the detector and for plots.
+
+    Returns
+    -------
+    power : ndarray
+        DDMA: (n_range, n_azimuth, n_doppler) coherent Doppler-azimuth maps after empty-band
+        demodulation; TDMA: (n_range, n_doppler) non-coherent sum over virtual antennas.
+    looks : int
+        Independent exponential looks per cell under noise (1 coherent, n_virtual for TDMA).
+    cfar_axis : int
+        The (cyclic) Doppler axis the CFAR runs along.
+    """
+    _check_frame(cfg, adc)
+    proc = ProcessingConfig() if proc is None else proc
+    if cfg.mimo == "ddma":
+        return _ddma_maps(cfg, adc, proc)["power"], 1, 2
+    return _tdma_maps(cfg, adc, proc)["power"], cfg.n_virtual, 1
 
 
 def frame_spectra(cfg: RadarConfig, adc: np.ndarray,

@@ -131,7 +131,8 @@ def local_max_mask(power: np.ndarray, axes_cyclic: dict[int, bool],
     ----------
     power : (...) float
     axes_cyclic : {axis: cyclic}
-        Axes to compare along; a non-cyclic axis never calls its edge cells maxima.
+        Axes to compare along; on a non-cyclic axis an edge cell is compared with its one
+        neighbour only.
     mask : (...) bool, optional
         Prior mask to AND into (modified in place and returned).
 
@@ -148,9 +149,6 @@ def local_max_mask(power: np.ndarray, axes_cyclic: dict[int, bool],
         if cyclic:
             m[..., 0] &= p[..., 0] > p[..., -1]
             m[..., -1] &= p[..., -1] > p[..., 0]
-        else:
-            m[..., 0] = False
-            m[..., -1] = False
     return mask
 
 
@@ -165,7 +163,7 @@ def parabolic_offset(y_minus: np.ndarray, y0: np.ndarray, y_plus: np.ndarray) ->
 
 def candidate_cfar(power: np.ndarray, cand: tuple[np.ndarray, ...], axis: int,
                    guard_cells: int, window_cells: int, mode: str,
-                   os_rank: int) -> np.ndarray:
+                   os_rank: int, stride: int = 1) -> np.ndarray:
     """Noise estimate of a CFAR along a cyclic `axis`, only at candidate cells.
 
     Gathers the 2 x `window_cells` training cells of each candidate (cyclic) with one flat
@@ -181,7 +179,7 @@ def candidate_cfar(power: np.ndarray, cand: tuple[np.ndarray, ...], axis: int,
     -------
     (n,) float
     """
-    lag, lead = training_offsets(guard_cells, window_cells)
+    lag, lead = training_offsets(guard_cells, window_cells, stride)
     size = power.shape[axis]
     stride = int(np.prod(power.shape[axis + 1:], dtype=np.int64))
     flat = np.ravel_multi_index(cand, power.shape)

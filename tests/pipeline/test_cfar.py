@@ -1,0 +1,93 @@
+"""CFAR threshold design and kernels against Rohling / Richards (DESIGN section 8)."""
+import numpy as np
+import pytest
+from scipy import ndimage
+
+from pipeline.cfar import (cfar_map, cfar_scale, noise_estimate, noise_mean_factor,
+                           pfa_of_scale, rohling_os_pfa)
+from pipeline.kernels import candidate_cfar, local_max_mask
+
+
+def test_rohling_os_reference_values():
+    # DESIGN 8 / Rohling 1983: N=20, k=15, a=6.857 -> 1e-3; N=24, k=18, Pfa=1e-6 -> a=16.29.
+    assert rohling_os_pfa(6.857, 20, 15) == pytest.approx(1e-3, rel=2e-3)
+    assert cfar_scale(1e-3, "os", 20, 15) == pytest.approx(6.857, abs=2e-3)
+    assert cfar_scale(1e-6, "os", 24, 18) == pytest.approx(16.29, abs=5e-3)
+
+
+@pytest.mark.parametrize("n, k, a", [(16, 12, 10.0), (24, 18, 20.0), (32, 8, 5.0)])
+def test_numeric_os_pfa_equals_rohling_closed_form(n, k, a):
+    assert pfa_of_scale(a, "os", n, k) == pytest.approx(rohling_os_pfa(a, n, k), rel=1e-6)
+
+
+def test_ca_cfar_closed_form():
+    # DESIGN 8 / Richards eq. 6.167: Pfa = (1 + a/N)^-N; N=24, Pfa=1e-6 -> a=18.68.
+    assert cfar_scale(1e-6, "ca", 24) == pytest.approx(18.68, abs=5e-3)
+    assert cfar_scale(1e-4, "ca", 16) == pytest.approx(16 * (1e-4 ** (-1 / 16) - 1), rel=1e-6)
+
+
+def test_os_noise_mean_factor_is_harmonic_sum():
+    # E[X_(k) of N exponentials] = sum_{i=N-k+1}^{N} 1/i (David & Nagaraja).
+    assert noise_mean_factor("os", 24, 18) == pytest.approx(sum(1 / i for i in range(7, 25)),
+                                                            rel=1e-6)
+    assert noise_mean_factor("ca", 24) == pytest.approx(1.0, rel=1e-6)
+
+
+@pytest.mark.parametrize("mode, looks", [("os", 1), ("ca", 1), ("cago", 1), ("caso", 1),
+                                         ("os", 16), ("ca", 8)])
+def test_design_pfa_matches_monte_carlo(mode, looks):
+    """Draw homogeneous L-look noise, apply alpha(Pfa=1e-3): the false-alarm fraction is
+    binomial around 1e-3 (3.5 sigma bound)."""
+    rng = np.random.default_rng(7)
+    n_trials, n_train, k = 400_000, 16, 12
+    pfa = 1e-3
+    alpha = cfar_scale(pfa, mode, n_train, k, looks)
+    cells = rng.gamma(looks, size=(n_trials, n_train + 1))
+    y = noise_estimate(cells[:, :8], cells[:, 8:16], mode, k)
+    rate = np.mean(cells[:, 16] > alpha * y)
+    sigma = np.sqrt(pfa * (1 - pfa) / n_trials)
+    assert abs(rate - pfa) < 3.5 * sigma
+
+
+@pytest.mark.parametrize("stride", [1, 2, 3])
+@pytest.mark.parametrize("mode", ["os", "ca", "cago", "caso"])
+def test_candidate_cfar_equals_full_map(mode, stride):
+    rng = np.random.default_rng(1)
+    power = rng.exponential(size=(5, 7, 64)).astype(np.float32)
+    full = cfar_map(power, axis=2, guard_cells=2, window_cells=6, mode=mode, os_rank=9,
+                    stride=stride)
+    cand = tuple(rng.integers(0, s, 200) for s in power.shape)
+    sparse = candidate_cfar(power, cand, 2, 2, 6, mode, 9, stride)
+    np.testing.assert_allclose(sparse, full[cand], rtol=1e-5)
+
+
+def test_candidate_cfar_wraps_cyclically():
+    power = np.ones((1, 32))
+    power[0, 30] = 100.0  # a training cell of bin 1 across the wrap (offset -3)
+    est = candidate_cfar(power, (np.array([0]), np.array([1])), 1, 2, 4, "ca", 1)
+    assert est[0] == pytest.approx((100 + 7) / 8)
+
+
+def test_local_max_matches_ndimage_reference():
+    rng = np.random.default_rng(2)
+    p = rng.exponential(size=(6, 9, 11))
+    mask = local_max_mask(p, {1: True, 2: True})
+    cross = np.zeros((1, 3, 3), bool)
+    cross[0, 1, :] = cross[0, :, 1] = True
+    ref = p == ndimage.maximum_filter(p, footprint=cross, mode="wrap")
+    np.testing.assert_array_equal(mask, ref)
+
+
+def test_local_max_non_cyclic_edges_compare_one_neighbour():
+    p = np.array([[5.0, 1.0, 2.0, 0.5]])
+    np.testing.assert_array_equal(local_max_mask(p, {1: False}), [[True, False, True, False]])
+
+
+def test_cfar_scale_rejects_bad_pfa():
+    with pytest.raises(ValueError, match="pfa"):
+        cfar_scale(1.5, "os", 16, 12)
+
+
+def test_unknown_mode_rejected():
+    with pytest.raises(ValueError, match="mode"):
+        noise_estimate(np.ones((1, 2)), np.ones((1, 2)), "median", 1)
