@@ -191,9 +191,10 @@ class RadarConfig:
                              f"{BAND_MIN_HZ:g} Hz")
         ramp_top = self.start_freq_hz + self.slope_hz_per_s * self.ramp_end_time_s
         if ramp_top > BAND_MAX_HZ * (1 + 1e-12):
-            raise ValueError(f"slope_hz_per_s={self.slope_hz_per_s:g}: ramp end frequency "
-                             f"start + slope x ramp_end = {ramp_top:g} Hz exceeds the band "
-                             f"limit {BAND_MAX_HZ:g} Hz")
+            raise ValueError(f"start_freq_hz={self.start_freq_hz:g} + slope_hz_per_s="
+                             f"{self.slope_hz_per_s:g} x ramp_end_time_s="
+                             f"{self.ramp_end_time_s:g}: ramp end frequency {ramp_top:g} Hz "
+                             f"exceeds the band limit {BAND_MAX_HZ:g} Hz")
         adc_end = self.adc_start_time_s + self.n_samples / self.adc_rate_sps
         if adc_end > self.ramp_end_time_s * (1 + 1e-9):
             raise ValueError(f"n_samples={self.n_samples}: ADC window ends at "
@@ -338,9 +339,11 @@ class RadarConfig:
 
         The shifter delays the signal, so the programmed phase is the negative of the step,
         wrapped to [0, 360) (seed 000 table 3)."""
+        # Integer arithmetic: 360 (-p c mod N) / N is exact, so an exact multiple of the LSB
+        # (180 deg = 32 codes) or of 360 deg never lands a rounding error below a code boundary.
         c = np.arange(self.n_subbands)
-        step_deg = np.degrees(self.ideal_phase_step_rad())
-        return np.mod(-step_deg[:, None] * c[None, :], 360.0)
+        p = np.array([self.subband_of_tx[t] for t in range(1, self.n_tx + 1)])
+        return 360.0 * np.mod(-p[:, None] * c[None, :], self.n_subbands) / self.n_subbands
 
     def phase_codes(self) -> np.ndarray:
         """(n_tx, n_subbands) int shifter codes over one code period (seed 000 table 4).
@@ -441,3 +444,5 @@ class RadarConfig:
                 data[k] = None
         data.update(changes)
         return RadarConfig(**data)
+
+from .ti_cfg import from_ti_cfg, to_ti_cfg  # noqa: E402  (re-export; ti_cfg imports RadarConfig)

@@ -1,0 +1,192 @@
+"""`radar-harness process` / `simulate`: TI profiles and DCA1000 captures through the CLI."""
+from __future__ import annotations
+
+import importlib
+import importlib.util
+import re
+
+import numpy as np
+import pandas as pd
+import pytest
+
+import radarsim
+from harness import cmd_ti
+from harness.cli import main
+from radarsim.capture import read_capture, write_capture
+from radarsim.ti_cfg import R79_CFAR, parse_ti_cfg, r79_cfg_path, to_ti_cfg
+
+
+def _has(module: str, attr: str) -> bool:
+    try:
+        return hasattr(importlib.import_module(module), attr)
+    except ImportError:
+        return False
+
+
+needs_pipeline = pytest.mark.skipif(not _has("pipeline", "process_frame"),
+                                    reason="pipeline.process_frame not built yet")
+needs_tracker = pytest.mark.skipif(not _has("pipeline.tracker", "track_frames"),
+                                   reason="pipeline.tracker not built yet")
+
+
+@pytest.fixture
+def r79_capture(tmp_path, make_scene):
+    """Two R79 DDMA frames of a two-car scene, written as a capture."""
+    cfg = radarsim.presets.r79_ddma()
+    scene = make_scene([(50.0, 10.0, 0.0, -20.0, 10.0), (120.0, -25.0, 2.0, 8.0, 10.0)])
+    rng = np.random.default_rng(7)
+    frames = np.stack([radarsim.simulate_frame(cfg, scene, rng) for _ in range(2)])
+    path = tmp_path / "adc_data.bin"
+    write_capture(path, frames)
+    return path, frames
+
+
+@needs_pipeline
+def test_process_gives_the_in_memory_detections(tmp_path, r79_capture, capsys):
+    import pipeline
+
+    path, frames = r79_capture
+    out = tmp_path / "points.parquet"
+    assert main(["process", str(path), "--cfg", str(r79_cfg_path()), "--out", str(out),
+                 "--no-track"]) == 0
+    assert "2 frame(s)" in capsys.readouterr().out
+    table = pd.read_parquet(out)
+    assert list(table.columns[:2]) == ["frame", "time_s"]
+    profile = parse_ti_cfg(r79_cfg_path())
+    proc = cmd_ti.processing_from_profile(profile)
+    assert proc.cfar.mode == "os" and proc.cfar.threshold_db == 12.0
+    for f in range(2):
+        expected = pipeline.process_frame(profile.radar, frames[f], proc)
+        got = table[table["frame"] == f].drop(columns=["frame", "time_s"]).reset_index(drop=True)
+        assert len(expected) > 0
+        pd.testing.assert_frame_equal(got, expected.reset_index(drop=True), check_dtype=False)
+    np.testing.assert_array_equal(table["time_s"].unique(), [0.0, 0.25])
+
+
+@needs_pipeline
+@needs_tracker
+def test_process_writes_csv_and_tracks(tmp_path, r79_capture):
+    path, _ = r79_capture
+    out = tmp_path / "points.csv"
+    assert main(["process", str(path), "--cfg", str(r79_cfg_path()), "--out", str(out)]) == 0
+    assert len(pd.read_csv(out)) > 0
+    tracks = pd.read_csv(tmp_path / "points_tracks.csv")
+    assert "frame" in tracks.columns
+
+
+def test_cfar_config_from_r79_cfarcfg():
+    pytest.importorskip("pipeline.config")
+    if not _has("pipeline", "CfarConfig"):
+        pytest.skip("pipeline.CfarConfig not built yet")
+    c = cmd_ti.cfar_config_from_ti(R79_CFAR["doppler"])
+    assert (c.mode, c.guard_cells, c.window_cells, c.os_rank, c.threshold_db) == \
+        ("os", 0, 16, 24, 12.0)
+
+
+@pytest.mark.parametrize("argv_tail, pattern", [
+    (["--out", "x.txt"], r"suffix '.txt' is not one of"),
+    (["--frames", "0"], r"--frames=0 must be >= 1"),
+])
+def test_process_bad_arguments_exit_2(tmp_path, r79_capture, capsys, argv_tail, pattern):
+    path, _ = r79_capture
+    argv = ["process", str(path), "--cfg", str(r79_cfg_path())] + \
+        [a if not a.endswith(".txt") else str(tmp_path / a) for a in argv_tail]
+    assert main(argv) == 2
+    assert re.search(pattern, capsys.readouterr().err)
+
+
+def test_process_capture_of_another_profile_exits_2(tmp_path, r79_capture, capsys):
+    path, _ = r79_capture
+    cfg_path = tmp_path / "other.cfg"
+    # 2 frames of 384 samples are not a whole number of 320-sample frames.
+    cfg_path.write_text(to_ti_cfg(radarsim.presets.r79_ddma(n_samples=320)))
+    assert main(["process", str(path), "--cfg", str(cfg_path)]) == 2
+    assert "not a whole number of frames" in capsys.readouterr().err
+
+
+def test_process_bad_profile_line_exits_2(tmp_path, r79_capture, capsys):
+    path, _ = r79_capture
+    cfg_path = tmp_path / "bad.cfg"
+    lines = r79_cfg_path().read_text().splitlines()
+    no = next(k for k, line in enumerate(lines, 1) if line.startswith("profileCfg"))
+    cfg_path.write_text("\n".join(lines).replace("profileCfg 0 77", "profileCfg 0 82"))
+    assert main(["process", str(path), "--cfg", str(cfg_path)]) == 2
+    assert f"line {no} (profileCfg): startFreq=82 GHz" in capsys.readouterr().err
+
+
+# ---------------------------------------------------------------------------- simulate
+@pytest.fixture
+def fake_components(monkeypatch):
+    """Fast stand-in scenario and RCS model, the real front end."""
+    from harness import runner
+    from tests.harness import fakes
+
+    comps = runner.Components(run_scenario=fakes.fake_run_scenario,
+                              scene_scatterers=fakes.fake_scene_scatterers,
+                              simulate_frame=runner._real_simulate_frame,
+                              process_frame=None, make_processing=None)
+    monkeypatch.setattr(cmd_ti, "_components", lambda: comps)
+    return comps
+
+
+@pytest.fixture
+def small_cfg_file(tmp_path):
+    cfg = radarsim.presets.r79_tdma(n_chirps=32, n_samples=64)
+    path = tmp_path / "small.cfg"
+    path.write_text(to_ti_cfg(cfg, frame_period_s=0.05))
+    return path, cfg
+
+
+def test_simulate_writes_the_scenario_frames(tmp_path, fake_components, small_cfg_file, capsys):
+    from harness import runner
+    from tests.harness import fakes
+
+    cfg_path, cfg = small_cfg_file
+    out = tmp_path / "sim.bin"
+    assert main(["simulate", "straight", "--cfg", str(cfg_path), "--out", str(out),
+                 "--seed", "3", "--frames", "4"]) == 0
+    assert "4 frame(s) of straight (seed 3)" in capsys.readouterr().out
+    frames = read_capture(out, cfg)
+    assert frames.shape == (4, 32, 4, 64)
+    # Frame 2 is exactly what a sweep cell would simulate for this radar.
+    run = fakes.fake_run_scenario("straight", 3)
+    rows = run.truth[run.truth["frame"] == 2]
+    sc = fakes.fake_scene_scatterers(rows, runner.frame_rng(3, 2, "rcs"))
+    expected = radarsim.simulate_frame(cfg, sc, runner.frame_rng(3, 2, "tdma"))
+    np.testing.assert_array_equal(frames[2], expected)
+    # Same seed, same bytes; another seed, other noise.
+    again, other = tmp_path / "again.bin", tmp_path / "other.bin"
+    main(["simulate", "straight", "--cfg", str(cfg_path), "--out", str(again), "--seed", "3",
+          "--frames", "4"])
+    main(["simulate", "straight", "--cfg", str(cfg_path), "--out", str(other), "--seed", "4",
+          "--frames", "4"])
+    assert again.read_bytes() == out.read_bytes() != other.read_bytes()
+
+
+def test_simulate_rejects_bad_input(tmp_path, fake_components, small_cfg_file, capsys):
+    cfg_path, _ = small_cfg_file
+    out = tmp_path / "sim.bin"
+    assert main(["simulate", "straight", "--cfg", str(cfg_path), "--out", str(out),
+                 "--seed", "-1"]) == 2
+    assert "--seed=-1 must be >= 0" in capsys.readouterr().err
+    assert not out.exists()
+
+
+@pytest.mark.skipif(not (_has("scenarios", "run_scenario") and _has("radarsim.rcs",
+                                                                     "scene_scatterers")),
+                    reason="scenarios.run_scenario / radarsim.rcs.scene_scatterers not built yet")
+def test_simulate_real_scenario_then_process(tmp_path, small_cfg_file):
+    import scenarios
+
+    names = getattr(scenarios, "SCENARIOS", None)
+    if not names:
+        pytest.skip("no scenario catalogue")
+    name = next(iter(names))
+    cfg_path, cfg = small_cfg_file
+    out = tmp_path / "sim.bin"
+    assert main(["simulate", name, "--cfg", str(cfg_path), "--out", str(out),
+                 "--frames", "2"]) == 0
+    assert read_capture(out, cfg).shape == (2, 32, 4, 64)
+    if importlib.util.find_spec("pipeline") and _has("pipeline", "process_frame"):
+        assert main(["process", str(out), "--cfg", str(cfg_path), "--out",
+                     str(tmp_path / "p.parquet"), "--no-track"]) == 0

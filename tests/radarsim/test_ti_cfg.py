@@ -1,0 +1,295 @@
+"""TI mmWave SDK .cfg profiles: the shipped R79 file, exact round trips, one test per bad line."""
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+import pytest
+
+import radarsim
+from radarsim import ti_cfg
+from radarsim.config import from_ti_cfg, to_ti_cfg
+from radarsim.ti_cfg import R79_CFAR, TiCfar, parse_ti_cfg, r79_cfg_path, r79_cfg_text
+
+R79_TI_LINES = ("profileCfg 0 77 5 5 18.81 0 0 8.883 0 384 30000 0 0 42",
+                "chirpCfg 0 5 0 0 0 0 0 15", "frameCfg 0 5 128 0 384 250 1 0",
+                "ddmPhaseShiftAntOrder 0 2 3 1")
+
+
+# ---------------------------------------------------------------------------- shipped file
+def test_shipped_cfg_is_the_r79_preset():
+    prof = parse_ti_cfg(r79_cfg_path())
+    assert prof.radar == radarsim.presets.r79_ddma()
+    assert prof.frame_period_s == 0.25 and prof.n_frames == 0 and prof.trigger_select == 1
+    assert prof.cfar == R79_CFAR
+    assert prof.ddm_phase_order == (0, 2, 3, 1)
+    assert prof.directives == {"phase_quantization": "floor"}
+    assert not prof.adc_channel_interleaved
+    assert prof.profile_extras["rx_gain_code"] == 42
+    # The R79 demo's processing/tracker commands are kept and reported, with line numbers.
+    assert {"gtrack", "ransac", "localMaxCfg", "guiMonitor", "lowPower"} <= \
+        set(prof.ignored_commands)
+    text = r79_cfg_path().read_text().splitlines()
+    for no, cmd in prof.ignored:
+        assert text[no - 1].split()[0] == cmd
+    # The TI R79 demo's own waveform lines (mmw_cli.c gHardcodedCliConfigs) are in the file.
+    for line in R79_TI_LINES:
+        assert line in text
+
+
+def test_shipped_cfg_is_up_to_date():
+    """Regenerate with REGEN_GOLDEN=1 after an intended change to to_ti_cfg or the preset."""
+    path = r79_cfg_path()
+    if os.environ.get("REGEN_GOLDEN"):
+        path.write_text(r79_cfg_text())
+    assert path.read_text() == r79_cfg_text()
+
+
+def test_reexported_from_config_module():
+    assert radarsim.config.from_ti_cfg is ti_cfg.from_ti_cfg
+    assert radarsim.config.to_ti_cfg is ti_cfg.to_ti_cfg
+
+
+def test_r79_units_and_reference_values():
+    """TI units converted once; DESIGN section 8 values follow from the parsed file."""
+    cfg = from_ti_cfg(Path(r79_cfg_path()))
+    assert (cfg.start_freq_hz, cfg.slope_hz_per_s) == (77e9, 8.883e12)
+    assert (cfg.idle_time_s, cfg.adc_start_time_s, cfg.ramp_end_time_s) == (5e-6, 5e-6, 18.81e-6)
+    assert cfg.chirp_period_s == 23.81e-6 and cfg.adc_rate_sps == 30e6
+    assert (cfg.n_chirps, cfg.n_subbands, cfg.tx_order) == (768, 6, (1, 3, 4, 2))
+    assert cfg.range_resolution_m == pytest.approx(1.318, abs=1e-3)
+    assert cfg.max_unambiguous_velocity_mps == pytest.approx(40.9, abs=0.05)
+
+
+# ---------------------------------------------------------------------------- round trips
+@pytest.mark.parametrize("mimo", ["ddma", "tdma"])
+def test_presets_round_trip_exactly(mimo):
+    cfg = radarsim.presets.PRESETS[f"r79_{mimo}"]()
+    assert from_ti_cfg(to_ti_cfg(cfg)) == cfg
+
+
+@pytest.mark.parametrize("overrides", [
+    dict(n_tx=3), dict(n_tx=2, n_rx=3, n_chirps=384), dict(mimo="tdma", n_tx=2, n_chirps=400),
+    dict(tx_order=(1, 4, 3, 2)), dict(mimo="tdma", tx_order=(2, 1, 4, 3)),
+    dict(phase_quantization="round"), dict(phase_quantization="none"),
+    dict(noise_figure_db=14.5, tx_power_dbm=11.0, tx_phase_error_deg=(0.0, 3.5, -2.0, 1.25),
+         phase_noise_deg_rms=2.0, antenna_pattern="isotropic"),
+    dict(start_freq_hz=76.5e9, slope_hz_per_s=12.345678e12, adc_rate_sps=12.5e6,
+         n_samples=128, idle_time_s=7.3e-6, ramp_end_time_s=16.2e-6, chirp_period_s=23.5e-6),
+    dict(chirp_period_s=23.8100001e-6),  # within RadarConfig's tolerance: a directive keeps it
+    dict(mimo="tdma", n_subbands=5),
+], ids=lambda d: ",".join(d))
+def test_config_variants_round_trip_exactly(overrides):
+    cfg = radarsim.presets.r79_ddma(**overrides)
+    assert from_ti_cfg(to_ti_cfg(cfg)) == cfg
+
+
+def test_profile_round_trip_keeps_frame_and_cfar():
+    cfar = {"doppler": TiCfar(direction="doppler", mode="caso", window_cells=8, guard_cells=2,
+                              noise_div_shift=3, cyclic=True, threshold_db=13.5)}
+    prof = parse_ti_cfg(to_ti_cfg(radarsim.presets.r79_tdma(), frame_period_s=0.05,
+                                  n_frames=12, cfar=cfar))
+    again = parse_ti_cfg(to_ti_cfg(prof))
+    assert (again.radar, again.frame_period_s, again.n_frames, again.cfar) == \
+        (prof.radar, 0.05, 12, cfar)
+
+
+def test_plain_ti_file_means_sdk_rounding():
+    """Without a radarsim directive the shifter codes follow TI's SDK (round to nearest)."""
+    text = "\n".join(line for line in r79_cfg_text().splitlines()
+                     if not line.startswith("% radarsim"))
+    cfg = from_ti_cfg(text)
+    assert cfg.phase_quantization == "round"
+    assert cfg == radarsim.presets.r79_ddma(phase_quantization="round")
+
+
+def test_tdma_order_comes_from_the_chirp_table():
+    text = to_ti_cfg(radarsim.presets.r79_tdma())
+    assert "chirpCfg 3 3 0 0 0 0 0 2" in text  # Tx2 (TI Tx1, mask 0b0010) fires last
+    assert from_ti_cfg(text).tx_order == (1, 3, 4, 2)
+
+
+def test_ddm_phase_order_is_tx_order():
+    """TI lists Tx (0-based) by increasing phase step: 0 3 2 1 -> Tx1, Tx4, Tx3, Tx2."""
+    text = r79_cfg_text().replace("ddmPhaseShiftAntOrder 0 2 3 1", "ddmPhaseShiftAntOrder 0 3 2 1")
+    assert from_ti_cfg(text).tx_order == (1, 4, 3, 2)
+
+
+def test_cfar_syntax_variants():
+    base = _lines()
+    extra = ["cfarCfg -1 0 2 8 4 3 0 15 1",                   # mmWave SDK 3.x / TDM demo
+             "cfarCfg -1 1 3 16 0 0 1 12.0 0 24 0 1 0"]      # AWR2x44P DDM demo (Doppler)
+    prof = parse_ti_cfg("\n".join(base[:-1] + extra + base[-1:]))
+    assert prof.cfar["range"] == TiCfar(direction="range", mode="caso", window_cells=8,
+                                        guard_cells=4, noise_div_shift=3, cyclic=False,
+                                        threshold_db=15.0, peak_grouping=True)
+    assert prof.cfar["doppler"].os_rank == 24 and prof.cfar["doppler"].variable_threshold_mode == 0
+
+
+def test_flush_cfg_discards_earlier_commands():
+    lines = _lines()
+    text = "\n".join(["dfeDataOutputMode 1", "profileCfg 1 78 5 5 18.81 0 0 8.883 0 384 30000 0 "
+                      "0 42", "flushCfg"] + lines)
+    assert from_ti_cfg(text) == from_ti_cfg("\n".join(lines))
+
+
+def test_path_and_text_inputs(tmp_path):
+    path = tmp_path / "p.cfg"
+    path.write_text(r79_cfg_text())
+    assert from_ti_cfg(str(path)) == from_ti_cfg(path) == from_ti_cfg(r79_cfg_text())
+    with pytest.raises(FileNotFoundError, match="missing.cfg"):
+        from_ti_cfg(str(tmp_path / "missing.cfg"))
+
+
+def test_to_ti_cfg_rejects_what_the_chip_cannot_run():
+    cfg = radarsim.presets.r79_ddma(n_chirps=6 * 300)
+    with pytest.raises(ValueError, match="300 loops .* 255"):
+        to_ti_cfg(cfg)
+    with pytest.raises(ValueError, match="framePeriodicity=10 ms is shorter than the chirp burst"):
+        to_ti_cfg(radarsim.presets.r79_ddma(), frame_period_s=0.01)
+
+
+# ---------------------------------------------------------------------------- bad lines
+def _lines() -> list[str]:
+    """The R79 file's commands (no comments), ending with sensorStart."""
+    return [line for line in r79_cfg_text().splitlines() if not line.startswith("%")]
+
+
+def _edit(prefix: str, new: str | None, lines: list[str] | None = None) -> tuple[str, int]:
+    """Replace (or, new=None, delete) the first line starting with `prefix`; return the text
+    and the 1-based number of the edited line."""
+    lines = list(_lines() if lines is None else lines)
+    i = next(k for k, line in enumerate(lines) if line.startswith(prefix))
+    if new is None:
+        del lines[i]
+    else:
+        lines[i] = new
+    return "\n".join(lines) + "\n", i + 1
+
+
+PROFILE = "profileCfg 0 77 5 5 18.81 0 0 8.883 0 384 30000 0 0 42"
+BAD_LINES = {
+    # kind: (line prefix to replace, replacement, message pattern[, prefix of the line the
+    # error must name when it is not the edited one])
+    "unknown_command": ("lowPower", "fooCfg 1 2", r"unknown command 'fooCfg'"),
+    "misspelled_command": ("lowPower", "profileCfgg 0", r"did you mean 'profileCfg'"),
+    "wrong_arg_count": ("profileCfg", PROFILE.rsplit(" ", 1)[0], r"expects 14 arguments, got 13"),
+    "wrong_arg_count_ignored_cmd": ("lowPower", "lowPower 0", r"expects 2 arguments, got 1"),
+    "not_a_number": ("profileCfg", PROFILE.replace("18.81", "18.8x1"),
+                     r"rampEndTime='18.8x1' is not a number"),
+    "not_an_integer": ("profileCfg", PROFILE.replace(" 384 ", " 384.5 "),
+                       r"numAdcSamples='384.5' is not an integer"),
+    "start_freq_outside_band": ("profileCfg", PROFILE.replace(" 77 ", " 82 "),
+                                r"startFreq=82 GHz is outside the AWR2944 band"),
+    "adc_rate_over_chip_limit": ("profileCfg", PROFILE.replace("30000", "40000"),
+                                 r"adc_rate_sps=4e\+07 exceeds the AWR2944 limit"),
+    "adc_window_after_ramp_end": ("profileCfg", PROFILE.replace("5 5 18.81", "5 10 18.81"),
+                                  r"n_samples=384: ADC window ends"),
+    "ramp_beyond_band": ("profileCfg", PROFILE.replace(" 77 ", " 80.9 "),
+                         r"ramp end frequency .* exceeds the band limit"),
+    "tx_backoff_not_modelled": ("profileCfg", PROFILE.replace("18.81 0 0", "18.81 3 0"),
+                                r"txOutPower=3: Tx back-off is not modelled"),
+    "too_many_loops": ("frameCfg", "frameCfg 0 5 300 0 384 250 1 0",
+                       r"numLoops=300 is outside 1..255"),
+    "frame_period_shorter_than_burst": ("frameCfg", "frameCfg 0 5 128 0 384 10 1 0",
+                                        r"shorter than the chirp burst"),
+    "frame_samples_mismatch": ("frameCfg", "frameCfg 0 5 128 0 256 250 1 0",
+                               r"numAdcSamples=256 differs from profileCfg's"),
+    "undefined_chirp_in_frame": ("frameCfg", "frameCfg 0 7 128 0 384 250 1 0",
+                                 r"chirp 6 of the frame is not defined"),
+    "bad_trigger": ("frameCfg", "frameCfg 0 5 128 0 384 250 3 0",
+                    r"triggerSelect=3 is outside 1..2"),
+    "too_few_subbands": ("frameCfg", "frameCfg 0 3 192 0 384 250 1 0",
+                         r"n_subbands=4 must be an integer > n_tx=4"),
+    "rx_mask_over_chip": ("channelCfg", "channelCfg 31 15 0", r"rxChannelEn=31 is outside 1..15"),
+    "rx_mask_with_gap": ("channelCfg", "channelCfg 11 15 0",
+                         r"rxChannelEn=11 \(0b1011\).*without gaps"),
+    "cascading": ("channelCfg", "channelCfg 15 15 1", r"cascading=1 is outside 0..0"),
+    "complex_adc": ("adcCfg", "adcCfg 2 1", r"adcOutputFmt=1: .* real-only"),
+    "twelve_bit_adc": ("adcCfg", "adcCfg 0 0", r"numADCBits=0: .* int16"),
+    "chirp_threshold": ("adcbufCfg", "adcbufCfg -1 1 0 1 2", r"ChirpThreshold=2 is outside 1..1"),
+    "per_chirp_variation": ("chirpCfg", "chirpCfg 0 5 0 0 0 0.5 0 15",
+                            r"idleTimeVar=0.5: per-chirp variations are not modelled"),
+    "chirp_unknown_profile": ("chirpCfg", "chirpCfg 0 5 1 0 0 0 0 15",
+                              r"profileId=1 is not defined"),
+    "mixed_tx_pattern": ("chirpCfg", "chirpCfg 0 5 0 0 0 0 0 3",
+                         r"neither DDMA .* nor TDMA", "frameCfg"),
+    "ddm_order_not_permutation": ("ddmPhaseShiftAntOrder", "ddmPhaseShiftAntOrder 0 2 2 1",
+                                  r"must list each of the AWR2944's Tx 0..3 once"),
+    "ant_geometry_other_array": ("antGeometryCfg",
+                                 "antGeometryCfg 1 0 1 1 1 2 1 3 0 2 0 3 0 4 0 5 1 4 1 5 1 6 1 7"
+                                 " 1 8 1 9 1 10 1 11 0.5 0.5",
+                                 r"differs from the AWR2944 EVM array"),
+    "cfar_threshold_over_limit": ("cfarCfg", "cfarCfg -1 1 3 16 0 0 1 120 0 24 0",
+                                  r"threshold_db=120 must be within 0..100 dB"),
+    "cfar_os_rank_too_large": ("cfarCfg", "cfarCfg -1 1 3 16 0 0 1 12 0 40 0",
+                               r"os_rank=40: OS-CFAR needs 1 <= k <= 2 x window_cells = 32"),
+    "advanced_frame": ("lowPower", "advFrameCfg 1 0 0 1 0 1", r"not supported: advanced frames"),
+    "frame_mode": ("dfeDataOutputMode", "dfeDataOutputMode 3", r"only 1 \(frame mode\)"),
+    "directive_unknown_field": ("lowPower", "% radarsim: noise_figure = 3",
+                                r"unknown RadarConfig field 'noise_figure'"),
+    "directive_on_ti_field": ("lowPower", "% radarsim: n_samples = 256",
+                              r"n_samples is set by TI commands"),
+    "directive_bad_value": ("lowPower", "% radarsim: noise_figure_db = -2.0",
+                            r"noise_figure_db=-2.0 must be >= 0"),
+}
+
+
+@pytest.mark.parametrize("kind", sorted(BAD_LINES))
+def test_bad_line_names_its_line(kind):
+    prefix, new, pattern, *at = BAD_LINES[kind]
+    text, no = _edit(prefix, new)
+    if at:
+        no = next(k for k, line in enumerate(text.splitlines(), 1) if line.startswith(at[0]))
+    with pytest.raises(ValueError, match=pattern) as err:
+        parse_ti_cfg(text)
+    assert f"line {no}" in str(err.value)
+
+
+@pytest.mark.parametrize("command", ["channelCfg", "adcCfg", "chirpCfg", "frameCfg"])
+def test_missing_required_command(command):
+    """(A missing dfeDataOutputMode or profileCfg is caught earlier, at the first command
+    that needs it: see test_profile_before_output_mode_is_rejected.)"""
+    text, _ = _edit(command + " ", None)
+    n_lines = len(text.splitlines())
+    with pytest.raises(ValueError, match=rf"line {n_lines} \(end of input\): missing required "
+                                         rf"command '{command}'"):
+        parse_ti_cfg(text)
+
+
+def test_ddma_needs_phase_order():
+    text, _ = _edit("ddmPhaseShiftAntOrder", None)
+    frame_no = next(i for i, line in enumerate(text.splitlines(), 1)
+                    if line.startswith("frameCfg"))
+    with pytest.raises(ValueError, match=rf"line {frame_no} .*requires ddmPhaseShiftAntOrder"):
+        parse_ti_cfg(text)
+
+
+def test_second_profile_is_rejected():
+    lines = _lines()
+    i = next(k for k, line in enumerate(lines) if line.startswith("profileCfg"))
+    lines.insert(i + 1, PROFILE.replace("profileCfg 0", "profileCfg 1"))
+    with pytest.raises(ValueError, match=rf"line {i + 2} .*second profile.*line {i + 1}"):
+        parse_ti_cfg("\n".join(lines))
+
+
+def test_chirp_without_profile_is_rejected():
+    text, _ = _edit("profileCfg", None)
+    no = next(k for k, line in enumerate(text.splitlines(), 1) if line.startswith("chirpCfg"))
+    with pytest.raises(ValueError, match=rf"line {no} \(chirpCfg\): profileId=0 is not defined"):
+        parse_ti_cfg(text)
+
+
+def test_profile_before_output_mode_is_rejected():
+    lines = [line for line in _lines() if not line.startswith("dfeDataOutputMode")]
+    no = next(k for k, line in enumerate(lines, 1) if line.startswith("profileCfg"))
+    with pytest.raises(ValueError, match=rf"line {no} \(profileCfg\): needs 'dfeDataOutputMode"):
+        parse_ti_cfg("\n".join(lines))
+
+
+def test_chirp_tx_outside_channel_mask():
+    lines = _lines()
+    text, no = _edit("chirpCfg", "chirpCfg 0 5 0 0 0 0 0 15",
+                     [line.replace("channelCfg 15 15 0", "channelCfg 15 7 0") for line in lines])
+    with pytest.raises(ValueError, match=rf"line {no} .*txEnable=15 .* txChannelEn=7"):
+        parse_ti_cfg(text)
