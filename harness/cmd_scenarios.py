@@ -1,10 +1,52 @@
-"""Placeholder: filled in by the issue that builds this command."""
+"""`radar-harness scenarios` lists the catalogue; `radar-harness show CASE` draws one case.
+
+`show` writes `<CASE>.png` (bird's-eye view with the actors' tracks and the radar FOV) and
+`<CASE>.gif` (animation) into the current directory or `--out DIR`. CASE is a catalogue name or
+the path of a TOML scenario file.
+"""
 from __future__ import annotations
 
+import argparse
+from pathlib import Path
 
-def add_arguments(parser) -> None:
-    pass
+
+def add_arguments_scenarios(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("--verbose", action="store_true",
+                        help="also print each case's pass criteria")
 
 
-def run(args) -> int:
-    raise NotImplementedError("command not built yet")
+def run_scenarios(args: argparse.Namespace) -> int:
+    from scenarios import SCENARIOS
+
+    for case in SCENARIOS.values():
+        print(case.summary())
+        if getattr(args, "verbose", False):
+            for c in case.criteria:
+                who = f"actor {c.actor_id}" if c.actor_id is not None else "scenario"
+                print(f"{'':28s}   pass: {c.metric} {c.op} {c.value:g} ({who}) {c.note}")
+    return 0
+
+
+def add_arguments_show(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("case", help="catalogue case name or TOML scenario file")
+    parser.add_argument("--out", default=".", help="output directory (default: current)")
+    parser.add_argument("--seed", type=int, default=0)
+
+
+def _resolve(case: str):
+    from scenarios import get_case, load_scenario_file
+
+    if case.endswith(".toml") and Path(case).exists():
+        return load_scenario_file(case)
+    return get_case(case)  # ValueError naming the known cases
+
+
+def run_show(args: argparse.Namespace) -> int:
+    from scenarios import run_scenario
+    from scenarios.plot import write_views
+
+    run = run_scenario(_resolve(args.case), seed=args.seed)
+    png, gif = write_views(run, args.out)
+    print(f"wrote {png}")
+    print(f"wrote {gif}")
+    return 0

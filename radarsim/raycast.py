@@ -1,0 +1,318 @@
+"""Vectorised ray casting from a radar against yawed 3D boxes (actors), with occlusion.
+
+Rays leave the radar origin on a regular azimuth x elevation grid (radar frame, DESIGN 3). Each
+actor is a box yawed about z. Instead of testing every ray against every box, each box first gets
+a conservative angular window (azimuth and elevation interval that contains the whole box); only
+the rays inside a box's window are tested against that box, all (ray, box) pairs in one slab-test
+kernel. The nearest hit per ray wins, which is exactly the occlusion between actors: a car
+hidden behind a truck receives no ray.
+
+References
+----------
+.. [1] T. L. Kay, J. T. Kajiya, "Ray tracing complex scenes", SIGGRAPH 1986 (slab method).
+.. [2] A. Williams et al., "An efficient and robust ray-box intersection algorithm",
+       J. Graphics Tools 10(1), 2005 (IEEE infinities for axis-parallel rays).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+__all__ = ["RayGridConfig", "RayHits", "ray_box_intersect", "box_windows", "cast_rays",
+           "FACE_NORMALS_LOCAL"]
+
+#: Outward normals of the six box faces in box-local coordinates, indexed by face id:
+#: 0 +x (front), 1 -x (rear), 2 +y (left), 3 -y (right), 4 +z (top), 5 -z (bottom).
+FACE_NORMALS_LOCAL = np.array([[1, 0, 0], [-1, 0, 0], [0, 1, 0], [0, -1, 0], [0, 0, 1],
+                               [0, 0, -1]], dtype=np.float64)
+
+
+@dataclass(frozen=True, kw_only=True, slots=True)
+class RayGridConfig:
+    """Angular ray grid of the caster.
+
+    The default 0.25 deg azimuth step puts 4 rays across 1 deg (1.75 m at 100 m), so a 0.8 m
+    wide motorcycle at 100 m still gets two columns; 0.5 deg in elevation gives a 1.5 m car at
+    100 m two rows. Elevation spans the +/-20 deg where the AWR2944 element pattern has gain.
+
+    Parameters
+    ----------
+    azimuth_step_deg, elevation_step_deg : float
+        Grid steps, deg, in (0, 5].
+    azimuth_limit_deg : float
+        Rays cover azimuth [-limit, +limit], deg, in (0, 90].
+    elevation_min_deg, elevation_max_deg : float
+        Elevation span, deg, within [-60, 60], min < max.
+    """
+
+    azimuth_step_deg: float = 0.25
+    elevation_step_deg: float = 0.5
+    azimuth_limit_deg: float = 90.0
+    elevation_min_deg: float = -20.0
+    elevation_max_deg: float = 20.0
+
+    def __post_init__(self) -> None:
+        for name in ("azimuth_step_deg", "elevation_step_deg"):
+            v = getattr(self, name)
+            if not 0 < v <= 5:
+                raise ValueError(f"{name}={v!r} must be in (0, 5] deg")
+        if not 0 < self.azimuth_limit_deg <= 90:
+            raise ValueError(f"azimuth_limit_deg={self.azimuth_limit_deg!r} must be in (0, 90] "
+                             "deg")
+        for name in ("elevation_min_deg", "elevation_max_deg"):
+            v = getattr(self, name)
+            if not -60 <= v <= 60:
+                raise ValueError(f"{name}={v!r} must be within [-60, 60] deg")
+        if self.elevation_min_deg >= self.elevation_max_deg:
+            raise ValueError(f"elevation_min_deg={self.elevation_min_deg!r} must be below "
+                             f"elevation_max_deg={self.elevation_max_deg!r}")
+
+    @property
+    def n_azimuth(self) -> int:
+        return int(np.floor(2 * self.azimuth_limit_deg / self.azimuth_step_deg + 1e-9)) + 1
+
+    @property
+    def n_elevation(self) -> int:
+        span = self.elevation_max_deg - self.elevation_min_deg
+        return int(np.floor(span / self.elevation_step_deg + 1e-9)) + 1
+
+    def azimuths_rad(self, offset: float = 0.0) -> np.ndarray:
+        """(n_azimuth,) ray azimuths, rad; `offset` in steps (dither, in [0, 1))."""
+        return np.radians(-self.azimuth_limit_deg
+                          + (np.arange(self.n_azimuth) + offset) * self.azimuth_step_deg)
+
+    def elevations_rad(self, offset: float = 0.0) -> np.ndarray:
+        """(n_elevation,) ray elevations, rad; `offset` in steps."""
+        return np.radians(self.elevation_min_deg
+                          + (np.arange(self.n_elevation) + offset) * self.elevation_step_deg)
+
+    @property
+    def solid_angle_sr(self) -> float:
+        """Solid angle of one ray at elevation 0, sr (multiply by cos(el))."""
+        return np.radians(self.azimuth_step_deg) * np.radians(self.elevation_step_deg)
+
+
+@dataclass(frozen=True, slots=True)
+class RayHits:
+    """Nearest hit of every ray that hit a box (H hits).
+
+    Attributes
+    ----------
+    azimuth_index, elevation_index : (H,) int
+        Grid indices of the ray.
+    direction : (H, 3) float
+        Unit ray direction, radar frame.
+    t_m : (H,) float
+        Distance from the radar to the hit, m.
+    box : (H,) int
+        Index of the box hit.
+    face : (H,) int
+        Face id (see `FACE_NORMALS_LOCAL`).
+    normal : (H, 3) float
+        Outward face normal, radar frame.
+    """
+
+    azimuth_index: np.ndarray
+    elevation_index: np.ndarray
+    direction: np.ndarray
+    t_m: np.ndarray
+    box: np.ndarray
+    face: np.ndarray
+    normal: np.ndarray
+
+    @property
+    def point_m(self) -> np.ndarray:
+        """(H, 3) hit points, radar frame, m."""
+        return self.direction * self.t_m[:, None]
+
+    def __len__(self) -> int:
+        return self.t_m.shape[0]
+
+
+def _slab(o_local: np.ndarray, d_local: np.ndarray, half: np.ndarray):
+    """Slab test in box-local coordinates. All inputs (..., 3). Returns t_in, t_out, axis."""
+    with np.errstate(divide="ignore", invalid="ignore"):
+        inv = 1.0 / d_local
+        t1 = (-half - o_local) * inv
+        t2 = (half - o_local) * inv
+    # A ray parallel to a slab and inside it gives (-inf, inf); outside it (+-inf, +-inf) or
+    # NaN when the origin is exactly on the plane: treat NaN as "inside the slab".
+    t1 = np.where(np.isnan(t1), -np.inf, t1)
+    t2 = np.where(np.isnan(t2), np.inf, t2)
+    t_near = np.minimum(t1, t2)
+    t_far = np.maximum(t1, t2)
+    axis = np.argmax(t_near, axis=-1)
+    t_in = np.take_along_axis(t_near, axis[..., None], axis=-1)[..., 0]
+    t_out = t_far.min(axis=-1)
+    return t_in, t_out, axis
+
+
+def _to_local(vec: np.ndarray, yaw: np.ndarray) -> np.ndarray:
+    """Rotate radar-frame vectors (..., 3) by -yaw about z (box-local axes)."""
+    c, s = np.cos(yaw), np.sin(yaw)
+    return np.stack([c * vec[..., 0] + s * vec[..., 1], -s * vec[..., 0] + c * vec[..., 1],
+                     vec[..., 2]], axis=-1)
+
+
+def _pair_intersect(directions, centres, half_sizes, yaws):
+    """Slab test of P (ray, box) pairs; all arrays have leading dim P. Origin = radar (0)."""
+    o_local = _to_local(-centres, yaws)
+    d_local = _to_local(directions, yaws)
+    t_in, t_out, axis = _slab(o_local, d_local, half_sizes)
+    hit = (t_in <= t_out) & (t_in > 0)
+    d_axis = np.take_along_axis(d_local, axis[..., None], axis=-1)[..., 0]
+    # Entering through the face whose outward normal opposes the ray: -x face if d_x > 0.
+    face = 2 * axis + (d_axis > 0)
+    return t_in, hit, face
+
+
+def ray_box_intersect(directions, centres_m, half_sizes_m, yaws_rad):
+    """Intersect R rays from the origin with B boxes (every pair).
+
+    Parameters
+    ----------
+    directions : (R, 3) float
+        Ray directions (need not be unit; `t` is then in units of |d|), radar frame.
+    centres_m : (B, 3) float
+        Box centres, radar frame, m.
+    half_sizes_m : (B, 3) float
+        Half length (local x), half width (local y), half height (z), m.
+    yaws_rad : (B,) float
+        Box yaw about z (local x axis direction), rad.
+
+    Returns
+    -------
+    t : (R, B) float
+        Entry distance, m; inf where the ray misses (or starts inside the box).
+    face : (R, B) int
+        Entry face id (`FACE_NORMALS_LOCAL`), -1 on a miss.
+    """
+    d = np.asarray(directions, dtype=np.float64)[:, None, :]
+    c = np.asarray(centres_m, dtype=np.float64)[None, :, :]
+    h = np.asarray(half_sizes_m, dtype=np.float64)[None, :, :]
+    y = np.asarray(yaws_rad, dtype=np.float64)[None, :]
+    d, c, h = np.broadcast_arrays(d, c, h)
+    y = np.broadcast_to(y, d.shape[:2])
+    t_in, hit, face = _pair_intersect(d, c, h, y)
+    return np.where(hit, t_in, np.inf), np.where(hit, face, -1)
+
+
+def box_windows(centres_m, half_sizes_m, yaws_rad):
+    """Conservative angular window (azimuth, elevation intervals) of each box seen from 0.
+
+    The azimuth interval spans the footprint's corners around the centre's azimuth; the
+    elevation interval uses the nearest horizontal distance to the footprint (not a corner: a
+    long guard rail is nearest in its middle) for the upper/lower edge that leans toward the
+    radar, and the farthest corner otherwise.
+
+    Parameters
+    ----------
+    centres_m, half_sizes_m : (B, 3) float
+    yaws_rad : (B,) float
+
+    Returns
+    -------
+    az_lo, az_hi, el_lo, el_hi : (B,) float
+        Intervals, rad. Boxes containing the radar get an empty window (lo > hi).
+    """
+    c = np.asarray(centres_m, dtype=np.float64)
+    h = np.asarray(half_sizes_m, dtype=np.float64)
+    yaw = np.asarray(yaws_rad, dtype=np.float64)
+    cy, sy = np.cos(yaw), np.sin(yaw)
+    sx = np.array([1, 1, -1, -1])
+    sg = np.array([1, -1, 1, -1])
+    corner_x = c[:, 0, None] + sx * h[:, 0, None] * cy[:, None] - sg * h[:, 1, None] * sy[:, None]
+    corner_y = c[:, 1, None] + sx * h[:, 0, None] * sy[:, None] + sg * h[:, 1, None] * cy[:, None]
+    az_c = np.arctan2(c[:, 1], c[:, 0])
+    da = np.angle(np.exp(1j * (np.arctan2(corner_y, corner_x) - az_c[:, None])))
+    az_lo = az_c + da.min(axis=1)
+    az_hi = az_c + da.max(axis=1)
+    # Nearest horizontal distance from the radar to the footprint rectangle.
+    o_local = _to_local(-c, yaw)
+    gap = np.maximum(np.abs(o_local[:, :2]) - h[:, :2], 0.0)
+    d_min = np.hypot(gap[:, 0], gap[:, 1])
+    d_max = np.hypot(corner_x, corner_y).max(axis=1)
+    z_top = c[:, 2] + h[:, 2]
+    z_bot = c[:, 2] - h[:, 2]
+    el_hi = np.arctan2(z_top, np.where(z_top > 0, d_min, d_max))
+    el_lo = np.arctan2(z_bot, np.where(z_bot < 0, d_min, d_max))
+    inside = d_min <= 0
+    az_lo = np.where(inside, 1.0, az_lo)
+    az_hi = np.where(inside, -1.0, az_hi)
+    return az_lo, az_hi, el_lo, el_hi
+
+
+def cast_rays(grid: RayGridConfig, centres_m, half_sizes_m, yaws_rad, *,
+              azimuth_offset: float = 0.0, elevation_offset: float = 0.0,
+              max_range_m: float = np.inf) -> RayHits:
+    """Cast the ray grid against B boxes and keep the nearest hit of each ray.
+
+    Parameters
+    ----------
+    grid : RayGridConfig
+    centres_m, half_sizes_m : (B, 3) float
+        Box centres and half sizes, radar frame, m.
+    yaws_rad : (B,) float
+        Box yaws, rad.
+    azimuth_offset, elevation_offset : float
+        Grid dither in steps, [0, 1).
+    max_range_m : float
+        Hits beyond this distance are dropped.
+
+    Returns
+    -------
+    RayHits
+        One entry per ray that hit something (nearest hit: occlusion resolved).
+    """
+    c = np.asarray(centres_m, dtype=np.float64).reshape(-1, 3)
+    h = np.asarray(half_sizes_m, dtype=np.float64).reshape(-1, 3)
+    yaw = np.asarray(yaws_rad, dtype=np.float64).reshape(-1)
+    az = grid.azimuths_rad(azimuth_offset)
+    el = grid.elevations_rad(elevation_offset)
+    na, ne = az.size, el.size
+    empty = RayHits(np.zeros(0, int), np.zeros(0, int), np.zeros((0, 3)), np.zeros(0),
+                    np.zeros(0, int), np.zeros(0, int), np.zeros((0, 3)))
+    if c.shape[0] == 0:
+        return empty
+    az_lo, az_hi, el_lo, el_hi = box_windows(c, h, yaw)
+    a_step = np.radians(grid.azimuth_step_deg)
+    e_step = np.radians(grid.elevation_step_deg)
+    ia0 = np.clip(np.ceil((az_lo - az[0]) / a_step - 1e-9), 0, na).astype(np.int64)
+    ia1 = np.clip(np.floor((az_hi - az[0]) / a_step + 1e-9) + 1, 0, na).astype(np.int64)
+    ie0 = np.clip(np.ceil((el_lo - el[0]) / e_step - 1e-9), 0, ne).astype(np.int64)
+    ie1 = np.clip(np.floor((el_hi - el[0]) / e_step + 1e-9) + 1, 0, ne).astype(np.int64)
+    n_a = np.maximum(ia1 - ia0, 0)
+    n_e = np.maximum(ie1 - ie0, 0)
+    counts = n_a * n_e
+    total = int(counts.sum())
+    if total == 0:
+        return empty
+    # All (ray, box) pairs of all windows at once: box index repeated by window size, and the
+    # position inside the window from a running index.
+    box = np.repeat(np.arange(c.shape[0]), counts)
+    starts = np.cumsum(counts) - counts
+    local = np.arange(total) - starts[box]
+    ja, je = np.divmod(local, n_e[box])
+    ia = ia0[box] + ja
+    ie = ie0[box] + je
+    cos_e = np.cos(el)
+    dirs = np.stack([cos_e[ie] * np.cos(az[ia]), cos_e[ie] * np.sin(az[ia]), np.sin(el[ie])],
+                    axis=-1)
+    t_in, hit, face = _pair_intersect(dirs, c[box], h[box], yaw[box])
+    hit &= t_in <= max_range_m
+    ray = (ie * na + ia)[hit]
+    t_h = t_in[hit]
+    # Nearest hit per ray: sort by (ray, t) and keep the first of each ray.
+    order = np.lexsort((t_h, ray))
+    ray_s = ray[order]
+    first = np.ones(ray_s.size, dtype=bool)
+    first[1:] = ray_s[1:] != ray_s[:-1]
+    keep = np.flatnonzero(hit)[order[first]]
+    b = box[keep]
+    f = face[keep]
+    n_local = FACE_NORMALS_LOCAL[f]
+    cb, sb = np.cos(yaw[b]), np.sin(yaw[b])
+    normal = np.stack([cb * n_local[:, 0] - sb * n_local[:, 1],
+                       sb * n_local[:, 0] + cb * n_local[:, 1], n_local[:, 2]], axis=-1)
+    return RayHits(ia[keep], ie[keep], dirs[keep], t_in[keep], b, f, normal)

@@ -1,0 +1,465 @@
+"""highway-env traffic for the catalogue: scripted road users and random traffic, headless.
+
+Scripted cases build a highway-env `Road` on the case's layout and fill it with
+`ScriptedVehicle`s (highway-env `Vehicle` subclasses that follow a path at a scripted speed,
+with scripted lane changes and braking). Random-traffic cases use highway-env's own
+environments (highway, merge, roundabout, intersection) with IDM/MOBIL drivers, the ego included
+(it is re-created as an `IDMVehicle` so it drives itself and never needs an agent's action).
+Trucks and motorcycles, which highway-env lacks, are `IDMVehicle` / `Vehicle` subclasses with
+their own size and speed (`VEHICLE_CLASSES`, `IDM_CLASSES`).
+
+Speed choices (the sweep steps every frame):
+* no rendering: `render_mode=None` and no viewer; `env.step` is never called, the loop calls
+  `road.act()` and `road.step(dt)` directly, so no observation or reward is computed per frame
+  (the one observation at `reset` is a 1-vehicle, 1-feature Kinematics);
+* the simulation runs at `substeps` x the frame rate (default 1: 20 Hz, finer than
+  highway-env's 15 Hz default), sampled exactly at every radar frame;
+* the drivers (IDM/MOBIL `road.act()`, the O(N^2) part) decide at `decision_rate_hz`
+  (default 10 Hz, a 100 ms reaction step; highway-env's fast variant decides at 5 Hz) while
+  the dynamics integrate at every step;
+* collision physics is disabled (scripted cases drive deliberately on collision courses, and
+  it saves an O(N^2) Python loop).
+Determinism: random traffic draws only from the environment's generator seeded by
+`env.reset(seed=seed)`; scripted cases use no randomness at all.
+"""
+from __future__ import annotations
+
+from collections.abc import Iterator
+from dataclasses import dataclass
+
+import numpy as np
+import pandas as pd
+from scipy.spatial import cKDTree
+
+from highway_env.road.lane import CircularLane, StraightLane
+from highway_env.road.road import Road, RoadNetwork
+from highway_env.vehicle.behavior import IDMVehicle
+from highway_env.vehicle.kinematics import Vehicle
+
+from .catalog import ACTOR_CLASSES, GUARD_RAIL, Case, Mount, get_case
+from .truth import (RAW_ACTOR_COLUMNS, RAW_EGO_COLUMNS, build_tables, ego_yaw_rate_rps,
+                    iso_lateral_to_highway, radar_velocity_mps)
+
+__all__ = ["ScenarioRun", "FrameTruth", "run_scenario", "Path", "ScriptedVehicle",
+           "VEHICLE_CLASSES", "IDM_CLASSES", "build_layout", "LANE_WIDTH_M",
+           "RANDOM_ID_BASE", "RAIL_ID_BASE"]
+
+LANE_WIDTH_M = StraightLane.DEFAULT_WIDTH  # 4 m
+#: Actor ids: scripted actors 0..n-1, random traffic from 100, guard-rail segments from 10000.
+RANDOM_ID_BASE = 100
+RAIL_ID_BASE = 10_000
+#: Guard rails stand this far beyond the outer lane edge, m.
+RAIL_SHOULDER_M = 1.5
+#: Guard-rail segments farther than this from the ego are left out of the truth, m.
+RAIL_VIEW_M = 300.0
+
+
+def _vehicle_class(name: str, base: type) -> type:
+    spec = ACTOR_CLASSES[name]
+    attrs = {"LENGTH": spec.length_m, "WIDTH": spec.width_m, "HEIGHT": spec.height_m,
+             "MAX_SPEED": spec.max_speed_mps, "ACTOR_CLASS": name,
+             "__doc__": f"highway-env {base.__name__} with {name} size "
+                        f"{spec.length_m} x {spec.width_m} x {spec.height_m} m."}
+    if name in ("bicycle", "pedestrian"):
+        attrs["DEFAULT_INITIAL_SPEEDS"] = [0.5 * spec.max_speed_mps, 0.7 * spec.max_speed_mps]
+    prefix = "IDM" if base is IDMVehicle else ""
+    return type(f"{prefix}{name.title()}", (base,), attrs)
+
+
+#: Kinematic highway-env vehicle classes per road-user class (sizes from `ACTOR_CLASSES`).
+VEHICLE_CLASSES: dict[str, type] = {n: _vehicle_class(n, Vehicle) for n in ACTOR_CLASSES}
+#: IDM-driven classes for random traffic.
+IDM_CLASSES: dict[str, type] = {n: _vehicle_class(n, IDMVehicle)
+                                for n in ("car", "truck", "motorcycle")}
+
+
+class Path:
+    """A chain of highway-env lanes followed by a scripted actor.
+
+    s = 0 sits at the path's point nearest the layout origin; positions beyond either end
+    extrapolate along the end lanes.
+    """
+
+    def __init__(self, lanes: list) -> None:
+        self.lanes = list(lanes)
+        self.lengths = np.array([ln.length for ln in self.lanes], dtype=float)
+        self.starts = np.concatenate([[0.0], np.cumsum(self.lengths)[:-1]])
+        # s = 0 at the point nearest the origin: project the origin on every lane.
+        best = (np.inf, 0.0)
+        for start, lane in zip(self.starts, self.lanes):
+            s_loc = float(np.clip(lane.local_coordinates(np.zeros(2))[0], 0.0, lane.length))
+            d = float(np.hypot(*lane.position(s_loc, 0.0)))
+            best = min(best, (d, start + s_loc))
+        self.s0 = best[1]
+
+    def _locate(self, s_raw: float):
+        k = int(np.clip(np.searchsorted(self.starts, s_raw, side="right") - 1, 0,
+                        len(self.lanes) - 1))
+        return self.lanes[k], s_raw - self.starts[k]
+
+    def _raw_position(self, s_raw: float, lat_hw: float) -> np.ndarray:
+        lane, s_loc = self._locate(s_raw)
+        return np.asarray(lane.position(s_loc, lat_hw), dtype=float)
+
+    def position(self, s_m: float, lat_hw: float = 0.0) -> np.ndarray:
+        """(2,) highway-env position at path coordinate s and lateral lat (highway-env, m)."""
+        return self._raw_position(s_m + self.s0, lat_hw)
+
+    def heading(self, s_m: float) -> float:
+        """highway-env heading of the path at s, rad."""
+        lane, s_loc = self._locate(s_m + self.s0)
+        return float(lane.heading_at(s_loc))
+
+    def sample(self, s_lo: float, s_hi: float, lat_hw: float = 0.0, step_m: float = 0.1):
+        """Points of the path between s_lo and s_hi: (s (N,), xy (N, 2))."""
+        s = np.arange(s_lo, s_hi, step_m)
+        return s, np.array([self.position(v, lat_hw) for v in s]).reshape(-1, 2)
+
+
+def build_layout(road: str, lanes: int):
+    """Road network, named paths and guard-rail lines (highway-env y) of a layout."""
+    net = RoadNetwork()
+    paths: dict[str, Path] = {}
+    rails: list[float] = []
+    far = 2000.0
+    w = LANE_WIDTH_M
+    if road in ("highway", "two_way"):
+        for i in range(lanes):
+            lane = StraightLane([-far, i * w], [far, i * w], speed_limit=40.0)
+            net.add_lane("w", "e", lane)
+            paths[f"lane_{i}"] = Path([lane])
+        left_edge = -0.5 * w
+        if road == "two_way":
+            lane = StraightLane([far, -w], [-far, -w], speed_limit=40.0)
+            net.add_lane("e", "w", lane)
+            paths["oncoming"] = Path([lane])
+            left_edge -= w
+        rails = [left_edge - RAIL_SHOULDER_M, (lanes - 0.5) * w + RAIL_SHOULDER_M]
+    elif road == "urban":
+        h = 0.5 * w
+        r = 8.0
+        main = StraightLane([-far, h], [far, h], speed_limit=20.0)
+        onc = StraightLane([far, -h], [-far, -h], speed_limit=20.0)
+        f_left = StraightLane([-h, -far], [-h, far], speed_limit=20.0)
+        f_right = StraightLane([h, far], [h, -far], speed_limit=20.0)
+        # Left turn: main until x = h - r, then a radius-r arc into the cross road's lane
+        # that leaves to the ego's left (highway-env -y), at x = +h.
+        lead = StraightLane([-far, h], [h - r, h], speed_limit=20.0)
+        arc = CircularLane([h - r, h - r], r, np.pi / 2, 0.0, clockwise=False, speed_limit=10.0)
+        out = StraightLane([h, h - r], [h, -far], speed_limit=20.0)
+        for a, b, lane in (("w", "e", main), ("e", "w", onc), ("n", "s", f_left),
+                           ("s", "n", f_right), ("w", "c", lead), ("c", "t", arc),
+                           ("t", "n", out)):
+            net.add_lane(a, b, lane)
+        paths = {"main": Path([main]), "oncoming": Path([onc]), "from_left": Path([f_left]),
+                 "from_right": Path([f_right]), "turn_left": Path([lead, arc, out])}
+    else:
+        raise ValueError(f"road={road!r} unknown")
+    return net, paths, rails
+
+
+class ScriptedVehicle(Vehicle):
+    """A highway-env vehicle that follows a `Path` on a script (speed, lane change, braking).
+
+    Parameters
+    ----------
+    road : highway_env.road.road.Road
+    path : Path
+    spec : scenarios.catalog.ActorSpec
+    s_m : float
+        Initial path coordinate, m.
+    """
+
+    def __init__(self, road: Road, path: Path, spec, s_m: float) -> None:
+        cls = ACTOR_CLASSES[spec.actor_class]
+        # Instance sizes before Vehicle.__init__, which derives the diagonal from them.
+        self.LENGTH, self.WIDTH = cls.length_m, cls.width_m
+        self.HEIGHT = cls.height_m
+        self.ACTOR_CLASS = spec.actor_class
+        self.path, self.spec, self.s, self.t = path, spec, float(s_m), 0.0
+        self._velocity = np.zeros(2)
+        super().__init__(road, path.position(s_m), path.heading(s_m), spec.speed_mps)
+        self.check_collisions = False
+        self.collidable = False
+        self._update_pose()
+
+    def _lateral(self) -> tuple[float, float]:
+        """Lateral offset (highway-env) and its rate at the current time."""
+        sp = self.spec
+        lat = iso_lateral_to_highway(sp.lateral_offset_m)
+        if sp.lane_change_time_s is None or self.t <= sp.lane_change_time_s:
+            return lat, 0.0
+        u = min((self.t - sp.lane_change_time_s) / sp.lane_change_duration_s, 1.0)
+        d = iso_lateral_to_highway(sp.lane_change_left_m)
+        rate = 0.0 if u >= 1 else d * 0.5 * np.pi * np.sin(np.pi * u) / sp.lane_change_duration_s
+        return lat + d * 0.5 * (1 - np.cos(np.pi * u)), rate
+
+    def _update_pose(self) -> None:
+        lat, lat_rate = self._lateral()
+        self.position = self.path.position(self.s, lat)
+        h = self.path.heading(self.s)
+        tangent = np.array([np.cos(h), np.sin(h)])
+        normal = np.array([-np.sin(h), np.cos(h)])
+        self._velocity = self.speed * tangent + lat_rate * normal
+        self.heading = h + (np.arctan2(lat_rate, self.speed) if self.speed > 0.5 else 0.0)
+
+    @property
+    def velocity(self) -> np.ndarray:
+        return self._velocity
+
+    def act(self, action=None) -> None:
+        """Scripted: no decision to take."""
+
+    def step(self, dt: float) -> None:
+        sp = self.spec
+        v0 = self.speed
+        # 1e-9 s: the time accumulates dt, so 10 x 0.05 s falls just short of 0.5 s.
+        if sp.brake_time_s is not None and self.t >= sp.brake_time_s - 1e-9 and v0 != 0.0:
+            v1 = v0 - np.sign(v0) * sp.brake_decel_mps2 * dt
+            v1 = 0.0 if np.sign(v1) != np.sign(v0) else v1
+        else:
+            v1 = v0
+        self.s += 0.5 * (v0 + v1) * dt
+        self.speed = v1
+        self.t += dt
+        self._update_pose()
+
+    def on_state_update(self) -> None:
+        """The path is known: skip highway-env's closest-lane search."""
+
+
+@dataclass(frozen=True, slots=True)
+class FrameTruth:
+    """What the radar simulation needs at one frame."""
+
+    frame: int
+    time_s: float
+    truth: pd.DataFrame
+    radar_velocity_mps: np.ndarray
+    mount_height_m: float
+
+
+@dataclass(frozen=True, slots=True)
+class ScenarioRun:
+    """Result of `run_scenario`.
+
+    Attributes
+    ----------
+    case : scenarios.catalog.Case
+    seed : int
+    frame_rate_hz : float
+    mount : scenarios.catalog.Mount
+    truth : pandas.DataFrame
+        `scenarios.truth.TRUTH_COLUMNS`, one row per frame and actor (guard rails included).
+    ego : pandas.DataFrame
+        `scenarios.truth.EGO_COLUMNS`, one row per frame.
+    """
+
+    case: Case
+    seed: int
+    frame_rate_hz: float
+    mount: Mount
+    truth: pd.DataFrame
+    ego: pd.DataFrame
+
+    @property
+    def n_frames(self) -> int:
+        return len(self.ego)
+
+    def radar_velocity_mps(self) -> np.ndarray:
+        """(F, 3) velocity of the radar over the ground, radar frame, m/s."""
+        return radar_velocity_mps(self.ego["ego_speed_mps"].to_numpy(),
+                                  ego_yaw_rate_rps(self.ego), self.mount)
+
+    def frames(self) -> Iterator[FrameTruth]:
+        """Per frame: the truth rows, the radar velocity and the mount height (for
+        `radarsim.rcs.scene_scatterers`)."""
+        vel = self.radar_velocity_mps()
+        groups = dict(iter(self.truth.groupby("frame", sort=True)))
+        empty = self.truth.iloc[0:0]
+        for k, (frame, t) in enumerate(zip(self.ego["frame"], self.ego["time_s"])):
+            yield FrameTruth(int(frame), float(t), groups.get(frame, empty), vel[k],
+                             self.mount.z_m)
+
+    def __iter__(self) -> Iterator[FrameTruth]:
+        return self.frames()
+
+
+def _meet_s(ego_path: Path, ego_s: float, ego_v: float, ego_lat: float, path: Path,
+            v: float, lat: float) -> float:
+    """Start s on `path` so that an actor at speed v meets the ego at the paths' crossing."""
+    lo, hi = (ego_s, ego_s + 200.0) if ego_v >= 0 else (ego_s - 200.0, ego_s)
+    se, pe = ego_path.sample(lo, hi, iso_lateral_to_highway(ego_lat), 0.25)
+    sa, pa = path.sample(-400.0, 400.0, iso_lateral_to_highway(lat), 0.25)
+    dist, j = cKDTree(pa).query(pe)
+    i = int(np.argmin(dist))
+    if dist[i] > 1.0 or ego_v == 0:
+        raise ValueError("meet_ego: the actor's path does not cross the ego's path ahead of "
+                         "the ego")
+    t_meet = (se[i] - ego_s) / ego_v
+    return float(sa[j[i]] - v * t_meet)
+
+
+def _rail_rows(rails: list[float], ego_hw: pd.DataFrame) -> pd.DataFrame:
+    """Static guard-rail segments along the rail lines near the ego (raw highway-env rows)."""
+    if not rails:
+        return pd.DataFrame(columns=RAW_ACTOR_COLUMNS)
+    seg = GUARD_RAIL.length_m
+    x_lo = ego_hw["x_hw"].min() - RAIL_VIEW_M - seg
+    x_hi = ego_hw["x_hw"].max() + RAIL_VIEW_M + seg
+    k = np.arange(np.floor(x_lo / seg), np.ceil(x_hi / seg))
+    xs = (k + 0.5) * seg
+    ids = RAIL_ID_BASE + np.concatenate([(k % 5000) + 5000 * side for side in range(len(rails))])
+    xx = np.tile(xs, len(rails))
+    yy = np.repeat(rails, xs.size)
+    f = ego_hw["frame"].to_numpy()
+    ex = ego_hw["x_hw"].to_numpy()
+    near = np.abs(xx[None, :] - ex[:, None]) <= RAIL_VIEW_M
+    fi, si = np.nonzero(near)
+    n = fi.size
+    return pd.DataFrame({"frame": f[fi], "actor_id": ids[si].astype(np.int64),
+                         "actor_class": "guard_rail", "length_m": seg,
+                         "width_m": GUARD_RAIL.width_m, "height_m": GUARD_RAIL.height_m,
+                         "x_hw": xx[si], "y_hw": yy[si], "heading_hw": np.zeros(n),
+                         "vx_hw": np.zeros(n), "vy_hw": np.zeros(n)})
+
+
+def _scripted(case: Case):
+    net, paths, rails = build_layout(case.road, case.lanes)
+    road = Road(network=net, np_random=np.random.RandomState(0), record_history=False)
+    ego_path = paths[case.ego.path]
+    ego = ScriptedVehicle(road, ego_path, case.ego, case.ego.s_m)
+    road.vehicles.append(ego)
+    actors = []
+    for spec in case.actors:
+        s0 = spec.s_m
+        if spec.meet_ego:
+            s0 = _meet_s(ego_path, case.ego.s_m, case.ego.speed_mps, case.ego.lateral_offset_m,
+                         paths[spec.path], spec.speed_mps, spec.lateral_offset_m)
+        v = ScriptedVehicle(road, paths[spec.path], spec, s0)
+        road.vehicles.append(v)
+        actors.append(v)
+    ids = {id(v): i for i, v in enumerate(actors)}
+    return road, ego, ids, rails, None
+
+
+def _random_traffic(case: Case, seed: int, frame_rate_hz: float, substeps: int):
+    from highway_env.envs import HighwayEnv, IntersectionEnv, MergeEnv, RoundaboutEnv
+
+    env_cls = {"highway": HighwayEnv, "merge": MergeEnv, "roundabout": RoundaboutEnv,
+               "intersection": IntersectionEnv}[case.traffic]
+    if abs(frame_rate_hz - round(frame_rate_hz)) > 1e-9:
+        raise ValueError(f"frame_rate_hz={frame_rate_hz!r} must be a whole number of Hz for "
+                         "highway-env traffic environments")
+    config = {"simulation_frequency": int(round(frame_rate_hz)) * substeps,
+              "policy_frequency": int(round(frame_rate_hz)),
+              "observation": {"type": "Kinematics", "vehicles_count": 1,
+                              "features": ["presence"]},
+              "duration": case.duration_s + 1.0, "offscreen_rendering": True}
+    if case.traffic == "highway":
+        config.update({"lanes_count": case.lanes, "vehicles_count": case.vehicles_count,
+                       "vehicles_density": case.vehicles_density})
+    env = env_cls(config=config, render_mode=None)
+    env.reset(seed=seed)
+    road = env.road
+    old_ego = env.vehicle
+    ego = IDM_CLASSES["car"].create_from(old_ego)
+    road.vehicles[road.vehicles.index(old_ego)] = ego
+    env.controlled_vehicles = [ego]
+    gen = env.np_random
+    for i, v in enumerate(road.vehicles):
+        v.check_collisions = False
+        if v is ego or not isinstance(v, IDMVehicle):
+            continue
+        u = gen.uniform()
+        name = ("truck" if u < case.truck_fraction else "motorcycle"
+                if u < case.truck_fraction + case.motorcycle_fraction else None)
+        if name is not None:
+            new = IDM_CLASSES[name].create_from(v)
+            if name == "truck":
+                new.target_speed = min(new.target_speed, 25.0)
+            new.check_collisions = False
+            road.vehicles[i] = new
+    rails = []
+    if case.traffic == "highway" and case.guard_rails:
+        rails = [-0.5 * LANE_WIDTH_M - RAIL_SHOULDER_M,
+                 (case.lanes - 0.5) * LANE_WIDTH_M + RAIL_SHOULDER_M]
+    return road, ego, {}, rails, env
+
+
+def run_scenario(name_or_case, seed: int = 0, duration_s: float | None = None,
+                 frame_rate_hz: float = 20.0, substeps: int = 1,
+                 decision_rate_hz: float = 10.0) -> ScenarioRun:
+    """Simulate a catalogue case (or a `Case`) and return its ground truth.
+
+    Parameters
+    ----------
+    name_or_case : str or scenarios.catalog.Case
+    seed : int
+        Seed of the random traffic (scripted cases are deterministic anyway).
+    duration_s : float, optional
+        Override the case's duration, s (> 0).
+    frame_rate_hz : float
+        Radar frame rate, Hz, in (0, 100]; one truth sample per frame.
+    substeps : int
+        highway-env integration steps per frame (>= 1).
+    decision_rate_hz : float
+        Rate of the drivers' decisions (`road.act()`), Hz, in (0, frame_rate x substeps];
+        rounded to a whole number of integration steps.
+
+    Returns
+    -------
+    ScenarioRun
+
+    Raises
+    ------
+    ValueError
+        Unknown case (naming the known ones) or a bad argument.
+    """
+    case = get_case(name_or_case)
+    if not 0 < frame_rate_hz <= 100:
+        raise ValueError(f"frame_rate_hz={frame_rate_hz!r} must be in (0, 100] Hz")
+    if isinstance(substeps, bool) or not isinstance(substeps, int) or substeps < 1:
+        raise ValueError(f"substeps={substeps!r} must be an integer >= 1")
+    sim_rate = frame_rate_hz * substeps
+    if not 0 < decision_rate_hz <= sim_rate:
+        raise ValueError(f"decision_rate_hz={decision_rate_hz!r} must be in (0, {sim_rate:g}] "
+                         "Hz")
+    stride = max(int(round(sim_rate / decision_rate_hz)), 1)
+    duration = case.duration_s if duration_s is None else duration_s
+    if not duration > 0:
+        raise ValueError(f"duration_s={duration!r} must be > 0")
+    n_frames = max(int(round(duration * frame_rate_hz)), 1)
+    if case.traffic is None:
+        road, ego, ids, rails, _env = _scripted(case)
+    else:
+        road, ego, ids, rails, _env = _random_traffic(case, seed, frame_rate_hz, substeps)
+    dt = 1.0 / (frame_rate_hz * substeps)
+    actor_rows: list[tuple] = []
+    ego_rows: list[tuple] = []
+    for frame in range(n_frames):
+        ego_rows.append((frame, ego.position[0], ego.position[1], ego.heading, ego.speed))
+        for v in road.vehicles:
+            if v is ego:
+                continue
+            key = id(v)
+            if key not in ids:
+                ids[key] = RANDOM_ID_BASE + len(ids)
+            cls = getattr(v, "ACTOR_CLASS", "car")
+            vel = v.velocity
+            actor_rows.append((frame, ids[key], cls, v.LENGTH, v.WIDTH,
+                               ACTOR_CLASSES[cls].height_m, v.position[0], v.position[1],
+                               v.heading, vel[0], vel[1]))
+        if frame < n_frames - 1:
+            for sub in range(substeps):
+                if (frame * substeps + sub) % stride == 0:
+                    road.act()
+                road.step(dt)
+    raw_ego = pd.DataFrame(ego_rows, columns=RAW_EGO_COLUMNS)
+    raw = pd.DataFrame(actor_rows, columns=RAW_ACTOR_COLUMNS)
+    rail = _rail_rows(rails, raw_ego) if case.guard_rails else None
+    if rail is not None and len(rail):
+        raw = pd.concat([raw, rail], ignore_index=True) if len(raw) else rail
+    truth, ego_table = build_tables(raw, raw_ego, case.mount, frame_rate_hz)
+    return ScenarioRun(case=case, seed=int(seed), frame_rate_hz=float(frame_rate_hz),
+                       mount=case.mount, truth=truth, ego=ego_table)

@@ -1,0 +1,139 @@
+"""The catalogue: required cases, mounts, criteria as data, validation of every dataclass."""
+from __future__ import annotations
+
+import pytest
+
+from scenarios import ACTOR_CLASSES, CRITERION_METRICS, MOUNTS, SCENARIOS, get_case, s_crit_m
+from scenarios.catalog import KMH, ActorSpec, Case, Criterion, Mount
+
+REQUIRED = ["r79_motorcycle_rear", "r79_critical_distance_60", "r79_critical_distance_100",
+            "blind_spot_overtaking", "truck_high_closing", "zero_relative_follower",
+            "dooring_cyclist", "reversing_pedestrian", "cccscp_crossing", "ccftap_turn_across",
+            "head_on_aliasing", "dense_highway"]
+
+
+def test_catalogue_has_the_required_cases():
+    assert len(SCENARIOS) >= 12
+    assert set(REQUIRED) <= set(SCENARIOS)
+    assert {c.traffic for c in SCENARIOS.values()} >= {"highway", "merge", "roundabout",
+                                                       "intersection"}
+
+
+@pytest.mark.parametrize("name", list(SCENARIOS))
+def test_case_is_complete(name):
+    case = SCENARIOS[name]
+    m = case.mount
+    assert m.name in MOUNTS and abs(abs(m.yaw_deg) - 90) == pytest.approx(45)
+    assert m.z_m == pytest.approx(0.5, abs=0.2)
+    assert 0 < case.duration_s <= 8, "keep sweeps cheap"
+    assert case.criteria, "every case carries a physical pass criterion"
+    for c in case.criteria:
+        assert c.metric in CRITERION_METRICS
+        d = c.to_dict()
+        assert set(d) == {"metric", "op", "value", "actor_id", "note"}
+    if case.traffic is None:
+        assert case.must_detect
+
+
+def test_r79_criteria_are_the_regulation_numbers():
+    """S_rear >= 55 m; S_crit = 87.5 m at 60 km/h, 59.9 at 80, 42.7 at 100 (DESIGN 6)."""
+    assert s_crit_m(60 * KMH) == pytest.approx(87.5, abs=0.05)
+    assert s_crit_m(80 * KMH) == pytest.approx(59.9, abs=0.05)
+    assert s_crit_m(100 * KMH) == pytest.approx(42.7, abs=0.05)
+    moto = SCENARIOS["r79_motorcycle_rear"]
+    assert moto.actors[0].actor_class == "motorcycle"
+    assert moto.actors[0].speed_mps == pytest.approx(130 * KMH)
+    c = moto.criteria[0]
+    assert (c.metric, c.op, c.value, c.actor_id) == ("first_detection_range_m", ">=", 55.0, 0)
+    assert SCENARIOS["r79_critical_distance_60"].criteria[0].value == pytest.approx(87.5)
+    assert SCENARIOS["r79_critical_distance_100"].criteria[0].value == pytest.approx(42.7)
+
+
+def test_head_on_closes_faster_than_ddma_span():
+    case = SCENARIOS["head_on_aliasing"]
+    assert case.ego.speed_mps + case.actors[0].speed_mps > 40.8
+
+
+def test_criterion_passed():
+    c = Criterion(metric="first_detection_range_m", op=">=", value=55.0, actor_id=0)
+    assert c.passed(60.0) and not c.passed(50.0) and not c.passed(float("nan"))
+
+
+def test_classes_sizes():
+    assert (ACTOR_CLASSES["car"].length_m, ACTOR_CLASSES["car"].width_m) == (5.0, 2.0)
+    assert (ACTOR_CLASSES["motorcycle"].length_m, ACTOR_CLASSES["motorcycle"].width_m) == (2.2,
+                                                                                        0.8)
+    assert ACTOR_CLASSES["truck"].length_m == pytest.approx(16, abs=1)
+    assert ACTOR_CLASSES["motorcycle"].max_speed_mps >= 130 * KMH
+
+
+def test_get_case_unknown_names_known():
+    with pytest.raises(ValueError, match="unknown scenario 'nope'.*r79_motorcycle_rear"):
+        get_case("nope")
+
+
+BASE = dict(name="x", description="d", mount=MOUNTS["rear_left"], duration_s=2.0)
+
+
+@pytest.mark.parametrize("kwargs, match", [
+    ({"name": "Bad Name"}, "name"),
+    ({"duration_s": 0.0}, "duration_s"),
+    ({"duration_s": 500.0}, "duration_s"),
+    ({"road": "moon"}, "road"),
+    ({"lanes": 0}, "lanes"),
+    ({"traffic": "city"}, "traffic"),
+    ({"ego": ActorSpec(actor_class="truck", path="lane_1")}, "ego.actor_class"),
+    ({"actors": (ActorSpec(path="lane_9"),)}, r"actors\[0\].path"),
+    ({"vehicles_count": 100}, "vehicles_count"),
+    ({"vehicles_density": 0.0}, "vehicles_density"),
+    ({"truck_fraction": 1.5}, "truck_fraction"),
+    ({"truck_fraction": 0.6, "motorcycle_fraction": 0.6}, "fraction"),
+    ({"must_detect": (3,)}, "must_detect"),
+    ({"criteria": (Criterion(metric="ghost_rate", op="<=", value=0.1, actor_id=2),)},
+     "actor_id"),
+    ({"mount": "rear_left"}, "mount"),
+])
+def test_case_validation(kwargs, match):
+    with pytest.raises(ValueError, match=match):
+        Case(**{**BASE, **kwargs})
+
+
+@pytest.mark.parametrize("kwargs, match", [
+    ({"actor_class": "tank"}, "actor_class"),
+    ({"actor_class": "pedestrian", "speed_mps": 10.0}, "speed_mps"),
+    ({"speed_mps": -8.0}, "reversing"),
+    ({"speed_mps": float("nan")}, "speed_mps"),
+    ({"lateral_offset_m": 20.0}, "lateral_offset_m"),
+    ({"lane_change_left_m": 30.0}, "lane_change_left_m"),
+    ({"lane_change_time_s": -1.0}, "lane_change_time_s"),
+    ({"lane_change_duration_s": 0.0}, "lane_change_duration_s"),
+    ({"brake_decel_mps2": 20.0}, "brake_decel_mps2"),
+])
+def test_actor_validation(kwargs, match):
+    with pytest.raises(ValueError, match=match):
+        ActorSpec(**kwargs)
+
+
+@pytest.mark.parametrize("kwargs, match", [
+    ({"name": "roof"}, "name"),
+    ({"x_m": 20.0}, "x_m"),
+    ({"y_m": 5.0}, "y_m"),
+    ({"z_m": 0.0}, "z_m"),
+    ({"yaw_deg": 200.0}, "yaw_deg"),
+])
+def test_mount_validation(kwargs, match):
+    base = dict(name="rear_left", x_m=-2.3, y_m=0.8, z_m=0.5, yaw_deg=135.0)
+    with pytest.raises(ValueError, match=match):
+        Mount(**{**base, **kwargs})
+
+
+@pytest.mark.parametrize("kwargs, match", [
+    ({"metric": "happiness"}, "metric"),
+    ({"op": "=="}, "op"),
+    ({"value": float("inf")}, "value"),
+    ({"actor_id": -1}, "actor_id"),
+])
+def test_criterion_validation(kwargs, match):
+    base = dict(metric="ghost_rate", op="<=", value=0.1)
+    with pytest.raises(ValueError, match=match):
+        Criterion(**{**base, **kwargs})
