@@ -120,40 +120,42 @@ def _steering_dft(cfg: RadarConfig, n_fft: int) -> np.ndarray:
 def _ddma_maps(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) -> dict:
     """Range FFT, Doppler FFT, empty-band demodulation and the coherent detection map.
 
-    Returns a dict with "power" (n_range, n_az, n_dop) float32 Doppler-azimuth maps,
-    "virt" (n_range, n_dop, n_virtual) complex64 demodulated samples, "energy"
+    Returns a dict with "power" (n_az, n_range, n_dop) float32 Doppler-azimuth maps (Doppler
+    last, so the CFAR runs along contiguous memory), "virt" (n_virtual, n_range, n_dop)
+    complex64 demodulated samples in the order Tx1Rx1..Rx4, Tx3.., Tx4.., Tx2.., "energy"
     (n_range, n_chirps) Rx-summed Doppler energy before demodulation and "tx1_band"
-    (n_dop, n_range) int."""
+    (n_dop, n_range) int, the sub-band of the first Tx of `tx_order`."""
     n_sb, n_tx, n_rx = cfg.n_subbands, cfg.n_tx, cfg.n_rx
-    n_dop = cfg.n_chirps // n_sb
+    n_chirps = cfg.n_chirps
+    n_dop = n_chirps // n_sb
     n_az = proc.n_azimuth_bins
     rf = range_fft(adc, window(WINDOWS[proc.range_window], cfg.n_samples))  # (C, R, B)
     n_range = rf.shape[-1]
     # Slow time last and contiguous for the Doppler FFT and the demodulation gather.
     spec = doppler_fft(np.ascontiguousarray(rf.transpose(2, 1, 0)),
-                       window(WINDOWS[proc.doppler_window], cfg.n_chirps), axis=-1)  # (B, R, C)
+                       window(WINDOWS[proc.doppler_window], n_chirps), axis=-1)  # (B, R, C)
     energy = (spec.real ** 2 + spec.imag ** 2).sum(axis=1)  # (B, C), summed over Rx
     z = ddma_metric(energy.T, n_sb, n_tx)  # (N, D, B)
     tx1_band = np.argmax(z, axis=0)  # (D, B)
-    # Demodulation (table 11): Tx p of Doppler bin d sits at d + n_dop ((band + p) mod N).
-    idx = ((tx1_band.T[:, :, None] + np.arange(n_tx)) % n_sb) * n_dop + \
-        np.arange(n_dop)[None, :, None]  # (B, D, P)
-    virt = np.take_along_axis(spec, idx.reshape(n_range, 1, -1), axis=2)  # (B, R, D*P)
-    virt = virt.reshape(n_range, n_rx, n_dop, n_tx).transpose(0, 2, 3, 1)  # (B, D, P, R)
-    virt = virt.reshape(n_range, n_dop, n_tx * n_rx)  # demodulated order Tx1Rx1..Tx2Rx4
-    # Zero-padded azimuth FFT over the horizontal row as one complex GEMM, then the power map
-    # laid out (range, azimuth, Doppler) so the Doppler CFAR runs along contiguous memory.
-    az_spec = virt.reshape(-1, n_tx * n_rx) @ _steering_dft(cfg, n_az)  # (B*D, A)
-    power = np.abs(az_spec) ** 2
-    power = np.ascontiguousarray(power.reshape(n_range, n_dop, n_az).transpose(0, 2, 1))
-    return {"power": power, "virt": virt, "energy": energy, "tx1_band": tx1_band}
+    # Demodulation (table 11): Tx p of Doppler bin d sits at chirp-bin d + n_dop (band + p)
+    # mod N; gather straight into the (p, rx, range, Doppler) layout with one flat take.
+    band = (tx1_band.T[None] + np.arange(n_tx)[:, None, None]) % n_sb  # (P, B, D)
+    col = band * n_dop + np.arange(n_dop)  # (P, B, D)
+    row = np.arange(n_range)[None, :, None] * n_rx + np.arange(n_rx)[:, None, None]  # (R, B, 1)
+    flat = row[None] * n_chirps + col[:, None]  # (P, R, B, D)
+    virt = spec.reshape(-1)[flat.reshape(-1)].reshape(n_tx * n_rx, n_range * n_dop)
+    # Zero-padded azimuth FFT over the horizontal row as one complex GEMM.
+    az_spec = _steering_dft(cfg, n_az).T @ virt  # (A, B*D)
+    power = (az_spec.real ** 2 + az_spec.imag ** 2).reshape(n_az, n_range, n_dop)
+    return {"power": power, "virt": virt.reshape(-1, n_range, n_dop), "energy": energy,
+            "tx1_band": tx1_band}
 
 
 def _ddma(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) -> pd.DataFrame:
     maps = _ddma_maps(cfg, adc, proc)
     power, virt, energy, tx1_band = maps["power"], maps["virt"], maps["energy"], \
         maps["tx1_band"]
-    n_range, n_az, n_dop = power.shape
+    n_az, n_range, n_dop = power.shape
     n_tx = cfg.n_tx
     cf = proc.cfar
     alpha = cf.scale(looks=1)
@@ -164,9 +166,9 @@ def _ddma(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) -> pd.DataF
         pre = power > alpha * col_k
     else:
         pre = np.ones(power.shape, dtype=bool)
-    pre[: proc.min_range_bin] = False
+    pre[:, : proc.min_range_bin] = False
     # Figure 19: 4-neighbour maximum in (azimuth, Doppler), optionally also along range.
-    axes = {0: False, 1: True, 2: True} if proc.range_peak_check else {1: True, 2: True}
+    axes = {0: True, 1: False, 2: True} if proc.range_peak_check else {0: True, 2: True}
     local_max_mask(power, axes, mask=pre)
     cand = np.unravel_index(np.flatnonzero(pre), power.shape)
     noise = candidate_cfar(power, cand, 2, cf.guard_cells, cf.window_cells, cf.mode,
@@ -174,15 +176,15 @@ def _ddma(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) -> pd.DataF
     peak = power[cand]
     hit = peak > alpha * noise
     if proc.azimuth_sidelobe_db is not None:
-        strongest = power[cand[0], :, cand[2]].max(axis=1)
+        strongest = power[:, cand[1], cand[2]].max(axis=0)
         hit &= peak >= strongest * 10 ** (-proc.azimuth_sidelobe_db / 10)
-    r, a, d = (c[hit] for c in cand)
+    a, r, d = (c[hit] for c in cand)
     noise, peak = noise[hit], peak[hit]
     if r.size == 0:
         return pd.DataFrame({c: pd.Series(dtype=float) for c in POINT_CLOUD_COLUMNS})
 
     # Range: interpolate on the coherent map at the same (Doppler, azimuth) cell.
-    pr = power[np.clip(r[:, None] + np.arange(-1, 2), 0, n_range - 1), a[:, None], d[:, None]]
+    pr = power[a[:, None], np.clip(r[:, None] + np.arange(-1, 2), 0, n_range - 1), d[:, None]]
     range_pos = _interp_range(pr, r, n_range)
     # Doppler: true bin d + n_dop x (Tx1 band); interpolate on the Rx-summed energy of all Tx.
     k_true = d + n_dop * tx1_band[d, r]
@@ -194,8 +196,8 @@ def _ddma(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) -> pd.DataF
     velocity = -k_signed / (cfg.n_chirps * cfg.chirp_period_s) * cfg.wavelength_m / 2
     # Angles.
     h_idx, h_pos, v_idx, v_pos, v_h = array_layout(cfg.virtual_positions_m, cfg.wavelength_m)
-    sin_term = _interp_azimuth(power[r, :, d], a)
-    az, el = estimate_angles(virt[r, d], sin_term, h_idx, h_pos, v_idx, v_pos, v_h)
+    sin_term = _interp_azimuth(power[:, r, d].T, a)
+    az, el = estimate_angles(virt[:, r, d].T, sin_term, h_idx, h_pos, v_idx, v_pos, v_h)
     noise_mean = noise / noise_mean_factor(cf.mode, cf.n_training, cf.os_rank, 1)
     snr_db = 10 * np.log10(peak / noise_mean)
     return _point_cloud(cfg, proc, range_pos, velocity, az, el, snr_db,
@@ -337,7 +339,7 @@ def detection_map(cfg: RadarConfig, adc: np.ndarray,
     _check_frame(cfg, adc)
     proc = ProcessingConfig() if proc is None else proc
     if cfg.mimo == "ddma":
-        return _ddma_maps(cfg, adc, proc)["power"], 1, 2
+        return np.ascontiguousarray(_ddma_maps(cfg, adc, proc)["power"].transpose(1, 0, 2)), 1, 2
     return _tdma_maps(cfg, adc, proc)["power"], cfg.n_virtual, 1
 
 
