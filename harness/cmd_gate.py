@@ -1,10 +1,44 @@
-"""Placeholder: filled in by the issue that builds this command."""
+"""`radar-harness gate RESULTS [--thresholds gates.toml] [--junit FILE] [--markdown FILE]`.
+
+Compares the summary table of a results directory with thresholds, prints a pass/fail table,
+optionally writes JUnit XML and a Markdown summary (default ``RESULTS/gates.md``). Exit code 0
+if every gate passes, 1 if any fails, 2 on bad input (missing results, malformed gates file,
+unknown metric).
+"""
 from __future__ import annotations
 
+import argparse
+from pathlib import Path
 
-def add_arguments(parser) -> None:
-    pass
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("results", help="results directory (or its summary.parquet)")
+    parser.add_argument("--thresholds", default=None,
+                        help="gates TOML (default: the shipped harness/gates.toml)")
+    parser.add_argument("--junit", default=None, help="write JUnit XML here")
+    parser.add_argument("--markdown", default=None,
+                        help="write the Markdown summary here (default RESULTS/gates.md)")
 
 
-def run(args) -> int:
-    raise NotImplementedError("command not built yet")
+def run(args: argparse.Namespace) -> int:
+    import pandas as pd
+
+    from . import gates as g
+    gates = g.load_gates(args.thresholds)
+    summary, manifest = g.load_summary(args.results)
+    results = g.evaluate_gates(summary, gates, manifest)
+    table = g.results_table(results)
+    with pd.option_context("display.max_colwidth", 60, "display.width", 200):
+        print(table[["status", "gate", "where", "value", "bound"]].to_string(
+            index=False, float_format=lambda v: f"{v:.4g}"))
+    n_fail = int((table["status"] == "fail").sum())
+    print(f"{len(table) - n_fail} of {len(table)} gate checks passed or skipped, "
+          f"{n_fail} failed")
+    if args.junit:
+        Path(args.junit).parent.mkdir(parents=True, exist_ok=True)
+        Path(args.junit).write_text(g.junit_xml(results))
+    md = Path(args.markdown) if args.markdown else \
+        (Path(args.results) if Path(args.results).is_dir() else Path(args.results).parent) \
+        / "gates.md"
+    md.write_text(g.markdown(results))
+    return 1 if n_fail else 0

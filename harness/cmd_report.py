@@ -1,10 +1,21 @@
-"""Placeholder: filled in by the issue that builds this command."""
+"""`radar-harness report RESULTS [--out FILE] [--no-maps] [--max-cases N]`: HTML report."""
 from __future__ import annotations
 
-
-def add_arguments(parser) -> None:
-    pass
+import argparse
 
 
-def run(args) -> int:
-    raise NotImplementedError("command not built yet")
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("results", help="results directory written by `radar-harness sweep`")
+    parser.add_argument("--out", default=None, help="output HTML (default RESULTS/report.html)")
+    parser.add_argument("--maps", action=argparse.BooleanOptionalAction, default=True,
+                        help="re-simulate one frame per case for range-Doppler and "
+                             "Doppler-azimuth maps (default on)")
+    parser.add_argument("--max-cases", type=int, default=None,
+                        help="limit the per-case sections")
+
+
+def run(args: argparse.Namespace) -> int:
+    from .report import build_report
+    path = build_report(args.results, args.out, maps=args.maps, max_cases=args.max_cases)
+    print(f"report written to {path}")
+    return 0

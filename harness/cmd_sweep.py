@@ -1,10 +1,116 @@
-"""Placeholder: filled in by the issue that builds this command."""
+"""`radar-harness run CASE` and `radar-harness sweep [SWEEP.toml]`.
+
+``run`` evaluates one catalogue case with DDMA, TDMA and TDMA-without-disambiguation and prints
+the summary table (``--out DIR`` also writes its tables). ``sweep`` runs a suite (default: the
+shipped ``harness/default_sweep.toml``: whole catalogue, one seed) on a local process pool or a
+Dask cluster and writes ``results/<run-id>/`` (``--out DIR``): ``detections.parquet`` (long),
+``frames.parquet`` (per frame), ``actors.parquet`` (per actor and frame),
+``actor_summary.parquet`` (per actor: detection probability, first-detection range),
+``summary.parquet``,
+``truth.parquet``, ``tracks.parquet`` and ``manifest.json``. Rerunning the same command resumes.
+"""
 from __future__ import annotations
 
+import argparse
+import os
+import sys
+from pathlib import Path
 
-def add_arguments(parser) -> None:
-    pass
+import pandas as pd
+
+#: Columns printed by `run` and `sweep` (all are in summary.parquet, with many more).
+SUMMARY_COLUMNS = [
+    "scenario", "variant", "seed", "scheme", "n_frames", "detections_per_frame", "ghost_rate",
+    "velocity_unambiguity_rate", "range_error_rmse_m", "radial_velocity_error_rmse_mps",
+    "detection_probability_mean", "target_first_detection_range_m", "snr_gain_median_db",
+    "case_pass",
+]
 
 
-def run(args) -> int:
-    raise NotImplementedError("command not built yet")
+def format_summary(summary: pd.DataFrame, columns=None) -> str:
+    """Fixed-width text of the main summary columns (those present)."""
+    cols = [c for c in (columns or SUMMARY_COLUMNS) if c in summary.columns]
+    if summary.empty:
+        return "(no rows)"
+    text = summary[cols].to_string(index=False, float_format=lambda v: f"{v:.3g}",
+                                   na_rep="-")
+    err = summary[summary.get("error", pd.Series("", index=summary.index)).astype(str) != ""] \
+        if "error" in summary else summary.iloc[:0]
+    for _, r in err.iterrows():
+        text += f"\nERROR {r['scenario']} {r['variant']} seed {r['seed']}: {r['error']}"
+    return text
+
+
+def add_arguments_run(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("case", help="catalogue case name (see `radar-harness scenarios`)")
+    parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--duration-s", type=float, default=None,
+                        help="shorten the case (default: its own duration)")
+    parser.add_argument("--frame-stride", type=int, default=1,
+                        help="process every k-th frame")
+    parser.add_argument("--out", default=None, help="also write the tables to this directory")
+
+
+def run_run(args: argparse.Namespace) -> int:
+    from .runner import CellSpec, run_cell
+    from .sweep import _resolve_scenarios
+    _resolve_scenarios([args.case])
+    spec = CellSpec(scenario=args.case, seed=args.seed, duration_s=args.duration_s,
+                    frame_stride=args.frame_stride)
+    res = run_cell(spec)
+    print(format_summary(res.tables["summary"]))
+    print(f"({res.elapsed_s:.1f} s)")
+    if args.out:
+        out = Path(args.out)
+        out.mkdir(parents=True, exist_ok=True)
+        for name, df in res.tables.items():
+            df.to_parquet(out / f"{name}.parquet", index=False)
+        print(f"tables written to {out}/")
+    return 0
+
+
+def add_arguments_sweep(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("sweep_file", nargs="?", default=None,
+                        help="sweep TOML (default: harness/default_sweep.toml)")
+    parser.add_argument("--out", default=None,
+                        help="results directory (default results/<run-id>)")
+    parser.add_argument("--workers", type=int, default=None,
+                        help="local worker processes (default: CPU count)")
+    parser.add_argument("--scheduler", default=None,
+                        help="Dask scheduler address, e.g. tcp://host:8786 (workers must see "
+                             "--out)")
+    parser.add_argument("--frame-stride", type=int, default=None,
+                        help="process every k-th frame (overrides the sweep file)")
+    parser.add_argument("--duration-s", type=float, default=None,
+                        help="shorten every case (overrides the sweep file)")
+    parser.add_argument("--seeds", type=int, nargs="+", default=None,
+                        help="seeds (override the sweep file)")
+    parser.add_argument("--scenarios", nargs="+", default=None,
+                        help="only these cases (override the sweep file)")
+    parser.add_argument("--progress", action=argparse.BooleanOptionalAction, default=None,
+                        help="progress bar (default: only on a terminal)")
+
+
+def run_sweep(args: argparse.Namespace) -> int:
+    from . import sweep as sw
+    spec = sw.load_sweep(args.sweep_file).with_overrides(
+        seeds=args.seeds, frame_stride=args.frame_stride, duration_s=args.duration_s,
+        scenarios=args.scenarios)
+    out = Path(args.out) if args.out else Path("results") / spec.run_id
+    workers = args.workers if args.workers is not None else (os.cpu_count() or 1)
+    if workers < 1:
+        raise ValueError(f"--workers={workers} must be >= 1")
+    n = len(spec.cells())
+    print(f"sweep {spec.name}: {n} cells ({len(spec.scenarios)} scenarios x "
+          f"{len(spec.variants)} variants x {len(spec.seeds)} seeds) -> {out}/",
+          file=sys.stderr)
+    outcome = sw.run_sweep(spec, out, workers=workers, scheduler=args.scheduler,
+                           progress=args.progress)
+    summary = pd.read_parquet(out / "summary.parquet")
+    print(format_summary(summary))
+    print(f"{outcome.n_ok} cells run, {outcome.n_skipped} already done, "
+          f"{outcome.n_error} failed, {outcome.n_interrupted} interrupted -> {out}/")
+    if outcome.n_interrupted:
+        print("a worker died: rerun the same command to resume the missing cells",
+              file=sys.stderr)
+    return 0 if outcome.n_error == 0 and outcome.complete else 1

@@ -1,0 +1,264 @@
+"""CI performance gates: thresholds on summary columns -> pass/fail, JUnit XML, Markdown.
+
+A gates file is TOML with one ``[[gate]]`` table per rule::
+
+    [[gate]]
+    name = "ddma_snr_gain"              # unique, used in reports and JUnit
+    metric = "snr_gain_median_db"       # a column of summary.parquet
+    min = 5.0                           # and/or max = ...
+    scheme = "ddma"                     # optional filters (fnmatch patterns): scheme,
+    scenario = "*"                      #   scenario, variant
+    aggregate = "each"                  # each (every matching row must pass) | mean |
+                                        #   median | min | max (one value over the rows)
+    allow_missing = false               # NaN values / no matching rows: skip instead of fail
+    description = "DDMA promise: ..."
+
+Every summary row that names an ``error`` (a sweep cell that raised) fails the built-in gate
+``sweep_cells_ok``; so do cells the manifest lists as missing.
+"""
+from __future__ import annotations
+
+import fnmatch
+import json
+import math
+import tomllib
+import xml.etree.ElementTree as ET
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+__all__ = ["Gate", "GateResult", "load_gates", "evaluate_gates", "load_summary",
+           "junit_xml", "markdown", "DEFAULT_GATES_PATH", "AGGREGATES"]
+
+DEFAULT_GATES_PATH = Path(__file__).with_name("gates.toml")
+#: How the matching rows are reduced before the comparison.
+AGGREGATES = {"each": None, "mean": np.nanmean, "median": np.nanmedian, "min": np.nanmin,
+              "max": np.nanmax}
+_GATE_KEYS = {"name", "metric", "min", "max", "scheme", "scenario", "variant", "aggregate",
+              "allow_missing", "description"}
+_ID = ["scenario", "variant", "seed", "scheme"]
+
+
+@dataclass(frozen=True)
+class Gate:
+    """One threshold rule (see module docstring)."""
+
+    name: str
+    metric: str
+    min: float | None = None
+    max: float | None = None
+    scheme: str = "*"
+    scenario: str = "*"
+    variant: str = "*"
+    aggregate: str = "each"
+    allow_missing: bool = False
+    description: str = ""
+
+    def __post_init__(self) -> None:
+        if self.min is None and self.max is None:
+            raise ValueError(f"gate {self.name!r}: needs min and/or max")
+        for k in ("min", "max"):
+            v = getattr(self, k)
+            if v is not None and not (isinstance(v, (int, float)) and math.isfinite(v)):
+                raise ValueError(f"gate {self.name!r}: {k}={v!r} must be a finite number")
+        if self.aggregate not in AGGREGATES:
+            raise ValueError(f"gate {self.name!r}: aggregate={self.aggregate!r} is not one of "
+                             f"{sorted(AGGREGATES)}")
+
+    def check(self, value: float) -> bool:
+        return (self.min is None or value >= self.min) and \
+            (self.max is None or value <= self.max)
+
+    @property
+    def bound(self) -> str:
+        parts = []
+        if self.min is not None:
+            parts.append(f">= {self.min:g}")
+        if self.max is not None:
+            parts.append(f"<= {self.max:g}")
+        return " and ".join(parts)
+
+
+@dataclass(frozen=True)
+class GateResult:
+    """Outcome of one gate on one row (aggregate "each") or on the aggregated rows."""
+
+    gate: str
+    metric: str
+    where: str
+    value: float
+    bound: str
+    status: str  # "pass" | "fail" | "skip"
+    message: str = ""
+
+
+def load_gates(path: str | Path | None = None) -> list[Gate]:
+    """Read a gates TOML (None: the shipped ``harness/gates.toml``).
+
+    Raises
+    ------
+    ValueError
+        Malformed TOML, no ``[[gate]]``, unknown keys, duplicate names, bad bounds.
+    FileNotFoundError
+        The file does not exist.
+    """
+    p = Path(path) if path is not None else DEFAULT_GATES_PATH
+    try:
+        data = tomllib.loads(p.read_text())
+    except tomllib.TOMLDecodeError as exc:
+        raise ValueError(f"{p}: malformed TOML: {exc}") from exc
+    extra = sorted(set(data) - {"gate"})
+    if extra:
+        raise ValueError(f"{p}: unknown top-level key(s) {extra}; use [[gate]] tables")
+    raw = data.get("gate")
+    if not isinstance(raw, list) or not raw:
+        raise ValueError(f"{p}: no [[gate]] tables")
+    gates = []
+    for i, g in enumerate(raw):
+        bad = sorted(set(g) - _GATE_KEYS)
+        if bad:
+            raise ValueError(f"{p}: gate #{i + 1} ({g.get('name', '?')}): unknown key(s) {bad}; "
+                             f"known: {sorted(_GATE_KEYS)}")
+        if "name" not in g or "metric" not in g:
+            raise ValueError(f"{p}: gate #{i + 1}: needs 'name' and 'metric'")
+        gates.append(Gate(**g))
+    names = [g.name for g in gates]
+    dup = sorted({n for n in names if names.count(n) > 1})
+    if dup:
+        raise ValueError(f"{p}: duplicate gate name(s) {dup}")
+    return gates
+
+
+def load_summary(results: str | Path) -> tuple[pd.DataFrame, dict]:
+    """summary table and manifest of a results directory (or a summary .parquet file).
+
+    Raises
+    ------
+    FileNotFoundError
+        No such directory / no summary.parquet in it.
+    ValueError
+        The file is not a readable summary table.
+    """
+    p = Path(results)
+    f = p / "summary.parquet" if p.is_dir() else p
+    if not f.exists():
+        raise FileNotFoundError(f"no results summary at {f} (run `radar-harness sweep` first)")
+    try:
+        summary = pd.read_parquet(f)
+    except Exception as exc:  # noqa: BLE001 - pyarrow raises several types
+        raise ValueError(f"{f}: not a readable Parquet summary table: {exc}") from exc
+    missing = [c for c in ("scenario", "scheme") if c not in summary.columns]
+    if missing:
+        raise ValueError(f"{f}: summary lacks column(s) {missing}")
+    manifest = {}
+    mf = f.parent / "manifest.json"
+    if mf.exists():
+        try:
+            manifest = json.loads(mf.read_text())
+        except json.JSONDecodeError as exc:
+            raise ValueError(f"{mf}: malformed manifest: {exc}") from exc
+    return summary, manifest
+
+
+def _where(row) -> str:
+    return "/".join(str(row[c]) for c in _ID if c in row and str(row[c]) != "")
+
+
+def evaluate_gates(summary: pd.DataFrame, gates: list[Gate],
+                   manifest: dict | None = None) -> list[GateResult]:
+    """Apply every gate to the summary table.
+
+    Raises
+    ------
+    ValueError
+        A gate names a metric that is not a summary column (bad input, not a failure).
+    """
+    unknown = sorted({g.metric for g in gates} - set(summary.columns))
+    if unknown:
+        raise ValueError(f"unknown metric(s) {unknown}: not columns of the summary table; "
+                         f"available: {sorted(summary.columns)}")
+    out: list[GateResult] = []
+    err = summary.get("error", pd.Series("", index=summary.index)).fillna("").astype(str)
+    bad = summary[err != ""]
+    missing = [c["cell_id"] for c in (manifest or {}).get("cells", [])
+               if c.get("status") not in ("ok", "error")]
+    ok = bad.empty and not missing
+    msg = "; ".join([f"{_where(r)}: {r['error']}" for _, r in bad.iterrows()] +
+                    [f"{m}: not run" for m in missing])
+    out.append(GateResult("sweep_cells_ok", "error", "all cells", float(len(bad) + len(missing)),
+                          "== 0", "pass" if ok else "fail", msg))
+    good = summary[err == ""]
+    for g in gates:
+        sel = good
+        for col in ("scheme", "scenario", "variant"):
+            pat = getattr(g, col)
+            if col in sel.columns and pat != "*":
+                sel = sel[[fnmatch.fnmatchcase(str(v), pat) for v in sel[col]]]
+        if sel.empty:
+            out.append(GateResult(g.name, g.metric, _pattern(g), float("nan"), g.bound,
+                                  "skip" if g.allow_missing else "fail", "no matching rows"))
+            continue
+        vals = pd.to_numeric(sel[g.metric], errors="coerce").to_numpy(dtype=float)
+        if g.aggregate == "each":
+            for (_, row), v in zip(sel.iterrows(), vals):
+                out.append(_judge(g, _where(row), v))
+        else:
+            finite = vals[np.isfinite(vals)]
+            v = float(AGGREGATES[g.aggregate](finite)) if len(finite) else float("nan")
+            out.append(_judge(g, f"{g.aggregate} over {len(finite)} rows ({_pattern(g)})", v))
+    return out
+
+
+def _pattern(g: Gate) -> str:
+    return f"scenario={g.scenario} scheme={g.scheme} variant={g.variant}"
+
+
+def _judge(g: Gate, where: str, v: float) -> GateResult:
+    if not np.isfinite(v):
+        return GateResult(g.name, g.metric, where, v, g.bound,
+                          "skip" if g.allow_missing else "fail", "value missing (NaN)")
+    passed = g.check(v)
+    return GateResult(g.name, g.metric, where, v, g.bound, "pass" if passed else "fail",
+                      "" if passed else f"{g.metric}={v:.4g} violates {g.bound}")
+
+
+def results_table(results: list[GateResult]) -> pd.DataFrame:
+    return pd.DataFrame([r.__dict__ for r in results])
+
+
+def junit_xml(results: list[GateResult]) -> str:
+    """JUnit XML: one testsuite, one testcase per gate evaluation (failure / skipped)."""
+    suite = ET.Element("testsuite", name="radar-harness gates", tests=str(len(results)),
+                       failures=str(sum(r.status == "fail" for r in results)),
+                       skipped=str(sum(r.status == "skip" for r in results)), errors="0")
+    for r in results:
+        case = ET.SubElement(suite, "testcase", classname=f"gates.{r.gate}",
+                             name=f"{r.gate}[{r.where}]")
+        text = f"{r.metric} = {r.value:.6g}, required {r.bound}. {r.message}".strip()
+        if r.status == "fail":
+            ET.SubElement(case, "failure", message=r.message or "gate failed",
+                          type="GateFailure").text = text
+        elif r.status == "skip":
+            ET.SubElement(case, "skipped", message=r.message or "skipped")
+        else:
+            ET.SubElement(case, "system-out").text = text
+    root = ET.Element("testsuites")
+    root.append(suite)
+    ET.indent(root)
+    return '<?xml version="1.0" encoding="utf-8"?>\n' + ET.tostring(root, encoding="unicode")
+
+
+def markdown(results: list[GateResult]) -> str:
+    """Markdown summary: verdict line and a table of every evaluation (failures first)."""
+    n_fail = sum(r.status == "fail" for r in results)
+    n_pass = sum(r.status == "pass" for r in results)
+    n_skip = sum(r.status == "skip" for r in results)
+    head = f"## Radar gates: {'FAIL' if n_fail else 'PASS'}\n\n" \
+        f"{n_pass} passed, {n_fail} failed, {n_skip} skipped.\n\n" \
+        "| status | gate | where | metric | value | bound |\n|---|---|---|---|---|---|\n"
+    order = {"fail": 0, "skip": 1, "pass": 2}
+    rows = [f"| {r.status.upper()} | {r.gate} | {r.where} | {r.metric} | {r.value:.4g} | "
+            f"{r.bound} |" for r in sorted(results, key=lambda r: order[r.status])]
+    return head + "\n".join(rows) + "\n"

@@ -1,0 +1,422 @@
+"""One sweep cell: scenario x radar/processing overrides x seed -> result tables.
+
+A cell runs the scenario once, and for every processed frame builds the scatterers of the
+scene, simulates one ADC frame for DDMA and one for TDMA (independent noise: generator
+``SeedSequence([seed, frame, stream])`` with stream 0 = RCS model, 1 = DDMA ADC, 2 = TDMA ADC),
+processes DDMA, TDMA (velocity disambiguation on) and ``tdma_raw`` (disambiguation off, the
+same TDMA ADC), optionally tracks each scheme, and scores everything with `metrics`.
+
+Same spec -> bit-identical tables: all randomness comes from the seed, and no timing or host
+information enters the tables (timings go to ``CellResult.elapsed_s``).
+
+The parts (scenario runner, RCS model, front end, chain, tracker) come through a `Components`
+bundle of module-level callables, so tests can substitute fakes and the bundle pickles to
+process-pool and Dask workers.
+"""
+from __future__ import annotations
+
+import dataclasses
+import hashlib
+import json
+import re
+import time
+from dataclasses import dataclass, field
+from typing import Any, Callable
+
+import numpy as np
+import pandas as pd
+
+from metrics import detection as mdet
+from metrics.association import (AssociationConfig, actor_frames, associate, detection_errors,
+                                 scatterer_table)
+
+__all__ = ["CellSpec", "Components", "CellResult", "SCHEMES", "SEED_STREAMS", "TABLES",
+           "default_components", "run_cell", "frame_rng", "build_configs", "simulate_cell_frame",
+           "frame_scatterers"]
+
+#: Result schemes: name -> (radar preset mimo, TDMA disambiguation on?).
+SCHEMES: dict[str, tuple[str, bool]] = {"ddma": ("ddma", True), "tdma": ("tdma", True),
+                                        "tdma_raw": ("tdma", False)}
+#: Random streams of one frame: SeedSequence([seed, frame, stream]).
+SEED_STREAMS: dict[str, int] = {"rcs": 0, "ddma": 1, "tdma": 2, "track": 3}
+#: Tables a cell returns (all pandas DataFrames, written as Parquet).
+TABLES = ("summary", "detections", "frames", "actors", "actor_summary", "truth", "tracks")
+
+@dataclass(frozen=True, kw_only=True)
+class CellSpec:
+    """What one sweep cell runs.
+
+    Parameters
+    ----------
+    scenario : str
+        Catalogue name (``scenarios.SCENARIOS``).
+    seed : int
+        Scenario and noise seed (>= 0).
+    variant : str
+        Name of the config variant (the sweep's label for ``radar``/``processing``/...).
+    radar : dict
+        `RadarConfig` field overrides applied to both presets (e.g. phase_noise_deg_rms).
+    processing : dict
+        `ProcessingConfig` overrides; keys ``cfar_<field>`` change the CFAR.
+    tracker : dict
+        Tracker config overrides (if the tracker exists).
+    frame_stride : int
+        Process every k-th frame (>= 1).
+    duration_s : float or None
+        Scenario duration override, s (None: the case's own).
+    """
+
+    scenario: str
+    seed: int = 0
+    variant: str = "baseline"
+    radar: dict = field(default_factory=dict)
+    processing: dict = field(default_factory=dict)
+    tracker: dict = field(default_factory=dict)
+    frame_stride: int = 1
+    duration_s: float | None = None
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.scenario, str) or not self.scenario:
+            raise ValueError(f"scenario={self.scenario!r} must be a non-empty name")
+        if not isinstance(self.seed, (int, np.integer)) or self.seed < 0:
+            raise ValueError(f"seed={self.seed!r} must be an integer >= 0")
+        if not isinstance(self.frame_stride, (int, np.integer)) or self.frame_stride < 1:
+            raise ValueError(f"frame_stride={self.frame_stride!r} must be an integer >= 1")
+        if self.duration_s is not None and not self.duration_s > 0:
+            raise ValueError(f"duration_s={self.duration_s!r} must be > 0")
+
+    def to_dict(self) -> dict[str, Any]:
+        return dataclasses.asdict(self)
+
+    @property
+    def cell_id(self) -> str:
+        """File-system safe, unique id: scenario, variant, seed and a hash of the overrides."""
+        blob = json.dumps(self.to_dict(), sort_keys=True, default=str)
+        h = hashlib.sha1(blob.encode()).hexdigest()[:8]
+        safe = re.sub(r"[^A-Za-z0-9_.=-]+", "-", f"{self.scenario}__{self.variant}")
+        return f"{safe}__s{self.seed}__{h}"
+
+
+@dataclass(frozen=True)
+class Components:
+    """The parts a cell wires together (module-level callables, so it pickles).
+
+    run_scenario(name, seed, duration_s) -> object with ``truth``, ``ego``, ``mount``,
+    ``case`` (and optionally ``radar_velocity_mps()``); scene_scatterers(truth_rows, rng,
+    [radar_velocity_mps=, mount_height_m=]) -> Scatterers; simulate_frame(cfg, sc, rng) ->
+    ADC; process_frame(cfg, adc, proc) -> point cloud; make_processing(overrides) ->
+    ProcessingConfig; track(radar_cfg, clouds, times_s, ego_speeds_mps, mount, overrides,
+    rng) -> tracks table (``frame`` = index in the sequence) or None;
+    track_metrics(tracks, truth, mount) -> dict of numbers or None.
+    """
+
+    run_scenario: Callable
+    scene_scatterers: Callable
+    simulate_frame: Callable
+    process_frame: Callable
+    make_processing: Callable
+    track: Callable | None = None
+    track_metrics: Callable | None = None
+
+
+def _real_run_scenario(name, seed, duration_s):
+    import scenarios
+    return scenarios.run_scenario(name, seed, duration_s=duration_s)
+
+
+def _real_scene_scatterers(truth_rows, rng, radar_velocity_mps=None, mount_height_m=None):
+    from radarsim import rcs
+    return rcs.scene_scatterers(truth_rows, rng, radar_velocity_mps=radar_velocity_mps,
+                                mount_height_m=mount_height_m)
+
+
+def _real_make_processing(overrides: dict):
+    import pipeline
+    return pipeline.ProcessingConfig().replace(**overrides) if overrides else \
+        pipeline.ProcessingConfig()
+
+
+def _real_process_frame(cfg, adc, proc):
+    import pipeline
+    return pipeline.process_frame(cfg, adc, proc)
+
+
+def _real_simulate_frame(cfg, sc, rng):
+    import warnings
+
+    import radarsim
+    with warnings.catch_warnings():
+        # Saturation is a property of the scene (a car at 2 m); it is counted, not fatal.
+        warnings.simplefilter("ignore", radarsim.ADCSaturationWarning)
+        return radarsim.simulate_frame(cfg, sc, rng)
+
+
+def _real_track(radar_cfg, clouds, times_s, ego_speeds_mps, mount, overrides, rng):
+    """Run the group tracker over one scheme's point clouds (None without a tracker)."""
+    try:
+        from pipeline import tracker as trk
+    except ImportError:
+        return None
+    kw = dict(overrides)
+    if mount is not None:
+        for key in ("x_m", "y_m", "yaw_deg"):
+            val = _mount_value(mount, key)
+            if val is not None:
+                kw.setdefault(f"mount_{key}", float(val))
+    if len(times_s) > 1:
+        kw.setdefault("frame_period_s", float(np.median(np.diff(times_s))))
+    tcfg = trk.TrackerConfig(**kw)
+    return trk.track_frames(list(zip(map(float, times_s), clouds)), tcfg,
+                            ego_speeds_mps=None if ego_speeds_mps is None
+                            else list(map(float, ego_speeds_mps)), rng=rng)
+
+
+def _mount_value(mount, key):
+    if isinstance(mount, dict):
+        return mount.get(key)
+    if isinstance(mount, pd.Series):
+        return mount.get(key)
+    return getattr(mount, key, None)
+
+
+def _real_track_metrics(tracks, truth, mount):
+    """`metrics.tracks.track_metrics` of one scheme (None if that module is missing)."""
+    try:
+        from metrics import tracks as mtr
+    except ImportError:
+        return None
+    return mtr.track_metrics(tracks, truth)
+
+
+def default_components() -> Components:
+    """The real scenario runner, ray RCS model, front end, chain and tracker."""
+    return Components(run_scenario=_real_run_scenario, scene_scatterers=_real_scene_scatterers,
+                      simulate_frame=_real_simulate_frame, process_frame=_real_process_frame,
+                      make_processing=_real_make_processing, track=_real_track,
+                      track_metrics=_real_track_metrics)
+
+
+@dataclass
+class CellResult:
+    """Tables of one cell plus its wall time (kept out of the tables for determinism)."""
+
+    spec: CellSpec
+    tables: dict[str, pd.DataFrame]
+    elapsed_s: float
+
+
+def frame_rng(seed: int, frame: int, stream: str) -> np.random.Generator:
+    """Generator of one random stream of one frame: SeedSequence([seed, frame, stream id])."""
+    return np.random.default_rng(np.random.SeedSequence([int(seed), int(frame),
+                                                         SEED_STREAMS[stream]]))
+
+
+def build_configs(spec: CellSpec, comps: Components):
+    """(radar config per mimo, processing config per scheme) of a cell."""
+    import radarsim
+    radar = {m: radarsim.presets.PRESETS[f"r79_{m}"](**spec.radar) for m in ("ddma", "tdma")}
+    proc_on = comps.make_processing(dict(spec.processing))
+    proc_off = comps.make_processing({**spec.processing, "tdma_disambiguation": False})
+    procs = {s: (proc_on if on else proc_off) for s, (_, on) in SCHEMES.items()}
+    return radar, procs
+
+
+def _case_info(run) -> dict[str, Any]:
+    """Target actors and pass criteria of the scenario's case (read by attribute)."""
+    case = getattr(run, "case", None)
+    must = tuple(getattr(case, "must_detect", ()) or ())
+    return {"target_ids": list(must) if must else None,
+            "criteria": tuple(getattr(case, "criteria", ()) or ())}
+
+
+def _frames_of(run, stride: int) -> np.ndarray:
+    src = run.ego if getattr(run, "ego", None) is not None and len(run.ego) else run.truth
+    frames = np.unique(src["frame"].to_numpy())
+    return frames[::stride]
+
+
+def _frame_context(run) -> dict[int, dict]:
+    """Per frame: radar velocity over the ground (radar frame, m/s; for ground clutter) and
+    mount height, from the scenario run when it provides them."""
+    ctx: dict[int, dict] = {}
+    ego, mount = getattr(run, "ego", None), getattr(run, "mount", None)
+    if ego is None or not hasattr(run, "radar_velocity_mps"):
+        return ctx
+    vel = np.asarray(run.radar_velocity_mps(), dtype=float)
+    height = _mount_value(mount, "z_m") if mount is not None else None
+    for f, v in zip(ego["frame"].to_numpy(), vel):
+        ctx[int(f)] = {"radar_velocity_mps": v,
+                       "mount_height_m": None if height is None else float(height)}
+    return ctx
+
+
+def _scatterers(comps: Components, rows, rng, ctx: dict | None):
+    if not ctx:
+        return comps.scene_scatterers(rows, rng)
+    return comps.scene_scatterers(rows, rng, **ctx)
+
+
+def frame_scatterers(comps: Components, run, frame: int, seed: int):
+    """Scatterers of one frame of a scenario run exactly as `run_cell` builds them."""
+    rows = run.truth[run.truth["frame"] == frame]
+    return _scatterers(comps, rows, frame_rng(seed, frame, "rcs"),
+                       _frame_context(run).get(int(frame)))
+
+
+def _radar_velocity(run, frame):
+    """Frame context for `_scatterers` (kept for harness.cmd_ti; prefer `frame_scatterers`)."""
+    return _frame_context(run).get(int(frame))
+
+
+def simulate_cell_frame(spec: CellSpec, frame: int, comps: Components | None = None, run=None):
+    """Re-simulate one frame of a cell exactly as `run_cell` did (for the report's maps).
+
+    Returns (radar configs by mimo, ADC frames by mimo, Scatterers, run).
+    """
+    comps = comps or default_components()
+    run = run if run is not None else comps.run_scenario(spec.scenario, spec.seed,
+                                                         spec.duration_s)
+    radar, _ = build_configs(spec, comps)
+    sc = frame_scatterers(comps, run, frame, spec.seed)
+    adc = {m: comps.simulate_frame(radar[m], sc, frame_rng(spec.seed, frame, m))
+           for m in ("ddma", "tdma")}
+    return radar, adc, sc, run
+
+
+def run_cell(spec: CellSpec, comps: Components | None = None,
+             assoc: AssociationConfig | None = None) -> CellResult:
+    """Run one sweep cell and score it.
+
+    Returns
+    -------
+    CellResult
+        ``tables``: ``summary`` (one row per scheme; the DDMA row also carries the SNR gain
+        over TDMA), ``detections`` (long: every detection with its label and errors),
+        ``frames`` (per scheme and frame: counts per label), ``actors`` (per scheme, actor and
+        frame: visible / detected / peak SNR), ``actor_summary`` (per scheme and actor:
+        detection probability, first-detection range), ``truth`` (processed frames), ``tracks``
+        (per scheme, frame and track; empty without a tracker). Every table starts with the
+        id columns scenario, variant, seed (and scheme where it applies).
+    """
+    t0 = time.perf_counter()
+    comps = comps or default_components()
+    assoc = assoc or AssociationConfig()
+    run = comps.run_scenario(spec.scenario, spec.seed, spec.duration_s)
+    radar, procs = build_configs(spec, comps)
+    frames = _frames_of(run, spec.frame_stride)
+    truth = run.truth[run.truth["frame"].isin(frames)].reset_index(drop=True)
+    ego = getattr(run, "ego", None)
+    if ego is not None and "time_s" in ego:
+        times = ego.drop_duplicates("frame").set_index("frame")["time_s"]
+    else:
+        times = truth.groupby("frame")["time_s"].first()
+    times = times.reindex(frames).astype(float)
+
+    clouds: dict[str, list[pd.DataFrame]] = {s: [] for s in SCHEMES}
+    scat = []
+    ctx = _frame_context(run)
+    for f in frames:
+        rows = truth[truth["frame"] == f]
+        sc = _scatterers(comps, rows, frame_rng(spec.seed, f, "rcs"), ctx.get(int(f)))
+        scat.append((f, sc))
+        adc = {m: comps.simulate_frame(radar[m], sc, frame_rng(spec.seed, f, m))
+               for m in ("ddma", "tdma")}
+        for s, (m, _) in SCHEMES.items():
+            pc = comps.process_frame(radar[m], adc[m], procs[s]).reset_index(drop=True)
+            pc.insert(0, "frame", np.int64(f))
+            pc.insert(1, "time_s", float(times.loc[f]))
+            clouds[s].append(pc)
+    scat_df = scatterer_table(scat)
+
+    info = _case_info(run)
+    det_tables, frame_tables, actor_tables, track_tables, rows_out = [], [], [], [], []
+    actor_summaries = []
+    ego_speeds = None
+    if ego is not None and "ego_speed_mps" in ego:
+        ego_speeds = ego.drop_duplicates("frame").set_index("frame")["ego_speed_mps"] \
+            .reindex(frames).to_numpy(dtype=float)
+    for s, (m, _) in SCHEMES.items():
+        pcs = pd.concat(clouds[s], ignore_index=True) if clouds[s] else pd.DataFrame()
+        if pcs.empty:
+            pcs = pd.DataFrame({c: pd.Series(dtype=float) for c in (
+                "frame", "time_s", "range_m", "azimuth_deg", "elevation_deg",
+                "radial_velocity_mps", "snr_db", "x_m", "y_m", "z_m")})
+            pcs["frame"] = pcs["frame"].astype(np.int64)
+        span = 2 * radar[m].max_unambiguous_velocity_mps
+        lab = associate(pcs, truth, velocity_span_mps=span, config=assoc, scatterers=scat_df)
+        lab = detection_errors(lab, truth, scat_df)
+        af = actor_frames(lab, truth, scatterers=scat_df, config=assoc)
+        row = mdet.summarize_scheme(lab, af, len(frames), assoc,
+                                    target_ids=info["target_ids"])
+        per_actor = mdet.actor_detection(af)
+        actor_summaries.append(per_actor.assign(scheme=s))
+        row.update(mdet.case_criteria(info["criteria"], lab, per_actor, row))
+        if comps.track is not None:
+            tr = comps.track(radar[m], clouds[s], times.to_numpy(), ego_speeds,
+                             getattr(run, "mount", None), dict(spec.tracker),
+                             frame_rng(spec.seed, 0, "track"))
+            if tr is not None:
+                tr = tr.copy()
+                # The tracker numbers frames 0.. in sequence order: map back to scene frames.
+                tr["frame"] = np.asarray(frames)[tr["frame"].to_numpy(dtype=np.int64)]
+                track_tables.append(tr.assign(scheme=s))
+                tm = comps.track_metrics(tr, truth, getattr(run, "mount", None)) \
+                    if comps.track_metrics is not None else None
+                for k, v in dict(tm or {}).items():
+                    if isinstance(v, (int, float, np.integer, np.floating)):
+                        # Track metrics keep their names unless they collide (n_frames).
+                        row[k if k not in row else f"track_{k}"] = v
+        rows_out.append({"scheme": s, **row})
+        det_tables.append(lab.assign(scheme=s))
+        frame_tables.append(_frame_counts(lab, frames).assign(scheme=s))
+        actor_tables.append(af.assign(scheme=s))
+
+    actors = pd.concat(actor_tables, ignore_index=True)
+    gain = mdet.snr_gain_stats(mdet.snr_gain_pairs(actors, "ddma", "tdma"))
+    summary = pd.DataFrame(rows_out)
+    for k, v in gain.items():
+        count = k.endswith("_n")
+        summary[k] = np.array([v if s == "ddma" else (0 if count else np.nan)
+                               for s in summary["scheme"]],
+                              dtype=np.int64 if count else float)
+    summary["case_pass"] = summary["case_pass"].astype(float)
+
+    ids = {"scenario": spec.scenario, "variant": spec.variant, "seed": int(spec.seed)}
+    tracks = pd.concat(track_tables, ignore_index=True) if track_tables else \
+        pd.DataFrame({"scheme": pd.Series(dtype=object), "frame": pd.Series(dtype="int64")})
+    tables = {
+        "summary": _with_ids(summary, ids),
+        "detections": _with_ids(pd.concat(det_tables, ignore_index=True), ids),
+        "frames": _with_ids(pd.concat(frame_tables, ignore_index=True), ids),
+        "actors": _with_ids(actors, ids),
+        "actor_summary": _with_ids(pd.concat(actor_summaries, ignore_index=True), ids),
+        "truth": _with_ids(truth.copy(), ids, scheme=False),
+        "tracks": _with_ids(tracks, ids),
+    }
+    return CellResult(spec=spec, tables=tables, elapsed_s=time.perf_counter() - t0)
+
+
+def _frame_counts(lab: pd.DataFrame, frames: np.ndarray) -> pd.DataFrame:
+    """Per frame: detections and label counts (frames without detections give zeros)."""
+    from metrics.association import LABELS
+    ct = pd.crosstab(lab["frame"], lab["label"]) if len(lab) else pd.DataFrame()
+    ct = ct.reindex(index=frames, columns=list(LABELS), fill_value=0)
+    out = pd.DataFrame({"frame": np.asarray(frames, dtype=np.int64)})
+    names = {"TRUE": "n_true", "VELOCITY_AMBIGUOUS": "n_velocity_ambiguous",
+             "GHOST": "n_ghost", "CLUTTER": "n_clutter"}
+    for lab_name, col in names.items():
+        out[col] = ct[lab_name].to_numpy(dtype=np.int64)
+    out.insert(1, "n_detections", out[list(names.values())].sum(axis=1))
+    return out
+
+
+def _with_ids(df: pd.DataFrame, ids: dict, scheme: bool = True) -> pd.DataFrame:
+    df = df.copy()
+    for i, (k, v) in enumerate(ids.items()):
+        if k in df.columns:
+            df = df.drop(columns=k)
+        df.insert(i, k, v)
+    if scheme and "scheme" in df.columns:
+        col = df.pop("scheme")
+        df.insert(len(ids), "scheme", col)
+    return df

@@ -1,0 +1,474 @@
+"""Association of detections with ground-truth actors (DESIGN section 7).
+
+Every detection of a point cloud gets one label:
+
+TRUE
+    inside the footprint gate of a road user (car, truck, motorcycle, bicycle, pedestrian) and
+    its radial velocity within the velocity gate of that actor's truth;
+VELOCITY_AMBIGUOUS
+    inside the footprint gate of a road user, velocity off by a non-zero multiple k of the
+    scheme's unambiguous span 2 Vmax (and within the velocity gate after removing k 2 Vmax);
+CLUTTER
+    not TRUE / ambiguous but inside the footprint gate of static infrastructure the scene models
+    (``actor_class == "guard_rail"``), whatever its velocity;
+GHOST
+    anything else (sidelobes, DDMA leakage into the empty sub-bands, multipath, noise).
+
+The footprint is the actor's 2D box in the radar frame (centre ``x_radar_m, y_radar_m``, heading
+``yaw_radar_deg``, ``length_m`` x ``width_m``); height is ignored because the elevation of a
+4-element vertical baseline is too coarse to gate on. The gate is an ellipse around the nearest
+point of the box: ``range_gate_m`` along the detection's line of sight (about one range cell)
+and ``max(range_gate_m, R tan(azimuth_gate_deg))`` across it, because cross-range error grows
+with range while range error does not. The truth radial velocity of a detection is that of the
+nearest box point: the actor's relative velocity (``vx_radar_mps, vy_radar_mps``; rigid
+translation, no yaw rate) projected on the unit vector to that point.
+
+All pair computations are vectorised over (detection, actor) pairs of the same frame (a pandas
+merge on ``frame``); only the one-to-one assignment loops over frames.
+
+References
+----------
+.. [1] DESIGN.md section 7 (association classes) and section 4.1 (1.318 m range cell).
+.. [2] H. W. Kuhn, "The Hungarian method for the assignment problem", 1955 (via
+       ``scipy.optimize.linear_sum_assignment``).
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import asdict, dataclass
+
+import numpy as np
+import pandas as pd
+from scipy.optimize import linear_sum_assignment
+from scipy.spatial import cKDTree
+
+__all__ = [
+    "AssociationConfig", "LABELS", "TRUE", "VELOCITY_AMBIGUOUS", "GHOST", "CLUTTER",
+    "ROAD_USER_CLASSES", "STATIC_CLASSES", "STATIC_SCATTERER_IDS", "associate",
+    "detection_errors", "actor_frames",
+    "scatterer_table",
+]
+
+TRUE = "TRUE"
+VELOCITY_AMBIGUOUS = "VELOCITY_AMBIGUOUS"
+GHOST = "GHOST"
+CLUTTER = "CLUTTER"
+#: Labels in order of precedence (a detection takes the first that applies).
+LABELS = (TRUE, VELOCITY_AMBIGUOUS, CLUTTER, GHOST)
+#: Actor classes that are targets (detections on them can be TRUE).
+ROAD_USER_CLASSES = ("car", "truck", "motorcycle", "bicycle", "pedestrian")
+#: Static infrastructure: detections on it are CLUTTER, never ghosts.
+STATIC_CLASSES = ("guard_rail",)
+#: Scatterer actor ids of modelled static clutter without a truth row (radarsim.rcs ground).
+STATIC_SCATTERER_IDS = (-2,)
+
+_DET_COLUMNS = ("frame", "x_m", "y_m", "range_m", "radial_velocity_mps")
+_TRUTH_COLUMNS = ("frame", "actor_id", "actor_class", "length_m", "width_m", "x_radar_m",
+                  "y_radar_m", "yaw_radar_deg", "vx_radar_mps", "vy_radar_mps", "range_m",
+                  "azimuth_deg")
+
+
+@dataclass(frozen=True, kw_only=True, slots=True)
+class AssociationConfig:
+    """Gates of the association and the visibility rule for detection probability.
+
+    Parameters
+    ----------
+    range_gate_m : float
+        Footprint growth along the line of sight, m (default 1.5: one 1.318 m range cell plus
+        margin for the interpolation-free range estimate).
+    azimuth_gate_deg : float
+        Cross-range growth as an angle, deg: the cross-range gate is
+        ``max(range_gate_m, R tan(azimuth_gate_deg))`` (default 3 deg, about a third of the
+        9.6 deg azimuth resolution).
+    velocity_gate_mps : float
+        Radial-velocity gate, m/s (default 1.0: ~10 Doppler bins of 0.1065 m/s, enough for
+        the spread of radial velocity across an extended body and the azimuth error).
+    unambiguity_window_mps : float
+        Velocity-unambiguity rate counts detections whose truth |radial velocity| is within
+        this window, m/s (default 40.8, the DDMA promise of DESIGN 4.1).
+    fov_deg : float
+        An actor-frame counts for detection probability only if |azimuth| <= fov_deg (80 deg,
+        the published azimuth FOV) ...
+    max_range_m : float
+        ... and its centre range <= max_range_m (default 253 m, the 192-bin real-ADC range).
+    pd_range_bin_m : float
+        Width of the range bins of detection probability versus range, m.
+    pd_min_count : int
+        Minimum actor-frames in a range bin for its Pd to be used by ``max_range_pd90``.
+
+    Raises
+    ------
+    ValueError
+        If a gate or width is not finite and positive, or ``pd_min_count`` < 1.
+    """
+
+    range_gate_m: float = 1.5
+    azimuth_gate_deg: float = 3.0
+    velocity_gate_mps: float = 1.0
+    unambiguity_window_mps: float = 40.8
+    fov_deg: float = 80.0
+    max_range_m: float = 253.0
+    pd_range_bin_m: float = 10.0
+    pd_min_count: int = 5
+
+    def __post_init__(self) -> None:
+        for name in ("range_gate_m", "azimuth_gate_deg", "velocity_gate_mps",
+                     "unambiguity_window_mps", "fov_deg", "max_range_m", "pd_range_bin_m"):
+            val = getattr(self, name)
+            if not (isinstance(val, (int, float)) and math.isfinite(val) and val > 0):
+                raise ValueError(f"{name}={val!r} must be a finite number > 0")
+        if self.azimuth_gate_deg >= 90 or self.fov_deg > 180:
+            raise ValueError(f"azimuth_gate_deg={self.azimuth_gate_deg!r} must be < 90 and "
+                             f"fov_deg={self.fov_deg!r} <= 180")
+        if not isinstance(self.pd_min_count, (int, np.integer)) or self.pd_min_count < 1:
+            raise ValueError(f"pd_min_count={self.pd_min_count!r} must be an integer >= 1")
+
+    def to_dict(self) -> dict:
+        """Plain dict of the gates (for manifests)."""
+        return asdict(self)
+
+
+def _require(df: pd.DataFrame, columns, what: str) -> None:
+    missing = [c for c in columns if c not in df.columns]
+    if missing:
+        raise ValueError(f"{what} lacks column(s) {missing}; has {list(df.columns)}")
+
+
+def _pairs(detections: pd.DataFrame, truth: pd.DataFrame, cfg: AssociationConfig,
+           velocity_span_mps: float) -> pd.DataFrame:
+    """All (detection, actor) pairs of the same frame with gate distances.
+
+    Returns a frame with columns det_index, actor_id, actor_class, is_static, pos_cost (gate
+    units, <= 1 inside the gate), dv_mps (detection minus truth), alias_k, resid_mps,
+    truth_radial_velocity_mps, near_x_m, near_y_m (nearest box point), box_distance_m.
+    """
+    det = detections[list(_DET_COLUMNS)].copy()
+    det["det_index"] = np.arange(len(det))
+    tr = truth[list(_TRUTH_COLUMNS)].rename(columns={"range_m": "actor_range_m",
+                                                     "azimuth_deg": "actor_azimuth_deg"})
+    p = det.merge(tr, on="frame", how="inner")
+    if p.empty:
+        return p
+    yaw = np.radians(p["yaw_radar_deg"].to_numpy())
+    c, s = np.cos(yaw), np.sin(yaw)
+    dx = p["x_m"].to_numpy() - p["x_radar_m"].to_numpy()
+    dy = p["y_m"].to_numpy() - p["y_radar_m"].to_numpy()
+    # Box-local coordinates, clamped onto the box: nearest point of the (filled) footprint.
+    lx, ly = c * dx + s * dy, -s * dx + c * dy
+    hl, hw = 0.5 * p["length_m"].to_numpy(), 0.5 * p["width_m"].to_numpy()
+    qx, qy = np.clip(lx, -hl, hl), np.clip(ly, -hw, hw)
+    near_x = p["x_radar_m"].to_numpy() + c * qx - s * qy
+    near_y = p["y_radar_m"].to_numpy() + s * qx + c * qy
+    ox, oy = p["x_m"].to_numpy() - near_x, p["y_m"].to_numpy() - near_y
+    # Decompose the miss distance along / across the detection's line of sight.
+    r_det = np.hypot(p["x_m"].to_numpy(), p["y_m"].to_numpy())
+    ux, uy = p["x_m"].to_numpy() / np.maximum(r_det, 1e-9), p["y_m"].to_numpy() / \
+        np.maximum(r_det, 1e-9)
+    d_r = ox * ux + oy * uy
+    d_t = -ox * uy + oy * ux
+    gate_t = np.maximum(cfg.range_gate_m, r_det * math.tan(math.radians(cfg.azimuth_gate_deg)))
+    pos_cost = np.hypot(d_r / cfg.range_gate_m, d_t / gate_t)
+    # Truth radial velocity at the nearest box point (rigid translation).
+    r_near = np.maximum(np.hypot(near_x, near_y), 1e-9)
+    v_true = (p["vx_radar_mps"].to_numpy() * near_x + p["vy_radar_mps"].to_numpy() * near_y) \
+        / r_near
+    dv = p["radial_velocity_mps"].to_numpy() - v_true
+    k = np.rint(dv / velocity_span_mps) if np.isfinite(velocity_span_mps) else np.zeros_like(dv)
+    resid = dv - k * (velocity_span_mps if np.isfinite(velocity_span_mps) else 0.0)
+    return pd.DataFrame({
+        "det_index": p["det_index"].to_numpy(), "frame": p["frame"].to_numpy(),
+        "actor_id": p["actor_id"].to_numpy(), "actor_class": p["actor_class"].to_numpy(),
+        "is_static": p["actor_class"].isin(STATIC_CLASSES).to_numpy(),
+        "pos_cost": pos_cost, "dv_mps": dv, "alias_k": k.astype(np.int64), "resid_mps": resid,
+        "truth_radial_velocity_mps": v_true, "near_x_m": near_x, "near_y_m": near_y,
+        "near_range_m": r_near, "box_distance_m": np.hypot(ox, oy),
+    })
+
+
+def associate(detections: pd.DataFrame, truth: pd.DataFrame, *, velocity_span_mps: float,
+              config: AssociationConfig | None = None,
+              scatterers: pd.DataFrame | None = None) -> pd.DataFrame:
+    """Label every detection TRUE / VELOCITY_AMBIGUOUS / CLUTTER / GHOST.
+
+    Parameters
+    ----------
+    detections : DataFrame
+        Point cloud of one run, radar frame: columns ``frame``, ``x_m``, ``y_m``,
+        ``range_m``, ``radial_velocity_mps`` (others kept).
+    truth : DataFrame
+        Ground truth of the same run (scenarios' per-frame, per-actor table).
+    velocity_span_mps : float
+        The scheme's unambiguous span 2 Vmax, m/s (DDMA 81.8, TDMA 20.4). ``inf`` disables the
+        ambiguity test.
+    config : AssociationConfig, optional
+    scatterers : DataFrame, optional
+        `scatterer_table` of the run. If given, a detection that would be a GHOST but lies
+        within ``range_gate_m`` in range and ``velocity_gate_mps`` in radial velocity of a
+        ground-clutter scatterer (``actor_id`` in `STATIC_SCATTERER_IDS`), i.e. in a
+        range-Doppler cell the modelled ground occupies, is CLUTTER (``actor_class``
+        "ground"): the ground is modelled static infrastructure too.
+
+    Returns
+    -------
+    DataFrame
+        A copy of ``detections`` (same row order and index) with columns ``label`` (one of
+        `LABELS`), ``actor_id`` (int, -1 for ghosts), ``actor_class`` ("" for ghosts),
+        ``truth_radial_velocity_mps`` (truth at the nearest box point; NaN for ghosts),
+        ``velocity_alias_k`` (multiple of 2 Vmax removed, 0 unless ambiguous),
+        ``box_distance_m`` (2D distance to the actor's footprint, 0 inside).
+
+    Notes
+    -----
+    Among the road users whose gates a detection passes, the one with the smallest cost
+    ``pos_cost^2 + (residual velocity / velocity_gate)^2`` wins (TRUE before ambiguous).
+    """
+    cfg = config or AssociationConfig()
+    _require(detections, _DET_COLUMNS, "detections")
+    _require(truth, _TRUTH_COLUMNS, "truth")
+    if not (velocity_span_mps > 0):
+        raise ValueError(f"velocity_span_mps={velocity_span_mps!r} must be > 0 (2 Vmax)")
+    out = detections.copy()
+    n = len(out)
+    label = np.full(n, GHOST, dtype=object)
+    actor_id = np.full(n, -1, dtype=np.int64)
+    actor_class = np.full(n, "", dtype=object)
+    v_true = np.full(n, np.nan)
+    alias_k = np.zeros(n, dtype=np.int64)
+    box_dist = np.full(n, np.nan)
+    pairs = _pairs(detections, truth, cfg, velocity_span_mps)
+    if not pairs.empty:
+        in_gate = pairs["pos_cost"].to_numpy() <= 1.0
+        road = ~pairs["is_static"].to_numpy()
+        vg = cfg.velocity_gate_mps
+        is_true = in_gate & road & (np.abs(pairs["dv_mps"].to_numpy()) <= vg)
+        is_amb = in_gate & road & ~is_true & (pairs["alias_k"].to_numpy() != 0) & \
+            (np.abs(pairs["resid_mps"].to_numpy()) <= vg)
+        is_clut = in_gate & ~road
+        rank = np.select([is_true, is_amb, is_clut], [0, 1, 2], default=9)
+        cost = pairs["pos_cost"].to_numpy() ** 2 + (pairs["resid_mps"].to_numpy() / vg) ** 2
+        cand = pairs.assign(rank=rank, cost=cost)[rank < 9]
+        best = cand.sort_values(["det_index", "rank", "cost"], kind="stable") \
+            .drop_duplicates("det_index")
+        idx = best["det_index"].to_numpy()
+        label[idx] = np.array(LABELS[:3], dtype=object)[best["rank"].to_numpy()]
+        actor_id[idx] = best["actor_id"].to_numpy()
+        actor_class[idx] = best["actor_class"].to_numpy()
+        v_true[idx] = best["truth_radial_velocity_mps"].to_numpy()
+        alias_k[idx] = np.where(best["rank"].to_numpy() == 1, best["alias_k"].to_numpy(), 0)
+        box_dist[idx] = best["box_distance_m"].to_numpy()
+    if scatterers is not None and len(scatterers):
+        ground = _ground_match(detections, scatterers, cfg) & (label == GHOST)
+        label[ground] = CLUTTER
+        actor_id[ground] = STATIC_SCATTERER_IDS[0]
+        actor_class[ground] = "ground"
+    out["label"] = label
+    out["actor_id"] = actor_id
+    out["actor_class"] = actor_class
+    out["truth_radial_velocity_mps"] = v_true
+    out["velocity_alias_k"] = alias_k
+    out["box_distance_m"] = box_dist
+    return out
+
+
+def _ground_match(detections: pd.DataFrame, scatterers: pd.DataFrame,
+                  cfg: AssociationConfig) -> np.ndarray:
+    """(D,) bool: detection in a range-Doppler cell occupied by modelled ground clutter.
+
+    Ground clutter fills whole range-Doppler cells over many azimuths, so its angle estimate
+    is smeared: a detection is explained by the ground if some ground scatterer of the frame
+    lies within ``range_gate_m`` in range and ``velocity_gate_mps`` in radial velocity
+    (nearest neighbour in (range, v range_gate / velocity_gate) space, cKDTree per frame).
+    On a moving ego the ground's radial velocity varies with azimuth, so the velocity match
+    still ties the detection to the right cone of directions.
+    """
+    out = np.zeros(len(detections), dtype=bool)
+    g = scatterers[scatterers["actor_id"].isin(STATIC_SCATTERER_IDS)]
+    if g.empty or detections.empty:
+        return out
+    scale = cfg.range_gate_m / cfg.velocity_gate_mps
+    det_frame = detections["frame"].to_numpy()
+    pts = np.column_stack([detections["range_m"], detections["radial_velocity_mps"] * scale])
+    for frame, gf in g.groupby("frame", sort=False):
+        rows = np.flatnonzero(det_frame == frame)
+        if not len(rows):
+            continue
+        ref = np.column_stack([gf["range_m"], gf["radial_velocity_mps"] * scale])
+        # Chebyshev distance: both gates must hold.
+        d, _ = cKDTree(ref).query(pts[rows], p=np.inf)
+        out[rows] = d <= cfg.range_gate_m
+    return out
+
+
+def scatterer_table(frames_scatterers) -> pd.DataFrame:
+    """Long table of scatterers from ``[(frame, Scatterers), ...]``.
+
+    Returns
+    -------
+    DataFrame
+        Columns frame, actor_id, x_m, y_m, z_m, range_m, radial_velocity_mps, rcs_m2 (radar
+        frame, m, m/s, m^2).
+    """
+    parts = []
+    for frame, sc in frames_scatterers:
+        pos = np.asarray(sc.position_m)
+        parts.append(pd.DataFrame({
+            "frame": np.full(len(sc), int(frame), dtype=np.int64),
+            "actor_id": np.asarray(sc.actor_id, dtype=np.int64),
+            "x_m": pos[:, 0], "y_m": pos[:, 1], "z_m": pos[:, 2],
+            "range_m": sc.range_m, "radial_velocity_mps": sc.radial_velocity_mps,
+            "rcs_m2": np.asarray(sc.rcs_m2)}))
+    if not parts:
+        return pd.DataFrame({c: pd.Series(dtype=t) for c, t in (
+            ("frame", "int64"), ("actor_id", "int64"), ("x_m", float), ("y_m", float),
+            ("z_m", float), ("range_m", float), ("radial_velocity_mps", float),
+            ("rcs_m2", float))})
+    return pd.concat(parts, ignore_index=True)
+
+
+def detection_errors(labelled: pd.DataFrame, truth: pd.DataFrame,
+                     scatterers: pd.DataFrame | None = None) -> pd.DataFrame:
+    """Range and radial-speed error of TRUE detections.
+
+    The reference is the nearest scatterer (2D distance in the radar x-y plane) of the
+    detection's actor in the same frame, when a `scatterer_table` is given and the actor has
+    scatterers in that frame; otherwise the nearest point of the actor's footprint (its range
+    and the rigid-translation radial velocity there). Other labels get NaN.
+
+    Parameters
+    ----------
+    labelled : DataFrame
+        Output of `associate`.
+    truth : DataFrame
+        Ground truth used for the labelling.
+    scatterers : DataFrame, optional
+        `scatterer_table` of the run.
+
+    Returns
+    -------
+    DataFrame
+        ``labelled`` with columns ``range_error_m`` (detection minus reference slant range, m),
+        ``radial_velocity_error_mps`` (detection minus reference, m/s) and
+        ``error_reference`` ("scatterer", "box" or "").
+    """
+    out = labelled.copy()
+    out["range_error_m"] = np.nan
+    out["radial_velocity_error_mps"] = np.nan
+    out["error_reference"] = ""
+    is_true = (out["label"] == TRUE).to_numpy()
+    if not is_true.any():
+        return out
+    pos = np.flatnonzero(is_true)
+    det = out.iloc[pos][["frame", "actor_id", "x_m", "y_m", "range_m",
+                         "radial_velocity_mps"]].copy()
+    det["row"] = pos
+    done = np.zeros(len(out), dtype=bool)
+    if scatterers is not None and len(scatterers):
+        m = det.merge(scatterers[["frame", "actor_id", "x_m", "y_m", "range_m",
+                                  "radial_velocity_mps"]], on=["frame", "actor_id"],
+                      suffixes=("", "_sc"))
+        if len(m):
+            m["d2"] = (m["x_m"] - m["x_m_sc"]) ** 2 + (m["y_m"] - m["y_m_sc"]) ** 2
+            m = m.sort_values(["row", "d2"], kind="stable").drop_duplicates("row")
+            rows = m["row"].to_numpy()
+            out.iloc[rows, out.columns.get_loc("range_error_m")] = \
+                (m["range_m"] - m["range_m_sc"]).to_numpy()
+            out.iloc[rows, out.columns.get_loc("radial_velocity_error_mps")] = \
+                (m["radial_velocity_mps"] - m["radial_velocity_mps_sc"]).to_numpy()
+            out.iloc[rows, out.columns.get_loc("error_reference")] = "scatterer"
+            done[rows] = True
+    rest = np.flatnonzero(is_true & ~done)
+    if len(rest):
+        sub = out.iloc[rest][["frame", "x_m", "y_m", "range_m"]].copy()
+        sub["actor_id"] = out["actor_id"].to_numpy()[rest]
+        sub["radial_velocity_mps"] = out["radial_velocity_mps"].to_numpy()[rest]
+        pairs = _pairs(sub.reset_index(drop=True), truth[truth["actor_id"].isin(
+            sub["actor_id"])], AssociationConfig(), np.inf)
+        pairs = pairs[pairs["actor_id"].to_numpy() == sub["actor_id"].to_numpy()[
+            pairs["det_index"].to_numpy()]]
+        rows = rest[pairs["det_index"].to_numpy()]
+        out.iloc[rows, out.columns.get_loc("range_error_m")] = \
+            out["range_m"].to_numpy()[rows] - pairs["near_range_m"].to_numpy()
+        out.iloc[rows, out.columns.get_loc("radial_velocity_error_mps")] = \
+            pairs["dv_mps"].to_numpy()
+        out.iloc[rows, out.columns.get_loc("error_reference")] = "box"
+    return out
+
+
+def actor_frames(labelled: pd.DataFrame, truth: pd.DataFrame, *,
+                 scatterers: pd.DataFrame | None = None,
+                 config: AssociationConfig | None = None) -> pd.DataFrame:
+    """One row per road-user actor and frame: visible, detected, detection count, peak SNR.
+
+    An actor-frame is ``visible`` if the actor's centre is within ``fov_deg`` and
+    ``max_range_m`` and, when a scatterer table is given, the ray caster produced at least one
+    scatterer with RCS > 0 for it (so occluded actors do not count against Pd). It is
+    ``detected`` if a one-to-one assignment (``linear_sum_assignment`` per frame on the cost
+    of `associate`, TRUE pairs only) gives it a detection: one detection can detect at most one
+    actor, so two motorcycles side by side need two detections.
+
+    Returns
+    -------
+    DataFrame
+        Columns frame, time_s (if in truth), actor_id, actor_class, range_m, azimuth_deg,
+        radial_velocity_mps (truth centre), visible, detected, n_true, n_ambiguous,
+        max_snr_db (of the actor's TRUE detections; NaN if none).
+    """
+    cfg = config or AssociationConfig()
+    _require(labelled, ("frame", "label", "actor_id", "snr_db"), "labelled detections")
+    keep = ["frame", "actor_id", "actor_class", "range_m", "azimuth_deg",
+            "radial_velocity_mps"] + (["time_s"] if "time_s" in truth.columns else [])
+    af = truth.loc[truth["actor_class"].isin(ROAD_USER_CLASSES), keep].reset_index(drop=True)
+    vis = (np.abs(af["azimuth_deg"].to_numpy()) <= cfg.fov_deg) & \
+        (af["range_m"].to_numpy() <= cfg.max_range_m)
+    if scatterers is not None:
+        seen = scatterers.loc[scatterers["rcs_m2"] > 0, ["frame", "actor_id"]] \
+            .drop_duplicates().assign(_seen=True)
+        vis &= af[["frame", "actor_id"]].merge(seen, how="left", on=["frame", "actor_id"])[
+            "_seen"].fillna(False).to_numpy(dtype=bool)
+    af["visible"] = vis
+    lab = labelled[["frame", "actor_id", "label", "snr_db"]]
+    tru = lab[lab["label"] == TRUE]
+    agg = tru.groupby(["frame", "actor_id"]).agg(n_true=("snr_db", "size"),
+                                                   max_snr_db=("snr_db", "max"))
+    amb = lab[lab["label"] == VELOCITY_AMBIGUOUS].groupby(["frame", "actor_id"]).size() \
+        .rename("n_ambiguous")
+    af = af.join(agg, on=["frame", "actor_id"]).join(amb, on=["frame", "actor_id"])
+    af["n_true"] = af["n_true"].fillna(0).astype(np.int64)
+    af["n_ambiguous"] = af["n_ambiguous"].fillna(0).astype(np.int64)
+    af["detected"] = _assign_one_to_one(labelled, truth, af, cfg)
+    return af
+
+
+def _assign_one_to_one(labelled: pd.DataFrame, truth: pd.DataFrame, af: pd.DataFrame,
+                       cfg: AssociationConfig) -> np.ndarray:
+    """Per frame, linear_sum_assignment between TRUE-gated detections and actors."""
+    detected = np.zeros(len(af), dtype=bool)
+    tru = labelled[labelled["label"] == TRUE]
+    if tru.empty:
+        return detected
+    # Every (TRUE detection, road user) pair that passes both gates, not only the winner:
+    # a detection between two actors is a candidate for both.
+    span = np.inf
+    pairs = _pairs(tru.reset_index(drop=True), truth[truth["actor_class"].isin(
+        ROAD_USER_CLASSES)], cfg, span)
+    if pairs.empty:
+        return detected
+    ok = (pairs["pos_cost"] <= 1.0) & (pairs["dv_mps"].abs() <= cfg.velocity_gate_mps)
+    pairs = pairs[ok]
+    pairs = pairs.assign(cost=pairs["pos_cost"] ** 2 +
+                         (pairs["dv_mps"] / cfg.velocity_gate_mps) ** 2)
+    row_of = {key: i for i, key in enumerate(zip(af["frame"].to_numpy(),
+                                                 af["actor_id"].to_numpy()))}
+    for frame, g in pairs.groupby("frame", sort=False):
+        dets, d_inv = np.unique(g["det_index"].to_numpy(), return_inverse=True)
+        acts, a_inv = np.unique(g["actor_id"].to_numpy(), return_inverse=True)
+        big = 1e6
+        cost = np.full((len(dets), len(acts)), big)
+        cost[d_inv, a_inv] = g["cost"].to_numpy()
+        r, c = linear_sum_assignment(cost)
+        for a in acts[c[cost[r, c] < big]]:
+            i = row_of.get((frame, a))
+            if i is not None:
+                detected[i] = True
+    return detected

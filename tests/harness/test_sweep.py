@@ -1,0 +1,157 @@
+"""Sweeps: TOML suites, atomic cells, resume, errors, process pool, Dask, interruption."""
+from __future__ import annotations
+
+import json
+import os
+import signal
+import subprocess
+import sys
+import textwrap
+import time
+from pathlib import Path
+
+import pandas as pd
+import pytest
+
+from harness.sweep import SweepSpec, Variant, completed_cells, load_sweep, run_sweep
+from tests.harness.fakes import FAKE
+
+ROOT = Path(__file__).resolve().parents[2]
+TABLES = ("summary", "detections", "frames", "actors", "truth")
+
+
+def small_spec(**kw) -> SweepSpec:
+    base = dict(name="t", scenarios=("fast", "slow"), seeds=(0, 1), duration_s=0.4)
+    base.update(kw)
+    return SweepSpec(**base)
+
+
+def assert_same_tables(a: Path, b: Path) -> None:
+    for t in TABLES:
+        pd.testing.assert_frame_equal(pd.read_parquet(a / f"{t}.parquet"),
+                                      pd.read_parquet(b / f"{t}.parquet"))
+
+
+def test_load_sweep_vary_product(tmp_path):
+    f = tmp_path / "s.toml"
+    f.write_text(textwrap.dedent("""
+        name = "pn"
+        scenarios = ["a", "b"]
+        seeds = [0, 1, 2]
+        frame_stride = 2
+        [base.radar]
+        tx_phase_error_deg = [0.0, 3.0, -2.0, 1.0]
+        [vary]
+        "radar.phase_noise_deg_rms" = [0.0, 5.0]
+        "processing.cfar_threshold_db" = [12.0, 15.0]
+    """))
+    spec = load_sweep(f, check_scenarios=False)
+    assert len(spec.variants) == 4 and len(spec.cells()) == 2 * 4 * 3
+    v = spec.variants[1]
+    assert v.name == "phase_noise_deg_rms=0.0,cfar_threshold_db=15.0"
+    assert v.radar == {"tx_phase_error_deg": [0.0, 3.0, -2.0, 1.0], "phase_noise_deg_rms": 0.0}
+    assert v.processing == {"cfar_threshold_db": 15.0}
+    assert spec.frame_stride == 2
+    # Deterministic id: rerunning the same command resumes the same directory.
+    assert spec.run_id == load_sweep(f, check_scenarios=False).run_id
+    assert spec.with_overrides(seeds=[7]).seeds == (7,)
+
+
+@pytest.mark.parametrize("text,match", [
+    ('scenarios = ["a"]\nbogus = 1', "unknown key"),
+    ('scenarios = ["a"]\n[vary]\n"radar.not_a_field" = [1]', "unknown radar field"),
+    ('scenarios = ["a"]\n[vary]\n"sonar.x" = [1]', "unknown section"),
+    ('scenarios = ["a"]\n[vary]\n"radar.phase_noise_deg_rms" = []', "non-empty list"),
+    ('scenarios = ["a"]\nseeds = [-1]', "seeds"),
+    ('scenarios = ["a"]\nframe_stride = 0', "frame_stride"),
+    ('scenarios = [\n', "malformed TOML"),
+])
+def test_load_sweep_rejects_bad_files(tmp_path, text, match):
+    f = tmp_path / "bad.toml"
+    f.write_text(text)
+    with pytest.raises(ValueError, match=match):
+        load_sweep(f, check_scenarios=False)
+
+
+def test_serial_sweep_resume_and_error(tmp_path):
+    spec = small_spec(scenarios=("fast", "boom", "slow"))
+    out = tmp_path / "r"
+    o1 = run_sweep(spec, out, components=FAKE, progress=False)
+    assert (o1.n_ok, o1.n_error, o1.n_skipped) == (4, 2, 0)
+    assert "scenario exploded" in next(iter(o1.errors.values()))
+    summary = pd.read_parquet(out / "summary.parquet")
+    err = summary[summary["error"] != ""]
+    assert list(err["scenario"]) == ["boom", "boom"]
+    manifest = json.loads((out / "manifest.json").read_text())
+    assert manifest["n_ok"] == 4 and manifest["n_error"] == 2
+    assert {"numpy", "pandas", "pyarrow"} <= set(manifest["versions"])
+    assert "commit" in manifest["git"] and manifest["seeds"] == [0, 1]
+    stamp = {p: p.stat().st_mtime_ns for p in (out / "cells").glob("*/summary.parquet")}
+    # Rerun: the 4 completed cells are skipped (files untouched), the 2 errored are retried.
+    o2 = run_sweep(spec, out, components=FAKE, progress=False)
+    assert (o2.n_skipped, o2.n_ok, o2.n_error) == (4, 0, 2)
+    assert stamp == {p: p.stat().st_mtime_ns for p in (out / "cells").glob("*/summary.parquet")}
+    assert not list((out / "cells").glob(".tmp-*"))
+
+
+def test_pool_equals_serial_and_dask(tmp_path):
+    spec = small_spec()
+    run_sweep(spec, tmp_path / "serial", components=FAKE, progress=False)
+    run_sweep(spec, tmp_path / "pool", workers=2, components=FAKE, progress=False)
+    assert_same_tables(tmp_path / "serial", tmp_path / "pool")
+    distributed = pytest.importorskip("distributed")
+    with distributed.LocalCluster(n_workers=1, threads_per_worker=2, processes=False,
+                                  dashboard_address=None) as cluster:
+        o = run_sweep(spec, tmp_path / "dask", scheduler=cluster.scheduler_address,
+                      components=FAKE, progress=False)
+    assert o.n_ok == 4
+    assert_same_tables(tmp_path / "serial", tmp_path / "dask")
+
+
+def _children(pid: int) -> list[int]:
+    path = Path(f"/proc/{pid}/task/{pid}/children")
+    return [int(x) for x in path.read_text().split()] if path.exists() else []
+
+
+def test_killed_worker_loses_no_completed_cell_and_rerun_resumes(tmp_path):
+    out = tmp_path / "r"
+    script = textwrap.dedent(f"""
+        import json, sys
+        sys.path.insert(0, {str(ROOT)!r})
+        from harness.sweep import SweepSpec, run_sweep
+        from tests.harness.fakes import FAKE
+        spec = SweepSpec(name="t", scenarios=("fast", "slow", "mid"), seeds=(0, 1),
+                         duration_s=0.4)
+        o = run_sweep(spec, {str(out)!r}, workers=2, components=FAKE, progress=False)
+        print(json.dumps({{"ok": o.n_ok, "interrupted": o.n_interrupted}}))
+    """)
+    env = {**os.environ, "FAKE_PROCESS_DELAY_S": "0.02"}  # ~0.5 s per cell
+    proc = subprocess.Popen([sys.executable, "-c", script], env=env, stdout=subprocess.PIPE,
+                            text=True)
+    spec = SweepSpec(name="t", scenarios=("fast", "slow", "mid"), seeds=(0, 1), duration_s=0.4)
+    cells = spec.cells()
+    deadline = time.monotonic() + 30
+    while not completed_cells(out, cells) and time.monotonic() < deadline:
+        time.sleep(0.05)
+    workers = _children(proc.pid)
+    assert workers, "no worker process found"
+    os.kill(workers[0], signal.SIGKILL)
+    stdout, _ = proc.communicate(timeout=60)
+    report = json.loads(stdout.strip().splitlines()[-1])
+    done = completed_cells(out, cells)
+    assert report["interrupted"] >= 1 and len(done) >= 1
+    assert len(done) < len(cells)
+    # Completed cells are intact; the rerun runs only the missing ones.
+    o = run_sweep(spec, out, components=FAKE, progress=False)
+    assert o.n_skipped == len(done) and o.n_ok == len(cells) - len(done)
+    run_sweep(spec, tmp_path / "clean", components=FAKE, progress=False)
+    assert_same_tables(out, tmp_path / "clean")
+
+
+def test_variants_reach_the_cells(tmp_path):
+    spec = small_spec(scenarios=("fast",), seeds=(0,),
+                      variants=(Variant(name="a"), Variant(name="b",
+                                                           radar={"phase_noise_deg_rms": 2.0})))
+    run_sweep(spec, tmp_path, components=FAKE, progress=False)
+    s = pd.read_parquet(tmp_path / "summary.parquet")
+    assert sorted(s["variant"].unique()) == ["a", "b"]
