@@ -256,9 +256,11 @@ def _tdma(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) -> pd.DataF
         v_hyp = v_est[:, None] + 2 * k[None, :] * v_max  # (n, H)
         span = n_tx * v_max
         valid = (v_hyp >= -span) & (v_hyp < span)
+        k0 = int(np.flatnonzero(k == 0)[0])
     else:
         v_hyp = v_est[:, None]
         valid = np.ones_like(v_hyp, dtype=bool)
+        k0 = 0
     h_idx, h_pos, v_idx, v_pos, v_h = array_layout(cfg.virtual_positions_m, cfg.wavelength_m)
     virt = virt_all[r, d].reshape(-1, 1, n_tx, cfg.n_rx)  # (n, 1, S, R)
     # Doppler phase of slot s: 2 pi f_D s Tc, f_D = -2 v / lambda (eq. 8-10): remove it.
@@ -269,6 +271,9 @@ def _tdma(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) -> pd.DataF
     score = np.where(valid, az_pow.max(axis=-1), -np.inf)
     best = np.argmax(score, axis=1)
     rows = np.arange(r.size)
+    # Optionally an aliased hypothesis must beat the unaliased one by a margin (see config).
+    keep_k0 = score[rows, best] <= score[:, k0] * 10 ** (proc.tdma_hypothesis_margin_db / 10)
+    best = np.where(keep_k0, k0, best)
     velocity = v_hyp[rows, best]
     power_az = az_pow[rows, best]  # (n, A)
     a = np.argmax(power_az, axis=1)
