@@ -21,8 +21,11 @@ test: $(STAMP)
 test-all: $(STAMP)
 	$(PY) -m pytest -q
 
+# The default sweep (whole catalogue, DDMA vs TDMA, seed 0): tables in results/default, the
+# summary printed, then the HTML report. Rerunning resumes completed cells.
 run: $(STAMP)
-	$(VENV)/bin/radar-harness frame
+	$(VENV)/bin/radar-harness sweep --workers 2 --out results/default
+	$(VENV)/bin/radar-harness report results/default
 
 bench: $(STAMP)
 	$(PY) -m benchmarks

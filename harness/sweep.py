@@ -177,6 +177,14 @@ def _check_section(where: str, section: str, overrides: dict) -> None:
             pass
 
 
+def _single_threaded_blas() -> None:
+    """Pool-worker initializer: one BLAS thread per worker process. With one worker per core,
+    BLAS's own threads only oversubscribe the cores (the front end's GEMM slows 8x under
+    load with two threads per worker)."""
+    from threadpoolctl import threadpool_limits
+    threadpool_limits(limits=1, user_api="blas")
+
+
 def _fmt(v) -> str:
     return "-".join(map(str, v)) if isinstance(v, (list, tuple)) else str(v)
 
@@ -377,7 +385,8 @@ def run_sweep(spec: SweepSpec, out: str | Path, *, workers: int = 1,
                 results[c.cell_id] = execute_cell(c, str(out), components)
                 bar.update(1)
         else:
-            with cf.ProcessPoolExecutor(max_workers=workers) as ex:
+            with cf.ProcessPoolExecutor(max_workers=workers,
+                                        initializer=_single_threaded_blas) as ex:
                 futs = {ex.submit(execute_cell, c, str(out), components): c for c in pending}
                 for fut in cf.as_completed(futs):
                     c = futs[fut]

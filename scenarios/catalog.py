@@ -537,7 +537,7 @@ def _build() -> dict[str, Case]:
                                  actor_id=0, note="|v_r| > 40.8 m/s: expected to alias "
                                                   "(DESIGN 6)")),
              references="Euro NCAP AEB C2C CCFhos"),
-        Case(name="dense_highway", traffic="highway", lanes=4, mount=m["rear_left"],
+        Case(name="dense_highway", traffic="highway", lanes=4, mount=m["front_left"],
              duration_s=4.0, vehicles_count=30, vehicles_density=2.0, truck_fraction=0.15,
              motorcycle_fraction=0.1, guard_rails=True,
              description="Dense random 4-lane highway traffic with trucks and motorcycles",
