@@ -1,10 +1,13 @@
 """Ego-motion estimation from one radar frame: RANSAC of radial velocity versus azimuth.
 
 On a moving ego every static reflector shows the same signature: seen along the vehicle-frame
-direction theta = azimuth + mount yaw, its radial velocity is v_r = -v_ego cos(theta) (the ego
-moves along +x of the vehicle frame, yaw rate neglected). The largest consensus set of points on
-that curve is taken as the static world; its fit gives the ego speed and the point labels
-static / moving that the tracker uses to keep static clutter from starting tracks.
+direction theta = azimuth + mount yaw, its radial velocity is
+v_r = -(v_x cos(theta) + v_y sin(theta)), (v_x, v_y) the radar's velocity over ground in the
+vehicle frame. Model "longitudinal" assumes v_y = 0 (v_r = -v_ego cos(theta)); model "planar"
+also fits v_y, which a lane change or a curve brings (side slip of the body, yaw rate times the
+mount's lever arm). The largest consensus set of points on that curve is taken as the static
+world; its fit gives the ego velocity and the point labels static / moving that the tracker
+uses to keep static clutter from starting tracks.
 
 References
 ----------
@@ -22,9 +25,15 @@ from dataclasses import dataclass
 import numpy as np
 
 __all__ = [
-    "EgoMotionConfig", "EgoMotionEstimate", "estimate_ego_motion", "ground_radial_velocity",
-    "static_mask",
+    "EgoMotionConfig", "EgoMotionEstimate", "EGO_MODELS", "estimate_ego_motion",
+    "ground_radial_velocity", "static_mask",
 ]
+
+#: Ego-motion models by the name used in `EgoMotionConfig.model`.
+EGO_MODELS = {
+    "longitudinal": "v_r = -v_x cos(theta): the radar moves along the vehicle's x axis",
+    "planar": "v_r = -(v_x cos(theta) + v_y sin(theta)): also lateral motion (Kellner 2013)",
+}
 
 
 @dataclass(frozen=True, kw_only=True, slots=True)
@@ -33,9 +42,12 @@ class EgoMotionConfig:
 
     Parameters
     ----------
+    model : {"planar", "longitudinal"}
+        See `EGO_MODELS`.
     n_hypotheses : int
-        Hypotheses drawn per frame (one point each: the model has one parameter). When the
-        frame holds no more eligible points than this, every eligible point is a hypothesis.
+        Hypotheses drawn per frame (minimal samples of one point per fitted parameter). With
+        one parameter and no more eligible points than this, every eligible point is a
+        hypothesis.
     inlier_threshold_mps : float
         Base half-width of the inlier band around -v cos(theta), m/s.
     azimuth_std_deg : float
@@ -44,14 +56,21 @@ class EgoMotionConfig:
     n_sigma : float
         Width of the azimuth term in standard deviations.
     min_abs_cos : float
-        Points with |cos(theta)| below this cannot seed a hypothesis (v = -v_r / cos(theta)
-        is ill-conditioned near +/-90 deg).
+        Conditioning of a minimal sample: a one-parameter seed needs |cos(theta)| (or
+        |sin(theta)| when fitting v_y alone) at least this; a two-point seed needs
+        |sin(theta_1 - theta_2)| at least this.
     min_inliers : int
         Fewest inliers for a valid estimate.
     min_inlier_fraction : float
         Smallest fraction of all points that must be inliers for a valid estimate.
     max_speed_mps : float
         Hypotheses with |v| above this are discarded (physically impossible ego speeds).
+    max_lateral_ratio : float
+        Planar model: hypotheses with |v_y| > max_lateral_ratio |v_x| are discarded. A car
+        cannot move sideways by itself: its lateral velocity at the radar comes from side slip
+        and yaw rate, both of which need forward speed (0.15 allows 8.5 deg). This also keeps
+        a crossing vehicle, whose radial velocity goes as sin(theta), from being taken for the
+        static world when the ego stands still.
 
     Raises
     ------
@@ -59,6 +78,7 @@ class EgoMotionConfig:
         On a value out of its domain; the message names the field, the value and the limit.
     """
 
+    model: str = "planar"
     n_hypotheses: int = 64
     inlier_threshold_mps: float = 0.3
     azimuth_std_deg: float = 1.0
@@ -67,8 +87,11 @@ class EgoMotionConfig:
     min_inliers: int = 5
     min_inlier_fraction: float = 0.1
     max_speed_mps: float = 70.0
+    max_lateral_ratio: float = 0.15
 
     def __post_init__(self) -> None:
+        if self.model not in EGO_MODELS:
+            raise ValueError(f"model={self.model!r} is not one of {sorted(EGO_MODELS)}")
         for name in ("n_hypotheses", "min_inliers"):
             val = getattr(self, name)
             if not isinstance(val, (int, np.integer)) or val < 1:
@@ -77,7 +100,7 @@ class EgoMotionConfig:
             val = getattr(self, name)
             if not (math.isfinite(val) and val > 0):
                 raise ValueError(f"{name}={val!r} must be a finite number > 0")
-        for name in ("azimuth_std_deg", "n_sigma"):
+        for name in ("azimuth_std_deg", "n_sigma", "max_lateral_ratio"):
             val = getattr(self, name)
             if not (math.isfinite(val) and val >= 0):
                 raise ValueError(f"{name}={val!r} must be a finite number >= 0")
@@ -95,7 +118,11 @@ class EgoMotionEstimate:
     Attributes
     ----------
     ego_speed_mps : float
-        Ego speed along +x of the vehicle frame, m/s (NaN when not valid).
+        Radar velocity over ground along +x of the vehicle frame (the ego speed), m/s (NaN
+        when not valid; the given value when it was passed in).
+    ego_lateral_mps : float
+        Radar velocity over ground along +y of the vehicle frame, m/s (0 for the
+        longitudinal model, NaN when not valid).
     static : (N,) bool
         True for the inliers of the static-world fit (all False when not valid).
     n_inliers : int
@@ -105,6 +132,7 @@ class EgoMotionEstimate:
     """
 
     ego_speed_mps: float
+    ego_lateral_mps: float
     static: np.ndarray
     n_inliers: int
     valid: bool
@@ -120,7 +148,8 @@ def _as_1d(name: str, value) -> np.ndarray:
 
 
 def ground_radial_velocity(azimuth_deg, radial_velocity_mps, ego_speed_mps: float,
-                           mount_yaw_deg: float = 0.0) -> np.ndarray:
+                           mount_yaw_deg: float = 0.0, ego_lateral_mps: float = 0.0
+                           ) -> np.ndarray:
     """Radial velocity over ground: the measured one with the ego's share removed.
 
     Parameters
@@ -133,24 +162,29 @@ def ground_radial_velocity(azimuth_deg, radial_velocity_mps, ego_speed_mps: floa
         Ego speed along +x of the vehicle frame, m/s.
     mount_yaw_deg : float
         Radar boresight yaw in the vehicle frame, deg.
+    ego_lateral_mps : float
+        Radar velocity over ground along +y of the vehicle frame, m/s.
 
     Returns
     -------
     (N,) float
-        v_r + v_ego cos(az + yaw), m/s: zero for a static reflector.
+        v_r + v_x cos(theta) + v_y sin(theta), theta = az + yaw, m/s: zero for a static
+        reflector.
     """
     theta = np.radians(np.asarray(azimuth_deg, dtype=np.float64) + mount_yaw_deg)
-    return np.asarray(radial_velocity_mps, dtype=np.float64) + ego_speed_mps * np.cos(theta)
+    return (np.asarray(radial_velocity_mps, dtype=np.float64) + ego_speed_mps * np.cos(theta)
+            + ego_lateral_mps * np.sin(theta))
 
 
 def static_mask(azimuth_deg, radial_velocity_mps, ego_speed_mps: float,
                 mount_yaw_deg: float = 0.0, threshold_mps: float = 0.3,
-                azimuth_std_deg: float = 1.0, n_sigma: float = 3.0) -> np.ndarray:
-    """Label points static for a known ego speed (e.g. from the vehicle bus).
+                azimuth_std_deg: float = 1.0, n_sigma: float = 3.0,
+                ego_lateral_mps: float = 0.0) -> np.ndarray:
+    """Label points static for a known ego velocity (e.g. from the vehicle bus).
 
-    A point is static when |v_r + v_ego cos(theta)| <= threshold + n_sigma |v_ego sin(theta)|
-    sigma_az, theta = azimuth + mount yaw; the second term is the radial-velocity error an
-    azimuth error of sigma_az causes.
+    A point is static when |v_r + v_x cos(theta) + v_y sin(theta)| <= threshold +
+    n_sigma |v_x sin(theta) - v_y cos(theta)| sigma_az, theta = azimuth + mount yaw; the
+    second term is the radial-velocity error an azimuth error of sigma_az causes.
 
     Returns
     -------
@@ -159,20 +193,21 @@ def static_mask(azimuth_deg, radial_velocity_mps, ego_speed_mps: float,
     az = _as_1d("azimuth_deg", azimuth_deg)
     theta = np.radians(az + mount_yaw_deg)
     resid = np.abs(ground_radial_velocity(az, radial_velocity_mps, ego_speed_mps,
-                                          mount_yaw_deg))
-    band = threshold_mps + n_sigma * np.abs(ego_speed_mps * np.sin(theta)) * math.radians(
-        azimuth_std_deg)
-    return resid <= band
+                                          mount_yaw_deg, ego_lateral_mps))
+    slope = np.abs(ego_speed_mps * np.sin(theta) - ego_lateral_mps * np.cos(theta))
+    return resid <= threshold_mps + n_sigma * slope * math.radians(azimuth_std_deg)
 
 
 def estimate_ego_motion(azimuth_deg, radial_velocity_mps, rng: np.random.Generator,
-                        mount_yaw_deg: float = 0.0,
-                        cfg: EgoMotionConfig | None = None) -> EgoMotionEstimate:
-    """Ego speed and static/moving labels from one frame's detections by RANSAC.
+                        mount_yaw_deg: float = 0.0, cfg: EgoMotionConfig | None = None,
+                        ego_speed_mps: float | None = None) -> EgoMotionEstimate:
+    """Ego velocity and static/moving labels from one frame's detections by RANSAC.
 
-    All hypotheses are scored at once on an (n_hypotheses, N) residual matrix with the MSAC
-    truncated-quadratic cost [2]; the best one is refined by least squares on its inliers
-    (v = -sum(v_r c) / sum(c^2), c = cos(theta)), twice.
+    The static world satisfies v_r = -(v_x cos(theta) + v_y sin(theta)) (v_y = 0 for the
+    longitudinal model; v_x fixed when `ego_speed_mps` is given). Minimal samples (one point
+    per free parameter) give the hypotheses, all scored at once on an (n_hypotheses, N)
+    residual matrix with the MSAC truncated-quadratic cost [2]; the best is refined by least
+    squares on its inliers, twice [3].
 
     Parameters
     ----------
@@ -186,6 +221,9 @@ def estimate_ego_motion(azimuth_deg, radial_velocity_mps, rng: np.random.Generat
         Radar boresight yaw in the vehicle frame, deg.
     cfg : EgoMotionConfig, optional
         Estimator settings; defaults to `EgoMotionConfig()`.
+    ego_speed_mps : float, optional
+        Known v_x (e.g. from the vehicle bus): only v_y is fitted (planar model), or only the
+        labels are computed (longitudinal model).
 
     Returns
     -------
@@ -202,41 +240,83 @@ def estimate_ego_motion(azimuth_deg, radial_velocity_mps, rng: np.random.Generat
     if az.shape != vr.shape:
         raise ValueError(f"azimuth_deg {az.shape} and radial_velocity_mps {vr.shape} must "
                          "have the same shape")
+    if ego_speed_mps is not None and not math.isfinite(ego_speed_mps):
+        raise ValueError(f"ego_speed_mps={ego_speed_mps!r} must be finite or None")
     n = az.size
-    invalid = EgoMotionEstimate(math.nan, np.zeros(n, dtype=bool), 0, False)
+    invalid = EgoMotionEstimate(math.nan, math.nan, np.zeros(n, dtype=bool), 0, False)
     need = max(cfg.min_inliers, math.ceil(cfg.min_inlier_fraction * n))
     if n < need:
         return invalid
     theta = np.radians(az + mount_yaw_deg)
-    c, s = np.cos(theta), np.abs(np.sin(theta))
-    eligible = np.flatnonzero(np.abs(c) >= cfg.min_abs_cos)
-    if eligible.size == 0:
-        return invalid
-    if eligible.size <= cfg.n_hypotheses:
-        seeds = eligible
-    else:
-        seeds = rng.choice(eligible, size=cfg.n_hypotheses, replace=False)
-    v_hyp = -vr[seeds] / c[seeds]
-    v_hyp = v_hyp[np.abs(v_hyp) <= cfg.max_speed_mps]
-    if v_hyp.size == 0:
-        return invalid
+    c, s = np.cos(theta), np.sin(theta)
     sig_az = math.radians(cfg.azimuth_std_deg)
+    # Free parameters: design columns (N, k) and target y = v_r + fixed part, y = -A p.
+    if ego_speed_mps is None:
+        cols = (c, s) if cfg.model == "planar" else (c,)
+        y = vr
+    else:
+        cols = (s,) if cfg.model == "planar" else ()
+        y = vr + ego_speed_mps * c
+    design = np.column_stack(cols) if cols else np.zeros((n, 0))
+    k = design.shape[1]
 
-    def band(v):
-        # Inlier half-width per point (broadcasts over hypotheses), m/s.
-        return cfg.inlier_threshold_mps + cfg.n_sigma * np.abs(v) * s * sig_az
+    def velocity(p: np.ndarray) -> np.ndarray:
+        # (H, 2) radar velocity (v_x, v_y) of parameter rows p (H, k).
+        out = np.zeros((p.shape[0], 2))
+        if ego_speed_mps is None:
+            out[:, :k] = p
+        else:
+            out[:, 0] = ego_speed_mps
+            out[:, 1:1 + k] = p
+        return out
 
-    resid = vr[None, :] + v_hyp[:, None] * c[None, :]            # (H, N)
-    bands = band(v_hyp[:, None])                                  # (H, N)
-    cost = np.minimum((resid / bands) ** 2, 1.0).sum(axis=1)
-    v = float(v_hyp[np.argmin(cost)])
-    for _ in range(2):
-        inl = np.abs(vr + v * c) <= band(v)
-        if not inl.any():
+    def plausible(v: np.ndarray) -> np.ndarray:
+        # (H,) within the speed limit and the lateral-to-forward bound.
+        return ((np.abs(v[:, 0]) <= cfg.max_speed_mps)
+                & (np.abs(v[:, 1]) <= cfg.max_lateral_ratio * np.abs(v[:, 0]) + 1e-9))
+
+    def inliers(v: np.ndarray) -> np.ndarray:
+        # (H, N) |residual| / band for velocity rows v (H, 2).
+        resid = vr[None, :] + v[:, :1] * c[None, :] + v[:, 1:] * s[None, :]
+        band = cfg.inlier_threshold_mps + cfg.n_sigma * sig_az * np.abs(
+            v[:, :1] * s[None, :] - v[:, 1:] * c[None, :])
+        return np.abs(resid) / band
+
+    if k == 0:
+        p = np.zeros((1, 0))
+    else:
+        if k == 1:
+            eligible = np.flatnonzero(np.abs(design[:, 0]) >= cfg.min_abs_cos)
+            if eligible.size == 0:
+                return invalid
+            seeds = (eligible if eligible.size <= cfg.n_hypotheses
+                     else rng.choice(eligible, size=cfg.n_hypotheses, replace=False))
+            p = (-y[seeds] / design[seeds, 0])[:, None]
+        else:
+            pairs = rng.integers(0, n, size=(cfg.n_hypotheses, 2))
+            a, b = design[pairs[:, 0]], design[pairs[:, 1]]
+            det = a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]              # sin(theta_b - theta_a)
+            good = np.abs(det) >= cfg.min_abs_cos
+            a, b, det, pairs = a[good], b[good], det[good], pairs[good]
+            ya, yb = -y[pairs[:, 0]], -y[pairs[:, 1]]
+            p = np.column_stack([(ya * b[:, 1] - yb * a[:, 1]) / det,
+                                 (a[:, 0] * yb - b[:, 0] * ya) / det])   # Cramer's rule
+        p = p[plausible(velocity(p))]
+        if p.shape[0] == 0:
             return invalid
-        v = float(-np.dot(vr[inl], c[inl]) / np.dot(c[inl], c[inl]))
-    inl = np.abs(vr + v * c) <= band(v)
+        cost = np.minimum(inliers(velocity(p)) ** 2, 1.0).sum(axis=1)
+        p = p[np.argmin(cost)][None, :]
+        for _ in range(2):
+            inl = inliers(velocity(p))[0] <= 1
+            if inl.sum() < k:
+                return invalid
+            refined = np.linalg.lstsq(design[inl], -y[inl], rcond=None)[0][None, :]
+            if not plausible(velocity(refined))[0]:
+                break          # keep the plausible hypothesis rather than leave the bounds
+            p = refined
+    v = velocity(p)[0]
+    inl = inliers(v[None, :])[0] <= 1
     n_in = int(inl.sum())
     if n_in < need:
         return invalid
-    return EgoMotionEstimate(v, inl, n_in, True)
+    return EgoMotionEstimate(float(v[0]), float(v[1]), inl, n_in, True)

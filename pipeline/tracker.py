@@ -9,12 +9,13 @@ then ACTIVE, and is freed after too many consecutive misses.
 
 Velocity convention. The state velocity is the target's velocity RELATIVE to the ego,
 expressed in the vehicle frame (what the radar measures and what the ground truth of the
-scenarios gives). Ego motion is accounted for where it matters: the ego speed (passed in, or
-estimated by RANSAC over the frame's points, `pipeline.ego_motion`) labels points static or
-moving, static points do not start tracks unless configured, the allocation speed threshold
-applies to the ground (ego-compensated) radial velocity, and the output also carries the
-ground velocity (relative + ego velocity along +x). The ego's own acceleration and yaw rate
-enter as process noise.
+scenarios gives). Ego motion is accounted for where it matters: the radar's velocity over
+ground (the ego speed passed in, or estimated by RANSAC over the frame's points, plus the
+lateral part a lane change brings, `pipeline.ego_motion`) labels points static or moving,
+static points neither start tracks nor confirm DETECT tracks unless configured, the
+allocation speed threshold applies to the ground (ego-compensated) radial velocity, and the
+output also carries the ground velocity (relative + radar velocity over ground). The ego's
+own acceleration and yaw rate enter as process noise.
 
 References
 ----------
@@ -135,6 +136,9 @@ class TrackerConfig:
         Expected extent of a group (initial dispersion, uniform spread: extent^2 / 12).
     dispersion_update_weight : float
         Weight of a frame's sample dispersion in the running dispersion estimate, (0, 1].
+    centroid_jitter_weight : float
+        Centroid noise Rc = Rm / n + (alpha + w / n) D: w = 0 is TI's formula (a fixed set of
+        reflection points), w = 1 treats each frame's points as a fresh sample of the body.
     alloc_min_points : int
         Fewest points in a cluster to start a track.
     alloc_min_snr_db : float
@@ -158,12 +162,23 @@ class TrackerConfig:
         Consecutive misses that free an ACTIVE track (TI act2free: 10).
     max_tracks : int
         Most live tracks; allocation stops there.
+    merge_tracks : bool
+        Keep one track per group (an addition to TI's design): a cluster of the same group as
+        a live track or a stronger cluster starts no track, and a track duplicating another
+        is freed. Otherwise a vehicle whose points fall into two leader clusters keeps two
+        tracks that share its points.
+    merge_depth_m, merge_width_m, merge_velocity_mps : float
+        Duplicate test: centroids within these distances along and across the line of sight
+        (across: plus 2 x range x azimuth sigma) and radial velocities within this difference.
+        Keep merge_width_m below the lane width, so vehicles abreast at the same speed stay
+        separate where the radar can resolve them.
     allow_static_tracks : bool
         Whether static points may start tracks.
     static_threshold_mps : float
         Static labelling with a known ego speed, see `pipeline.ego_motion.static_mask`.
     ego_motion : EgoMotionConfig
-        RANSAC settings used when `step` gets no ego speed.
+        RANSAC settings: the whole ego velocity when `step` gets no ego speed, the lateral
+        part only (planar model) when it does.
 
     Raises
     ------
@@ -189,11 +204,12 @@ class TrackerConfig:
     group_width_m: float = 1.8
     group_velocity_spread_mps: float = 1.0
     dispersion_update_weight: float = 0.2
-    alloc_min_points: int = 2
+    centroid_jitter_weight: float = 1.0
+    alloc_min_points: int = 1
     alloc_min_snr_db: float = 15.0
     alloc_min_speed_mps: float = 0.5
     alloc_range_m: float = 5.0
-    alloc_azimuth_deg: float = 6.0
+    alloc_azimuth_deg: float = 4.0
     alloc_radial_velocity_mps: float = 1.0
     init_velocity_std_mps: float = 10.0
     init_accel_std_mps2: float = 3.0
@@ -201,6 +217,10 @@ class TrackerConfig:
     misses_to_free_detect: int = 3
     misses_to_free_active: int = 10
     max_tracks: int = 256
+    merge_tracks: bool = True
+    merge_depth_m: float = 5.0
+    merge_width_m: float = 2.0
+    merge_velocity_mps: float = 1.0
     allow_static_tracks: bool = False
     static_threshold_mps: float = 0.3
     ego_motion: EgoMotionConfig = field(default_factory=EgoMotionConfig)
@@ -219,13 +239,17 @@ class TrackerConfig:
                      "gate_width_m", "gate_velocity_mps", "group_depth_m", "group_width_m",
                      "group_velocity_spread_mps", "alloc_range_m", "alloc_azimuth_deg",
                      "alloc_radial_velocity_mps", "init_velocity_std_mps",
-                     "init_accel_std_mps2", "static_threshold_mps"):
+                     "init_accel_std_mps2", "static_threshold_mps", "merge_depth_m",
+                     "merge_width_m", "merge_velocity_mps"):
             val = getattr(self, name)
             if not (isinstance(val, (int, float)) and math.isfinite(val) and val > 0):
                 raise ValueError(f"{name}={val!r} must be a finite number > 0")
         if not (math.isfinite(self.alloc_min_speed_mps) and self.alloc_min_speed_mps >= 0):
             raise ValueError(f"alloc_min_speed_mps={self.alloc_min_speed_mps!r} must be a "
                              "finite number >= 0")
+        if not (math.isfinite(self.centroid_jitter_weight) and self.centroid_jitter_weight >= 0):
+            raise ValueError(f"centroid_jitter_weight={self.centroid_jitter_weight!r} must be "
+                             "a finite number >= 0")
         if not 0 < self.dispersion_update_weight <= 1:
             raise ValueError(f"dispersion_update_weight={self.dispersion_update_weight!r} "
                              "must be in (0, 1]")
@@ -234,8 +258,9 @@ class TrackerConfig:
             val = getattr(self, name)
             if not isinstance(val, (int, np.integer)) or isinstance(val, bool) or val < 1:
                 raise ValueError(f"{name}={val!r} must be an integer >= 1")
-        if not isinstance(self.allow_static_tracks, bool):
-            raise ValueError(f"allow_static_tracks={self.allow_static_tracks!r} must be a bool")
+        for name in ("allow_static_tracks", "merge_tracks"):
+            if not isinstance(getattr(self, name), bool):
+                raise ValueError(f"{name}={getattr(self, name)!r} must be a bool")
         if not isinstance(self.ego_motion, EgoMotionConfig):
             raise ValueError(f"ego_motion={self.ego_motion!r} must be an EgoMotionConfig")
 
@@ -396,7 +421,7 @@ class GroupTracker:
         self._active = np.zeros(0, dtype=bool)
         self._next_id = 0
         self._last_time_s: float | None = None
-        self._last_ego_mps: float | None = None
+        self._last_ego: tuple[float, float] | None = None
 
     @property
     def n_tracks(self) -> int:
@@ -428,7 +453,8 @@ class GroupTracker:
             or "ACTIVE"), x_m, y_m (vehicle frame, the group centroid), vx_mps, vy_mps
             (relative to the ego), ax_mps2, ay_mps2 (NaN for the CV model), covariance entries
             var_x_m2, var_y_m2, cov_xy_m2, var_vx_m2ps2, var_vy_m2ps2, cov_vxvy_m2ps2,
-            vx_ground_mps, vy_ground_mps (relative + ego velocity; NaN without an ego speed),
+            vx_ground_mps, vy_ground_mps (relative + radar velocity over ground; NaN without
+            an ego-speed estimate),
             n_points (points associated this frame), age_frames, time_s.
 
         Raises
@@ -450,11 +476,13 @@ class GroupTracker:
         static, ego = self._ego_motion(np.degrees(az), vr, ego_speed_mps)
 
         self._predict(dt)
-        assoc, innov, jac = self._associate(r, az, vr)
+        assoc, innov, jac = self._associate(r, az, vr, static)
         n_pts = self._update(assoc, innov, jac)
         self._maintain(n_pts > 0)
         keep = self._misses < np.where(self._active, cfg.misses_to_free_active,
                                        cfg.misses_to_free_detect)
+        if cfg.merge_tracks:
+            keep &= ~self._duplicates()
         self._select(keep)
         n_pts = n_pts[keep]
         assoc_id = np.full(r.size, -1, dtype=np.int64)
@@ -490,27 +518,40 @@ class GroupTracker:
         return dt
 
     def _ego_motion(self, az_deg: np.ndarray, vr: np.ndarray, ego_speed_mps: float | None
-                    ) -> tuple[np.ndarray, float | None]:
-        """Static labels of the points and the ego speed used this frame (None: unknown)."""
-        az = az_deg
+                    ) -> tuple[np.ndarray, tuple[float, float] | None]:
+        """Static labels of the points and the radar velocity over ground (v_x, v_y) used this
+        frame (None: unknown).
+
+        A given ego speed is the speed over ground (vehicle bus). With the planar ego-motion
+        model the frame's RANSAC estimate (v_x, v_y) is used when it agrees with that speed
+        (|hypot(v_x, v_y) - speed| <= 0.5 m/s + 5 %): in a lane change the velocity is not
+        along the vehicle's x axis, and taking the bus speed as v_x mislabels the static world
+        seen to the side. Otherwise (v_x, v_y) = (speed, 0). Without a speed both are
+        estimated; the last valid estimate is kept when RANSAC fails. Points are labelled
+        with the same rule (`static_mask`) whichever the source.
+        """
         cfg = self.cfg
         if ego_speed_mps is not None:
             if not math.isfinite(ego_speed_mps):
                 raise ValueError(f"ego_speed_mps={ego_speed_mps!r} must be finite or None")
-            ego = float(ego_speed_mps)
-            static = static_mask(az, vr, ego, cfg.mount_yaw_deg, cfg.static_threshold_mps,
-                                 cfg.azimuth_std_deg)
+            speed = float(ego_speed_mps)
+            self._last_ego = (speed, 0.0)
+            if cfg.ego_motion.model == "planar":
+                est = estimate_ego_motion(az_deg, vr, self._rng, cfg.mount_yaw_deg,
+                                          cfg.ego_motion)
+                if est.valid and abs(math.hypot(est.ego_speed_mps, est.ego_lateral_mps)
+                                     - abs(speed)) <= 0.5 + 0.05 * abs(speed):
+                    self._last_ego = (est.ego_speed_mps, est.ego_lateral_mps)
+            ego = self._last_ego
         else:
-            est = estimate_ego_motion(az, vr, self._rng, cfg.mount_yaw_deg, cfg.ego_motion)
+            est = estimate_ego_motion(az_deg, vr, self._rng, cfg.mount_yaw_deg, cfg.ego_motion)
             if est.valid:
-                self._last_ego_mps = est.ego_speed_mps
-                static = est.static
-            elif self._last_ego_mps is not None:
-                static = static_mask(az, vr, self._last_ego_mps, cfg.mount_yaw_deg,
-                                     cfg.static_threshold_mps, cfg.azimuth_std_deg)
-            else:
-                static = np.zeros(az.size, dtype=bool)
-            ego = self._last_ego_mps
+                self._last_ego = (est.ego_speed_mps, est.ego_lateral_mps)
+            ego = self._last_ego
+        if ego is None:
+            return np.zeros(az_deg.size, dtype=bool), None
+        static = static_mask(az_deg, vr, ego[0], cfg.mount_yaw_deg, cfg.static_threshold_mps,
+                             cfg.azimuth_std_deg, ego_lateral_mps=ego[1])
         return static, ego
 
     def _predict(self, dt: float) -> None:
@@ -521,9 +562,13 @@ class GroupTracker:
         self._x = self._x @ f.T
         self._p = f @ self._p @ f.T + q
 
-    def _associate(self, r: np.ndarray, az: np.ndarray, vr: np.ndarray
+    def _associate(self, r: np.ndarray, az: np.ndarray, vr: np.ndarray, static: np.ndarray
                    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Maximum-likelihood association of each point to one gated track.
+
+        Static points may update ACTIVE tracks (a vehicle that stops) but, unless
+        `allow_static_tracks`, not DETECT ones: otherwise a track started by a false alarm
+        next to a guard rail is confirmed by the rail.
 
         Returns the track index per point (-1: none), (N, 3) innovations of each point
         against its track and the (T, 3, n_state) measurement Jacobians."""
@@ -538,7 +583,7 @@ class GroupTracker:
         _, logdet = np.linalg.slogdet(s_grp)
         y = np.stack([r[None, :] - h[:, 0:1], _wrap_pi(az[None, :] - h[:, 1:2]),
                       vr[None, :] - h[:, 2:3]], axis=-1)                       # (T, N, 3)
-        d2 = np.einsum("tni,tij,tnj->tn", y, s_inv, y)
+        d2 = np.sum((y @ s_inv) * y, axis=-1)                                      # (T, N)
         # Hard limits in depth (along the line of sight to the predicted centroid) and width,
         # widened by 3 sigma of the point noise so far groups are not cut by the azimuth error.
         theta_t = h[:, 1] + self._yaw
@@ -546,13 +591,15 @@ class GroupTracker:
         theta_p = az + self._yaw
         pts = self._mount + r[:, None] * np.column_stack([np.cos(theta_p), np.sin(theta_p)])
         delta = pts[None, :, :] - self._x[:, None, :2]                           # (T, N, 2)
-        depth = np.einsum("tni,ti->tn", delta, los)
+        depth = delta[..., 0] * los[:, None, 0] + delta[..., 1] * los[:, None, 1]
         width = delta[..., 1] * los[:, None, 0] - delta[..., 0] * los[:, None, 1]
         width_lim = cfg.gate_width_m + 3 * h[:, 0:1] * math.radians(cfg.azimuth_std_deg)
         gated = ((d2 <= cfg.gate_mahalanobis)
                  & (np.abs(depth) <= cfg.gate_depth_m + 3 * cfg.range_std_m)
                  & (np.abs(width) <= width_lim)
                  & (np.abs(y[..., 2]) <= cfg.gate_velocity_mps))
+        if not cfg.allow_static_tracks:
+            gated &= ~(static[None, :] & ~self._active[:, None])
         score = np.where(gated, d2 + logdet[:, None], np.inf)
         best = np.argmin(score, axis=0)
         ok = np.isfinite(score[best, np.arange(n)])
@@ -578,13 +625,16 @@ class GroupTracker:
         scat = np.zeros((t, 3, 3))
         np.add.at(scat, idx, dev[:, :, None] * dev[:, None, :])
         scat = scat[upd]
-        # Estimated points per group and the centroid noise of [2], [4].
+        # Centroid noise: TI's Rc = Rm / n + alpha D [2], [4] treats D as a fixed set of
+        # members of which n are seen; a vehicle's reflection points change from frame to
+        # frame, so the centroid also jitters by D / n (sampling of the body).
         n_est = np.maximum(self._n_est[upd], nk)
         n_est = n_est + 0.1 * (nk - n_est)
         alpha = np.where(n_est > 1, np.maximum(n_est - nk, 0) / (np.maximum(n_est - 1, 1e-9) * nk),
                          0.0)
         disp = self._disp[upd]
-        r_c = self._rm / nk[:, None, None] + alpha[:, None, None] * disp
+        r_c = (self._rm / nk[:, None, None]
+               + (alpha + cfg.centroid_jitter_weight / nk)[:, None, None] * disp)
         p, jac = self._p[upd], jac[upd]
         pht = p @ jac.transpose(0, 2, 1)
         s = jac @ pht + r_c
@@ -611,6 +661,41 @@ class GroupTracker:
         self._hits = np.where(hit, self._hits + 1, 0)
         self._misses = np.where(hit, 0, self._misses + 1)
         self._active |= self._hits >= cfg.hits_to_confirm
+
+    def _same_group(self, xy_a: np.ndarray, vr_a: np.ndarray, xy_b: np.ndarray,
+                    vr_b: np.ndarray) -> np.ndarray:
+        """(A, B) bool: b lies within merge_depth_m along and merge_width_m across the line of
+        sight to a, with radial velocity within merge_velocity_mps."""
+        cfg = self.cfg
+        d = xy_a - self._mount
+        los = d / np.maximum(np.hypot(d[:, 0], d[:, 1]), 1e-6)[:, None]
+        delta = xy_b[None, :, :] - xy_a[:, None, :]                              # (A, B, 2)
+        depth = np.einsum("abk,ak->ab", delta, los)
+        width = delta[..., 1] * los[:, None, 0] - delta[..., 0] * los[:, None, 1]
+        # Across the line of sight the limit grows by two azimuth sigmas (the spread of two
+        # centroids of one vehicle); where that passes a lane width the radar, whose
+        # resolution is several sigmas, cannot split vehicles abreast anyway.
+        width_lim = cfg.merge_width_m + 2 * np.hypot(d[:, 0], d[:, 1]) * math.radians(
+            cfg.azimuth_std_deg)
+        return ((np.abs(depth) <= cfg.merge_depth_m) & (np.abs(width) <= width_lim[:, None])
+                & (np.abs(vr_a[:, None] - vr_b[None, :]) <= cfg.merge_velocity_mps))
+
+    def _duplicates(self) -> np.ndarray:
+        """Tracks that duplicate a higher-priority track of the same group.
+
+        A vehicle whose points once fell outside its track's gate and started a second track
+        would keep two tracks sharing its points; such pairs (`_same_group`) are resolved in
+        favour of the ACTIVE, then older, then more-hit, then lower-id track.
+        """
+        t = self._id.size
+        if t < 2:
+            return np.zeros(t, dtype=bool)
+        h, _ = measurement_model(self._x, self._mount, self._yaw)
+        close = self._same_group(self._x[:, :2], h[:, 2], self._x[:, :2], h[:, 2])
+        # Priority rank: lexicographic (active, age, hits, -id), larger is better.
+        rank = np.empty(t, dtype=np.int64)
+        rank[np.lexsort((-self._id, self._hits, self._age, self._active))] = np.arange(t)
+        return np.any(close & (rank[:, None] > rank[None, :]), axis=0)
 
     def _select(self, keep: np.ndarray) -> None:
         for name in ("_id", "_x", "_p", "_disp", "_n_est", "_hits", "_misses", "_age",
@@ -643,10 +728,19 @@ class GroupTracker:
         az_c = lead_az + mean(_wrap_pi(az[members] - np.repeat(lead_az, sizes)))
         snr_sum_db = 10 * np.log10(np.bincount(label, weights=10 ** (snr[members] / 10)))
         theta = az_c + self._yaw
-        speed = np.abs(vr_c + (ego * np.cos(theta) if ego is not None else 0.0))
+        speed = np.abs(vr_c + (ego[0] * np.cos(theta) + ego[1] * np.sin(theta)
+                               if ego is not None else 0.0))
         ok = snr_sum_db >= cfg.alloc_min_snr_db
         if not cfg.allow_static_tracks:
             ok &= speed >= cfg.alloc_min_speed_mps
+        if cfg.merge_tracks:
+            # A cluster of the same group as a live track (points just outside its gate), or
+            # as a stronger cluster of this frame, starts no second track.
+            xy_c = self._mount + r_c[:, None] * np.column_stack([np.cos(theta), np.sin(theta)])
+            if self._id.size:
+                h, _ = measurement_model(self._x, self._mount, self._yaw)
+                ok &= ~self._same_group(xy_c, vr_c, self._x[:, :2], h[:, 2]).any(axis=1)
+            ok &= ~np.tril(self._same_group(xy_c, vr_c, xy_c, vr_c) & ok[None, :], -1).any(axis=1)
         ok_idx = np.flatnonzero(ok)[:room]
         if ok_idx.size == 0:
             return np.zeros(0, dtype=np.int64)
@@ -670,7 +764,8 @@ class GroupTracker:
         var_vr = self._rm[2, 2] + disp0[:, 2, 2]
         p0 = np.zeros((k, n, n))
         outer = lambda a, b: a[:, :, None] * b[:, None, :]  # noqa: E731
-        p0[:, :2, :2] = var_r[:, None, None] * outer(u, u) + var_t[:, None, None] * outer(tang, tang)
+        p0[:, :2, :2] = (var_r[:, None, None] * outer(u, u)
+                         + var_t[:, None, None] * outer(tang, tang))
         p0[:, 2:4, 2:4] = (var_vr[:, None, None] * outer(u, u)
                            + cfg.init_velocity_std_mps ** 2 * outer(tang, tang))
         if n == 6:
@@ -690,11 +785,12 @@ class GroupTracker:
         self._active = np.concatenate([self._active, np.full(k, cfg.hits_to_confirm <= 1)])
         return n_c.astype(np.int64)
 
-    def _table(self, n_pts: np.ndarray, time_s: float, ego: float | None) -> pd.DataFrame:
+    def _table(self, n_pts: np.ndarray, time_s: float, ego: tuple[float, float] | None
+               ) -> pd.DataFrame:
         x, p = self._x, self._p
         t = self._id.size
         acc = x[:, 4:6] if x.shape[1] == 6 else np.full((t, 2), np.nan)
-        ego_v = np.nan if ego is None else ego
+        ego_vx, ego_vy = (np.nan, np.nan) if ego is None else ego
         return pd.DataFrame({
             "track_id": self._id.copy(),
             "state": np.where(self._active, "ACTIVE", "DETECT").astype(object),
@@ -703,7 +799,7 @@ class GroupTracker:
             "var_x_m2": p[:, 0, 0], "var_y_m2": p[:, 1, 1], "cov_xy_m2": p[:, 0, 1],
             "var_vx_m2ps2": p[:, 2, 2], "var_vy_m2ps2": p[:, 3, 3],
             "cov_vxvy_m2ps2": p[:, 2, 3],
-            "vx_ground_mps": x[:, 2] + ego_v, "vy_ground_mps": x[:, 3] + 0.0 * ego_v,
+            "vx_ground_mps": x[:, 2] + ego_vx, "vy_ground_mps": x[:, 3] + ego_vy,
             "n_points": n_pts.astype(np.int64), "age_frames": self._age.copy(),
             "time_s": np.full(t, time_s),
         }, columns=list(TRACK_COLUMNS))
