@@ -50,6 +50,14 @@ def _check_frame(cfg: RadarConfig, adc: np.ndarray) -> None:
                          f"(n_chirps, n_rx, n_samples) = {want}")
 
 
+def _power(x: np.ndarray, consume: bool = False) -> np.ndarray:
+    """|x|^2 of a C-contiguous complex64 array as float32 (re^2 + im^2 on the float32 view,
+    without the square root of np.abs); `consume=True` squares x's memory in place."""
+    v = x.view(np.float32)
+    v = np.square(v, out=v) if consume else np.square(v)
+    return v[..., 0::2] + v[..., 1::2]
+
+
 def _log(p: np.ndarray) -> np.ndarray:
     return np.log(np.maximum(p, 1e-30))
 
@@ -134,7 +142,7 @@ def _ddma_maps(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) -> dic
     # Slow time last and contiguous for the Doppler FFT and the demodulation gather.
     spec = doppler_fft(np.ascontiguousarray(rf.transpose(2, 1, 0)),
                        window(WINDOWS[proc.doppler_window], n_chirps), axis=-1)  # (B, R, C)
-    energy = (spec.real ** 2 + spec.imag ** 2).sum(axis=1)  # (B, C), summed over Rx
+    energy = _power(spec).sum(axis=1)  # (B, C), summed over Rx
     z = ddma_metric(energy.T, n_sb, n_tx)  # (N, D, B)
     tx1_band = np.argmax(z, axis=0)  # (D, B)
     # Demodulation (table 11): Tx p of Doppler bin d sits at chirp-bin d + n_dop (band + p)
@@ -146,7 +154,7 @@ def _ddma_maps(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) -> dic
     virt = spec.reshape(-1)[flat.reshape(-1)].reshape(n_tx * n_rx, n_range * n_dop)
     # Zero-padded azimuth FFT over the horizontal row as one complex GEMM.
     az_spec = _steering_dft(cfg, n_az).T @ virt  # (A, B*D)
-    power = (az_spec.real ** 2 + az_spec.imag ** 2).reshape(n_az, n_range, n_dop)
+    power = _power(az_spec, consume=True).reshape(n_az, n_range, n_dop)
     return {"power": power, "virt": virt.reshape(-1, n_range, n_dop), "energy": energy,
             "tx1_band": tx1_band}
 
@@ -175,11 +183,12 @@ def _ddma(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) -> pd.DataF
                            cf.os_rank, cf.training_stride)
     peak = power[cand]
     hit = peak > alpha * noise
-    if proc.azimuth_sidelobe_db is not None:
-        strongest = power[:, cand[1], cand[2]].max(axis=0)
-        hit &= peak >= strongest * 10 ** (-proc.azimuth_sidelobe_db / 10)
     a, r, d = (c[hit] for c in cand)
     noise, peak = noise[hit], peak[hit]
+    if proc.azimuth_sidelobe_db is not None:
+        strongest = power[:, r, d].max(axis=0)
+        keep = peak >= strongest * 10 ** (-proc.azimuth_sidelobe_db / 10)
+        a, r, d, noise, peak = a[keep], r[keep], d[keep], noise[keep], peak[keep]
     if r.size == 0:
         return pd.DataFrame({c: pd.Series(dtype=float) for c in POINT_CLOUD_COLUMNS})
 

@@ -37,16 +37,15 @@ def range_fft(adc: np.ndarray, win: np.ndarray) -> np.ndarray:
     -------
     (n_chirps, n_rx, n_samples // 2) complex64
     """
-    x = adc.astype(np.float32)
-    x *= win
-    return scipy.fft.rfft(x, axis=-1, workers=-1)[..., : adc.shape[-1] // 2]
+    x = np.multiply(adc, win, dtype=np.float32)  # int16 -> float32 and window in one pass
+    return scipy.fft.rfft(x, axis=-1, workers=-1, overwrite_x=True)[..., : adc.shape[-1] // 2]
 
 
 def doppler_fft(x: np.ndarray, win: np.ndarray, axis: int = 0) -> np.ndarray:
     """Windowed complex FFT over slow time along `axis` (in natural bin order 0..N-1)."""
     shape = [1] * x.ndim
     shape[axis] = -1
-    return scipy.fft.fft(x * win.reshape(shape), axis=axis, workers=-1)
+    return scipy.fft.fft(x * win.reshape(shape), axis=axis, workers=-1, overwrite_x=True)
 
 
 def ddma_metric(power: np.ndarray, n_subbands: int, n_tx: int) -> np.ndarray:
@@ -166,31 +165,32 @@ def candidate_cfar(power: np.ndarray, cand: tuple[np.ndarray, ...], axis: int,
                    os_rank: int, stride: int = 1) -> np.ndarray:
     """Noise estimate of a CFAR along a cyclic `axis`, only at candidate cells.
 
-    Gathers the 2 x `window_cells` training cells of each candidate (cyclic) with one flat
-    `take` and reduces them with `cfar.noise_estimate`; equals `cfar.cfar_map(...)[cand]`.
+    The map is padded cyclically along `axis`, each candidate's whole CFAR window is read as
+    one contiguous row of a `sliding_window_view`, and its training cells are reduced with
+    `cfar.noise_estimate`; the result equals `cfar.cfar_map(...)[cand]`.
 
     Parameters
     ----------
-    power : (...) float, C-contiguous
+    power : (...) float
     cand : tuple of (n,) int arrays
         Indices of the candidate cells (as from np.nonzero).
+    axis : int
+        The cyclic CFAR axis.
+    stride : int
+        Training-cell spacing, bins.
 
     Returns
     -------
     (n,) float
     """
     lag, lead = training_offsets(guard_cells, window_cells, stride)
-    size = power.shape[axis]
-    stride = int(np.prod(power.shape[axis + 1:], dtype=np.int64))
-    flat = np.ravel_multi_index(cand, power.shape)
-    pos = cand[axis]
-    flat_power = power.reshape(-1)
-
-    def gather(offsets):
-        shift = (pos[:, None] + offsets[None, :]) % size - pos[:, None]
-        return flat_power[flat[:, None] + shift * stride]
-
-    return noise_estimate(gather(lag), gather(lead), mode, os_rank)
+    half = int(lead[-1])
+    p = np.moveaxis(power, axis, -1)
+    padded = np.concatenate([p[..., -half:], p, p[..., :half]], axis=-1)
+    windows = np.lib.stride_tricks.sliding_window_view(padded, 2 * half + 1, axis=-1)
+    idx = [c for i, c in enumerate(cand) if i != axis % power.ndim] + [cand[axis]]
+    rows = windows[tuple(idx)]  # (n, 2 half + 1), cell under test in the middle
+    return noise_estimate(rows[:, lag + half], rows[:, lead + half], mode, os_rank)
 
 
 def estimate_angles(virt: np.ndarray, sin_az_cos_el: np.ndarray, h_idx: np.ndarray,
