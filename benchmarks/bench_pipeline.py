@@ -109,5 +109,5 @@ def run() -> list[str]:
             value = err if key == "phase_noise_deg_rms" else (0.0, err, -err, 0.5 * err)
             g, m = _ghosts_and_misses(d.replace(**{key: value}), 8, np.random.default_rng(1))
             out.append(f"{label} {err:4.1f} deg: {g:5.2f} ghosts/frame, {m:4.2f} of 4 weak "
-                       "targets missed/frame (8 frames)")
+                       "targets missed/frame (strong + 4 weak in one range bin, 8 frames)")
     return out

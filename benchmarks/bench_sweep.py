@@ -36,10 +36,27 @@ def run() -> list[str]:
     n = len(run_.ego)
     floor = t_sc + t_sim + t_proc
     per_frame = t_cell / n
-    return [
+    lines = [
         f"sweep cell {CASE} ({n} frames): {t_cell:.2f} s median, {1e3 * per_frame:.0f} ms/frame",
         f"  stages per frame: scatterers {1e3 * t_sc:.0f} ms, 2 ADC sims {1e3 * t_sim:.0f} ms, "
         f"3 chain runs {1e3 * t_proc:.0f} ms (floor {1e3 * floor:.0f} ms)",
         f"  harness overhead (scenario, association, metrics, tracker): "
         f"{per_frame / floor:.2f}x the stage floor",
     ]
+    return lines + _ghosts_versus_phase_error(comps)
+
+
+def _ghosts_versus_phase_error(comps) -> list[str]:
+    """Ghosts per frame and ghost rate on realistic traffic (dense highway, guard rails, 2 s)
+    versus the random per-chirp phase error of the transmit chain (issue 3)."""
+    from harness.runner import CellSpec, run_cell
+
+    out = ["ghosts vs random per-chirp phase error, dense_highway 2 s (40 frames):"]
+    for err in (0.0, 2.0, 5.0, 10.0, 20.0):
+        spec = CellSpec(scenario="dense_highway", duration_s=2.0,
+                        radar={"phase_noise_deg_rms": err})
+        summary = run_cell(spec, comps).tables["summary"].set_index("scheme")
+        row = "  ".join(f"{m}: {summary.loc[m, 'ghosts_per_frame']:.2f}/frame "
+                        f"(rate {summary.loc[m, 'ghost_rate']:.3f})" for m in ("ddma", "tdma"))
+        out.append(f"  {err:4.1f} deg rms  {row}")
+    return out
