@@ -64,13 +64,7 @@ def choose_frame(detections: pd.DataFrame, scenario: str, variant: str, seed: in
 
 
 def doppler_azimuth_map(cfg, adc: np.ndarray, range_bin: int, n_azimuth_bins: int = 48):
-    """Doppler-azimuth power of one range bin, for plots.
-
-    DDMA: Doppler FFT over all chirps, empty-band demodulation per Doppler bin (largest cyclic
-    sum of n_tx sub-bands, seed 000 table 11) giving the unwrapped velocity and the 16 virtual
-    channels; TDMA: Doppler FFT per slot and Doppler-phase compensation of later slots at the
-    bin's own (aliased) velocity (seed 001 eq. 8-10). Then a zero-padded FFT over the 12
-    horizontal virtual channels (sin(az) = 2 k / n_azimuth_bins).
+    """Doppler-azimuth power of one range bin as the chain sees it (`pipeline.doppler_azimuth_map`).
 
     Returns
     -------
@@ -78,41 +72,9 @@ def doppler_azimuth_map(cfg, adc: np.ndarray, range_bin: int, n_azimuth_bins: in
     sin_az : (A,) float
     power_db : (D, A) float
     """
-    from pipeline.kernels import ddma_metric, doppler_fft, range_fft, window
-    rf = range_fft(adc, window("hann", cfg.n_samples))[:, :, range_bin]  # (C, R)
-    lam, tc = cfg.wavelength_m, cfg.chirp_period_s
-    if cfg.mimo == "ddma":
-        n_sb, n_tx = cfg.n_subbands, cfg.n_tx
-        n_dop = cfg.n_chirps // n_sb
-        spec = doppler_fft(rf, window("hann", cfg.n_chirps), axis=0)  # (C, R)
-        energy = (np.abs(spec) ** 2).sum(axis=1)
-        band = np.argmax(ddma_metric(energy, n_sb, n_tx), axis=0)  # (D,)
-        d = np.arange(n_dop)
-        idx = ((band[:, None] + np.arange(n_tx)) % n_sb) * n_dop + d[:, None]  # (D, P)
-        virt = spec[idx].reshape(n_dop, -1)  # (D, P*R) in tx_order, Rx within
-        k = d + n_dop * band
-        k_signed = (k + cfg.n_chirps / 2) % cfg.n_chirps - cfg.n_chirps / 2
-        vel = -k_signed / (cfg.n_chirps * tc) * lam / 2
-    else:
-        n_tx = cfg.n_tx
-        n_dop = cfg.n_chirps // n_tx
-        x = rf.reshape(n_dop, n_tx, cfg.n_rx)
-        spec = doppler_fft(x, window("hann", n_dop), axis=0)  # (D, S, R)
-        d = np.arange(n_dop)
-        d_signed = (d + n_dop / 2) % n_dop - n_dop / 2
-        vel = -d_signed / (n_dop * n_tx * tc) * lam / 2
-        f_d = -2 * vel / lam
-        comp = np.exp(-2j * np.pi * f_d[:, None] * np.arange(n_tx)[None, :] * tc)
-        virt = (spec * comp[:, :, None]).reshape(n_dop, -1)
-    pos = cfg.virtual_positions_m
-    horiz = np.abs(pos[:, 2]) < 1e-9
-    slot = np.rint(pos[horiz, 1] / (lam / 2)).astype(int)
-    arr = np.zeros((virt.shape[0], n_azimuth_bins), dtype=complex)
-    arr[:, slot] = virt[:, horiz]
-    az = np.fft.fftshift(np.fft.fft(arr, axis=1), axes=1)
-    sin_az = 2 * (np.arange(n_azimuth_bins) - n_azimuth_bins // 2) / n_azimuth_bins
-    order = np.argsort(vel)
-    return vel[order], sin_az, 10 * np.log10(np.abs(az[order]) ** 2 + 1e-12)
+    import pipeline
+    proc = pipeline.ProcessingConfig(n_azimuth_bins=n_azimuth_bins)
+    return pipeline.doppler_azimuth_map(cfg, adc, range_bin, proc)
 
 
 def _table_html(df: pd.DataFrame, columns=None) -> str:

@@ -3,15 +3,15 @@
     pc = pipeline.process_frame(cfg, adc)          # pandas.DataFrame, one row per detection
 """
 from .cfar import CFAR_MODES, cfar_scale, noise_mean_factor
-from .chain import (MIMO_CHAINS, POINT_CLOUD_COLUMNS, detection_map, frame_spectra,
-                    process_frame)
+from .chain import (MIMO_CHAINS, POINT_CLOUD_COLUMNS, detection_map, doppler_azimuth_map,
+                    frame_spectra, process_frame)
 from .config import CfarConfig, ProcessingConfig
 from .ego_motion import (EGO_MODELS, EgoMotionConfig, EgoMotionEstimate, estimate_ego_motion,
                          ground_radial_velocity, static_mask)
 from .tracker import (MOTION_MODELS, TRACK_COLUMNS, TRACK_STATES, GroupTracker, TrackerConfig,
                       track_frames)
 
-__all__ = ["process_frame", "frame_spectra", "detection_map", "ProcessingConfig", "CfarConfig", "CFAR_MODES",
+__all__ = ["process_frame", "frame_spectra", "detection_map", "doppler_azimuth_map", "ProcessingConfig", "CfarConfig", "CFAR_MODES",
            "MIMO_CHAINS", "POINT_CLOUD_COLUMNS", "cfar_scale", "noise_mean_factor",
            "GroupTracker", "TrackerConfig", "track_frames", "MOTION_MODELS", "TRACK_COLUMNS",
            "TRACK_STATES", "EgoMotionConfig", "EgoMotionEstimate", "EGO_MODELS",

@@ -29,7 +29,7 @@ from .config import WINDOWS, ProcessingConfig
 from .kernels import (array_layout, candidate_cfar, ddma_metric, doppler_fft,
                       estimate_angles, local_max_mask, parabolic_offset, range_fft, window)
 
-__all__ = ["process_frame", "frame_spectra", "detection_map", "MIMO_CHAINS", "POINT_CLOUD_COLUMNS"]
+__all__ = ["process_frame", "frame_spectra", "detection_map", "doppler_azimuth_map", "MIMO_CHAINS", "POINT_CLOUD_COLUMNS"]
 
 #: Columns of every point cloud, in order.
 POINT_CLOUD_COLUMNS = ["range_m", "azimuth_deg", "elevation_deg", "radial_velocity_mps",
@@ -355,6 +355,48 @@ def detection_map(cfg: RadarConfig, adc: np.ndarray,
     if cfg.mimo == "ddma":
         return np.ascontiguousarray(_ddma_maps(cfg, adc, proc)["power"].transpose(1, 0, 2)), 1, 2
     return _tdma_maps(cfg, adc, proc)["power"], cfg.n_virtual, 1
+
+
+def doppler_azimuth_map(cfg: RadarConfig, adc: np.ndarray, range_bin: int,
+                        proc: ProcessingConfig | None = None):
+    """Doppler-azimuth power of one range bin, as the chain sees it, for plots.
+
+    DDMA: the demodulated coherent map the CFAR runs on, each Doppler bin at its unwrapped
+    velocity (Tx1's sub-band, table 11). TDMA: per-slot Doppler spectrum with the later slots'
+    Doppler phase compensated at each bin's own (unaliased-hypothesis) velocity, then the same
+    zero-padded azimuth DFT.
+
+    Returns
+    -------
+    velocity_mps : (n_dop,) float, ascending
+    sin_az_cos_el : (n_az,) float, ascending (2 k / n_az, k = -n_az/2 .. n_az/2 - 1)
+    power_db : (n_dop, n_az) float
+    """
+    _check_frame(cfg, adc)
+    proc = ProcessingConfig() if proc is None else proc
+    if not 0 <= range_bin < cfg.n_range_bins:
+        raise ValueError(f"range_bin={range_bin} outside 0..{cfg.n_range_bins - 1}")
+    n_az = proc.n_azimuth_bins
+    lam, tc = cfg.wavelength_m, cfg.chirp_period_s
+    if cfg.mimo == "ddma":
+        maps = _ddma_maps(cfg, adc, proc)
+        n_dop = maps["power"].shape[2]
+        power = maps["power"][:, range_bin, :].T  # (D, A)
+        k = np.arange(n_dop) + n_dop * maps["tx1_band"][:, range_bin]
+        k_signed = (k + cfg.n_chirps / 2) % cfg.n_chirps - cfg.n_chirps / 2
+        vel = -k_signed / (cfg.n_chirps * tc) * lam / 2
+    else:
+        virt = _tdma_maps(cfg, adc, proc)["virt"][range_bin]  # (D, S*R)
+        n_dop = virt.shape[0]
+        d_signed = (np.arange(n_dop) + n_dop / 2) % n_dop - n_dop / 2
+        vel = -d_signed / (n_dop * cfg.n_tx * tc) * lam / 2
+        comp = np.exp(2j * np.pi * (2 * vel[:, None] / lam) * np.arange(cfg.n_tx) * tc)
+        virt = (virt.reshape(n_dop, cfg.n_tx, cfg.n_rx) * comp[:, :, None]).reshape(n_dop, -1)
+        power = np.abs(virt @ _steering_dft(cfg, n_az)) ** 2
+    order = np.argsort(vel)
+    power = np.fft.fftshift(power[order], axes=1)
+    sin_az = 2 * (np.arange(n_az) - n_az // 2) / n_az
+    return vel[order], sin_az, 10 * np.log10(np.maximum(power, 1e-30))
 
 
 def frame_spectra(cfg: RadarConfig, adc: np.ndarray,

@@ -269,3 +269,18 @@ def test_config_that_does_not_match_frame_rejected(make_config):
         pipeline.process_frame({"mimo": "ddma"}, frame)
     with pytest.raises(ValueError, match="ProcessingConfig"):
         pipeline.process_frame(make_config("ddma"), frame, proc={"cfar": "os"})
+
+
+@pytest.mark.parametrize("preset", ["ddma", "tdma"])
+def test_doppler_azimuth_map_peaks_at_target(preset, make_config, make_scene):
+    """The plotted map puts a target at its (unwrapped for DDMA) velocity and sin(az)."""
+    cfg = make_config(preset, antenna_pattern="isotropic")
+    r_bin, v, az = 60, -6.0, 15.0
+    sc = scene_at_snr(cfg, make_scene, [[r_bin * cfg.range_resolution_m, az, 0, v, 35]])
+    adc = radarsim.simulate_frame(cfg, sc, np.random.default_rng(3))
+    vel, sin_az, p_db = pipeline.doppler_azimuth_map(cfg, adc, r_bin)
+    i, j = np.unravel_index(np.argmax(p_db), p_db.shape)
+    assert vel[i] == pytest.approx(v, abs=2 * cfg.velocity_resolution_mps)
+    assert sin_az[j] == pytest.approx(np.sin(np.radians(az)), abs=2 / 48)
+    with pytest.raises(ValueError, match="range_bin"):
+        pipeline.doppler_azimuth_map(cfg, adc, cfg.n_range_bins)
