@@ -186,7 +186,11 @@ def candidate_cfar(power: np.ndarray, cand: tuple[np.ndarray, ...], axis: int,
     lag, lead = training_offsets(guard_cells, window_cells, stride)
     half = int(lead[-1])
     p = np.moveaxis(power, axis, -1)
-    padded = np.concatenate([p[..., -half:], p, p[..., :half]], axis=-1)
+    size = p.shape[-1]
+    if half < size:
+        padded = np.concatenate([p[..., size - half:], p, p[..., :half]], axis=-1)
+    else:  # window longer than the axis: wrap as often as needed
+        padded = np.take(p, np.arange(-half, size + half) % size, axis=-1)
     windows = np.lib.stride_tricks.sliding_window_view(padded, 2 * half + 1, axis=-1)
     idx = [c for i, c in enumerate(cand) if i != axis % power.ndim] + [cand[axis]]
     rows = windows[tuple(idx)]  # (n, 2 half + 1), cell under test in the middle

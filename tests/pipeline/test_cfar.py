@@ -61,6 +61,19 @@ def test_candidate_cfar_equals_full_map(mode, stride):
     np.testing.assert_allclose(sparse, full[cand], rtol=1e-5)
 
 
+@pytest.mark.parametrize("mode", ["os", "ca"])
+def test_candidate_cfar_window_longer_than_axis(mode):
+    """A short Doppler axis (small test profiles) wraps the window several times, like
+    scipy.ndimage's wrap mode."""
+    rng = np.random.default_rng(4)
+    power = rng.exponential(size=(3, 10))
+    full = cfar_map(power, axis=1, guard_cells=2, window_cells=6, mode=mode, os_rank=9,
+                    stride=2)
+    cand = (np.repeat(np.arange(3), 10), np.tile(np.arange(10), 3))
+    np.testing.assert_allclose(candidate_cfar(power, cand, 1, 2, 6, mode, 9, 2),
+                               full[cand], rtol=1e-6)
+
+
 def test_candidate_cfar_wraps_cyclically():
     power = np.ones((1, 32))
     power[0, 30] = 100.0  # a training cell of bin 1 across the wrap (offset -3)
