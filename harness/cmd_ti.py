@@ -207,9 +207,7 @@ def simulate_frames(cfg, run, seed: int, frames, comps):
     """
     from harness import runner
     for f in frames:
-        rows = run.truth[run.truth["frame"] == f]
-        sc = runner._scatterers(comps, rows, runner.frame_rng(seed, f, "rcs"),
-                                runner._radar_velocity(run, f))
+        sc = runner.frame_scatterers(comps, run, f, seed)
         yield comps.simulate_frame(cfg, sc, runner.frame_rng(seed, f, cfg.mimo))
 
 

@@ -263,11 +263,6 @@ def frame_scatterers(comps: Components, run, frame: int, seed: int):
                        _frame_context(run).get(int(frame)))
 
 
-def _radar_velocity(run, frame):
-    """Frame context for `_scatterers` (kept for harness.cmd_ti; prefer `frame_scatterers`)."""
-    return _frame_context(run).get(int(frame))
-
-
 def simulate_cell_frame(spec: CellSpec, frame: int, comps: Components | None = None, run=None):
     """Re-simulate one frame of a cell exactly as `run_cell` did (for the report's maps).
 

@@ -18,6 +18,8 @@ statistic to a mean (`cfar.noise_mean_factor`), so DDMA and TDMA values compare 
 """
 from __future__ import annotations
 
+from functools import lru_cache
+
 import numpy as np
 import pandas as pd
 import scipy.fft
@@ -29,7 +31,8 @@ from .config import WINDOWS, ProcessingConfig
 from .kernels import (array_layout, candidate_cfar, ddma_metric, doppler_fft,
                       estimate_angles, local_max_mask, parabolic_offset, range_fft, window)
 
-__all__ = ["process_frame", "frame_spectra", "detection_map", "doppler_azimuth_map", "MIMO_CHAINS", "POINT_CLOUD_COLUMNS"]
+__all__ = ["process_frame", "frame_spectra", "detection_map", "doppler_azimuth_map",
+           "MIMO_CHAINS", "POINT_CLOUD_COLUMNS"]
 
 #: Columns of every point cloud, in order.
 POINT_CLOUD_COLUMNS = ["range_m", "azimuth_deg", "elevation_deg", "radial_velocity_mps",
@@ -69,6 +72,9 @@ def _point_cloud(cfg: RadarConfig, proc: ProcessingConfig, range_pos: np.ndarray
     if proc.correct_range_doppler_coupling:
         # f_beat = 2 S R / c + f_D with f_D = -2 v / lambda: undo the Doppler shift.
         rng_m = rng_m + velocity * C_MPS / (cfg.slope_hz_per_s * cfg.wavelength_m)
+    order = np.lexsort((bins["azimuth_bin"], bins["doppler_bin"], bins["range_bin"]))
+    rng_m, velocity, az, el, snr_db = (x[order] for x in (rng_m, velocity, az, el, snr_db))
+    bins = {k: v[order] for k, v in bins.items()}
     cos_el = np.cos(el)
     df = pd.DataFrame({
         "range_m": rng_m,
@@ -81,7 +87,7 @@ def _point_cloud(cfg: RadarConfig, proc: ProcessingConfig, range_pos: np.ndarray
         "z_m": rng_m * np.sin(el),
         **bins,
     })
-    return df.sort_values(["range_bin", "doppler_bin", "azimuth_bin"], ignore_index=True)
+    return df
 
 
 def _azimuth_spectrum(virt: np.ndarray, h_idx: np.ndarray, h_pos: np.ndarray,
@@ -125,6 +131,14 @@ def _steering_dft(cfg: RadarConfig, n_fft: int) -> np.ndarray:
     return w
 
 
+@lru_cache(maxsize=8)
+def _row_offsets(n_rx: int, n_range: int, n_chirps: int) -> np.ndarray:
+    """(n_rx, n_range, 1) int32 flat offset of each (Rx, range) row of a (B, R, C) spectrum."""
+    rows = np.arange(n_range, dtype=np.int32)[None, :, None] * n_rx + \
+        np.arange(n_rx, dtype=np.int32)[:, None, None]
+    return rows * np.int32(n_chirps)
+
+
 def _ddma_maps(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) -> dict:
     """Range FFT, Doppler FFT, empty-band demodulation and the coherent detection map.
 
@@ -147,10 +161,9 @@ def _ddma_maps(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) -> dic
     tx1_band = np.argmax(z, axis=0)  # (D, B)
     # Demodulation (table 11): Tx p of Doppler bin d sits at chirp-bin d + n_dop (band + p)
     # mod N; gather straight into the (p, rx, range, Doppler) layout with one flat take.
-    band = (tx1_band.T[None] + np.arange(n_tx)[:, None, None]) % n_sb  # (P, B, D)
-    col = band * n_dop + np.arange(n_dop)  # (P, B, D)
-    row = np.arange(n_range)[None, :, None] * n_rx + np.arange(n_rx)[:, None, None]  # (R, B, 1)
-    flat = row[None] * n_chirps + col[:, None]  # (P, R, B, D)
+    band = (tx1_band.T[None] + np.arange(n_tx, dtype=np.int32)[:, None, None]) % n_sb
+    col = band * n_dop + np.arange(n_dop, dtype=np.int32)  # (P, B, D) chirp-bin
+    flat = _row_offsets(n_rx, n_range, n_chirps)[None] + col[:, None]  # (P, R, B, D)
     virt = spec.reshape(-1)[flat.reshape(-1)].reshape(n_tx * n_rx, n_range * n_dop)
     # Zero-padded azimuth FFT over the horizontal row as one complex GEMM.
     az_spec = _steering_dft(cfg, n_az).T @ virt  # (A, B*D)
@@ -176,8 +189,8 @@ def _ddma(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) -> pd.DataF
         pre = np.ones(power.shape, dtype=bool)
     pre[:, : proc.min_range_bin] = False
     # Figure 19: 4-neighbour maximum in (azimuth, Doppler), optionally also along range.
-    axes = {0: True, 1: False, 2: True} if proc.range_peak_check else {0: True, 2: True}
-    local_max_mask(power, axes, mask=pre)
+    local_max_mask(power, {0: True, 1: False, 2: True} if proc.range_peak_check
+                   else {0: True, 2: True}, mask=pre)
     cand = np.unravel_index(np.flatnonzero(pre), power.shape)
     noise = candidate_cfar(power, cand, 2, cf.guard_cells, cf.window_cells, cf.mode,
                            cf.os_rank, cf.training_stride)

@@ -15,7 +15,7 @@ from scipy.signal import get_window
 
 from .cfar import noise_estimate, training_offsets
 
-__all__ = ["window", "range_fft", "doppler_fft", "ddma_metric", "ddma_gather",
+__all__ = ["window", "range_fft", "doppler_fft", "ddma_metric",
            "array_layout", "local_max_mask", "parabolic_offset", "candidate_cfar",
            "estimate_angles"]
 
@@ -62,35 +62,11 @@ def ddma_metric(power: np.ndarray, n_subbands: int, n_tx: int) -> np.ndarray:
         Z_j for every Doppler bin d of a sub-band.
     """
     s = power.reshape(n_subbands, -1, *power.shape[1:])
-    z = s.copy()
+    ext = np.concatenate([s, s[: n_tx - 1]], axis=0)  # cyclic extension over sub-bands
+    z = ext[:n_subbands].copy()
     for m in range(1, n_tx):  # n_tx - 1 <= 3 shifted adds, not a loop over bins
-        z += np.roll(s, -m, axis=0)
+        z += ext[m: m + n_subbands]
     return z
-
-
-def ddma_gather(spec: np.ndarray, tx1_band: np.ndarray, n_subbands: int,
-                n_tx: int) -> np.ndarray:
-    """Extract the n_tx transmitters' spectra from the Doppler spectrum (DDMA demodulation).
-
-    Parameters
-    ----------
-    spec : (n_chirps, n_rx, n_range) complex64
-        Doppler spectrum, natural bin order.
-    tx1_band : (n_dop, n_range) int
-        Sub-band where the first Tx of `tx_order` sits for each Doppler bin d of a sub-band.
-
-    Returns
-    -------
-    (n_range, n_dop, n_tx, n_rx) complex64
-        Transmitter p (in sub-band order, i.e. `tx_order`) at Doppler bin d: bin
-        d + n_dop ((tx1_band + p) mod N) of `spec`.
-    """
-    n_chirps, n_rx, n_range = spec.shape
-    n_dop = n_chirps // n_subbands
-    band = (tx1_band.T[:, :, None] + np.arange(n_tx)) % n_subbands  # (B, D, P)
-    idx = band * n_dop + np.arange(n_dop)[None, :, None]
-    spec_t = np.moveaxis(spec, 2, 0)  # (B, C, R)
-    return spec_t[np.arange(n_range)[:, None, None], idx]  # (B, D, P, R)
 
 
 def array_layout(virtual_positions_m: np.ndarray, wavelength_m: float):
