@@ -143,10 +143,10 @@ def _ddma_maps(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) -> dic
     """Range FFT, Doppler FFT, empty-band demodulation and the coherent detection map.
 
     Returns a dict with "power" (n_az, n_range, n_dop) float32 Doppler-azimuth maps (Doppler
-    last, so the CFAR runs along contiguous memory), "virt" (n_virtual, n_range, n_dop)
-    complex64 demodulated samples in the order Tx1Rx1..Rx4, Tx3.., Tx4.., Tx2.., "energy"
-    (n_range, n_chirps) Rx-summed Doppler energy before demodulation and "tx1_band"
-    (n_dop, n_range) int, the sub-band of the first Tx of `tx_order`."""
+    last, so the CFAR runs along contiguous memory), "spec" (n_range, n_rx, n_chirps)
+    complex64 Doppler spectra before demodulation, "energy" (n_range, n_chirps) their
+    Rx-summed energy and "tx1_band" (n_dop, n_range) int, the sub-band of the first Tx of
+    `tx_order` (seed 000 table 11)."""
     n_sb, n_tx, n_rx = cfg.n_subbands, cfg.n_tx, cfg.n_rx
     n_chirps = cfg.n_chirps
     n_dop = n_chirps // n_sb
@@ -157,25 +157,37 @@ def _ddma_maps(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) -> dic
     spec = doppler_fft(np.ascontiguousarray(rf.transpose(2, 1, 0)),
                        window(WINDOWS[proc.doppler_window], n_chirps), axis=-1)  # (B, R, C)
     energy = _power(spec).sum(axis=1)  # (B, C), summed over Rx
-    z = ddma_metric(energy.T, n_sb, n_tx)  # (N, D, B)
-    tx1_band = np.argmax(z, axis=0)  # (D, B)
-    # Demodulation (table 11): Tx p of Doppler bin d sits at chirp-bin d + n_dop (band + p)
-    # mod N; gather straight into the (p, rx, range, Doppler) layout with one flat take.
-    band = (tx1_band.T[None] + np.arange(n_tx, dtype=np.int32)[:, None, None]) % n_sb
-    col = band * n_dop + np.arange(n_dop, dtype=np.int32)  # (P, B, D) chirp-bin
-    flat = _row_offsets(n_rx, n_range, n_chirps)[None] + col[:, None]  # (P, R, B, D)
-    virt = spec.reshape(-1)[flat.reshape(-1)].reshape(n_tx * n_rx, n_range * n_dop)
+    tx1_band = np.argmax(ddma_metric(energy.T, n_sb, n_tx), axis=0)  # (D, B)
+    # Demodulation: Tx p of Doppler bin d sits at chirp-bin d + n_dop (band + p) mod N. Only
+    # the transmitters of the horizontal row enter the azimuth map; one flat take gathers them
+    # straight into the (p, rx, range, Doppler) layout of the GEMM below.
+    h_idx, *_ = array_layout(cfg.virtual_positions_m, cfg.wavelength_m)
+    tx_h = np.unique(h_idx // n_rx).astype(np.int32)  # sub-band positions p of the row
+    band = (tx1_band.T[None] + tx_h[:, None, None]) % n_sb  # (P_h, B, D)
+    col = band * n_dop + np.arange(n_dop, dtype=np.int32)
+    flat = _row_offsets(n_rx, n_range, n_chirps)[None] + col[:, None]  # (P_h, R, B, D)
+    virt_h = spec.reshape(-1)[flat.reshape(-1)].reshape(tx_h.size * n_rx, n_range * n_dop)
     # Zero-padded azimuth FFT over the horizontal row as one complex GEMM.
-    az_spec = _steering_dft(cfg, n_az).T @ virt  # (A, B*D)
+    rows = (tx_h[:, None] * n_rx + np.arange(n_rx)).reshape(-1)
+    az_spec = _steering_dft(cfg, n_az)[rows].T @ virt_h  # (A, B*D)
     power = _power(az_spec, consume=True).reshape(n_az, n_range, n_dop)
-    return {"power": power, "virt": virt.reshape(-1, n_range, n_dop), "energy": energy,
-            "tx1_band": tx1_band}
+    return {"power": power, "spec": spec, "energy": energy, "tx1_band": tx1_band}
+
+
+def _ddma_virtual(cfg: RadarConfig, spec: np.ndarray, tx1_band: np.ndarray, r: np.ndarray,
+                  d: np.ndarray) -> np.ndarray:
+    """(n, n_virtual) demodulated virtual-antenna samples at range bins r, Doppler bins d, in
+    the order Tx1Rx1..Rx4, Tx3.., Tx4.., Tx2.. (seed 000 section 5.4)."""
+    n_dop = cfg.n_chirps // cfg.n_subbands
+    band = (tx1_band[d, r][:, None] + np.arange(cfg.n_tx)) % cfg.n_subbands  # (n, P)
+    chirp_bin = band * n_dop + d[:, None]
+    return spec[r[:, None, None], np.arange(cfg.n_rx)[None, None, :],
+                chirp_bin[:, :, None]].reshape(r.size, -1)
 
 
 def _ddma(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) -> pd.DataFrame:
     maps = _ddma_maps(cfg, adc, proc)
-    power, virt, energy, tx1_band = maps["power"], maps["virt"], maps["energy"], \
-        maps["tx1_band"]
+    power, energy, tx1_band = maps["power"], maps["energy"], maps["tx1_band"]
     n_az, n_range, n_dop = power.shape
     n_tx = cfg.n_tx
     cf = proc.cfar
@@ -219,7 +231,8 @@ def _ddma(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) -> pd.DataF
     # Angles.
     h_idx, h_pos, v_idx, v_pos, v_h = array_layout(cfg.virtual_positions_m, cfg.wavelength_m)
     sin_term = _interp_azimuth(power[:, r, d].T, a)
-    az, el = estimate_angles(virt[:, r, d].T, sin_term, h_idx, h_pos, v_idx, v_pos, v_h)
+    virt = _ddma_virtual(cfg, maps["spec"], tx1_band, r, d)
+    az, el = estimate_angles(virt, sin_term, h_idx, h_pos, v_idx, v_pos, v_h)
     noise_mean = noise / noise_mean_factor(cf.mode, cf.n_training, cf.os_rank, 1)
     snr_db = 10 * np.log10(peak / noise_mean)
     return _point_cloud(cfg, proc, range_pos, velocity, az, el, snr_db,
