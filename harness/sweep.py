@@ -178,11 +178,14 @@ def _check_section(where: str, section: str, overrides: dict) -> None:
 
 
 def _single_threaded_blas() -> None:
-    """Pool-worker initializer: one BLAS thread per worker process. With one worker per core,
-    BLAS's own threads only oversubscribe the cores (the front end's GEMM slows 8x under
-    load with two threads per worker)."""
+    """Pool-worker initializer: one BLAS thread per worker process (with one worker per core,
+    BLAS's own threads only oversubscribe the cores: the front end's GEMM slows 8x under load
+    with two threads per worker) and the allocator tuning of `harness.runtime`."""
     from threadpoolctl import threadpool_limits
+
+    from .runtime import tune_allocator
     threadpool_limits(limits=1, user_api="blas")
+    tune_allocator()
 
 
 def _fmt(v) -> str:

@@ -100,7 +100,7 @@ def array_layout(virtual_positions_m: np.ndarray, wavelength_m: float):
 
 def local_max_mask(power: np.ndarray, axes_cyclic: dict[int, bool],
                    mask: np.ndarray | None = None) -> np.ndarray:
-    """Cells strictly greater than their two neighbours along each listed axis.
+    """Cells greater than their two neighbours along each listed axis (ties: see below).
 
     Parameters
     ----------
@@ -119,11 +119,15 @@ def local_max_mask(power: np.ndarray, axes_cyclic: dict[int, bool],
     for axis, cyclic in axes_cyclic.items():
         p = np.moveaxis(power, axis, -1)  # views: no copies of the map
         m = np.moveaxis(mask, axis, -1)
-        m[..., 1:] &= p[..., 1:] > p[..., :-1]
-        m[..., :-1] &= p[..., :-1] > p[..., 1:]
+        # One comparison per neighbour pair serves both cells; on an exact tie the first
+        # (lower-index) cell wins, so a two-cell plateau still yields one maximum.
+        rises = p[..., 1:] > p[..., :-1]
+        m[..., 1:] &= rises
+        m[..., :-1] &= ~rises
         if cyclic:
-            m[..., 0] &= p[..., 0] > p[..., -1]
-            m[..., -1] &= p[..., -1] > p[..., 0]
+            wraps = p[..., 0] > p[..., -1]
+            m[..., 0] &= wraps
+            m[..., -1] &= ~wraps
     return mask
 
 
