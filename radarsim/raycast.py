@@ -157,8 +157,12 @@ def _to_local(vec: np.ndarray, yaw: np.ndarray) -> np.ndarray:
 
 def _pair_intersect(directions, centres, half_sizes, yaws):
     """Slab test of P (ray, box) pairs; all arrays have leading dim P. Origin = radar (0)."""
-    o_local = _to_local(-centres, yaws)
-    d_local = _to_local(directions, yaws)
+    return _local_intersect(_to_local(directions, yaws), _to_local(-centres, yaws), half_sizes)
+
+
+def _local_intersect(d_local, o_local, half_sizes):
+    """Slab test of P pairs already in box-local coordinates: ray directions, ray origins
+    (the radar) and box half sizes, each (P, 3). Returns t_in, hit, entry face."""
     t_in, t_out, axis = _slab(o_local, d_local, half_sizes)
     hit = (t_in <= t_out) & (t_in > 0)
     d_axis = np.take_along_axis(d_local, axis[..., None], axis=-1)[..., 0]
@@ -296,10 +300,15 @@ def cast_rays(grid: RayGridConfig, centres_m, half_sizes_m, yaws_rad, *,
     ja, je = np.divmod(local, n_e[box])
     ia = ia0[box] + ja
     ie = ie0[box] + je
-    cos_e = np.cos(el)
-    dirs = np.stack([cos_e[ie] * np.cos(az[ia]), cos_e[ie] * np.sin(az[ia]), np.sin(el[ie])],
-                    axis=-1)
-    t_in, hit, face = _pair_intersect(dirs, c[box], h[box], yaw[box])
+    # Trigonometry once per grid line, then gathered per (ray, box) pair.
+    cos_e, sin_e, cos_a, sin_a = np.cos(el), np.sin(el), np.cos(az), np.sin(az)
+    ce = cos_e[ie]
+    dirs = np.stack([ce * cos_a[ia], ce * sin_a[ia], sin_e[ie]], axis=-1)
+    # Box-local frames once per box; per pair only the rotation of the ray direction.
+    cy, sy = np.cos(yaw)[box], np.sin(yaw)[box]
+    d_local = np.stack([cy * dirs[:, 0] + sy * dirs[:, 1], -sy * dirs[:, 0] + cy * dirs[:, 1],
+                        dirs[:, 2]], axis=-1)
+    t_in, hit, face = _local_intersect(d_local, _to_local(-c, yaw)[box], h[box])
     hit &= t_in <= max_range_m
     ray = (ie * na + ia)[hit]
     t_h = t_in[hit]
