@@ -2,6 +2,11 @@
 ghosts and masking versus phase error (issue 3)."""
 from __future__ import annotations
 
+import json
+import subprocess
+import sys
+from pathlib import Path
+
 import numpy as np
 import scipy.fft
 
@@ -66,26 +71,45 @@ def _spur_dbc(cfg) -> float:
     return 10 * np.log10(bands[cfg.n_tx:].max() / bands[: cfg.n_tx].max(axis=1).min())
 
 
-def run() -> list[str]:
-    out = []
+_TARGETS = [[15, 20, 0, -12, 10], [45, -30, 2, 15, 10], [90, 5, 0, -30, 10],
+            [150, 40, -3, 5, 10], [60, -10, 0, 8, 1]]
+
+
+def _frames() -> dict:
+    """One R79 frame per scheme of a five-target scene (fixed seed)."""
     rng = np.random.default_rng(0)
-    targets = [[15, 20, 0, -12, 10], [45, -30, 2, 15, 10], [90, 5, 0, -30, 10],
-               [150, 40, -3, 5, 10], [60, -10, 0, 8, 1]]
-    frames = {}
+    out = {}
     for preset in ("r79_ddma", "r79_tdma"):
         cfg = radarsim.presets.PRESETS[preset]()
-        frames[preset] = cfg, radarsim.simulate_frame(cfg, _scene(targets), rng)
-    default = {p: median_time_s(lambda c=c, a=a: pipeline.process_frame(c, a), repeats=41)
-               for p, (c, a) in frames.items()}
-    tuned = tune_allocator()  # as radar-harness and the sweep workers run it
-    for preset, (cfg, adc) in frames.items():
+        out[preset] = cfg, radarsim.simulate_frame(cfg, _scene(_TARGETS), rng)
+    return out
+
+
+def _default_allocator_medians() -> dict[str, float]:
+    """process_frame medians in a fresh interpreter with glibc's default allocator settings
+    (mallopt is process-wide and cannot be undone here)."""
+    root = Path(__file__).resolve().parents[1]
+    res = subprocess.run([sys.executable, "-m", "benchmarks.bench_pipeline",
+                          "--default-allocator"], cwd=root, capture_output=True, text=True)
+    try:
+        return json.loads(res.stdout.strip().splitlines()[-1])
+    except (IndexError, json.JSONDecodeError):
+        return {}
+
+
+def run() -> list[str]:
+    out = []
+    rng = np.random.default_rng(1)
+    default = _default_allocator_medians()
+    tuned = tune_allocator()  # as radar-harness and the sweep workers run (benchmarks/__main__)
+    for preset, (cfg, adc) in _frames().items():
         t_chain = median_time_s(lambda: pipeline.process_frame(cfg, adc), repeats=41)
         t_floor = _fft_floor(cfg, adc)
         out.append(f"process_frame {cfg.mimo.upper()}: median {1e3 * t_chain:6.1f} ms "
-                   f"({'tuned' if tuned else 'default'} allocator; default "
-                   f"{1e3 * default[preset]:5.1f} ms), FFT floor {1e3 * t_floor:4.1f} ms, "
-                   f"ratio {t_chain / t_floor:4.1f}x (target DDMA <= 25 ms, ~6x floor)")
-
+                   f"({'tuned' if tuned else 'default'} allocator; glibc default "
+                   f"{1e3 * default.get(preset, float('nan')):5.1f} ms), FFT floor "
+                   f"{1e3 * t_floor:4.1f} ms, ratio {t_chain / t_floor:4.1f}x "
+                   "(target DDMA <= 25 ms, ~6x floor)")
     d, t = radarsim.presets.r79_ddma(), radarsim.presets.r79_tdma()
     gains = []
     for _ in range(16):
@@ -118,3 +142,8 @@ def run() -> list[str]:
             out.append(f"{label} {err:4.1f} deg: {g:5.2f} ghosts/frame, {m:4.2f} of 4 weak "
                        "targets missed/frame (strong + 4 weak in one range bin, 8 frames)")
     return out
+
+
+if __name__ == "__main__" and "--default-allocator" in sys.argv:
+    print(json.dumps({p: median_time_s(lambda c=c, a=a: pipeline.process_frame(c, a),
+                                       repeats=41) for p, (c, a) in _frames().items()}))

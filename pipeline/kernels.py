@@ -38,14 +38,14 @@ def range_fft(adc: np.ndarray, win: np.ndarray) -> np.ndarray:
     (n_chirps, n_rx, n_samples // 2) complex64
     """
     x = np.multiply(adc, win, dtype=np.float32)  # int16 -> float32 and window in one pass
-    return scipy.fft.rfft(x, axis=-1, workers=-1, overwrite_x=True)[..., : adc.shape[-1] // 2]
+    return scipy.fft.rfft(x, axis=-1, workers=-1)[..., : adc.shape[-1] // 2]
 
 
 def doppler_fft(x: np.ndarray, win: np.ndarray, axis: int = 0) -> np.ndarray:
     """Windowed complex FFT over slow time along `axis` (in natural bin order 0..N-1)."""
     shape = [1] * x.ndim
     shape[axis] = -1
-    return scipy.fft.fft(x * win.reshape(shape), axis=axis, workers=-1, overwrite_x=True)
+    return scipy.fft.fft(x * win.reshape(shape), axis=axis, workers=-1)
 
 
 def ddma_metric(power: np.ndarray, n_subbands: int, n_tx: int) -> np.ndarray:
@@ -145,9 +145,9 @@ def candidate_cfar(power: np.ndarray, cand: tuple[np.ndarray, ...], axis: int,
                    os_rank: int, stride: int = 1) -> np.ndarray:
     """Noise estimate of a CFAR along a cyclic `axis`, only at candidate cells.
 
-    The map is padded cyclically along `axis`, each candidate's whole CFAR window is read as
-    one contiguous row of a `sliding_window_view`, and its training cells are reduced with
-    `cfar.noise_estimate`; the result equals `cfar.cfar_map(...)[cand]`.
+    The cyclic training positions of every position along `axis` come from a small
+    (size, 2 x window_cells) table, so each candidate's training cells are one flat `take`;
+    they are reduced with `cfar.noise_estimate`. Equals `cfar.cfar_map(...)[cand]`.
 
     Parameters
     ----------
@@ -164,17 +164,17 @@ def candidate_cfar(power: np.ndarray, cand: tuple[np.ndarray, ...], axis: int,
     (n,) float
     """
     lag, lead = training_offsets(guard_cells, window_cells, stride)
-    half = int(lead[-1])
-    p = np.moveaxis(power, axis, -1)
-    size = p.shape[-1]
-    if half < size:
-        padded = np.concatenate([p[..., size - half:], p, p[..., :half]], axis=-1)
-    else:  # window longer than the axis: wrap as often as needed
-        padded = np.take(p, np.arange(-half, size + half) % size, axis=-1)
-    windows = np.lib.stride_tricks.sliding_window_view(padded, 2 * half + 1, axis=-1)
-    idx = [c for i, c in enumerate(cand) if i != axis % power.ndim] + [cand[axis]]
-    rows = windows[tuple(idx)]  # (n, 2 half + 1), cell under test in the middle
-    return noise_estimate(rows[:, lag + half], rows[:, lead + half], mode, os_rank)
+    power = np.ascontiguousarray(power)
+    size = power.shape[axis]
+    step = int(np.prod(power.shape[axis + 1:], dtype=np.int64))  # flat step along `axis`
+    table = (np.arange(size)[:, None] + np.concatenate([lag, lead])) % size  # (size, 2W)
+    pos = cand[axis]
+    row_start = np.ravel_multi_index(cand, power.shape) - pos * step
+    train = power.reshape(-1)[row_start[:, None] + table[pos] * step]  # (n, 2W)
+    if mode == "os":  # both windows together: partition in place, no split-and-join copy
+        train.partition(os_rank - 1, axis=1)
+        return train[:, os_rank - 1]
+    return noise_estimate(train[:, :window_cells], train[:, window_cells:], mode, os_rank)
 
 
 def estimate_angles(virt: np.ndarray, sin_az_cos_el: np.ndarray, h_idx: np.ndarray,
