@@ -140,7 +140,7 @@ def run() -> list[str]:
         spurs = ", ".join(f"Tx{t} {_spur_dbc(d.replace(phase_quantization=q), t):6.1f}"
                           for t in (1, 3, 4, 2))
         out.append(f"6-bit shifter ({q}) empty-band spur, dBc of the Tx line: {spurs} "
-                   "(noise-limited floor about -90)")
+                   "(about -80: the noise floor)")
     for label, key, values in [("random per-chirp phase error", "phase_noise_deg_rms",
                                 (0.0, 2.0, 5.0, 10.0, 20.0)),
                                ("static per-Tx phase error", "tx_phase_error_deg",
