@@ -108,7 +108,10 @@ def cfar_scale(pfa: float, mode: str, n_cells: int, os_rank: int = 0, looks: int
     if not 0 < pfa < 1:
         raise ValueError(f"pfa={pfa!r} must be in (0, 1)")
     target = np.log(pfa)
-    f = lambda a: np.log(max(pfa_of_scale(a, mode, n_cells, os_rank, looks), 1e-300)) - target
+
+    def f(a: float) -> float:
+        return np.log(max(pfa_of_scale(a, mode, n_cells, os_rank, looks), 1e-300)) - target
+
     hi = 1.0
     while f(hi) > 0:
         hi *= 2.0

@@ -22,7 +22,7 @@ import numpy as np
 __all__ = [
     "RadarConfig", "MIMO_SCHEMES", "PHASE_QUANTIZATIONS", "ANTENNA_PATTERNS",
     "C_MPS", "K_BOLTZMANN", "MAX_ADC_RATE_SPS", "MAX_IF_BANDWIDTH_HZ", "BAND_MIN_HZ",
-    "BAND_MAX_HZ",
+    "BAND_MAX_HZ", "from_ti_cfg", "to_ti_cfg",
 ]
 
 C_MPS = 299_792_458.0
