@@ -12,7 +12,8 @@ from .tracker import (MOTION_MODELS, TRACK_COLUMNS, TRACK_STATES, GroupTracker, 
                       track_frames)
 
 __all__ = ["process_frame", "frame_spectra", "detection_map", "doppler_azimuth_map",
-           "ProcessingConfig", "CfarConfig", "CFAR_MODES", "MIMO_CHAINS", "POINT_CLOUD_COLUMNS", "cfar_scale", "noise_mean_factor",
+           "ProcessingConfig", "CfarConfig", "CFAR_MODES", "MIMO_CHAINS", "POINT_CLOUD_COLUMNS",
+           "cfar_scale", "noise_mean_factor",
            "GroupTracker", "TrackerConfig", "track_frames", "MOTION_MODELS", "TRACK_COLUMNS",
            "TRACK_STATES", "EgoMotionConfig", "EgoMotionEstimate", "EGO_MODELS",
            "estimate_ego_motion", "static_mask", "ground_radial_velocity"]
