@@ -255,6 +255,28 @@ def _tdma_maps(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) -> dic
     return {"power": rd, "virt": virt_all}
 
 
+def _tdma_hypothesis_score(cfg: RadarConfig, virt: np.ndarray, az_pow: np.ndarray,
+                           h_idx: np.ndarray, h_pos: np.ndarray, v_idx: np.ndarray,
+                           v_pos: np.ndarray) -> np.ndarray:
+    """Likelihood of each velocity hypothesis after its Doppler-phase compensation, (n, H).
+
+    The generalised likelihood of one echo on the whole virtual array, max over (wx, wz) of
+    |a(wx, wz)^H x|^2: with wz free, the maximum over wz of |A_h(wx) + A_v(wx) e^{-j wz}|^2 is
+    (|A_h(wx)| + |A_v(wx)|)^2, A_h and A_v the zero-padded beams of the horizontal and the
+    raised row on the same wx grid. A wrong hypothesis leaves a staircase of slot phases that
+    the horizontal row can largely mistake for an angle shift (its Tx groups are four elements
+    apart), but the raised row (one slot) then peaks elsewhere, so the sum loses. Without a
+    raised row this is the horizontal FFT peak of seed 001 section 4.
+
+    virt : (n, H, n_virtual) compensated samples, slot-major; az_pow : (n, H, n_az) |A_h|^2.
+    """
+    if v_idx.size == 0:
+        return az_pow.max(axis=-1)
+    n_az = az_pow.shape[-1]
+    a_v = np.abs(_azimuth_spectrum(virt, v_idx, v_pos, n_az))  # (n, H, A)
+    return ((np.sqrt(az_pow) + a_v) ** 2).max(axis=-1)
+
+
 def _tdma(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) -> pd.DataFrame:
     n_tx = cfg.n_tx
     n_dop = cfg.n_chirps // n_tx
@@ -291,11 +313,9 @@ def _tdma(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) -> pd.DataF
         v_hyp = v_est[:, None] + 2 * k[None, :] * v_max  # (n, H)
         span = n_tx * v_max
         valid = (v_hyp >= -span) & (v_hyp < span)
-        k0 = int(np.flatnonzero(k == 0)[0])
     else:
         v_hyp = v_est[:, None]
         valid = np.ones_like(v_hyp, dtype=bool)
-        k0 = 0
     h_idx, h_pos, v_idx, v_pos, v_h = array_layout(cfg.virtual_positions_m, cfg.wavelength_m)
     virt = virt_all[r, d].reshape(-1, 1, n_tx, cfg.n_rx)  # (n, 1, S, R)
     # Doppler phase of slot s: 2 pi f_D s Tc, f_D = -2 v / lambda (eq. 8-10): remove it.
@@ -303,12 +323,9 @@ def _tdma(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) -> pd.DataF
     comp = np.exp(-2j * np.pi * f_hyp[:, :, None] * np.arange(n_tx) * cfg.chirp_period_s)
     virt_h = (virt * comp[:, :, :, None]).reshape(r.size, v_hyp.shape[1], -1)  # (n, H, 16)
     az_pow = np.abs(_azimuth_spectrum(virt_h, h_idx, h_pos, n_az)) ** 2  # (n, H, A)
-    score = np.where(valid, az_pow.max(axis=-1), -np.inf)
-    best = np.argmax(score, axis=1)
+    score = _tdma_hypothesis_score(cfg, virt_h, az_pow, h_idx, h_pos, v_idx, v_pos)
+    best = np.argmax(np.where(valid, score, -np.inf), axis=1)
     rows = np.arange(r.size)
-    # Optionally an aliased hypothesis must beat the unaliased one by a margin (see config).
-    keep_k0 = score[rows, best] <= score[:, k0] * 10 ** (proc.tdma_hypothesis_margin_db / 10)
-    best = np.where(keep_k0, k0, best)
     velocity = v_hyp[rows, best]
     power_az = az_pow[rows, best]  # (n, A)
     a = np.argmax(power_az, axis=1)

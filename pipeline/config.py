@@ -102,13 +102,9 @@ class ProcessingConfig:
     min_range_bin : int
         First range bin searched (bin 0 holds DC).
     tdma_disambiguation : bool
-        TDMA: resolve velocity beyond +/-Vmax by hypothesis testing (seed 001 section 4).
-    tdma_hypothesis_margin_db : float
-        An aliased velocity hypothesis is taken only if its azimuth-FFT peak beats the
-        unaliased one by this margin. Default 0 (plain maximum likelihood, seed 001): with
-        Tx1/Tx3/Tx4 four elements apart, a wrong hypothesis is nearly an angle shift and loses
-        well under 1 dB for k = +/-1, so any margin costs true aliased targets; a margin does
-        stop clutter cells of many echoes (zero-Doppler ground) from flipping by chance.
+        TDMA: resolve velocity beyond +/-Vmax by hypothesis testing (seed 001 section 4): each
+        v_est + 2 k Vmax is compensated and scored by the phase agreement of the raised row
+        with the horizontal elements it overlaps (or, without overlap, the azimuth-FFT peak).
     correct_range_doppler_coupling : bool
         Remove the fast-time Doppler shift f_D from the beat frequency (R += v c / (S lambda)).
     range_peak_check : bool
@@ -127,7 +123,6 @@ class ProcessingConfig:
     n_azimuth_bins: int = 48
     min_range_bin: int = 1
     tdma_disambiguation: bool = True
-    tdma_hypothesis_margin_db: float = 0.0
     correct_range_doppler_coupling: bool = True
     range_peak_check: bool = True
     azimuth_sidelobe_db: float | None = 10.0
@@ -141,10 +136,6 @@ class ProcessingConfig:
                                  f"{sorted(WINDOWS)}")
         if not isinstance(self.n_azimuth_bins, int) or self.n_azimuth_bins < 16:
             raise ValueError(f"n_azimuth_bins={self.n_azimuth_bins!r} must be an integer >= 16")
-        if not (math.isfinite(self.tdma_hypothesis_margin_db)
-                and self.tdma_hypothesis_margin_db >= 0):
-            raise ValueError(f"tdma_hypothesis_margin_db={self.tdma_hypothesis_margin_db!r} "
-                             "must be finite and >= 0")
         if self.azimuth_sidelobe_db is not None and not (self.azimuth_sidelobe_db > 0):
             raise ValueError(f"azimuth_sidelobe_db={self.azimuth_sidelobe_db!r} must be > 0 "
                              "or None")

@@ -33,7 +33,6 @@ def test_cfar_config_rules(kwargs, match):
     ({"n_azimuth_bins": 8}, "n_azimuth_bins"),
     ({"min_range_bin": -1}, "min_range_bin"),
     ({"azimuth_sidelobe_db": 0.0}, "azimuth_sidelobe_db"),
-    ({"tdma_hypothesis_margin_db": -1.0}, "tdma_hypothesis_margin_db"),
 ])
 def test_processing_config_rules(kwargs, match):
     with pytest.raises(ValueError, match=match):
