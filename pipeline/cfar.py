@@ -23,7 +23,7 @@ from functools import lru_cache
 import numpy as np
 from scipy import integrate, optimize, special, stats
 
-__all__ = ["CFAR_MODES", "cfar_scale", "noise_mean_factor", "pfa_of_scale",
+__all__ = ["CFAR_MODES", "cfar_scale", "noise_mean_factor", "pfa_of_scale", "pfa_numeric",
            "training_offsets", "noise_estimate", "cfar_map", "rohling_os_pfa"]
 
 #: CFAR modes: how the training cells become one noise estimate.
@@ -93,7 +93,23 @@ def pfa_of_scale(scale: float, mode: str, n_cells: int, os_rank: int = 0,
         k for OS (1-based: k-th smallest).
     looks : int
         Independent exponential looks summed in each cell (1 = coherent map).
+
+    Notes
+    -----
+    Single-look OS and CA use their closed forms (Rohling 1983; (1 + a/N)^-N for the mean of
+    the N cells); everything else integrates numerically (`pfa_numeric`), which the tests check
+    against the closed forms.
     """
+    if looks == 1 and mode == "os":
+        return rohling_os_pfa(scale, n_cells, os_rank)
+    if looks == 1 and mode == "ca":
+        return float((1.0 + scale / n_cells) ** -n_cells)
+    return pfa_numeric(scale, mode, n_cells, os_rank, looks)
+
+
+def pfa_numeric(scale: float, mode: str, n_cells: int, os_rank: int = 0,
+                looks: int = 1) -> float:
+    """`pfa_of_scale` by numerical integration of E_Y[Q(L, scale Y)] for every mode."""
     pdf = _stat_pdf(mode, n_cells, os_rank, looks)
     return _integrate(lambda y: special.gammaincc(looks, scale * y) * pdf(y), looks)
 

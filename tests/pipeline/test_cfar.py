@@ -4,7 +4,7 @@ import pytest
 from scipy import ndimage
 
 from pipeline.cfar import (cfar_map, cfar_scale, noise_estimate, noise_mean_factor,
-                           pfa_of_scale, rohling_os_pfa)
+                           pfa_numeric, pfa_of_scale, rohling_os_pfa)
 from pipeline.kernels import candidate_cfar, local_max_mask
 
 
@@ -17,7 +17,12 @@ def test_rohling_os_reference_values():
 
 @pytest.mark.parametrize("n, k, a", [(16, 12, 10.0), (24, 18, 20.0), (32, 8, 5.0)])
 def test_numeric_os_pfa_equals_rohling_closed_form(n, k, a):
-    assert pfa_of_scale(a, "os", n, k) == pytest.approx(rohling_os_pfa(a, n, k), rel=1e-6)
+    assert pfa_numeric(a, "os", n, k) == pytest.approx(rohling_os_pfa(a, n, k), rel=1e-6)
+    assert pfa_of_scale(a, "os", n, k) == pytest.approx(rohling_os_pfa(a, n, k), rel=1e-12)
+
+
+def test_numeric_ca_pfa_equals_closed_form():
+    assert pfa_numeric(12.0, "ca", 16) == pytest.approx((1 + 12.0 / 16) ** -16, rel=1e-6)
 
 
 def test_ca_cfar_closed_form():
