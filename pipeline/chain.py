@@ -22,7 +22,6 @@ from functools import lru_cache
 
 import numpy as np
 import pandas as pd
-import scipy.fft
 
 from radarsim.config import C_MPS, RadarConfig
 
@@ -90,14 +89,6 @@ def _point_cloud(cfg: RadarConfig, proc: ProcessingConfig, range_pos: np.ndarray
     return df
 
 
-def _azimuth_spectrum(virt: np.ndarray, h_idx: np.ndarray, h_pos: np.ndarray,
-                      n_fft: int) -> np.ndarray:
-    """Zero-padded FFT over the horizontal row: (..., n_virtual) -> (..., n_fft) complex."""
-    h = np.zeros(virt.shape[:-1] + (n_fft,), dtype=np.complex64)
-    h[..., h_pos] = virt[..., h_idx]
-    return scipy.fft.fft(h, axis=-1, workers=-1)
-
-
 def _interp_azimuth(power_az: np.ndarray, a: np.ndarray) -> np.ndarray:
     """wx / pi from the azimuth bin of each peak and its cyclic neighbours.
 
@@ -122,12 +113,17 @@ def _interp_range(power_r: np.ndarray, r: np.ndarray, n_range: int) -> np.ndarra
 
 
 # --------------------------------------------------------------------------------------- DDMA
-def _steering_dft(cfg: RadarConfig, n_fft: int) -> np.ndarray:
-    """(n_virtual, n_fft) complex64 zero-padded DFT of the horizontal row as a matrix: row m of a
-    horizontal element at position p is exp(-2j pi p k / n_fft); other elements get zeros."""
-    h_idx, h_pos, *_ = array_layout(cfg.virtual_positions_m, cfg.wavelength_m)
+@lru_cache(maxsize=16)
+def _array_dft(cfg: RadarConfig, n_fft: int, row: str) -> np.ndarray:
+    """(n_virtual, n_fft) complex64 zero-padded DFT of one row of the virtual array as a
+    matrix, so `samples @ W` is the row's n_fft-point azimuth spectrum: element m at horizontal
+    position p (lambda/2 units) of the row gets exp(-2j pi p k / n_fft), every other element
+    zero. row: "horizontal" (the z = 0 row) or "raised" (Tx2's row)."""
+    h_idx, h_pos, v_idx, v_pos, _ = array_layout(cfg.virtual_positions_m, cfg.wavelength_m)
+    idx, pos = (h_idx, h_pos) if row == "horizontal" else (v_idx, v_pos)
     w = np.zeros((cfg.n_virtual, n_fft), dtype=np.complex64)
-    w[h_idx] = np.exp(-2j * np.pi * np.outer(h_pos, np.arange(n_fft)) / n_fft)
+    w[idx] = np.exp(-2j * np.pi * np.outer(pos, np.arange(n_fft)) / n_fft)
+    w.setflags(write=False)
     return w
 
 
@@ -169,7 +165,7 @@ def _ddma_maps(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) -> dic
     virt_h = spec.reshape(-1)[flat.reshape(-1)].reshape(tx_h.size * n_rx, n_range * n_dop)
     # Zero-padded azimuth FFT over the horizontal row as one complex GEMM.
     rows = (tx_h[:, None] * n_rx + np.arange(n_rx)).reshape(-1)
-    az_spec = _steering_dft(cfg, n_az)[rows].T @ virt_h  # (A, B*D)
+    az_spec = _array_dft(cfg, n_az, "horizontal")[rows].T @ virt_h  # (A, B*D)
     power = _power(az_spec, consume=True).reshape(n_az, n_range, n_dop)
     return {"power": power, "spec": spec, "energy": energy, "tx1_band": tx1_band}
 
@@ -273,7 +269,7 @@ def _tdma_hypothesis_score(cfg: RadarConfig, virt: np.ndarray, az_pow: np.ndarra
     if v_idx.size == 0:
         return az_pow.max(axis=-1)
     n_az = az_pow.shape[-1]
-    a_v = np.abs(_azimuth_spectrum(virt, v_idx, v_pos, n_az))  # (n, H, A)
+    a_v = np.abs(virt @ _array_dft(cfg, n_az, "raised"))  # (n, H, A)
     return ((np.sqrt(az_pow) + a_v) ** 2).max(axis=-1)
 
 
@@ -322,7 +318,7 @@ def _tdma(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) -> pd.DataF
     f_hyp = -2 * v_hyp / cfg.wavelength_m
     comp = np.exp(-2j * np.pi * f_hyp[:, :, None] * np.arange(n_tx) * cfg.chirp_period_s)
     virt_h = (virt * comp[:, :, :, None]).reshape(r.size, v_hyp.shape[1], -1)  # (n, H, 16)
-    az_pow = np.abs(_azimuth_spectrum(virt_h, h_idx, h_pos, n_az)) ** 2  # (n, H, A)
+    az_pow = np.abs(virt_h @ _array_dft(cfg, n_az, "horizontal")) ** 2  # (n, H, A)
     score = _tdma_hypothesis_score(cfg, virt_h, az_pow, h_idx, h_pos, v_idx, v_pos)
     best = np.argmax(np.where(valid, score, -np.inf), axis=1)
     rows = np.arange(r.size)
@@ -435,7 +431,7 @@ def doppler_azimuth_map(cfg: RadarConfig, adc: np.ndarray, range_bin: int,
         vel = -d_signed / (n_dop * cfg.n_tx * tc) * lam / 2
         comp = np.exp(2j * np.pi * (2 * vel[:, None] / lam) * np.arange(cfg.n_tx) * tc)
         virt = (virt.reshape(n_dop, cfg.n_tx, cfg.n_rx) * comp[:, :, None]).reshape(n_dop, -1)
-        power = np.abs(virt @ _steering_dft(cfg, n_az)) ** 2
+        power = np.abs(virt @ _array_dft(cfg, n_az, "horizontal")) ** 2
     order = np.argsort(vel)
     power = np.fft.fftshift(power[order], axes=1)
     sin_az = 2 * (np.arange(n_az) - n_az // 2) / n_az
@@ -455,12 +451,10 @@ def frame_spectra(cfg: RadarConfig, adc: np.ndarray,
     """
     _check_frame(cfg, adc)
     proc = ProcessingConfig() if proc is None else proc
-    rf = range_fft(adc, window(WINDOWS[proc.range_window], cfg.n_samples))
+    # The chain's own maps: DDMA's Rx-summed energy before demodulation, TDMA's non-coherent
+    # range-Doppler map over the virtual antennas (both (n_range, n_doppler)).
     if cfg.mimo == "ddma":
-        spec = doppler_fft(rf, window(WINDOWS[proc.doppler_window], cfg.n_chirps))
-        p = (np.abs(spec) ** 2).sum(axis=1)
+        p = _ddma_maps(cfg, adc, proc)["energy"]
     else:
-        rf = rf.reshape(cfg.n_chirps // cfg.n_tx, cfg.n_tx, cfg.n_rx, -1)
-        spec = doppler_fft(rf, window(WINDOWS[proc.doppler_window], rf.shape[0]))
-        p = (np.abs(spec) ** 2).sum(axis=(1, 2))
-    return {"range_doppler_db": 10 * np.log10(np.maximum(p.T, 1e-30))}
+        p = _tdma_maps(cfg, adc, proc)["power"]
+    return {"range_doppler_db": 10 * np.log10(np.maximum(p, 1e-30))}
