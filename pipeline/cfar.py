@@ -155,14 +155,16 @@ def noise_mean_factor(mode: str, n_cells: int, os_rank: int = 0, looks: int = 1)
     return _integrate(lambda y: y * pdf(y), looks) / looks
 
 
-def noise_estimate(train_lag: np.ndarray, train_lead: np.ndarray, mode: str,
-                   os_rank: int) -> np.ndarray:
+def noise_estimate(train: np.ndarray, n_lag: int, mode: str, os_rank: int) -> np.ndarray:
     """Noise estimate from gathered training cells.
 
     Parameters
     ----------
-    train_lag, train_lead : (..., W) float
-        Training cells on each side of each cell under test.
+    train : (..., N) float
+        Training cells of each cell under test: the `n_lag` lagging cells, then the leading
+        ones. OS partitions this array in place.
+    n_lag : int
+        Number of lagging cells (the CA family compares the two sides).
     mode : {"ca", "cago", "caso", "os"}
     os_rank : int
         k (1-based) for OS.
@@ -171,16 +173,16 @@ def noise_estimate(train_lag: np.ndarray, train_lead: np.ndarray, mode: str,
     -------
     (...) float
     """
-    if mode == "ca":
-        return 0.5 * (train_lag.mean(axis=-1) + train_lead.mean(axis=-1))
-    if mode == "cago":
-        return np.maximum(train_lag.mean(axis=-1), train_lead.mean(axis=-1))
-    if mode == "caso":
-        return np.minimum(train_lag.mean(axis=-1), train_lead.mean(axis=-1))
     if mode == "os":
-        both = np.concatenate([train_lag, train_lead], axis=-1)
-        return np.partition(both, os_rank - 1, axis=-1)[..., os_rank - 1]
-    raise ValueError(f"mode={mode!r} is not one of {sorted(CFAR_MODES)}")
+        train.partition(os_rank - 1, axis=-1)
+        return train[..., os_rank - 1]
+    if mode not in CFAR_MODES:
+        raise ValueError(f"mode={mode!r} is not one of {sorted(CFAR_MODES)}")
+    lag = train[..., :n_lag].mean(axis=-1)
+    lead = train[..., n_lag:].mean(axis=-1)
+    if mode == "ca":
+        return 0.5 * (lag + lead)
+    return np.maximum(lag, lead) if mode == "cago" else np.minimum(lag, lead)
 
 
 def cfar_map(power: np.ndarray, axis: int, guard_cells: int, window_cells: int, mode: str,

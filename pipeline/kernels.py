@@ -171,10 +171,7 @@ def candidate_cfar(power: np.ndarray, cand: tuple[np.ndarray, ...], axis: int,
     pos = cand[axis]
     row_start = np.ravel_multi_index(cand, power.shape) - pos * step
     train = power.reshape(-1)[row_start[:, None] + table[pos] * step]  # (n, 2W)
-    if mode == "os":  # both windows together: partition in place, no split-and-join copy
-        train.partition(os_rank - 1, axis=1)
-        return train[:, os_rank - 1]
-    return noise_estimate(train[:, :window_cells], train[:, window_cells:], mode, os_rank)
+    return noise_estimate(train, window_cells, mode, os_rank)
 
 
 def estimate_angles(virt: np.ndarray, sin_az_cos_el: np.ndarray, h_idx: np.ndarray,
