@@ -177,7 +177,7 @@ def _check_section(where: str, section: str, overrides: dict) -> None:
             pass
 
 
-def _single_threaded_blas() -> None:
+def _init_worker() -> None:
     """Pool-worker initializer: one BLAS thread per worker process (with one worker per core,
     BLAS's own threads only oversubscribe the cores: the front end's GEMM slows 8x under load
     with two threads per worker) and the allocator tuning of `harness.runtime`."""
@@ -389,7 +389,7 @@ def run_sweep(spec: SweepSpec, out: str | Path, *, workers: int = 1,
                 bar.update(1)
         else:
             with cf.ProcessPoolExecutor(max_workers=workers,
-                                        initializer=_single_threaded_blas) as ex:
+                                        initializer=_init_worker) as ex:
                 futs = {ex.submit(execute_cell, c, str(out), components): c for c in pending}
                 for fut in cf.as_completed(futs):
                     c = futs[fut]
