@@ -165,33 +165,65 @@ def test_detection_snr_gain_ddma_over_tdma(make_config, make_scene):
     assert 4.9 <= np.median(gains) <= 6.5
 
 
-@pytest.mark.parametrize("preset, pfa, n_frames, lo, hi", [
-    ("tdma", 1e-3, 12, 0.8, 1.25),
-    ("ddma", 1e-4, 3, 0.45, 1.25),
-])
-def test_noise_only_cfar_false_alarm_rate(preset, pfa, n_frames, lo, hi, make_config):
-    """On noise-only frames the CFAR exceedance count of the detection map matches the design:
-    Pfa x cells x frames (TDMA: 1e-3 x 36 672 x 12 = 440; DDMA: 1e-4 x 1.17e6 x 3 = 352).
+def _exceedances(power, axis, cf, looks):
+    """CFAR exceedances of a square-law map (the generic `cfar_map`) and its cell count."""
+    noise = cfar_map(power, axis, cf.guard_cells, cf.window_cells, cf.mode, cf.os_rank,
+                     cf.training_stride)
+    return np.count_nonzero(power > cf.scale(looks) * noise), power.size
 
-    TDMA cells are sums of 16 exponential looks and match the design within sampling error.
-    DDMA cells come out of the empty-band selection (the strongest 4 of 6 sub-bands), whose
-    noise is lighter-tailed than exponential relative to its own order statistic: measured at
-    0.6-0.75 x design, so the design Pfa is an upper bound there (documented in the README)."""
-    cfg = make_config(preset)
-    proc = pipeline.ProcessingConfig().replace(cfar_pfa=pfa)
-    cf = proc.cfar
+
+def test_noise_only_tdma_false_alarms_match_design_pfa(make_config):
+    """TDMA cells are sums of 16 exponential looks, the case the threshold is designed for: on
+    noise-only frames the exceedance count is Pfa x cells x frames = 1e-3 x 36 672 x 12 = 440,
+    within 25 % (several binomial sigma)."""
+    cfg = make_config("tdma")
+    proc = pipeline.ProcessingConfig().replace(cfar_pfa=1e-3)
     rng = np.random.default_rng(9)
     hits = cells = 0
-    for _ in range(n_frames):
-        adc = radarsim.simulate_frame(cfg, radarsim.Scatterers.empty(), rng)
-        power, looks, axis = pipeline.detection_map(cfg, adc, proc)
-        power = power[1:]  # bin 0 (DC) is never searched
-        noise = cfar_map(power, axis, cf.guard_cells, cf.window_cells, cf.mode, cf.os_rank,
-                         cf.training_stride)
-        hits += np.count_nonzero(power > cf.scale(looks) * noise)
-        cells += power.size
-    expected = pfa * cells
-    assert lo * expected < hits < hi * expected
+    for _ in range(12):
+        power, looks, axis = pipeline.detection_map(
+            cfg, radarsim.simulate_frame(cfg, radarsim.Scatterers.empty(), rng), proc)
+        h, c = _exceedances(power[1:], axis, proc.cfar, looks)  # bin 0 (DC) is never searched
+        hits, cells = hits + h, cells + c
+    assert 0.8 * 1e-3 * cells < hits < 1.25 * 1e-3 * cells
+
+
+def _ddma_noise_model_map(rng, n_range, n_sb=6, n_dop=128, n_tx=4, n_rx=4, n_az=48):
+    """Independent model of the demodulated DDMA noise map (seed 000 table 11), numpy only:
+    white complex Gaussian slow time per range bin and Rx, Hann window, Doppler FFT; per Doppler
+    bin of a sub-band the largest cyclic sum of n_tx sub-band energies picks Tx1's band; the
+    horizontal Tx (the first three of Tx1, Tx3, Tx4, Tx2) x Rx give 12 elements at positions
+    0..11, zero-padded to n_az. Returns (n_range, n_az, n_dop) power."""
+    n_c = n_sb * n_dop
+    x = rng.standard_normal((n_range, n_rx, n_c)) + 1j * rng.standard_normal((n_range, n_rx, n_c))
+    spec = np.fft.fft(x * np.hanning(n_c + 1)[:-1], axis=-1).reshape(n_range, n_rx, n_sb, n_dop)
+    s = (np.abs(spec) ** 2).sum(axis=1)  # (B, N, D)
+    z = sum(np.roll(s, -m, axis=1) for m in range(n_tx))
+    band = (np.argmax(z, axis=1)[:, None, :] + np.arange(3)[None, :, None]) % n_sb  # (B, 3, D)
+    rows = np.take_along_axis(spec, band[:, None], axis=2)  # (B, Rx, 3, D)
+    elements = rows.transpose(0, 3, 2, 1).reshape(n_range, n_dop, 12)  # position 4 p + rx
+    return np.abs(np.fft.fft(elements, n=n_az, axis=-1)).transpose(0, 2, 1) ** 2
+
+
+def test_noise_only_ddma_false_alarms_match_noise_model(make_config):
+    """DDMA cells come out of the empty-band selection (the strongest 4 of 6 sub-bands), so
+    they are not the exponential cells Rohling's threshold assumes. On noise-only frames the
+    chain's exceedance count matches the same CFAR on an independent model of the
+    demodulated noise (within 25 %, about 5 sigma of the difference of two counts of ~2 700
+    with the correlated azimuth bins), and stays at or below the design Pfa x cells."""
+    cfg = make_config("ddma")
+    proc = pipeline.ProcessingConfig().replace(cfar_pfa=1e-3)
+    rng = np.random.default_rng(9)
+    hits = cells = 0
+    for _ in range(3):
+        power, looks, axis = pipeline.detection_map(
+            cfg, radarsim.simulate_frame(cfg, radarsim.Scatterers.empty(), rng), proc)
+        h, c = _exceedances(power[1:], axis, proc.cfar, looks)
+        hits, cells = hits + h, cells + c
+    model_hits, model_cells = _exceedances(_ddma_noise_model_map(rng, 3 * 191), 2, proc.cfar, 1)
+    model_rate = model_hits / model_cells
+    assert abs(hits / cells - model_rate) < 0.25 * model_rate
+    assert hits < 1.25 * 1e-3 * cells
 
 
 def test_training_stride_restores_design_pfa_on_hann_spectra(make_config):
