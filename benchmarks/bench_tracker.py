@@ -68,11 +68,8 @@ def _run(frames, ego: float | None) -> GroupTracker:
 
 
 def _scenario_frames(n_frames: int = 30):
-    """DDMA point clouds, ego speeds and mount of the dense_highway case (None if missing)."""
-    try:
-        import harness.runner as runner
-    except ImportError:
-        return None
+    """DDMA point clouds, ego speeds and mount of the dense_highway case."""
+    import harness.runner as runner
     comps = runner.default_components()
     run = comps.run_scenario("dense_highway", 0, None)
     radar, procs = runner.build_configs(runner.CellSpec(scenario="dense_highway"), comps)
@@ -96,23 +93,21 @@ def run() -> list[str]:
         lines.append(f"tracker, {N_ACTORS} actors, {n_pts} points/frame, {label}: "
                      f"{t_frame * 1e3:.2f} ms per frame (target <= 5 ms), "
                      f"{tracker.n_tracks} live tracks at the end")
-    scen = _scenario_frames()
-    if scen is not None:
-        sframes, speeds, mount = scen
-        cfg = TrackerConfig(mount_x_m=mount.x_m, mount_y_m=mount.y_m,
-                            mount_yaw_deg=mount.yaw_deg, frame_period_s=FRAME_PERIOD_S)
+    sframes, speeds, mount = _scenario_frames()
+    cfg = TrackerConfig(mount_x_m=mount.x_m, mount_y_m=mount.y_m,
+                        mount_yaw_deg=mount.yaw_deg, frame_period_s=FRAME_PERIOD_S)
 
-        def track_scenario():
-            tracker = GroupTracker(cfg, rng=np.random.default_rng(0))
-            for (t, pc), v in zip(sframes, speeds):
-                tracker.step(pc, t, v)
-            return tracker
+    def track_scenario():
+        tracker = GroupTracker(cfg, rng=np.random.default_rng(0))
+        for (t, pc), v in zip(sframes, speeds):
+            tracker.step(pc, t, v)
+        return tracker
 
-        t_frame = median_time_s(track_scenario, repeats=5, warmup=1) / len(sframes)
-        n_pts = int(np.median([len(pc) for _, pc in sframes]))
-        lines.append(f"tracker, dense_highway scenario (DDMA chain, {n_pts} points/frame): "
-                     f"{t_frame * 1e3:.2f} ms per frame, {track_scenario().n_tracks} live "
-                     "tracks at the end")
+    t_frame = median_time_s(track_scenario, repeats=5, warmup=1) / len(sframes)
+    n_pts = int(np.median([len(pc) for _, pc in sframes]))
+    lines.append(f"tracker, dense_highway scenario (DDMA chain, {n_pts} points/frame): "
+                 f"{t_frame * 1e3:.2f} ms per frame, {track_scenario().n_tracks} live "
+                 "tracks at the end")
     # Floor measured in the same run: copying one point cloud.
     pc = frames[0][1]
     t_floor = median_time_s(lambda: pc.copy(), repeats=50, warmup=5)

@@ -125,11 +125,8 @@ def process_capture(capture, profile, proc=None, *, interleaved: bool = False,
     return pd.concat(tables, ignore_index=True)
 
 
-def _track(points: pd.DataFrame, profile, n_frames: int) -> pd.DataFrame | None:
-    try:
-        from pipeline import tracker as trk
-    except ImportError:
-        return None
+def _track(points: pd.DataFrame, profile, n_frames: int) -> pd.DataFrame:
+    from pipeline import tracker as trk
     clouds = [(f * profile.frame_period_s,
                points[points["frame"] == f].drop(columns=["frame", "time_s"])
                .reset_index(drop=True)) for f in range(n_frames)]
@@ -174,12 +171,9 @@ def run_process(args: argparse.Namespace) -> int:
     print(f"{n_frames} frame(s), {len(points)} detection(s) -> {out}")
     if not args.no_track:
         tracks = _track(points, profile, n_frames)
-        if tracks is None:
-            print("note: pipeline.tracker not available; no tracks written", file=sys.stderr)
-        else:
-            tpath = args.tracks or out.with_name(f"{out.stem}_tracks{out.suffix}")
-            write_table(tracks, tpath)
-            print(f"{len(tracks)} track row(s) -> {tpath}")
+        tpath = args.tracks or out.with_name(f"{out.stem}_tracks{out.suffix}")
+        write_table(tracks, tpath)
+        print(f"{len(tracks)} track row(s) -> {tpath}")
     return 0
 
 

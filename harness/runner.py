@@ -132,8 +132,7 @@ def _real_scene_scatterers(truth_rows, rng, radar_velocity_mps=None, mount_heigh
 
 def _real_make_processing(overrides: dict):
     import pipeline
-    return pipeline.ProcessingConfig().replace(**overrides) if overrides else \
-        pipeline.ProcessingConfig()
+    return pipeline.ProcessingConfig().replace(**overrides)
 
 
 def _real_process_frame(cfg, adc, proc):
@@ -152,11 +151,8 @@ def _real_simulate_frame(cfg, sc, rng):
 
 
 def _real_track(radar_cfg, clouds, times_s, ego_speeds_mps, mount, overrides, rng):
-    """Run the group tracker over one scheme's point clouds (None without a tracker)."""
-    try:
-        from pipeline import tracker as trk
-    except ImportError:
-        return None
+    """Run the group tracker over one scheme's point clouds."""
+    from pipeline import tracker as trk
     kw = dict(overrides)
     if mount is not None:
         for key in ("x_m", "y_m", "yaw_deg"):
@@ -180,11 +176,8 @@ def _mount_value(mount, key):
 
 
 def _real_track_metrics(tracks, truth, mount):
-    """`metrics.tracks.track_metrics` of one scheme (None if that module is missing)."""
-    try:
-        from metrics import tracks as mtr
-    except ImportError:
-        return None
+    """`metrics.tracks.track_metrics` of one scheme."""
+    from metrics import tracks as mtr
     return mtr.track_metrics(tracks, truth)
 
 

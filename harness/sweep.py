@@ -146,11 +146,8 @@ def _resolve_scenarios(value, check: bool = True) -> list[str]:
         value = [value]
     if not isinstance(value, list) or not all(isinstance(v, str) for v in value):
         raise ValueError(f"scenarios={value!r} must be \"all\" or a list of case names")
-    try:
-        known = set(_catalogue()) if check else None
-    except (ImportError, AttributeError):  # no catalogue installed: the cells will say so
-        known = None
-    if known is not None:
+    if check:
+        known = set(_catalogue())
         bad = [v for v in value if v not in known]
         if bad:
             raise ValueError(f"scenarios: unknown case(s) {bad}; known: {sorted(known)}")
@@ -170,11 +167,8 @@ def _check_section(where: str, section: str, overrides: dict) -> None:
         if bad:
             raise ValueError(f"{where}: unknown radar field(s) {bad}")
     if section == "processing" and overrides:
-        try:
-            import pipeline
-            pipeline.ProcessingConfig().replace(**overrides)
-        except ImportError:  # the chain is not installed: the cell will report it
-            pass
+        import pipeline
+        pipeline.ProcessingConfig().replace(**overrides)
 
 
 def _init_worker() -> None:

@@ -9,7 +9,7 @@
 tracker's metrics: confirmation, continuity, GOSPA) scores tracks. The package never imports
 the simulator or the pipeline: it only reads tables.
 """
-from . import association, detection
+from . import association, detection, tracks
 from .association import (CLUTTER, GHOST, LABELS, TRUE, VELOCITY_AMBIGUOUS, AssociationConfig,
                           actor_frames, associate, detection_errors, scatterer_table)
 from .detection import (actor_detection, error_stats, ghost_stats, max_range_pd90, pd_vs_range,
@@ -24,9 +24,6 @@ __all__ = [
     "target_first_detection_range_m",
 ]
 
-try:  # the tracker's metrics (metrics/tracks.py) if present; their absence is not an error
-    from . import tracks
-    from .tracks import *  # noqa: F401,F403 - re-export its public names
-    __all__ += ["tracks", *getattr(tracks, "__all__", [])]
-except ImportError:  # pragma: no cover - only while the tracker is not installed
-    tracks = None
+from .tracks import *  # noqa: E402,F401,F403 - re-export the track metrics' public names
+
+__all__ += ["tracks", *tracks.__all__]

@@ -1,8 +1,6 @@
 """`radar-harness process` / `simulate`: TI profiles and DCA1000 captures through the CLI."""
 from __future__ import annotations
 
-import importlib
-import importlib.util
 import re
 
 import numpy as np
@@ -16,17 +14,6 @@ from radarsim.capture import read_capture, write_capture
 from radarsim.ti_cfg import R79_CFAR, parse_ti_cfg, r79_cfg_path, to_ti_cfg
 
 
-def _has(module: str, attr: str) -> bool:
-    try:
-        return hasattr(importlib.import_module(module), attr)
-    except ImportError:
-        return False
-
-
-needs_pipeline = pytest.mark.skipif(not _has("pipeline", "process_frame"),
-                                    reason="pipeline.process_frame not built yet")
-needs_tracker = pytest.mark.skipif(not _has("pipeline.tracker", "track_frames"),
-                                   reason="pipeline.tracker not built yet")
 
 
 @pytest.fixture
@@ -41,7 +28,6 @@ def r79_capture(tmp_path, make_scene):
     return path, frames
 
 
-@needs_pipeline
 def test_process_gives_the_in_memory_detections(tmp_path, r79_capture, capsys):
     import pipeline
 
@@ -63,8 +49,6 @@ def test_process_gives_the_in_memory_detections(tmp_path, r79_capture, capsys):
     np.testing.assert_array_equal(table["time_s"].unique(), [0.0, 0.25])
 
 
-@needs_pipeline
-@needs_tracker
 def test_process_writes_csv_and_tracks(tmp_path, r79_capture):
     path, _ = r79_capture
     out = tmp_path / "points.csv"
@@ -75,9 +59,6 @@ def test_process_writes_csv_and_tracks(tmp_path, r79_capture):
 
 
 def test_cfar_config_from_r79_cfarcfg():
-    pytest.importorskip("pipeline.config")
-    if not _has("pipeline", "CfarConfig"):
-        pytest.skip("pipeline.CfarConfig not built yet")
     c = cmd_ti.cfar_config_from_ti(R79_CFAR["doppler"])
     assert (c.mode, c.guard_cells, c.window_cells, c.os_rank, c.threshold_db) == \
         ("os", 0, 16, 24, 12.0)
@@ -172,21 +153,14 @@ def test_simulate_rejects_bad_input(tmp_path, fake_components, small_cfg_file, c
     assert not out.exists()
 
 
-@pytest.mark.skipif(not (_has("scenarios", "run_scenario") and _has("radarsim.rcs",
-                                                                     "scene_scatterers")),
-                    reason="scenarios.run_scenario / radarsim.rcs.scene_scatterers not built yet")
 def test_simulate_real_scenario_then_process(tmp_path, small_cfg_file):
     import scenarios
 
-    names = getattr(scenarios, "SCENARIOS", None)
-    if not names:
-        pytest.skip("no scenario catalogue")
-    name = next(iter(names))
+    name = next(iter(scenarios.SCENARIOS))
     cfg_path, cfg = small_cfg_file
     out = tmp_path / "sim.bin"
     assert main(["simulate", name, "--cfg", str(cfg_path), "--out", str(out),
                  "--frames", "2"]) == 0
     assert read_capture(out, cfg).shape == (2, 32, 4, 64)
-    if importlib.util.find_spec("pipeline") and _has("pipeline", "process_frame"):
-        assert main(["process", str(out), "--cfg", str(cfg_path), "--out",
-                     str(tmp_path / "p.parquet"), "--no-track"]) == 0
+    assert main(["process", str(out), "--cfg", str(cfg_path), "--out",
+                 str(tmp_path / "p.parquet"), "--no-track"]) == 0

@@ -5,12 +5,8 @@ from __future__ import annotations
 import json
 
 import pandas as pd
-import pytest
 
 from harness.cli import main
-
-pytest.importorskip("scenarios.traffic")
-pytest.importorskip("radarsim.rcs")
 
 
 def test_run_prints_summary_and_writes_tables(tmp_path, capsys):

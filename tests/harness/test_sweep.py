@@ -99,7 +99,7 @@ def test_pool_equals_serial_and_dask(tmp_path):
     run_sweep(spec, tmp_path / "serial", components=FAKE, progress=False)
     run_sweep(spec, tmp_path / "pool", workers=2, components=FAKE, progress=False)
     assert_same_tables(tmp_path / "serial", tmp_path / "pool")
-    distributed = pytest.importorskip("distributed")
+    import distributed
     with distributed.LocalCluster(n_workers=1, threads_per_worker=2, processes=False,
                                   dashboard_address=None) as cluster:
         o = run_sweep(spec, tmp_path / "dask", scheduler=cluster.scheduler_address,

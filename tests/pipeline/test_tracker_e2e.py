@@ -1,18 +1,14 @@
 """End to end: the R79 motorcycle case through scenario, RCS model, front end, DDMA chain and
 group tracker; UN R79 5.6.4.8.1 asks for the approaching L3 motorcycle to be seen at
-S_rear >= 55 m. Skipped while the scenario runner or the harness wiring is missing."""
+S_rear >= 55 m."""
 from __future__ import annotations
 
 import numpy as np
 import pytest
 
-scenarios = pytest.importorskip("scenarios")
-runner = pytest.importorskip("harness.runner")
-if not hasattr(scenarios, "run_scenario"):
-    pytest.skip("scenarios.run_scenario is not available yet", allow_module_level=True)
-
-from metrics.tracks import per_actor_track_metrics, track_metrics  # noqa: E402
-from pipeline.tracker import TrackerConfig, track_frames  # noqa: E402
+import harness.runner as runner
+from metrics.tracks import per_actor_track_metrics, track_metrics
+from pipeline.tracker import TrackerConfig, track_frames
 
 SCENARIO, SEED = "r79_motorcycle_rear", 0
 
