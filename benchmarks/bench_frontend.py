@@ -23,12 +23,9 @@ N_SCATTERERS = 100
 def _scene(k: int, seed: int = 0) -> radarsim.Scatterers:
     """K scatterers 5-200 m, +/-70 deg azimuth, +/-5 deg elevation, +/-30 m/s radial, 1-10 m^2."""
     g = np.random.default_rng(seed)
-    r = g.uniform(5.0, 200.0, k)
-    az = np.radians(g.uniform(-70.0, 70.0, k))
-    el = np.radians(g.uniform(-5.0, 5.0, k))
-    u = np.column_stack([np.cos(el) * np.cos(az), np.cos(el) * np.sin(az), np.sin(el)])
-    return radarsim.Scatterers(r[:, None] * u, g.uniform(-30.0, 30.0, k)[:, None] * u,
-                               g.uniform(1.0, 10.0, k))
+    return radarsim.Scatterers.from_spherical(g.uniform(5.0, 200.0, k), g.uniform(-70.0, 70.0, k),
+                                              g.uniform(-5.0, 5.0, k),
+                                              g.uniform(-30.0, 30.0, k), g.uniform(1.0, 10.0, k))
 
 
 def _best_time_s(fn, repeats: int) -> float:

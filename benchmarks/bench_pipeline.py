@@ -19,11 +19,7 @@ from ._timing import median_time_s
 
 
 def _scene(targets) -> radarsim.Scatterers:
-    t = np.atleast_2d(np.asarray(targets, float))
-    r, az, el, v, rcs = (t[:, i] for i in range(5))
-    az, el = np.radians(az), np.radians(el)
-    u = np.column_stack([np.cos(el) * np.cos(az), np.cos(el) * np.sin(az), np.sin(el)])
-    return radarsim.Scatterers(r[:, None] * u, v[:, None] * u, rcs)
+    return radarsim.Scatterers.from_spherical(*np.atleast_2d(np.asarray(targets, float)).T)
 
 
 def _fft_floor(cfg, adc) -> float:

@@ -86,6 +86,18 @@ class Scatterers:
         return cls(np.zeros((0, 3)), np.zeros((0, 3)), np.zeros(0))
 
     @classmethod
+    def from_spherical(cls, range_m, azimuth_deg, elevation_deg, radial_velocity_mps, rcs_m2,
+                       actor_id=None) -> "Scatterers":
+        """Point targets given by range, azimuth (atan2(y, x), positive left), elevation and a
+        purely radial velocity (DESIGN 3), all (K,) arrays in m, deg, deg, m/s, m^2."""
+        r = np.atleast_1d(np.asarray(range_m, dtype=np.float64))
+        az = np.radians(np.atleast_1d(np.asarray(azimuth_deg, dtype=np.float64)))
+        el = np.radians(np.atleast_1d(np.asarray(elevation_deg, dtype=np.float64)))
+        u = np.column_stack([np.cos(el) * np.cos(az), np.cos(el) * np.sin(az), np.sin(el)])
+        vr = np.atleast_1d(np.asarray(radial_velocity_mps, dtype=np.float64))
+        return cls(r[:, None] * u, vr[:, None] * u, np.atleast_1d(rcs_m2), actor_id)
+
+    @classmethod
     def concatenate(cls, parts: list["Scatterers"]) -> "Scatterers":
         """Join several sets into one (order preserved)."""
         if not parts:

@@ -23,11 +23,7 @@ def make_scene():
         t = np.atleast_2d(np.asarray(targets, dtype=float))
         if t.size == 0:
             return radarsim.Scatterers.empty()
-        r, az, el, vr, rcs = (t[:, i] for i in range(5))
-        az, el = np.radians(az), np.radians(el)
-        u = np.column_stack([np.cos(el) * np.cos(az), np.cos(el) * np.sin(az), np.sin(el)])
-        return radarsim.Scatterers(position_m=r[:, None] * u, velocity_mps=vr[:, None] * u,
-                                   rcs_m2=rcs, actor_id=np.arange(len(r)))
+        return radarsim.Scatterers.from_spherical(*t[:, :5].T, actor_id=np.arange(len(t)))
     return _make
 
 

@@ -69,3 +69,13 @@ def test_empty_and_concatenate():
     assert len(Scatterers.concatenate([])) == 0
     # Empty inputs given as plain empty lists are accepted too.
     assert len(Scatterers([], [], [])) == 0
+
+
+def test_from_spherical_round_trips_range_angles_and_radial_velocity():
+    sc = Scatterers.from_spherical([50.0, 120.0], [30.0, -60.0], [5.0, -10.0],
+                                   [-12.0, 7.5], [1.0, 10.0])
+    np.testing.assert_allclose(sc.range_m, [50.0, 120.0])
+    np.testing.assert_allclose(sc.azimuth_deg, [30.0, -60.0])
+    np.testing.assert_allclose(sc.elevation_deg, [5.0, -10.0])
+    np.testing.assert_allclose(sc.radial_velocity_mps, [-12.0, 7.5])
+    np.testing.assert_array_equal(sc.actor_id, [-1, -1])
