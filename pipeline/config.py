@@ -74,11 +74,6 @@ class CfarConfig:
         """Training cells in total, N."""
         return 2 * self.window_cells
 
-    @property
-    def span_cells(self) -> int:
-        """Cells one detection window covers."""
-        return 2 * (self.guard_cells + self.training_stride * (self.window_cells - 1) + 1) + 1
-
     def scale(self, looks: int = 1) -> float:
         """Threshold scale alpha (linear) over the noise estimate for L-look cells."""
         if self.threshold_db is not None:

@@ -243,3 +243,10 @@ def test_config_is_frozen(make_config):
 
 def test_mimo_registry():
     assert set(radarsim.MIMO_SCHEMES) == {"ddma", "tdma"}
+
+
+def test_ideal_phase_steps_follow_the_subband_order(make_config):
+    """DESIGN 4.3: Tx k in sub-band p of N = 6 steps 2 pi p / N per chirp; order Tx1, Tx3, Tx4,
+    Tx2 gives Tx1 0, Tx2 180, Tx3 60, Tx4 120 deg."""
+    np.testing.assert_allclose(np.degrees(make_config().ideal_phase_step_rad()),
+                               [0.0, 180.0, 60.0, 120.0])
