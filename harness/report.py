@@ -167,18 +167,21 @@ def _maps(cell_spec: dict, frame: int, det: pd.DataFrame):
 
 
 def _pd_vs_range(actors: pd.DataFrame):
+    from metrics.association import AssociationConfig
     from metrics.detection import pd_vs_range
+    bin_m, min_count = AssociationConfig().pd_range_bin_m, AssociationConfig().pd_min_count
     plt = _plt()
     fig, axes = plt.subplots(1, 3, figsize=(13, 4), sharey=True)
     for ax, scheme in zip(axes, ("ddma", "tdma", "tdma_raw")):
         a = actors[actors["scheme"] == scheme]
-        t = pd_vs_range(a, 10.0)
+        t = pd_vs_range(a, bin_m)
         for cls, g in t.groupby("actor_class"):
-            g = g[g["n_frames"] >= 5]
+            g = g[g["n_frames"] >= min_count]
             ax.plot((g["range_lo_m"] + g["range_hi_m"]) / 2, g["detection_probability"], "o-",
                     ms=3, label=cls)
         ax.axhline(0.9, color="k", ls=":", lw=0.8)
-        ax.set_title(f"{scheme}: Pd vs range (10 m bins, >= 5 actor-frames)", fontsize=9)
+        ax.set_title(f"{scheme}: Pd vs range ({bin_m:g} m bins, >= {min_count} actor-frames)",
+                     fontsize=9)
         ax.set_xlabel("actor centre range, m")
         ax.grid(alpha=0.3)
         ax.legend(fontsize=7)
