@@ -26,9 +26,10 @@ import pandas as pd
 from radarsim.config import C_MPS, RadarConfig
 
 from .cfar import noise_mean_factor
+from .chirp_level import range_stage
 from .config import WINDOWS, ProcessingConfig
 from .kernels import (array_layout, candidate_cfar, ddma_metric, doppler_fft,
-                      estimate_angles, local_max_mask, parabolic_offset, range_fft, window)
+                      estimate_angles, local_max_mask, parabolic_offset, window)
 
 __all__ = ["process_frame", "frame_spectra", "detection_map", "doppler_azimuth_map",
            "MIMO_CHAINS", "POINT_CLOUD_COLUMNS"]
@@ -147,7 +148,7 @@ def _ddma_maps(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) -> dic
     n_chirps = cfg.n_chirps
     n_dop = n_chirps // n_sb
     n_az = proc.n_azimuth_bins
-    rf = range_fft(adc, window(WINDOWS[proc.range_window], cfg.n_samples))  # (C, R, B)
+    rf = range_stage(cfg, adc, proc)  # (C, R, B): chirp-level chain + range FFT
     n_range = rf.shape[-1]
     # Slow time last and contiguous for the Doppler FFT and the demodulation gather.
     spec = doppler_fft(np.ascontiguousarray(rf.transpose(2, 1, 0)),
@@ -242,7 +243,7 @@ def _tdma_maps(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) -> dic
     summed over the virtual antennas, "virt" (n_range, n_dop, n_virtual) slot-major samples."""
     n_tx = cfg.n_tx
     n_dop = cfg.n_chirps // n_tx
-    rf = range_fft(adc, window(WINDOWS[proc.range_window], cfg.n_samples))  # (C, R, B)
+    rf = range_stage(cfg, adc, proc)  # (C, R, B): chirp-level chain + range FFT
     rf = rf.reshape(n_dop, n_tx, cfg.n_rx, -1)  # chirp = n_tx c' + slot
     spec = doppler_fft(rf, window(WINDOWS[proc.doppler_window], n_dop))  # (D, S, R, B)
     n_range = spec.shape[-1]
