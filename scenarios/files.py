@@ -89,8 +89,7 @@ def load_case_directory(directory) -> dict[str, Case]:
     Raises
     ------
     ValueError
-        A bad file (named), a file not named after its case, or two files defining the same
-        case name.
+        A bad file (named), or a file not named after its case.
     """
     cases: dict[str, Case] = {}
     for path in sorted(Path(directory).glob("*.toml")):
@@ -98,8 +97,5 @@ def load_case_directory(directory) -> dict[str, Case]:
         if path.stem != case.name:
             raise ValueError(f"{path}: holds case {case.name!r}; name the file "
                              f"{case.name}.toml")
-        if case.name in cases:
-            raise ValueError(f"{path}: case name {case.name!r} is already defined by another "
-                             "file")
         cases[case.name] = case
     return cases
