@@ -60,7 +60,7 @@ __all__ = ["Variant", "SweepSpec", "SweepOutcome", "load_sweep", "default_sweep"
 
 DEFAULT_SWEEP_PATH = Path(__file__).with_name("default_sweep.toml")
 CI_SWEEP_PATH = Path(__file__).with_name("ci_sweep.toml")
-_SECTIONS = ("radar", "processing", "tracker")
+_SECTIONS = ("radar", "processing", "tracker", "scene")
 _TOP_KEYS = {"name", "scenarios", "seeds", "frame_stride", "duration_s", "base", "vary",
              "variants", "description", "schemes", "baseline_scheme"}
 
@@ -73,6 +73,7 @@ class Variant:
     radar: dict = field(default_factory=dict)
     processing: dict = field(default_factory=dict)
     tracker: dict = field(default_factory=dict)
+    scene: dict = field(default_factory=dict)
 
 
 @dataclass(frozen=True)
@@ -118,6 +119,7 @@ class SweepSpec:
         """Cells in a fixed order: scenario, then variant, then seed."""
         return [CellSpec(scenario=sc, seed=seed, variant=v.name, radar=dict(v.radar),
                          processing=dict(v.processing), tracker=dict(v.tracker),
+                         scene=dict(v.scene),
                          frame_stride=self.frame_stride, duration_s=self.duration_s,
                          schemes=self.schemes, baseline_scheme=self.baseline_scheme)
                 for sc in self.scenarios for v in self.variants for seed in self.seeds]
@@ -134,6 +136,9 @@ class SweepSpec:
             del d["schemes"]
         if d["baseline_scheme"] == DEFAULT_BASELINE_SCHEME:
             del d["baseline_scheme"]
+        for v in d["variants"]:  # the scene section enters the id only when used
+            if not v.get("scene"):
+                v.pop("scene", None)
         blob = json.dumps(d, sort_keys=True, default=str)
         return f"{self.name}-{hashlib.sha1(blob.encode()).hexdigest()[:8]}"
 
@@ -189,6 +194,9 @@ def _check_section(where: str, section: str, overrides: dict) -> None:
     if section == "processing" and overrides:
         import pipeline
         pipeline.ProcessingConfig().replace(**overrides)
+    if section == "scene" and overrides:
+        from .runner import check_scene
+        check_scene(overrides)
 
 
 def _init_worker() -> None:

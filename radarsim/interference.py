@@ -206,8 +206,13 @@ def received_power_w(cfg: RadarConfig, itf: Interferers) -> np.ndarray:
 
 def interference_to_noise_db(cfg: RadarConfig, itf: Interferers) -> float:
     """In-burst interference-to-noise ratio at the victim's ADC, dB: the summed passband power
-    of all visible interferers over the thermal noise k T NF B. NaN without interferers."""
-    p = float(np.sum(received_power_w(cfg, itf))) if len(itf) else 0.0
+    of the visible interferers whose sweep crosses the victim's IF band during the frame, over
+    the thermal noise k T NF B. NaN when no interferer makes a burst."""
+    if not len(itf):
+        return float("nan")
+    pw = received_power_w(cfg, itf)
+    live = [i for i in np.flatnonzero(pw > 0) if _bursts(cfg, itf, i).count.size]
+    p = float(np.sum(pw[live])) if live else 0.0
     return 10 * math.log10(p / cfg.noise_power_w) if p > 0 else float("nan")
 
 
