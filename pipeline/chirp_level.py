@@ -76,6 +76,12 @@ EGE_K_ARRAY = np.arange(8)
 #: Block header: scale factor (scaleFactorBW = 4) + k index (3 bits).
 EGE_HEADER_BITS = 4 + 3
 _MAX_SHIFT = 15  # a 4-bit scale factor
+#: The encoder's dither (``ditherEnable = 1`` in the demo): a fixed pseudo-random sequence of
+#: triangular offsets in (-1, 1) quantisation steps (sum of two uniform), like the HWA's LFSR
+#: (deterministic). TPDF dither makes the error independent of the signal, of variance
+#: step^2 / 4 (Wannamaker, Lipshitz & Vanderkooy, J. AES 48(6), 2000).
+_DITHER = (np.random.default_rng(0x2944).random((2, 1 << 16), dtype=np.float32)
+           .sum(axis=0) - np.float32(1.0))
 
 
 # ------------------------------------------------------------------------------- kernels
@@ -246,8 +252,10 @@ def ege_compress(rf: np.ndarray, ratio: float = 0.5, range_bins_per_block: int =
     rf : (n_chirps, n_rx, n_range) complex64
         The decompressed cube (the same array).
     shift : (n_chirps, n_range / range_bins_per_block) int8
-        Scale factor s of every block: each decompressed I/Q value is within 2^(s-1) HWA LSB
-        of the input (s = 0: not requantised, see Notes).
+        Scale factor s of every block: each decompressed I/Q value is within 1.5 x 2^s HWA LSB
+        of the input (half a step of rounding plus up to a step of dither; s = 0: not
+        requantised, see Notes). The error is independent of the signal, of variance
+        2^(2s) / 4 per I/Q value (non-subtractive triangular dither).
 
     Notes
     -----
@@ -277,7 +285,8 @@ def ege_compress(rf: np.ndarray, ratio: float = 0.5, range_bins_per_block: int =
     if c_i.size:
         vb = vv[c_i, :, b_i, :].reshape(c_i.size, n_val) * np.float32(scale)
         s, _ = _ege_shift(vb, budget)
-        q = np.rint(np.ldexp(vb, -s[:, None]))
+        d = _DITHER[(np.arange(vb.size) % _DITHER.size)].reshape(vb.shape)
+        q = np.rint(np.ldexp(vb, -s[:, None]) + np.where(s[:, None] > 0, d, np.float32(0)))
         vv[c_i, :, b_i, :] = (np.ldexp(q, s[:, None]) / np.float32(scale)) \
             .astype(np.float32).reshape(c_i.size, n_r, 2 * range_bins_per_block)
         shift[c_i, b_i] = s
