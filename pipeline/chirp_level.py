@@ -192,21 +192,41 @@ def _ege_shift(vb: np.ndarray, budget: int) -> tuple[np.ndarray, np.ndarray]:
                        minlength=n_blk * 32).reshape(n_blk, 32)
     above = np.cumsum(hist[:, ::-1], axis=-1)[:, ::-1]               # count with L >= t
     g = np.cumsum(above[:, ::-1], axis=-1)[:, ::-1] - above         # sum over L > t of L - t
-    t = np.minimum(np.arange(_MAX_SHIFT + 1)[:, None] + EGE_K_ARRAY[None, :] + 1, 31)
-    bits = n_val * (2 + EGE_K_ARRAY)[None, None, :] + 2 * g[:, t]  # (blocks, S, K)
-    k_best = bits.argmin(axis=-1)
-    fits = np.take_along_axis(bits, k_best[..., None], -1)[..., 0] <= budget
-    shift = np.where(fits.any(axis=-1), fits.argmax(axis=-1), _MAX_SHIFT)
-    k_sel = k_best[np.arange(n_blk), shift]
-    for _ in range(_MAX_SHIFT):
-        q = np.rint(np.ldexp(vb, -shift[:, None]))
-        over = ege_block_bits(q, k_sel) > budget
-        over &= shift < _MAX_SHIFT
-        if not over.any():
+    g = g.astype(np.int32)
+    kk = EGE_K_ARRAY.astype(np.int32)
+    # s = 0 first (most blocks), then the full (s, k) search for the others only.
+    bits0 = n_val * (2 + kk)[None, :] + 2 * g[:, np.minimum(kk + 1, 31)]   # (blocks, K)
+    shift = np.zeros(n_blk, dtype=np.int64)
+    k_sel = bits0.argmin(axis=-1)
+    k_best = np.broadcast_to(k_sel[:, None], (n_blk, _MAX_SHIFT + 1)).copy()
+    rest = np.flatnonzero(bits0[np.arange(n_blk), k_sel] > budget)
+    if rest.size:
+        t = np.minimum(np.arange(_MAX_SHIFT + 1)[:, None] + kk[None, :] + 1, 31)
+        bits = n_val * (2 + kk)[None, None, :] + 2 * g[rest][:, t]          # (rest, S, K)
+        kb = bits.argmin(axis=-1)
+        fits = np.take_along_axis(bits, kb[..., None], -1)[..., 0] <= budget
+        shift[rest] = np.where(fits.any(axis=-1), fits.argmax(axis=-1), _MAX_SHIFT)
+        k_best[rest] = kb
+        k_sel[rest] = kb[np.arange(rest.size), shift[rest]]
+    todo = np.arange(n_blk)
+    for _ in range(_MAX_SHIFT + 1):
+        q = np.rint(np.ldexp(vb[todo], -shift[todo, None]).astype(np.float32))
+        over = _eg_bits_f32(q, k_sel[todo]) > budget
+        todo = todo[over & (shift[todo] < _MAX_SHIFT)]
+        if todo.size == 0:
             break
-        shift[over] += 1
-        k_sel[over] = k_best[over, shift[over]]
+        shift[todo] += 1
+        k_sel[todo] = k_best[todo, shift[todo]]
     return shift, k_sel
+
+
+def _eg_bits_f32(q: np.ndarray, k: np.ndarray) -> np.ndarray:
+    """`ege_block_bits` of float32 integer blocks (n, n_val) with per-block k, via the IEEE
+    exponent of 1 + |q| >> k (exact for |q| < 2^24)."""
+    m = np.floor(np.abs(q) * np.ldexp(np.float32(1), -k).astype(np.float32)[:, None]) \
+        + np.float32(1)
+    lead = (m.view(np.int32) >> 23) - 127
+    return q.shape[1] * (2 + k) + 2 * lead.sum(axis=1)
 
 
 def ege_block_bits(q: np.ndarray, k) -> np.ndarray:
@@ -274,22 +294,27 @@ def ege_compress(rf: np.ndarray, ratio: float = 0.5, range_bins_per_block: int =
     budget = int(np.floor(ratio * 32 * n_r * range_bins_per_block)) - EGE_HEADER_BITS
     kk = EGE_K_ARRAY.astype(np.float64)
     vv = rf.view(np.float32).reshape(n_c, n_r, nb, 2 * range_bins_per_block)
-    mag = np.abs(rf.view(np.float32))                                 # (C, R, 2 n_range)
-    total = np.add.reduceat(mag, np.arange(0, 2 * n_b, 2 * range_bins_per_block),
-                            axis=-1).sum(axis=1) * np.float32(scale)  # (C, nb): sum |v|
+    blocks = np.ascontiguousarray(vv.transpose(0, 2, 1, 3)).reshape(n_c * nb, n_val)
+    total = np.abs(blocks).sum(axis=1) * np.float32(scale)  # sum |v| per block, HWA LSB
     # Cold blocks fit unshifted for sure: log2(1 + x) <= x / ln 2 bounds every EG prefix, so
     # bits <= n (2 + k) + (2 / ln 2) (sum |v| + n / 2) / 2^k for the best k.
     room = (budget - n_val * (2 + kk)) * np.log(2) / 2 * 2.0 ** kk - n_val / 2
-    shift = np.zeros((n_c, nb), dtype=np.int8)
-    c_i, b_i = np.nonzero(total > room.max())
-    if c_i.size:
-        vb = vv[c_i, :, b_i, :].reshape(c_i.size, n_val) * np.float32(scale)
+    shift = np.zeros(n_c * nb, dtype=np.int8)
+    hot = np.flatnonzero(total > room.max())
+    if hot.size:
+        vb = blocks[hot] * np.float32(scale)
         s, _ = _ege_shift(vb, budget)
-        d = _DITHER[(np.arange(vb.size) % _DITHER.size)].reshape(vb.shape)
-        q = np.rint(np.ldexp(vb, -s[:, None]) + np.where(s[:, None] > 0, d, np.float32(0)))
-        vv[c_i, :, b_i, :] = (np.ldexp(q, s[:, None]) / np.float32(scale)) \
-            .astype(np.float32).reshape(c_i.size, n_r, 2 * range_bins_per_block)
-        shift[c_i, b_i] = s
+        shift[hot] = s
+        moved = s > 0  # s = 0: only the (unmodelled) 16-bit rounding
+        rows, s = hot[moved], s[moved]
+        if rows.size:
+            step = np.ldexp(np.float32(1), s.astype(np.int32)).astype(np.float32)[:, None]
+            d = _DITHER[(rows[:, None] * n_val + np.arange(n_val)) % _DITHER.size]
+            q = np.rint(vb[moved] / step + d)
+            c_i, b_i = np.divmod(rows, nb)
+            vv[c_i, :, b_i, :] = (q * (step / np.float32(scale))) \
+                .reshape(rows.size, n_r, 2 * range_bins_per_block)
+    shift = shift.reshape(n_c, nb)
     return rf, shift
 
 
