@@ -25,7 +25,7 @@ if TYPE_CHECKING:  # config imports this module; the type is only needed for ann
     from .config import RadarConfig
 
 __all__ = ["MimoScheme", "TransmitCode", "SlowTimeLayout", "MIMO_SCHEMES", "register_scheme",
-           "scheme_of", "DdmaScheme", "TdmaScheme"]
+           "scheme_of", "DdmaScheme", "TdmaScheme", "BpmScheme", "hadamard"]
 
 
 class TransmitCode(NamedTuple):
@@ -93,6 +93,11 @@ class MimoScheme:
         Nt + 1; schemes without sub-bands keep it but ignore it)."""
         return n_tx + 2 if n_tx == 4 else n_tx + 1
 
+    def default_tx_order(self, n_tx: int) -> tuple[int, ...]:
+        """`RadarConfig.tx_order` when not given: horizontal Tx first (Tx1, Tx3, Tx4), the
+        raised Tx2 last, as the R79 demo (seed 000 3.3), restricted to the active Tx."""
+        return tuple(t for t in (1, 3, 4, 2) if t <= n_tx)
+
     def validate(self, cfg: "RadarConfig") -> None:
         """Scheme rules on a config (called by `RadarConfig.__post_init__`).
 
@@ -158,6 +163,15 @@ class DdmaScheme(MimoScheme):
     def default_n_subbands(self, n_tx: int) -> int:
         return super().default_n_subbands(n_tx) if self.empty_band else n_tx
 
+    def default_tx_order(self, n_tx: int) -> tuple[int, ...]:
+        """Empty band: the R79 order. Classic DDMA: Tx1, Tx2, Tx3, Tx4 in sub-bands 0..3,
+        the cyclic order whose wrong assignments the EVM array tells apart best: a model of
+        the hypothesis test (noise-free array, 256-point likelihood grid, 4000 random targets
+        over +/-60 deg azimuth, +/-15 deg elevation) fails 2.9 % at 20 dB detection SNR and
+        0.5 % at 30 dB with it, against 13 % and 4.8 % with the R79 order (1, 3, 4, 2)."""
+        return super().default_tx_order(n_tx) if self.empty_band else \
+            tuple(range(1, n_tx + 1))
+
     def chirps_per_period(self, cfg: "RadarConfig") -> int:
         return cfg.n_subbands
 
@@ -217,6 +231,54 @@ class TdmaScheme(MimoScheme):
                               self.slow_time_period_s(cfg), self.n_doppler_bins(cfg))
 
 
+# ------------------------------------------------------------------------------ BPM
+def hadamard(n: int) -> np.ndarray:
+    """(n, n) Sylvester Hadamard matrix of +/-1 (n a power of 2): H H^T = n I.
+
+    References
+    ----------
+    .. [1] J. J. Sylvester, "Thoughts on inverse orthogonal matrices", Phil. Mag. 34 (1867).
+    """
+    h = np.ones((1, 1))
+    while h.shape[0] < n:
+        h = np.block([[h, h], [h, -h]])
+    return h
+
+
+@dataclass(frozen=True)
+class BpmScheme(MimoScheme):
+    """Slow-time binary phase modulation (BPM): all Tx every chirp, signs from an Nt x Nt
+    Hadamard matrix over blocks of Nt chirps (TI xwr16xx SDK ``bpmCfg``: 2 Tx with
+    (+,+), (+,-); 4 Tx with the 4 x 4 Sylvester matrix). Chirp s of a block carries
+    H[s, i] on Tx `tx_order[i]`; the receiver decodes x = H^T y / Nt after removing the
+    Doppler phase of each chirp of the block, so each Tx keeps the full transmit energy
+    (gain 10 log10 Nt over TDMA) and Vmax = lambda / (4 Nt Tc), as TDMA."""
+
+    def validate(self, cfg: "RadarConfig") -> None:
+        if cfg.n_tx & (cfg.n_tx - 1):
+            raise ValueError(f"n_tx={cfg.n_tx} must be a power of 2 (1, 2, 4) for BPM "
+                             "(Hadamard code of Nt chirps)")
+        if cfg.n_chirps % cfg.n_tx:
+            raise ValueError(f"n_chirps={cfg.n_chirps} must be divisible by n_tx={cfg.n_tx} "
+                             "for BPM (whole Hadamard blocks)")
+
+    def code_matrix(self, cfg: "RadarConfig") -> np.ndarray:
+        """(n_tx, n_tx) signs: row = chirp of the block, column = position in `tx_order`."""
+        return hadamard(cfg.n_tx)
+
+    def transmit_code(self, cfg: "RadarConfig") -> TransmitCode:
+        h = self.code_matrix(cfg)
+        slot = np.arange(cfg.n_chirps) % cfg.n_tx
+        gain = np.empty((cfg.n_tx, cfg.n_chirps))
+        gain[np.array(cfg.tx_order) - 1] = h[slot].T  # row i of h[slot].T: position i
+        return TransmitCode(gain, np.zeros((cfg.n_tx, cfg.n_chirps)))
+
+    def layout(self, cfg: "RadarConfig") -> SlowTimeLayout:
+        return SlowTimeLayout(cfg.n_tx, tuple(cfg.subband_of_tx[t]
+                                              for t in range(1, cfg.n_tx + 1)),
+                              self.slow_time_period_s(cfg), self.n_doppler_bins(cfg))
+
+
 #: Registry of MIMO schemes by the name users type (`RadarConfig.mimo`).
 MIMO_SCHEMES: dict[str, MimoScheme] = {}
 
@@ -256,3 +318,8 @@ def scheme_of(name: str) -> MimoScheme:
 register_scheme(DdmaScheme("ddma", "Doppler-division: all Tx every chirp, per-Tx phase step, "
                                    "empty sub-bands"))
 register_scheme(TdmaScheme("tdma", "time-division: one Tx per chirp, in turn"))
+register_scheme(BpmScheme("bpm", "slow-time Hadamard (BPM): all Tx every chirp, signs from an "
+                                 "Nt x Nt Hadamard code over blocks of Nt chirps"))
+register_scheme(DdmaScheme("ddma_classic", "classic DDMA: N = Nt sub-bands, no empty band; "
+                                           "Tx assignment resolved by hypothesis testing",
+                           empty_band=False))
