@@ -24,7 +24,7 @@ import numpy as np
 if TYPE_CHECKING:  # config imports this module; the type is only needed for annotations
     from .config import RadarConfig
 
-__all__ = ["MimoScheme", "TransmitCode", "SlowTimeLayout", "MIMO_SCHEMES", "register_scheme",
+__all__ = ["MimoScheme", "TransmitCode", "SlowTimeLayout", "TiFrame", "MIMO_SCHEMES", "register_scheme",
            "scheme_of", "DdmaScheme", "TdmaScheme", "BpmScheme", "hadamard"]
 
 
@@ -70,6 +70,24 @@ class SlowTimeLayout(NamedTuple):
     group_of_tx: tuple[int, ...]
     slow_time_period_s: float
     n_doppler_bins: int
+
+
+class TiFrame(NamedTuple):
+    """How a scheme is programmed with the TI mmWave SDK CLI.
+
+    Attributes
+    ----------
+    chirps_per_loop : int
+        Chirps of one ``frameCfg`` loop (chirpStartIdx..chirpEndIdx).
+    chirp_lines : tuple of str
+        ``chirpCfg`` commands of the loop.
+    extra_lines : tuple of str
+        Further scheme commands after ``frameCfg`` (``ddmPhaseShiftAntOrder``, ``bpmCfg``).
+    """
+
+    chirps_per_loop: int
+    chirp_lines: tuple[str, ...]
+    extra_lines: tuple[str, ...] = ()
 
 
 @dataclass(frozen=True)
@@ -144,6 +162,38 @@ class MimoScheme:
         unambiguous span 2 Vmax of one transmitter's sequence (TDMA, BPM)."""
         return 2 * self.max_unambiguous_velocity_mps(cfg)
 
+    # ------------------------------------------------------------------ TI CLI
+    def to_ti(self, cfg: "RadarConfig", n_tx_chip: int) -> TiFrame:
+        """The ``chirpCfg``/``frameCfg`` loop and scheme commands of `cfg` (TI mmWave SDK).
+
+        Raises
+        ------
+        ValueError
+            If the scheme has no TI CLI form for this config.
+        """
+        raise ValueError(f"mimo={self.name!r} has no TI mmWave SDK CLI form")
+
+    def from_ti(self, tx_masks: tuple[int, ...], n_tx: int, tx_mask: int,
+                ddm_order: tuple[int, ...] | None) -> dict | None:
+        """RadarConfig fields of a TI frame whose loop enables `tx_masks` (one bit mask per
+        chirp), or None if the pattern is not this scheme's. The caller adds n_chirps.
+
+        Parameters
+        ----------
+        tx_masks : tuple of int
+            ``chirpCfg`` txEnable of each chirp of the loop.
+        n_tx, tx_mask : int
+            Active Tx (``channelCfg``) and their mask.
+        ddm_order : tuple of int or None
+            ``ddmPhaseShiftAntOrder`` (0-based TI Tx indices), if given.
+
+        Raises
+        ------
+        ValueError
+            If the pattern is the scheme's but incomplete (e.g. DDMA without an order).
+        """
+        return None
+
 
 # ------------------------------------------------------------------------------ DDMA
 @dataclass(frozen=True)
@@ -207,6 +257,29 @@ class DdmaScheme(MimoScheme):
     def velocity_failure_step_mps(self, cfg: "RadarConfig") -> float:
         return cfg.subband_width_mps
 
+    def to_ti(self, cfg: "RadarConfig", n_tx_chip: int) -> TiFrame:
+        """One ``chirpCfg`` for the whole loop of N chirps with every Tx enabled, and the
+        MCU+ SDK DDM demo's ``ddmPhaseShiftAntOrder`` (all chip Tx, active ones first)."""
+        tx_mask = (1 << cfg.n_tx) - 1
+        order = [t - 1 for t in cfg.tx_order]
+        order += [t for t in range(n_tx_chip) if t not in order]
+        return TiFrame(cfg.n_subbands,
+                       (f"chirpCfg 0 {cfg.n_subbands - 1} 0 0 0 0 0 {tx_mask}",),
+                       ("ddmPhaseShiftAntOrder " + " ".join(map(str, order)),))
+
+    def from_ti(self, tx_masks, n_tx, tx_mask, ddm_order):
+        per_loop = len(tx_masks)
+        if not all(m == tx_mask for m in tx_masks) or (n_tx == 1 and ddm_order is None):
+            return None
+        if (per_loop > n_tx) != self.empty_band or per_loop < n_tx:
+            return None
+        if ddm_order is None:
+            raise ValueError("every chirp enables all Tx (DDMA) but there is no "
+                             "ddmPhaseShiftAntOrder (TI: 'DDM Proc chain requires "
+                             "ddmPhaseShiftAntOrder')")
+        return {"mimo": self.name, "n_subbands": per_loop,
+                "tx_order": tuple(t + 1 for t in ddm_order if t < n_tx)}
+
 
 # ------------------------------------------------------------------------------ TDMA
 @dataclass(frozen=True)
@@ -229,6 +302,17 @@ class TdmaScheme(MimoScheme):
         return SlowTimeLayout(cfg.n_tx, tuple(cfg.subband_of_tx[t]
                                               for t in range(1, cfg.n_tx + 1)),
                               self.slow_time_period_s(cfg), self.n_doppler_bins(cfg))
+
+    def to_ti(self, cfg: "RadarConfig", n_tx_chip: int) -> TiFrame:
+        """One ``chirpCfg`` per slot enabling the slot's Tx."""
+        return TiFrame(cfg.n_tx, tuple(f"chirpCfg {i} {i} 0 0 0 0 0 {1 << (t - 1)}"
+                                       for i, t in enumerate(cfg.tx_order)))
+
+    def from_ti(self, tx_masks, n_tx, tx_mask, ddm_order):
+        single = [m.bit_length() - 1 if m & (m - 1) == 0 else None for m in tx_masks]
+        if None in single or sorted(single) != list(range(n_tx)):
+            return None
+        return {"mimo": self.name, "tx_order": tuple(t + 1 for t in single)}
 
 
 # ------------------------------------------------------------------------------ BPM
