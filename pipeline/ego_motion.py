@@ -24,6 +24,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from scenarios.checks import require
+
 __all__ = [
     "EgoMotionConfig", "EgoMotionEstimate", "EGO_MODELS", "estimate_ego_motion",
     "ground_radial_velocity", "static_mask",
@@ -92,18 +94,9 @@ class EgoMotionConfig:
     def __post_init__(self) -> None:
         if self.model not in EGO_MODELS:
             raise ValueError(f"model={self.model!r} is not one of {sorted(EGO_MODELS)}")
-        for name in ("n_hypotheses", "min_inliers"):
-            val = getattr(self, name)
-            if not isinstance(val, (int, np.integer)) or val < 1:
-                raise ValueError(f"{name}={val!r} must be an integer >= 1")
-        for name in ("inlier_threshold_mps", "max_speed_mps"):
-            val = getattr(self, name)
-            if not (math.isfinite(val) and val > 0):
-                raise ValueError(f"{name}={val!r} must be a finite number > 0")
-        for name in ("azimuth_std_deg", "n_sigma", "max_lateral_ratio"):
-            val = getattr(self, name)
-            if not (math.isfinite(val) and val >= 0):
-                raise ValueError(f"{name}={val!r} must be a finite number >= 0")
+        require(self, ("n_hypotheses", "min_inliers"), "integer", ge=1)
+        require(self, ("inlier_threshold_mps", "max_speed_mps"), gt=0)
+        require(self, ("azimuth_std_deg", "n_sigma", "max_lateral_ratio"), ge=0)
         if not 0 <= self.min_abs_cos < 1:
             raise ValueError(f"min_abs_cos={self.min_abs_cos!r} must be in [0, 1)")
         if not 0 <= self.min_inlier_fraction <= 1:
