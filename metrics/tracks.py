@@ -8,7 +8,7 @@ velocity RMSE; GOSPA scores the track set against the truth set each frame indep
 
 Inputs
 ------
-tracks : the tracker's table (`pipeline.tracker.TRACK_COLUMNS` plus `frame`): frame, time_s,
+tracks : the tracker's table (`pipeline.tracking.TRACK_COLUMNS` plus `frame`): frame, time_s,
     track_id, state, x_m, y_m, vx_mps, vy_mps (vehicle frame; velocity RELATIVE to the ego).
 truth : the scenario's per-frame, per-actor table (common brief): frame, time_s, actor_id,
     actor_class, x_m, y_m, vx_mps, vy_mps (vehicle frame, velocity RELATIVE to the ego),
