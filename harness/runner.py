@@ -182,7 +182,7 @@ def _real_simulate_frame(cfg, sc, rng):
 
 def _real_track(radar_cfg, clouds, times_s, ego_speeds_mps, mount, overrides, rng):
     """Run the group tracker over one scheme's point clouds."""
-    from pipeline import tracker as trk
+    from pipeline import tracking as trk
     kw = dict(overrides)
     if mount is not None:
         for key in ("x_m", "y_m", "yaw_deg"):

@@ -42,6 +42,8 @@ import pandas as pd
 from scipy.optimize import linear_sum_assignment
 from scipy.spatial import cKDTree
 
+from scenarios.checks import require
+
 __all__ = [
     "AssociationConfig", "LABELS", "TRUE", "VELOCITY_AMBIGUOUS", "GHOST", "CLUTTER",
     "ROAD_USER_CLASSES", "STATIC_CLASSES", "STATIC_SCATTERER_IDS", "associate",
@@ -113,16 +115,12 @@ class AssociationConfig:
     pd_min_count: int = 5
 
     def __post_init__(self) -> None:
-        for name in ("range_gate_m", "azimuth_gate_deg", "velocity_gate_mps",
-                     "unambiguity_window_mps", "fov_deg", "max_range_m", "pd_range_bin_m"):
-            val = getattr(self, name)
-            if not (isinstance(val, (int, float)) and math.isfinite(val) and val > 0):
-                raise ValueError(f"{name}={val!r} must be a finite number > 0")
-        if self.azimuth_gate_deg >= 90 or self.fov_deg > 180:
-            raise ValueError(f"azimuth_gate_deg={self.azimuth_gate_deg!r} must be < 90 and "
-                             f"fov_deg={self.fov_deg!r} <= 180")
-        if not isinstance(self.pd_min_count, (int, np.integer)) or self.pd_min_count < 1:
-            raise ValueError(f"pd_min_count={self.pd_min_count!r} must be an integer >= 1")
+        require(self, ("range_gate_m", "azimuth_gate_deg", "velocity_gate_mps",
+                       "unambiguity_window_mps", "fov_deg", "max_range_m", "pd_range_bin_m"),
+                gt=0)
+        require(self, "azimuth_gate_deg", lt=90, unit="deg")
+        require(self, "fov_deg", le=180, unit="deg")
+        require(self, "pd_min_count", "integer", ge=1)
 
     def to_dict(self) -> dict:
         """Plain dict of the gates (for manifests)."""

@@ -19,6 +19,8 @@ from typing import Any
 
 import numpy as np
 
+from scenarios.checks import require
+
 from .mimo import MIMO_SCHEMES, scheme_of
 
 __all__ = [
@@ -143,33 +145,20 @@ class RadarConfig:
     def __post_init__(self) -> None:
         _set = lambda name, value: object.__setattr__(self, name, value)  # noqa: E731
         scheme = scheme_of(self.mimo)
-        for name, hi in (("n_tx", MAX_N_TX), ("n_rx", MAX_N_RX)):
-            val = getattr(self, name)
-            if not isinstance(val, (int, np.integer)) or not 1 <= val <= hi:
-                raise ValueError(f"{name}={val!r} must be an integer in 1..{hi} (AWR2944)")
-        for name in ("n_samples", "n_chirps"):
-            val = getattr(self, name)
-            if not isinstance(val, (int, np.integer)) or val < 2:
-                raise ValueError(f"{name}={val!r} must be an integer >= 2")
+        require(self, "n_tx", "integer", ge=1, le=MAX_N_TX)  # AWR2944
+        require(self, "n_rx", "integer", ge=1, le=MAX_N_RX)
+        require(self, ("n_samples", "n_chirps"), "integer", ge=2)
         if self.n_samples % 2:
             raise ValueError(f"n_samples={self.n_samples} must be even (real ADC: "
                              "n_samples/2 range bins)")
-        for name in ("start_freq_hz", "slope_hz_per_s", "idle_time_s", "ramp_end_time_s",
-                     "chirp_period_s", "adc_rate_sps", "temperature_k"):
-            val = getattr(self, name)
-            if not (math.isfinite(val) and val > 0):
-                raise ValueError(f"{name}={val!r} must be a finite positive number")
+        require(self, ("start_freq_hz", "slope_hz_per_s", "idle_time_s", "ramp_end_time_s",
+                       "chirp_period_s", "adc_rate_sps", "temperature_k"), gt=0)
         if not (math.isfinite(self.adc_start_time_s) and self.adc_start_time_s >= 0):
             raise ValueError(f"adc_start_time_s={self.adc_start_time_s!r} must be >= 0")
-        for name in ("tx_power_dbm", "tx_antenna_gain_dbi", "rx_antenna_gain_dbi",
-                     "noise_figure_db", "system_loss_db", "adc_full_scale_dbm",
-                     "phase_noise_deg_rms", "pattern_exponent_az", "pattern_exponent_el"):
-            if not math.isfinite(getattr(self, name)):
-                raise ValueError(f"{name}={getattr(self, name)!r} must be finite")
-        for name in ("noise_figure_db", "system_loss_db", "phase_noise_deg_rms",
-                     "pattern_exponent_az", "pattern_exponent_el"):
-            if getattr(self, name) < 0:
-                raise ValueError(f"{name}={getattr(self, name)!r} must be >= 0")
+        require(self, ("tx_power_dbm", "tx_antenna_gain_dbi", "rx_antenna_gain_dbi",
+                       "adc_full_scale_dbm"))
+        require(self, ("noise_figure_db", "system_loss_db", "phase_noise_deg_rms",
+                       "pattern_exponent_az", "pattern_exponent_el"), ge=0)
 
         # DESIGN 4.4: chip limits.
         if self.adc_rate_sps > MAX_ADC_RATE_SPS:
