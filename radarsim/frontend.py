@@ -30,8 +30,10 @@ import numpy as np
 from .antenna import element_gain_linear
 from .config import ADC_FULL_SCALE_CODE, C_MPS, RadarConfig
 from .scatterers import Scatterers
+from .shifter import apply_coupling, coupling_matrix, shifter_factor
 
-__all__ = ["simulate_frame", "received_power_w", "if_filter_gain", "transmit_phasors",
+__all__ = ["simulate_frame", "simulate_frame_weights", "received_power_w", "if_filter_gain",
+           "transmit_phasors", "programmed_codes",
            "ADCSaturationWarning", "IF_LOWPASS_HZ", "IF_LOWPASS_ORDER"]
 
 #: -3 dB corner of the IF anti-alias low-pass, Hz: just above the 15 MHz usable IF band, so
@@ -88,13 +90,25 @@ def _beat_frequency_hz(cfg: RadarConfig, scatterers: Scatterers) -> np.ndarray:
             - 2 * scatterers.radial_velocity_mps / cfg.wavelength_m)
 
 
+def programmed_codes(cfg: RadarConfig) -> np.ndarray:
+    """(n_tx, n_chirps) int shifter code of every Tx at every chirp: DDMA repeats
+    `cfg.phase_codes()` over the frame; TDMA holds code 0."""
+    c = np.arange(cfg.n_chirps)
+    if cfg.mimo == "ddma":
+        return cfg.phase_codes()[:, c % cfg.n_subbands]
+    return np.zeros((cfg.n_tx, cfg.n_chirps), dtype=np.int64)
+
+
 def transmit_phasors(cfg: RadarConfig, rng: np.random.Generator | None = None) -> np.ndarray:
     """Complex transmit weight of every Tx at every chirp.
 
     DDMA: the applied (negated, quantised) shifter phase of the code period, repeated over the
     frame, times the static per-Tx gain and phase errors, times exp(j e) with e a random
     per-chirp error of `phase_noise_deg_rms`. TDMA: the same errors, with each Tx active only in
-    its slot (chirp c fires Tx `tx_order[c mod n_tx]`).
+    its slot (chirp c fires Tx `tx_order[c mod n_tx]`). Then, for every scheme, the shifter's
+    per-code error at the programmed code (`shifter_phase_error_deg`, `shifter_gain_error_db`)
+    and the Tx coupling C @ w (`tx_coupling_db`, `tx_coupling_deg`); all-zero tables and the
+    identity coupling leave the weights bit-identical.
 
     Parameters
     ----------
@@ -121,12 +135,37 @@ def transmit_phasors(cfg: RadarConfig, rng: np.random.Generator | None = None) -
             raise ValueError("rng is required when phase_noise_deg_rms > 0")
         phase = phase + np.radians(cfg.phase_noise_deg_rms) * rng.standard_normal(phase.shape)
     amp = 10 ** (np.asarray(cfg.tx_gain_error_db) / 20)
-    return on * amp[:, None] * np.exp(1j * phase)
+    w = on * amp[:, None] * np.exp(1j * phase)
+    return apply_transmit_errors(cfg, w, programmed_codes(cfg))
 
 
-def _chirp_times_s(cfg: RadarConfig) -> np.ndarray:
+def apply_transmit_errors(cfg: RadarConfig, weights: np.ndarray, codes: np.ndarray) -> np.ndarray:
+    """Shifter per-code errors and Tx coupling applied to transmit weights.
+
+    Parameters
+    ----------
+    cfg : RadarConfig
+        Holds the error tables and the coupling matrix.
+    weights : (n_tx, n_chirps) complex
+        Transmit weights with the ideal (quantised) shifter phase and the static / per-chirp
+        errors.
+    codes : (n_tx, n_chirps) int
+        Programmed shifter code of each Tx at each chirp.
+
+    Returns
+    -------
+    (n_tx, n_chirps) complex128
+        C @ (weights x 10^(g[k, q] / 20) exp(-j e[k, q])).
+    """
+    w = weights * shifter_factor(np.asarray(cfg.shifter_phase_error_deg),
+                                 np.asarray(cfg.shifter_gain_error_db), codes)
+    return apply_coupling(coupling_matrix(cfg.tx_coupling_db, cfg.tx_coupling_deg), w)
+
+
+def _chirp_times_s(cfg: RadarConfig, n_chirps: int | None = None) -> np.ndarray:
     """(n_chirps,) chirp start times relative to the middle of the burst, s."""
-    return (np.arange(cfg.n_chirps) - (cfg.n_chirps - 1) / 2) * cfg.chirp_period_s
+    n_c = cfg.n_chirps if n_chirps is None else n_chirps
+    return (np.arange(n_c) - (n_c - 1) / 2) * cfg.chirp_period_s
 
 
 def simulate_frame(cfg: RadarConfig, scatterers: Scatterers,
@@ -165,9 +204,31 @@ def simulate_frame(cfg: RadarConfig, scatterers: Scatterers,
                          f"{type(scatterers).__name__}")
     if not isinstance(rng, np.random.Generator):
         raise ValueError(f"rng must be a numpy.random.Generator, got {type(rng).__name__}")
+    return simulate_frame_weights(cfg, scatterers, rng, transmit_phasors(cfg, rng))
 
-    n_c, n_r, n_s = cfg.n_chirps, cfg.n_rx, cfg.n_samples
-    tx_w = transmit_phasors(cfg, rng)  # (T, C)
+
+def simulate_frame_weights(cfg: RadarConfig, scatterers: Scatterers, rng: np.random.Generator,
+                           tx_weights: np.ndarray) -> np.ndarray:
+    """`simulate_frame` with explicit transmit weights (any chirp count and code sequence).
+
+    Used by the shifter calibration and the seed-000 figure 7-8 experiment, which step one Tx
+    through codes no MIMO scheme programs.
+
+    Parameters
+    ----------
+    cfg, scatterers, rng
+        As `simulate_frame`.
+    tx_weights : (n_tx, n_c) complex
+        Radiated weight of each Tx at each of n_c chirps (e.g. `transmit_phasors`).
+
+    Returns
+    -------
+    adc : (n_c, n_rx, n_samples) int16
+    """
+    tx_w = np.asarray(tx_weights)
+    if tx_w.ndim != 2 or tx_w.shape[0] != cfg.n_tx or tx_w.shape[1] < 1:
+        raise ValueError(f"tx_weights shape {tx_w.shape} must be (n_tx={cfg.n_tx}, n_chirps)")
+    n_c, n_r, n_s = tx_w.shape[1], cfg.n_rx, cfg.n_samples
     # Thermal noise first: the output buffer, to which the signal is added in place.
     out = _gaussian_noise(rng, (n_c * n_r, n_s), cfg.noise_rms_lsb)
     power = received_power_w(cfg, scatterers) if len(scatterers) else np.zeros(0)
@@ -252,7 +313,7 @@ def _signal(cfg: RadarConfig, sc: Scatterers, keep: np.ndarray, power_w: np.ndar
     -------
     (n_chirps x n_rx, n_samples) float32
     """
-    n_c, n_r, n_s, n_t = cfg.n_chirps, cfg.n_rx, cfg.n_samples, cfg.n_tx
+    n_c, n_r, n_s, n_t = tx_w.shape[1], cfg.n_rx, cfg.n_samples, cfg.n_tx
     r0 = sc.range_m[keep]
     vr = sc.radial_velocity_mps[keep]
     u = sc.unit_vector[keep]
@@ -261,7 +322,7 @@ def _signal(cfg: RadarConfig, sc: Scatterers, keep: np.ndarray, power_w: np.ndar
     k_wave = 2 * np.pi / cfg.wavelength_m
     # Slow time: -(2 pi / lambda) x two-way path at each chirp, (C, K); phases reduced mod
     # 2 pi in float64 before the float32 cos/sin.
-    t_c = _chirp_times_s(cfg)
+    t_c = _chirp_times_s(cfg, n_c)
     ph = np.mod(-2 * k_wave * (r0[None, :] + t_c[:, None] * vr[None, :]), 2 * np.pi)
     ph = ph.astype(np.float32)
     slow = np.empty((n_c, 1, n_k), dtype=np.complex64)
@@ -298,4 +359,4 @@ def expected_sample_snr_db(cfg: RadarConfig, scatterers: Scatterers) -> np.ndarr
     return 10 * np.log10(received_power_w(cfg, scatterers) / cfg.noise_power_w)
 
 
-__all__ += ["saturation_fraction", "expected_sample_snr_db"]
+__all__ += ["saturation_fraction", "expected_sample_snr_db", "apply_transmit_errors"]
