@@ -429,18 +429,10 @@ class RadarConfig:
         `none` returns the nearest code but `applied_phase_rad` then uses ideal phases. With a
         `shifter_calibration_deg` table: the code whose measured phase is closest to the
         programmed phase (`radarsim.shifter.select_codes`)."""
-        if self.shifter_calibration_deg is not None:
-            return _shifter.select_codes(self.programmed_phase_deg(),
-                                         np.asarray(self.shifter_calibration_deg),
-                                         self.phase_lsb_deg)
-        prog = self.programmed_phase_deg() / self.phase_lsb_deg
-        n_codes = 2 ** self.phase_shifter_bits
-        if self.phase_quantization == "floor":
-            # A tiny tolerance keeps exact multiples (e.g. 180/5.625 = 32) from flooring down.
-            codes = np.floor(prog + 1e-9)
-        else:
-            codes = np.round(prog)
-        return np.mod(codes, n_codes).astype(np.int64)
+        cal = self.shifter_calibration_deg
+        return _shifter.program_codes(self.programmed_phase_deg(), self.phase_lsb_deg,
+                                      2 ** self.phase_shifter_bits, self.phase_quantization,
+                                      None if cal is None else np.asarray(cal))
 
     def applied_phase_rad(self) -> np.ndarray:
         """(n_tx, n_subbands) phase actually imposed on each Tx's signal per chirp of one code

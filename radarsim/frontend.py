@@ -139,6 +139,37 @@ def transmit_phasors(cfg: RadarConfig, rng: np.random.Generator | None = None) -
     return apply_transmit_errors(cfg, w, programmed_codes(cfg))
 
 
+def code_weights(cfg: RadarConfig, codes: np.ndarray, active: np.ndarray | None = None,
+                 rng: np.random.Generator | None = None) -> np.ndarray:
+    """Transmit weights of an explicit code sequence, with every error of the front end.
+
+    Parameters
+    ----------
+    cfg : RadarConfig
+        Error tables, static / per-chirp errors, coupling.
+    codes : (n_tx, n_c) int
+        Programmed code of each Tx at each chirp (applied phase -q LSB).
+    active : (n_tx, n_c) bool, optional
+        Which Tx transmit at each chirp (default: all).
+    rng : numpy.random.Generator, optional
+        Required when `cfg.phase_noise_deg_rms > 0`.
+
+    Returns
+    -------
+    (n_tx, n_c) complex128
+    """
+    codes = np.asarray(codes, dtype=np.int64)
+    phase = -np.radians(codes * cfg.phase_lsb_deg) + \
+        np.radians(np.asarray(cfg.tx_phase_error_deg))[:, None]
+    if cfg.phase_noise_deg_rms > 0:
+        if rng is None:
+            raise ValueError("rng is required when phase_noise_deg_rms > 0")
+        phase = phase + np.radians(cfg.phase_noise_deg_rms) * rng.standard_normal(phase.shape)
+    on = np.ones(codes.shape) if active is None else np.asarray(active, dtype=float)
+    w = on * 10 ** (np.asarray(cfg.tx_gain_error_db)[:, None] / 20) * np.exp(1j * phase)
+    return apply_transmit_errors(cfg, w, codes)
+
+
 def apply_transmit_errors(cfg: RadarConfig, weights: np.ndarray, codes: np.ndarray) -> np.ndarray:
     """Shifter per-code errors and Tx coupling applied to transmit weights.
 
@@ -359,4 +390,5 @@ def expected_sample_snr_db(cfg: RadarConfig, scatterers: Scatterers) -> np.ndarr
     return 10 * np.log10(received_power_w(cfg, scatterers) / cfg.noise_power_w)
 
 
-__all__ += ["saturation_fraction", "expected_sample_snr_db", "apply_transmit_errors"]
+__all__ += ["saturation_fraction", "expected_sample_snr_db", "apply_transmit_errors",
+            "code_weights"]

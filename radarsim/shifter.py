@@ -36,9 +36,9 @@ import numpy as np
 
 __all__ = ["SHIFTER_ERROR_DISTRIBUTIONS", "ShifterErrorSpec", "MAX_SHIFTER_PHASE_ERROR_DEG",
            "MAX_SHIFTER_GAIN_ERROR_DB", "MAX_TX_COUPLING_DB", "shifter_factor",
-           "coupling_matrix", "apply_coupling", "select_codes", "wrap_deg",
+           "coupling_matrix", "apply_coupling", "select_codes", "program_codes", "wrap_deg",
            "phase_residual_deg", "code_period_lines", "spur_levels_dbc", "resolve_table",
-           "check_table"]
+           "check_table", "vector_modulator_tables"]
 
 #: Largest accepted |phase error| of one code, deg (beyond +/-180 deg the error is ambiguous).
 MAX_SHIFTER_PHASE_ERROR_DEG = 180.0
@@ -128,6 +128,28 @@ class ShifterErrorSpec:
         t = t - t[:, :1]
         r = _rms(t)
         return np.zeros(shape) if self.rms == 0 else t * (self.rms / np.where(r > 0, r, 1.0))
+
+
+def vector_modulator_tables(n_codes: int, quadrature_skew_deg: float,
+                            iq_gain_imbalance_db: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
+    """Phase and gain error of an I/Q vector-modulator shifter with quadrature errors.
+
+    Code q sets theta = 2 pi q / n_codes; the modulator outputs
+    s = cos(theta) + a exp(j (pi/2 + phi)) sin(theta) with a = 10^(imbalance/20) and phi the
+    quadrature skew, instead of exp(j theta). Phase error arg(s) - theta, gain 20 log10 |s|;
+    both 0 at code 0. The skew gives a smooth INL with a strong second harmonic
+    (0, phi, 0, phi at 0/90/180/270 deg): the pattern that puts a line at the mirror velocity
+    of a 90-deg step.
+
+    Returns
+    -------
+    phase_error_deg, gain_error_db : (n_codes,) float
+    """
+    theta = 2 * np.pi * np.arange(n_codes) / n_codes
+    a = 10 ** (iq_gain_imbalance_db / 20)
+    s = np.cos(theta) + a * np.exp(1j * (np.pi / 2 + np.radians(quadrature_skew_deg))) * \
+        np.sin(theta)
+    return wrap_deg(np.degrees(np.angle(s) - theta)), 20 * np.log10(np.abs(s))
 
 
 def _rms(t: np.ndarray) -> np.ndarray:
@@ -244,6 +266,37 @@ def select_codes(wanted_deg: np.ndarray, measured_error_deg: np.ndarray,
     measured = np.arange(cal.shape[1]) * lsb_deg + cal  # (T, Q)
     diff = wrap_deg(measured[:, None, :] - np.asarray(wanted_deg, dtype=float)[:, :, None])
     return np.argmin(np.abs(diff), axis=-1).astype(np.int64)
+
+
+def program_codes(wanted_deg: np.ndarray, lsb_deg: float, n_codes: int, rule: str,
+                  calibration_deg: np.ndarray | None = None) -> np.ndarray:
+    """Shifter codes the chip programs for wanted phases.
+
+    Parameters
+    ----------
+    wanted_deg : (n_tx, P) float
+        Wanted (programmed, i.e. delay) phase of each Tx at each chirp of the period, deg.
+    lsb_deg : float
+        Nominal step, deg.
+    n_codes : int
+        2^bits.
+    rule : {"floor", "round", "none"}
+        Uncalibrated mapping (seed 000 table 4 floors, TI's SDK rounds; "none" rounds for the
+        table look-up while the applied phase stays ideal).
+    calibration_deg : (n_tx, n_codes) float, optional
+        Measured per-code error table; when given, `select_codes` replaces the rule.
+
+    Returns
+    -------
+    (n_tx, P) int64 codes in 0..n_codes-1
+    """
+    wanted = np.asarray(wanted_deg, dtype=float)
+    if calibration_deg is not None:
+        return select_codes(wanted, calibration_deg, lsb_deg)
+    prog = wanted / lsb_deg
+    # A tiny tolerance keeps exact multiples (e.g. 180/5.625 = 32) from flooring down.
+    codes = np.floor(prog + 1e-9) if rule == "floor" else np.round(prog)
+    return np.mod(codes, n_codes).astype(np.int64)
 
 
 def phase_residual_deg(wanted_deg: np.ndarray, codes: np.ndarray,
