@@ -198,12 +198,12 @@ def check_table(name: str, value: Any, shape: tuple[int, int], limit: float,
         bad &= ~np.isneginf(arr)
     if bad.any():
         k, q = np.argwhere(bad)[0]
-        raise ValueError(f"{name}[{k}][{q}]={arr[k, q]!r} must be finite")
+        raise ValueError(f"{name}[{k}][{q}]={float(arr[k, q])!r} must be finite")
     fin = np.where(np.isfinite(arr), arr, 0.0)
     over = np.abs(fin) > limit
     if over.any():
         k, q = np.argwhere(over)[0]
-        raise ValueError(f"{name}[{k}][{q}]={arr[k, q]!r} exceeds the limit +/-{limit:g}")
+        raise ValueError(f"{name}[{k}][{q}]={float(arr[k, q])!r} exceeds the limit +/-{limit:g}")
     return arr
 
 
