@@ -59,8 +59,9 @@ class ShifterCalibration(NamedTuple):
         Same hardware tables, `shifter_calibration_deg` set: corrected programmed codes.
     measured_phase_error_deg, measured_gain_error_db : (n_tx, n_codes) float
         The estimated per-code table (relative to code 0).
-    residual_deg : (n_tx, n_subbands) float
-        Programmed-minus-wanted phase of the corrected codes (`shifter_phase_residual_deg`).
+    residual_deg : (n_tx, P) float
+        Programmed-minus-wanted phase of the corrected codes over one code period
+        (`RadarConfig.shifter_phase_residual_deg`; NaN where a Tx is silent).
     residual_rms_deg, residual_max_deg : float
         rms and max |.| of `residual_deg`.
     residual_before_rms_deg, residual_before_max_deg : float
@@ -186,7 +187,7 @@ def calibrate_shifters(cfg: RadarConfig, *, rng: np.random.Generator, range_m: f
     return ShifterCalibration(
         config=out, measured_phase_error_deg=meas.phase_error_deg,
         measured_gain_error_db=meas.gain_error_db, residual_deg=res,
-        residual_rms_deg=float(np.sqrt(np.mean(res ** 2))),
-        residual_max_deg=float(np.max(np.abs(res))),
-        residual_before_rms_deg=float(np.sqrt(np.mean(before ** 2))),
-        residual_before_max_deg=float(np.max(np.abs(before))), snr_db=meas.snr_db)
+        residual_rms_deg=float(np.sqrt(np.nanmean(res ** 2))),
+        residual_max_deg=float(np.nanmax(np.abs(res))),
+        residual_before_rms_deg=float(np.sqrt(np.nanmean(before ** 2))),
+        residual_before_max_deg=float(np.nanmax(np.abs(before))), snr_db=meas.snr_db)

@@ -90,25 +90,38 @@ def _beat_frequency_hz(cfg: RadarConfig, scatterers: Scatterers) -> np.ndarray:
             - 2 * scatterers.radial_velocity_mps / cfg.wavelength_m)
 
 
-def programmed_codes(cfg: RadarConfig) -> np.ndarray:
-    """(n_tx, n_chirps) int shifter code of every Tx at every chirp: DDMA repeats
-    `cfg.phase_codes()` over the frame; TDMA holds code 0."""
-    c = np.arange(cfg.n_chirps)
-    if cfg.mimo == "ddma":
-        return cfg.phase_codes()[:, c % cfg.n_subbands]
-    return np.zeros((cfg.n_tx, cfg.n_chirps), dtype=np.int64)
+def programmed_codes(cfg: RadarConfig, code=None) -> np.ndarray:
+    """(n_tx, n_chirps) int shifter code of every Tx at every chirp, for any scheme.
+
+    The shifter delays, so the code programmed for an applied phase phi (plus pi for a
+    sign-inverted chirp, e.g. BPM's -1 through the shifter's 180 deg setting) is
+    round(-phi / LSB) mod 2^bits: DDMA gets exactly `cfg.phase_codes()` repeated over the frame
+    (its applied phases are multiples of the LSB), TDMA code 0, an ideal ("none") shifter the
+    nearest code. Silent chirps get code 0 (their weight is 0 anyway).
+
+    Parameters
+    ----------
+    cfg : RadarConfig
+    code : radarsim.mimo.TransmitCode, optional
+        The scheme's ideal code (default `cfg.scheme.transmit_code(cfg)`).
+    """
+    code = cfg.scheme.transmit_code(cfg) if code is None else code
+    phase = np.asarray(code.phase_rad) + np.where(np.asarray(code.gain) < 0, np.pi, 0.0)
+    lsb = np.radians(cfg.phase_lsb_deg)
+    return np.mod(np.round(-phase / lsb), 2 ** cfg.phase_shifter_bits).astype(np.int64)
 
 
 def transmit_phasors(cfg: RadarConfig, rng: np.random.Generator | None = None) -> np.ndarray:
     """Complex transmit weight of every Tx at every chirp.
 
-    DDMA: the applied (negated, quantised) shifter phase of the code period, repeated over the
-    frame, times the static per-Tx gain and phase errors, times exp(j e) with e a random
-    per-chirp error of `phase_noise_deg_rms`. TDMA: the same errors, with each Tx active only in
-    its slot (chirp c fires Tx `tx_order[c mod n_tx]`). Then, for every scheme, the shifter's
-    per-code error at the programmed code (`shifter_phase_error_deg`, `shifter_gain_error_db`)
-    and the Tx coupling C @ w (`tx_coupling_db`, `tx_coupling_deg`); all-zero tables and the
-    identity coupling leave the weights bit-identical.
+    The scheme's ideal transmit code (`radarsim.mimo.MimoScheme.transmit_code`: DDMA the
+    applied, negated and quantised shifter phase of the code period repeated over the frame;
+    TDMA each Tx active only in its slot; BPM the Hadamard signs), times the static per-Tx gain
+    and phase errors, times exp(j e) with e a random per-chirp error of `phase_noise_deg_rms`.
+    Then, for every scheme, the shifter's per-code error at the programmed code
+    (`programmed_codes`; tables `shifter_phase_error_deg`, `shifter_gain_error_db`) and the Tx
+    coupling C @ w (`tx_coupling_db`, `tx_coupling_deg`); all-zero tables and the identity
+    coupling leave the weights bit-identical.
 
     Parameters
     ----------
@@ -121,22 +134,15 @@ def transmit_phasors(cfg: RadarConfig, rng: np.random.Generator | None = None) -
     (n_tx, n_chirps) complex128
         Rows Tx1..Tx{n_tx}.
     """
-    c = np.arange(cfg.n_chirps)
-    if cfg.mimo == "ddma":
-        phase = cfg.applied_phase_rad()[:, c % cfg.n_subbands]
-        on = np.ones((cfg.n_tx, cfg.n_chirps))
-    else:
-        phase = np.zeros((cfg.n_tx, cfg.n_chirps))
-        slot_tx = np.array(cfg.tx_order)[c % cfg.n_tx]  # 1-based Tx firing at chirp c
-        on = (slot_tx[None, :] == np.arange(1, cfg.n_tx + 1)[:, None]).astype(float)
-    phase = phase + np.radians(np.asarray(cfg.tx_phase_error_deg))[:, None]
+    code = cfg.scheme.transmit_code(cfg)
+    phase = code.phase_rad + np.radians(np.asarray(cfg.tx_phase_error_deg))[:, None]
     if cfg.phase_noise_deg_rms > 0:
         if rng is None:
             raise ValueError("rng is required when phase_noise_deg_rms > 0")
         phase = phase + np.radians(cfg.phase_noise_deg_rms) * rng.standard_normal(phase.shape)
     amp = 10 ** (np.asarray(cfg.tx_gain_error_db) / 20)
-    w = on * amp[:, None] * np.exp(1j * phase)
-    return apply_transmit_errors(cfg, w, programmed_codes(cfg))
+    w = code.gain * amp[:, None] * np.exp(1j * phase)
+    return apply_transmit_errors(cfg, w, programmed_codes(cfg, code))
 
 
 def code_weights(cfg: RadarConfig, codes: np.ndarray, active: np.ndarray | None = None,
