@@ -445,15 +445,13 @@ class RadarConfig:
         Tx's code 0, deg: code-grid rounding plus the table error of the chosen code
         (`radarsim.shifter.phase_residual_deg`); NaN where a Tx is silent. The ideal phase is
         the scheme's code with an ideal shifter (`phase_quantization="none"`)."""
-        from .frontend import programmed_codes
-        ideal_cfg = self.replace(phase_quantization="none", shifter_calibration_deg=None)
-        ideal = ideal_cfg.scheme.transmit_code(ideal_cfg)
+        from .frontend import programmed_codes, wanted_phase_deg
         p = self.scheme.chirps_per_period(self)
-        gain = np.asarray(ideal.gain)[:, :p]
-        wanted = -np.degrees(np.asarray(ideal.phase_rad)[:, :p] + np.where(gain < 0, np.pi, 0.0))
-        res = _shifter.phase_residual_deg(wanted, programmed_codes(self)[:, :p],
+        wanted, gain = wanted_phase_deg(self)
+        res = _shifter.phase_residual_deg(wanted[:, :p], programmed_codes(self)[:, :p],
                                           np.asarray(self.shifter_phase_error_deg),
                                           self.phase_lsb_deg)
+        gain = gain[:, :p]
         return np.where(gain != 0, res, np.nan)
 
     # ------------------------------------------------------------------ derived: antenna

@@ -24,13 +24,14 @@ References
 from __future__ import annotations
 
 import warnings
+from functools import lru_cache
 
 import numpy as np
 
 from .antenna import element_gain_linear
 from .config import ADC_FULL_SCALE_CODE, C_MPS, RadarConfig
 from .scatterers import Scatterers
-from .shifter import apply_coupling, coupling_matrix, shifter_factor
+from .shifter import apply_coupling, coupling_matrix, select_codes, shifter_factor
 
 __all__ = ["simulate_frame", "simulate_frame_weights", "received_power_w", "if_filter_gain",
            "transmit_phasors", "programmed_codes",
@@ -90,21 +91,54 @@ def _beat_frequency_hz(cfg: RadarConfig, scatterers: Scatterers) -> np.ndarray:
             - 2 * scatterers.radial_velocity_mps / cfg.wavelength_m)
 
 
+def wanted_phase_deg(cfg: RadarConfig) -> tuple[np.ndarray, np.ndarray]:
+    """Phase each Tx should be programmed to at each chirp with an ideal shifter, and its gain.
+
+    The scheme's code with `phase_quantization="none"` and no calibration: the shifter delays,
+    so the wanted programmed phase is -(applied phase) (+180 deg for a sign-inverted chirp,
+    e.g. BPM's -1 through the shifter's 180 deg setting), wrapped to [0, 360).
+
+    Returns
+    -------
+    wanted_deg : (n_tx, n_chirps) float
+    gain : (n_tx, n_chirps) float
+        The scheme's ideal gain (0 where a Tx is silent).
+    """
+    return _wanted_phase_deg(cfg.replace(phase_quantization="none",
+                                         shifter_calibration_deg=None))
+
+
+@lru_cache(maxsize=32)
+def _wanted_phase_deg(ideal_cfg: RadarConfig) -> tuple[np.ndarray, np.ndarray]:
+    code = ideal_cfg.scheme.transmit_code(ideal_cfg)
+    gain = np.asarray(code.gain, dtype=float)
+    wanted = np.mod(-np.degrees(np.asarray(code.phase_rad)) + np.where(gain < 0, 180.0, 0.0),
+                    360.0)
+    wanted.setflags(write=False)
+    gain.setflags(write=False)
+    return wanted, gain
+
+
 def programmed_codes(cfg: RadarConfig, code=None) -> np.ndarray:
     """(n_tx, n_chirps) int shifter code of every Tx at every chirp, for any scheme.
 
-    The shifter delays, so the code programmed for an applied phase phi (plus pi for a
-    sign-inverted chirp, e.g. BPM's -1 through the shifter's 180 deg setting) is
-    round(-phi / LSB) mod 2^bits: DDMA gets exactly `cfg.phase_codes()` repeated over the frame
-    (its applied phases are multiples of the LSB), TDMA code 0, an ideal ("none") shifter the
-    nearest code. Silent chirps get code 0 (their weight is 0 anyway).
+    Uncalibrated: the shifter delays, so the code for an applied phase phi (plus pi for a
+    sign-inverted chirp) is round(-phi / LSB) mod 2^bits: DDMA gets exactly
+    `cfg.phase_codes()` repeated over the frame (its applied phases are multiples of the LSB),
+    TDMA code 0, BPM codes 0/32, an ideal ("none") shifter the nearest code. Calibrated
+    (`shifter_calibration_deg`): the code whose measured phase is closest to the wanted phase
+    (`wanted_phase_deg`, `radarsim.shifter.select_codes`), for every scheme. Silent chirps
+    get the code of their wanted phase too (their weight is 0).
 
     Parameters
     ----------
     cfg : RadarConfig
     code : radarsim.mimo.TransmitCode, optional
-        The scheme's ideal code (default `cfg.scheme.transmit_code(cfg)`).
+        The scheme's code (default `cfg.scheme.transmit_code(cfg)`), uncalibrated case only.
     """
+    if cfg.shifter_calibration_deg is not None:
+        wanted, _ = wanted_phase_deg(cfg)
+        return select_codes(wanted, np.asarray(cfg.shifter_calibration_deg), cfg.phase_lsb_deg)
     code = cfg.scheme.transmit_code(cfg) if code is None else code
     phase = np.asarray(code.phase_rad) + np.where(np.asarray(code.gain) < 0, np.pi, 0.0)
     lsb = np.radians(cfg.phase_lsb_deg)
@@ -135,14 +169,20 @@ def transmit_phasors(cfg: RadarConfig, rng: np.random.Generator | None = None) -
         Rows Tx1..Tx{n_tx}.
     """
     code = cfg.scheme.transmit_code(cfg)
-    phase = code.phase_rad + np.radians(np.asarray(cfg.tx_phase_error_deg))[:, None]
+    codes = programmed_codes(cfg, code)
+    if cfg.shifter_calibration_deg is None:
+        gain, phase = code.gain, code.phase_rad
+    else:
+        # The calibrated chip programs codes: nominal applied phase -q LSB, sign in the code.
+        gain, phase = np.abs(code.gain), -np.radians(codes * cfg.phase_lsb_deg)
+    phase = phase + np.radians(np.asarray(cfg.tx_phase_error_deg))[:, None]
     if cfg.phase_noise_deg_rms > 0:
         if rng is None:
             raise ValueError("rng is required when phase_noise_deg_rms > 0")
         phase = phase + np.radians(cfg.phase_noise_deg_rms) * rng.standard_normal(phase.shape)
     amp = 10 ** (np.asarray(cfg.tx_gain_error_db) / 20)
-    w = code.gain * amp[:, None] * np.exp(1j * phase)
-    return apply_transmit_errors(cfg, w, programmed_codes(cfg, code))
+    w = gain * amp[:, None] * np.exp(1j * phase)
+    return apply_transmit_errors(cfg, w, codes)
 
 
 def code_weights(cfg: RadarConfig, codes: np.ndarray, active: np.ndarray | None = None,
