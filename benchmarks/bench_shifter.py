@@ -2,15 +2,17 @@
 
 One Tx stepped by 90 deg per chirp, a static 10 m^2 corner reflector at 4.5 m boresight
 (`harness.shifter_experiment`). For an uncalibrated per-code table of about +/-10 deg
-(`inl_dnl`, 6 deg rms, seed 0) the bench prints the lines of the range-Doppler cut at the
+(a vector-modulator shifter with 20 deg quadrature skew plus 1 deg DNL; then a random
+`inl_dnl` table, 6 deg rms, seed 0) the bench prints the lines of the range-Doppler cut at the
 reflector's range (target, mirror ghost, DC and Nyquist spurs) in dBc, measured on the
 simulated ADC frame and predicted by the DFT of the code period's complex weights, before and
 after `calibrate_shifters`, and writes the cut to `results/bench_shifter_fig7_8.png`. Then a
 Monte-Carlo over 100 tables gives the spread of the mirror-ghost drop and the worst
 measured-minus-predicted line; the same for a vector-modulator shifter with a 20 deg quadrature
 skew (+/-10 deg about its mean, plus 1 deg DNL), with its gain error and without it
-(`vm_phase_only`): nearest-phase calibration cannot correct the gain of the chosen codes. Timings: `calibrate_shifters`, `transmit_phasors` and `simulate_frame` with
-error tables, as ratios to the same calls without them (same run).
+(`vm_phase_only`): nearest-phase calibration cannot correct the gain of the chosen codes.
+Timings: `calibrate_shifters`, `transmit_phasors` and `simulate_frame` with error tables, as
+ratios to the same calls without them (same run).
 """
 from __future__ import annotations
 
