@@ -346,13 +346,15 @@ def detection_errors(labelled: pd.DataFrame, truth: pd.DataFrame,
     -------
     DataFrame
         ``labelled`` with columns ``range_error_m`` (detection minus reference slant range, m),
-        ``radial_velocity_error_mps`` (detection minus reference, m/s) and
-        ``error_reference`` ("scatterer", "box" or "").
+        ``radial_velocity_error_mps`` (detection minus reference, m/s),
+        ``azimuth_error_deg`` (detection minus nearest scatterer azimuth, deg; NaN for a box
+        reference) and ``error_reference`` ("scatterer", "box" or "").
     """
     out = labelled.copy()
     out["range_error_m"] = np.nan
     out["radial_velocity_error_mps"] = np.nan
     out["error_reference"] = ""
+    out["azimuth_error_deg"] = np.nan
     is_true = (out["label"] == TRUE).to_numpy()
     if not is_true.any():
         return out
@@ -374,6 +376,8 @@ def detection_errors(labelled: pd.DataFrame, truth: pd.DataFrame,
             out.iloc[rows, out.columns.get_loc("radial_velocity_error_mps")] = \
                 (m["radial_velocity_mps"] - m["radial_velocity_mps_sc"]).to_numpy()
             out.iloc[rows, out.columns.get_loc("error_reference")] = "scatterer"
+            out.iloc[rows, out.columns.get_loc("azimuth_error_deg")] = np.degrees(
+                np.arctan2(m["y_m"], m["x_m"]) - np.arctan2(m["y_m_sc"], m["x_m_sc"])).to_numpy()
             done[rows] = True
     rest = np.flatnonzero(is_true & ~done)
     if len(rest):
