@@ -5,10 +5,12 @@ import argparse
 
 import numpy as np
 
+from .args import SEED
+
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--mimo", choices=["ddma", "tdma"], default="ddma")
-    parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--seed", type=SEED, default=0)
 
 
 def run(args: argparse.Namespace) -> int:

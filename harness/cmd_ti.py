@@ -27,6 +27,8 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from .args import DURATION_S, FRAMES, SEED, check_output_file
+
 __all__ = ["add_arguments_process", "run_process", "add_arguments_simulate", "run_simulate",
            "cfar_config_from_ti", "processing_from_profile", "process_capture",
            "write_table", "TABLE_WRITERS"]
@@ -139,7 +141,7 @@ def add_arguments_process(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--cfg", type=Path, required=True, help="TI mmWave SDK .cfg profile")
     parser.add_argument("--out", type=Path, default=None,
                         help="point cloud table, .parquet or .csv (default CAPTURE.parquet)")
-    parser.add_argument("--frames", type=int, default=None, help="process at most N frames")
+    parser.add_argument("--frames", type=FRAMES, default=None, help="process at most N frames")
     parser.add_argument("--layout", choices=_LAYOUTS, default="auto",
                         help="sample order; auto follows the profile's adcbufCfg")
     parser.add_argument("--tracks", type=Path, default=None,
@@ -158,6 +160,9 @@ def run_process(args: argparse.Namespace) -> int:
     if out.suffix.lower() not in TABLE_WRITERS:  # fail before the (long) processing
         raise ValueError(f"--out {str(out)!r}: suffix {out.suffix!r} is not one of "
                          f"{sorted(TABLE_WRITERS)}")
+    check_output_file(out, "--out")
+    if args.tracks is not None:
+        check_output_file(args.tracks, "--tracks")
     n_frames = capture_n_frames(args.capture, profile.radar)
     n_frames = n_frames if args.frames is None else min(n_frames, args.frames)
     notes: list[str] = []
@@ -182,9 +187,9 @@ def add_arguments_simulate(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("case", help="scenario name (radar-harness scenarios lists them)")
     parser.add_argument("--cfg", type=Path, required=True, help="TI mmWave SDK .cfg profile")
     parser.add_argument("--out", type=Path, required=True, help="capture file to write (.bin)")
-    parser.add_argument("--seed", type=int, default=0, help="scenario and noise seed")
-    parser.add_argument("--frames", type=int, default=None, help="write at most N frames")
-    parser.add_argument("--duration-s", type=float, default=None,
+    parser.add_argument("--seed", type=SEED, default=0, help="scenario and noise seed")
+    parser.add_argument("--frames", type=FRAMES, default=None, help="write at most N frames")
+    parser.add_argument("--duration-s", type=DURATION_S, default=None,
                         help="scenario duration override, s")
 
 
@@ -213,6 +218,7 @@ def run_simulate(args: argparse.Namespace) -> int:
         raise ValueError(f"--seed={args.seed} must be >= 0")
     if args.frames is not None and args.frames < 1:
         raise ValueError(f"--frames={args.frames} must be >= 1")
+    check_output_file(args.out, "--out")
     profile = parse_ti_cfg(args.cfg)
     comps = _components()
     try:
