@@ -25,6 +25,7 @@ import pandas as pd
 
 from radarsim.config import C_MPS, RadarConfig
 
+from . import saturation
 from .cfar import noise_mean_factor
 from .config import WINDOWS, ProcessingConfig
 from .kernels import (array_layout, candidate_cfar, ddma_metric, doppler_fft,
@@ -36,7 +37,7 @@ __all__ = ["process_frame", "frame_spectra", "detection_map", "doppler_azimuth_m
 #: Columns of every point cloud, in order.
 POINT_CLOUD_COLUMNS = ["range_m", "azimuth_deg", "elevation_deg", "radial_velocity_mps",
                        "snr_db", "x_m", "y_m", "z_m", "range_bin", "doppler_bin",
-                       "azimuth_bin"]
+                       "azimuth_bin", "saturated"]
 
 
 def _check_frame(cfg: RadarConfig, adc: np.ndarray) -> None:
@@ -362,17 +363,24 @@ def process_frame(cfg: RadarConfig, adc: np.ndarray,
         radial_velocity_mps (negative = approaching), snr_db, x_m, y_m, z_m, range_bin,
         doppler_bin (0..n_chirps-1 in the full unambiguous Doppler span), azimuth_bin.
 
+        A boolean ``saturated`` column and ``attrs["saturation"]`` report ADC saturation
+        (`pipeline.saturation`; ``proc.saturation_policy`` flags or drops the detections of a
+        saturated frame).
+
     Raises
     ------
     ValueError
-        If `adc` is not an int16 array of the config's shape, or `cfg`/`proc` are of the
-        wrong type.
+        If `adc` is not an int16 array of the config's shape, `cfg`/`proc` are of the
+        wrong type, or the CFAR window does not fit the Doppler axis.
     """
     _check_frame(cfg, adc)
     proc = ProcessingConfig() if proc is None else proc
     if not isinstance(proc, ProcessingConfig):
         raise ValueError(f"proc must be a pipeline.ProcessingConfig, got {type(proc).__name__}")
-    return MIMO_CHAINS[cfg.mimo](cfg, adc, proc)
+    proc.check_doppler_axis(cfg.n_doppler_bins)
+    sat = saturation.monitor(adc)
+    return saturation.apply_policy(MIMO_CHAINS[cfg.mimo](cfg, adc, proc), sat,
+                                   proc.saturation_policy)
 
 
 def detection_map(cfg: RadarConfig, adc: np.ndarray,
