@@ -57,12 +57,24 @@ class Gate:
     description: str = ""
 
     def __post_init__(self) -> None:
+        for k in ("name", "metric", "scheme", "scenario", "variant", "description"):
+            v = getattr(self, k)
+            if not isinstance(v, str) or (k in ("name", "metric") and not v):
+                raise ValueError(f"gate {self.name!r}: {k}={v!r} must be a "
+                                 f"{'non-empty ' if k in ('name', 'metric') else ''}string")
+        if not isinstance(self.allow_missing, bool):
+            raise ValueError(f"gate {self.name!r}: allow_missing={self.allow_missing!r} must be "
+                             "true or false")
         if self.min is None and self.max is None:
             raise ValueError(f"gate {self.name!r}: needs min and/or max")
         for k in ("min", "max"):
             v = getattr(self, k)
-            if v is not None and not (isinstance(v, (int, float)) and math.isfinite(v)):
+            if v is not None and (isinstance(v, bool) or not isinstance(v, (int, float))
+                                  or not math.isfinite(v)):
                 raise ValueError(f"gate {self.name!r}: {k}={v!r} must be a finite number")
+        if self.min is not None and self.max is not None and self.min > self.max:
+            raise ValueError(f"gate {self.name!r}: min={self.min!r} > max={self.max!r}: no "
+                             "value can pass")
         if self.aggregate not in AGGREGATES:
             raise ValueError(f"gate {self.name!r}: aggregate={self.aggregate!r} is not one of "
                              f"{sorted(AGGREGATES)}")
@@ -105,10 +117,14 @@ def load_gates(path: str | Path | None = None) -> list[Gate]:
         The file does not exist.
     """
     p = Path(path) if path is not None else DEFAULT_GATES_PATH
+    if p.is_dir():
+        raise ValueError(f"gates file {str(p)!r} is a directory, not a TOML file")
     try:
-        data = tomllib.loads(p.read_text())
+        data = tomllib.loads(p.read_text(encoding="utf-8"))
     except tomllib.TOMLDecodeError as exc:
-        raise ValueError(f"{p}: malformed TOML: {exc}") from exc
+        raise ValueError(f"{p}: malformed TOML: {exc}") from None
+    except UnicodeDecodeError:
+        raise ValueError(f"{p}: not a UTF-8 text file") from None
     extra = sorted(set(data) - {"gate"})
     if extra:
         raise ValueError(f"{p}: unknown top-level key(s) {extra}; use [[gate]] tables")
@@ -117,13 +133,18 @@ def load_gates(path: str | Path | None = None) -> list[Gate]:
         raise ValueError(f"{p}: no [[gate]] tables")
     gates = []
     for i, g in enumerate(raw):
+        if not isinstance(g, dict):
+            raise ValueError(f"{p}: gate #{i + 1}: {g!r} must be a [[gate]] table")
         bad = sorted(set(g) - _GATE_KEYS)
         if bad:
             raise ValueError(f"{p}: gate #{i + 1} ({g.get('name', '?')}): unknown key(s) {bad}; "
                              f"known: {sorted(_GATE_KEYS)}")
         if "name" not in g or "metric" not in g:
             raise ValueError(f"{p}: gate #{i + 1}: needs 'name' and 'metric'")
-        gates.append(Gate(**g))
+        try:
+            gates.append(Gate(**g))
+        except ValueError as exc:
+            raise ValueError(f"{p}: {exc}") from None
     names = [g.name for g in gates]
     dup = sorted({n for n in names if names.count(n) > 1})
     if dup:
@@ -179,6 +200,11 @@ def evaluate_gates(summary: pd.DataFrame, gates: list[Gate],
     if unknown:
         raise ValueError(f"unknown metric(s) {unknown}: not columns of the summary table; "
                          f"available: {sorted(summary.columns)}")
+    for g in gates:
+        col = summary[g.metric]
+        if not (pd.api.types.is_numeric_dtype(col) or col.isna().all()):
+            raise ValueError(f"gate {g.name!r}: metric {g.metric!r} is not numeric (dtype "
+                             f"{col.dtype}); a threshold cannot apply to it")
     out: list[GateResult] = []
     err = summary.get("error", pd.Series("", index=summary.index)).fillna("").astype(str)
     bad = summary[err != ""]
