@@ -127,6 +127,18 @@ def process_capture(capture, profile, proc=None, *, interleaved: bool = False,
     return pd.concat(tables, ignore_index=True)
 
 
+def _profile(path: Path):
+    """`parse_ti_cfg` with the file's own problems (a directory, binary data) as bad input."""
+    from radarsim.ti_cfg import parse_ti_cfg
+    if Path(path).is_dir():
+        raise ValueError(f"--cfg {str(path)!r} is a directory, not a TI .cfg profile")
+    try:
+        return parse_ti_cfg(path)
+    except UnicodeDecodeError:
+        raise ValueError(f"--cfg {str(path)!r}: not a text file (a TI .cfg profile is text)") \
+            from None
+
+
 def _track(points: pd.DataFrame, profile, n_frames: int) -> pd.DataFrame:
     from pipeline import tracker as trk
     clouds = [(f * profile.frame_period_s,
@@ -151,11 +163,12 @@ def add_arguments_process(parser: argparse.ArgumentParser) -> None:
 
 def run_process(args: argparse.Namespace) -> int:
     from radarsim.capture import capture_n_frames
-    from radarsim.ti_cfg import parse_ti_cfg
 
     if args.frames is not None and args.frames < 1:
         raise ValueError(f"--frames={args.frames} must be >= 1")
-    profile = parse_ti_cfg(args.cfg)
+    if args.capture.is_dir():
+        raise ValueError(f"capture {str(args.capture)!r} is a directory, not a capture file")
+    profile = _profile(args.cfg)
     out = args.out if args.out is not None else args.capture.with_suffix(".parquet")
     if out.suffix.lower() not in TABLE_WRITERS:  # fail before the (long) processing
         raise ValueError(f"--out {str(out)!r}: suffix {out.suffix!r} is not one of "
@@ -212,14 +225,13 @@ def simulate_frames(cfg, run, seed: int, frames, comps):
 
 def run_simulate(args: argparse.Namespace) -> int:
     from radarsim.capture import write_capture
-    from radarsim.ti_cfg import parse_ti_cfg
 
     if args.seed < 0:
         raise ValueError(f"--seed={args.seed} must be >= 0")
     if args.frames is not None and args.frames < 1:
         raise ValueError(f"--frames={args.frames} must be >= 1")
     check_output_file(args.out, "--out")
-    profile = parse_ti_cfg(args.cfg)
+    profile = _profile(args.cfg)
     comps = _components()
     try:
         run = comps.run_scenario(args.case, args.seed, args.duration_s)

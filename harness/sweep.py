@@ -198,7 +198,10 @@ def _check_section(where: str, section: str, overrides: dict) -> None:
             raise ValueError(f"{where}: unknown radar field(s) {bad}")
     if section == "processing" and overrides:
         import pipeline
-        pipeline.ProcessingConfig().replace(**overrides)
+        try:
+            pipeline.ProcessingConfig().replace(**overrides)
+        except (ValueError, TypeError) as exc:
+            raise ValueError(f"{where}: processing {overrides!r}: {exc}") from None
 
 
 def _init_worker() -> None:
@@ -247,18 +250,23 @@ def validate_cells(spec: SweepSpec, source: str | Path | None = None) -> None:
     comps = default_components()
     where = f"{source}: " if source is not None else ""
 
+    def check(cell: CellSpec) -> None:
+        radar, procs = build_configs(cell, comps)
+        for proc in procs.values():  # the CFAR window must fit every radar's Doppler axis
+            for r in radar.values():
+                proc.check_doppler_axis(r.n_doppler_bins)
+
     def build(section: str, overrides: dict) -> None:
         if section == "tracker":
             trk.TrackerConfig(**overrides)
         else:
-            build_configs(CellSpec(scenario=spec.scenarios[0], **{section: overrides}), comps)
+            check(CellSpec(scenario=spec.scenarios[0], **{section: overrides}))
 
     for v in spec.variants:
         try:
-            build_configs(CellSpec(scenario=spec.scenarios[0], seed=spec.seeds[0],
-                                   variant=v.name, radar=dict(v.radar),
-                                   processing=dict(v.processing), tracker=dict(v.tracker)),
-                          comps)
+            check(CellSpec(scenario=spec.scenarios[0], seed=spec.seeds[0], variant=v.name,
+                           radar=dict(v.radar), processing=dict(v.processing),
+                           tracker=dict(v.tracker)))
             trk.TrackerConfig(**v.tracker)
         except (ValueError, TypeError, KeyError) as exc:
             why = _culprit(v, build) or f"{type(exc).__name__}: {exc}"
@@ -330,6 +338,10 @@ def load_sweep(path: str | Path | None = None, *, check_scenarios: bool = True) 
         bad = sorted(set(extra) - {"name", *_SECTIONS})
         if bad or "name" not in extra:
             raise ValueError(f"{p}: [[variants]] #{i}: needs a name, unknown key(s) {bad}")
+        for s in _SECTIONS:
+            if not isinstance(extra.get(s, {}), dict):
+                raise ValueError(f"{p}: [[variants]] {extra['name']!r}: {s} = {extra[s]!r} must "
+                                 "be a table of field = value")
         ov = {s: {**base.get(s, {}), **extra.get(s, {})} for s in _SECTIONS}
         for s in _SECTIONS:
             _check_section(f"{p} [[variants]] {extra['name']}", s, ov[s])
