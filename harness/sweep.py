@@ -577,6 +577,10 @@ def run_sweep(spec: SweepSpec, out: str | Path, *, workers: int = 1,
                         interrupted.append(c.cell_id)
                     bar.update(1)
             except BaseException:
+                # Ctrl-C (or any escape): stop now. Running cells are lost whole (their
+                # temporary directories are cleaned by the next run), written ones stay.
+                for proc in list(getattr(ex, "_processes", {}).values()):
+                    proc.terminate()
                 ex.shutdown(wait=False, cancel_futures=True)
                 raise
             ex.shutdown(wait=True)
