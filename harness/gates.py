@@ -20,14 +20,14 @@ from __future__ import annotations
 
 import fnmatch
 import json
-import math
-import tomllib
 import xml.etree.ElementTree as ET
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 import pandas as pd
+
+from scenarios.checks import build_from_table, check_keys, one_of, read_toml, require
 
 __all__ = ["Gate", "GateResult", "load_gates", "evaluate_gates", "load_summary",
            "junit_xml", "markdown", "DEFAULT_GATES_PATH", "AGGREGATES"]
@@ -36,8 +36,6 @@ DEFAULT_GATES_PATH = Path(__file__).with_name("gates.toml")
 #: How the matching rows are reduced before the comparison.
 AGGREGATES = {"each": None, "mean": np.nanmean, "median": np.nanmedian, "min": np.nanmin,
               "max": np.nanmax}
-_GATE_KEYS = {"name", "metric", "min", "max", "scheme", "scenario", "variant", "aggregate",
-              "allow_missing", "description"}
 _ID = ["scenario", "variant", "seed", "scheme"]
 
 
@@ -57,27 +55,15 @@ class Gate:
     description: str = ""
 
     def __post_init__(self) -> None:
-        for k in ("name", "metric", "scheme", "scenario", "variant", "description"):
-            v = getattr(self, k)
-            if not isinstance(v, str) or (k in ("name", "metric") and not v):
-                raise ValueError(f"gate {self.name!r}: {k}={v!r} must be a "
-                                 f"{'non-empty ' if k in ('name', 'metric') else ''}string")
-        if not isinstance(self.allow_missing, bool):
-            raise ValueError(f"gate {self.name!r}: allow_missing={self.allow_missing!r} must be "
-                             "true or false")
+        require(self, ("name", "metric", "scheme", "scenario", "variant", "description"), "str")
+        require(self, "allow_missing", "bool")
         if self.min is None and self.max is None:
-            raise ValueError(f"gate {self.name!r}: needs min and/or max")
-        for k in ("min", "max"):
-            v = getattr(self, k)
-            if v is not None and (isinstance(v, bool) or not isinstance(v, (int, float))
-                                  or not math.isfinite(v)):
-                raise ValueError(f"gate {self.name!r}: {k}={v!r} must be a finite number")
+            raise ValueError(f"min/max: gate {self.name!r} needs min and/or max")
+        require(self, ("min", "max"), none_ok=True)
         if self.min is not None and self.max is not None and self.min > self.max:
-            raise ValueError(f"gate {self.name!r}: min={self.min!r} > max={self.max!r}: no "
-                             "value can pass")
-        if self.aggregate not in AGGREGATES:
-            raise ValueError(f"gate {self.name!r}: aggregate={self.aggregate!r} is not one of "
-                             f"{sorted(AGGREGATES)}")
+            raise ValueError(f"min/max: gate {self.name!r} has min={self.min!r} > "
+                             f"max={self.max!r}: no value can pass")
+        one_of("aggregate", self.aggregate, AGGREGATES)
 
     def check(self, value: float) -> bool:
         return (self.min is None or value >= self.min) and \
@@ -117,34 +103,15 @@ def load_gates(path: str | Path | None = None) -> list[Gate]:
         The file does not exist.
     """
     p = Path(path) if path is not None else DEFAULT_GATES_PATH
-    if p.is_dir():
-        raise ValueError(f"gates file {str(p)!r} is a directory, not a TOML file")
+    data = read_toml(p)
     try:
-        data = tomllib.loads(p.read_text(encoding="utf-8"))
-    except tomllib.TOMLDecodeError as exc:
-        raise ValueError(f"{p}: malformed TOML: {exc}") from None
-    except UnicodeDecodeError:
-        raise ValueError(f"{p}: not a UTF-8 text file") from None
-    extra = sorted(set(data) - {"gate"})
-    if extra:
-        raise ValueError(f"{p}: unknown top-level key(s) {extra}; use [[gate]] tables")
-    raw = data.get("gate")
-    if not isinstance(raw, list) or not raw:
-        raise ValueError(f"{p}: no [[gate]] tables")
-    gates = []
-    for i, g in enumerate(raw):
-        if not isinstance(g, dict):
-            raise ValueError(f"{p}: gate #{i + 1}: {g!r} must be a [[gate]] table")
-        bad = sorted(set(g) - _GATE_KEYS)
-        if bad:
-            raise ValueError(f"{p}: gate #{i + 1} ({g.get('name', '?')}): unknown key(s) {bad}; "
-                             f"known: {sorted(_GATE_KEYS)}")
-        if "name" not in g or "metric" not in g:
-            raise ValueError(f"{p}: gate #{i + 1}: needs 'name' and 'metric'")
-        try:
-            gates.append(Gate(**g))
-        except ValueError as exc:
-            raise ValueError(f"{p}: {exc}") from None
+        check_keys(data, {"gate"})
+        raw = data.get("gate")
+        if not isinstance(raw, list) or not raw:
+            raise ValueError("no [[gate]] tables")
+        gates = [build_from_table(Gate, g, f"gate[{i}].") for i, g in enumerate(raw)]
+    except ValueError as exc:
+        raise ValueError(f"{p}: {exc}") from None
     names = [g.name for g in gates]
     dup = sorted({n for n in names if names.count(n) > 1})
     if dup:
