@@ -162,5 +162,11 @@ def test_simulate_real_scenario_then_process(tmp_path, small_cfg_file):
     assert main(["simulate", name, "--cfg", str(cfg_path), "--out", str(out),
                  "--frames", "2"]) == 0
     assert read_capture(out, cfg).shape == (2, 32, 4, 64)
+    # 32 TDMA chirps leave 8 Doppler bins: the default CFAR window (53 bins) does not fit and
+    # is refused by name; a profile with its own small Doppler cfarCfg runs.
     assert main(["process", str(out), "--cfg", str(cfg_path), "--out",
+                 str(tmp_path / "p.parquet"), "--no-track"]) == 2
+    small = tmp_path / "small_cfar.cfg"
+    small.write_text(cfg_path.read_text() + "cfarCfg -1 1 3 1 0 0 1 12 0 2 0\n")
+    assert main(["process", str(out), "--cfg", str(small), "--out",
                  str(tmp_path / "p.parquet"), "--no-track"]) == 0
