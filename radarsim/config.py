@@ -58,6 +58,54 @@ _TX_POS_WL = {1: (0.0, 0.0), 2: (1.0, 0.8), 3: (2.0, 0.0), 4: (4.0, 0.0)}
 _RX_POS_WL = {1: (0.0, 0.0), 2: (0.5, 0.0), 3: (1.0, 0.0), 4: (1.5, 0.0)}
 
 
+#: Plausible RF budget of a radar front end: field -> (low, high). Beyond these the radar
+#: equation overflows (10^(5000/10) W) or the value is a typo; the AWR2944 EVM sits far inside
+#: (12 dBm per Tx, 10 dBi elements, 12 dB noise figure).
+RF_BUDGET_LIMITS = {
+    "tx_power_dbm": (-40.0, 40.0),          # 40 dBm = 10 W per transmitter
+    "tx_antenna_gain_dbi": (-30.0, 50.0),
+    "rx_antenna_gain_dbi": (-30.0, 50.0),
+    "noise_figure_db": (0.0, 60.0),
+    "system_loss_db": (0.0, 100.0),
+    "adc_full_scale_dbm": (-100.0, 30.0),
+    "temperature_k": (1.0, 1000.0),
+    "phase_noise_deg_rms": (0.0, 180.0),
+}
+#: Per-Tx static errors: field -> (low, high). A gain error far below 0 dB mutes a Tx (tests
+#: use -300 dB); above +40 dB it is a typo that overflows the received power.
+TX_ERROR_LIMITS = {"tx_gain_error_db": (-400.0, 40.0), "tx_phase_error_deg": (-360.0, 360.0)}
+
+
+def _is_number(v) -> bool:
+    return isinstance(v, (int, float, np.integer, np.floating)) and not isinstance(v, bool)
+
+
+def _check_numbers(cfg) -> None:
+    """Every numeric field holds a number (a string or bool would fail later without the field
+    name)."""
+    for f in dataclasses.fields(cfg):
+        v = getattr(cfg, f.name)
+        if _is_number(f.default) and not _is_number(v):
+            raise ValueError(f"{f.name}={v!r} must be a number")
+
+
+def _check_rf_budget(cfg) -> None:
+    """The RF budget lies within `RF_BUDGET_LIMITS`; per-Tx errors hold numbers within
+    `TX_ERROR_LIMITS`."""
+    for name, (lo, hi) in RF_BUDGET_LIMITS.items():
+        v = getattr(cfg, name)
+        if not (math.isfinite(v) and lo <= v <= hi):
+            raise ValueError(f"{name}={v!r} is outside the plausible range [{lo:g}, {hi:g}]")
+    for name, (lo, hi) in TX_ERROR_LIMITS.items():
+        v = getattr(cfg, name)
+        if v is None:
+            continue
+        if isinstance(v, (str, bytes)) or not hasattr(v, "__len__") or \
+                not all(_is_number(x) and math.isfinite(x) and lo <= x <= hi for x in v):
+            raise ValueError(f"{name}={v!r} must be a list of finite numbers in "
+                             f"[{lo:g}, {hi:g}] (one per Tx)")
+
+
 @dataclass(frozen=True, kw_only=True, slots=True)
 class RadarConfig:
     """One AWR2944 radar: waveform, MIMO schedule, antenna and RF budget.
@@ -168,6 +216,7 @@ class RadarConfig:
 
     def __post_init__(self) -> None:
         _set = lambda name, value: object.__setattr__(self, name, value)  # noqa: E731
+        _check_numbers(self)
         scheme = scheme_of(self.mimo)
         require(self, "n_tx", "integer", ge=1, le=MAX_N_TX)  # AWR2944
         require(self, "n_rx", "integer", ge=1, le=MAX_N_RX)
@@ -183,6 +232,7 @@ class RadarConfig:
                        "adc_full_scale_dbm"))
         require(self, ("noise_figure_db", "system_loss_db", "phase_noise_deg_rms",
                        "pattern_exponent_az", "pattern_exponent_el"), ge=0)
+        _check_rf_budget(self)
 
         # DESIGN 4.4: chip limits.
         if self.adc_rate_sps > MAX_ADC_RATE_SPS:
