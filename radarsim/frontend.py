@@ -285,11 +285,12 @@ def simulate_frame(cfg: RadarConfig, scatterers: Scatterers,
                          f"{type(scatterers).__name__}")
     if not isinstance(rng, np.random.Generator):
         raise ValueError(f"rng must be a numpy.random.Generator, got {type(rng).__name__}")
-    return simulate_frame_weights(cfg, scatterers, rng, transmit_phasors(cfg, rng))
+    return simulate_frame_weights(cfg, scatterers, rng, transmit_phasors(cfg, rng),
+                                  interferers=interferers)
 
 
 def simulate_frame_weights(cfg: RadarConfig, scatterers: Scatterers, rng: np.random.Generator,
-                           tx_weights: np.ndarray) -> np.ndarray:
+                           tx_weights: np.ndarray, interferers=None) -> np.ndarray:
     """`simulate_frame` with explicit transmit weights (any chirp count and code sequence).
 
     Used by the shifter calibration and the seed-000 figure 7-8 experiment, which step one Tx
@@ -301,6 +302,8 @@ def simulate_frame_weights(cfg: RadarConfig, scatterers: Scatterers, rng: np.ran
         As `simulate_frame`.
     tx_weights : (n_tx, n_c) complex
         Radiated weight of each Tx at each of n_c chirps (e.g. `transmit_phasors`).
+    interferers : radarsim.interference.Interferers, optional
+        As `simulate_frame` (n_c must then be cfg.n_chirps).
 
     Returns
     -------
@@ -317,6 +320,9 @@ def simulate_frame_weights(cfg: RadarConfig, scatterers: Scatterers, rng: np.ran
     if np.any(keep):
         out += _signal(cfg, scatterers, keep, power[keep], tx_w)
     if interferers is not None and len(interferers):
+        if n_c != cfg.n_chirps:
+            raise ValueError(f"interferers need the config's {cfg.n_chirps} chirps, "
+                             f"tx_weights has {n_c}")
         from .interference import synthesize
         synthesize(cfg, interferers, out=out)
     if cfg.adc_dc_offset_lsb or cfg.tx_leakage_dbfs is not None:
