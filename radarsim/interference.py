@@ -267,7 +267,7 @@ def _bursts(cfg: RadarConfig, itf: Interferers, i: int,
         hi = np.minimum(hi, np.maximum(t_a, t_b))
     else:
         inside = np.abs(alpha) < passband_hz
-        hi = np.where(inside, hi, -np.inf)
+        hi = np.where(inside, hi, lo - 1.0)  # empty span
     t0 = t_first[chirp]
     n0 = np.maximum(np.ceil((lo - t0) * fs - 1e-9), 0).astype(np.int64)
     n1 = np.minimum(np.floor((hi - t0) * fs + 1e-9), n_s - 1).astype(np.int64) + 1
