@@ -41,7 +41,6 @@ import shutil
 import subprocess
 import sys
 import time
-import tomllib
 import traceback
 import uuid
 from dataclasses import dataclass, field
@@ -49,6 +48,8 @@ from pathlib import Path
 from typing import Any
 
 import pandas as pd
+
+from scenarios.checks import check_keys, read_toml
 
 from .runner import (DEFAULT_BASELINE_SCHEME, DEFAULT_SCHEMES, TABLES, CellSpec, Components,
                      result_schemes, run_cell)
@@ -217,13 +218,11 @@ def load_sweep(path: str | Path | None = None, *, check_scenarios: bool = True) 
         file does not exist.
     """
     p = Path(path) if path is not None else DEFAULT_SWEEP_PATH
+    data = read_toml(p)
     try:
-        data = tomllib.loads(p.read_text())
-    except tomllib.TOMLDecodeError as exc:
-        raise ValueError(f"{p}: malformed TOML: {exc}") from exc
-    unknown = sorted(set(data) - _TOP_KEYS)
-    if unknown:
-        raise ValueError(f"{p}: unknown key(s) {unknown}; known: {sorted(_TOP_KEYS)}")
+        check_keys(data, _TOP_KEYS)
+    except ValueError as exc:
+        raise ValueError(f"{p}: {exc}") from None
     base = data.get("base", {})
     for sec, ov in base.items():
         _check_section(f"{p} [base]", sec, ov)
