@@ -23,9 +23,9 @@ import pandas as pd
 #: Columns printed by `run` and `sweep` (all are in summary.parquet, with many more).
 SUMMARY_COLUMNS = [
     "scenario", "variant", "seed", "scheme", "n_frames", "detections_per_frame", "ghost_rate",
-    "velocity_unambiguity_rate", "range_error_rmse_m", "radial_velocity_error_rmse_mps",
-    "detection_probability_mean", "target_first_detection_range_m", "snr_gain_median_db",
-    "case_pass",
+    "velocity_unambiguity_rate", "n_velocity_resolution_failures", "range_error_rmse_m",
+    "radial_velocity_error_rmse_mps", "detection_probability_mean",
+    "target_first_detection_range_m", "snr_gain_median_db", "case_pass",
 ]
 
 

@@ -97,9 +97,10 @@ class ProcessingConfig:
     min_range_bin : int
         First range bin searched (bin 0 holds DC).
     tdma_disambiguation : bool
-        TDMA: resolve velocity beyond +/-Vmax by hypothesis testing (seed 001 section 4): each
-        v_est + 2 k Vmax is compensated and scored by the phase agreement of the raised row
-        with the horizontal elements it overlaps (or, without overlap, the azimuth-FFT peak).
+        TDMA and BPM (the slot-coded chains): resolve velocity beyond +/-Vmax by hypothesis
+        testing (seed 001 section 4): each v_est + 2 k Vmax is compensated (and, for BPM,
+        decoded) and scored by the whole-array likelihood (`pipeline.stages.array_likelihood`).
+        The result scheme ``tdma_raw`` is TDMA with this off.
     correct_range_doppler_coupling : bool
         Remove the fast-time Doppler shift f_D from the beat frequency (R += v c / (S lambda)).
     range_peak_check : bool
