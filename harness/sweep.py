@@ -56,10 +56,11 @@ from .runner import (DEFAULT_BASELINE_SCHEME, DEFAULT_SCHEMES, TABLES, CellSpec,
 
 __all__ = ["Variant", "SweepSpec", "SweepOutcome", "load_sweep", "default_sweep",
            "run_sweep", "cell_dir", "completed_cells", "assemble", "DEFAULT_SWEEP_PATH",
-           "CI_SWEEP_PATH"]
+           "CI_SWEEP_PATH", "SCHEMES_SWEEP_PATH"]
 
 DEFAULT_SWEEP_PATH = Path(__file__).with_name("default_sweep.toml")
 CI_SWEEP_PATH = Path(__file__).with_name("ci_sweep.toml")
+SCHEMES_SWEEP_PATH = Path(__file__).with_name("schemes_sweep.toml")
 _SECTIONS = ("radar", "processing", "tracker")
 _TOP_KEYS = {"name", "scenarios", "seeds", "frame_stride", "duration_s", "base", "vary",
              "variants", "description", "schemes", "baseline_scheme"}
