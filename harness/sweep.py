@@ -265,7 +265,7 @@ def validate_cells(spec: SweepSpec, source: str | Path | None = None) -> None:
         Naming the sweep file, the variant, the key, the value and the config's own message
         (which names the limit).
     """
-    from pipeline import tracker as trk
+    from pipeline import tracking as trk
 
     from .runner import build_configs, default_components
     comps = default_components()
