@@ -211,7 +211,7 @@ def _pd_vs_range(actors: pd.DataFrame):
     return fig
 
 
-def _snr_gain_hist(actors: pd.DataFrame, baseline: str = "tdma"):
+def _snr_gain_hist(actors: pd.DataFrame, baseline: str):
     from metrics.detection import snr_gain_pairs
     plt = _plt()
     fig, ax = plt.subplots(figsize=(7, 4))
@@ -304,7 +304,8 @@ def build_report(results: str | Path, out: str | Path | None = None, *, maps: bo
     parts.append(_table_html(summary, _SUMMARY_COLUMNS))
     if len(actors):
         parts.append("<h2>Detection probability versus range</h2>" + _img(_pd_vs_range(actors)))
-        base = manifest.get("baseline_scheme", "tdma")
+        from .runner import DEFAULT_BASELINE_SCHEME
+        base = manifest.get("baseline_scheme", DEFAULT_BASELINE_SCHEME)
         parts.append(f"<h2>SNR gain over {html.escape(base)}</h2>"
                      + _img(_snr_gain_hist(actors, base)))
     if len(det):

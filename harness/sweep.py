@@ -58,11 +58,12 @@ from .runner import (DEFAULT_BASELINE_SCHEME, DEFAULT_SCHEMES, TABLES, CellSpec,
 __all__ = ["Variant", "SweepSpec", "SweepOutcome", "load_sweep", "default_sweep",
            "run_sweep", "cell_dir", "completed_cells", "cell_states", "assemble",
            "validate_cells", "prepare_out", "dask_security", "DEFAULT_SWEEP_PATH",
-           "CI_SWEEP_PATH", "MAX_DURATION_S", "MAX_CELLS", "MAX_WORKERS", "MAX_FRAME_STRIDE",
-           "MAX_SEED"]
+           "CI_SWEEP_PATH", "SCHEMES_SWEEP_PATH", "MAX_DURATION_S", "MAX_CELLS", "MAX_WORKERS",
+           "MAX_FRAME_STRIDE", "MAX_SEED"]
 
 DEFAULT_SWEEP_PATH = Path(__file__).with_name("default_sweep.toml")
 CI_SWEEP_PATH = Path(__file__).with_name("ci_sweep.toml")
+SCHEMES_SWEEP_PATH = Path(__file__).with_name("schemes_sweep.toml")
 _SECTIONS = ("radar", "processing", "tracker")
 #: Most cells in one sweep (scenarios x variants x seeds): beyond it a typo in [vary] is likelier
 #: than a plan (10 000 R79 cells are days of CPU).
