@@ -284,7 +284,8 @@ def _gate_verdicts(summary: pd.DataFrame, manifest: dict) -> tuple[dict[str, str
         mine = [g for g in usable if fnmatch.fnmatchcase(s, g.scheme)]
         res = gt.evaluate_gates(summary[summary["scheme"] == s], mine)
         failed = sorted({r.gate for r in res if r.status == "fail"})
-        verdicts[s] = f"FAIL: {', '.join(failed)}" if failed else f"PASS ({len(mine)} gates)"
+        verdicts[s] = (f"FAIL: {', '.join(failed)}" if failed else
+                       f"PASS ({len(mine)} gates)" if mine else "no gates")
     gres = gt.results_table(gt.evaluate_gates(summary, usable, manifest))
     n_fail = int((gres["status"] == "fail").sum())
     body = ""
