@@ -246,9 +246,12 @@ def load_sweep(path: str | Path | None = None, *, check_scenarios: bool = True) 
             parts.append(f"{fld}={_fmt(v)}")
         variants.append(Variant(name=",".join(parts) or "baseline", **ov))
     for i, extra in enumerate(data.get("variants", [])):
-        bad = sorted(set(extra) - {"name", *_SECTIONS})
-        if bad or "name" not in extra:
-            raise ValueError(f"{p}: [[variants]] #{i}: needs a name, unknown key(s) {bad}")
+        try:
+            check_keys(extra, {"name", *_SECTIONS}, f"variants[{i}].")
+            if "name" not in extra:
+                raise ValueError(f"variants[{i}].name: required key missing")
+        except ValueError as exc:
+            raise ValueError(f"{p}: {exc}") from None
         ov = {s: {**base.get(s, {}), **extra.get(s, {})} for s in _SECTIONS}
         for s in _SECTIONS:
             _check_section(f"{p} [[variants]] {extra['name']}", s, ov[s])
