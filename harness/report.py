@@ -395,6 +395,8 @@ def build_report(results: str | Path, out: str | Path | None = None, *, maps: bo
                                (k["scenario"], k["variant"], int(k["seed"])), maps)
     if len(det):
         parts.append("<h2>Ghost map</h2>" + _img(_ghost_map(det)))
+    from .shifter_report import html_section as _shifter_section  # "" unless a shifter sweep
+    parts.append(_shifter_section(res))
     parts.append("<details><summary><h2>Summary: every run</h2></summary>"
                  + _table_html(summary, _SUMMARY_COLUMNS) + "</details>")
     parts.append(gate_table)

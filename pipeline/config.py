@@ -8,6 +8,7 @@ from typing import Any
 from scenarios.checks import one_of, require
 
 from .cfar import CFAR_MODES, cfar_scale
+from .saturation import SATURATION_POLICIES
 
 __all__ = ["CfarConfig", "ProcessingConfig", "WINDOWS"]
 
@@ -107,6 +108,10 @@ class ProcessingConfig:
         Keep a DDMA azimuth peak only if it is within this many dB of the strongest azimuth
         peak of its (range, Doppler) cell: rejects the -13 dB sidelobes of the unwindowed
         12-element array (TI's multi-object beamforming uses a 6 dB ratio). None disables it.
+    saturation_policy : {"flag", "drop"}
+        What a frame with saturated ADC samples does to its detections
+        (`pipeline.saturation`): "flag" keeps them with ``saturated = True``, "drop" removes
+        them.
     """
 
     cfar: CfarConfig = field(default_factory=CfarConfig)
@@ -118,6 +123,7 @@ class ProcessingConfig:
     correct_range_doppler_coupling: bool = True
     range_peak_check: bool = True
     azimuth_sidelobe_db: float | None = 10.0
+    saturation_policy: str = "flag"
 
     def __post_init__(self) -> None:
         if not isinstance(self.cfar, CfarConfig):
@@ -129,6 +135,21 @@ class ProcessingConfig:
         require(self, "min_range_bin", "integer", ge=0)
         require(self, ("tdma_disambiguation", "correct_range_doppler_coupling",
                        "range_peak_check"), "bool")
+        one_of("saturation_policy", self.saturation_policy, SATURATION_POLICIES)
+
+    def check_doppler_axis(self, n_doppler_bins: int) -> None:
+        """Raise if the CFAR's cyclic window does not fit the Doppler axis of a radar.
+
+        The training cells reach ``guard_cells + window_cells x training_stride`` bins to each
+        side; both sides and the cell under test must fit in ``n_doppler_bins`` (DDMA: chirps
+        per sub-band, TDMA: chirps per Tx), or the cyclic window would train on the cell itself.
+        """
+        c = self.cfar
+        span = 2 * (c.guard_cells + c.window_cells * c.training_stride) + 1
+        if span > n_doppler_bins:
+            raise ValueError(f"cfar window_cells={c.window_cells} (guard_cells={c.guard_cells}, "
+                             f"training_stride={c.training_stride}) spans {span} Doppler bins, "
+                             f"more than the {n_doppler_bins} bins of the radar's Doppler axis")
 
     def replace(self, **changes: Any) -> "ProcessingConfig":
         """Copy with changes; `cfar_<field>` keys change the CFAR sub-config."""
@@ -139,5 +160,30 @@ class ProcessingConfig:
         if unknown:
             raise ValueError(f"unknown ProcessingConfig field(s) {unknown}")
         if cfar_changes:
-            rest["cfar"] = dataclasses.replace(rest.get("cfar", self.cfar), **cfar_changes)
+            rest["cfar"] = _replace_cfar(rest.get("cfar", self.cfar), cfar_changes)
         return dataclasses.replace(self, **rest)
+
+
+def _replace_cfar(cfar: CfarConfig, changes: dict[str, Any]) -> CfarConfig:
+    """`dataclasses.replace` of a CfarConfig that never keeps a stale OS rank.
+
+    A new ``window_cells`` without an ``os_rank`` re-derives the default rank (3/4 N) when the
+    old rank was the old default; an explicitly chosen rank is never carried over silently to
+    another window: the caller must give ``os_rank`` too.
+    """
+    names = {f.name for f in dataclasses.fields(CfarConfig)}
+    unknown = sorted(set(changes) - names)
+    if unknown:
+        raise ValueError(f"unknown CfarConfig field(s) {['cfar_' + u for u in unknown]}; known: "
+                         f"{sorted('cfar_' + n for n in names)}")
+    changes = dict(changes)
+    if "window_cells" in changes and "os_rank" not in changes and \
+            changes["window_cells"] != cfar.window_cells:
+        if cfar.os_rank == max(1, round(0.75 * cfar.n_training)):
+            changes["os_rank"] = None
+        else:
+            raise ValueError(f"cfar_window_cells={changes['window_cells']!r} changes the training "
+                             f"window, but os_rank={cfar.os_rank} was chosen for window_cells="
+                             f"{cfar.window_cells}: give cfar_os_rank too (None: 3/4 of the "
+                             "training cells)")
+    return dataclasses.replace(cfar, **changes)

@@ -133,10 +133,16 @@ def read_toml(path: str | Path) -> dict:
     FileNotFoundError
         The file does not exist.
     ValueError
-        ``{path}: malformed TOML: {parser message}``.
+        ``{path}: malformed TOML: {parser message}``; a directory or a file that is not UTF-8
+        text.
     """
     p = Path(path)
-    text = p.read_text(encoding="utf-8")
+    if p.is_dir():
+        raise ValueError(f"{p}: is a directory, not a TOML file")
+    try:
+        text = p.read_text(encoding="utf-8")
+    except UnicodeDecodeError:
+        raise ValueError(f"{p}: not a UTF-8 text file (TOML is text)") from None
     try:
         return tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
