@@ -3,8 +3,8 @@
 A cell runs the scenario once, and for every processed frame builds the scatterers of the
 scene, simulates one ADC frame per MIMO scheme of the cell (``CellSpec.schemes``, names of
 ``radarsim.MIMO_SCHEMES``; independent noise: generator ``SeedSequence([seed, frame, stream])``
-with stream 0 = RCS model, 1 = DDMA ADC, 2 = TDMA ADC and, for every other scheme, a stream id
-derived from its name alone, so adding or removing a scheme never changes another scheme's
+with stream 0 = RCS model, 1 = DDMA ADC, 2 = TDMA ADC, 3 = the tracker's RANSAC (frame 0)
+and, for every other scheme, a stream id derived from its name alone, so adding or removing a scheme never changes another scheme's
 numbers), processes each result scheme (a registered scheme, or a variant its receive chain
 declares in ``pipeline.MIMO_CHAINS``, e.g. ``tdma_raw`` = TDMA without velocity disambiguation
 on the same TDMA ADC frame), optionally tracks each scheme, and scores everything with

@@ -22,7 +22,8 @@ class CfarConfig:
 
     Parameters
     ----------
-    mode : {"os", "ca", "cago", "caso"}
+    mode : str
+        Key of `pipeline.cfar.CFAR_MODES` ("os", "ca", "cago", "caso").
     guard_cells : int
         Guard cells on each side of the cell under test.
     window_cells : int
