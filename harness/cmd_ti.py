@@ -140,7 +140,7 @@ def _profile(path: Path):
 
 
 def _track(points: pd.DataFrame, profile, n_frames: int) -> pd.DataFrame:
-    from pipeline import tracker as trk
+    from pipeline import tracking as trk
     clouds = [(f * profile.frame_period_s,
                points[points["frame"] == f].drop(columns=["frame", "time_s"])
                .reset_index(drop=True)) for f in range(n_frames)]

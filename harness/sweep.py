@@ -380,6 +380,9 @@ def load_sweep(path: str | Path | None = None, *, check_scenarios: bool = True) 
 
 
 def _schemes_key(p: Path, value) -> tuple[str, ...]:
+    if value == "all":  # every registered scheme and chain variant (harness.runner)
+        from .runner import known_schemes
+        return tuple(known_schemes())
     if not isinstance(value, list):
         raise ValueError(f"{p}: schemes={value!r} must be a list of scheme names")
     return tuple(value)

@@ -45,6 +45,8 @@ import pandas as pd
 from scipy.optimize import linear_sum_assignment
 from scipy.spatial import cKDTree
 
+from scenarios.checks import require
+
 __all__ = [
     "AssociationConfig", "LABELS", "TRUE", "VELOCITY_AMBIGUOUS", "GHOST", "CLUTTER",
     "ROAD_USER_CLASSES", "STATIC_CLASSES", "STATIC_SCATTERER_IDS", "associate",
@@ -122,18 +124,13 @@ class AssociationConfig:
     require_scatterer: bool = True
 
     def __post_init__(self) -> None:
-        for name in ("range_gate_m", "azimuth_gate_deg", "velocity_gate_mps",
-                     "unambiguity_window_mps", "fov_deg", "max_range_m", "pd_range_bin_m"):
-            val = getattr(self, name)
-            if not (isinstance(val, (int, float)) and math.isfinite(val) and val > 0):
-                raise ValueError(f"{name}={val!r} must be a finite number > 0")
-        if self.azimuth_gate_deg >= 90 or self.fov_deg > 180:
-            raise ValueError(f"azimuth_gate_deg={self.azimuth_gate_deg!r} must be < 90 and "
-                             f"fov_deg={self.fov_deg!r} <= 180")
-        if not isinstance(self.pd_min_count, (int, np.integer)) or self.pd_min_count < 1:
-            raise ValueError(f"pd_min_count={self.pd_min_count!r} must be an integer >= 1")
-        if not isinstance(self.require_scatterer, bool):
-            raise ValueError(f"require_scatterer={self.require_scatterer!r} must be a bool")
+        require(self, ("range_gate_m", "azimuth_gate_deg", "velocity_gate_mps",
+                       "unambiguity_window_mps", "fov_deg", "max_range_m", "pd_range_bin_m"),
+                gt=0)
+        require(self, "azimuth_gate_deg", lt=90, unit="deg")
+        require(self, "fov_deg", le=180, unit="deg")
+        require(self, "pd_min_count", "integer", ge=1)
+        require(self, "require_scatterer", "bool")
 
     def to_dict(self) -> dict:
         """Plain dict of the gates (for manifests)."""
@@ -393,13 +390,15 @@ def detection_errors(labelled: pd.DataFrame, truth: pd.DataFrame,
     -------
     DataFrame
         ``labelled`` with columns ``range_error_m`` (detection minus reference slant range, m),
-        ``radial_velocity_error_mps`` (detection minus reference, m/s) and
-        ``error_reference`` ("scatterer", "box" or "").
+        ``radial_velocity_error_mps`` (detection minus reference, m/s),
+        ``azimuth_error_deg`` (detection minus nearest scatterer azimuth, deg; NaN for a box
+        reference) and ``error_reference`` ("scatterer", "box" or "").
     """
     out = labelled.copy()
     out["range_error_m"] = np.nan
     out["radial_velocity_error_mps"] = np.nan
     out["error_reference"] = ""
+    out["azimuth_error_deg"] = np.nan
     is_true = (out["label"] == TRUE).to_numpy()
     if not is_true.any():
         return out
@@ -421,6 +420,8 @@ def detection_errors(labelled: pd.DataFrame, truth: pd.DataFrame,
             out.iloc[rows, out.columns.get_loc("radial_velocity_error_mps")] = \
                 (m["radial_velocity_mps"] - m["radial_velocity_mps_sc"]).to_numpy()
             out.iloc[rows, out.columns.get_loc("error_reference")] = "scatterer"
+            out.iloc[rows, out.columns.get_loc("azimuth_error_deg")] = np.degrees(
+                np.arctan2(m["y_m"], m["x_m"]) - np.arctan2(m["y_m_sc"], m["x_m_sc"])).to_numpy()
             done[rows] = True
     rest = np.flatnonzero(is_true & ~done)
     if len(rest):

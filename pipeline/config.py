@@ -2,9 +2,10 @@
 from __future__ import annotations
 
 import dataclasses
-import math
 from dataclasses import dataclass, field
 from typing import Any
+
+from scenarios.checks import one_of, require
 
 from .cfar import CFAR_MODES, cfar_scale
 from .saturation import SATURATION_POLICIES
@@ -49,26 +50,18 @@ class CfarConfig:
     threshold_db: float | None = None
 
     def __post_init__(self) -> None:
-        if self.mode not in CFAR_MODES:
-            raise ValueError(f"cfar mode={self.mode!r} is not one of {sorted(CFAR_MODES)}")
-        if not isinstance(self.guard_cells, int) or self.guard_cells < 0:
-            raise ValueError(f"guard_cells={self.guard_cells!r} must be an integer >= 0")
-        if not isinstance(self.window_cells, int) or self.window_cells < 1:
-            raise ValueError(f"window_cells={self.window_cells!r} must be an integer >= 1")
-        if not isinstance(self.training_stride, int) or self.training_stride < 1:
-            raise ValueError(f"training_stride={self.training_stride!r} must be an integer >= 1")
+        one_of("mode", self.mode, CFAR_MODES, what="cfar ")
+        require(self, "guard_cells", "integer", ge=0)
+        require(self, ("window_cells", "training_stride"), "integer", ge=1)
         n = 2 * self.window_cells
         if self.os_rank is None:
             object.__setattr__(self, "os_rank", max(1, round(0.75 * n)))
-        elif not isinstance(self.os_rank, int) or not 1 <= self.os_rank <= n:
-            raise ValueError(f"os_rank={self.os_rank!r} must be an integer in 1..{n} "
-                             "(2 x window_cells)")
+        else:
+            require(self, "os_rank", "integer", ge=1, le=n)  # n = 2 x window_cells
         if self.threshold_db is None:
-            if self.pfa is None or not (0 < self.pfa < 1):
-                raise ValueError(f"pfa={self.pfa!r} must be in (0, 1) when threshold_db is "
-                                 "not given")
-        elif not math.isfinite(self.threshold_db):
-            raise ValueError(f"threshold_db={self.threshold_db!r} must be finite")
+            require(self, "pfa", gt=0, lt=1)  # the threshold comes from pfa
+        else:
+            require(self, "threshold_db")
 
     @property
     def n_training(self) -> int:
@@ -99,8 +92,11 @@ class ProcessingConfig:
         First range bin searched (bin 0 holds DC).
     tdma_disambiguation : bool
         TDMA: resolve velocity beyond +/-Vmax by hypothesis testing (seed 001 section 4): each
-        v_est + 2 k Vmax is compensated and scored by the phase agreement of the raised row
-        with the horizontal elements it overlaps (or, without overlap, the azimuth-FFT peak).
+        v_est + 2 k Vmax within +/- n_tx Vmax has its slot Doppler phase compensated and is
+        scored by the generalised likelihood of one echo on the whole virtual array,
+        max over wx of (|A_h(wx)| + |A_v(wx)|)^2 (A_h, A_v: beams of the horizontal and the
+        raised row); without a raised row, by the horizontal azimuth-FFT peak. False: v_est
+        as measured, aliased beyond +/-Vmax (the sweep's ``tdma_raw`` scheme).
     correct_range_doppler_coupling : bool
         Remove the fast-time Doppler shift f_D from the beat frequency (R += v c / (S lambda)).
     range_peak_check : bool
@@ -131,20 +127,14 @@ class ProcessingConfig:
     def __post_init__(self) -> None:
         if not isinstance(self.cfar, CfarConfig):
             raise ValueError(f"cfar must be a CfarConfig, got {type(self.cfar).__name__}")
-        for name in ("range_window", "doppler_window"):
-            if getattr(self, name) not in WINDOWS:
-                raise ValueError(f"{name}={getattr(self, name)!r} is not one of "
-                                 f"{sorted(WINDOWS)}")
-        if not isinstance(self.n_azimuth_bins, int) or self.n_azimuth_bins < 16:
-            raise ValueError(f"n_azimuth_bins={self.n_azimuth_bins!r} must be an integer >= 16")
-        if self.azimuth_sidelobe_db is not None and not (self.azimuth_sidelobe_db > 0):
-            raise ValueError(f"azimuth_sidelobe_db={self.azimuth_sidelobe_db!r} must be > 0 "
-                             "or None")
-        if not isinstance(self.min_range_bin, int) or self.min_range_bin < 0:
-            raise ValueError(f"min_range_bin={self.min_range_bin!r} must be an integer >= 0")
-        if self.saturation_policy not in SATURATION_POLICIES:
-            raise ValueError(f"saturation_policy={self.saturation_policy!r} is not one of "
-                             f"{sorted(SATURATION_POLICIES)}")
+        one_of("range_window", self.range_window, WINDOWS)
+        one_of("doppler_window", self.doppler_window, WINDOWS)
+        require(self, "n_azimuth_bins", "integer", ge=16)
+        require(self, "azimuth_sidelobe_db", gt=0, none_ok=True)
+        require(self, "min_range_bin", "integer", ge=0)
+        require(self, ("tdma_disambiguation", "correct_range_doppler_coupling",
+                       "range_peak_check"), "bool")
+        one_of("saturation_policy", self.saturation_policy, SATURATION_POLICIES)
 
     def check_doppler_axis(self, n_doppler_bins: int) -> None:
         """Raise if the CFAR's cyclic window does not fit the Doppler axis of a radar.

@@ -14,11 +14,15 @@ from __future__ import annotations
 
 import dataclasses
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
+from scenarios.checks import require
+
+from . import shifter as _shifter
 from .mimo import MIMO_SCHEMES, scheme_of
 
 __all__ = [
@@ -102,11 +106,6 @@ def _check_rf_budget(cfg) -> None:
                              f"[{lo:g}, {hi:g}] (one per Tx)")
 
 
-def _default_tx_order(n_tx: int) -> tuple[int, ...]:
-    # Horizontal Tx first (Tx1, Tx3, Tx4), the raised Tx2 last, as the R79 demo (seed 000 3.3).
-    return tuple(t for t in (1, 3, 4, 2) if t <= n_tx)
-
-
 @dataclass(frozen=True, kw_only=True, slots=True)
 class RadarConfig:
     """One AWR2944 radar: waveform, MIMO schedule, antenna and RF budget.
@@ -133,7 +132,8 @@ class RadarConfig:
         (seed 000 3.3), Nt for classic DDMA. Ignored by schemes without sub-bands.
     tx_order : tuple of int or None
         DDMA: which Tx occupies sub-band 0, 1, ...; TDMA: which Tx fires in slot 0, 1, ...
-        Default (1, 3, 4, 2) restricted to the active Tx.
+        Default from the scheme: (1, 3, 4, 2) restricted to the active Tx (R79 demo);
+        classic DDMA (1, 2, 3, 4).
     phase_shifter_bits : int
         Shifter resolution (AWR2944: 6 bits, 5.625 deg per LSB).
     phase_quantization : {"floor", "round", "none"}
@@ -142,6 +142,23 @@ class RadarConfig:
         Static per-Tx phase and gain errors (uncalibrated shifters: > +/-10 deg).
     phase_noise_deg_rms : float
         Random per-chirp, per-Tx phase error, deg rms (independent Gaussian).
+    shifter_phase_error_deg, shifter_gain_error_db : (n_tx, 2**bits) table, mapping or None
+        Per-Tx (rows Tx1..Txn), per-code shifter errors: Tx k at programmed code q gets the
+        phase -(q LSB + shifter_phase_error_deg[k][q]) and the amplitude gain
+        10^(shifter_gain_error_db[k][q] / 20), on top of the static and per-chirp errors.
+        None: all zero. A mapping {distribution, rms, seed[, dnl_fraction]} draws the table
+        once at construction (`radarsim.shifter.ShifterErrorSpec`); the field then holds it.
+        |phase| <= 180 deg, |gain| <= 10 dB.
+    tx_coupling_db, tx_coupling_deg : (n_tx, n_tx) table or None
+        Tx-to-Tx coupling C[k][j]: level (dB, -inf = none) and phase (deg) of channel j's
+        signal radiated by element k; the diagonal is 0 dB, 0 deg (channel gains are
+        `tx_gain_error_db`), off-diagonal levels <= 0 dB. None: identity (no coupling).
+    shifter_calibration_deg : (n_tx, 2**bits) table, mapping or None
+        The chip's shifter calibration: measured phase error of every code relative to code
+        0, deg. When set, `phase_codes` programs the code whose measured phase is closest to
+        the wanted phase instead of the `phase_quantization` rule. A mapping
+        {seed[, range_m, rcs_m2, n_repeats, thermal_noise]} runs `calibrate_shifters` at
+        construction. None: uncalibrated.
     tx_power_dbm : float
         Power per transmitter at the antenna port.
     tx_antenna_gain_dbi, rx_antenna_gain_dbi : float
@@ -181,6 +198,11 @@ class RadarConfig:
     tx_phase_error_deg: tuple[float, ...] | None = None
     tx_gain_error_db: tuple[float, ...] | None = None
     phase_noise_deg_rms: float = 0.0
+    shifter_phase_error_deg: Any = None
+    shifter_gain_error_db: Any = None
+    tx_coupling_db: Any = None
+    tx_coupling_deg: Any = None
+    shifter_calibration_deg: Any = None
     tx_power_dbm: float = 12.0
     tx_antenna_gain_dbi: float = 10.0
     rx_antenna_gain_dbi: float = 10.0
@@ -196,33 +218,20 @@ class RadarConfig:
         _set = lambda name, value: object.__setattr__(self, name, value)  # noqa: E731
         _check_numbers(self)
         scheme = scheme_of(self.mimo)
-        for name, hi in (("n_tx", MAX_N_TX), ("n_rx", MAX_N_RX)):
-            val = getattr(self, name)
-            if not isinstance(val, (int, np.integer)) or not 1 <= val <= hi:
-                raise ValueError(f"{name}={val!r} must be an integer in 1..{hi} (AWR2944)")
-        for name in ("n_samples", "n_chirps"):
-            val = getattr(self, name)
-            if not isinstance(val, (int, np.integer)) or val < 2:
-                raise ValueError(f"{name}={val!r} must be an integer >= 2")
+        require(self, "n_tx", "integer", ge=1, le=MAX_N_TX)  # AWR2944
+        require(self, "n_rx", "integer", ge=1, le=MAX_N_RX)
+        require(self, ("n_samples", "n_chirps"), "integer", ge=2)
         if self.n_samples % 2:
             raise ValueError(f"n_samples={self.n_samples} must be even (real ADC: "
                              "n_samples/2 range bins)")
-        for name in ("start_freq_hz", "slope_hz_per_s", "idle_time_s", "ramp_end_time_s",
-                     "chirp_period_s", "adc_rate_sps", "temperature_k"):
-            val = getattr(self, name)
-            if not (math.isfinite(val) and val > 0):
-                raise ValueError(f"{name}={val!r} must be a finite positive number")
+        require(self, ("start_freq_hz", "slope_hz_per_s", "idle_time_s", "ramp_end_time_s",
+                       "chirp_period_s", "adc_rate_sps", "temperature_k"), gt=0)
         if not (math.isfinite(self.adc_start_time_s) and self.adc_start_time_s >= 0):
             raise ValueError(f"adc_start_time_s={self.adc_start_time_s!r} must be >= 0")
-        for name in ("tx_power_dbm", "tx_antenna_gain_dbi", "rx_antenna_gain_dbi",
-                     "noise_figure_db", "system_loss_db", "adc_full_scale_dbm",
-                     "phase_noise_deg_rms", "pattern_exponent_az", "pattern_exponent_el"):
-            if not math.isfinite(getattr(self, name)):
-                raise ValueError(f"{name}={getattr(self, name)!r} must be finite")
-        for name in ("noise_figure_db", "system_loss_db", "phase_noise_deg_rms",
-                     "pattern_exponent_az", "pattern_exponent_el"):
-            if getattr(self, name) < 0:
-                raise ValueError(f"{name}={getattr(self, name)!r} must be >= 0")
+        require(self, ("tx_power_dbm", "tx_antenna_gain_dbi", "rx_antenna_gain_dbi",
+                       "adc_full_scale_dbm"))
+        require(self, ("noise_figure_db", "system_loss_db", "phase_noise_deg_rms",
+                       "pattern_exponent_az", "pattern_exponent_el"), ge=0)
         _check_rf_budget(self)
 
         # DESIGN 4.4: chip limits.
@@ -263,7 +272,7 @@ class RadarConfig:
                              f"{sorted(ANTENNA_PATTERNS)}")
 
         # MIMO schedule.
-        order = _default_tx_order(self.n_tx) if self.tx_order is None else \
+        order = scheme.default_tx_order(self.n_tx) if self.tx_order is None else \
             tuple(int(t) for t in self.tx_order)
         if sorted(order) != list(range(1, self.n_tx + 1)):
             raise ValueError(f"tx_order={order!r} must be a permutation of Tx 1..{self.n_tx}")
@@ -283,6 +292,58 @@ class RadarConfig:
                 raise ValueError(f"{name} must hold {self.n_tx} finite values (one per Tx), "
                                  f"got {val!r}")
             _set(name, val)
+        self._resolve_shifter_fields(_set)
+
+    def _resolve_shifter_fields(self, _set) -> None:
+        """Resolve and validate the shifter tables, the coupling and the calibration."""
+        n_codes = 2 ** self.phase_shifter_bits
+        _set("shifter_phase_error_deg", _shifter.resolve_table(
+            "shifter_phase_error_deg", self.shifter_phase_error_deg, self.n_tx, n_codes,
+            _shifter.MAX_SHIFTER_PHASE_ERROR_DEG))
+        _set("shifter_gain_error_db", _shifter.resolve_table(
+            "shifter_gain_error_db", self.shifter_gain_error_db, self.n_tx, n_codes,
+            _shifter.MAX_SHIFTER_GAIN_ERROR_DB))
+        eye = np.eye(self.n_tx, dtype=bool)
+        lvl = np.where(eye, 0.0, -np.inf) if self.tx_coupling_db is None else \
+            _shifter.check_table("tx_coupling_db", self.tx_coupling_db,
+                                 (self.n_tx, self.n_tx), np.inf, allow_neg_inf=True)
+        ph = np.zeros((self.n_tx, self.n_tx)) if self.tx_coupling_deg is None else \
+            _shifter.check_table("tx_coupling_deg", self.tx_coupling_deg,
+                                 (self.n_tx, self.n_tx), 360.0)
+        if np.any(lvl[eye] != 0) or np.any(ph[eye] != 0):
+            raise ValueError(f"tx_coupling_db / tx_coupling_deg diagonal must be 0 dB and "
+                             f"0 deg (channel gains are tx_gain_error_db), got "
+                             f"{lvl[eye].tolist()} dB, {ph[eye].tolist()} deg")
+        if np.any(lvl[~eye] > _shifter.MAX_TX_COUPLING_DB):
+            raise ValueError(f"tx_coupling_db off-diagonal level {lvl[~eye].max():g} dB "
+                             f"exceeds the limit {_shifter.MAX_TX_COUPLING_DB:g} dB")
+        _set("tx_coupling_db", tuple(tuple(float(v) for v in r) for r in lvl))
+        _set("tx_coupling_deg", tuple(tuple(float(v) for v in r) for r in ph))
+        cal = self.shifter_calibration_deg
+        if cal is None:
+            return
+        if self.phase_quantization == "none":
+            raise ValueError("shifter_calibration_deg is set but phase_quantization='none': "
+                             "an ideal shifter has no codes to choose; use 'floor' or 'round'")
+        if isinstance(cal, Mapping):
+            from .calibration import calibrate_shifters
+            kw = dict(cal)
+            seed = kw.pop("seed", 0)
+            if not isinstance(seed, (int, np.integer)) or seed < 0:
+                raise ValueError(f"shifter_calibration_deg: seed={seed!r} must be an "
+                                 "integer >= 0")
+            raw = {f.name: getattr(self, f.name) for f in dataclasses.fields(self)}
+            raw["shifter_calibration_deg"] = None
+            try:
+                res = calibrate_shifters(RadarConfig(**raw), rng=np.random.default_rng(seed),
+                                         full_output=True, **kw)
+            except TypeError as exc:
+                raise ValueError(f"shifter_calibration_deg: bad calibration spec "
+                                 f"{dict(cal)!r} ({exc})") from exc
+            cal = res.measured_phase_error_deg
+        _set("shifter_calibration_deg", _shifter.resolve_table(
+            "shifter_calibration_deg", cal, self.n_tx, n_codes,
+            _shifter.MAX_SHIFTER_PHASE_ERROR_DEG))
 
     # ------------------------------------------------------------------ derived: waveform
     @property
@@ -394,15 +455,13 @@ class RadarConfig:
         """(n_tx, n_subbands) int shifter codes over one code period (seed 000 table 4).
 
         `floor` reproduces table 4 (Tx3: 0, 53, 42, 32, 21, 10); `round` is the SDK's rule;
-        `none` returns the nearest code but `applied_phase_rad` then uses ideal phases."""
-        prog = self.programmed_phase_deg() / self.phase_lsb_deg
-        n_codes = 2 ** self.phase_shifter_bits
-        if self.phase_quantization == "floor":
-            # A tiny tolerance keeps exact multiples (e.g. 180/5.625 = 32) from flooring down.
-            codes = np.floor(prog + 1e-9)
-        else:
-            codes = np.round(prog)
-        return np.mod(codes, n_codes).astype(np.int64)
+        `none` returns the nearest code but `applied_phase_rad` then uses ideal phases. With a
+        `shifter_calibration_deg` table: the code whose measured phase is closest to the
+        programmed phase (`radarsim.shifter.select_codes`)."""
+        cal = self.shifter_calibration_deg
+        return _shifter.program_codes(self.programmed_phase_deg(), self.phase_lsb_deg,
+                                      2 ** self.phase_shifter_bits, self.phase_quantization,
+                                      None if cal is None else np.asarray(cal))
 
     def applied_phase_rad(self) -> np.ndarray:
         """(n_tx, n_subbands) phase actually imposed on each Tx's signal per chirp of one code
@@ -414,6 +473,21 @@ class RadarConfig:
         else:
             prog_deg = self.phase_codes() * self.phase_lsb_deg
         return -np.radians(prog_deg)
+
+    def shifter_phase_residual_deg(self) -> np.ndarray:
+        """(n_tx, P) phase the shifters really program over the first code period
+        (P = `scheme.chirps_per_period`) minus the ideal programmed phase, relative to each
+        Tx's code 0, deg: code-grid rounding plus the table error of the chosen code
+        (`radarsim.shifter.phase_residual_deg`); NaN where a Tx is silent. The ideal phase is
+        the scheme's code with an ideal shifter (`phase_quantization="none"`)."""
+        from .frontend import programmed_codes, wanted_phase_deg
+        p = self.scheme.chirps_per_period(self)
+        wanted, gain = wanted_phase_deg(self)
+        res = _shifter.phase_residual_deg(wanted[:, :p], programmed_codes(self)[:, :p],
+                                          np.asarray(self.shifter_phase_error_deg),
+                                          self.phase_lsb_deg)
+        gain = gain[:, :p]
+        return np.where(gain != 0, res, np.nan)
 
     # ------------------------------------------------------------------ derived: antenna
     @property
@@ -456,11 +530,17 @@ class RadarConfig:
 
     # ------------------------------------------------------------------ (de)serialisation
     def to_dict(self) -> dict[str, Any]:
-        """Plain dict of the fields (tuples as lists), suitable for TOML/JSON."""
+        """Plain dict of the fields (tuples as lists, tables as lists of lists), suitable for
+        TOML/JSON; a field that is None (no shifter calibration) is left out. Absent coupling
+        is -inf dB (TOML `-inf`)."""
         out = {}
         for f in dataclasses.fields(self):
             v = getattr(self, f.name)
-            out[f.name] = list(v) if isinstance(v, tuple) else v
+            if v is None:
+                continue
+            if isinstance(v, tuple):
+                v = [list(r) if isinstance(r, tuple) else r for r in v]
+            out[f.name] = v
         return out
 
     @classmethod
@@ -477,14 +557,19 @@ class RadarConfig:
         """A copy with some fields changed (validated again); unknown fields raise ValueError.
 
         `tx_order`, `n_subbands` and the per-Tx error tuples are re-derived when `n_tx` changes
-        and they are not given."""
+        and they are not given; `tx_order` and `n_subbands` also when `mimo` changes."""
         names = {f.name for f in dataclasses.fields(self)}
         unknown = sorted(set(changes) - names)
         if unknown:
             raise ValueError(f"unknown RadarConfig field(s) {unknown}")
         data = {f.name: getattr(self, f.name) for f in dataclasses.fields(self)}
         if "n_tx" in changes and changes["n_tx"] != self.n_tx:
-            for k in ("tx_order", "n_subbands", "tx_phase_error_deg", "tx_gain_error_db"):
+            for k in ("tx_order", "n_subbands", "tx_phase_error_deg", "tx_gain_error_db",
+                      "shifter_phase_error_deg", "shifter_gain_error_db", "tx_coupling_db",
+                      "tx_coupling_deg", "shifter_calibration_deg"):
+                data[k] = None
+        if "mimo" in changes and changes["mimo"] != self.mimo:
+            for k in ("tx_order", "n_subbands"):  # the new scheme's defaults
                 data[k] = None
         data.update(changes)
         return RadarConfig(**data)
