@@ -95,7 +95,7 @@ def test_cfar_window_wider_than_the_doppler_axis_is_refused_by_name(mimo, n_dop)
 
 
 def test_association_config_rejects_a_non_bool_rule():
-    with pytest.raises(ValueError, match=r"require_scatterer='yes' must be a bool"):
+    with pytest.raises(ValueError, match=r"require_scatterer='yes' must be true or false"):
         AssociationConfig(require_scatterer="yes")
 
 
