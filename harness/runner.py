@@ -368,8 +368,11 @@ def frame_scatterers(comps: Components, run, frame: int, seed: int):
 def simulate_cell_frame(spec: CellSpec, frame: int, comps: Components | None = None, run=None):
     """Re-simulate one frame of a cell exactly as `run_cell` did (for the report's maps).
 
-    Returns (radar configs by mimo, ADC frames by mimo, Scatterers, run).
+    Returns (radar configs by mimo, ADC frames by mimo, Scatterers, run). Runs with one BLAS
+    thread, as every sweep path does, so the report's maps show the sweep's bits.
     """
+    from .runtime import single_thread_blas
+    single_thread_blas()
     comps = comps or default_components()
     run = run if run is not None else comps.run_scenario(spec.scenario, spec.seed,
                                                          spec.duration_s)
