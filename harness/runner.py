@@ -3,8 +3,8 @@
 A cell runs the scenario once, and for every processed frame builds the scatterers of the
 scene, simulates one ADC frame per MIMO scheme of the cell (``CellSpec.schemes``, names of
 ``radarsim.MIMO_SCHEMES``; independent noise: generator ``SeedSequence([seed, frame, stream])``
-with stream 0 = RCS model, 1 = DDMA ADC, 2 = TDMA ADC and, for every other scheme, a stream id
-derived from its name alone, so adding or removing a scheme never changes another scheme's
+with stream 0 = RCS model, 1 = DDMA ADC, 2 = TDMA ADC, 3 = the tracker's RANSAC (frame 0)
+and, for every other scheme, a stream id derived from its name alone, so adding or removing a scheme never changes another scheme's
 numbers), processes each result scheme (a registered scheme, or a variant its receive chain
 declares in ``pipeline.MIMO_CHAINS``, e.g. ``tdma_raw`` = TDMA without velocity disambiguation
 on the same TDMA ADC frame), optionally tracks each scheme, and scores everything with
@@ -425,8 +425,11 @@ def frame_scatterers(comps: Components, run, frame: int, seed: int):
 def simulate_cell_frame(spec: CellSpec, frame: int, comps: Components | None = None, run=None):
     """Re-simulate one frame of a cell exactly as `run_cell` did (for the report's maps).
 
-    Returns (radar configs by mimo, ADC frames by mimo, Scatterers, run).
+    Returns (radar configs by mimo, ADC frames by mimo, Scatterers, run). Runs with one BLAS
+    thread, as every sweep path does, so the report's maps show the sweep's bits.
     """
+    from .runtime import single_thread_blas
+    single_thread_blas()
     comps = comps or default_components()
     run = run if run is not None else comps.run_scenario(spec.scenario, spec.seed,
                                                          spec.duration_s)

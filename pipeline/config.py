@@ -29,7 +29,8 @@ class CfarConfig:
 
     Parameters
     ----------
-    mode : {"os", "ca", "cago", "caso"}
+    mode : str
+        Key of `pipeline.cfar.CFAR_MODES` ("os", "ca", "cago", "caso").
     guard_cells : int
         Guard cells on each side of the cell under test.
     window_cells : int
@@ -98,12 +99,14 @@ class ProcessingConfig:
     min_range_bin : int
         First range bin searched (bin 0 holds DC).
     tdma_disambiguation : bool
-        TDMA: resolve velocity beyond +/-Vmax by hypothesis testing (seed 001 section 4): each
-        v_est + 2 k Vmax within +/- n_tx Vmax has its slot Doppler phase compensated and is
-        scored by the generalised likelihood of one echo on the whole virtual array,
-        max over wx of (|A_h(wx)| + |A_v(wx)|)^2 (A_h, A_v: beams of the horizontal and the
-        raised row); without a raised row, by the horizontal azimuth-FFT peak. False: v_est
-        as measured, aliased beyond +/-Vmax (the sweep's ``tdma_raw`` scheme).
+        TDMA and BPM (the slot-coded chains): resolve velocity beyond +/-Vmax by hypothesis
+        testing (seed 001 section 4): each v_est + 2 k Vmax within +/- n_tx Vmax has its slot
+        Doppler phase compensated (and, for BPM, is Hadamard-decoded) and is scored by the
+        generalised likelihood of one echo on the whole virtual array, max over wx of
+        (|A_h(wx)| + |A_v(wx)|)^2 (A_h, A_v: beams of the horizontal and the raised row;
+        `pipeline.stages.array_likelihood`); without a raised row, by the horizontal
+        azimuth-FFT peak. False: v_est as measured, aliased beyond +/-Vmax (the sweep's
+        ``tdma_raw`` scheme).
     correct_range_doppler_coupling : bool
         Remove the fast-time Doppler shift f_D from the beat frequency (R += v c / (S lambda)).
     range_peak_check : bool
