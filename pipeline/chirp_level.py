@@ -78,12 +78,20 @@ EGE_K_ARRAY = np.arange(8)
 #: Block header: scale factor (scaleFactorBW = 4) + k index (3 bits).
 EGE_HEADER_BITS = 4 + 3
 _MAX_SHIFT = 15  # a 4-bit scale factor
-#: The encoder's dither (``ditherEnable = 1`` in the demo): a fixed pseudo-random sequence of
-#: triangular offsets in (-1, 1) quantisation steps (sum of two uniform), like the HWA's LFSR
-#: (deterministic). TPDF dither makes the error independent of the signal, of variance
-#: step^2 / 4 (Wannamaker, Lipshitz & Vanderkooy, J. AES 48(6), 2000).
-_DITHER = (np.random.default_rng(0x2944).random((2, 1 << 16), dtype=np.float32)
-           .sum(axis=0) - np.float32(1.0))
+def _dither(index: np.ndarray) -> np.ndarray:
+    """The encoder's dither (``ditherEnable = 1`` in the demo) for values at flat cube
+    positions `index`: triangular offsets in (-1, 1) quantisation steps (sum of two uniforms),
+    from a splitmix64 hash of the position, so it is deterministic and never periodic across
+    chirps (a repeating sequence would put lines into the Doppler spectrum). TPDF dither makes
+    the error independent of the signal, of variance step^2 / 4 (Wannamaker, Lipshitz &
+    Vanderkooy, J. AES 48(6), 2000). The HWA's own LFSR is not documented publicly."""
+    z = index.astype(np.uint64) + np.uint64(0x9E3779B97F4A7C15)
+    z = (z ^ (z >> np.uint64(30))) * np.uint64(0xBF58476D1CE4E5B9)
+    z = (z ^ (z >> np.uint64(27))) * np.uint64(0x94D049BB133111EB)
+    z ^= z >> np.uint64(31)
+    u1 = (z >> np.uint64(40)).astype(np.float32)
+    u2 = ((z >> np.uint64(8)) & np.uint64(0xFFFFFF)).astype(np.float32)
+    return (u1 + u2) * np.float32(2.0 ** -24) - np.float32(1.0)
 
 
 # ------------------------------------------------------------------------------- kernels
@@ -317,7 +325,7 @@ def ege_compress(rf: np.ndarray, ratio: float = 0.5, range_bins_per_block: int =
         rows, s = hot[moved], s[moved]
         if rows.size:
             step = np.ldexp(np.float32(1), s.astype(np.int32)).astype(np.float32)[:, None]
-            d = _DITHER[(rows[:, None] * n_val + np.arange(n_val)) % _DITHER.size]
+            d = _dither(rows[:, None] * n_val + np.arange(n_val))
             q = np.rint(vb[moved] / step + d)
             c_i, b_i = np.divmod(rows, nb)
             vv[c_i, :, b_i, :] = (q * (step / np.float32(scale))) \
