@@ -444,12 +444,17 @@ def run_cell(spec: CellSpec, comps: Components | None = None,
         span = 2 * radar[m].max_unambiguous_velocity_mps
         lab = associate(pcs, truth, velocity_span_mps=span, config=assoc, scatterers=scat_df)
         lab = detection_errors(lab, truth, scat_df)
+        cfg_m = radar[m]
+        lab["velocity_resolution_failure"] = mdet.velocity_resolution_failures(
+            pcs, truth, cfg_m.scheme.velocity_failure_step_mps(cfg_m), config=assoc,
+            scatterers=scat_df)
         af = actor_frames(lab, truth, scatterers=scat_df, config=assoc)
         row = mdet.summarize_scheme(lab, af, len(frames), assoc,
                                     target_ids=info["target_ids"])
         per_actor = mdet.actor_detection(af)
         actor_summaries.append(per_actor.assign(scheme=s))
         row.update(mdet.case_criteria(info["criteria"], lab, per_actor, row))
+        row.update(mdet.velocity_failure_stats(lab))
         if comps.track is not None:
             tr = comps.track(radar[m], clouds[s], times.to_numpy(), ego_speeds,
                              getattr(run, "mount", None), dict(spec.tracker),

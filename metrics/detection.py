@@ -20,7 +20,8 @@ __all__ = [
     "error_stats", "velocity_unambiguity_rate", "ghost_stats", "actor_detection",
     "pd_vs_range", "max_range_pd90", "snr_gain_pairs", "snr_gain_stats", "summarize_scheme",
     "target_first_detection_range_m", "case_criteria", "CRITERION_MEASURES",
-    "NOISE_LIMITED_SNR_DB", "NOISE_LIMITED_MIN_PAIRS",
+    "NOISE_LIMITED_SNR_DB", "NOISE_LIMITED_MIN_PAIRS", "velocity_resolution_failures",
+    "velocity_failure_stats",
 ]
 
 
@@ -66,6 +67,45 @@ def velocity_unambiguity_rate(labelled: pd.DataFrame, window_mps: float) -> floa
     if lab.empty:
         return float("nan")
     return float((lab["label"] == TRUE).mean())
+
+
+def velocity_resolution_failures(detections: pd.DataFrame, truth: pd.DataFrame,
+                                 step_mps: float, *, config: AssociationConfig | None = None,
+                                 scatterers: pd.DataFrame | None = None) -> np.ndarray:
+    """Detections whose velocity resolution failed: inside an actor's footprint gate with the
+    radial velocity off by a non-zero multiple of ``step_mps`` (within the velocity gate).
+
+    ``step_mps`` is the scheme's own failure step (`radarsim.mimo.MimoScheme.
+    velocity_failure_step_mps`): one sub-band for DDMA (a demodulation or assignment error
+    moves the velocity by whole sub-bands), the unambiguous span 2 Vmax of one Tx's slow time
+    for TDMA and BPM (a wrong disambiguation hypothesis), so DDMA demodulation errors,
+    classic-DDMA assignment errors and TDMA/BPM disambiguation errors count on one scale. It is
+    `association.associate` with ``velocity_span_mps = step_mps``: its VELOCITY_AMBIGUOUS
+    detections.
+
+    Returns
+    -------
+    (n,) bool, in the row order of ``detections``.
+    """
+    from .association import associate
+    if len(detections) == 0:
+        return np.zeros(0, dtype=bool)
+    lab = associate(detections, truth, velocity_span_mps=step_mps, config=config,
+                    scatterers=scatterers)
+    return (lab["label"] == VELOCITY_AMBIGUOUS).to_numpy()
+
+
+def velocity_failure_stats(labelled: pd.DataFrame) -> dict[str, float]:
+    """``n_velocity_resolution_failures`` (column ``velocity_resolution_failure`` of the
+    detections) and ``velocity_resolution_failure_rate`` = failures / (TRUE + failures), NaN
+    without either."""
+    fail = labelled["velocity_resolution_failure"].to_numpy(dtype=bool) \
+        if "velocity_resolution_failure" in labelled else np.zeros(len(labelled), dtype=bool)
+    n_fail = int(fail.sum())
+    n_true = int((labelled["label"] == TRUE).sum()) if len(labelled) else 0
+    return {"n_velocity_resolution_failures": n_fail,
+            "velocity_resolution_failure_rate": n_fail / (n_true + n_fail)
+            if n_true + n_fail else float("nan")}
 
 
 def ghost_stats(labelled: pd.DataFrame, n_frames: int) -> dict[str, float]:

@@ -56,11 +56,6 @@ _TX_POS_WL = {1: (0.0, 0.0), 2: (1.0, 0.8), 3: (2.0, 0.0), 4: (4.0, 0.0)}
 _RX_POS_WL = {1: (0.0, 0.0), 2: (0.5, 0.0), 3: (1.0, 0.0), 4: (1.5, 0.0)}
 
 
-def _default_tx_order(n_tx: int) -> tuple[int, ...]:
-    # Horizontal Tx first (Tx1, Tx3, Tx4), the raised Tx2 last, as the R79 demo (seed 000 3.3).
-    return tuple(t for t in (1, 3, 4, 2) if t <= n_tx)
-
-
 @dataclass(frozen=True, kw_only=True, slots=True)
 class RadarConfig:
     """One AWR2944 radar: waveform, MIMO schedule, antenna and RF budget.
@@ -87,7 +82,8 @@ class RadarConfig:
         (seed 000 3.3), Nt for classic DDMA. Ignored by schemes without sub-bands.
     tx_order : tuple of int or None
         DDMA: which Tx occupies sub-band 0, 1, ...; TDMA: which Tx fires in slot 0, 1, ...
-        Default (1, 3, 4, 2) restricted to the active Tx.
+        Default from the scheme: (1, 3, 4, 2) restricted to the active Tx (R79 demo);
+        classic DDMA (1, 2, 3, 4).
     phase_shifter_bits : int
         Shifter resolution (AWR2944: 6 bits, 5.625 deg per LSB).
     phase_quantization : {"floor", "round", "none"}
@@ -237,7 +233,7 @@ class RadarConfig:
                              f"{sorted(ANTENNA_PATTERNS)}")
 
         # MIMO schedule.
-        order = _default_tx_order(self.n_tx) if self.tx_order is None else \
+        order = scheme.default_tx_order(self.n_tx) if self.tx_order is None else \
             tuple(int(t) for t in self.tx_order)
         if sorted(order) != list(range(1, self.n_tx + 1)):
             raise ValueError(f"tx_order={order!r} must be a permutation of Tx 1..{self.n_tx}")
@@ -522,7 +518,7 @@ class RadarConfig:
         """A copy with some fields changed (validated again); unknown fields raise ValueError.
 
         `tx_order`, `n_subbands` and the per-Tx error tuples are re-derived when `n_tx` changes
-        and they are not given."""
+        and they are not given; `tx_order` and `n_subbands` also when `mimo` changes."""
         names = {f.name for f in dataclasses.fields(self)}
         unknown = sorted(set(changes) - names)
         if unknown:
@@ -532,6 +528,9 @@ class RadarConfig:
             for k in ("tx_order", "n_subbands", "tx_phase_error_deg", "tx_gain_error_db",
                       "shifter_phase_error_deg", "shifter_gain_error_db", "tx_coupling_db",
                       "tx_coupling_deg", "shifter_calibration_deg"):
+                data[k] = None
+        if "mimo" in changes and changes["mimo"] != self.mimo:
+            for k in ("tx_order", "n_subbands"):  # the new scheme's defaults
                 data[k] = None
         data.update(changes)
         return RadarConfig(**data)

@@ -739,25 +739,31 @@ def _finish(st: _State, n_lines: int) -> TiProfile:
         masks.append(tx)
     n_tx = st.fields["n_tx"]
     per_loop = len(masks)
-    single = [m.bit_length() - 1 if m & (m - 1) == 0 else None for m in masks]
-    if all(m == st.tx_mask for m in masks) and (n_tx > 1 or st.ddm_order is not None):
-        if st.ddm_order is None:
-            raise fln.fail("every chirp enables all Tx (DDMA) but there is no "
-                           "ddmPhaseShiftAntOrder (TI: 'DDM Proc chain requires "
-                           "ddmPhaseShiftAntOrder')")
-        order = tuple(t + 1 for t in st.ddm_order if t < n_tx)
-        st.set(fln, mimo="ddma", n_subbands=per_loop, n_chirps=per_loop * fr["loops"])
+    # The MIMO scheme is the registered scheme that claims the chirp pattern (radarsim.mimo).
+    from .mimo import MIMO_SCHEMES
+    claim = None
+    for scheme in MIMO_SCHEMES.values():
+        try:
+            claim = scheme.from_ti(tuple(masks), n_tx, st.tx_mask, st.ddm_order)
+        except ValueError as exc:
+            raise fln.fail(str(exc)) from None
+        if claim is not None:
+            break
+    if claim is None:
+        pattern = " ".join(f"0b{m:04b}" for m in masks)
+        raise fln.fail(f"chirp Tx pattern [{pattern}] matches no MIMO scheme "
+                       f"({', '.join(MIMO_SCHEMES)}): DDMA needs all {n_tx} Tx every chirp and "
+                       f"at least {n_tx} chirps per loop, TDMA one Tx per chirp, each once per "
+                       "loop")
+    order = claim.pop("tx_order", None)
+    st.set(fln, **claim, n_chirps=per_loop * fr["loops"])
+    if "n_subbands" in claim:
         st.set(st.seen["ddmPhaseShiftAntOrder"], tx_order=order)
-    elif None not in single and sorted(single) == list(range(n_tx)):
+    else:
         if st.ddm_order is not None:
             st.ignored.append((st.seen["ddmPhaseShiftAntOrder"].no, "ddmPhaseShiftAntOrder"))
-        st.set(fln, mimo="tdma", n_chirps=per_loop * fr["loops"],
-               tx_order=tuple(t + 1 for t in single))
-    else:
-        pattern = " ".join(f"0b{m:04b}" for m in masks)
-        raise fln.fail(f"chirp Tx pattern [{pattern}] is neither DDMA (all {n_tx} Tx every "
-                       f"chirp) nor TDMA (one Tx per chirp, each once per loop)")
-    if "n_subbands" in st.directives and st.fields["mimo"] == "ddma":
+        st.set(fln, tx_order=order)
+    if "n_subbands" in st.directives and "n_subbands" in claim:
         raise st.directive_lines["n_subbands"].fail(
             "n_subbands is set by chirpCfg/frameCfg (chirps per loop) for DDMA")
 
@@ -852,7 +858,8 @@ def to_ti_cfg(cfg: RadarConfig | TiProfile, *, frame_period_s: float | None = No
         cfar = profile.cfar if profile else {}
     cfars = list(cfar.values()) if isinstance(cfar, Mapping) else list(cfar)
 
-    per_loop = radar.n_subbands if radar.mimo == "ddma" else radar.n_tx
+    ti_frame = radar.scheme.to_ti(radar, _N_TX_CHIP)  # the scheme's loop (radarsim.mimo)
+    per_loop = ti_frame.chirps_per_loop
     loops = radar.n_chirps // per_loop
     if loops > _MAX_LOOPS:
         raise ValueError(f"n_chirps={radar.n_chirps}: {loops} loops of {per_loop} chirps "
@@ -882,16 +889,10 @@ def to_ti_cfg(cfg: RadarConfig | TiProfile, *, frame_period_s: float | None = No
         f"{_fmt_decimal(radar.slope_hz_per_s, 12)} 0 {radar.n_samples} "
         f"{_fmt_decimal(radar.adc_rate_sps, 3)} 0 0 42",
     ]
-    if radar.mimo == "ddma":
-        out.append(f"chirpCfg 0 {per_loop - 1} 0 0 0 0 0 {tx_mask}")
-    else:
-        out += [f"chirpCfg {i} {i} 0 0 0 0 0 {1 << (t - 1)}" for i, t in enumerate(radar.tx_order)]
+    out += list(ti_frame.chirp_lines)
     out.append(f"frameCfg 0 {per_loop - 1} {loops} {n_frames} {radar.n_samples} "
                f"{_fmt_decimal(frame_period_s, -3)} 1 0")
-    if radar.mimo == "ddma":
-        order = [t - 1 for t in radar.tx_order]
-        order += [t for t in range(_N_TX_CHIP) if t not in order]
-        out.append("ddmPhaseShiftAntOrder " + " ".join(map(str, order)))
+    out += list(ti_frame.extra_lines)
     pairs, dx, dz = _evm_ant_geometry()
     out.append("antGeometryCfg " + " ".join(f"{r} {c}" for r, c in pairs) + f" {dx} {dz}")
     out += [c.to_cli() for c in cfars]
