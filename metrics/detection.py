@@ -30,6 +30,11 @@ def _rmse(x: np.ndarray) -> float:
     return float(np.sqrt(np.mean(x ** 2))) if len(x) else float("nan")
 
 
+def _median_abs(x: np.ndarray) -> float:
+    x = x[np.isfinite(x)]
+    return float(np.median(np.abs(x))) if len(x) else float("nan")
+
+
 def _p95_abs(x: np.ndarray) -> float:
     x = x[np.isfinite(x)]
     return float(np.percentile(np.abs(x), 95)) if len(x) else float("nan")
@@ -41,15 +46,19 @@ def error_stats(labelled: pd.DataFrame) -> dict[str, float]:
     ``range_error_rmse_m`` = sqrt(mean(e_R^2)) and ``range_error_p95_m`` = 95th percentile of
     |e_R| over TRUE detections, e_R = detection slant range minus the slant range of the nearest
     scatterer of its actor (`association.detection_errors`); the same for the radial velocity
-    (``radial_velocity_error_rmse_mps``, ``radial_velocity_error_p95_mps``). NaN when there is no
-    TRUE detection. ``n_error_samples`` counts the detections used.
+    (``radial_velocity_error_rmse_mps``, ``radial_velocity_error_p95_mps``). The medians of
+    |e| (``range_error_median_m``, ``radial_velocity_error_median_mps``) are robust to the odd
+    outlier that dominates an RMSE. NaN when there is no TRUE detection. ``n_error_samples``
+    counts the detections used.
     """
     tru = labelled[labelled["label"] == TRUE]
     er = tru["range_error_m"].to_numpy(dtype=float) if "range_error_m" in tru else np.array([])
     ev = tru["radial_velocity_error_mps"].to_numpy(dtype=float) \
         if "radial_velocity_error_mps" in tru else np.array([])
-    return {"range_error_rmse_m": _rmse(er), "range_error_p95_m": _p95_abs(er),
+    return {"range_error_rmse_m": _rmse(er), "range_error_median_m": _median_abs(er),
+            "range_error_p95_m": _p95_abs(er),
             "radial_velocity_error_rmse_mps": _rmse(ev),
+            "radial_velocity_error_median_mps": _median_abs(ev),
             "radial_velocity_error_p95_mps": _p95_abs(ev),
             "n_error_samples": int(np.isfinite(er).sum())}
 

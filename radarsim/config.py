@@ -20,6 +20,8 @@ from typing import Any
 
 import numpy as np
 
+from scenarios.checks import require
+
 from . import shifter as _shifter
 from .mimo import MIMO_SCHEMES, scheme_of
 
@@ -54,6 +56,54 @@ ANTENNA_PATTERNS = {
 # AWR2944 EVM element positions (DESIGN 4.2) in wavelengths: (y, z). y grows to the left.
 _TX_POS_WL = {1: (0.0, 0.0), 2: (1.0, 0.8), 3: (2.0, 0.0), 4: (4.0, 0.0)}
 _RX_POS_WL = {1: (0.0, 0.0), 2: (0.5, 0.0), 3: (1.0, 0.0), 4: (1.5, 0.0)}
+
+
+#: Plausible RF budget of a radar front end: field -> (low, high). Beyond these the radar
+#: equation overflows (10^(5000/10) W) or the value is a typo; the AWR2944 EVM sits far inside
+#: (12 dBm per Tx, 10 dBi elements, 12 dB noise figure).
+RF_BUDGET_LIMITS = {
+    "tx_power_dbm": (-40.0, 40.0),          # 40 dBm = 10 W per transmitter
+    "tx_antenna_gain_dbi": (-30.0, 50.0),
+    "rx_antenna_gain_dbi": (-30.0, 50.0),
+    "noise_figure_db": (0.0, 60.0),
+    "system_loss_db": (0.0, 100.0),
+    "adc_full_scale_dbm": (-100.0, 30.0),
+    "temperature_k": (1.0, 1000.0),
+    "phase_noise_deg_rms": (0.0, 180.0),
+}
+#: Per-Tx static errors: field -> (low, high). A gain error far below 0 dB mutes a Tx (tests
+#: use -300 dB); above +40 dB it is a typo that overflows the received power.
+TX_ERROR_LIMITS = {"tx_gain_error_db": (-400.0, 40.0), "tx_phase_error_deg": (-360.0, 360.0)}
+
+
+def _is_number(v) -> bool:
+    return isinstance(v, (int, float, np.integer, np.floating)) and not isinstance(v, bool)
+
+
+def _check_numbers(cfg) -> None:
+    """Every numeric field holds a number (a string or bool would fail later without the field
+    name)."""
+    for f in dataclasses.fields(cfg):
+        v = getattr(cfg, f.name)
+        if _is_number(f.default) and not _is_number(v):
+            raise ValueError(f"{f.name}={v!r} must be a number")
+
+
+def _check_rf_budget(cfg) -> None:
+    """The RF budget lies within `RF_BUDGET_LIMITS`; per-Tx errors hold numbers within
+    `TX_ERROR_LIMITS`."""
+    for name, (lo, hi) in RF_BUDGET_LIMITS.items():
+        v = getattr(cfg, name)
+        if not (math.isfinite(v) and lo <= v <= hi):
+            raise ValueError(f"{name}={v!r} is outside the plausible range [{lo:g}, {hi:g}]")
+    for name, (lo, hi) in TX_ERROR_LIMITS.items():
+        v = getattr(cfg, name)
+        if v is None:
+            continue
+        if isinstance(v, (str, bytes)) or not hasattr(v, "__len__") or \
+                not all(_is_number(x) and math.isfinite(x) and lo <= x <= hi for x in v):
+            raise ValueError(f"{name}={v!r} must be a list of finite numbers in "
+                             f"[{lo:g}, {hi:g}] (one per Tx)")
 
 
 @dataclass(frozen=True, kw_only=True, slots=True)
@@ -166,34 +216,23 @@ class RadarConfig:
 
     def __post_init__(self) -> None:
         _set = lambda name, value: object.__setattr__(self, name, value)  # noqa: E731
+        _check_numbers(self)
         scheme = scheme_of(self.mimo)
-        for name, hi in (("n_tx", MAX_N_TX), ("n_rx", MAX_N_RX)):
-            val = getattr(self, name)
-            if not isinstance(val, (int, np.integer)) or not 1 <= val <= hi:
-                raise ValueError(f"{name}={val!r} must be an integer in 1..{hi} (AWR2944)")
-        for name in ("n_samples", "n_chirps"):
-            val = getattr(self, name)
-            if not isinstance(val, (int, np.integer)) or val < 2:
-                raise ValueError(f"{name}={val!r} must be an integer >= 2")
+        require(self, "n_tx", "integer", ge=1, le=MAX_N_TX)  # AWR2944
+        require(self, "n_rx", "integer", ge=1, le=MAX_N_RX)
+        require(self, ("n_samples", "n_chirps"), "integer", ge=2)
         if self.n_samples % 2:
             raise ValueError(f"n_samples={self.n_samples} must be even (real ADC: "
                              "n_samples/2 range bins)")
-        for name in ("start_freq_hz", "slope_hz_per_s", "idle_time_s", "ramp_end_time_s",
-                     "chirp_period_s", "adc_rate_sps", "temperature_k"):
-            val = getattr(self, name)
-            if not (math.isfinite(val) and val > 0):
-                raise ValueError(f"{name}={val!r} must be a finite positive number")
+        require(self, ("start_freq_hz", "slope_hz_per_s", "idle_time_s", "ramp_end_time_s",
+                       "chirp_period_s", "adc_rate_sps", "temperature_k"), gt=0)
         if not (math.isfinite(self.adc_start_time_s) and self.adc_start_time_s >= 0):
             raise ValueError(f"adc_start_time_s={self.adc_start_time_s!r} must be >= 0")
-        for name in ("tx_power_dbm", "tx_antenna_gain_dbi", "rx_antenna_gain_dbi",
-                     "noise_figure_db", "system_loss_db", "adc_full_scale_dbm",
-                     "phase_noise_deg_rms", "pattern_exponent_az", "pattern_exponent_el"):
-            if not math.isfinite(getattr(self, name)):
-                raise ValueError(f"{name}={getattr(self, name)!r} must be finite")
-        for name in ("noise_figure_db", "system_loss_db", "phase_noise_deg_rms",
-                     "pattern_exponent_az", "pattern_exponent_el"):
-            if getattr(self, name) < 0:
-                raise ValueError(f"{name}={getattr(self, name)!r} must be >= 0")
+        require(self, ("tx_power_dbm", "tx_antenna_gain_dbi", "rx_antenna_gain_dbi",
+                       "adc_full_scale_dbm"))
+        require(self, ("noise_figure_db", "system_loss_db", "phase_noise_deg_rms",
+                       "pattern_exponent_az", "pattern_exponent_el"), ge=0)
+        _check_rf_budget(self)
 
         # DESIGN 4.4: chip limits.
         if self.adc_rate_sps > MAX_ADC_RATE_SPS:
