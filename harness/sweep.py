@@ -264,7 +264,7 @@ def validate_cells(spec: SweepSpec, source: str | Path | None = None) -> None:
         Naming the sweep file, the variant, the key, the value and the config's own message
         (which names the limit).
     """
-    from pipeline import tracking as trk
+    from pipeline.tracking import TrackerConfig
 
     from .runner import build_configs, default_components
     comps = default_components()
@@ -280,7 +280,7 @@ def validate_cells(spec: SweepSpec, source: str | Path | None = None) -> None:
 
     def build(section: str, overrides: dict) -> None:
         if section == "tracker":
-            trk.TrackerConfig(**overrides)
+            TrackerConfig(**overrides)
         else:
             check(CellSpec(scenario=spec.scenarios[0], **{section: overrides}, **schemes))
 
@@ -289,7 +289,7 @@ def validate_cells(spec: SweepSpec, source: str | Path | None = None) -> None:
             check(CellSpec(scenario=spec.scenarios[0], seed=spec.seeds[0], variant=v.name,
                            radar=dict(v.radar), processing=dict(v.processing),
                            tracker=dict(v.tracker), **schemes))
-            trk.TrackerConfig(**v.tracker)
+            TrackerConfig(**v.tracker)
         except (ValueError, TypeError, KeyError) as exc:
             why = _culprit(v, build) or f"{type(exc).__name__}: {exc}"
             raise ValueError(f"{where}variant {v.name!r}: {why}") from None
