@@ -32,7 +32,8 @@ _SUMMARY_COLUMNS = [
     "ghosts_per_frame", "velocity_unambiguity_rate", "range_error_rmse_m",
     "radial_velocity_error_rmse_mps", "detection_probability_mean",
     "target_first_detection_range_m", "case_pass", "snr_gain_median_db",
-    "track_confirm_range_m_max", "gospa_mean_m", "error",
+    "track_confirm_range_m_max", "gospa_mean_m", "noise_floor_rise_db",
+    "interference_to_noise_db", "error",
 ]
 
 
@@ -215,7 +216,7 @@ def _pd_vs_range(actors: pd.DataFrame):
     return fig
 
 
-def _snr_gain_hist(actors: pd.DataFrame, baseline: str = "tdma"):
+def _snr_gain_hist(actors: pd.DataFrame, baseline: str):
     from metrics.detection import snr_gain_pairs
     plt = _plt()
     fig, ax = plt.subplots(figsize=(7, 4))
@@ -324,6 +325,62 @@ def _case_section(summary, det, truth, specs, key, maps: bool) -> list[str]:
     return parts
 
 
+def interference_section(summary: pd.DataFrame, actors: pd.DataFrame) -> str:
+    """HTML of the interference section (issue 14): per interference case, the noise-floor
+    rise after the Doppler FFT (median over frames) and the INR for every variant and scheme,
+    then Pd versus range per variant (e.g. equipped share x mitigation on/off). Empty when the
+    summary has no interference columns or no case with interferers."""
+    need = {"noise_floor_rise_db", "interference_to_noise_db"}
+    if not need <= set(summary.columns):
+        return ""
+    cases = [c for c in summary["scenario"].unique()
+             if "interfer" in c or summary.loc[summary["scenario"] == c,
+                                               "interference_to_noise_db"].notna().any()]
+    if not cases:
+        return ""
+    from metrics.association import AssociationConfig
+    from metrics.detection import pd_vs_range
+    plt = _plt()
+    parts = ["<h2>Interference: noise-floor rise and Pd versus range</h2>",
+             "<p>Noise-floor rise: median over frames of the Doppler-FFT floor over thermal "
+             "(chirp-level chain of each variant applied); INR: in-burst interference-to-noise "
+             "ratio at the ADC (median over frames with interferers).</p>"]
+    cols = ["scenario", "variant", "scheme", "noise_floor_rise_db", "noise_floor_rise_range_db",
+            "interference_to_noise_db", "ghost_rate", "n_detections"]
+    sub = summary[summary["scenario"].isin(cases)]
+    parts.append(_table_html(sub, [c for c in cols if c in sub.columns]))
+    schemes = _schemes(sub) or ["-"]
+    fig, axes = plt.subplots(1, len(cases), figsize=(5.5 * len(cases), 4), squeeze=False)
+    for ax, case in zip(axes[0], cases):
+        g = sub[sub["scenario"] == case].groupby(["variant", "scheme"])["noise_floor_rise_db"] \
+            .median().unstack("scheme")
+        g = g.reindex(columns=[s for s in schemes if s in g.columns])
+        g.plot.bar(ax=ax, rot=75, fontsize=7)
+        ax.set_title(f"{case}: noise-floor rise", fontsize=9)
+        ax.set_ylabel("dB over thermal (after Doppler FFT)")
+        ax.grid(alpha=0.3, axis="y")
+    parts.append(_img(fig))
+    a = actors[actors["scenario"].isin(cases)] if len(actors) else actors
+    if len(a):
+        bin_m, min_count = AssociationConfig().pd_range_bin_m, AssociationConfig().pd_min_count
+        fig, axes = plt.subplots(1, len(schemes), figsize=(5 * len(schemes), 4), sharey=True,
+                                 squeeze=False)
+        for ax, scheme in zip(axes[0], schemes):
+            for var, g in a[a["scheme"] == scheme].groupby("variant"):
+                t = pd_vs_range(g.assign(actor_class="all"), bin_m)
+                t = t[t["n_frames"] >= min_count]
+                ax.plot((t["range_lo_m"] + t["range_hi_m"]) / 2, t["detection_probability"],
+                        "o-", ms=3, label=var)
+            ax.axhline(0.9, color="k", ls=":", lw=0.8)
+            ax.set_title(f"{scheme}: Pd vs range, interference cases", fontsize=9)
+            ax.set_xlabel("actor centre range, m")
+            ax.grid(alpha=0.3)
+            ax.legend(fontsize=6)
+        axes[0][0].set_ylabel("detection probability")
+        parts.append(_img(fig))
+    return "\n".join(parts)
+
+
 def build_report(results: str | Path, out: str | Path | None = None, *, maps: bool = True,
                  max_cases: int | None = None) -> Path:
     """Write ``report.html`` for a results directory and return its path.
@@ -356,7 +413,8 @@ def build_report(results: str | Path, out: str | Path | None = None, *, maps: bo
     truth = _read(res, "truth")
     manifest = json.loads((res / "manifest.json").read_text()) \
         if (res / "manifest.json").exists() else {}
-    base = manifest.get("baseline_scheme", "tdma")
+    from .runner import DEFAULT_BASELINE_SCHEME
+    base = manifest.get("baseline_scheme", DEFAULT_BASELINE_SCHEME)
     parts = [f"<h1>Corner-radar evaluation: {html.escape(str(manifest.get('run_id', res.name)))}"
              "</h1>"]
     git = manifest.get("git", {})
@@ -395,6 +453,7 @@ def build_report(results: str | Path, out: str | Path | None = None, *, maps: bo
                                (k["scenario"], k["variant"], int(k["seed"])), maps)
     if len(det):
         parts.append("<h2>Ghost map</h2>" + _img(_ghost_map(det)))
+    parts.append(interference_section(summary, actors))
     from .shifter_report import html_section as _shifter_section  # "" unless a shifter sweep
     parts.append(_shifter_section(res))
     parts.append("<details><summary><h2>Summary: every run</h2></summary>"

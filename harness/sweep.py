@@ -58,12 +58,13 @@ from .runner import (DEFAULT_BASELINE_SCHEME, DEFAULT_SCHEMES, SEED_STREAMS, TAB
 __all__ = ["Variant", "SweepSpec", "SweepOutcome", "load_sweep", "default_sweep",
            "run_sweep", "cell_dir", "completed_cells", "cell_states", "assemble",
            "validate_cells", "prepare_out", "dask_security", "DEFAULT_SWEEP_PATH",
-           "CI_SWEEP_PATH", "MAX_DURATION_S", "MAX_CELLS", "MAX_WORKERS", "MAX_FRAME_STRIDE",
-           "MAX_SEED"]
+           "CI_SWEEP_PATH", "SCHEMES_SWEEP_PATH", "MAX_DURATION_S", "MAX_CELLS", "MAX_WORKERS",
+           "MAX_FRAME_STRIDE", "MAX_SEED"]
 
 DEFAULT_SWEEP_PATH = Path(__file__).with_name("default_sweep.toml")
 CI_SWEEP_PATH = Path(__file__).with_name("ci_sweep.toml")
-_SECTIONS = ("radar", "processing", "tracker")
+SCHEMES_SWEEP_PATH = Path(__file__).with_name("schemes_sweep.toml")
+_SECTIONS = ("radar", "processing", "tracker", "scene")
 #: Most cells in one sweep (scenarios x variants x seeds): beyond it a typo in [vary] is likelier
 #: than a plan (10 000 R79 cells are days of CPU).
 MAX_CELLS = 10_000
@@ -87,6 +88,7 @@ class Variant:
     radar: dict = field(default_factory=dict)
     processing: dict = field(default_factory=dict)
     tracker: dict = field(default_factory=dict)
+    scene: dict = field(default_factory=dict)
 
 
 @dataclass(frozen=True)
@@ -148,6 +150,7 @@ class SweepSpec:
         """Cells in a fixed order: scenario, then variant, then seed."""
         return [CellSpec(scenario=sc, seed=seed, variant=v.name, radar=dict(v.radar),
                          processing=dict(v.processing), tracker=dict(v.tracker),
+                         scene=dict(v.scene),
                          frame_stride=self.frame_stride, duration_s=self.duration_s,
                          schemes=self.schemes, baseline_scheme=self.baseline_scheme)
                 for sc in self.scenarios for v in self.variants for seed in self.seeds]
@@ -164,6 +167,9 @@ class SweepSpec:
             del d["schemes"]
         if d["baseline_scheme"] == DEFAULT_BASELINE_SCHEME:
             del d["baseline_scheme"]
+        for v in d["variants"]:  # the scene section enters the id only when used
+            if not v.get("scene"):
+                v.pop("scene", None)
         blob = json.dumps(d, sort_keys=True, default=str)
         return f"{self.name}-{hashlib.sha1(blob.encode()).hexdigest()[:8]}"
 
@@ -222,6 +228,9 @@ def _check_section(where: str, section: str, overrides: dict) -> None:
             pipeline.ProcessingConfig().replace(**overrides)
         except (ValueError, TypeError) as exc:
             raise ValueError(f"{where}: processing {overrides!r}: {exc}") from None
+    if section == "scene" and overrides:
+        from .runner import check_scene
+        check_scene(overrides)
 
 
 def _init_worker() -> None:
@@ -288,7 +297,7 @@ def validate_cells(spec: SweepSpec, source: str | Path | None = None) -> None:
         try:
             check(CellSpec(scenario=spec.scenarios[0], seed=spec.seeds[0], variant=v.name,
                            radar=dict(v.radar), processing=dict(v.processing),
-                           tracker=dict(v.tracker), **schemes))
+                           tracker=dict(v.tracker), scene=dict(v.scene), **schemes))
             TrackerConfig(**v.tracker)
         except (ValueError, TypeError, KeyError) as exc:
             why = _culprit(v, build) or f"{type(exc).__name__}: {exc}"
