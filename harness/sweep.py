@@ -119,6 +119,9 @@ class SweepSpec:
         CellSpec(scenario="-", schemes=self.schemes, baseline_scheme=self.baseline_scheme)
         if not self.scenarios:
             raise ValueError("scenarios: the sweep has no scenario")
+        dup = sorted({sc for sc in self.scenarios if list(self.scenarios).count(sc) > 1})
+        if dup:
+            raise ValueError(f"scenarios: duplicate case(s) {dup}")
         if not self.seeds or any(isinstance(s, bool) or not isinstance(s, int)
                                  or not 0 <= s <= MAX_SEED for s in self.seeds):
             raise ValueError(f"seeds={list(self.seeds)!r} must be a non-empty list of "
