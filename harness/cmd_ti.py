@@ -81,16 +81,19 @@ def processing_from_profile(profile, notes: list[str] | None = None):
     """
     import pipeline
     notes = [] if notes is None else notes
+    # Chirp-level chain (intfMitigCfg, compressionCfg): the profile's values, demo defaults
+    # otherwise.
+    chirp = dict(getattr(profile, "chirp_level", {}) or {})
     doppler = profile.cfar.get("doppler")
     if "range" in profile.cfar:
         notes.append(f"line {profile.cfar['range'].line_no}: range cfarCfg ignored (the chain "
                      "has no range CFAR, DESIGN section 5)")
     if doppler is None:
-        return pipeline.ProcessingConfig()
+        return pipeline.ProcessingConfig(**chirp)
     if not doppler.cyclic:
         notes.append(f"line {doppler.line_no}: cyclicMode 0 ignored (the Doppler CFAR is "
                      "cyclic)")
-    return pipeline.ProcessingConfig(cfar=cfar_config_from_ti(doppler))
+    return pipeline.ProcessingConfig(cfar=cfar_config_from_ti(doppler), **chirp)
 
 
 def _interleaved(layout: str, profile) -> bool:

@@ -36,6 +36,20 @@ def test_report_is_self_contained(report):
     assert not re.search(r'src="(?!data:)', page)  # nothing fetched from disk or network
 
 
+def test_report_leads_with_the_answer(report):
+    """Headline table, then the two figures, then the cases; the gate table last, collapsed."""
+    page = report.read_text()
+    order = [page.index(h) for h in ("<h2>Headline", "<h2>Detection probability versus range",
+                                     "<h2>SNR gain over", "<h2>Case fast", "<h2>Ghost map",
+                                     "<details><summary><h2>Gates (shipped thresholds)")]
+    assert order == sorted(order)
+    head = page[order[0]:order[1]]
+    for col in ("Pd car", "first detection car, m", "range RMSE, m", "velocity RMSE, m/s",
+                "velocity unambiguous", "ghost rate", "gates"):
+        assert f"<th>{col}</th>" in head
+    assert page.rstrip().endswith("</details></body></html>")
+
+
 def test_report_missing_results_exit_2(tmp_path):
     assert main(["report", str(tmp_path)]) == 2
 

@@ -182,3 +182,19 @@ def test_variants_reach_the_cells(tmp_path):
     run_sweep(spec, tmp_path, components=FAKE, progress=False)
     s = pd.read_parquet(tmp_path / "summary.parquet")
     assert sorted(s["variant"].unique()) == ["a", "b"]
+
+
+@pytest.mark.parametrize("text, match", [
+    ('scenarios = ["a"]\nspeed_kmh = 3', r"speed_kmh: unknown key; known: \["),
+    ('scenarios = ["a"]\n[[variants]]\nname = "x"\ncolour = 1',
+     r"variants\[0\]\.colour: unknown key; known: \["),
+    ('scenarios = ["a"]\n[[variants]]\n[variants.radar]\nn_tx = 2',
+     r"variants\[0\]\.name: required key missing"),
+])
+def test_sweep_file_messages_follow_the_shared_file_policy(tmp_path, text, match):
+    """Same message shape as case files and gates: file, key with its position, what is wrong."""
+    from harness.sweep import load_sweep
+    p = tmp_path / "s.toml"
+    p.write_text(text)
+    with pytest.raises(ValueError, match=rf"s\.toml: {match}"):
+        load_sweep(p, check_scenarios=False)
