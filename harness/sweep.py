@@ -708,6 +708,11 @@ def _run_dask(pending, out, scheduler, components, bar, security=None,
     from distributed import as_completed
     client = _connect(scheduler, security, timeout_s)
     try:
+        try:  # a scheduler without workers would leave every task waiting forever
+            client.wait_for_workers(1, timeout=timeout_s)
+        except (TimeoutError, OSError):
+            raise ValueError(f"--scheduler {client.scheduler.address!r}: no Dask worker joined "
+                             f"the scheduler within {timeout_s:g} s") from None
         futs = {client.submit(execute_cell, c, str(out), components, key=f"cell-{c.cell_id}",
                               pure=False): c for c in pending}
         res, lost = {}, []
