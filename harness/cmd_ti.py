@@ -9,9 +9,11 @@ point cloud table (a `frame` and a `time_s` column in front of the chain's colum
 CSV by the file suffix). The profile's Doppler ``cfarCfg`` becomes the chain's CFAR
 (`cfar_config_from_ti`); without one the chain's default CFAR is used.
 
-`simulate` runs a scenario, builds each frame's scatterers with the RCS model and writes the
-front end's ADC frames for the profile's radar as a capture, so the same data can be replayed
-here or on other tools. Random streams are those of a sweep cell
+`simulate` runs a scenario at the profile's frame rate (1 / ``framePeriodicity``, the period
+`process` stamps the frames with), builds each frame's scatterers with the RCS model and writes
+the front end's ADC frames for the profile's radar as a capture in the DCA1000 layout the
+profile implies (`radarsim.capture.layout_of`: real or complex, ADC buffer interleaving), so
+the same data can be replayed here or read by TI's and OpenRadar's readers. Random streams are those of a sweep cell
 (``harness.runner.frame_rng(seed, frame, "rcs" | mimo)``), so a capture of the R79 preset
 holds exactly the ADC frames a sweep of the same scenario and seed processes.
 """
@@ -91,13 +93,14 @@ def processing_from_profile(profile, notes: list[str] | None = None):
     return pipeline.ProcessingConfig(cfar=cfar_config_from_ti(doppler))
 
 
-def _interleaved(layout: str, profile) -> bool:
+def _interleaved(layout: str, profile) -> bool | None:
+    """None (the profile's adcbufCfg decides) for "auto", else the forced buffer order."""
     if layout == "auto":
-        return bool(profile.adc_channel_interleaved)
+        return None
     return layout == "interleaved"
 
 
-def process_capture(capture, profile, proc=None, *, interleaved: bool = False,
+def process_capture(capture, profile, proc=None, *, interleaved: bool | None = None,
                     max_frames: int | None = None) -> pd.DataFrame:
     """Point cloud of every frame of a capture: `frame`, `time_s`, then the chain's columns.
 
@@ -135,7 +138,8 @@ def _track(points: pd.DataFrame, profile, n_frames: int) -> pd.DataFrame:
 
 # ---------------------------------------------------------------------------- process
 def add_arguments_process(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("capture", type=Path, help="DCA1000 capture (.bin, int16 real ADC)")
+    parser.add_argument("capture", type=Path,
+                        help="DCA1000 capture (.bin, int16 words, real or complex ADC)")
     parser.add_argument("--cfg", type=Path, required=True, help="TI mmWave SDK .cfg profile")
     parser.add_argument("--out", type=Path, default=None,
                         help="point cloud table, .parquet or .csv (default CAPTURE.parquet)")
@@ -197,7 +201,7 @@ def _components():
 def simulate_frames(cfg, run, seed: int, frames, comps):
     """ADC frames of a scenario run for radar `cfg`, as a sweep cell simulates them.
 
-    Yields (n_chirps, n_rx, n_samples) int16 per frame of `frames`.
+    Yields (n_chirps, n_rx, n_samples) int16 (real) or complex64 (complex ADC) per frame.
     """
     from harness import runner
     for f in frames:
@@ -215,8 +219,11 @@ def run_simulate(args: argparse.Namespace) -> int:
         raise ValueError(f"--frames={args.frames} must be >= 1")
     profile = parse_ti_cfg(args.cfg)
     comps = _components()
+    # The scenario advances one profile frame period per frame: process stamps frame f at
+    # f x framePeriodicity, so the capture's scene must move by the same step.
+    rate_hz = 1.0 / profile.frame_period_s
     try:
-        run = comps.run_scenario(args.case, args.seed, args.duration_s)
+        run = comps.run_scenario(args.case, args.seed, args.duration_s, frame_rate_hz=rate_hz)
     except KeyError as exc:
         raise ValueError(f"unknown scenario {args.case!r}: {exc}") from exc
     src = run.ego if getattr(run, "ego", None) is not None and len(run.ego) else run.truth
@@ -228,6 +235,6 @@ def run_simulate(args: argparse.Namespace) -> int:
         # Saturation is a property of the scene (a car at 2 m), as in a sweep cell.
         warnings.simplefilter("ignore", category=ADCSaturationWarning)
         n = write_capture(args.out, simulate_frames(profile.radar, run, args.seed, frames, comps),
-                          cfg=profile.radar, interleaved=profile.adc_channel_interleaved)
+                          cfg=profile.radar)
     print(f"{n} frame(s) of {args.case} (seed {args.seed}) -> {args.out}")
     return 0

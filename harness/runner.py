@@ -101,7 +101,7 @@ class CellSpec:
 class Components:
     """The parts a cell wires together (module-level callables, so it pickles).
 
-    run_scenario(name, seed, duration_s) -> object with ``truth``, ``ego``, ``mount``,
+    run_scenario(name, seed, duration_s[, frame_rate_hz=]) -> object with ``truth``, ``ego``, ``mount``,
     ``case`` (and optionally ``radar_velocity_mps()``); scene_scatterers(truth_rows, rng,
     [radar_velocity_mps=, mount_height_m=]) -> Scatterers; simulate_frame(cfg, sc, rng) ->
     ADC; process_frame(cfg, adc, proc) -> point cloud; make_processing(overrides) ->
@@ -119,9 +119,9 @@ class Components:
     track_metrics: Callable | None = None
 
 
-def _real_run_scenario(name, seed, duration_s):
+def _real_run_scenario(name, seed, duration_s, frame_rate_hz=20.0):
     import scenarios
-    return scenarios.run_scenario(name, seed, duration_s=duration_s)
+    return scenarios.run_scenario(name, seed, duration_s=duration_s, frame_rate_hz=frame_rate_hz)
 
 
 def _real_scene_scatterers(truth_rows, rng, radar_velocity_mps=None, mount_height_m=None):

@@ -44,8 +44,9 @@ def _check_frame(cfg: RadarConfig, adc: np.ndarray) -> None:
         raise ValueError(f"cfg must be a radarsim.RadarConfig, got {type(cfg).__name__}")
     if not isinstance(adc, np.ndarray):
         raise ValueError(f"adc must be a numpy.ndarray, got {type(adc).__name__}")
-    if adc.dtype != np.int16:
-        raise ValueError(f"adc dtype must be int16 (real ADC samples), got {adc.dtype}")
+    if adc.dtype != cfg.adc_dtype:
+        raise ValueError(f"adc dtype must be {cfg.adc_dtype} ({cfg.adc_mode} ADC samples), got "
+                         f"{adc.dtype}")
     want = (cfg.n_chirps, cfg.n_rx, cfg.n_samples)
     if adc.shape != want:
         raise ValueError(f"adc shape {adc.shape} does not match the config "
@@ -350,8 +351,8 @@ def process_frame(cfg: RadarConfig, adc: np.ndarray,
     ----------
     cfg : radarsim.RadarConfig
         The radar that produced the frame (`cfg.mimo` selects the chain).
-    adc : (n_chirps, n_rx, n_samples) int16
-        Real ADC samples.
+    adc : (n_chirps, n_rx, n_samples) int16, or complex64 for a complex ADC mode
+        ADC samples (`RadarConfig.adc_dtype`).
     proc : ProcessingConfig, optional
         Windows, CFAR and TDMA settings; default `ProcessingConfig()`.
 
@@ -365,7 +366,7 @@ def process_frame(cfg: RadarConfig, adc: np.ndarray,
     Raises
     ------
     ValueError
-        If `adc` is not an int16 array of the config's shape, or `cfg`/`proc` are of the
+        If `adc` is not an array of the config's dtype and shape, or `cfg`/`proc` are of the
         wrong type.
     """
     _check_frame(cfg, adc)

@@ -1,4 +1,4 @@
-"""AWR2944 front-end model: scatterers to one int16 ADC frame.
+"""Front-end model of a TI mmWave chip: scatterers to one ADC frame, real or complex (I/Q).
 
 The IF signal of scatterer s, transmitter k, receiver r at chirp c and fast-time sample n is a
 real tone (DESIGN section 3)
@@ -10,6 +10,11 @@ f_D = -2 v_r / lambda), path_sc = 2 (R_s + v_r t_c) the two-way path at chirp c,
 vector to the scatterer and phi_kc the transmit phase of Tx k at chirp c (DDMA phase code with
 its quantisation, static and random errors; in TDMA a Tx is silent outside its slot). The
 amplitude follows the radar equation (seed 000 eq. 1) with the element gain pattern.
+A complex (I/Q) ADC mode delivers the analytic tone A_skr exp(j(...)) instead of its real part:
+the I channel is the real receiver's sample, Q its quadrature, each with the real receiver's
+thermal noise; the image band (negative beat frequencies) is rejected, so a beat frequency f_b
+sits at range bin f_b N / f_s of the complex FFT and echoes beyond the IF band are attenuated by
+the chip's IF low-pass before they alias.
 
 Because the tone separates into fast-time x slow-time x antenna factors, the whole cube is one
 matrix product: (chirp x Rx, scatterer) @ (scatterer, sample). Range migration over the frame
@@ -34,9 +39,10 @@ from .scatterers import Scatterers
 __all__ = ["simulate_frame", "received_power_w", "if_filter_gain", "transmit_phasors",
            "ADCSaturationWarning", "IF_LOWPASS_HZ", "IF_LOWPASS_ORDER"]
 
-#: -3 dB corner of the IF anti-alias low-pass, Hz: just above the 15 MHz usable IF band, so
-#: targets up to ~240 m lose < 0.2 dB and echoes beyond the 253 m Nyquist range are attenuated
-#: (-7.5 dB at 300 m, -31 dB at 400 m) rather than aliasing at full strength.
+#: -3 dB corner of the AWR2944's IF anti-alias low-pass, Hz: just above the 15 MHz usable IF
+#: band, so targets up to ~240 m lose < 0.2 dB and echoes beyond the 253 m Nyquist range are
+#: attenuated (-7.5 dB at 300 m, -31 dB at 400 m) rather than aliasing at full strength. Each
+#: chip's corner is `radarsim.chips.Chip.if_lowpass_hz`.
 IF_LOWPASS_HZ = 16.5e6
 #: Butterworth order of that low-pass.
 IF_LOWPASS_ORDER = 10
@@ -46,15 +52,17 @@ class ADCSaturationWarning(UserWarning):
     """Some ADC samples were clipped at the int16 full scale."""
 
 
-def if_filter_gain(beat_hz: np.ndarray) -> np.ndarray:
+def if_filter_gain(beat_hz: np.ndarray, corner_hz: float = IF_LOWPASS_HZ) -> np.ndarray:
     """Power gain of the IF anti-alias low-pass (Butterworth magnitude), linear.
 
     Parameters
     ----------
     beat_hz : (K,) float
         Beat frequency, Hz.
+    corner_hz : float
+        -3 dB corner, Hz (default the AWR2944's).
     """
-    return 1.0 / (1.0 + (np.abs(beat_hz) / IF_LOWPASS_HZ) ** (2 * IF_LOWPASS_ORDER))
+    return 1.0 / (1.0 + (np.abs(beat_hz) / corner_hz) ** (2 * IF_LOWPASS_ORDER))
 
 
 def received_power_w(cfg: RadarConfig, scatterers: Scatterers) -> np.ndarray:
@@ -79,7 +87,7 @@ def received_power_w(cfg: RadarConfig, scatterers: Scatterers) -> np.ndarray:
     loss = 10 ** (cfg.system_loss_db / 10)
     lam = cfg.wavelength_m
     pr = pt * gt * gr * lam ** 2 * scatterers.rcs_m2 / ((4 * np.pi) ** 3 * r ** 4 * loss)
-    return pr * if_filter_gain(_beat_frequency_hz(cfg, scatterers))
+    return pr * if_filter_gain(_beat_frequency_hz(cfg, scatterers), cfg.chip_spec.if_lowpass_hz)
 
 
 def _beat_frequency_hz(cfg: RadarConfig, scatterers: Scatterers) -> np.ndarray:
@@ -131,7 +139,7 @@ def _chirp_times_s(cfg: RadarConfig) -> np.ndarray:
 
 def simulate_frame(cfg: RadarConfig, scatterers: Scatterers,
                    rng: np.random.Generator) -> np.ndarray:
-    """Simulate one frame of real ADC samples as the AWR2944 delivers it.
+    """Simulate one frame of ADC samples as the chip delivers it (real or complex I/Q).
 
     Parameters
     ----------
@@ -144,9 +152,10 @@ def simulate_frame(cfg: RadarConfig, scatterers: Scatterers,
 
     Returns
     -------
-    adc : (n_chirps, n_rx, n_samples) int16
-        Real ADC samples: signal + thermal noise (k T NF B, B = adc_rate / 2), scaled so a sine
-        of `adc_full_scale_dbm` reaches 32767, rounded and clipped to int16.
+    adc : (n_chirps, n_rx, n_samples) int16 (real ADC) or complex64 (complex ADC modes)
+        ADC samples: signal + thermal noise (k T NF B per real channel, B = adc_rate / 2),
+        scaled so a sine of `adc_full_scale_dbm` reaches 32767, rounded and clipped to int16;
+        complex frames hold int16-valued I and Q parts (what a DCA1000 records).
 
     Warns
     -----
@@ -167,13 +176,16 @@ def simulate_frame(cfg: RadarConfig, scatterers: Scatterers,
         raise ValueError(f"rng must be a numpy.random.Generator, got {type(rng).__name__}")
 
     n_c, n_r, n_s = cfg.n_chirps, cfg.n_rx, cfg.n_samples
+    cplx = cfg.is_complex
     tx_w = transmit_phasors(cfg, rng)  # (T, C)
-    # Thermal noise first: the output buffer, to which the signal is added in place.
-    out = _gaussian_noise(rng, (n_c * n_r, n_s), cfg.noise_rms_lsb)
+    # Thermal noise first: the output buffer, to which the signal is added in place (complex:
+    # I and Q interleaved along the last axis, each with the real channel's noise).
+    out = _gaussian_noise(rng, (n_c * n_r, 2 * n_s if cplx else n_s), cfg.noise_rms_lsb)
     power = received_power_w(cfg, scatterers) if len(scatterers) else np.zeros(0)
     keep = power > 0  # only scatterers in front of the radar with non-zero power contribute
     if np.any(keep):
-        out += _signal(cfg, scatterers, keep, power[keep], tx_w)
+        sig = _signal(cfg, scatterers, keep, power[keep], tx_w)
+        out += sig.view(np.float32) if cplx else sig
     np.rint(out, out=out)
     # max/min are cheap reductions; the clipped samples are only counted when there are some.
     if out.max() > ADC_FULL_SCALE_CODE or out.min() < -ADC_FULL_SCALE_CODE - 1:
@@ -183,6 +195,8 @@ def simulate_frame(cfg: RadarConfig, scatterers: Scatterers,
                       f"({100 * n_clip / out.size:.3g} %) clipped at -{ADC_FULL_SCALE_CODE + 1}"
                       f"/+{ADC_FULL_SCALE_CODE}", ADCSaturationWarning, stacklevel=2)
         np.clip(out, -ADC_FULL_SCALE_CODE - 1, ADC_FULL_SCALE_CODE, out=out)
+    if cplx:
+        return out.view(np.complex64).reshape(n_c, n_r, n_s)
     return out.astype(np.int16).reshape(n_c, n_r, n_s)
 
 
@@ -230,12 +244,12 @@ def _gaussian_noise(rng: np.random.Generator, shape: tuple[int, int],
 
 def _signal(cfg: RadarConfig, sc: Scatterers, keep: np.ndarray, power_w: np.ndarray,
             tx_w: np.ndarray) -> np.ndarray:
-    """Noise-free real IF samples of the kept scatterers, LSB.
+    """Noise-free IF samples of the kept scatterers, LSB: real, or complex for I/Q modes.
 
     The tone of scatterer k at chirp c, Rx r, sample n separates into
     M[c, r, k] = slow[c, k] sum_t w[t, c] ant[t, r, k] and F[k, n] = exp(j 2 pi f_k t_n);
-    the frame is Re(M F), one real float32 GEMM: interleaving (Re M, Im M) against
-    (Re F, -Im F) rows gives Re M Re F - Im M Im F.
+    the real frame is Re(M F), one real float32 GEMM: interleaving (Re M, Im M) against
+    (Re F, -Im F) rows gives Re M Re F - Im M Im F; the complex frame is M F (complex64 GEMM).
 
     Parameters
     ----------
@@ -250,7 +264,7 @@ def _signal(cfg: RadarConfig, sc: Scatterers, keep: np.ndarray, power_w: np.ndar
 
     Returns
     -------
-    (n_chirps x n_rx, n_samples) float32
+    (n_chirps x n_rx, n_samples) float32, or complex64 for a complex ADC mode
     """
     n_c, n_r, n_s, n_t = cfg.n_chirps, cfg.n_rx, cfg.n_samples, cfg.n_tx
     r0 = sc.range_m[keep]
@@ -279,6 +293,11 @@ def _signal(cfg: RadarConfig, sc: Scatterers, keep: np.ndarray, power_w: np.ndar
     f_b = _beat_frequency_hz(cfg, sc)[keep]
     t_n = np.arange(n_s) / cfg.adc_rate_sps
     ph_f = (2 * np.pi * np.mod(f_b[:, None] * t_n[None, :], 1.0)).astype(np.float32)
+    if cfg.is_complex:
+        fast = np.empty((n_k, n_s), dtype=np.complex64)
+        fast.real = np.cos(ph_f)
+        fast.imag = np.sin(ph_f)
+        return m.reshape(n_c * n_r, n_k) @ fast
     rhs = np.empty((n_k, 2, n_s), dtype=np.float32)
     np.cos(ph_f, out=rhs[:, 0])
     np.sin(ph_f, out=rhs[:, 1])
@@ -287,13 +306,16 @@ def _signal(cfg: RadarConfig, sc: Scatterers, keep: np.ndarray, power_w: np.ndar
 
 
 def saturation_fraction(adc: np.ndarray) -> float:
-    """Fraction of samples of an int16 frame sitting at the clipping rails."""
-    return float(np.mean((adc >= ADC_FULL_SCALE_CODE) | (adc <= -ADC_FULL_SCALE_CODE - 1)))
+    """Fraction of samples of an int16 frame (or of the I and Q parts of a complex frame)
+    sitting at the clipping rails."""
+    x = adc.view(np.float32) if np.iscomplexobj(adc) else adc
+    return float(np.mean((x >= ADC_FULL_SCALE_CODE) | (x <= -ADC_FULL_SCALE_CODE - 1)))
 
 
 def expected_sample_snr_db(cfg: RadarConfig, scatterers: Scatterers) -> np.ndarray:
     """(K,) per-sample SNR of each scatterer's tone at the ADC for one Tx-Rx pair, dB:
-    P_r / (k T NF B). Coherent gains then add 10 log10(N/2) (real range FFT), 10 log10(chirps)
+    P_r / (k T NF B). Coherent gains then add 10 log10(N/2) (real range FFT; 10 log10(2 N)
+    for a complex one, whose tone keeps its full amplitude over I/Q noise), 10 log10(chirps)
     (Doppler FFT) and 10 log10(channels) (angle FFT)."""
     return 10 * np.log10(received_power_w(cfg, scatterers) / cfg.noise_power_w)
 
