@@ -323,9 +323,11 @@ class _Line:
     def int(self, i: int, name: str, lo: int | None = None, hi: int | None = None,
             chip: str | None = None) -> int:
         tok = self.args[i]
-        if not re.fullmatch(r"[+-]?\d+|0[xX][0-9a-fA-F]+", tok):
+        # TI's CLI reads integers with atoi: "2950.00" (TI toolbox profiles) is 2950; a
+        # fractional value is refused rather than truncated.
+        if not re.fullmatch(r"[+-]?\d+(\.0*)?|0[xX][0-9a-fA-F]+", tok):
             raise self.fail(f"{name}={tok!r} is not an integer")
-        val = int(tok, 0) if tok.lower().startswith("0x") else int(tok)
+        val = int(tok, 0) if tok.lower().startswith("0x") else int(tok.split(".")[0])
         if (lo is not None and val < lo) or (hi is not None and val > hi):
             rng = f"{lo if lo is not None else '-inf'}..{hi if hi is not None else 'inf'}"
             raise self.fail(f"{name}={val} is outside {rng}" +
@@ -722,12 +724,12 @@ TI_COMMANDS: dict[str, CommandSpec] = {
     "version": _spec({0}, None, "print versions"),
     "lowPower": _spec({2}, None, "low-power ADC mode"),
     "guiMonitor": _spec({6, 7}, None, "UART output selection"),
-    "aoaFovCfg": _spec({5}, None, "angle field of view"),
-    "cfarFovCfg": _spec({4}, None, "CFAR field of view"),
-    "multiObjBeamForming": _spec({3}, None, "multi-object beamforming"),
-    "calibDcRangeSig": _spec({5}, None, "DC range signature calibration"),
-    "clutterRemoval": _spec({2}, None, "static clutter removal"),
-    "extendedMaxVelocity": _spec({2}, None, "extended velocity"),
+    "aoaFovCfg": _spec({4, 5}, None, "angle field of view"),
+    "cfarFovCfg": _spec({3, 4}, None, "CFAR field of view"),
+    "multiObjBeamForming": _spec({2, 3}, None, "multi-object beamforming"),
+    "calibDcRangeSig": _spec({4, 5}, None, "DC range signature calibration"),
+    "clutterRemoval": _spec({1, 2}, None, "static clutter removal"),
+    "extendedMaxVelocity": _spec({1, 2}, None, "extended velocity"),
     "nearFieldCfg": _spec({4}, None, "near-field correction"),
     # 1 range bias + (re, im) per virtual antenna, any Tx x Rx size.
     "compRangeBiasAndRxChanPhase": _spec(_odd_counts(3, 1 + 2 * 16), None,
