@@ -15,7 +15,7 @@ COMMANDS: dict[str, tuple[str, str]] = {
     "frame": ("harness.cmd_frame", "simulate one R79 frame and print its summary"),
     "scenarios": ("harness.cmd_scenarios", "list the scenario catalogue"),
     "show": ("harness.cmd_scenarios", "bird's-eye PNG/GIF of a scenario"),
-    "run": ("harness.cmd_sweep", "run one scenario with both schemes"),
+    "run": ("harness.cmd_sweep", "run one scenario with the chosen MIMO schemes"),
     "sweep": ("harness.cmd_sweep", "run a scenario sweep and write result tables"),
     "gate": ("harness.cmd_gate", "check result tables against thresholds"),
     "report": ("harness.cmd_report", "write an HTML report of a results directory"),

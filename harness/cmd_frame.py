@@ -7,14 +7,16 @@ import numpy as np
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("--mimo", choices=["ddma", "tdma"], default="ddma")
+    import radarsim
+    parser.add_argument("--mimo", choices=sorted(radarsim.MIMO_SCHEMES), default="ddma",
+                        help="MIMO scheme (radarsim.MIMO_SCHEMES)")
     parser.add_argument("--seed", type=int, default=0)
 
 
 def run(args: argparse.Namespace) -> int:
     import radarsim
 
-    cfg = radarsim.presets.PRESETS[f"r79_{args.mimo}"]()
+    cfg = radarsim.presets.r79(args.mimo)
     sc = radarsim.Scatterers(position_m=[[50.0, 5.0, 0.0], [120.0, -20.0, 0.3]],
                              velocity_mps=[[-20.0, 0.0, 0.0], [8.0, 0.0, 0.0]],
                              rcs_m2=[10.0, 10.0], actor_id=np.array([0, 1]))

@@ -1,7 +1,9 @@
 """`radar-harness run CASE` and `radar-harness sweep [SWEEP.toml]`.
 
-``run`` evaluates one catalogue case with DDMA, TDMA and TDMA-without-disambiguation and prints
-the summary table (``--out DIR`` also writes its tables). ``sweep`` runs a suite (default: the
+``run`` evaluates one catalogue case with the given schemes (``--schemes``: names of
+``radarsim.MIMO_SCHEMES`` or chain variants such as ``tdma_raw``; default DDMA, TDMA and
+TDMA-without-disambiguation) and prints the summary table (``--out DIR`` also writes its
+tables). ``sweep`` runs a suite (default: the
 shipped ``harness/default_sweep.toml``: whole catalogue, one seed) on a local process pool or a
 Dask cluster and writes ``results/<run-id>/`` (``--out DIR``): ``detections.parquet`` (long),
 ``frames.parquet`` (per frame), ``actors.parquet`` (per actor and frame),
@@ -49,6 +51,24 @@ def add_arguments_run(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--frame-stride", type=int, default=1,
                         help="process every k-th frame")
     parser.add_argument("--out", default=None, help="also write the tables to this directory")
+    _add_scheme_arguments(parser)
+
+
+def _add_scheme_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("--schemes", nargs="+", default=None, metavar="SCHEME",
+                        help="result schemes: radarsim.MIMO_SCHEMES names or chain variants "
+                             "(default ddma tdma tdma_raw)")
+    parser.add_argument("--baseline-scheme", default=None,
+                        help="scheme the SNR gain is taken over (default tdma)")
+
+
+def _scheme_kwargs(args: argparse.Namespace) -> dict:
+    kw = {}
+    if args.schemes is not None:
+        kw["schemes"] = tuple(args.schemes)
+    if args.baseline_scheme is not None:
+        kw["baseline_scheme"] = args.baseline_scheme
+    return kw
 
 
 def run_run(args: argparse.Namespace) -> int:
@@ -56,7 +76,7 @@ def run_run(args: argparse.Namespace) -> int:
     from .sweep import _resolve_scenarios
     _resolve_scenarios([args.case])
     spec = CellSpec(scenario=args.case, seed=args.seed, duration_s=args.duration_s,
-                    frame_stride=args.frame_stride)
+                    frame_stride=args.frame_stride, **_scheme_kwargs(args))
     res = run_cell(spec)
     print(format_summary(res.tables["summary"]))
     print(f"({res.elapsed_s:.1f} s)")
@@ -89,13 +109,17 @@ def add_arguments_sweep(parser: argparse.ArgumentParser) -> None:
                         help="only these cases (override the sweep file)")
     parser.add_argument("--progress", action=argparse.BooleanOptionalAction, default=None,
                         help="progress bar (default: only on a terminal)")
+    _add_scheme_arguments(parser)
 
 
 def run_sweep(args: argparse.Namespace) -> int:
     from . import sweep as sw
     spec = sw.load_sweep(args.sweep_file).with_overrides(
         seeds=args.seeds, frame_stride=args.frame_stride, duration_s=args.duration_s,
-        scenarios=args.scenarios)
+        scenarios=args.scenarios, schemes=args.schemes)
+    if args.baseline_scheme is not None:
+        import dataclasses
+        spec = dataclasses.replace(spec, baseline_scheme=args.baseline_scheme)
     out = Path(args.out) if args.out else Path("results") / spec.run_id
     workers = args.workers if args.workers is not None else (os.cpu_count() or 1)
     if workers < 1:

@@ -20,14 +20,14 @@ from __future__ import annotations
 
 import fnmatch
 import json
-import math
-import tomllib
 import xml.etree.ElementTree as ET
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 import pandas as pd
+
+from scenarios.checks import build_from_table, check_keys, one_of, read_toml, require
 
 __all__ = ["Gate", "GateResult", "load_gates", "evaluate_gates", "load_summary",
            "junit_xml", "markdown", "DEFAULT_GATES_PATH", "AGGREGATES"]
@@ -36,8 +36,6 @@ DEFAULT_GATES_PATH = Path(__file__).with_name("gates.toml")
 #: How the matching rows are reduced before the comparison.
 AGGREGATES = {"each": None, "mean": np.nanmean, "median": np.nanmedian, "min": np.nanmin,
               "max": np.nanmax}
-_GATE_KEYS = {"name", "metric", "min", "max", "scheme", "scenario", "variant", "aggregate",
-              "allow_missing", "description"}
 _ID = ["scenario", "variant", "seed", "scheme"]
 
 
@@ -58,14 +56,9 @@ class Gate:
 
     def __post_init__(self) -> None:
         if self.min is None and self.max is None:
-            raise ValueError(f"gate {self.name!r}: needs min and/or max")
-        for k in ("min", "max"):
-            v = getattr(self, k)
-            if v is not None and not (isinstance(v, (int, float)) and math.isfinite(v)):
-                raise ValueError(f"gate {self.name!r}: {k}={v!r} must be a finite number")
-        if self.aggregate not in AGGREGATES:
-            raise ValueError(f"gate {self.name!r}: aggregate={self.aggregate!r} is not one of "
-                             f"{sorted(AGGREGATES)}")
+            raise ValueError(f"min/max: gate {self.name!r} needs min and/or max")
+        require(self, ("min", "max"), none_ok=True)
+        one_of("aggregate", self.aggregate, AGGREGATES)
 
     def check(self, value: float) -> bool:
         return (self.min is None or value >= self.min) and \
@@ -105,25 +98,15 @@ def load_gates(path: str | Path | None = None) -> list[Gate]:
         The file does not exist.
     """
     p = Path(path) if path is not None else DEFAULT_GATES_PATH
+    data = read_toml(p)
     try:
-        data = tomllib.loads(p.read_text())
-    except tomllib.TOMLDecodeError as exc:
-        raise ValueError(f"{p}: malformed TOML: {exc}") from exc
-    extra = sorted(set(data) - {"gate"})
-    if extra:
-        raise ValueError(f"{p}: unknown top-level key(s) {extra}; use [[gate]] tables")
-    raw = data.get("gate")
-    if not isinstance(raw, list) or not raw:
-        raise ValueError(f"{p}: no [[gate]] tables")
-    gates = []
-    for i, g in enumerate(raw):
-        bad = sorted(set(g) - _GATE_KEYS)
-        if bad:
-            raise ValueError(f"{p}: gate #{i + 1} ({g.get('name', '?')}): unknown key(s) {bad}; "
-                             f"known: {sorted(_GATE_KEYS)}")
-        if "name" not in g or "metric" not in g:
-            raise ValueError(f"{p}: gate #{i + 1}: needs 'name' and 'metric'")
-        gates.append(Gate(**g))
+        check_keys(data, {"gate"})
+        raw = data.get("gate")
+        if not isinstance(raw, list) or not raw:
+            raise ValueError("no [[gate]] tables")
+        gates = [build_from_table(Gate, g, f"gate[{i}].") for i, g in enumerate(raw)]
+    except ValueError as exc:
+        raise ValueError(f"{p}: {exc}") from None
     names = [g.name for g in gates]
     dup = sorted({n for n in names if names.count(n) > 1})
     if dup:

@@ -1,10 +1,12 @@
 """Self-contained HTML report of a results directory (images embedded as base64 PNG).
 
 Sections: run information (manifest, gates with the shipped thresholds), the summary table,
-detection probability versus range per class, the SNR-gain histogram (DDMA minus TDMA on the
-same actor and frame), the ghost map, and per case a bird's-eye view (ground truth and the
-detections of both schemes) and, when the scenario parts are installed, the range-Doppler and
-Doppler-azimuth maps of one frame, re-simulated bit-exactly from the cell's seeds.
+detection probability versus range per class, the SNR-gain histograms (each scheme minus the
+baseline scheme on the same actor and frame), the ghost map, and per case a bird's-eye view
+(ground truth and the detections of each MIMO scheme) and, when the scenario parts are
+installed, the range-Doppler and Doppler-azimuth maps of one frame, re-simulated bit-exactly
+from the cell's seeds. Panels follow the schemes present in the tables (their ``scheme``
+column, in run order), never a fixed list.
 """
 from __future__ import annotations
 
@@ -52,10 +54,22 @@ def _read(results: Path, name: str) -> pd.DataFrame:
     return pd.read_parquet(f) if f.exists() else pd.DataFrame()
 
 
+def _schemes(df: pd.DataFrame, mimo_only: bool = False) -> list[str]:
+    """Schemes of a table in order of appearance; `mimo_only` keeps registered MIMO schemes
+    (those with their own ADC frame), dropping chain variants such as ``tdma_raw``."""
+    names = list(dict.fromkeys(df["scheme"])) if "scheme" in df and len(df) else []
+    names = [n for n in names if n]
+    if mimo_only:
+        import radarsim
+        names = [n for n in names if n in radarsim.MIMO_SCHEMES]
+    return names
+
+
 def choose_frame(detections: pd.DataFrame, scenario: str, variant: str, seed: int) -> int | None:
-    """The frame with the most TRUE DDMA detections of a cell (ties: the earliest)."""
+    """The frame with the most TRUE detections of a cell's first scheme (ties: the earliest)."""
+    first = _schemes(detections)[:1]
     d = detections[(detections["scenario"] == scenario) & (detections["variant"] == variant)
-                   & (detections["seed"] == seed) & (detections["scheme"] == "ddma")]
+                   & (detections["seed"] == seed) & detections["scheme"].isin(first)]
     if d.empty:
         return None
     t = d[d["label"] == "TRUE"]
@@ -87,8 +101,11 @@ def _table_html(df: pd.DataFrame, columns=None) -> str:
 
 def _birdseye(truth: pd.DataFrame, det: pd.DataFrame, frame: int | None, title: str):
     plt = _plt()
-    fig, axes = plt.subplots(1, 2, figsize=(11, 5), sharex=True, sharey=True)
-    for ax, scheme in zip(axes, ("ddma", "tdma")):
+    schemes = _schemes(det, mimo_only=True) or ["-"]
+    fig, axes = plt.subplots(1, len(schemes), figsize=(5.5 * len(schemes), 5), sharex=True,
+                             sharey=True, squeeze=False)
+    axes = axes[0]
+    for ax, scheme in zip(axes, schemes):
         d = det[det["scheme"] == scheme]
         if len(d) > 6000:  # keep the PNG small; the sample is deterministic
             d = d.iloc[np.linspace(0, len(d) - 1, 6000).astype(int)]
@@ -123,27 +140,29 @@ def _birdseye(truth: pd.DataFrame, det: pd.DataFrame, frame: int | None, title: 
 
 
 def _maps(cell_spec: dict, frame: int, det: pd.DataFrame):
-    """Range-Doppler and Doppler-azimuth maps of one re-simulated frame (both schemes)."""
+    """Range-Doppler and Doppler-azimuth maps of one re-simulated frame (each MIMO scheme)."""
     import pipeline
 
     from .runner import CellSpec, simulate_cell_frame
     spec = CellSpec(**cell_spec)
     radar, adc, _, _ = simulate_cell_frame(spec, frame)
-    # One range bin for both schemes: the strongest TRUE DDMA detection of the frame (else the
-    # strongest detection), so the two Doppler-azimuth maps show the same target.
-    fd = det[(det["scheme"] == "ddma") & (det["frame"] == frame)]
+    # One range bin for all schemes: the strongest TRUE detection of the first scheme in the
+    # frame (else its strongest detection), so the Doppler-azimuth maps show the same target.
+    fd = det[det["scheme"].isin(_schemes(det)[:1]) & (det["frame"] == frame)]
     tru = fd[fd["label"] == "TRUE"]
     pick = tru if len(tru) else fd
     ref_range_m = float(pick.loc[pick["snr_db"].idxmax(), "range_m"]) if len(pick) else 50.0
     plt = _plt()
-    fig, axes = plt.subplots(2, 2, figsize=(11, 8))
-    for col, m in enumerate(("ddma", "tdma")):
+    fig, axes = plt.subplots(2, len(radar), figsize=(5.5 * len(radar), 8), squeeze=False)
+    for col, m in enumerate(radar):
         cfg = radar[m]
         rd = pipeline.frame_spectra(cfg, adc[m])["range_doppler_db"]  # (range, doppler)
         n_d = rd.shape[1]
         rd = np.fft.fftshift(rd, axes=1)
         ax = axes[0, col]
-        vmax = cfg.wavelength_m / (4 * cfg.chirp_period_s * (1 if m == "ddma" else cfg.n_tx))
+        # The chain's own Doppler axis spans the scheme's unambiguous velocity: all chirps at
+        # Tc for DDMA, one slot per code period for TDMA/BPM.
+        vmax = cfg.wavelength_m / (4 * cfg.chirp_period_s * (cfg.n_chirps // n_d))
         ax.imshow(rd, aspect="auto", origin="lower", cmap="viridis",
                   extent=[vmax, -vmax, 0, cfg.max_range_m],
                   vmin=np.percentile(rd, 50), vmax=rd.max())
@@ -171,8 +190,11 @@ def _pd_vs_range(actors: pd.DataFrame):
     from metrics.detection import pd_vs_range
     bin_m, min_count = AssociationConfig().pd_range_bin_m, AssociationConfig().pd_min_count
     plt = _plt()
-    fig, axes = plt.subplots(1, 3, figsize=(13, 4), sharey=True)
-    for ax, scheme in zip(axes, ("ddma", "tdma", "tdma_raw")):
+    schemes = _schemes(actors) or ["-"]
+    fig, axes = plt.subplots(1, len(schemes), figsize=(4.4 * len(schemes), 4), sharey=True,
+                             squeeze=False)
+    axes = axes[0]
+    for ax, scheme in zip(axes, schemes):
         a = actors[actors["scheme"] == scheme]
         t = pd_vs_range(a, bin_m)
         for cls, g in t.groupby("actor_class"):
@@ -189,19 +211,22 @@ def _pd_vs_range(actors: pd.DataFrame):
     return fig
 
 
-def _snr_gain_hist(actors: pd.DataFrame):
+def _snr_gain_hist(actors: pd.DataFrame, baseline: str = "tdma"):
     from metrics.detection import snr_gain_pairs
-    parts = [snr_gain_pairs(g) for _, g in actors.groupby(["scenario", "variant", "seed"])]
-    gains = pd.concat(parts)["snr_gain_db"].to_numpy() if parts else np.array([])
     plt = _plt()
     fig, ax = plt.subplots(figsize=(7, 4))
-    if len(gains):
-        ax.hist(gains, bins=60, range=(-10, 20), color="tab:blue")
-        ax.axvline(np.median(gains), color="k", label=f"median {np.median(gains):.2f} dB "
-                   f"(n = {len(gains)})")
+    for scheme in _schemes(actors, mimo_only=True):
+        if scheme == baseline:
+            continue
+        parts = [snr_gain_pairs(g, scheme, baseline)
+                 for _, g in actors.groupby(["scenario", "variant", "seed"])]
+        gains = pd.concat(parts)["snr_gain_db"].to_numpy() if parts else np.array([])
+        if len(gains):
+            ax.hist(gains, bins=60, range=(-10, 20), histtype="step", lw=1.5,
+                    label=f"{scheme}: median {np.median(gains):.2f} dB (n = {len(gains)})")
     ax.axvline(10 * np.log10(4), color="tab:red", ls="--", label="10 log10 4 = 6.02 dB")
-    ax.axvline(5.4, color="tab:orange", ls=":", label="expected detection-SNR gain 5.4 dB")
-    ax.set_xlabel("DDMA minus TDMA peak SNR, same actor and frame, dB")
+    ax.axvline(5.4, color="tab:orange", ls=":", label="empty-band DDMA expected 5.4 dB")
+    ax.set_xlabel(f"scheme minus {baseline} peak SNR, same actor and frame, dB")
     ax.set_ylabel("actor-frames")
     ax.legend(fontsize=8)
     return fig
@@ -209,8 +234,11 @@ def _snr_gain_hist(actors: pd.DataFrame):
 
 def _ghost_map(det: pd.DataFrame):
     plt = _plt()
-    fig, axes = plt.subplots(1, 3, figsize=(13, 4.5), sharex=True, sharey=True)
-    for ax, scheme in zip(axes, ("ddma", "tdma", "tdma_raw")):
+    schemes = _schemes(det) or ["-"]
+    fig, axes = plt.subplots(1, len(schemes), figsize=(4.4 * len(schemes), 4.5), sharex=True,
+                             sharey=True, squeeze=False)
+    axes = axes[0]
+    for ax, scheme in zip(axes, schemes):
         g = det[(det["scheme"] == scheme) & (det["label"] == "GHOST")]
         ax.hist2d(g["y_m"], g["x_m"], bins=[60, 60], range=[[-150, 150], [0, 250]],
                   cmap="Reds", cmin=1)
@@ -276,7 +304,9 @@ def build_report(results: str | Path, out: str | Path | None = None, *, maps: bo
     parts.append(_table_html(summary, _SUMMARY_COLUMNS))
     if len(actors):
         parts.append("<h2>Detection probability versus range</h2>" + _img(_pd_vs_range(actors)))
-        parts.append("<h2>SNR gain DDMA over TDMA</h2>" + _img(_snr_gain_hist(actors)))
+        base = manifest.get("baseline_scheme", "tdma")
+        parts.append(f"<h2>SNR gain over {html.escape(base)}</h2>"
+                     + _img(_snr_gain_hist(actors, base)))
     if len(det):
         parts.append("<h2>Ghost map</h2>" + _img(_ghost_map(det)))
     specs = {}

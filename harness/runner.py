@@ -1,10 +1,15 @@
 """One sweep cell: scenario x radar/processing overrides x seed -> result tables.
 
 A cell runs the scenario once, and for every processed frame builds the scatterers of the
-scene, simulates one ADC frame for DDMA and one for TDMA (independent noise: generator
-``SeedSequence([seed, frame, stream])`` with stream 0 = RCS model, 1 = DDMA ADC, 2 = TDMA ADC),
-processes DDMA, TDMA (velocity disambiguation on) and ``tdma_raw`` (disambiguation off, the
-same TDMA ADC), optionally tracks each scheme, and scores everything with `metrics`.
+scene, simulates one ADC frame per MIMO scheme of the cell (``CellSpec.schemes``, names of
+``radarsim.MIMO_SCHEMES``; independent noise: generator ``SeedSequence([seed, frame, stream])``
+with stream 0 = RCS model, 1 = DDMA ADC, 2 = TDMA ADC and, for every other scheme, a stream id
+derived from its name alone, so adding or removing a scheme never changes another scheme's
+numbers), processes each result scheme (a registered scheme, or a variant its receive chain
+declares in ``pipeline.MIMO_CHAINS``, e.g. ``tdma_raw`` = TDMA without velocity disambiguation
+on the same TDMA ADC frame), optionally tracks each scheme, and scores everything with
+`metrics`. The SNR gain of each scheme is taken over ``CellSpec.baseline_scheme`` on the same
+actor and frame.
 
 Same spec -> bit-identical tables: all randomness comes from the seed, and no timing or host
 information enters the tables (timings go to ``CellResult.elapsed_s``).
@@ -30,14 +35,17 @@ from metrics import detection as mdet
 from metrics.association import (AssociationConfig, actor_frames, associate, detection_errors,
                                  scatterer_table)
 
-__all__ = ["CellSpec", "Components", "CellResult", "SCHEMES", "SEED_STREAMS", "TABLES",
-           "default_components", "run_cell", "frame_rng", "build_configs", "simulate_cell_frame",
-           "frame_scatterers"]
+__all__ = ["CellSpec", "Components", "CellResult", "ResultScheme", "DEFAULT_SCHEMES",
+           "DEFAULT_BASELINE_SCHEME", "SEED_STREAMS", "TABLES", "default_components", "run_cell",
+           "frame_rng", "stream_id", "result_schemes", "known_schemes", "build_configs",
+           "simulate_cell_frame", "frame_scatterers"]
 
-#: Result schemes: name -> (radar preset mimo, TDMA disambiguation on?).
-SCHEMES: dict[str, tuple[str, bool]] = {"ddma": ("ddma", True), "tdma": ("tdma", True),
-                                        "tdma_raw": ("tdma", False)}
-#: Random streams of one frame: SeedSequence([seed, frame, stream]).
+#: Result schemes of a cell when none are given (the scheme column's values).
+DEFAULT_SCHEMES: tuple[str, ...] = ("ddma", "tdma", "tdma_raw")
+#: Scheme the SNR gain is taken over.
+DEFAULT_BASELINE_SCHEME = "tdma"
+#: Random streams of one frame with fixed ids: SeedSequence([seed, frame, stream]). Any other
+#: stream (a MIMO scheme's ADC noise) gets `stream_id(name)`, derived from its name alone.
 SEED_STREAMS: dict[str, int] = {"rcs": 0, "ddma": 1, "tdma": 2, "track": 3}
 #: Tables a cell returns (all pandas DataFrames, written as Parquet).
 TABLES = ("summary", "detections", "frames", "actors", "actor_summary", "truth", "tracks")
@@ -64,6 +72,12 @@ class CellSpec:
         Process every k-th frame (>= 1).
     duration_s : float or None
         Scenario duration override, s (None: the case's own).
+    schemes : tuple of str
+        Result schemes, in table order: `radarsim.MIMO_SCHEMES` names or variants their
+        chains declare (`known_schemes`).
+    baseline_scheme : str
+        Scheme the SNR gain is taken over (the gain columns of its own row are NaN, as are
+        those of every scheme when it is not run).
     """
 
     scenario: str
@@ -74,10 +88,18 @@ class CellSpec:
     tracker: dict = field(default_factory=dict)
     frame_stride: int = 1
     duration_s: float | None = None
+    schemes: tuple[str, ...] = DEFAULT_SCHEMES
+    baseline_scheme: str = DEFAULT_BASELINE_SCHEME
 
     def __post_init__(self) -> None:
         if not isinstance(self.scenario, str) or not self.scenario:
             raise ValueError(f"scenario={self.scenario!r} must be a non-empty name")
+        object.__setattr__(self, "schemes", tuple(self.schemes))
+        result_schemes(self.schemes)
+        if not isinstance(self.baseline_scheme, str) or \
+                self.baseline_scheme not in known_schemes():
+            raise ValueError(f"baseline_scheme={self.baseline_scheme!r} is not one of "
+                             f"{known_schemes()}")
         if not isinstance(self.seed, (int, np.integer)) or self.seed < 0:
             raise ValueError(f"seed={self.seed!r} must be an integer >= 0")
         if not isinstance(self.frame_stride, (int, np.integer)) or self.frame_stride < 1:
@@ -90,8 +112,16 @@ class CellSpec:
 
     @property
     def cell_id(self) -> str:
-        """File-system safe, unique id: scenario, variant, seed and a hash of the overrides."""
-        blob = json.dumps(self.to_dict(), sort_keys=True, default=str)
+        """File-system safe, unique id: scenario, variant, seed and a hash of the overrides.
+
+        The scheme fields enter the hash only when they differ from the defaults, so cells
+        written before they existed keep their ids."""
+        d = self.to_dict()
+        if tuple(d["schemes"]) == DEFAULT_SCHEMES:
+            del d["schemes"]
+        if d["baseline_scheme"] == DEFAULT_BASELINE_SCHEME:
+            del d["baseline_scheme"]
+        blob = json.dumps(d, sort_keys=True, default=str)
         h = hashlib.sha1(blob.encode()).hexdigest()[:8]
         safe = re.sub(r"[^A-Za-z0-9_.=-]+", "-", f"{self.scenario}__{self.variant}")
         return f"{safe}__s{self.seed}__{h}"
@@ -198,19 +228,98 @@ class CellResult:
     elapsed_s: float
 
 
+def stream_id(stream: str) -> int:
+    """Id of a random stream: `SEED_STREAMS` for the fixed ones, otherwise 2^16 plus the first
+    31 bits of the SHA-256 of the name, so each scheme's stream depends on its name only."""
+    if stream in SEED_STREAMS:
+        return SEED_STREAMS[stream]
+    if not isinstance(stream, str) or not stream:
+        raise ValueError(f"stream={stream!r} must be a non-empty name")
+    return 2 ** 16 + (int.from_bytes(hashlib.sha256(stream.encode()).digest()[:4], "big")
+                      >> 1)
+
+
 def frame_rng(seed: int, frame: int, stream: str) -> np.random.Generator:
     """Generator of one random stream of one frame: SeedSequence([seed, frame, stream id])."""
     return np.random.default_rng(np.random.SeedSequence([int(seed), int(frame),
-                                                         SEED_STREAMS[stream]]))
+                                                         stream_id(stream)]))
+
+
+@dataclass(frozen=True)
+class ResultScheme:
+    """One value of the tables' ``scheme`` column.
+
+    Attributes
+    ----------
+    name : str
+        The column value.
+    mimo : str
+        The `radarsim.MIMO_SCHEMES` name whose ADC frame it processes.
+    processing : dict
+        `ProcessingConfig` overrides of a chain variant (empty for the scheme itself).
+    """
+
+    name: str
+    mimo: str
+    processing: dict = field(default_factory=dict)
+
+    @property
+    def is_variant(self) -> bool:
+        return self.name != self.mimo
+
+
+def _scheme_table() -> dict[str, ResultScheme]:
+    import pipeline
+    import radarsim
+    out = {}
+    for m in radarsim.MIMO_SCHEMES:
+        out[m] = ResultScheme(m, m)
+        chain = pipeline.MIMO_CHAINS.get(m)
+        for v, overrides in (getattr(chain, "variants", None) or {}).items():
+            out[v] = ResultScheme(v, m, dict(overrides))
+    return out
+
+
+def known_schemes() -> list[str]:
+    """Names `CellSpec.schemes` accepts: every registered MIMO scheme and its chain's
+    variants."""
+    return list(_scheme_table())
+
+
+def result_schemes(names=DEFAULT_SCHEMES) -> list[ResultScheme]:
+    """Resolve result-scheme names against the registries.
+
+    Raises
+    ------
+    ValueError
+        Empty list, duplicates or unknown names (naming them and the known ones).
+    """
+    if isinstance(names, str) or not all(isinstance(n, str) for n in names):
+        raise ValueError(f"schemes={names!r} must be a list of scheme names")
+    names = list(names)
+    if not names:
+        raise ValueError("schemes: the list is empty")
+    if len(set(names)) != len(names):
+        raise ValueError(f"schemes={names!r} holds duplicates")
+    table = _scheme_table()
+    bad = [n for n in names if n not in table]
+    if bad:
+        raise ValueError(f"schemes: unknown scheme(s) {bad}; known: {list(table)}")
+    return [table[n] for n in names]
+
+
+def _mimos(schemes: list[ResultScheme]) -> list[str]:
+    """The MIMO schemes whose ADC frames the result schemes need, in first-use order."""
+    return list(dict.fromkeys(s.mimo for s in schemes))
 
 
 def build_configs(spec: CellSpec, comps: Components):
-    """(radar config per mimo, processing config per scheme) of a cell."""
+    """(radar config per mimo, processing config per result scheme) of a cell."""
     import radarsim
-    radar = {m: radarsim.presets.PRESETS[f"r79_{m}"](**spec.radar) for m in ("ddma", "tdma")}
-    proc_on = comps.make_processing(dict(spec.processing))
-    proc_off = comps.make_processing({**spec.processing, "tdma_disambiguation": False})
-    procs = {s: (proc_on if on else proc_off) for s, (_, on) in SCHEMES.items()}
+    schemes = result_schemes(spec.schemes)
+    radar = {m: radarsim.presets.r79(m, **spec.radar) for m in _mimos(schemes)}
+    procs = {s.name: comps.make_processing({**spec.processing, **s.processing})
+             for s in schemes}
     return radar, procs
 
 
@@ -266,8 +375,7 @@ def simulate_cell_frame(spec: CellSpec, frame: int, comps: Components | None = N
                                                          spec.duration_s)
     radar, _ = build_configs(spec, comps)
     sc = frame_scatterers(comps, run, frame, spec.seed)
-    adc = {m: comps.simulate_frame(radar[m], sc, frame_rng(spec.seed, frame, m))
-           for m in ("ddma", "tdma")}
+    adc = {m: comps.simulate_frame(radar[m], sc, frame_rng(spec.seed, frame, m)) for m in radar}
     return radar, adc, sc, run
 
 
@@ -278,8 +386,9 @@ def run_cell(spec: CellSpec, comps: Components | None = None,
     Returns
     -------
     CellResult
-        ``tables``: ``summary`` (one row per scheme; the DDMA row also carries the SNR gain
-        over TDMA), ``detections`` (long: every detection with its label and errors),
+        ``tables``: ``summary`` (one row per scheme; every scheme's row but the baseline's
+        carries its SNR gain over ``spec.baseline_scheme``; chain variants such as
+        ``tdma_raw`` share their scheme's ADC frame and get no gain), ``detections`` (long: every detection with its label and errors),
         ``frames`` (per scheme and frame: counts per label), ``actors`` (per scheme, actor and
         frame: visible / detected / peak SNR), ``actor_summary`` (per scheme and actor:
         detection probability, first-detection range), ``truth`` (processed frames), ``tracks``
@@ -291,6 +400,7 @@ def run_cell(spec: CellSpec, comps: Components | None = None,
     assoc = assoc or AssociationConfig()
     run = comps.run_scenario(spec.scenario, spec.seed, spec.duration_s)
     radar, procs = build_configs(spec, comps)
+    schemes = result_schemes(spec.schemes)
     frames = _frames_of(run, spec.frame_stride)
     truth = run.truth[run.truth["frame"].isin(frames)].reset_index(drop=True)
     ego = getattr(run, "ego", None)
@@ -300,20 +410,20 @@ def run_cell(spec: CellSpec, comps: Components | None = None,
         times = truth.groupby("frame")["time_s"].first()
     times = times.reindex(frames).astype(float)
 
-    clouds: dict[str, list[pd.DataFrame]] = {s: [] for s in SCHEMES}
+    clouds: dict[str, list[pd.DataFrame]] = {s.name: [] for s in schemes}
     scat = []
     ctx = _frame_context(run)
     for f in frames:
         rows = truth[truth["frame"] == f]
         sc = _scatterers(comps, rows, frame_rng(spec.seed, f, "rcs"), ctx.get(int(f)))
         scat.append((f, sc))
-        adc = {m: comps.simulate_frame(radar[m], sc, frame_rng(spec.seed, f, m))
-               for m in ("ddma", "tdma")}
-        for s, (m, _) in SCHEMES.items():
-            pc = comps.process_frame(radar[m], adc[m], procs[s]).reset_index(drop=True)
+        adc = {m: comps.simulate_frame(radar[m], sc, frame_rng(spec.seed, f, m)) for m in radar}
+        for rs in schemes:
+            pc = comps.process_frame(radar[rs.mimo], adc[rs.mimo], procs[rs.name]) \
+                .reset_index(drop=True)
             pc.insert(0, "frame", np.int64(f))
             pc.insert(1, "time_s", float(times.loc[f]))
-            clouds[s].append(pc)
+            clouds[rs.name].append(pc)
     scat_df = scatterer_table(scat)
 
     info = _case_info(run)
@@ -323,7 +433,8 @@ def run_cell(spec: CellSpec, comps: Components | None = None,
     if ego is not None and "ego_speed_mps" in ego:
         ego_speeds = ego.drop_duplicates("frame").set_index("frame")["ego_speed_mps"] \
             .reindex(frames).to_numpy(dtype=float)
-    for s, (m, _) in SCHEMES.items():
+    for rs in schemes:
+        s, m = rs.name, rs.mimo
         pcs = pd.concat(clouds[s], ignore_index=True) if clouds[s] else pd.DataFrame()
         if pcs.empty:
             pcs = pd.DataFrame({c: pd.Series(dtype=float) for c in (
@@ -360,11 +471,14 @@ def run_cell(spec: CellSpec, comps: Components | None = None,
         actor_tables.append(af.assign(scheme=s))
 
     actors = pd.concat(actor_tables, ignore_index=True)
-    gain = mdet.snr_gain_stats(mdet.snr_gain_pairs(actors, "ddma", "tdma"))
     summary = pd.DataFrame(rows_out)
-    for k, v in gain.items():
+    base = spec.baseline_scheme
+    gains = {rs.name: mdet.snr_gain_stats(mdet.snr_gain_pairs(actors, rs.name, base))
+             for rs in schemes if not rs.is_variant and rs.name != base
+             and base in spec.schemes}
+    for k in mdet.snr_gain_stats(pd.DataFrame({"snr_gain_db": pd.Series(dtype=float)})):
         count = k.endswith("_n")
-        summary[k] = np.array([v if s == "ddma" else (0 if count else np.nan)
+        summary[k] = np.array([gains[s][k] if s in gains else (0 if count else np.nan)
                                for s in summary["scheme"]],
                               dtype=np.int64 if count else float)
     summary["case_pass"] = summary["case_pass"].astype(float)

@@ -7,6 +7,9 @@ A sweep is described by a `SweepSpec`, usually read from a TOML file::
     seeds = [0, 1, 2]
     frame_stride = 2              # process every 2nd frame (default 1)
     duration_s = 6.0              # optional: shorten every case
+    schemes = ["ddma", "tdma", "bpm"]  # optional: radarsim.MIMO_SCHEMES names (or chain
+                                  # variants such as "tdma_raw"); default ddma, tdma, tdma_raw
+    baseline_scheme = "tdma"      # optional: the SNR gain is each scheme minus this one
     [base.radar]                  # RadarConfig overrides for every cell (both schemes)
     tx_phase_error_deg = [0.0, 3.0, -2.0, 1.0]
     [base.processing]             # ProcessingConfig overrides; cfar_<field> for the CFAR
@@ -38,7 +41,6 @@ import shutil
 import subprocess
 import sys
 import time
-import tomllib
 import traceback
 import uuid
 from dataclasses import dataclass, field
@@ -47,7 +49,10 @@ from typing import Any
 
 import pandas as pd
 
-from .runner import TABLES, CellSpec, Components, run_cell
+from scenarios.checks import check_keys, read_toml
+
+from .runner import (DEFAULT_BASELINE_SCHEME, DEFAULT_SCHEMES, TABLES, CellSpec, Components,
+                     result_schemes, run_cell)
 
 __all__ = ["Variant", "SweepSpec", "SweepOutcome", "load_sweep", "default_sweep",
            "run_sweep", "cell_dir", "completed_cells", "assemble", "DEFAULT_SWEEP_PATH",
@@ -57,7 +62,7 @@ DEFAULT_SWEEP_PATH = Path(__file__).with_name("default_sweep.toml")
 CI_SWEEP_PATH = Path(__file__).with_name("ci_sweep.toml")
 _SECTIONS = ("radar", "processing", "tracker")
 _TOP_KEYS = {"name", "scenarios", "seeds", "frame_stride", "duration_s", "base", "vary",
-             "variants", "description"}
+             "variants", "description", "schemes", "baseline_scheme"}
 
 
 @dataclass(frozen=True)
@@ -87,8 +92,14 @@ class SweepSpec:
     frame_stride: int = 1
     duration_s: float | None = None
     description: str = ""
+    schemes: tuple[str, ...] = DEFAULT_SCHEMES
+    baseline_scheme: str = DEFAULT_BASELINE_SCHEME
 
     def __post_init__(self) -> None:
+        object.__setattr__(self, "schemes", tuple(self.schemes))
+        result_schemes(self.schemes)
+        # CellSpec checks the baseline name; check it here too, before any cell is built.
+        CellSpec(scenario="-", schemes=self.schemes, baseline_scheme=self.baseline_scheme)
         if not self.scenarios:
             raise ValueError("scenarios: the sweep has no scenario")
         if not self.seeds or any(not isinstance(s, int) or s < 0 for s in self.seeds):
@@ -107,7 +118,8 @@ class SweepSpec:
         """Cells in a fixed order: scenario, then variant, then seed."""
         return [CellSpec(scenario=sc, seed=seed, variant=v.name, radar=dict(v.radar),
                          processing=dict(v.processing), tracker=dict(v.tracker),
-                         frame_stride=self.frame_stride, duration_s=self.duration_s)
+                         frame_stride=self.frame_stride, duration_s=self.duration_s,
+                         schemes=self.schemes, baseline_scheme=self.baseline_scheme)
                 for sc in self.scenarios for v in self.variants for seed in self.seeds]
 
     def to_dict(self) -> dict[str, Any]:
@@ -115,14 +127,22 @@ class SweepSpec:
 
     @property
     def run_id(self) -> str:
-        """Deterministic id, so rerunning the same command resumes the same directory."""
-        blob = json.dumps(self.to_dict(), sort_keys=True, default=str)
+        """Deterministic id, so rerunning the same command resumes the same directory (the
+        scheme keys enter it only when they differ from the defaults)."""
+        d = self.to_dict()
+        if tuple(d["schemes"]) == DEFAULT_SCHEMES:
+            del d["schemes"]
+        if d["baseline_scheme"] == DEFAULT_BASELINE_SCHEME:
+            del d["baseline_scheme"]
+        blob = json.dumps(d, sort_keys=True, default=str)
         return f"{self.name}-{hashlib.sha1(blob.encode()).hexdigest()[:8]}"
 
     def with_overrides(self, *, seeds=None, frame_stride=None, duration_s=None,
-                       scenarios=None) -> "SweepSpec":
+                       scenarios=None, schemes=None) -> "SweepSpec":
         """Copy with command-line overrides (None keeps the file's value)."""
         ch: dict[str, Any] = {}
+        if schemes is not None:
+            ch["schemes"] = tuple(schemes)
         if seeds is not None:
             ch["seeds"] = tuple(int(s) for s in seeds)
         if frame_stride is not None:
@@ -198,13 +218,11 @@ def load_sweep(path: str | Path | None = None, *, check_scenarios: bool = True) 
         file does not exist.
     """
     p = Path(path) if path is not None else DEFAULT_SWEEP_PATH
+    data = read_toml(p)
     try:
-        data = tomllib.loads(p.read_text())
-    except tomllib.TOMLDecodeError as exc:
-        raise ValueError(f"{p}: malformed TOML: {exc}") from exc
-    unknown = sorted(set(data) - _TOP_KEYS)
-    if unknown:
-        raise ValueError(f"{p}: unknown key(s) {unknown}; known: {sorted(_TOP_KEYS)}")
+        check_keys(data, _TOP_KEYS)
+    except ValueError as exc:
+        raise ValueError(f"{p}: {exc}") from None
     base = data.get("base", {})
     for sec, ov in base.items():
         _check_section(f"{p} [base]", sec, ov)
@@ -244,7 +262,15 @@ def load_sweep(path: str | Path | None = None, *, check_scenarios: bool = True) 
                      seeds=tuple(seeds) if isinstance(seeds, list) else (seeds,),
                      variants=tuple(variants), frame_stride=data.get("frame_stride", 1),
                      duration_s=data.get("duration_s"),
-                     description=str(data.get("description", "")))
+                     description=str(data.get("description", "")),
+                     schemes=_schemes_key(p, data.get("schemes", list(DEFAULT_SCHEMES))),
+                     baseline_scheme=data.get("baseline_scheme", DEFAULT_BASELINE_SCHEME))
+
+
+def _schemes_key(p: Path, value) -> tuple[str, ...]:
+    if not isinstance(value, list):
+        raise ValueError(f"{p}: schemes={value!r} must be a list of scheme names")
+    return tuple(value)
 
 
 def default_sweep() -> SweepSpec:
@@ -493,9 +519,10 @@ def assemble(spec: SweepSpec, out: str | Path) -> dict[str, pd.DataFrame]:
     from metrics.association import AssociationConfig
     manifest = {
         "run_id": spec.run_id, "sweep": spec.to_dict(), "seeds": list(spec.seeds),
-        "association": AssociationConfig().to_dict(), "schemes": ["ddma", "tdma", "tdma_raw"],
+        "association": AssociationConfig().to_dict(), "schemes": list(spec.schemes),
+        "baseline_scheme": spec.baseline_scheme,
         "seed_streams": "SeedSequence([seed, frame, stream]); stream 0 RCS, 1 DDMA ADC, "
-                        "2 TDMA ADC",
+                        "2 TDMA ADC, other schemes harness.runner.stream_id(name)",
         "cells": cell_meta,
         "n_cells": len(cells),
         "n_ok": sum(m["status"] == "ok" for m in cell_meta),
@@ -507,8 +534,9 @@ def assemble(spec: SweepSpec, out: str | Path) -> dict[str, pd.DataFrame]:
     }
     try:
         import radarsim
-        manifest["radar_presets"] = {m: radarsim.presets.PRESETS[f"r79_{m}"]().to_dict()
-                                     for m in ("ddma", "tdma")}
+        manifest["radar_presets"] = {
+            m: radarsim.presets.r79(m).to_dict()
+            for m in dict.fromkeys(rs.mimo for rs in result_schemes(spec.schemes))}
     except Exception:  # noqa: BLE001 - the manifest is informative, never fatal
         pass
     _write_atomic(out / "manifest.json", lambda tmp: tmp.write_text(

@@ -1,4 +1,4 @@
-"""Signal chain: ADC frame -> point cloud (DDMA and TDMA) -> tracks.
+"""Signal chain: ADC frame -> point cloud (one chain per MIMO scheme) -> tracks.
 
     pc = pipeline.process_frame(cfg, adc)          # pandas.DataFrame, one row per detection
 """
@@ -6,6 +6,7 @@ from .cfar import CFAR_MODES, cfar_scale, noise_mean_factor
 from .chain import (MIMO_CHAINS, POINT_CLOUD_COLUMNS, detection_map, doppler_azimuth_map,
                     frame_spectra, process_frame)
 from .config import CfarConfig, ProcessingConfig
+from .mimo import DetectionMap, MimoChain, register_chain
 from .ego_motion import (EGO_MODELS, EgoMotionConfig, EgoMotionEstimate, estimate_ego_motion,
                          ground_radial_velocity, static_mask)
 from .tracker import (MOTION_MODELS, TRACK_COLUMNS, TRACK_STATES, GroupTracker, TrackerConfig,
@@ -13,6 +14,7 @@ from .tracker import (MOTION_MODELS, TRACK_COLUMNS, TRACK_STATES, GroupTracker, 
 
 __all__ = ["process_frame", "frame_spectra", "detection_map", "doppler_azimuth_map",
            "ProcessingConfig", "CfarConfig", "CFAR_MODES", "MIMO_CHAINS", "POINT_CLOUD_COLUMNS",
+           "MimoChain", "register_chain", "DetectionMap",
            "cfar_scale", "noise_mean_factor",
            "GroupTracker", "TrackerConfig", "track_frames", "MOTION_MODELS", "TRACK_COLUMNS",
            "TRACK_STATES", "EgoMotionConfig", "EgoMotionEstimate", "EGO_MODELS",

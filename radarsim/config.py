@@ -22,6 +22,7 @@ import numpy as np
 
 from .boards import get_board
 from .chips import ADC_MODES, CHIPS, get_chip
+from .mimo import MIMO_SCHEMES, scheme_of
 
 __all__ = [
     "RadarConfig", "MIMO_SCHEMES", "PHASE_QUANTIZATIONS", "ANTENNA_PATTERNS", "ADC_MODES",
@@ -40,11 +41,6 @@ MAX_N_TX = CHIPS["AWR2944"].n_tx
 MAX_N_RX = CHIPS["AWR2944"].n_rx
 ADC_FULL_SCALE_CODE = 32767
 
-#: MIMO schemes: how the transmitters share a frame.
-MIMO_SCHEMES = {
-    "ddma": "Doppler-division: all Tx every chirp, per-Tx phase step, empty sub-bands",
-    "tdma": "time-division: one Tx per chirp, in turn",
-}
 #: How a programmed phase is mapped onto the shifter's codes.
 PHASE_QUANTIZATIONS = {
     "floor": "code = floor(phase / lsb), as seed 000 table 4",
@@ -104,8 +100,9 @@ class RadarConfig:
     adc_mode : {"real", "complex1x", "complex2x"}
         ADC output format (`radarsim.chips.ADC_MODES`): real keeps n_samples/2 range bins,
         complex all n_samples (the max range doubles for the same bandwidth).
-    mimo : {"ddma", "tdma"}
-        MIMO scheme, see `MIMO_SCHEMES`.
+    mimo : str
+        MIMO scheme, a name of `MIMO_SCHEMES` ("ddma", "tdma", ...); the scheme object owns
+        its validation rules, transmit code and unambiguous velocity (`radarsim.mimo`).
     n_tx, n_rx : int
         Active transmitters and receivers (1..the chip's count).
     tx_channels, rx_channels : tuple of int or None
@@ -129,8 +126,8 @@ class RadarConfig:
     n_chirps : int
         Chirps per frame (all transmitters together).
     n_subbands : int or None
-        DDMA Doppler sub-bands; default Nt + 2 for Nt = 4, Nt + 1 otherwise (seed 000 3.3).
-        Ignored for TDMA.
+        DDMA Doppler sub-bands; default from the scheme: Nt + 2 for Nt = 4, Nt + 1 otherwise
+        (seed 000 3.3), Nt for classic DDMA. Ignored by schemes without sub-bands.
     tx_order : tuple of int or None
         DDMA: which Tx occupies sub-band 0, 1, ...; TDMA: which Tx fires in slot 0, 1, ...
         Default (1, 3, 4, 2) restricted to the active Tx.
@@ -203,6 +200,7 @@ class RadarConfig:
 
     def __post_init__(self) -> None:
         _set = lambda name, value: object.__setattr__(self, name, value)  # noqa: E731
+        scheme = scheme_of(self.mimo)
         chip = get_chip(self.chip)
         board = get_board(chip.default_board if self.board is None else self.board)
         if board.chip != chip.name:
@@ -214,8 +212,6 @@ class RadarConfig:
         if not chip.supports(self.adc_mode):
             raise ValueError(f"adc_mode={self.adc_mode!r}: the {chip.name} supports "
                              f"{sorted(chip.adc)} ({chip.datasheet}, receive subsystem)")
-        if self.mimo not in MIMO_SCHEMES:
-            raise ValueError(f"mimo={self.mimo!r} is not one of {sorted(MIMO_SCHEMES)}")
         for name, hi in (("n_tx", chip.n_tx), ("n_rx", chip.n_rx)):
             val = getattr(self, name)
             if not isinstance(val, (int, np.integer)) or not 1 <= val <= hi:
@@ -310,9 +306,9 @@ class RadarConfig:
                 f"phase shifter has {chip.phase_shifter_bits} bits"
             raise ValueError(f"phase_shifter_bits={self.phase_shifter_bits!r}: the {chip.name} "
                              f"{have}")
-        if self.mimo == "ddma" and self.phase_shifter_bits is None:
-            raise ValueError(f"mimo='ddma' needs per-Tx phase shifters; the {chip.name} has "
-                             "none (use 'tdma')")
+        if scheme.needs_phase_shifter and self.phase_shifter_bits is None:
+            raise ValueError(f"mimo={self.mimo!r} needs per-Tx phase shifters; the {chip.name} "
+                             "has none")
         if self.phase_quantization not in PHASE_QUANTIZATIONS:
             raise ValueError(f"phase_quantization={self.phase_quantization!r} is not one of "
                              f"{sorted(PHASE_QUANTIZATIONS)}")
@@ -327,17 +323,10 @@ class RadarConfig:
             raise ValueError(f"tx_order={order!r} must be a permutation of Tx 1..{self.n_tx}")
         _set("tx_order", order)
         if self.n_subbands is None:
-            _set("n_subbands", self.n_tx + 2 if self.n_tx == 4 else self.n_tx + 1)
-        elif not isinstance(self.n_subbands, (int, np.integer)) or \
-                self.n_subbands <= self.n_tx:
-            raise ValueError(f"n_subbands={self.n_subbands!r} must be an integer > n_tx="
-                             f"{self.n_tx} (empty-band DDMA needs at least one empty band)")
-        if self.mimo == "ddma" and self.n_chirps % self.n_subbands:
-            raise ValueError(f"n_chirps={self.n_chirps} must be divisible by the number of "
-                             f"DDMA sub-bands n_subbands={self.n_subbands}")
-        if self.mimo == "tdma" and self.n_chirps % self.n_tx:
-            raise ValueError(f"n_chirps={self.n_chirps} must be divisible by n_tx={self.n_tx} "
-                             "for TDMA")
+            _set("n_subbands", scheme.default_n_subbands(self.n_tx))
+        elif not isinstance(self.n_subbands, (int, np.integer)) or self.n_subbands < 1:
+            raise ValueError(f"n_subbands={self.n_subbands!r} must be an integer >= 1")
+        scheme.validate(self)
         for name in ("tx_phase_error_deg", "tx_gain_error_db"):
             val = getattr(self, name)
             if val is None:
@@ -423,10 +412,15 @@ class RadarConfig:
         return self.n_tx * self.n_rx
 
     @property
+    def scheme(self):
+        """The `radarsim.mimo.MimoScheme` object of `mimo`."""
+        return MIMO_SCHEMES[self.mimo]
+
+    @property
     def n_doppler_bins(self) -> int:
-        """Doppler bins per transmitter after demodulation: chirps per sub-band (DDMA) or per
-        Tx (TDMA)."""
-        return self.n_chirps // (self.n_subbands if self.mimo == "ddma" else self.n_tx)
+        """Doppler bins per transmitter after separation: chirps per sub-band (DDMA) or per
+        Tx (TDMA, BPM), from the scheme."""
+        return self.scheme.n_doppler_bins(self)
 
     @property
     def velocity_resolution_mps(self) -> float:
@@ -440,10 +434,10 @@ class RadarConfig:
     def max_unambiguous_velocity_mps(self) -> float:
         """Radial velocity the chain reports without aliasing, +/- this value, m/s.
 
-        DDMA: lambda / (4 Tc) (40.9 m/s), recovered by empty-band demodulation (seed 000 3.3).
-        TDMA: lambda / (4 Nt Tc) (10.22 m/s for Nt = 4) before any disambiguation."""
-        tc = self.chirp_period_s * (1 if self.mimo == "ddma" else self.n_tx)
-        return self.wavelength_m / (4 * tc)
+        From the scheme: DDMA lambda / (4 Tc) (40.9 m/s), recovered by empty-band demodulation
+        (seed 000 3.3); TDMA and BPM lambda / (4 Nt Tc) (10.22 m/s for Nt = 4) before any
+        disambiguation."""
+        return self.scheme.max_unambiguous_velocity_mps(self)
 
     @property
     def subband_width_mps(self) -> float:
@@ -494,9 +488,8 @@ class RadarConfig:
     def applied_phase_rad(self) -> np.ndarray:
         """(n_tx, n_subbands) phase actually imposed on each Tx's signal per chirp of one code
         period, rad, before static and random errors: the negative of the programmed shifter
-        phase (ideal or quantised)."""
-        if self.mimo == "tdma":
-            return np.zeros((self.n_tx, self.n_subbands))
+        phase (ideal or quantised). Which schemes use it is theirs to say
+        (`radarsim.mimo`)."""
         if self.phase_quantization == "none":
             prog_deg = self.programmed_phase_deg()
         else:

@@ -99,10 +99,10 @@ def _beat_frequency_hz(cfg: RadarConfig, scatterers: Scatterers) -> np.ndarray:
 def transmit_phasors(cfg: RadarConfig, rng: np.random.Generator | None = None) -> np.ndarray:
     """Complex transmit weight of every Tx at every chirp.
 
-    DDMA: the applied (negated, quantised) shifter phase of the code period, repeated over the
-    frame, times the static per-Tx gain and phase errors, times exp(j e) with e a random
-    per-chirp error of `phase_noise_deg_rms`. TDMA: the same errors, with each Tx active only in
-    its slot (chirp c fires Tx `tx_order[c mod n_tx]`).
+    The scheme's ideal transmit code (`radarsim.mimo.MimoScheme.transmit_code`: DDMA the
+    applied, negated and quantised shifter phase of the code period repeated over the frame;
+    TDMA each Tx active only in its slot; BPM the Hadamard signs), times the static per-Tx gain
+    and phase errors, times exp(j e) with e a random per-chirp error of `phase_noise_deg_rms`.
 
     Parameters
     ----------
@@ -115,21 +115,14 @@ def transmit_phasors(cfg: RadarConfig, rng: np.random.Generator | None = None) -
     (n_tx, n_chirps) complex128
         Rows Tx1..Tx{n_tx}.
     """
-    c = np.arange(cfg.n_chirps)
-    if cfg.mimo == "ddma":
-        phase = cfg.applied_phase_rad()[:, c % cfg.n_subbands]
-        on = np.ones((cfg.n_tx, cfg.n_chirps))
-    else:
-        phase = np.zeros((cfg.n_tx, cfg.n_chirps))
-        slot_tx = np.array(cfg.tx_order)[c % cfg.n_tx]  # 1-based Tx firing at chirp c
-        on = (slot_tx[None, :] == np.arange(1, cfg.n_tx + 1)[:, None]).astype(float)
-    phase = phase + np.radians(np.asarray(cfg.tx_phase_error_deg))[:, None]
+    code = cfg.scheme.transmit_code(cfg)
+    phase = code.phase_rad + np.radians(np.asarray(cfg.tx_phase_error_deg))[:, None]
     if cfg.phase_noise_deg_rms > 0:
         if rng is None:
             raise ValueError("rng is required when phase_noise_deg_rms > 0")
         phase = phase + np.radians(cfg.phase_noise_deg_rms) * rng.standard_normal(phase.shape)
     amp = 10 ** (np.asarray(cfg.tx_gain_error_db) / 20)
-    return on * amp[:, None] * np.exp(1j * phase)
+    return code.gain * amp[:, None] * np.exp(1j * phase)
 
 
 def _chirp_times_s(cfg: RadarConfig) -> np.ndarray:

@@ -5,16 +5,43 @@
     run.ego     # per frame: ego speed and world pose
     for f in run.frames(): ...   # truth rows + radar velocity per frame (for radarsim.rcs)
 
-The catalogue `SCENARIOS` holds the named cases; `load_scenario_file` reads a user case from
-TOML. This package knows nothing of the radar beyond the mount pose (DESIGN 2).
-"""
-from .catalog import (ACTOR_CLASSES, CRITERION_METRICS, MOUNTS, SCENARIOS, ActorSpec, Case,
-                      Criterion, Mount, get_case, s_crit_m)
-from .files import load_scenario_file, parse_scenario
-from .traffic import FrameTruth, ScenarioRun, run_scenario
-from .truth import EGO_COLUMNS, TRUTH_COLUMNS
+The catalogue `SCENARIOS` holds the shipped cases, one TOML file each in ``scenarios/cases/``;
+`load_scenario_file` reads a user's case file the same way. This package knows nothing of the
+radar beyond the mount pose (DESIGN 2).
 
-__all__ = ["SCENARIOS", "ACTOR_CLASSES", "MOUNTS", "CRITERION_METRICS", "Case", "ActorSpec",
-           "Criterion", "Mount", "get_case", "s_crit_m", "run_scenario", "ScenarioRun",
-           "FrameTruth", "load_scenario_file", "parse_scenario", "TRUTH_COLUMNS",
-           "EGO_COLUMNS"]
+Where to add what: a case is a TOML file in ``scenarios/cases/``; a road layout or a random
+traffic environment is an entry of `scenarios.roads.ROAD_LAYOUTS` / `TRAFFIC_ENVS`; a road-user
+class an entry of `scenarios.catalog.ACTOR_CLASSES`.
+
+The public names are loaded on first use (PEP 562): `scenarios.checks`, the shared validation
+helper every package imports, must not pull in highway-env.
+"""
+from __future__ import annotations
+
+import importlib
+
+#: Public name -> submodule that defines it.
+_EXPORTS = {
+    "SCENARIOS": "registry", "get_case": "registry",
+    "ACTOR_CLASSES": "catalog", "CRITERION_METRICS": "catalog", "MOUNTS": "catalog",
+    "ActorSpec": "catalog", "Case": "catalog", "Criterion": "catalog", "Mount": "catalog",
+    "s_crit_m": "catalog",
+    "ROAD_LAYOUTS": "roads", "TRAFFIC_ENVS": "roads",
+    "load_scenario_file": "files", "parse_scenario": "files",
+    "FrameTruth": "traffic", "ScenarioRun": "traffic", "run_scenario": "traffic",
+    "EGO_COLUMNS": "truth", "TRUTH_COLUMNS": "truth",
+}
+
+__all__ = sorted(_EXPORTS)
+
+
+def __getattr__(name: str):
+    if name not in _EXPORTS:
+        raise AttributeError(f"module 'scenarios' has no attribute {name!r}")
+    value = getattr(importlib.import_module(f".{_EXPORTS[name]}", __name__), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(_EXPORTS))

@@ -1,21 +1,12 @@
-"""The scenario catalogue: named corner-radar cases (UN R79, Euro NCAP, ISO 17387) as data.
+"""The vocabulary of a corner-radar case (UN R79, Euro NCAP, ISO 17387): what a case file holds.
 
 A `Case` says where the radar sits (`Mount`), which road layout and traffic the scene has
 (`ActorSpec` per scripted actor, or a random highway-env traffic environment), how long it runs,
 which actors must be detected and the physical pass criteria (`Criterion`) that the metrics
-package evaluates. `SCENARIOS` is the registry users type names from. Conventions: ISO 8855
-vehicle frame (x forward, y LEFT, z up), SI units with the unit in every name.
-
-Paths of the road layouts (`ROAD_LAYOUTS`); `s_m` runs along the path with s = 0 at the path's
-point nearest the layout origin (the intersection centre; x = 0 on straight roads):
-
-* ``highway``: ``lane_0`` .. ``lane_{lanes-1}``, 4 m apart, all driving +x; ``lane_0`` is the
-  LEFTMOST lane (highway-env's order). Guard rails 1.5 m beyond both edges.
-* ``two_way``: ``lane_0`` .. ``lane_{lanes-1}`` driving +x (``lane_0`` leftmost of them) and
-  ``oncoming`` to the left of ``lane_0``, driving -x (s grows along its direction).
-* ``urban``: a four-way intersection centred on the origin: ``main`` (+x, right-hand lane),
-  ``oncoming`` (-x), ``from_left`` (crossing traffic coming from the ego's left),
-  ``from_right``, and ``turn_left`` (``main`` then a 8 m radius left turn into the cross road).
+package evaluates. The shipped cases are TOML files in ``scenarios/cases/`` (`scenarios.registry`
+loads them into `SCENARIOS`); road layouts and traffic environments are the registries of
+`scenarios.roads`. Conventions: ISO 8855 vehicle frame (x forward, y LEFT, z up), SI units with
+the unit in every name.
 
 References
 ----------
@@ -30,9 +21,12 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
+from .checks import one_of, require
+from .roads import ROAD_LAYOUTS, TRAFFIC_ENVS
+
 __all__ = ["ActorClass", "ACTOR_CLASSES", "GUARD_RAIL", "Mount", "MOUNTS", "ActorSpec",
-           "Criterion", "CRITERION_METRICS", "CRITERION_OPS", "Case", "SCENARIOS",
-           "ROAD_LAYOUTS", "TRAFFIC_ENVS", "path_names", "get_case", "s_crit_m", "KMH"]
+           "Criterion", "CRITERION_METRICS", "CRITERION_OPS", "Case", "ROAD_LAYOUTS",
+           "TRAFFIC_ENVS", "path_names", "s_crit_m", "KMH"]
 
 KMH = 1 / 3.6  # m/s per km/h
 
@@ -57,9 +51,7 @@ class ActorClass:
     max_speed_mps: float
 
     def __post_init__(self) -> None:
-        for f in ("length_m", "width_m", "height_m", "max_speed_mps"):
-            if not getattr(self, f) > 0:
-                raise ValueError(f"{f}={getattr(self, f)!r} must be > 0")
+        require(self, ("length_m", "width_m", "height_m", "max_speed_mps"), gt=0)
 
 
 #: Road-user classes. Car 5 x 2 m is highway-env's default; motorcycle 2.2 x 0.8 m and truck
@@ -79,6 +71,9 @@ ACTOR_CLASSES: dict[str, ActorClass] = {
 #: Guard-rail segment box (steel W-beam on posts, top at 0.75 m); static infrastructure.
 GUARD_RAIL = ActorClass(name="guard_rail", length_m=16.0, width_m=0.3, height_m=0.75,
                         max_speed_mps=1e-9)
+
+
+_MOUNT_NAMES = ("front_left", "front_right", "rear_left", "rear_right")
 
 
 @dataclass(frozen=True, kw_only=True, slots=True)
@@ -106,17 +101,13 @@ class Mount:
     yaw_deg: float
 
     def __post_init__(self) -> None:
-        if self.name not in ("front_left", "front_right", "rear_left", "rear_right"):
-            raise ValueError(f"mount name={self.name!r} unknown; known: front_left, "
-                             "front_right, rear_left, rear_right")
-        if not abs(self.x_m) <= 10:
-            raise ValueError(f"mount x_m={self.x_m!r} must be within +/-10 m of the ego centre")
-        if not abs(self.y_m) <= 3:
-            raise ValueError(f"mount y_m={self.y_m!r} must be within +/-3 m of the ego centre")
-        if not 0 < self.z_m <= 3:
-            raise ValueError(f"mount z_m={self.z_m!r} must be in (0, 3] m")
-        if not -180 <= self.yaw_deg <= 180:
-            raise ValueError(f"mount yaw_deg={self.yaw_deg!r} must be in [-180, 180] deg")
+        if self.name not in _MOUNT_NAMES:
+            raise ValueError(f"mount name={self.name!r} unknown; known: "
+                             f"{', '.join(_MOUNT_NAMES)}")
+        require(self, "x_m", ge=-10, le=10, unit="m", where="mount ")
+        require(self, "y_m", ge=-3, le=3, unit="m", where="mount ")
+        require(self, "z_m", gt=0, le=3, unit="m", where="mount ")
+        require(self, "yaw_deg", ge=-180, le=180, unit="deg", where="mount ")
 
 
 #: Corner mounts on the 5 x 2 m ego: 0.2 m inside its corners, 0.5 m high, yaw +/-45 and
@@ -128,30 +119,11 @@ MOUNTS: dict[str, Mount] = {
     "rear_right": Mount(name="rear_right", x_m=-2.3, y_m=-0.8, z_m=0.5, yaw_deg=-135.0),
 }
 
-#: Road layouts and how many forward lanes they accept.
-ROAD_LAYOUTS: dict[str, str] = {
-    "highway": "straight multi-lane motorway, all lanes +x, guard rails at both edges",
-    "two_way": "straight rural road: forward lanes plus one oncoming lane on the left",
-    "urban": "four-way intersection: main, oncoming, from_left, from_right, turn_left",
-}
-#: Random-traffic environments of highway-env (the ego drives itself, IDM).
-TRAFFIC_ENVS: dict[str, str] = {
-    "highway": "highway_env.envs.HighwayEnv",
-    "merge": "highway_env.envs.MergeEnv",
-    "roundabout": "highway_env.envs.RoundaboutEnv",
-    "intersection": "highway_env.envs.IntersectionEnv",
-}
-
-
 def path_names(road: str, lanes: int) -> tuple[str, ...]:
-    """Paths an actor of a `road` layout with `lanes` forward lanes may follow."""
-    if road == "highway":
-        return tuple(f"lane_{i}" for i in range(lanes))
-    if road == "two_way":
-        return tuple(f"lane_{i}" for i in range(lanes)) + ("oncoming",)
-    if road == "urban":
-        return ("main", "oncoming", "from_left", "from_right", "turn_left")
-    raise ValueError(f"road={road!r} unknown; known: {sorted(ROAD_LAYOUTS)}")
+    """Paths an actor of a `road` layout (key of `ROAD_LAYOUTS`) with `lanes` forward lanes
+    may follow."""
+    one_of("road", road, ROAD_LAYOUTS)
+    return ROAD_LAYOUTS[road].path_names(lanes)
 
 
 @dataclass(frozen=True, kw_only=True, slots=True)
@@ -198,14 +170,9 @@ class ActorSpec:
     brake_decel_mps2: float = 0.0
 
     def __post_init__(self) -> None:
-        if self.actor_class not in ACTOR_CLASSES:
-            raise ValueError(f"actor_class={self.actor_class!r} unknown; known: "
-                             f"{sorted(ACTOR_CLASSES)}")
-        for f in ("s_m", "speed_mps", "lateral_offset_m", "lane_change_left_m",
-                  "lane_change_duration_s", "brake_decel_mps2"):
-            v = getattr(self, f)
-            if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
-                raise ValueError(f"{f}={v!r} must be a finite number")
+        one_of("actor_class", self.actor_class, ACTOR_CLASSES)
+        require(self, ("s_m", "speed_mps", "lateral_offset_m", "lane_change_left_m",
+                       "lane_change_duration_s", "brake_decel_mps2"))
         vmax = ACTOR_CLASSES[self.actor_class].max_speed_mps
         if self.speed_mps > vmax:
             raise ValueError(f"speed_mps={self.speed_mps!r} exceeds the {self.actor_class} "
@@ -218,10 +185,8 @@ class ActorSpec:
         if abs(self.lane_change_left_m) > 12:
             raise ValueError(f"lane_change_left_m={self.lane_change_left_m!r} must be within "
                              "+/-12 m")
-        for f in ("lane_change_time_s", "brake_time_s"):
-            v = getattr(self, f)
-            if v is not None and not (isinstance(v, (int, float)) and 0 <= v < 1e4):
-                raise ValueError(f"{f}={v!r} must be a time >= 0 s")
+        require(self, ("lane_change_time_s", "brake_time_s"), ge=0, lt=1e4, unit="s",
+                none_ok=True)
         if not self.lane_change_duration_s > 0:
             raise ValueError(f"lane_change_duration_s={self.lane_change_duration_s!r} must "
                              "be > 0")
@@ -269,18 +234,10 @@ class Criterion:
     note: str = ""
 
     def __post_init__(self) -> None:
-        if self.metric not in CRITERION_METRICS:
-            raise ValueError(f"metric={self.metric!r} unknown; known: "
-                             f"{sorted(CRITERION_METRICS)}")
-        if self.op not in CRITERION_OPS:
-            raise ValueError(f"op={self.op!r} unknown; known: {sorted(CRITERION_OPS)}")
-        if isinstance(self.value, bool) or not isinstance(self.value, (int, float)) \
-                or not math.isfinite(self.value):
-            raise ValueError(f"value={self.value!r} must be a finite number")
-        if self.actor_id is not None and (isinstance(self.actor_id, bool)
-                                          or not isinstance(self.actor_id, int)
-                                          or self.actor_id < 0):
-            raise ValueError(f"actor_id={self.actor_id!r} must be an integer >= 0")
+        one_of("metric", self.metric, CRITERION_METRICS)
+        one_of("op", self.op, CRITERION_OPS)
+        require(self, "value")
+        require(self, "actor_id", "integer", ge=0, none_ok=True)
 
     def to_dict(self) -> dict:
         """Plain dict (metric, op, value, actor_id, note) for tables and gates."""
@@ -360,16 +317,11 @@ class Case:
             raise ValueError(f"name={self.name!r} must be lowercase letters, digits and _")
         if not isinstance(self.mount, Mount):
             raise ValueError(f"mount must be a Mount, got {self.mount!r}")
-        if isinstance(self.duration_s, bool) or not isinstance(self.duration_s, (int, float)) \
-                or not 0 < self.duration_s <= 120:
-            raise ValueError(f"duration_s={self.duration_s!r} must be in (0, 120] s")
-        if self.road not in ROAD_LAYOUTS:
-            raise ValueError(f"road={self.road!r} unknown; known: {sorted(ROAD_LAYOUTS)}")
-        if isinstance(self.lanes, bool) or not isinstance(self.lanes, int) \
-                or not 1 <= self.lanes <= 6:
-            raise ValueError(f"lanes={self.lanes!r} must be an integer in [1, 6]")
-        if self.traffic is not None and self.traffic not in TRAFFIC_ENVS:
-            raise ValueError(f"traffic={self.traffic!r} unknown; known: {sorted(TRAFFIC_ENVS)}")
+        require(self, "duration_s", gt=0, le=120, unit="s")
+        one_of("road", self.road, ROAD_LAYOUTS)
+        require(self, "lanes", "integer", ge=1, le=6)
+        if self.traffic is not None:
+            one_of("traffic", self.traffic, TRAFFIC_ENVS)
         if self.ego.actor_class != "car":
             raise ValueError(f"ego.actor_class={self.ego.actor_class!r}: the ego is a car")
         if self.ego.meet_ego:
@@ -381,15 +333,9 @@ class Case:
                 if spec.path not in paths:
                     raise ValueError(f"{label}.path={spec.path!r} unknown for road "
                                      f"{self.road!r}; known: {list(paths)}")
-        if isinstance(self.vehicles_count, bool) or not isinstance(self.vehicles_count, int) \
-                or not 0 <= self.vehicles_count <= 60:
-            raise ValueError(f"vehicles_count={self.vehicles_count!r} must be an integer in "
-                             "[0, 60]")
-        if not 0 < self.vehicles_density <= 5:
-            raise ValueError(f"vehicles_density={self.vehicles_density!r} must be in (0, 5]")
-        for f in ("truck_fraction", "motorcycle_fraction"):
-            if not 0 <= getattr(self, f) <= 1:
-                raise ValueError(f"{f}={getattr(self, f)!r} must be in [0, 1]")
+        require(self, "vehicles_count", "integer", ge=0, le=60)
+        require(self, "vehicles_density", gt=0, le=5)
+        require(self, ("truck_fraction", "motorcycle_fraction"), ge=0, le=1)
         if self.truck_fraction + self.motorcycle_fraction > 1:
             raise ValueError("truck_fraction + motorcycle_fraction must be <= 1")
         n = len(self.actors)
@@ -417,163 +363,3 @@ def s_crit_m(ego_speed_mps: float, v_app_mps: float = 130 * KMH, a_mps2: float =
     """
     dv = v_app_mps - ego_speed_mps
     return dv * t_b_s + dv * dv / (2 * a_mps2) + ego_speed_mps * t_g_s
-
-
-def _fdr(actor_id: int, value: float, note: str) -> Criterion:
-    return Criterion(metric="first_detection_range_m", op=">=", value=round(value, 1),
-                     actor_id=actor_id, note=note)
-
-
-def _pd(actor_id: int, value: float, note: str) -> Criterion:
-    return Criterion(metric="detection_probability", op=">=", value=value, actor_id=actor_id,
-                     note=note)
-
-
-def _build() -> dict[str, Case]:
-    m = MOUNTS
-    cases = [
-        Case(name="r79_motorcycle_rear", mount=m["rear_left"], duration_s=5.0, lanes=3,
-             description="R79 ACSF-C: L3 motorcycle at 130 km/h approaching in the left "
-                         "adjacent lane, ego 80 km/h; must be seen at S_rear >= 55 m",
-             ego=ActorSpec(path="lane_1", speed_mps=80 * KMH),
-             actors=(ActorSpec(actor_class="motorcycle", path="lane_0", s_m=-120.0,
-                               speed_mps=130 * KMH),),
-             guard_rails=True, must_detect=(0,),
-             criteria=(_fdr(0, 55.0, "UN R79 5.6.4.8.1: S_rear >= 55 m"),),
-             references="UN R79 rev. 4, 5.6.4"),
-        Case(name="r79_critical_distance_60", mount=m["rear_left"], duration_s=3.0,
-             description="R79 critical distance at ego 60 km/h: vehicle at 130 km/h in the "
-                         "left lane must be seen at S_crit = 87.5 m",
-             ego=ActorSpec(path="lane_1", speed_mps=60 * KMH),
-             actors=(ActorSpec(actor_class="car", path="lane_0", s_m=-135.0,
-                               speed_mps=130 * KMH),),
-             guard_rails=True, must_detect=(0,),
-             criteria=(_fdr(0, s_crit_m(60 * KMH), "UN R79 S_crit at 60 km/h"),),
-             references="UN R79 rev. 4, 5.6.4.7"),
-        Case(name="r79_critical_distance_100", mount=m["rear_left"], duration_s=4.0,
-             description="R79 critical distance at ego 100 km/h: vehicle at 130 km/h in the "
-                         "left lane must be seen at S_crit = 42.7 m",
-             ego=ActorSpec(path="lane_1", speed_mps=100 * KMH),
-             actors=(ActorSpec(actor_class="car", path="lane_0", s_m=-75.0,
-                               speed_mps=130 * KMH),),
-             guard_rails=True, must_detect=(0,),
-             criteria=(_fdr(0, s_crit_m(100 * KMH), "UN R79 S_crit at 100 km/h"),),
-             references="UN R79 rev. 4, 5.6.4.7"),
-        Case(name="blind_spot_overtaking", mount=m["rear_left"], duration_s=6.0,
-             description="ELK overtaking: car at 80 km/h passes the ego (72 km/h) through the "
-                         "left blind spot",
-             ego=ActorSpec(path="lane_1", speed_mps=72 * KMH),
-             actors=(ActorSpec(actor_class="car", path="lane_0", s_m=-18.0,
-                               speed_mps=80 * KMH),),
-             guard_rails=True, must_detect=(0,),
-             criteria=(_pd(0, 0.9, "blind-spot warning needs continuous detection"),),
-             references="Euro NCAP LSS ELK overtaking; ISO 17387"),
-        Case(name="truck_high_closing", mount=m["rear_left"], duration_s=3.0,
-             description="Truck closing at 20 m/s (ISO 17387 maximum) in the left lane on a "
-                         "slow ego (36 km/h)",
-             ego=ActorSpec(path="lane_1", speed_mps=10.0),
-             actors=(ActorSpec(actor_class="truck", path="lane_0", s_m=-110.0,
-                               speed_mps=30.0),),
-             guard_rails=True, must_detect=(0,),
-             criteria=(_fdr(0, 70.0, "ISO 17387 type III: 3.5 s at 20 m/s"),),
-             references="ISO 17387 closing speed 20 m/s"),
-        Case(name="zero_relative_follower", mount=m["rear_left"], duration_s=3.0,
-             description="Car holding the ego's speed (90 km/h) 8 m behind in the left lane: "
-                         "zero Doppler, must not be lost",
-             ego=ActorSpec(path="lane_1", speed_mps=25.0),
-             actors=(ActorSpec(actor_class="car", path="lane_0", s_m=-8.0, speed_mps=25.0),),
-             guard_rails=True, must_detect=(0,),
-             criteria=(_pd(0, 0.9, "static relative target in the blind spot"),),
-             references="ISO 17387 blind-spot zone"),
-        Case(name="dooring_cyclist", road="two_way", lanes=1, mount=m["rear_left"],
-             duration_s=6.0,
-             description="Parked ego; cyclist at 20 km/h passes close on the left where a "
-                         "door would open",
-             ego=ActorSpec(path="lane_0", speed_mps=0.0, lateral_offset_m=-1.0),
-             actors=(ActorSpec(actor_class="bicycle", path="lane_0", s_m=-40.0,
-                               speed_mps=20 * KMH, lateral_offset_m=1.0),),
-             must_detect=(0,),
-             criteria=(_fdr(0, 20.0, "about 3.5 s warning before the door opens"),),
-             references="Euro NCAP AEB/LSS VRU: dooring 15-25 km/h"),
-        Case(name="reversing_pedestrian", road="urban", lanes=1, mount=m["rear_left"],
-             duration_s=3.0,
-             description="Ego reversing at 1.5 m/s; pedestrian walks at 5 km/h across its path "
-                         "from the left",
-             ego=ActorSpec(path="main", s_m=6.0, speed_mps=-1.5),
-             actors=(ActorSpec(actor_class="pedestrian", path="from_left", speed_mps=5 * KMH,
-                               meet_ego=True),),
-             must_detect=(0,),
-             criteria=(_pd(0, 0.8, "backover: pedestrian behind the car"),),
-             references="Euro NCAP AEB backover, pedestrian 5 km/h"),
-        Case(name="cccscp_crossing", road="urban", lanes=1, mount=m["front_left"],
-             duration_s=3.5,
-             description="CCCscp: ego at 30 km/h, target at 70 km/h crossing from the left on a "
-                         "collision course",
-             ego=ActorSpec(path="main", s_m=-35.0, speed_mps=30 * KMH),
-             actors=(ActorSpec(actor_class="car", path="from_left", speed_mps=70 * KMH,
-                               meet_ego=True),),
-             must_detect=(0,),
-             criteria=(_fdr(0, 50.0, "about 2.5 s before the conflict at 70 km/h"),),
-             references="Euro NCAP AEB C2C CCCscp"),
-        Case(name="ccftap_turn_across", road="urban", lanes=1, mount=m["front_right"],
-             duration_s=4.0,
-             description="CCFtap: ego turns left at 15 km/h across an oncoming car at 50 km/h",
-             ego=ActorSpec(path="turn_left", s_m=-17.0, speed_mps=15 * KMH),
-             actors=(ActorSpec(actor_class="car", path="oncoming", speed_mps=50 * KMH,
-                               meet_ego=True),),
-             must_detect=(0,),
-             criteria=(_fdr(0, 40.0, "about 2.5 s before the conflict at 50 km/h"),),
-             references="Euro NCAP AEB C2C CCFtap"),
-        Case(name="head_on_aliasing", road="two_way", lanes=1, mount=m["front_left"],
-             duration_s=3.0,
-             description="CCFhos: oncoming car, 90 + 90 km/h = 50 m/s closing, beyond the "
-                         "+/-40.8 m/s DDMA span: aliasing must show",
-             ego=ActorSpec(path="lane_0", speed_mps=25.0),
-             actors=(ActorSpec(actor_class="car", path="oncoming", s_m=-200.0,
-                               speed_mps=25.0),),
-             guard_rails=True, must_detect=(0,),
-             criteria=(_fdr(0, 100.0, "2 s before the encounter at 50 m/s"),
-                       Criterion(metric="velocity_unambiguous_rate", op="<", value=1.0,
-                                 actor_id=0, note="|v_r| > 40.8 m/s: expected to alias "
-                                                  "(DESIGN 6)")),
-             references="Euro NCAP AEB C2C CCFhos"),
-        Case(name="dense_highway", traffic="highway", lanes=4, mount=m["front_left"],
-             duration_s=4.0, vehicles_count=30, vehicles_density=2.0, truck_fraction=0.15,
-             motorcycle_fraction=0.1, guard_rails=True,
-             description="Dense random 4-lane highway traffic with trucks and motorcycles",
-             criteria=(Criterion(metric="ghost_rate", op="<=", value=0.1,
-                                 note="ghost budget in clutter-rich traffic"),),
-             references="highway-env highway-v0"),
-        Case(name="merge_random", traffic="merge", mount=m["front_right"], duration_s=4.0,
-             description="Random traffic at a highway on-ramp merge",
-             criteria=(Criterion(metric="ghost_rate", op="<=", value=0.1),),
-             references="highway-env merge-v0"),
-        Case(name="roundabout_random", traffic="roundabout", mount=m["front_left"],
-             duration_s=4.0, description="Random traffic entering a roundabout",
-             criteria=(Criterion(metric="ghost_rate", op="<=", value=0.1),),
-             references="highway-env roundabout-v0"),
-        Case(name="intersection_random", traffic="intersection", mount=m["front_left"],
-             duration_s=4.0, description="Random traffic at an unsignalised intersection",
-             criteria=(Criterion(metric="ghost_rate", op="<=", value=0.1),),
-             references="highway-env intersection-v0"),
-    ]
-    return {c.name: c for c in cases}
-
-
-#: The catalogue, keyed by case name.
-SCENARIOS: dict[str, Case] = _build()
-
-
-def get_case(name_or_case) -> Case:
-    """The `Case` itself, or the catalogue entry of that name.
-
-    Raises
-    ------
-    ValueError
-        Naming the unknown case and the known names.
-    """
-    if isinstance(name_or_case, Case):
-        return name_or_case
-    if name_or_case not in SCENARIOS:
-        raise ValueError(f"unknown scenario {name_or_case!r}; known: {', '.join(SCENARIOS)}")
-    return SCENARIOS[name_or_case]

@@ -1,30 +1,12 @@
-"""User scenario files: a TOML file with the same fields as a catalogue `Case`.
+"""Case files: a TOML file with the same fields as a `Case`; the shipped catalogue is made of them.
 
-Example (every key is optional except name, description, mount and duration_s)::
-
-    name = "my_r79_case"
-    description = "motorcycle overtaking at 130 km/h"
-    mount = "rear_left"            # or a table: [mount] name, x_m, y_m, z_m, yaw_deg
-    duration_s = 5.0
-    road = "highway"
-    lanes = 3
-    guard_rails = true
-
-    [ego]
-    path = "lane_1"
-    speed_mps = 22.2
-
-    [[actors]]
-    actor_class = "motorcycle"
-    path = "lane_0"
-    s_m = -120.0
-    speed_mps = 36.1
-
-    [[criteria]]
-    metric = "first_detection_range_m"
-    op = ">="
-    value = 55.0
-    actor_id = 0
+The cases in ``scenarios/cases/*.toml`` are the catalogue (`scenarios.registry.SCENARIOS`); a
+user's case is the same kind of file, run with ``radar-harness show|run my_case.toml`` or added
+to that folder. ``scenarios/cases/r79_motorcycle_rear.toml`` is a complete example. Keys: the
+fields of `scenarios.catalog.Case` (name, description, mount and duration_s are required;
+``mount`` is a `MOUNTS` name or a ``[mount]`` table name, x_m, y_m, z_m, yaw_deg), an ``[ego]``
+table and ``[[actors]]`` tables with the fields of `ActorSpec`, ``[[criteria]]`` tables with
+the fields of `Criterion`.
 
 Every error is a `ValueError` that names the offending key with its position
 (e.g. ``actors[0].speed_kmh``): unknown keys, keys in a non-SI unit (``speed_kmh`` instead of
@@ -33,77 +15,29 @@ Every error is a `ValueError` that names the offending key with its position
 """
 from __future__ import annotations
 
-import dataclasses
-import tomllib
-from pathlib import Path as FsPath
+from pathlib import Path
 
 from .catalog import MOUNTS, ActorSpec, Case, Criterion, Mount
+from .checks import UNIT_ALIASES, build_from_table, check_keys, check_types, read_toml
 
-__all__ = ["load_scenario_file", "parse_scenario", "UNIT_ALIASES"]
+__all__ = ["load_scenario_file", "load_case_directory", "parse_scenario", "UNIT_ALIASES"]
 
-#: Non-SI unit suffixes users tend to write, and the SI suffix this project uses instead.
-UNIT_ALIASES: dict[str, str] = {
-    "_kmh": "_mps", "_kph": "_mps", "_mph": "_mps", "_kmph": "_mps", "_knots": "_mps",
-    "_km": "_m", "_cm": "_m", "_mm": "_m", "_ft": "_m", "_mi": "_m",
-    "_rad": "_deg", "_ms": "_s", "_min": "_s", "_h": "_s",
-    "_g": "_mps2", "_kmh_per_s": "_mps2",
-}
-
-_TOP_KEYS = {f.name for f in dataclasses.fields(Case)}
 _NESTED = {"ego": ActorSpec, "actors": ActorSpec, "criteria": Criterion, "mount": Mount}
 
 
-def _unit_hint(key: str, known: set[str]) -> str | None:
-    for bad, good in sorted(UNIT_ALIASES.items(), key=lambda kv: -len(kv[0])):
-        if key.endswith(bad):
-            stem = key[: -len(bad)]
-            for cand in (stem + good, stem + "_mps2" if good == "_mps" else None):
-                if cand in known:
-                    return cand
-    return None
+def _mount(value) -> Mount:
+    if isinstance(value, str):
+        if value not in MOUNTS:
+            raise ValueError(f"mount: unknown mount {value!r}; known: {sorted(MOUNTS)}")
+        return MOUNTS[value]
+    return build_from_table(Mount, value, "mount.")
 
 
-def _check_keys(table: dict, known: set[str], where: str) -> None:
-    for key in table:
-        if key in known:
-            continue
-        hint = _unit_hint(key, known)
-        if hint is not None:
-            raise ValueError(f"{where}{key}: wrong unit; give {where}{hint} in SI units "
-                             f"({hint.rsplit('_', 1)[-1]})")
-        raise ValueError(f"{where}{key}: unknown key; known: {sorted(known)}")
-
-
-def _check_values(table: dict, cls: type, where: str) -> None:
-    """Type checks with the unit named: a number field must hold a number, not '130 km/h'."""
-    types = {f.name: f.type for f in dataclasses.fields(cls)}
-    for key, value in table.items():
-        t = str(types.get(key, ""))
-        unit = key.rsplit("_", 1)[-1] if "_" in key else ""
-        if "float" in t or t == "int":
-            if isinstance(value, bool) or not isinstance(value, (int, float)):
-                if value is None and "None" in t:
-                    continue
-                raise ValueError(f"{where}{key}: must be a number in {unit or 'SI units'} "
-                                 f"(wrong unit or type), got {value!r}")
-        elif t == "bool" and not isinstance(value, bool):
-            raise ValueError(f"{where}{key}: must be true or false, got {value!r}")
-        elif t == "str" and not isinstance(value, str):
-            raise ValueError(f"{where}{key}: must be a string, got {value!r}")
-
-
-def _build(cls: type, table, where: str):
-    if not isinstance(table, dict):
-        raise ValueError(f"{where.rstrip('.')}: must be a table, got {table!r}")
-    known = {f.name for f in dataclasses.fields(cls)}
-    _check_keys(table, known, where)
-    _check_values(table, cls, where)
-    try:
-        return cls(**table)
-    except ValueError as exc:
-        raise ValueError(f"{where}{exc}") from None
-    except TypeError as exc:  # a missing required key
-        raise ValueError(f"{where.rstrip('.') or 'scenario'}: {exc}") from None
+def _array(data: dict, name: str, cls: type) -> tuple:
+    items = data[name]
+    if not isinstance(items, list):
+        raise ValueError(f"{name}: must be an array of tables ([[{name}]])")
+    return tuple(build_from_table(cls, t, f"{name}[{i}].") for i, t in enumerate(items))
 
 
 def parse_scenario(data: dict, source: str = "<scenario>") -> Case:
@@ -112,47 +46,30 @@ def parse_scenario(data: dict, source: str = "<scenario>") -> Case:
     Raises
     ------
     ValueError
-        Naming the key (with its position) on any unknown key, non-SI unit, wrong type or
-        impossible value.
+        ``{source}: {key}: ...`` naming the key (with its position) on any unknown key, non-SI
+        unit, wrong type or impossible value (the file policy of `scenarios.checks`).
     """
-    prefix = f"{source}: "
-    if not isinstance(data, dict):
-        raise ValueError(f"{prefix}a scenario must be a table")
     try:
-        _check_keys(data, _TOP_KEYS, "")
-        kw = {k: v for k, v in data.items() if k not in _NESTED}
-        _check_values(kw, Case, "")
+        data = check_keys(data, {f for f in Case.__dataclass_fields__}, "")
+        nested = {}
         if "mount" in data:
-            m = data["mount"]
-            if isinstance(m, str):
-                if m not in MOUNTS:
-                    raise ValueError(f"mount: unknown mount {m!r}; known: {sorted(MOUNTS)}")
-                kw["mount"] = MOUNTS[m]
-            else:
-                kw["mount"] = _build(Mount, m, "mount.")
+            nested["mount"] = _mount(data["mount"])
         if "ego" in data:
-            kw["ego"] = _build(ActorSpec, data["ego"], "ego.")
-        for name, cls in (("actors", ActorSpec), ("criteria", Criterion)):
+            nested["ego"] = build_from_table(ActorSpec, data["ego"], "ego.")
+        for name in ("actors", "criteria"):
             if name in data:
-                items = data[name]
-                if not isinstance(items, list):
-                    raise ValueError(f"{name}: must be an array of tables ([[{name}]])")
-                kw[name] = tuple(_build(cls, t, f"{name}[{i}].") for i, t in enumerate(items))
-        if "must_detect" in kw:
-            kw["must_detect"] = tuple(kw["must_detect"])
-        for req in ("name", "description", "mount", "duration_s"):
-            if req not in kw:
-                raise ValueError(f"{req}: required key missing")
-        try:
-            return Case(**kw)
-        except ValueError as exc:
-            raise ValueError(f"{exc}") from None
+                nested[name] = _array(data, name, _NESTED[name])
+        flat = {k: v for k, v in data.items() if k not in _NESTED}
+        check_types(flat, Case)
+        if "must_detect" in flat:
+            flat["must_detect"] = tuple(flat["must_detect"])
+        return build_from_table(Case, flat, "", **nested)
     except ValueError as exc:
-        raise ValueError(f"{prefix}{exc}") from None
+        raise ValueError(f"{source}: {exc}") from None
 
 
 def load_scenario_file(path) -> Case:
-    """Read a TOML scenario file into a `Case` (see the module docstring for the format).
+    """Read a TOML case file into a `Case` (see the module docstring for the format).
 
     Raises
     ------
@@ -161,10 +78,24 @@ def load_scenario_file(path) -> Case:
     ValueError
         On a malformed file or any bad key (named).
     """
-    p = FsPath(path)
-    text = p.read_text(encoding="utf-8")
-    try:
-        data = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as exc:
-        raise ValueError(f"{p}: not valid TOML: {exc}") from None
-    return parse_scenario(data, source=str(p))
+    return parse_scenario(read_toml(path), source=str(path))
+
+
+def load_case_directory(directory) -> dict[str, Case]:
+    """Every ``*.toml`` case file of `directory`, keyed by case name, in file-name order.
+
+    Each file is named after its case (``<name>.toml``), so a case is found by its name.
+
+    Raises
+    ------
+    ValueError
+        A bad file (named), or a file not named after its case.
+    """
+    cases: dict[str, Case] = {}
+    for path in sorted(Path(directory).glob("*.toml")):
+        case = load_scenario_file(path)
+        if path.stem != case.name:
+            raise ValueError(f"{path}: holds case {case.name!r}; name the file "
+                             f"{case.name}.toml")
+        cases[case.name] = case
+    return cases

@@ -31,25 +31,23 @@ import numpy as np
 import pandas as pd
 from scipy.spatial import cKDTree
 
-from highway_env.road.lane import CircularLane, StraightLane
-from highway_env.road.road import Road, RoadNetwork
+from highway_env.road.road import Road
 from highway_env.vehicle.behavior import IDMVehicle
 from highway_env.vehicle.kinematics import Vehicle
 
-from .catalog import ACTOR_CLASSES, GUARD_RAIL, Case, Mount, get_case
+from .catalog import ACTOR_CLASSES, GUARD_RAIL, Case, Mount
+from .registry import get_case
+from .roads import LANE_WIDTH_M, ROAD_LAYOUTS, TRAFFIC_ENVS, Path
 from .truth import (RAW_ACTOR_COLUMNS, RAW_EGO_COLUMNS, build_tables, ego_yaw_rate_rps,
                     iso_lateral_to_highway, radar_velocity_mps)
 
 __all__ = ["ScenarioRun", "FrameTruth", "run_scenario", "Path", "ScriptedVehicle",
-           "VEHICLE_CLASSES", "IDM_CLASSES", "build_layout", "LANE_WIDTH_M",
-           "RANDOM_ID_BASE", "RAIL_ID_BASE"]
+           "VEHICLE_CLASSES", "IDM_CLASSES", "LANE_WIDTH_M", "RANDOM_ID_BASE",
+           "RAIL_ID_BASE"]
 
-LANE_WIDTH_M = StraightLane.DEFAULT_WIDTH  # 4 m
 #: Actor ids: scripted actors 0..n-1, random traffic from 100, guard-rail segments from 10000.
 RANDOM_ID_BASE = 100
 RAIL_ID_BASE = 10_000
-#: Guard rails stand this far beyond the outer lane edge, m.
-RAIL_SHOULDER_M = 1.5
 #: Guard-rail segments farther than this from the ego are left out of the truth, m.
 RAIL_VIEW_M = 300.0
 
@@ -71,91 +69,6 @@ VEHICLE_CLASSES: dict[str, type] = {n: _vehicle_class(n, Vehicle) for n in ACTOR
 #: IDM-driven classes for random traffic.
 IDM_CLASSES: dict[str, type] = {n: _vehicle_class(n, IDMVehicle)
                                 for n in ("car", "truck", "motorcycle")}
-
-
-class Path:
-    """A chain of highway-env lanes followed by a scripted actor.
-
-    s = 0 sits at the path's point nearest the layout origin; positions beyond either end
-    extrapolate along the end lanes.
-    """
-
-    def __init__(self, lanes: list) -> None:
-        self.lanes = list(lanes)
-        self.lengths = np.array([ln.length for ln in self.lanes], dtype=float)
-        self.starts = np.concatenate([[0.0], np.cumsum(self.lengths)[:-1]])
-        # s = 0 at the point nearest the origin: project the origin on every lane.
-        best = (np.inf, 0.0)
-        for start, lane in zip(self.starts, self.lanes):
-            s_loc = float(np.clip(lane.local_coordinates(np.zeros(2))[0], 0.0, lane.length))
-            d = float(np.hypot(*lane.position(s_loc, 0.0)))
-            best = min(best, (d, start + s_loc))
-        self.s0 = best[1]
-
-    def _locate(self, s_raw: float):
-        k = int(np.clip(np.searchsorted(self.starts, s_raw, side="right") - 1, 0,
-                        len(self.lanes) - 1))
-        return self.lanes[k], s_raw - self.starts[k]
-
-    def _raw_position(self, s_raw: float, lat_hw: float) -> np.ndarray:
-        lane, s_loc = self._locate(s_raw)
-        return np.asarray(lane.position(s_loc, lat_hw), dtype=float)
-
-    def position(self, s_m: float, lat_hw: float = 0.0) -> np.ndarray:
-        """(2,) highway-env position at path coordinate s and lateral lat (highway-env, m)."""
-        return self._raw_position(s_m + self.s0, lat_hw)
-
-    def heading(self, s_m: float) -> float:
-        """highway-env heading of the path at s, rad."""
-        lane, s_loc = self._locate(s_m + self.s0)
-        return float(lane.heading_at(s_loc))
-
-    def sample(self, s_lo: float, s_hi: float, lat_hw: float = 0.0, step_m: float = 0.1):
-        """Points of the path between s_lo and s_hi: (s (N,), xy (N, 2))."""
-        s = np.arange(s_lo, s_hi, step_m)
-        return s, np.array([self.position(v, lat_hw) for v in s]).reshape(-1, 2)
-
-
-def build_layout(road: str, lanes: int):
-    """Road network, named paths and guard-rail lines (highway-env y) of a layout."""
-    net = RoadNetwork()
-    paths: dict[str, Path] = {}
-    rails: list[float] = []
-    far = 2000.0
-    w = LANE_WIDTH_M
-    if road in ("highway", "two_way"):
-        for i in range(lanes):
-            lane = StraightLane([-far, i * w], [far, i * w], speed_limit=40.0)
-            net.add_lane("w", "e", lane)
-            paths[f"lane_{i}"] = Path([lane])
-        left_edge = -0.5 * w
-        if road == "two_way":
-            lane = StraightLane([far, -w], [-far, -w], speed_limit=40.0)
-            net.add_lane("e", "w", lane)
-            paths["oncoming"] = Path([lane])
-            left_edge -= w
-        rails = [left_edge - RAIL_SHOULDER_M, (lanes - 0.5) * w + RAIL_SHOULDER_M]
-    elif road == "urban":
-        h = 0.5 * w
-        r = 8.0
-        main = StraightLane([-far, h], [far, h], speed_limit=20.0)
-        onc = StraightLane([far, -h], [-far, -h], speed_limit=20.0)
-        f_left = StraightLane([-h, -far], [-h, far], speed_limit=20.0)
-        f_right = StraightLane([h, far], [h, -far], speed_limit=20.0)
-        # Left turn: main until x = h - r, then a radius-r arc into the cross road's lane
-        # that leaves to the ego's left (highway-env -y), at x = +h.
-        lead = StraightLane([-far, h], [h - r, h], speed_limit=20.0)
-        arc = CircularLane([h - r, h - r], r, np.pi / 2, 0.0, clockwise=False, speed_limit=10.0)
-        out = StraightLane([h, h - r], [h, -far], speed_limit=20.0)
-        for a, b, lane in (("w", "e", main), ("e", "w", onc), ("n", "s", f_left),
-                           ("s", "n", f_right), ("w", "c", lead), ("c", "t", arc),
-                           ("t", "n", out)):
-            net.add_lane(a, b, lane)
-        paths = {"main": Path([main]), "oncoming": Path([onc]), "from_left": Path([f_left]),
-                 "from_right": Path([f_right]), "turn_left": Path([lead, arc, out])}
-    else:
-        raise ValueError(f"road={road!r} unknown")
-    return net, paths, rails
 
 
 class ScriptedVehicle(Vehicle):
@@ -325,7 +238,7 @@ def _rail_rows(rails: list[float], ego_hw: pd.DataFrame) -> pd.DataFrame:
 
 
 def _scripted(case: Case):
-    net, paths, rails = build_layout(case.road, case.lanes)
+    net, paths, rails = ROAD_LAYOUTS[case.road].build(case.lanes)
     road = Road(network=net, np_random=np.random.RandomState(0), record_history=False)
     ego_path = paths[case.ego.path]
     ego = ScriptedVehicle(road, ego_path, case.ego, case.ego.s_m)
@@ -344,10 +257,7 @@ def _scripted(case: Case):
 
 
 def _random_traffic(case: Case, seed: int, frame_rate_hz: float, substeps: int):
-    from highway_env.envs import HighwayEnv, IntersectionEnv, MergeEnv, RoundaboutEnv
-
-    env_cls = {"highway": HighwayEnv, "merge": MergeEnv, "roundabout": RoundaboutEnv,
-               "intersection": IntersectionEnv}[case.traffic]
+    traffic = TRAFFIC_ENVS[case.traffic]
     if abs(frame_rate_hz - round(frame_rate_hz)) > 1e-9:
         raise ValueError(f"frame_rate_hz={frame_rate_hz!r} must be a whole number of Hz for "
                          "highway-env traffic environments")
@@ -356,10 +266,8 @@ def _random_traffic(case: Case, seed: int, frame_rate_hz: float, substeps: int):
               "observation": {"type": "Kinematics", "vehicles_count": 1,
                               "features": ["presence"]},
               "duration": case.duration_s + 1.0, "offscreen_rendering": True}
-    if case.traffic == "highway":
-        config.update({"lanes_count": case.lanes, "vehicles_count": case.vehicles_count,
-                       "vehicles_density": case.vehicles_density})
-    env = env_cls(config=config, render_mode=None)
+    config.update(traffic.env_config(case.lanes, case.vehicles_count, case.vehicles_density))
+    env = traffic.env_class()(config=config, render_mode=None)
     env.reset(seed=seed)
     road = env.road
     old_ego = env.vehicle
@@ -380,11 +288,7 @@ def _random_traffic(case: Case, seed: int, frame_rate_hz: float, substeps: int):
                 new.target_speed = min(new.target_speed, 25.0)
             new.check_collisions = False
             road.vehicles[i] = new
-    rails = []
-    if case.traffic == "highway" and case.guard_rails:
-        rails = [-0.5 * LANE_WIDTH_M - RAIL_SHOULDER_M,
-                 (case.lanes - 0.5) * LANE_WIDTH_M + RAIL_SHOULDER_M]
-    return road, ego, {}, rails, env
+    return road, ego, {}, traffic.rails_y_hw(case.lanes), env
 
 
 def run_scenario(name_or_case, seed: int = 0, duration_s: float | None = None,

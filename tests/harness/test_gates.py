@@ -88,7 +88,7 @@ allow_missing = true
     ("[[gate]]\nname = 'x'\nmetric = 'ghost_rate'\nmax = 1\naggregate = 'mode'",
      "aggregate"),
     ("[[gate]\n", "malformed TOML"),
-    ("title = 'x'", "unknown top-level key"),
+    ("title = 'x'", "title: unknown key"),
 ])
 def test_bad_thresholds_exit_2(fake_results, tmp_path, capsys, text, match):
     assert main(["gate", str(fake_results), "--thresholds", write(tmp_path, text)]) == 2

@@ -5,14 +5,15 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from harness.runner import SCHEMES, CellSpec, frame_rng, run_cell
+from harness.runner import (DEFAULT_SCHEMES, SEED_STREAMS, CellSpec, frame_rng,
+                            result_schemes, run_cell, stream_id)
 from tests.harness.fakes import FAKE
 
 
 def test_cell_tables_and_scheme_rows():
     res = run_cell(CellSpec(scenario="fast", seed=0, duration_s=1.0), FAKE)
     s = res.tables["summary"].set_index("scheme")
-    assert list(s.index) == list(SCHEMES)
+    assert list(s.index) == list(DEFAULT_SCHEMES)
     assert (s["n_frames"] == 20).all()
     # 30 m/s exceeds TDMA's 10.2 m/s: raw TDMA is aliased, disambiguated TDMA and DDMA are not.
     assert s.loc["ddma", "velocity_unambiguity_rate"] == 1.0
@@ -56,7 +57,41 @@ def test_independent_streams_per_frame_and_scheme():
     assert frame_rng(0, 1, "ddma").standard_normal() == x[4]
 
 
+def test_stream_ids_fixed_for_legacy_streams_and_by_name_for_others():
+    assert {s: stream_id(s) for s in SEED_STREAMS} == {"rcs": 0, "ddma": 1, "tdma": 2,
+                                                        "track": 3}
+    ids = {stream_id(n) for n in ("bpm", "ddma_classic", "toy")}
+    assert len(ids) == 3 and min(ids) >= 2 ** 16
+    assert stream_id("bpm") == stream_id("bpm")
+
+
+def test_adding_or_removing_a_scheme_keeps_the_other_schemes_numbers():
+    """Seed streams are per scheme name: a cell with fewer schemes, in another order, gives the
+    same rows for the schemes it shares."""
+    full = run_cell(CellSpec(scenario="fast", seed=1, duration_s=0.5), FAKE)
+    part = run_cell(CellSpec(scenario="fast", seed=1, duration_s=0.5,
+                             schemes=("tdma_raw", "ddma")), FAKE)
+    for name in ("detections", "frames", "actors"):
+        a, b = full.tables[name], part.tables[name]
+        for s in ("ddma", "tdma_raw"):
+            pd.testing.assert_frame_equal(a[a.scheme == s].reset_index(drop=True),
+                                          b[b.scheme == s].reset_index(drop=True))
+    # Without the baseline scheme in the cell there is no SNR gain.
+    assert part.tables["summary"]["snr_gain_median_db"].isna().all()
+
+
+def test_result_schemes_resolve_variants_to_their_mimo():
+    rs = {r.name: r for r in result_schemes(["ddma", "tdma", "tdma_raw"])}
+    assert rs["tdma_raw"].mimo == "tdma" and rs["tdma_raw"].is_variant
+    assert rs["tdma_raw"].processing == {"tdma_disambiguation": False}
+    assert not rs["ddma"].is_variant
+
+
 @pytest.mark.parametrize("kw,match", [
+    ({"scenario": "a", "schemes": ("ddma", "nope")}, r"unknown scheme\(s\) \['nope'\]"),
+    ({"scenario": "a", "schemes": ()}, "schemes: the list is empty"),
+    ({"scenario": "a", "schemes": ("ddma", "ddma")}, "duplicates"),
+    ({"scenario": "a", "baseline_scheme": "nope"}, "baseline_scheme='nope'"),
     ({"scenario": ""}, "scenario"),
     ({"scenario": "a", "seed": -1}, "seed"),
     ({"scenario": "a", "frame_stride": 0}, "frame_stride"),
@@ -72,3 +107,5 @@ def test_cell_id_depends_on_overrides():
     b = CellSpec(scenario="x", radar={"phase_noise_deg_rms": 5.0})
     assert a.cell_id != b.cell_id
     assert a.cell_id == CellSpec(scenario="x", radar={"phase_noise_deg_rms": 2.0}).cell_id
+    assert a.cell_id != CellSpec(scenario="x", radar={"phase_noise_deg_rms": 2.0},
+                                 schemes=("ddma", "tdma")).cell_id

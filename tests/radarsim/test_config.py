@@ -242,7 +242,7 @@ def test_config_is_frozen(make_config):
 
 
 def test_mimo_registry():
-    assert set(radarsim.MIMO_SCHEMES) == {"ddma", "tdma"}
+    assert {"ddma", "tdma"} <= set(radarsim.MIMO_SCHEMES)
 
 
 def test_ideal_phase_steps_follow_the_subband_order(make_config):

@@ -90,7 +90,7 @@ def test_bad_mount_table_value(tmp_path):
 
 
 def test_malformed_toml(tmp_path):
-    with pytest.raises(ValueError, match="not valid TOML"):
+    with pytest.raises(ValueError, match="malformed TOML"):
         load_scenario_file(_write(tmp_path, "name = = 3"))
 
 
@@ -110,3 +110,25 @@ def test_parse_dict():
     case = parse_scenario({"name": "a", "description": "b", "mount": "front_left",
                            "duration_s": 2.0})
     assert case.mount.yaw_deg == 45.0
+
+
+def test_shipped_catalogue_is_the_case_files():
+    """The catalogue is the TOML files of scenarios/cases, read by the user-file loader."""
+    from scenarios import SCENARIOS
+    from scenarios.files import load_case_directory
+    from scenarios.registry import CASES_DIR
+
+    files = sorted(CASES_DIR.glob("*.toml"))
+    assert [p.stem for p in files] == list(SCENARIOS)
+    for p in files:
+        assert load_scenario_file(p) == SCENARIOS[p.stem]
+    assert load_case_directory(CASES_DIR) == SCENARIOS
+
+
+def test_case_file_named_after_its_case(tmp_path):
+    from scenarios.files import load_case_directory
+
+    (tmp_path / "my_r79.toml").write_text(GOOD)
+    with pytest.raises(ValueError, match=r"b\.toml: holds case 'my_r79'; name the file my_r79"):
+        (tmp_path / "b.toml").write_text(GOOD)
+        load_case_directory(tmp_path)

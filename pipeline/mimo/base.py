@@ -1,0 +1,125 @@
+"""The receive-side half of a MIMO scheme: the chain interface and its registry.
+
+`MIMO_CHAINS` maps each `radarsim.MIMO_SCHEMES` name to a `MimoChain`, the object that turns
+one ADC frame of that scheme into a point cloud (transmitter separation, Doppler compensation,
+velocity disambiguation, on top of the shared stages of `pipeline.stages`). Registering a
+scheme's chain is one `register_chain` call in its own module.
+"""
+from __future__ import annotations
+
+from typing import Any, ClassVar, NamedTuple
+
+import numpy as np
+import pandas as pd
+
+from radarsim.config import RadarConfig
+
+from ..config import ProcessingConfig
+
+__all__ = ["MimoChain", "DetectionMap", "DopplerAzimuth", "MIMO_CHAINS", "register_chain",
+           "chain_of"]
+
+
+class DetectionMap(NamedTuple):
+    """The square-law map a chain's CFAR runs on.
+
+    Attributes
+    ----------
+    power : ndarray
+        DDMA: (n_range, n_azimuth, n_doppler) coherent maps; TDMA/BPM: (n_range, n_doppler)
+        non-coherent sum over the virtual antennas.
+    looks : int
+        Independent exponential looks per cell under noise.
+    cfar_axis : int
+        The (cyclic) Doppler axis of `power`.
+    """
+
+    power: np.ndarray
+    looks: int
+    cfar_axis: int
+
+
+class DopplerAzimuth(NamedTuple):
+    """Doppler-azimuth power of one range bin (bins in the chain's natural order).
+
+    Attributes
+    ----------
+    velocity_mps : (n_dop,) float
+        Radial velocity each Doppler row is reported at.
+    power : (n_dop, n_az) float
+        Azimuth power per Doppler row, azimuth bins in FFT order.
+    """
+
+    velocity_mps: np.ndarray
+    power: np.ndarray
+
+
+class MimoChain:
+    """Receive side of one MIMO scheme. Subclasses implement the four methods.
+
+    Attributes
+    ----------
+    name : str
+        The `radarsim.MIMO_SCHEMES` name the chain processes.
+    variants : dict
+        Extra result schemes derived from this one by `ProcessingConfig` overrides on the same
+        ADC frame, e.g. ``{"tdma_raw": {"tdma_disambiguation": False}}``.
+    """
+
+    name: ClassVar[str] = ""
+    variants: ClassVar[dict[str, dict[str, Any]]] = {}
+
+    def process(self, cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) -> pd.DataFrame:
+        """(n_chirps, n_rx, n_samples) int16 (real) or complex64 (I/Q) frame -> point cloud
+        (`POINT_CLOUD_COLUMNS`)."""
+        raise NotImplementedError
+
+    def detection_map(self, cfg: RadarConfig, adc: np.ndarray,
+                      proc: ProcessingConfig) -> DetectionMap:
+        """The map the CFAR runs on."""
+        raise NotImplementedError
+
+    def doppler_azimuth(self, cfg: RadarConfig, adc: np.ndarray, range_bin: int,
+                        proc: ProcessingConfig) -> DopplerAzimuth:
+        """Doppler-azimuth power of one range bin, for plots."""
+        raise NotImplementedError
+
+    def range_doppler_power(self, cfg: RadarConfig, adc: np.ndarray,
+                            proc: ProcessingConfig) -> np.ndarray:
+        """(n_range, n_doppler) power summed over channels, Doppler in natural FFT order."""
+        raise NotImplementedError
+
+
+#: Receive chains by `radarsim.MIMO_SCHEMES` name.
+MIMO_CHAINS: dict[str, MimoChain] = {}
+
+
+def register_chain(chain: MimoChain, *, replace: bool = False) -> MimoChain:
+    """Add a chain to `MIMO_CHAINS` under `chain.name` and return it.
+
+    Raises
+    ------
+    ValueError
+        If the name is empty or taken (and `replace` is False).
+    """
+    if not isinstance(chain, MimoChain) or not chain.name:
+        raise ValueError(f"chain must be a MimoChain with a name, got {chain!r}")
+    if chain.name in MIMO_CHAINS and not replace:
+        raise ValueError(f"chain name={chain.name!r} is already registered")
+    MIMO_CHAINS[chain.name] = chain
+    return chain
+
+
+def chain_of(cfg: RadarConfig) -> MimoChain:
+    """The registered chain of `cfg.mimo`.
+
+    Raises
+    ------
+    ValueError
+        If no chain is registered for the scheme.
+    """
+    try:
+        return MIMO_CHAINS[cfg.mimo]
+    except KeyError:
+        raise ValueError(f"mimo={cfg.mimo!r} has no receive chain; registered: "
+                         f"{sorted(MIMO_CHAINS)}") from None

@@ -1,0 +1,211 @@
+"""Empty-band DDMA chain of TI's R79 demo (seed 000 section 5).
+
+Range FFT -> Doppler FFT over all chirps -> empty-band demodulation (cyclic sub-band sum,
+table 11), which both separates the transmitters and unwraps the velocity over
++/- lambda / (4 Tc) -> zero-padded azimuth FFT of the horizontal virtual antennas ->
+Doppler-azimuth map per range bin -> OS-CFAR along Doppler (cyclic) and a 4-neighbour local
+maximum (figure 19) -> azimuth interpolation (table 14) and elevation (table 15).
+
+References
+----------
+.. [1] TI, AWR2944 DDMA application note (seed 000): section 5, tables 11, 14, 15, figure 19.
+"""
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+import pandas as pd
+
+from radarsim.config import RadarConfig
+
+from ..cfar import noise_mean_factor
+from ..config import WINDOWS, ProcessingConfig
+from ..kernels import (array_layout, candidate_cfar, ddma_metric, doppler_fft, estimate_angles,
+                       local_max_mask, parabolic_offset, range_fft, window)
+from ..stages import (array_dft, empty_cloud, interp_azimuth, interp_range, log_power,
+                      point_cloud, power_of, row_offsets)
+from .base import DetectionMap, DopplerAzimuth, MimoChain, register_chain
+
+__all__ = ["DdmaMaps", "DdmaChain", "full_doppler_spectrum", "ddma_maps", "ddma_virtual"]
+
+
+class DdmaMaps(NamedTuple):
+    """Intermediate results of the empty-band DDMA chain.
+
+    Attributes
+    ----------
+    power : (n_az, n_range, n_dop) float32
+        Coherent Doppler-azimuth maps after demodulation (Doppler last, so the CFAR runs along
+        contiguous memory).
+    spec : (n_range, n_rx, n_chirps) complex64
+        Doppler spectra over all chirps, before demodulation.
+    energy : (n_range, n_chirps) float32
+        `spec`'s energy summed over Rx.
+    tx1_band : (n_dop, n_range) int
+        Sub-band of the first Tx of `tx_order` per Doppler bin (seed 000 table 11).
+    """
+
+    power: np.ndarray
+    spec: np.ndarray
+    energy: np.ndarray
+    tx1_band: np.ndarray
+
+
+def full_doppler_spectrum(cfg: RadarConfig, adc: np.ndarray,
+                          proc: ProcessingConfig) -> tuple[np.ndarray, np.ndarray]:
+    """Range FFT, then Doppler FFT over all chirps (DDMA: every Tx fires every chirp).
+
+    Returns
+    -------
+    spec : (n_range, n_rx, n_chirps) complex64
+        Slow time last and contiguous for the demodulation gathers.
+    energy : (n_range, n_chirps) float32
+        Summed over Rx.
+    """
+    rf = range_fft(adc, window(WINDOWS[proc.range_window], cfg.n_samples))  # (C, R, B)
+    spec = doppler_fft(np.ascontiguousarray(rf.transpose(2, 1, 0)),
+                       window(WINDOWS[proc.doppler_window], cfg.n_chirps), axis=-1)  # (B, R, C)
+    return spec, power_of(spec).sum(axis=1)
+
+
+def ddma_maps(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) -> DdmaMaps:
+    """Range FFT, Doppler FFT, empty-band demodulation and the coherent detection map."""
+    n_sb, n_tx, n_rx = cfg.n_subbands, cfg.n_tx, cfg.n_rx
+    n_chirps = cfg.n_chirps
+    n_dop = n_chirps // n_sb
+    n_az = proc.n_azimuth_bins
+    spec, energy = full_doppler_spectrum(cfg, adc, proc)
+    n_range = spec.shape[0]
+    tx1_band = np.argmax(ddma_metric(energy.T, n_sb, n_tx), axis=0)  # (D, B)
+    # Demodulation: Tx p of Doppler bin d sits at chirp-bin d + n_dop (band + p) mod N. Only
+    # the transmitters of the horizontal row enter the azimuth map; one flat take gathers them
+    # straight into the (p, rx, range, Doppler) layout of the GEMM below.
+    h_idx, *_ = array_layout(cfg.virtual_positions_m, cfg.wavelength_m)
+    tx_h = np.unique(h_idx // n_rx).astype(np.int32)  # sub-band positions p of the row
+    band = (tx1_band.T[None] + tx_h[:, None, None]) % n_sb  # (P_h, B, D)
+    col = band * n_dop + np.arange(n_dop, dtype=np.int32)
+    flat = row_offsets(n_rx, n_range, n_chirps)[None] + col[:, None]  # (P_h, R, B, D)
+    virt_h = spec.reshape(-1)[flat.reshape(-1)].reshape(tx_h.size * n_rx, n_range * n_dop)
+    # Zero-padded azimuth FFT over the horizontal row as one complex GEMM.
+    rows = (tx_h[:, None] * n_rx + np.arange(n_rx)).reshape(-1)
+    az_spec = array_dft(cfg, n_az, "horizontal")[rows].T @ virt_h  # (A, B*D)
+    power = power_of(az_spec, consume=True).reshape(n_az, n_range, n_dop)
+    return DdmaMaps(power=power, spec=spec, energy=energy, tx1_band=tx1_band)
+
+
+def ddma_virtual(cfg: RadarConfig, spec: np.ndarray, tx1_band: np.ndarray, r: np.ndarray,
+                 d: np.ndarray) -> np.ndarray:
+    """(n, n_virtual) demodulated virtual-antenna samples at range bins r, Doppler bins d, in
+    the order Tx1Rx1..Rx4, Tx3.., Tx4.., Tx2.. (seed 000 section 5.4).
+
+    tx1_band : (n_dop, n_range) int, or (n,) int already taken at (d, r)."""
+    n_dop = cfg.n_chirps // cfg.n_subbands
+    b = tx1_band[d, r] if tx1_band.ndim == 2 else tx1_band
+    band = (b[:, None] + np.arange(cfg.n_tx)) % cfg.n_subbands  # (n, P)
+    chirp_bin = band * n_dop + d[:, None]
+    return spec[r[:, None, None], np.arange(cfg.n_rx)[None, None, :],
+                chirp_bin[:, :, None]].reshape(r.size, -1)
+
+
+def doppler_velocity_mps(cfg: RadarConfig, k: np.ndarray) -> np.ndarray:
+    """Radial velocity of (fractional) bins k of the full n_chirps-point Doppler FFT at Tc,
+    wrapped to +/- lambda / (4 Tc), m/s (receding = negative Doppler frequency, DESIGN 3)."""
+    k_signed = (k + cfg.n_chirps / 2) % cfg.n_chirps - cfg.n_chirps / 2
+    return -k_signed / (cfg.n_chirps * cfg.chirp_period_s) * cfg.wavelength_m / 2
+
+
+def coherent_detections(power: np.ndarray, proc: ProcessingConfig):
+    """CFAR (cyclic, along Doppler) and local maxima on (n_az, n_range, n_dop) coherent maps.
+
+    Returns (a, r, d, noise, peak): azimuth, range and Doppler bins of the detections, the
+    CFAR noise estimate (order statistic) and the peak power, each (n,)."""
+    cf = proc.cfar
+    alpha = cf.scale(looks=1)
+    if cf.mode == "os":
+        # Exact necessary condition: the k-th smallest of a subset of the Doppler column is
+        # >= the k-th smallest of the whole column, so alpha x that bounds the threshold.
+        col_k = np.partition(power, cf.os_rank - 1, axis=2)[:, :, cf.os_rank - 1: cf.os_rank]
+        pre = power > alpha * col_k
+    else:
+        pre = np.ones(power.shape, dtype=bool)
+    pre[:, : proc.min_range_bin] = False
+    # Figure 19: 4-neighbour maximum in (azimuth, Doppler), optionally also along range.
+    local_max_mask(power, {0: True, 1: False, 2: True} if proc.range_peak_check
+                   else {0: True, 2: True}, mask=pre)
+    cand = np.unravel_index(np.flatnonzero(pre), power.shape)
+    noise = candidate_cfar(power, cand, 2, cf.guard_cells, cf.window_cells, cf.mode,
+                           cf.os_rank, cf.training_stride)
+    peak = power[cand]
+    hit = peak > alpha * noise
+    a, r, d = (c[hit] for c in cand)
+    noise, peak = noise[hit], peak[hit]
+    if proc.azimuth_sidelobe_db is not None:
+        strongest = power[:, r, d].max(axis=0)
+        keep = peak >= strongest * 10 ** (-proc.azimuth_sidelobe_db / 10)
+        a, r, d, noise, peak = a[keep], r[keep], d[keep], noise[keep], peak[keep]
+    return a, r, d, noise, peak
+
+
+def coherent_snr_db(proc: ProcessingConfig, noise: np.ndarray, peak: np.ndarray) -> np.ndarray:
+    """Peak over the mean noise of a 1-look coherent map, from the CFAR's order statistic."""
+    cf = proc.cfar
+    noise_mean = noise / noise_mean_factor(cf.mode, cf.n_training, cf.os_rank, 1)
+    return 10 * np.log10(peak / noise_mean)
+
+
+class DdmaChain(MimoChain):
+    """Empty-band DDMA receive chain (seed 000 section 5)."""
+
+    name = "ddma"
+
+    def process(self, cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) -> pd.DataFrame:
+        maps = ddma_maps(cfg, adc, proc)
+        power, energy, tx1_band = maps.power, maps.energy, maps.tx1_band
+        n_az, n_range, n_dop = power.shape
+        n_tx = cfg.n_tx
+        a, r, d, noise, peak = coherent_detections(power, proc)
+        if r.size == 0:
+            return empty_cloud()
+
+        # Range: interpolate on the coherent map at the same (Doppler, azimuth) cell.
+        pr = power[a[:, None], np.clip(r[:, None] + np.arange(-1, 2), 0, n_range - 1),
+                   d[:, None]]
+        range_pos = interp_range(pr, r, n_range)
+        # Doppler: true bin d + n_dop x (Tx1 band); interpolate on the Rx-summed energy of all
+        # Tx.
+        k_true = d + n_dop * tx1_band[d, r]
+        offs = (k_true[:, None, None] + np.arange(-1, 2)[None, :, None]
+                + n_dop * np.arange(n_tx)[None, None, :]) % cfg.n_chirps
+        y = log_power(energy[r[:, None, None], offs].sum(axis=-1))  # (n, 3)
+        k_frac = k_true + parabolic_offset(y[:, 0], y[:, 1], y[:, 2])
+        velocity = doppler_velocity_mps(cfg, k_frac)
+        # Angles.
+        h_idx, h_pos, v_idx, v_pos, v_h = array_layout(cfg.virtual_positions_m,
+                                                       cfg.wavelength_m)
+        sin_term = interp_azimuth(power[:, r, d].T, a)
+        virt = ddma_virtual(cfg, maps.spec, tx1_band, r, d)
+        az, el = estimate_angles(virt, sin_term, h_idx, h_pos, v_idx, v_pos, v_h)
+        snr_db = coherent_snr_db(proc, noise, peak)
+        return point_cloud(cfg, proc, range_pos, velocity, az, el, snr_db,
+                           {"range_bin": r, "doppler_bin": k_true % cfg.n_chirps,
+                            "azimuth_bin": a})
+
+    def detection_map(self, cfg: RadarConfig, adc: np.ndarray,
+                      proc: ProcessingConfig) -> DetectionMap:
+        power = ddma_maps(cfg, adc, proc).power
+        return DetectionMap(np.ascontiguousarray(power.transpose(1, 0, 2)), 1, 2)
+
+    def doppler_azimuth(self, cfg: RadarConfig, adc: np.ndarray, range_bin: int,
+                        proc: ProcessingConfig) -> DopplerAzimuth:
+        maps = ddma_maps(cfg, adc, proc)
+        n_dop = maps.power.shape[2]
+        k = np.arange(n_dop) + n_dop * maps.tx1_band[:, range_bin]
+        return DopplerAzimuth(doppler_velocity_mps(cfg, k), maps.power[:, range_bin, :].T)
+
+    def range_doppler_power(self, cfg: RadarConfig, adc: np.ndarray,
+                            proc: ProcessingConfig) -> np.ndarray:
+        return full_doppler_spectrum(cfg, adc, proc)[1]
+
+
+register_chain(DdmaChain())

@@ -1,0 +1,183 @@
+"""TDMA baseline chain (seed 001), and the slot-coded chain family it heads.
+
+Range FFT -> Doppler FFT per slot (n_chirps / n_tx chirps at n_tx Tc) -> CFAR on the
+non-coherent range-Doppler map summed over the virtual channels -> for every velocity hypothesis
+v_est + 2 k Vmax: Doppler-phase compensation of the later slots (eq. 8-10) and transmitter
+separation (`SlotChain.separate`: identity for TDMA, Hadamard decoding for BPM) -> the
+hypothesis with the largest whole-array likelihood wins (section 4) -> the same angle
+estimation as DDMA.
+
+References
+----------
+.. [1] TI, AWR1642 TDM-MIMO velocity disambiguation (seed 001): eq. 8-12, section 4.
+"""
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+import pandas as pd
+
+from radarsim.config import RadarConfig
+
+from ..cfar import noise_mean_factor
+from ..config import WINDOWS, ProcessingConfig
+from ..kernels import (array_layout, candidate_cfar, doppler_fft, estimate_angles,
+                       local_max_mask, parabolic_offset, range_fft, window)
+from ..stages import (array_dft, array_likelihood, empty_cloud, interp_azimuth, interp_range,
+                      log_power, point_cloud)
+from .base import DetectionMap, DopplerAzimuth, MimoChain, register_chain
+
+__all__ = ["SlotMaps", "SlotChain", "TdmaChain", "slot_maps"]
+
+
+class SlotMaps(NamedTuple):
+    """Intermediate results of a slot-coded chain (TDMA, BPM).
+
+    Attributes
+    ----------
+    power : (n_range, n_dop) float
+        Non-coherent map summed over the n_slots x n_rx channels (n_virtual looks per cell).
+    virt : (n_range, n_dop, n_slots x n_rx) complex64
+        Per-slot Doppler spectra, slot-major, before Doppler compensation and separation.
+    """
+
+    power: np.ndarray
+    virt: np.ndarray
+
+
+def slot_maps(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) -> SlotMaps:
+    """Range FFT and per-slot Doppler FFT (chirp = n_tx c' + slot)."""
+    n_tx = cfg.n_tx
+    n_dop = cfg.n_chirps // n_tx
+    rf = range_fft(adc, window(WINDOWS[proc.range_window], cfg.n_samples))  # (C, R, B)
+    rf = rf.reshape(n_dop, n_tx, cfg.n_rx, -1)  # chirp = n_tx c' + slot
+    spec = doppler_fft(rf, window(WINDOWS[proc.doppler_window], n_dop))  # (D, S, R, B)
+    n_range = spec.shape[-1]
+    virt_all = np.moveaxis(spec, 3, 0).reshape(n_range, n_dop, -1)  # (B, D, 16) slot-major
+    rd = (np.abs(virt_all) ** 2).sum(axis=-1)  # (B, D), L = n_virtual looks per cell
+    return SlotMaps(power=rd, virt=virt_all)
+
+
+class SlotChain(MimoChain):
+    """Chain of the schemes that cycle through n_tx chirps per code period (TDMA, BPM).
+
+    Subclasses set `separate` (slot samples -> virtual channels) and `noise_gain` (noise power
+    of a separated channel over that of a slot channel).
+    """
+
+    #: Noise power of a separated virtual channel over that of one slot channel.
+    noise_gain: float = 1.0
+
+    def disambiguate(self, proc: ProcessingConfig) -> bool:
+        """Whether to test velocity hypotheses beyond +/-Vmax."""
+        return proc.tdma_disambiguation
+
+    def separate(self, cfg: RadarConfig, slots: np.ndarray) -> np.ndarray:
+        """(..., n_slots, n_rx) Doppler-compensated slot samples -> (..., n_tx, n_rx) virtual
+        channels in `tx_order` (TDMA: the slots are the channels)."""
+        return slots
+
+    def process(self, cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) -> pd.DataFrame:
+        n_tx = cfg.n_tx
+        n_dop = cfg.n_chirps // n_tx
+        n_az = proc.n_azimuth_bins
+        maps = slot_maps(cfg, adc, proc)
+        rd, virt_all = maps.power, maps.virt
+        n_range = rd.shape[0]
+
+        cf = proc.cfar
+        looks = cfg.n_virtual
+        alpha = cf.scale(looks=looks)
+        cand_mask = local_max_mask(rd, {0: False, 1: True} if proc.range_peak_check
+                                   else {1: True})
+        cand_mask[: proc.min_range_bin] = False
+        cand = np.nonzero(cand_mask)
+        noise = candidate_cfar(rd, cand, 1, cf.guard_cells, cf.window_cells, cf.mode,
+                               cf.os_rank, cf.training_stride)
+        hit = rd[cand] > alpha * noise
+        r, d = (c[hit] for c in cand)
+        noise = noise[hit]
+        if r.size == 0:
+            return empty_cloud()
+
+        range_pos = interp_range(rd[np.clip(r[:, None] + np.arange(-1, 2), 0, n_range - 1),
+                                    d[:, None]], r, n_range)
+        y = log_power(rd[r[:, None], (d[:, None] + np.arange(-1, 2)) % n_dop])
+        d_frac = d + parabolic_offset(y[:, 0], y[:, 1], y[:, 2])
+        d_signed = (d_frac + n_dop / 2) % n_dop - n_dop / 2
+        t_slot = n_tx * cfg.chirp_period_s
+        v_est = -d_signed / (n_dop * t_slot) * cfg.wavelength_m / 2
+        v_max = cfg.max_unambiguous_velocity_mps
+        if self.disambiguate(proc):
+            # Hypotheses v_est + 2 k Vmax covering the full +/- lambda / (4 Tc) span (seed 001
+            # eq. 12).
+            k = np.arange(-(n_tx // 2) - 1, n_tx // 2 + 2)
+            v_hyp = v_est[:, None] + 2 * k[None, :] * v_max  # (n, H)
+            span = n_tx * v_max
+            valid = (v_hyp >= -span) & (v_hyp < span)
+        else:
+            v_hyp = v_est[:, None]
+            valid = np.ones_like(v_hyp, dtype=bool)
+        h_idx, h_pos, v_idx, v_pos, v_h = array_layout(cfg.virtual_positions_m,
+                                                       cfg.wavelength_m)
+        virt = virt_all[r, d].reshape(-1, 1, n_tx, cfg.n_rx)  # (n, 1, S, R)
+        # Doppler phase of slot s: 2 pi f_D s Tc, f_D = -2 v / lambda (eq. 8-10): remove it.
+        f_hyp = -2 * v_hyp / cfg.wavelength_m
+        comp = np.exp(-2j * np.pi * f_hyp[:, :, None] * np.arange(n_tx) * cfg.chirp_period_s)
+        virt_h = self.separate(cfg, virt * comp[:, :, :, None]) \
+            .reshape(r.size, v_hyp.shape[1], -1)  # (n, H, 16)
+        az_pow = np.abs(virt_h @ array_dft(cfg, n_az, "horizontal")) ** 2  # (n, H, A)
+        score = array_likelihood(cfg, virt_h, az_pow, v_idx)
+        best = np.argmax(np.where(valid, score, -np.inf), axis=1)
+        rows = np.arange(r.size)
+        velocity = v_hyp[rows, best]
+        power_az = az_pow[rows, best]  # (n, A)
+        a = np.argmax(power_az, axis=1)
+        peak = power_az[rows, a]
+        sin_term = interp_azimuth(power_az, a)
+        az, el = estimate_angles(virt_h[rows, best], sin_term, h_idx, h_pos, v_idx, v_pos, v_h)
+        # Noise per virtual channel from the L-look CFAR estimate; the coherent azimuth
+        # spectrum of n_h unit-weight channels has n_h times that noise power.
+        sigma2 = noise / (noise_mean_factor(cf.mode, cf.n_training, cf.os_rank, looks) * looks)
+        if self.noise_gain != 1.0:
+            sigma2 = sigma2 * self.noise_gain
+        snr_db = 10 * np.log10(peak / (h_idx.size * sigma2))
+        d_true = np.rint(-2 * velocity / cfg.wavelength_m * n_dop * t_slot).astype(int)
+        return point_cloud(cfg, proc, range_pos, velocity, az, el, snr_db,
+                           {"range_bin": r, "doppler_bin": d_true % (n_tx * n_dop),
+                            "azimuth_bin": a})
+
+    def detection_map(self, cfg: RadarConfig, adc: np.ndarray,
+                      proc: ProcessingConfig) -> DetectionMap:
+        return DetectionMap(slot_maps(cfg, adc, proc).power, cfg.n_virtual, 1)
+
+    def doppler_azimuth(self, cfg: RadarConfig, adc: np.ndarray, range_bin: int,
+                        proc: ProcessingConfig) -> DopplerAzimuth:
+        """Per-slot Doppler spectrum with the later slots' Doppler phase compensated at each
+        bin's own (unaliased-hypothesis) velocity, separated, then the azimuth DFT."""
+        lam, tc = cfg.wavelength_m, cfg.chirp_period_s
+        virt = slot_maps(cfg, adc, proc).virt[range_bin]  # (D, S*R)
+        n_dop = virt.shape[0]
+        d_signed = (np.arange(n_dop) + n_dop / 2) % n_dop - n_dop / 2
+        vel = -d_signed / (n_dop * cfg.n_tx * tc) * lam / 2
+        comp = np.exp(2j * np.pi * (2 * vel[:, None] / lam) * np.arange(cfg.n_tx) * tc)
+        virt = self.separate(cfg, virt.reshape(n_dop, cfg.n_tx, cfg.n_rx) * comp[:, :, None])
+        virt = virt.reshape(n_dop, -1)
+        power = np.abs(virt @ array_dft(cfg, proc.n_azimuth_bins, "horizontal")) ** 2
+        return DopplerAzimuth(vel, power)
+
+    def range_doppler_power(self, cfg: RadarConfig, adc: np.ndarray,
+                            proc: ProcessingConfig) -> np.ndarray:
+        return slot_maps(cfg, adc, proc).power
+
+
+class TdmaChain(SlotChain):
+    """TDMA baseline (seed 001): one Tx per slot, so separation is the identity. Variant
+    ``tdma_raw``: the same frame without velocity disambiguation."""
+
+    name = "tdma"
+    variants = {"tdma_raw": {"tdma_disambiguation": False}}
+
+
+register_chain(TdmaChain())

@@ -1,0 +1,163 @@
+"""Stages every MIMO chain shares: frame checks, power and log helpers, range and azimuth
+peak interpolation, the zero-padded array DFT, the whole-array likelihood used to score
+transmitter/velocity hypotheses, and the point-cloud assembly.
+
+Per-scheme chains (`pipeline.mimo`) compose these with the kernels of `pipeline.kernels`
+(range FFT, Doppler FFT, CFAR, local maxima, angle estimation).
+
+References
+----------
+.. [1] TI, AWR2944 DDMA application note (seed 000): section 5, tables 14, 15.
+.. [2] TI, AWR1642 TDM-MIMO velocity disambiguation (seed 001): section 4.
+"""
+from __future__ import annotations
+
+from functools import lru_cache
+
+import numpy as np
+import pandas as pd
+
+from radarsim.config import C_MPS, RadarConfig
+
+from .config import ProcessingConfig
+from .kernels import array_layout, parabolic_offset
+
+__all__ = ["POINT_CLOUD_COLUMNS", "check_frame", "power_of", "log_power", "point_cloud",
+           "empty_cloud", "interp_azimuth", "interp_range", "array_dft", "row_offsets",
+           "array_likelihood"]
+
+#: Columns of every point cloud, in order.
+POINT_CLOUD_COLUMNS = ["range_m", "azimuth_deg", "elevation_deg", "radial_velocity_mps",
+                       "snr_db", "x_m", "y_m", "z_m", "range_bin", "doppler_bin",
+                       "azimuth_bin"]
+
+
+def check_frame(cfg: RadarConfig, adc: np.ndarray) -> None:
+    if not isinstance(cfg, RadarConfig):
+        raise ValueError(f"cfg must be a radarsim.RadarConfig, got {type(cfg).__name__}")
+    if not isinstance(adc, np.ndarray):
+        raise ValueError(f"adc must be a numpy.ndarray, got {type(adc).__name__}")
+    if adc.dtype != cfg.adc_dtype:
+        raise ValueError(f"adc dtype must be {cfg.adc_dtype} ({cfg.adc_mode} ADC samples), got "
+                         f"{adc.dtype}")
+    want = (cfg.n_chirps, cfg.n_rx, cfg.n_samples)
+    if adc.shape != want:
+        raise ValueError(f"adc shape {adc.shape} does not match the config "
+                         f"(n_chirps, n_rx, n_samples) = {want}")
+
+
+def power_of(x: np.ndarray, consume: bool = False) -> np.ndarray:
+    """|x|^2 of a C-contiguous complex64 array as float32 (re^2 + im^2 on the float32 view,
+    without the square root of np.abs); `consume=True` squares x's memory in place."""
+    v = x.view(np.float32)
+    v = np.square(v, out=v) if consume else np.square(v)
+    return v[..., 0::2] + v[..., 1::2]
+
+
+def log_power(p: np.ndarray) -> np.ndarray:
+    return np.log(np.maximum(p, 1e-30))
+
+
+def point_cloud(cfg: RadarConfig, proc: ProcessingConfig, range_pos: np.ndarray,
+                velocity: np.ndarray, az: np.ndarray, el: np.ndarray, snr_db: np.ndarray,
+                bins: dict[str, np.ndarray]) -> pd.DataFrame:
+    """Point cloud of n detections, sorted by (range, Doppler, azimuth) bin.
+
+    range_pos : (n,) fractional range bin; velocity (m/s), az, el (rad), snr_db : (n,);
+    bins : "range_bin", "doppler_bin", "azimuth_bin" -> (n,) int."""
+    rng_m = range_pos * cfg.range_resolution_m
+    if proc.correct_range_doppler_coupling:
+        # f_beat = 2 S R / c + f_D with f_D = -2 v / lambda: undo the Doppler shift.
+        rng_m = rng_m + velocity * C_MPS / (cfg.slope_hz_per_s * cfg.wavelength_m)
+    order = np.lexsort((bins["azimuth_bin"], bins["doppler_bin"], bins["range_bin"]))
+    rng_m, velocity, az, el, snr_db = (x[order] for x in (rng_m, velocity, az, el, snr_db))
+    bins = {k: v[order] for k, v in bins.items()}
+    cos_el = np.cos(el)
+    df = pd.DataFrame({
+        "range_m": rng_m,
+        "azimuth_deg": np.degrees(az),
+        "elevation_deg": np.degrees(el),
+        "radial_velocity_mps": velocity,
+        "snr_db": snr_db,
+        "x_m": rng_m * cos_el * np.cos(az),
+        "y_m": rng_m * cos_el * np.sin(az),
+        "z_m": rng_m * np.sin(el),
+        **bins,
+    })
+    return df
+
+
+def interp_azimuth(power_az: np.ndarray, a: np.ndarray) -> np.ndarray:
+    """wx / pi from the azimuth bin of each peak and its cyclic neighbours.
+
+    power_az : (n, n_fft) float; a : (n,) int -> (n,) sin(az) cos(el)."""
+    n_fft = power_az.shape[-1]
+    rows = np.arange(a.size)
+    y = log_power(power_az)
+    off = parabolic_offset(y[rows, (a - 1) % n_fft], y[rows, a], y[rows, (a + 1) % n_fft])
+    k = a + off
+    k = np.where(k >= n_fft / 2, k - n_fft, k)  # table 14 step 4: mirror to [-N/2, N/2)
+    return 2.0 * k / n_fft
+
+
+def interp_range(power_r: np.ndarray, r: np.ndarray, n_range: int) -> np.ndarray:
+    """Fractional range bin from the log power at r-1, r, r+1 (edges not interpolated).
+
+    power_r : (n, 3) float for bins r-1, r, r+1."""
+    y = log_power(power_r)
+    off = parabolic_offset(y[:, 0], y[:, 1], y[:, 2])
+    off = np.where((r <= 0) | (r >= n_range - 1), 0.0, off)
+    return r + off
+
+
+@lru_cache(maxsize=16)
+def array_dft(cfg: RadarConfig, n_fft: int, row: str) -> np.ndarray:
+    """(n_virtual, n_fft) complex64 zero-padded DFT of one row of the virtual array as a
+    matrix, so `samples @ W` is the row's n_fft-point azimuth spectrum: element m at horizontal
+    position p (lambda/2 units) of the row gets exp(-2j pi p k / n_fft), every other element
+    zero. row: "horizontal" (the z = 0 row) or "raised" (Tx2's row)."""
+    h_idx, h_pos, v_idx, v_pos, _ = array_layout(cfg.virtual_positions_m, cfg.wavelength_m)
+    idx, pos = (h_idx, h_pos) if row == "horizontal" else (v_idx, v_pos)
+    w = np.zeros((cfg.n_virtual, n_fft), dtype=np.complex64)
+    w[idx] = np.exp(-2j * np.pi * np.outer(pos, np.arange(n_fft)) / n_fft)
+    w.setflags(write=False)
+    return w
+
+
+@lru_cache(maxsize=8)
+def row_offsets(n_rx: int, n_range: int, n_chirps: int) -> np.ndarray:
+    """(n_rx, n_range, 1) int32 flat offset of each (Rx, range) row of a (B, R, C) spectrum."""
+    rows = np.arange(n_range, dtype=np.int32)[None, :, None] * n_rx + \
+        np.arange(n_rx, dtype=np.int32)[:, None, None]
+    return rows * np.int32(n_chirps)
+
+
+def empty_cloud() -> pd.DataFrame:
+    """A point cloud without rows, with the columns of `POINT_CLOUD_COLUMNS`."""
+    return pd.DataFrame({c: pd.Series(dtype=float) for c in POINT_CLOUD_COLUMNS})
+
+
+def array_likelihood(cfg: RadarConfig, virt: np.ndarray, az_pow: np.ndarray,
+                     v_idx: np.ndarray) -> np.ndarray:
+    """Likelihood of each transmitter/velocity hypothesis, (n, H).
+
+    Shared by every chain that resolves an ambiguity by hypothesis testing (TDMA and BPM
+    velocity hypotheses after their Doppler-phase compensation, classic-DDMA Tx-to-sub-band
+    assignments).
+
+    The generalised likelihood of one echo on the whole virtual array, max over (wx, wz) of
+    |a(wx, wz)^H x|^2: with wz free, the maximum over wz of |A_h(wx) + A_v(wx) e^{-j wz}|^2 is
+    (|A_h(wx)| + |A_v(wx)|)^2, A_h and A_v the zero-padded beams of the horizontal and the
+    raised row on the same wx grid. A wrong hypothesis leaves a staircase of slot phases that
+    the horizontal row can largely mistake for an angle shift (its Tx groups are four elements
+    apart), but the raised row (one slot) then peaks elsewhere, so the sum loses. Without a
+    raised row this is the horizontal FFT peak of seed 001 section 4.
+
+    virt : (n, H, n_virtual) samples of each hypothesis in the virtual-array order of
+    `cfg.virtual_positions_m`; az_pow : (n, H, n_az) |A_h|^2; v_idx : raised-row elements.
+    """
+    if v_idx.size == 0:
+        return az_pow.max(axis=-1)
+    n_az = az_pow.shape[-1]
+    a_v = np.abs(virt @ array_dft(cfg, n_az, "raised"))  # (n, H, A)
+    return ((np.sqrt(az_pow) + a_v) ** 2).max(axis=-1)
