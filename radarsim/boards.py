@@ -54,6 +54,9 @@ class Board:
         Element positions in wavelengths, Tx1.. and Rx1.. (TI's Tx0.., Rx0..).
     pattern_exponent_az, pattern_exponent_el : float
         Cosine power-pattern exponents (one way).
+    fov_deg : float
+        Azimuth field of view the user guide states, +/- deg (the association's visibility
+        cone, `harness.runner.cell_association`).
     """
 
     name: str
@@ -63,6 +66,7 @@ class Board:
     pattern_exponent_az: float
     pattern_exponent_el: float
     source: str
+    fov_deg: float = 80.0
 
 
 _RX_HALF_WAVE = ((0.0, 0.0), (0.5, 0.0), (1.0, 0.0), (1.5, 0.0))
@@ -84,11 +88,12 @@ BOARDS: Mapping[str, Board] = MappingProxyType({
                            _EVM_AZ, _EVM_EL,
                            "assumed filled azimuth row (DDM demo order 0 1 2 3); unverified"),
     "AWR1843BOOST": Board("AWR1843BOOST", "AWR1843", _XWR18_TX, _RX_HALF_WAVE, _BOOST_AZ,
-                          _BOOST_EL, "mmWave SDK xwr18xx demo antenna geometry"),
+                          _BOOST_EL, "mmWave SDK xwr18xx demo antenna geometry", 60.0),
     "IWR6843ISK": Board("IWR6843ISK", "IWR6843", _XWR18_TX, _RX_HALF_WAVE, _BOOST_AZ, _BOOST_EL,
-                        "mmWave SDK xwr68xx demo antenna geometry (ISK as xWR18xx BOOST)"),
+                        "mmWave SDK xwr68xx demo antenna geometry (ISK as xWR18xx BOOST)",
+                        60.0),
     "AWR1642BOOST": Board("AWR1642BOOST", "AWR1642", ((0.0, 0.0), (2.0, 0.0)), _RX_HALF_WAVE,
-                          _BOOST_AZ, _BOOST_EL, "mmWave SDK xwr16xx demo; seed 001"),
+                          _BOOST_AZ, _BOOST_EL, "mmWave SDK xwr16xx demo; seed 001", 60.0),
 })
 
 
