@@ -23,15 +23,14 @@ def _scene(targets) -> radarsim.Scatterers:
 
 
 def _fft_floor(cfg, adc) -> float:
-    """Range rFFT plus the Doppler FFT alone, float32, scipy.fft with all cores."""
+    """Range rFFT plus the Doppler FFT over one Tx's slow-time sequence (the scheme's: all
+    chirps for DDMA, one slot per code period for TDMA), float32, scipy.fft with all cores."""
     x = adc.astype(np.float32)
+    per = int(round(cfg.scheme.slow_time_period_s(cfg) / cfg.chirp_period_s))
 
     def ffts():
         rf = scipy.fft.rfft(x, axis=-1, workers=-1)[..., : cfg.n_samples // 2]
-        if cfg.mimo == "ddma":
-            scipy.fft.fft(rf, axis=0, workers=-1)
-        else:
-            scipy.fft.fft(rf.reshape(-1, cfg.n_tx, cfg.n_rx, rf.shape[-1]), axis=0, workers=-1)
+        scipy.fft.fft(rf.reshape(-1, per, cfg.n_rx, rf.shape[-1]), axis=0, workers=-1)
     return median_time_s(ffts, repeats=15)
 
 

@@ -16,7 +16,7 @@ DURATION_S = 1.0
 def run() -> list[str]:
     import pipeline
     from harness.runner import (CellSpec, build_configs, default_components, frame_rng,
-                                frame_scatterers, run_cell)
+                                frame_scatterers, result_schemes, run_cell)
 
     comps = default_components()
     spec = CellSpec(scenario=CASE, duration_s=DURATION_S)
@@ -31,7 +31,7 @@ def run() -> list[str]:
                 for m in radar)
     t_proc = sum(median_time_s(lambda s=s, m=m: pipeline.process_frame(radar[m], adc[m],
                                                                         procs[s]), 5, 1)
-                 for s, m in (("ddma", "ddma"), ("tdma", "tdma"), ("tdma_raw", "tdma")))
+                 for s, m in ((rs.name, rs.mimo) for rs in result_schemes(spec.schemes)))
     t_cell = median_time_s(lambda: run_cell(spec, comps), 3, 1)
     n = len(run_.ego)
     floor = t_sc + t_sim + t_proc

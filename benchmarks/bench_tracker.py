@@ -8,7 +8,7 @@ import numpy as np
 import pandas as pd
 
 from benchmarks._timing import median_time_s
-from pipeline.tracker import GroupTracker, TrackerConfig
+from pipeline.tracking import GroupTracker, TrackerConfig
 
 N_ACTORS = 30
 POINTS_PER_ACTOR = 6

@@ -1,7 +1,10 @@
 """`radar-harness` command line: one sub-command per module, registered in `COMMANDS`.
 
 Each command module exposes `add_arguments(parser)` and `run(args) -> int`. Exit codes: 0 ok,
-1 a gate or check failed, 2 bad input (the message names the field, the value and the limit).
+1 a gate or check failed (or a sweep ended with missing cells), 2 bad input (one line naming the
+field, the value and the limit), 130 interrupted (Ctrl-C: "rerun the same command to resume").
+Every process runs with one BLAS thread (`harness.runtime.prepare_process`), so every path gives
+the same bits.
 """
 from __future__ import annotations
 
@@ -21,6 +24,8 @@ COMMANDS: dict[str, tuple[str, str]] = {
     "report": ("harness.cmd_report", "write an HTML report of a results directory"),
     "process": ("harness.cmd_ti", "run the pipeline on a DCA1000 capture"),
     "simulate": ("harness.cmd_ti", "write a scenario's ADC frames as a DCA1000 capture"),
+    "shifter": ("harness.cmd_shifter", "seed 000 figs 7-8: shifter spurs before/after "
+                "calibration"),
 }
 
 
@@ -28,9 +33,23 @@ class UsageError(ValueError):
     """Bad command-line input: reported with exit code 2."""
 
 
+#: Exit codes.
+EXIT_OK, EXIT_FAIL, EXIT_BAD_INPUT, EXIT_INTERRUPTED = 0, 1, 2, 130
+#: Errors that mean bad input (a file that is missing, unreadable, a directory, ...).
+_BAD_INPUT = (UsageError, ValueError, FileNotFoundError, IsADirectoryError, NotADirectoryError,
+              PermissionError, FileExistsError)
+
+
+class _Parser(argparse.ArgumentParser):
+    """argparse with one-line errors: ``radar-harness CMD: error: ...`` and exit code 2."""
+
+    def error(self, message: str):  # noqa: D102 - argparse API
+        self.exit(EXIT_BAD_INPUT, f"{self.prog}: error: {message} (see {self.prog} --help)\n")
+
+
 def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(prog="radar-harness", description=__doc__.splitlines()[0])
-    sub = parser.add_subparsers(dest="command", required=True)
+    parser = _Parser(prog="radar-harness", description=__doc__.splitlines()[0])
+    sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
     for name, (module, help_text) in COMMANDS.items():
         p = sub.add_parser(name, help=help_text)
         mod = importlib.import_module(module)
@@ -39,18 +58,35 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+def _one_line(exc: BaseException) -> str:
+    text = str(exc) or type(exc).__name__
+    if isinstance(exc, OSError) and exc.filename is not None and exc.strerror:
+        text = f"{exc.filename}: {exc.strerror}"
+    return " | ".join(line.strip() for line in text.splitlines() if line.strip())
+
+
 def main(argv: list[str] | None = None) -> int:
-    from .runtime import tune_allocator
-    tune_allocator()
+    from .runtime import prepare_process
+    prepare_process()
     parser = build_parser()
-    args = parser.parse_args(argv)
+    try:
+        args = parser.parse_args(argv)
+    except SystemExit as exc:  # --help (0) or a one-line usage error (2)
+        return int(exc.code or 0) if not isinstance(exc.code, str) else EXIT_BAD_INPUT
+    except KeyboardInterrupt:
+        print("radar-harness: interrupted", file=sys.stderr)
+        return EXIT_INTERRUPTED
     mod = importlib.import_module(args._module)
     runner = getattr(mod, f"run_{args.command}", getattr(mod, "run", None))
     try:
         return int(runner(args) or 0)
-    except (UsageError, ValueError, FileNotFoundError) as exc:
-        print(f"radar-harness {args.command}: error: {exc}", file=sys.stderr)
-        return 2
+    except _BAD_INPUT as exc:
+        print(f"radar-harness {args.command}: error: {_one_line(exc)}", file=sys.stderr)
+        return EXIT_BAD_INPUT
+    except KeyboardInterrupt:
+        print(f"radar-harness {args.command}: interrupted: rerun the same command to resume",
+              file=sys.stderr)
+        return EXIT_INTERRUPTED
 
 
 if __name__ == "__main__":

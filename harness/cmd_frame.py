@@ -5,12 +5,14 @@ import argparse
 
 import numpy as np
 
+from .args import SEED
+
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     import radarsim
     parser.add_argument("--mimo", choices=sorted(radarsim.MIMO_SCHEMES), default="ddma",
                         help="MIMO scheme (radarsim.MIMO_SCHEMES)")
-    parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--seed", type=SEED, default=0)
 
 
 def run(args: argparse.Namespace) -> int:

@@ -10,6 +10,8 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
+from .args import check_output_file
+
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("results", help="results directory (or its summary.parquet)")
@@ -24,6 +26,11 @@ def run(args: argparse.Namespace) -> int:
     import pandas as pd
 
     from . import gates as g
+    for opt, val in (("--junit", args.junit), ("--markdown", args.markdown)):
+        if val is not None:
+            if opt == "--junit":
+                Path(val).parent.mkdir(parents=True, exist_ok=True)
+            check_output_file(val, opt)
     gates = g.load_gates(args.thresholds)
     summary, manifest = g.load_summary(args.results)
     results = g.evaluate_gates(summary, gates, manifest)
@@ -35,7 +42,6 @@ def run(args: argparse.Namespace) -> int:
     print(f"{len(table) - n_fail} of {len(table)} gate checks passed or skipped, "
           f"{n_fail} failed")
     if args.junit:
-        Path(args.junit).parent.mkdir(parents=True, exist_ok=True)
         Path(args.junit).write_text(g.junit_xml(results))
     md = Path(args.markdown) if args.markdown else \
         (Path(args.results) if Path(args.results).is_dir() else Path(args.results).parent) \

@@ -2,6 +2,9 @@
 from __future__ import annotations
 
 import argparse
+from pathlib import Path
+
+from .args import MAX_CASES, check_output_file
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -10,12 +13,17 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--maps", action=argparse.BooleanOptionalAction, default=True,
                         help="re-simulate one frame per case for range-Doppler and "
                              "Doppler-azimuth maps (default on)")
-    parser.add_argument("--max-cases", type=int, default=None,
+    parser.add_argument("--max-cases", type=MAX_CASES, default=None,
                         help="limit the per-case sections")
 
 
 def run(args: argparse.Namespace) -> int:
     from .report import build_report
+    res = Path(args.results)
+    if not res.is_dir():
+        raise ValueError(f"results {args.results!r}: not a results directory (run `radar-harness "
+                         "sweep` first)")
+    check_output_file(args.out if args.out is not None else res / "report.html", "--out")
     path = build_report(args.results, args.out, maps=args.maps, max_cases=args.max_cases)
     print(f"report written to {path}")
     return 0

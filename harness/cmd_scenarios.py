@@ -9,6 +9,8 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
+from .args import SEED
+
 
 def add_arguments_scenarios(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--verbose", action="store_true",
@@ -30,7 +32,7 @@ def run_scenarios(args: argparse.Namespace) -> int:
 def add_arguments_show(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("case", help="catalogue case name or TOML scenario file")
     parser.add_argument("--out", default=".", help="output directory (default: current)")
-    parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--seed", type=SEED, default=0)
 
 
 def _resolve(case: str):

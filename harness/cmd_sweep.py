@@ -20,10 +20,13 @@ from pathlib import Path
 
 import pandas as pd
 
+from .args import DURATION_S, FRAME_STRIDE, SEED, TIMEOUT_S, WORKERS
+
 #: Columns printed by `run` and `sweep` (all are in summary.parquet, with many more).
 SUMMARY_COLUMNS = [
     "scenario", "variant", "seed", "scheme", "n_frames", "detections_per_frame", "ghost_rate",
-    "velocity_unambiguity_rate", "range_error_rmse_m", "radial_velocity_error_rmse_mps",
+    "velocity_unambiguity_rate", "range_error_rmse_m", "range_error_median_m",
+    "radial_velocity_error_rmse_mps",
     "detection_probability_mean", "target_first_detection_range_m", "snr_gain_median_db",
     "case_pass",
 ]
@@ -45,10 +48,10 @@ def format_summary(summary: pd.DataFrame, columns=None) -> str:
 
 def add_arguments_run(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("case", help="catalogue case name (see `radar-harness scenarios`)")
-    parser.add_argument("--seed", type=int, default=0)
-    parser.add_argument("--duration-s", type=float, default=None,
-                        help="shorten the case (default: its own duration)")
-    parser.add_argument("--frame-stride", type=int, default=1,
+    parser.add_argument("--seed", type=SEED, default=0)
+    parser.add_argument("--duration-s", type=DURATION_S, default=None,
+                        help="shorten the case (default: its own duration; at most 120 s)")
+    parser.add_argument("--frame-stride", type=FRAME_STRIDE, default=1,
                         help="process every k-th frame")
     parser.add_argument("--out", default=None, help="also write the tables to this directory")
     _add_scheme_arguments(parser)
@@ -73,18 +76,18 @@ def _scheme_kwargs(args: argparse.Namespace) -> dict:
 
 def run_run(args: argparse.Namespace) -> int:
     from .runner import CellSpec, run_cell
-    from .sweep import _resolve_scenarios
+    from .sweep import _resolve_scenarios, _write_atomic, prepare_out
     _resolve_scenarios([args.case])
+    out = prepare_out(args.out) if args.out else None  # fail before the (long) run
     spec = CellSpec(scenario=args.case, seed=args.seed, duration_s=args.duration_s,
                     frame_stride=args.frame_stride, **_scheme_kwargs(args))
     res = run_cell(spec)
     print(format_summary(res.tables["summary"]))
     print(f"({res.elapsed_s:.1f} s)")
-    if args.out:
-        out = Path(args.out)
-        out.mkdir(parents=True, exist_ok=True)
+    if out is not None:
         for name, df in res.tables.items():
-            df.to_parquet(out / f"{name}.parquet", index=False)
+            _write_atomic(out / f"{name}.parquet",
+                          lambda tmp, df=df: df.to_parquet(tmp, index=False))
         print(f"tables written to {out}/")
     return 0
 
@@ -94,16 +97,25 @@ def add_arguments_sweep(parser: argparse.ArgumentParser) -> None:
                         help="sweep TOML (default: harness/default_sweep.toml)")
     parser.add_argument("--out", default=None,
                         help="results directory (default results/<run-id>)")
-    parser.add_argument("--workers", type=int, default=None,
+    parser.add_argument("--workers", type=WORKERS, default=None,
                         help="local worker processes (default: CPU count)")
     parser.add_argument("--scheduler", default=None,
-                        help="Dask scheduler address, e.g. tcp://host:8786 (workers must see "
-                             "--out)")
-    parser.add_argument("--frame-stride", type=int, default=None,
+                        help="Dask scheduler address, tls://host:8786 with --security (plain "
+                             "tcp:// only on a trusted network: the workers run pickled "
+                             "code); workers must see --out")
+    parser.add_argument("--security", default=None,
+                        help="TOML with ca_file, cert, key (PEM) for a tls:// scheduler "
+                             "(default: Dask's distributed.comm.tls configuration)")
+    parser.add_argument("--scheduler-timeout-s", type=TIMEOUT_S, default=20.0,
+                        help="give up if the scheduler does not answer within this time")
+    parser.add_argument("--force", action="store_true",
+                        help="recompute cells that another code version completed in --out "
+                             "(without it such a resume is refused)")
+    parser.add_argument("--frame-stride", type=FRAME_STRIDE, default=None,
                         help="process every k-th frame (overrides the sweep file)")
-    parser.add_argument("--duration-s", type=float, default=None,
-                        help="shorten every case (overrides the sweep file)")
-    parser.add_argument("--seeds", type=int, nargs="+", default=None,
+    parser.add_argument("--duration-s", type=DURATION_S, default=None,
+                        help="shorten every case, at most 120 s (overrides the sweep file)")
+    parser.add_argument("--seeds", type=SEED, nargs="+", default=None,
                         help="seeds (override the sweep file)")
     parser.add_argument("--scenarios", nargs="+", default=None,
                         help="only these cases (override the sweep file)")
@@ -122,19 +134,22 @@ def run_sweep(args: argparse.Namespace) -> int:
         spec = dataclasses.replace(spec, baseline_scheme=args.baseline_scheme)
     out = Path(args.out) if args.out else Path("results") / spec.run_id
     workers = args.workers if args.workers is not None else (os.cpu_count() or 1)
-    if workers < 1:
-        raise ValueError(f"--workers={workers} must be >= 1")
+    security = sw.dask_security(args.security) if args.security else None
+    out = sw.prepare_out(out)
     n = len(spec.cells())
     print(f"sweep {spec.name}: {n} cells ({len(spec.scenarios)} scenarios x "
           f"{len(spec.variants)} variants x {len(spec.seeds)} seeds) -> {out}/",
           file=sys.stderr)
     outcome = sw.run_sweep(spec, out, workers=workers, scheduler=args.scheduler,
-                           progress=args.progress)
+                           progress=args.progress, force=args.force, security=security,
+                           scheduler_timeout_s=args.scheduler_timeout_s)
     summary = pd.read_parquet(out / "summary.parquet")
     print(format_summary(summary))
-    print(f"{outcome.n_ok} cells run, {outcome.n_skipped} already done, "
-          f"{outcome.n_error} failed, {outcome.n_interrupted} interrupted -> {out}/")
-    if outcome.n_interrupted:
-        print("a worker died: rerun the same command to resume the missing cells",
-              file=sys.stderr)
+    print(f"{outcome.n_ok} cells computed, {outcome.n_skipped} resumed, "
+          f"{outcome.n_recomputed} recomputed (other code version or damaged), "
+          f"{outcome.n_error} failed, {outcome.n_missing} missing -> {out}/")
+    if outcome.n_missing:
+        print(f"{outcome.n_missing} of {outcome.n_cells} cells are missing (a worker died or "
+              f"wrote elsewhere): rerun the same command to resume them; first: "
+              f"{outcome.missing[0]}", file=sys.stderr)
     return 0 if outcome.n_error == 0 and outcome.complete else 1

@@ -29,6 +29,8 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from .args import DURATION_S, FRAMES, SEED, check_output_file
+
 __all__ = ["add_arguments_process", "run_process", "add_arguments_simulate", "run_simulate",
            "cfar_config_from_ti", "processing_from_profile", "process_capture",
            "write_table", "TABLE_WRITERS"]
@@ -86,11 +88,23 @@ def processing_from_profile(profile, notes: list[str] | None = None):
         notes.append(f"line {profile.cfar['range'].line_no}: range cfarCfg ignored (the chain "
                      "has no range CFAR, DESIGN section 5)")
     if doppler is None:
-        return pipeline.ProcessingConfig()
-    if not doppler.cyclic:
-        notes.append(f"line {doppler.line_no}: cyclicMode 0 ignored (the Doppler CFAR is "
-                     "cyclic)")
-    return pipeline.ProcessingConfig(cfar=cfar_config_from_ti(doppler))
+        proc = pipeline.ProcessingConfig()
+    else:
+        if not doppler.cyclic:
+            notes.append(f"line {doppler.line_no}: cyclicMode 0 ignored (the Doppler CFAR is "
+                         "cyclic)")
+        proc = pipeline.ProcessingConfig(cfar=cfar_config_from_ti(doppler))
+    n_dop = profile.radar.n_doppler_bins
+    try:
+        proc.check_doppler_axis(n_dop)
+    except ValueError:
+        # Demo profiles of 16 loops have 16 Doppler bins: train on contiguous cells (TI's
+        # CFAR) when the stride-2 window does not fit; if that does not fit either, the
+        # chain names the window and the axis.
+        proc = proc.replace(cfar_training_stride=1)
+        notes.append(f"CFAR training_stride 1 (contiguous cells, as TI's CFAR): the stride-2 "
+                     f"window does not fit the {n_dop} Doppler bins")
+    return proc
 
 
 def _interleaved(layout: str, profile) -> bool | None:
@@ -128,8 +142,20 @@ def process_capture(capture, profile, proc=None, *, interleaved: bool | None = N
     return pd.concat(tables, ignore_index=True)
 
 
+def _profile(path: Path):
+    """`parse_ti_cfg` with the file's own problems (a directory, binary data) as bad input."""
+    from radarsim.ti_cfg import parse_ti_cfg
+    if Path(path).is_dir():
+        raise ValueError(f"--cfg {str(path)!r} is a directory, not a TI .cfg profile")
+    try:
+        return parse_ti_cfg(path)
+    except UnicodeDecodeError:
+        raise ValueError(f"--cfg {str(path)!r}: not a text file (a TI .cfg profile is text)") \
+            from None
+
+
 def _track(points: pd.DataFrame, profile, n_frames: int) -> pd.DataFrame:
-    from pipeline import tracker as trk
+    from pipeline import tracking as trk
     clouds = [(f * profile.frame_period_s,
                points[points["frame"] == f].drop(columns=["frame", "time_s"])
                .reset_index(drop=True)) for f in range(n_frames)]
@@ -143,7 +169,7 @@ def add_arguments_process(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--cfg", type=Path, required=True, help="TI mmWave SDK .cfg profile")
     parser.add_argument("--out", type=Path, default=None,
                         help="point cloud table, .parquet or .csv (default CAPTURE.parquet)")
-    parser.add_argument("--frames", type=int, default=None, help="process at most N frames")
+    parser.add_argument("--frames", type=FRAMES, default=None, help="process at most N frames")
     parser.add_argument("--layout", choices=_LAYOUTS, default="auto",
                         help="sample order; auto follows the profile's adcbufCfg")
     parser.add_argument("--tracks", type=Path, default=None,
@@ -153,15 +179,19 @@ def add_arguments_process(parser: argparse.ArgumentParser) -> None:
 
 def run_process(args: argparse.Namespace) -> int:
     from radarsim.capture import capture_n_frames
-    from radarsim.ti_cfg import parse_ti_cfg
 
     if args.frames is not None and args.frames < 1:
         raise ValueError(f"--frames={args.frames} must be >= 1")
-    profile = parse_ti_cfg(args.cfg)
+    if args.capture.is_dir():
+        raise ValueError(f"capture {str(args.capture)!r} is a directory, not a capture file")
+    profile = _profile(args.cfg)
     out = args.out if args.out is not None else args.capture.with_suffix(".parquet")
     if out.suffix.lower() not in TABLE_WRITERS:  # fail before the (long) processing
         raise ValueError(f"--out {str(out)!r}: suffix {out.suffix!r} is not one of "
                          f"{sorted(TABLE_WRITERS)}")
+    check_output_file(out, "--out")
+    if args.tracks is not None:
+        check_output_file(args.tracks, "--tracks")
     n_frames = capture_n_frames(args.capture, profile.radar)
     n_frames = n_frames if args.frames is None else min(n_frames, args.frames)
     notes: list[str] = []
@@ -186,9 +216,9 @@ def add_arguments_simulate(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("case", help="scenario name (radar-harness scenarios lists them)")
     parser.add_argument("--cfg", type=Path, required=True, help="TI mmWave SDK .cfg profile")
     parser.add_argument("--out", type=Path, required=True, help="capture file to write (.bin)")
-    parser.add_argument("--seed", type=int, default=0, help="scenario and noise seed")
-    parser.add_argument("--frames", type=int, default=None, help="write at most N frames")
-    parser.add_argument("--duration-s", type=float, default=None,
+    parser.add_argument("--seed", type=SEED, default=0, help="scenario and noise seed")
+    parser.add_argument("--frames", type=FRAMES, default=None, help="write at most N frames")
+    parser.add_argument("--duration-s", type=DURATION_S, default=None,
                         help="scenario duration override, s")
 
 
@@ -211,13 +241,13 @@ def simulate_frames(cfg, run, seed: int, frames, comps):
 
 def run_simulate(args: argparse.Namespace) -> int:
     from radarsim.capture import write_capture
-    from radarsim.ti_cfg import parse_ti_cfg
 
     if args.seed < 0:
         raise ValueError(f"--seed={args.seed} must be >= 0")
     if args.frames is not None and args.frames < 1:
         raise ValueError(f"--frames={args.frames} must be >= 1")
-    profile = parse_ti_cfg(args.cfg)
+    check_output_file(args.out, "--out")
+    profile = _profile(args.cfg)
     comps = _components()
     # The scenario advances one profile frame period per frame: process stamps frame f at
     # f x framePeriodicity, so the capture's scene must move by the same step.

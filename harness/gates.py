@@ -55,9 +55,14 @@ class Gate:
     description: str = ""
 
     def __post_init__(self) -> None:
+        require(self, ("name", "metric", "scheme", "scenario", "variant", "description"), "str")
+        require(self, "allow_missing", "bool")
         if self.min is None and self.max is None:
             raise ValueError(f"min/max: gate {self.name!r} needs min and/or max")
         require(self, ("min", "max"), none_ok=True)
+        if self.min is not None and self.max is not None and self.min > self.max:
+            raise ValueError(f"min/max: gate {self.name!r} has min={self.min!r} > "
+                             f"max={self.max!r}: no value can pass")
         one_of("aggregate", self.aggregate, AGGREGATES)
 
     def check(self, value: float) -> bool:
@@ -162,6 +167,11 @@ def evaluate_gates(summary: pd.DataFrame, gates: list[Gate],
     if unknown:
         raise ValueError(f"unknown metric(s) {unknown}: not columns of the summary table; "
                          f"available: {sorted(summary.columns)}")
+    for g in gates:
+        col = summary[g.metric]
+        if not (pd.api.types.is_numeric_dtype(col) or col.isna().all()):
+            raise ValueError(f"gate {g.name!r}: metric {g.metric!r} is not numeric (dtype "
+                             f"{col.dtype}); a threshold cannot apply to it")
     out: list[GateResult] = []
     err = summary.get("error", pd.Series("", index=summary.index)).fillna("").astype(str)
     bad = summary[err != ""]

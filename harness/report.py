@@ -309,6 +309,8 @@ def build_report(results: str | Path, out: str | Path | None = None, *, maps: bo
                      + _img(_snr_gain_hist(actors, base)))
     if len(det):
         parts.append("<h2>Ghost map</h2>" + _img(_ghost_map(det)))
+    from .shifter_report import html_section as _shifter_section  # "" unless a shifter sweep
+    parts.append(_shifter_section(res))
     specs = {}
     cell_dirs = sorted((res / "cells").glob("*/cell.json")) if (res / "cells").exists() else []
     for f in cell_dirs:

@@ -193,7 +193,7 @@ def _real_simulate_frame(cfg, sc, rng):
 
 def _real_track(radar_cfg, clouds, times_s, ego_speeds_mps, mount, overrides, rng):
     """Run the group tracker over one scheme's point clouds."""
-    from pipeline import tracker as trk
+    from pipeline import tracking as trk
     kw = dict(overrides)
     if mount is not None:
         for key in ("x_m", "y_m", "yaw_deg"):
@@ -463,6 +463,8 @@ def run_cell(spec: CellSpec, comps: Components | None = None,
     times = times.reindex(frames).astype(float)
 
     clouds: dict[str, list[pd.DataFrame]] = {s.name: [] for s in schemes}
+    # Saturated (chirp, Rx) pairs per scheme and frame (pipeline.saturation).
+    saturated: dict[str, list[int]] = {s.name: [] for s in schemes}
     scat = []
     ctx = _frame_context(run)
     for f in frames:
@@ -476,6 +478,8 @@ def run_cell(spec: CellSpec, comps: Components | None = None,
             pc.insert(0, "frame", np.int64(f))
             pc.insert(1, "time_s", float(times.loc[f]))
             clouds[rs.name].append(pc)
+            saturated[rs.name].append(int(pc.attrs.get("saturation", {})
+                                          .get("n_saturated_chirp_rx", 0)))
     scat_df = scatterer_table(scat)
 
     info = _case_info(run)
@@ -496,12 +500,17 @@ def run_cell(spec: CellSpec, comps: Components | None = None,
         span = 2 * radar[m].max_unambiguous_velocity_mps
         lab = associate(pcs, truth, velocity_span_mps=span, config=assoc, scatterers=scat_df)
         lab = detection_errors(lab, truth, scat_df)
+        cfg_m = radar[m]
+        lab["velocity_resolution_failure"] = mdet.velocity_resolution_failures(
+            pcs, truth, cfg_m.scheme.velocity_failure_step_mps(cfg_m), config=assoc,
+            scatterers=scat_df)
         af = actor_frames(lab, truth, scatterers=scat_df, config=assoc)
         row = mdet.summarize_scheme(lab, af, len(frames), assoc,
                                     target_ids=info["target_ids"])
         per_actor = mdet.actor_detection(af)
         actor_summaries.append(per_actor.assign(scheme=s))
         row.update(mdet.case_criteria(info["criteria"], lab, per_actor, row))
+        row.update(mdet.velocity_failure_stats(lab))
         if comps.track is not None:
             tr = comps.track(radar[m], clouds[s], times.to_numpy(), ego_speeds,
                              getattr(run, "mount", None), dict(spec.tracker),
@@ -517,9 +526,12 @@ def run_cell(spec: CellSpec, comps: Components | None = None,
                     if isinstance(v, (int, float, np.integer, np.floating)):
                         # Track metrics keep their names unless they collide (n_frames).
                         row[k if k not in row else f"track_{k}"] = v
+        row["n_saturated_frames"] = int(np.count_nonzero(saturated[s]))
         rows_out.append({"scheme": s, **row})
         det_tables.append(lab.assign(scheme=s))
-        frame_tables.append(_frame_counts(lab, frames).assign(scheme=s))
+        frame_tables.append(_frame_counts(lab, frames).assign(
+            n_saturated_chirp_rx=np.asarray(saturated[s], dtype=np.int64)
+            if saturated[s] else np.zeros(len(frames), dtype=np.int64), scheme=s))
         actor_tables.append(af.assign(scheme=s))
 
     actors = pd.concat(actor_tables, ignore_index=True)

@@ -45,8 +45,7 @@ import itertools
 import json
 import os
 import platform
-import shutil
-import subprocess
+import re
 import sys
 import time
 import traceback
@@ -59,16 +58,31 @@ import pandas as pd
 
 from scenarios.checks import check_keys, read_toml
 
+from . import cellstore as store
+from .args import MAX_DURATION_S, MAX_SEED
 from .runner import (DEFAULT_BASELINE_SCHEME, DEFAULT_SCHEMES, TABLES, CellSpec, Components,
                      result_schemes, run_cell)
 
 __all__ = ["Variant", "SweepSpec", "SweepOutcome", "load_sweep", "default_sweep",
-           "run_sweep", "cell_dir", "completed_cells", "assemble", "DEFAULT_SWEEP_PATH",
-           "CI_SWEEP_PATH"]
+           "run_sweep", "cell_dir", "completed_cells", "cell_states", "assemble",
+           "validate_cells", "prepare_out", "dask_security", "DEFAULT_SWEEP_PATH",
+           "CI_SWEEP_PATH", "MAX_DURATION_S", "MAX_CELLS", "MAX_WORKERS", "MAX_FRAME_STRIDE",
+           "MAX_SEED"]
 
 DEFAULT_SWEEP_PATH = Path(__file__).with_name("default_sweep.toml")
 CI_SWEEP_PATH = Path(__file__).with_name("ci_sweep.toml")
 _SECTIONS = ("radar", "processing", "tracker")
+#: Most cells in one sweep (scenarios x variants x seeds): beyond it a typo in [vary] is likelier
+#: than a plan (10 000 R79 cells are days of CPU).
+MAX_CELLS = 10_000
+#: Most local worker processes.
+MAX_WORKERS = 256
+#: Largest frame stride (a stride beyond the frame count keeps only frame 0).
+MAX_FRAME_STRIDE = 10_000
+#: Default wait for a Dask scheduler to answer, s.
+DEFAULT_SCHEDULER_TIMEOUT_S = 20.0
+#: A sweep name becomes a folder under results/: letters, digits, "_", "-", "." (not first).
+_NAME_RE = re.compile(r"[A-Za-z0-9_][A-Za-z0-9_.-]{0,99}")
 _TOP_KEYS = {"name", "scenarios", "seeds", "frame_stride", "duration_s", "base", "vary",
              "variants", "description", "schemes", "baseline_scheme", "association"}
 
@@ -105,6 +119,9 @@ class SweepSpec:
     association: dict = field(default_factory=dict)
 
     def __post_init__(self) -> None:
+        if not isinstance(self.name, str) or not _NAME_RE.fullmatch(self.name):
+            raise ValueError(f"name={self.name!r} must be 1-100 letters, digits, '_', '-' or "
+                             "'.' (not first): it names a folder under the results directory")
         object.__setattr__(self, "schemes", tuple(self.schemes))
         from metrics.association import AssociationConfig
         AssociationConfig(**self.association)  # unknown keys / bad values fail here
@@ -113,17 +130,30 @@ class SweepSpec:
         CellSpec(scenario="-", schemes=self.schemes, baseline_scheme=self.baseline_scheme)
         if not self.scenarios:
             raise ValueError("scenarios: the sweep has no scenario")
-        if not self.seeds or any(not isinstance(s, int) or s < 0 for s in self.seeds):
+        if not self.seeds or any(isinstance(s, bool) or not isinstance(s, int)
+                                 or not 0 <= s <= MAX_SEED for s in self.seeds):
             raise ValueError(f"seeds={list(self.seeds)!r} must be a non-empty list of "
-                             "integers >= 0")
-        if not isinstance(self.frame_stride, int) or self.frame_stride < 1:
-            raise ValueError(f"frame_stride={self.frame_stride!r} must be an integer >= 1")
-        if self.duration_s is not None and not (isinstance(self.duration_s, (int, float))
-                                                and self.duration_s > 0):
-            raise ValueError(f"duration_s={self.duration_s!r} must be > 0")
+                             f"integers in 0..{MAX_SEED}")
+        if len(set(self.seeds)) != len(self.seeds):
+            raise ValueError(f"seeds={list(self.seeds)!r}: duplicate seed")
+        if isinstance(self.frame_stride, bool) or not isinstance(self.frame_stride, int) or \
+                not 1 <= self.frame_stride <= MAX_FRAME_STRIDE:
+            raise ValueError(f"frame_stride={self.frame_stride!r} must be an integer in "
+                             f"1..{MAX_FRAME_STRIDE}")
+        if self.duration_s is not None and (
+                isinstance(self.duration_s, bool)
+                or not isinstance(self.duration_s, (int, float))
+                or not 0 < self.duration_s <= MAX_DURATION_S):
+            raise ValueError(f"duration_s={self.duration_s!r} must be a number in "
+                             f"(0, {MAX_DURATION_S:g}] s")
         names = [v.name for v in self.variants]
         if len(set(names)) != len(names):
             raise ValueError(f"variants: duplicate names {names}")
+        n = len(self.scenarios) * len(self.variants) * len(self.seeds)
+        if n > MAX_CELLS:
+            raise ValueError(f"the sweep has {n} cells ({len(self.scenarios)} scenarios x "
+                             f"{len(self.variants)} variants x {len(self.seeds)} seeds), more "
+                             f"than the limit {MAX_CELLS}")
 
     def cells(self) -> list[CellSpec]:
         """Cells in a fixed order: scenario, then variant, then seed."""
@@ -158,11 +188,11 @@ class SweepSpec:
         if schemes is not None:
             ch["schemes"] = tuple(schemes)
         if seeds is not None:
-            ch["seeds"] = tuple(int(s) for s in seeds)
+            ch["seeds"] = tuple(seeds)
         if frame_stride is not None:
-            ch["frame_stride"] = int(frame_stride)
+            ch["frame_stride"] = frame_stride
         if duration_s is not None:
-            ch["duration_s"] = float(duration_s)
+            ch["duration_s"] = duration_s
         if scenarios is not None:
             ch["scenarios"] = tuple(_resolve_scenarios(list(scenarios)))
         return dataclasses.replace(self, **ch) if ch else self
@@ -211,18 +241,81 @@ def _check_section(where: str, section: str, overrides: dict) -> None:
                 raise ValueError(f"{where}: radar.profile={prof!r}: {exc}") from None
     if section == "processing" and overrides:
         import pipeline
-        pipeline.ProcessingConfig().replace(**overrides)
+        try:
+            pipeline.ProcessingConfig().replace(**overrides)
+        except (ValueError, TypeError) as exc:
+            raise ValueError(f"{where}: processing {overrides!r}: {exc}") from None
 
 
 def _init_worker() -> None:
-    """Pool-worker initializer: one BLAS thread per worker process (with one worker per core,
-    BLAS's own threads only oversubscribe the cores: the front end's GEMM slows 8x under load
-    with two threads per worker) and the allocator tuning of `harness.runtime`."""
-    from threadpoolctl import threadpool_limits
+    """Pool-worker initializer: one BLAS thread per worker process (bit-identical to every
+    other path; with one worker per core, BLAS's own threads only oversubscribe the cores: the
+    front end's GEMM slows 8x under load with two threads per worker), the allocator tuning of
+    `harness.runtime`, and SIGINT left to the parent (a Ctrl-C lets running cells finish and
+    write, the parent cancels the rest)."""
+    import signal
 
-    from .runtime import tune_allocator
-    threadpool_limits(limits=1, user_api="blas")
-    tune_allocator()
+    from .runtime import prepare_process
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    prepare_process()
+
+
+def _culprit(v: Variant, build) -> str:
+    """Which override of a variant breaks its configs: the first that fails on its own, else
+    the whole set. ``build(section, overrides)`` raises for bad overrides."""
+    for sec in _SECTIONS:
+        for key, value in getattr(v, sec).items():
+            try:
+                build(sec, {key: value})
+            except (ValueError, TypeError, KeyError) as exc:
+                return f"{sec}.{key} = {value!r}: {exc}"
+    for sec in _SECTIONS:
+        try:
+            build(sec, dict(getattr(v, sec)))
+        except (ValueError, TypeError, KeyError) as exc:
+            return f"[{sec}] {getattr(v, sec)!r}: {exc}"
+    return ""
+
+
+def validate_cells(spec: SweepSpec, source: str | Path | None = None) -> None:
+    """Build every variant's configs (both radar presets, the processing configs of every
+    scheme, the tracker config) before any worker starts.
+
+    Raises
+    ------
+    ValueError
+        Naming the sweep file, the variant, the key, the value and the config's own message
+        (which names the limit).
+    """
+    from pipeline.tracking import TrackerConfig
+
+    from .runner import build_configs, default_components
+    comps = default_components()
+    where = f"{source}: " if source is not None else ""
+
+    def check(cell: CellSpec) -> None:
+        radar, procs = build_configs(cell, comps)
+        for proc in procs.values():  # the CFAR window must fit every radar's Doppler axis
+            for r in radar.values():
+                proc.check_doppler_axis(r.n_doppler_bins)
+
+    schemes = {"schemes": spec.schemes, "baseline_scheme": spec.baseline_scheme}
+
+    def build(section: str, overrides: dict) -> None:
+        if section == "tracker":
+            TrackerConfig(**overrides)
+        else:
+            check(CellSpec(scenario=spec.scenarios[0], **{section: overrides}, **schemes))
+
+    for v in spec.variants:
+        try:
+            check(CellSpec(scenario=spec.scenarios[0], seed=spec.seeds[0], variant=v.name,
+                           radar=dict(v.radar), processing=dict(v.processing),
+                           tracker=dict(v.tracker), **schemes))
+            TrackerConfig(**v.tracker)
+        except (ValueError, TypeError, KeyError) as exc:
+            why = _culprit(v, build) or f"{type(exc).__name__}: {exc}"
+            raise ValueError(f"{where}variant {v.name!r}: {why}") from None
 
 
 def _fmt(v) -> str:
@@ -258,11 +351,19 @@ def load_sweep(path: str | Path | None = None, *, check_scenarios: bool = True) 
         file does not exist.
     """
     p = Path(path) if path is not None else DEFAULT_SWEEP_PATH
+    if p.is_dir():
+        raise ValueError(f"sweep file {str(p)!r} is a directory, not a TOML file")
     data = read_toml(p)
     try:
         check_keys(data, _TOP_KEYS)
     except ValueError as exc:
         raise ValueError(f"{p}: {exc}") from None
+    for key, kind, what in (("base", dict, "a table [base.<section>]"),
+                            ("vary", dict, 'a table of "section.field" = [values]'),
+                            ("variants", list, "an array of [[variants]] tables"),
+                            ("name", str, "a string"), ("description", str, "a string")):
+        if key in data and not isinstance(data[key], kind):
+            raise ValueError(f"{p}: {key} = {data[key]!r} must be {what}")
     base = data.get("base", {})
     _resolve_profiles(p, data)
     for sec, ov in base.items():
@@ -287,9 +388,15 @@ def load_sweep(path: str | Path | None = None, *, check_scenarios: bool = True) 
             parts.append(f"{fld}={_fmt(v)}")
         variants.append(Variant(name=",".join(parts) or "baseline", **ov))
     for i, extra in enumerate(data.get("variants", [])):
+        if not isinstance(extra, dict):
+            raise ValueError(f"{p}: [[variants]] #{i}: {extra!r} must be a table")
         bad = sorted(set(extra) - {"name", *_SECTIONS})
         if bad or "name" not in extra:
             raise ValueError(f"{p}: [[variants]] #{i}: needs a name, unknown key(s) {bad}")
+        for s in _SECTIONS:
+            if not isinstance(extra.get(s, {}), dict):
+                raise ValueError(f"{p}: [[variants]] {extra['name']!r}: {s} = {extra[s]!r} must "
+                                 "be a table of field = value")
         ov = {s: {**base.get(s, {}), **extra.get(s, {})} for s in _SECTIONS}
         for s in _SECTIONS:
             _check_section(f"{p} [[variants]] {extra['name']}", s, ov[s])
@@ -297,16 +404,22 @@ def load_sweep(path: str | Path | None = None, *, check_scenarios: bool = True) 
     if data.get("variants") and not keys:
         variants = variants[1:]  # explicit variants replace the implicit baseline
     seeds = data.get("seeds", [0])
-    return SweepSpec(name=str(data.get("name", p.stem)),
-                     scenarios=tuple(_resolve_scenarios(data.get("scenarios", "all"),
-                                                        check_scenarios)),
-                     seeds=tuple(seeds) if isinstance(seeds, list) else (seeds,),
-                     variants=tuple(variants), frame_stride=data.get("frame_stride", 1),
-                     duration_s=data.get("duration_s"),
-                     description=str(data.get("description", "")),
-                     schemes=_schemes_key(p, data.get("schemes", list(DEFAULT_SCHEMES))),
-                     baseline_scheme=data.get("baseline_scheme", DEFAULT_BASELINE_SCHEME),
-                     association=_association_key(p, data.get("association", {})))
+    try:
+        spec = SweepSpec(name=data.get("name", p.stem),
+                         scenarios=tuple(_resolve_scenarios(data.get("scenarios", "all"),
+                                                            check_scenarios)),
+                         seeds=tuple(seeds) if isinstance(seeds, list) else (seeds,),
+                         variants=tuple(variants), frame_stride=data.get("frame_stride", 1),
+                         duration_s=data.get("duration_s"),
+                         description=data.get("description", ""),
+                         schemes=_schemes_key(p, data.get("schemes", list(DEFAULT_SCHEMES))),
+                         baseline_scheme=data.get("baseline_scheme", DEFAULT_BASELINE_SCHEME),
+                         association=_association_key(p, data.get("association", {})))
+    except ValueError as exc:
+        msg = str(exc)
+        raise ValueError(msg if msg.startswith(f"{p}:") else f"{p}: {msg}") from None
+    validate_cells(spec, p)
+    return spec
 
 
 def _association_key(p: Path, value) -> dict:
@@ -321,6 +434,9 @@ def _association_key(p: Path, value) -> dict:
 
 
 def _schemes_key(p: Path, value) -> tuple[str, ...]:
+    if value == "all":  # every registered scheme and chain variant (harness.runner)
+        from .runner import known_schemes
+        return tuple(known_schemes())
     if not isinstance(value, list):
         raise ValueError(f"{p}: schemes={value!r} must be a list of scheme names")
     return tuple(value)
@@ -337,41 +453,57 @@ def cell_dir(out: Path, spec: CellSpec) -> Path:
 
 
 def _read_cell_meta(d: Path) -> dict | None:
-    try:
-        return json.loads((d / "cell.json").read_text())
-    except (FileNotFoundError, json.JSONDecodeError):
-        return None
+    return store.read_meta(d)
+
+
+def cell_states(out: Path, cells: list[CellSpec]) -> dict[str, str]:
+    """`harness.cellstore.cell_state` of every cell under ``out`` (cell id -> state)."""
+    version = store.code_version()["hash"]
+    return {c.cell_id: store.cell_state(cell_dir(out, c), version) for c in cells}
 
 
 def completed_cells(out: Path, cells: list[CellSpec]) -> set[str]:
-    """Ids of cells already written successfully under ``out``."""
-    done = set()
-    for c in cells:
-        meta = _read_cell_meta(cell_dir(out, c))
-        if meta and meta.get("status") == "ok":
-            done.add(c.cell_id)
-    return done
+    """Ids of cells completed under ``out`` by this code version with intact tables."""
+    return {i for i, st in cell_states(out, cells).items() if st == "ok"}
 
 
-def _atomic_dir(final: Path, write) -> None:
-    """Write a directory under a temporary name, then move it into place in one rename."""
-    final.parent.mkdir(parents=True, exist_ok=True)
-    tmp = final.parent / f".tmp-{final.name}-{os.getpid()}-{uuid.uuid4().hex[:6]}"
-    tmp.mkdir()
+def prepare_out(out: str | Path) -> Path:
+    """Absolute, existing, writable results directory (a relative path is resolved here, in
+    the client, so Dask workers with another working directory write to the same place).
+
+    Raises
+    ------
+    ValueError
+        ``out`` is a file, lies under a file, or cannot be created or written.
+    """
+    p = Path(out).expanduser().resolve()
+    if p.exists() and not p.is_dir():
+        raise ValueError(f"--out {str(out)!r}: exists and is not a directory")
     try:
-        write(tmp)
-        if final.exists():  # an earlier errored attempt: replace it
-            trash = final.parent / f".old-{final.name}-{uuid.uuid4().hex[:6]}"
-            os.replace(final, trash)
-            shutil.rmtree(trash, ignore_errors=True)
-        os.replace(tmp, final)
-    finally:
-        if tmp.exists():
-            shutil.rmtree(tmp, ignore_errors=True)
+        p.mkdir(parents=True, exist_ok=True)
+        probe = p / f".tmp-probe-{os.getpid()}-{uuid.uuid4().hex[:6]}"
+        probe.write_text("")
+        probe.unlink()
+    except OSError as exc:
+        raise ValueError(f"--out {str(out)!r}: cannot create or write the results directory "
+                         f"({exc.strerror or exc})") from None
+    return p
+
+
+def _cell_record(spec: CellSpec, status: str, **extra) -> dict:
+    return {"status": status, "cell_id": spec.cell_id, "spec": spec.to_dict(),
+            "code_version": store.code_version(), **extra}
 
 
 def execute_cell(spec: CellSpec, out: str, comps: Components | None = None) -> dict:
-    """Run one cell in a worker and write it atomically; never raises for a cell error."""
+    """Run one cell in a worker and write it atomically; never raises for a cell error.
+
+    Runs with one BLAS thread (`harness.runtime.single_thread_blas`) on every path. A cell
+    already completed under ``out`` (by a duplicate execution) is never replaced: the result
+    says ``"written": "kept"``.
+    """
+    from .runtime import single_thread_blas
+    single_thread_blas()
     out_p = Path(out)
     t0 = time.perf_counter()
     try:
@@ -380,23 +512,34 @@ def execute_cell(spec: CellSpec, out: str, comps: Components | None = None) -> d
         def write(tmp: Path) -> None:
             for name, df in res.tables.items():
                 df.to_parquet(tmp / f"{name}.parquet", index=False)
-            (tmp / "cell.json").write_text(json.dumps(
-                {"status": "ok", "cell_id": spec.cell_id, "spec": spec.to_dict(),
-                 "elapsed_s": res.elapsed_s}, indent=1, default=str))
-        _atomic_dir(cell_dir(out_p, spec), write)
-        return {"cell_id": spec.cell_id, "status": "ok", "elapsed_s": res.elapsed_s}
+            (tmp / "cell.json").write_text(json.dumps(_cell_record(
+                spec, "ok", elapsed_s=res.elapsed_s, files=store.table_files(tmp)),
+                indent=1, default=str))
+        how = store.write_cell_dir(cell_dir(out_p, spec), write)
+        return {"cell_id": spec.cell_id, "status": "ok", "elapsed_s": res.elapsed_s,
+                "written": how}
     except Exception as exc:  # noqa: BLE001 - a failing cell is recorded, the sweep goes on
-        meta = {"status": "error", "cell_id": spec.cell_id, "spec": spec.to_dict(),
-                "error": f"{type(exc).__name__}: {exc}", "traceback": traceback.format_exc(),
-                "elapsed_s": time.perf_counter() - t0}
-        _atomic_dir(cell_dir(out_p, spec), lambda tmp: (tmp / "cell.json").write_text(
-            json.dumps(meta, indent=1, default=str)))
-        return {k: meta[k] for k in ("cell_id", "status", "error", "elapsed_s")}
+        meta = _cell_record(spec, "error", error=f"{type(exc).__name__}: {exc}",
+                            traceback=traceback.format_exc(),
+                            elapsed_s=time.perf_counter() - t0)
+        how = store.write_cell_dir(cell_dir(out_p, spec), lambda tmp: (
+            tmp / "cell.json").write_text(json.dumps(meta, indent=1, default=str)))
+        if how == "kept":  # a duplicate failed after the cell was completed: keep the result
+            return {"cell_id": spec.cell_id, "status": "ok", "elapsed_s": meta["elapsed_s"],
+                    "written": how}
+        return {k: meta[k] for k in ("cell_id", "status", "error", "elapsed_s")} | \
+            {"written": how}
 
 
 @dataclass
 class SweepOutcome:
-    """What a sweep did: counts of cells and where the tables are."""
+    """What a sweep did: counts of cells and where the tables are.
+
+    ``n_skipped`` cells were resumed (completed earlier by the same code version),
+    ``n_ok`` computed now, ``n_error`` raised, ``n_interrupted`` lost their worker,
+    ``n_missing`` are not on disk at the end for any reason (interrupted, a Dask worker that
+    wrote elsewhere, a cell of another code version written by a foreign worker).
+    """
 
     out_dir: Path
     n_cells: int
@@ -405,10 +548,13 @@ class SweepOutcome:
     n_error: int
     n_interrupted: int
     errors: dict[str, str]
+    n_missing: int = 0
+    n_recomputed: int = 0
+    missing: list[str] = field(default_factory=list)
 
     @property
     def complete(self) -> bool:
-        return self.n_interrupted == 0
+        return self.n_interrupted == 0 and self.n_missing == 0
 
 
 def _progress(total: int, show: bool | None):
@@ -420,33 +566,64 @@ def _progress(total: int, show: bool | None):
 
 def run_sweep(spec: SweepSpec, out: str | Path, *, workers: int = 1,
               scheduler: Any = None, components: Components | None = None,
-              progress: bool | None = None) -> SweepOutcome:
+              progress: bool | None = None, force: bool = False, security: Any = None,
+              scheduler_timeout_s: float = DEFAULT_SCHEDULER_TIMEOUT_S) -> SweepOutcome:
     """Run every pending cell of ``spec`` and assemble the tables under ``out``.
 
     Parameters
     ----------
     spec : SweepSpec
     out : path
-        Results directory (created); cells already completed there are skipped.
+        Results directory (created; a relative path is resolved here, before any worker gets
+        it). Cells completed there by the same code version are resumed.
     workers : int
         Local worker processes (1: run in this process, no pool).
     scheduler : str or distributed.Client, optional
-        Dask scheduler address (``tcp://host:8786``) or a Client: run the cells on that
-        cluster instead of the local pool.
+        Dask scheduler address (``tls://host:8786``, ``tcp://...`` only on a trusted network)
+        or a Client: run the cells on that cluster instead of the local pool.
     components : Components, optional
-        Substitute parts (tests); default the real ones.
+        Substitute parts (tests); default the real ones, whose configs are then built and
+        validated for every cell before any worker starts.
     progress : bool, optional
         Show a tqdm bar; default only when stderr is a terminal.
+    force : bool
+        Recompute cells completed by another code version instead of refusing to resume.
+    security : distributed.Security, optional
+        TLS settings for ``scheduler`` (see `dask_security`).
+    scheduler_timeout_s : float
+        How long to wait for the scheduler to answer.
+
+    Raises
+    ------
+    ValueError
+        Bad ``out``/``workers``, a cell config that cannot be built (file, key, value, limit),
+        cells of another code version under ``out`` without ``force``, an unreachable
+        scheduler.
     """
-    out = Path(out)
-    out.mkdir(parents=True, exist_ok=True)
-    if not isinstance(workers, int) or workers < 1:
-        raise ValueError(f"workers={workers!r} must be an integer >= 1")
+    if isinstance(workers, bool) or not isinstance(workers, int) or \
+            not 1 <= workers <= MAX_WORKERS:
+        raise ValueError(f"workers={workers!r} must be an integer in 1..{MAX_WORKERS}")
     cells = spec.cells()
     ids = [c.cell_id for c in cells]
     if len(set(ids)) != len(ids):
         raise ValueError("two sweep cells share an id (duplicate scenario or seed?)")
-    done = completed_cells(out, cells)
+    if components is None:
+        validate_cells(spec)
+    out = prepare_out(out)
+    store.clean_temporaries(out / "cells")
+    states = cell_states(out, cells)
+    stale = [i for i, st in states.items() if st == "stale"]
+    if stale and not force:
+        old = sorted({str((store.read_meta(out / "cells" / i) or {}).get("code_version", {})
+                          .get("hash")) for i in stale})
+        raise ValueError(f"--out {str(out)!r}: {len(stale)} completed cell(s) were computed by "
+                         f"code version {', '.join(old)}, this is "
+                         f"{store.code_version()['hash']}: rerun with --force to recompute "
+                         "them, or use a new --out")
+    recompute = [i for i, st in states.items() if st in ("stale", "corrupt")]
+    for i in recompute:
+        store.retire(out / "cells" / i)
+    done = {i for i, st in states.items() if st == "ok"}
     pending = [c for c in cells if c.cell_id not in done]
     results: dict[str, dict] = {}
     interrupted: list[str] = []
@@ -455,14 +632,19 @@ def run_sweep(spec: SweepSpec, out: str | Path, *, workers: int = 1,
         if not pending:
             pass
         elif scheduler is not None:
-            results.update(_run_dask(pending, out, scheduler, components, bar))
+            res, lost = _run_dask(pending, out, scheduler, components, bar, security,
+                                  scheduler_timeout_s)
+            results.update(res)
+            interrupted.extend(lost)
         elif workers == 1:
+            from .runtime import single_thread_blas
+            single_thread_blas()
             for c in pending:
                 results[c.cell_id] = execute_cell(c, str(out), components)
                 bar.update(1)
         else:
-            with cf.ProcessPoolExecutor(max_workers=workers,
-                                        initializer=_init_worker) as ex:
+            ex = cf.ProcessPoolExecutor(max_workers=workers, initializer=_init_worker)
+            try:
                 futs = {ex.submit(execute_cell, c, str(out), components): c for c in pending}
                 for fut in cf.as_completed(futs):
                     c = futs[fut]
@@ -473,31 +655,111 @@ def run_sweep(spec: SweepSpec, out: str | Path, *, workers: int = 1,
                         # the next run of the same command resumes them.
                         interrupted.append(c.cell_id)
                     bar.update(1)
+            except BaseException:
+                # Ctrl-C (or any escape): stop now. Running cells are lost whole (their
+                # temporary directories are cleaned by the next run), written ones stay.
+                for proc in list(getattr(ex, "_processes", {}).values()):
+                    proc.terminate()
+                ex.shutdown(wait=False, cancel_futures=True)
+                raise
+            ex.shutdown(wait=True)
     finally:
         bar.close()
-    # A cell whose worker died may still have been written before the pool broke.
-    finished = completed_cells(out, cells)
-    interrupted = [i for i in interrupted if i not in finished]
-    errors = {i: r.get("error", "") for i, r in results.items() if r.get("status") == "error"}
+    final = cell_states(out, cells)
+    missing = [i for i in ids if final[i] not in ("ok", "error")]
+    interrupted = [i for i in interrupted if final[i] != "ok"]
+    errors = {i: r.get("error", "") for i, r in results.items()
+              if r.get("status") == "error" and final[i] == "error"}
+    origin = {i: ("resumed" if i in done else "computed") if final[i] == "ok" else final[i]
+              for i in ids}
     outcome = SweepOutcome(out_dir=out, n_cells=len(cells), n_skipped=len(done),
-                           n_ok=sum(r.get("status") == "ok" for r in results.values()),
-                           n_error=len(errors), n_interrupted=len(interrupted), errors=errors)
-    assemble(spec, out)
+                           n_ok=sum(o == "computed" for o in origin.values()),
+                           n_error=len(errors), n_interrupted=len(interrupted), errors=errors,
+                           n_missing=len(missing), n_recomputed=len(recompute),
+                           missing=missing)
+    assemble(spec, out, origin=origin)
     return outcome
 
 
-def _run_dask(pending, out, scheduler, components, bar) -> dict[str, dict]:
-    from distributed import Client, as_completed
-    client = scheduler if isinstance(scheduler, Client) else Client(scheduler)
+def dask_security(path: str | Path | None):
+    """`distributed.Security` for TLS from a TOML file (None: Dask's own configuration,
+    ``distributed.comm.tls.*``).
+
+    The file holds ``ca_file``, ``cert`` and ``key`` (PEM paths, relative to the file)::
+
+        ca_file = "ca.pem"      # the CA that signed the scheduler's and workers' certificates
+        cert = "client.pem"     # this client's certificate
+        key = "client-key.pem"  # and its private key
+
+    Raises
+    ------
+    ValueError
+        Unreadable file, unknown or missing keys, a PEM file that does not exist.
+    """
+    from distributed.security import Security
+    if path is None:
+        return Security()
+    p = Path(path)
     try:
-        futs = [client.submit(execute_cell, c, str(out), components, key=f"cell-{c.cell_id}",
-                              pure=False) for c in pending]
-        res = {}
-        for fut in as_completed(futs):
-            r = fut.result()
-            res[r["cell_id"]] = r
+        data = read_toml(p)
+    except (OSError, ValueError) as exc:
+        raise ValueError(f"--security {str(path)!r}: cannot read the file ({exc})") from None
+    keys = {"ca_file", "cert", "key"}
+    bad, miss = sorted(set(data) - keys), sorted(keys - set(data))
+    if bad or miss:
+        raise ValueError(f"--security {str(path)!r}: unknown key(s) {bad}, missing key(s) "
+                         f"{miss}; needs {sorted(keys)}")
+    files = {}
+    for k in sorted(keys):
+        v = data[k]
+        f = (p.parent / v) if isinstance(v, str) else None
+        if f is None or not f.is_file():
+            raise ValueError(f"--security {str(path)!r}: {k} = {v!r} is not a readable file")
+        files[k] = str(f.resolve())
+    return Security(tls_ca_file=files["ca_file"], tls_client_cert=files["cert"],
+                    tls_client_key=files["key"], require_encryption=True)
+
+
+def _connect(scheduler, security, timeout_s: float):
+    from distributed import Client
+    if isinstance(scheduler, Client):
+        return scheduler
+    addr = str(scheduler)
+    if "://" not in addr:
+        raise ValueError(f"--scheduler {addr!r}: give a protocol, tls://host:port (or tcp:// "
+                         "on a trusted network)")
+    proto = addr.split("://", 1)[0]
+    if proto not in ("tls", "tcp", "inproc", "ws", "wss", "ucx"):
+        raise ValueError(f"--scheduler {addr!r}: unknown protocol {proto!r}")
+    if proto == "tls":
+        security = security if security is not None else dask_security(None)
+        if not getattr(security, "tls_ca_file", None):
+            raise ValueError(f"--scheduler {addr!r}: tls:// needs --security FILE (ca_file, "
+                             "cert, key) or Dask's distributed.comm.tls configuration")
+    try:
+        return Client(addr, timeout=f"{timeout_s}s", security=security)
+    except (OSError, TimeoutError) as exc:
+        raise ValueError(f"--scheduler {addr!r}: no Dask scheduler answered within "
+                         f"{timeout_s:g} s ({type(exc).__name__}: {exc})") from None
+
+
+def _run_dask(pending, out, scheduler, components, bar, security=None,
+              timeout_s: float = DEFAULT_SCHEDULER_TIMEOUT_S):
+    """Run cells on a Dask cluster; returns (results by cell id, ids whose task failed)."""
+    from distributed import as_completed
+    client = _connect(scheduler, security, timeout_s)
+    try:
+        futs = {client.submit(execute_cell, c, str(out), components, key=f"cell-{c.cell_id}",
+                              pure=False): c for c in pending}
+        res, lost = {}, []
+        for fut in as_completed(list(futs)):
+            try:
+                r = fut.result()
+                res[r["cell_id"]] = r
+            except Exception:  # noqa: BLE001 - a killed worker (KilledWorker) loses the task
+                lost.append(futs[fut].cell_id)
             bar.update(1)
-        return res
+        return res, lost
     finally:
         if client is not scheduler:
             client.close()
@@ -516,40 +778,42 @@ def _versions() -> dict[str, str]:
     return out
 
 
-def _git_commit() -> dict[str, Any]:
-    root = Path(__file__).resolve().parent.parent
-    try:
-        sha = subprocess.run(["git", "rev-parse", "HEAD"], cwd=root, capture_output=True,
-                             text=True, timeout=10, check=True).stdout.strip()
-        dirty = bool(subprocess.run(["git", "status", "--porcelain"], cwd=root,
-                                    capture_output=True, text=True, timeout=10).stdout.strip())
-        return {"commit": sha, "dirty": dirty}
-    except (OSError, subprocess.SubprocessError):
-        return {"commit": None, "dirty": None}
-
-
 def _write_atomic(path: Path, write) -> None:
     tmp = path.with_name(f".tmp-{path.name}-{uuid.uuid4().hex[:6]}")
-    write(tmp)
-    os.replace(tmp, path)
+    try:
+        write(tmp)
+        os.replace(tmp, path)
+    finally:
+        if tmp.exists():
+            tmp.unlink()
 
 
-def assemble(spec: SweepSpec, out: str | Path) -> dict[str, pd.DataFrame]:
+def assemble(spec: SweepSpec, out: str | Path,
+             origin: dict[str, str] | None = None) -> dict[str, pd.DataFrame]:
     """Concatenate completed cells (in cell order) into ``out/<table>.parquet`` + manifest.
 
-    The summary table gets an ``error`` column ("" for completed cells) and one row per
-    errored cell, so gates see failures. Returns the tables.
+    Only cells completed by this code version with intact tables enter the tables
+    (`harness.cellstore.cell_state` "ok"). The summary table gets an ``error`` column ("" for
+    completed cells) and one row per errored cell, so gates see failures. The manifest lists
+    every cell with its state and origin ("resumed": reused from an earlier run, "computed":
+    by this run, or "error" / "missing" / "stale" / "corrupt"). Returns the tables.
     """
     out = Path(out)
     cells = spec.cells()
+    version = store.code_version()
     parts: dict[str, list[pd.DataFrame]] = {t: [] for t in TABLES}
     cell_meta = []
     for c in cells:
         d = cell_dir(out, c)
-        meta = _read_cell_meta(d) or {"status": "missing", "cell_id": c.cell_id}
+        state = store.cell_state(d, version["hash"])
+        meta = (_read_cell_meta(d) or {}) if state in ("ok", "error") else {}
+        meta = {**meta, "status": state, "cell_id": c.cell_id}
         cell_meta.append({k: meta.get(k) for k in ("cell_id", "status", "elapsed_s", "error")}
-                         | {"scenario": c.scenario, "variant": c.variant, "seed": c.seed})
-        if meta.get("status") == "ok":
+                         | {"origin": (origin or {}).get(c.cell_id, "resumed" if state == "ok"
+                                                         else state),
+                            "code_version": (meta.get("code_version") or {}).get("hash"),
+                            "scenario": c.scenario, "variant": c.variant, "seed": c.seed})
+        if state == "ok":
             for t in TABLES:
                 f = d / f"{t}.parquet"
                 if f.exists():
@@ -585,8 +849,12 @@ def assemble(spec: SweepSpec, out: str | Path) -> dict[str, pd.DataFrame]:
         "n_cells": len(cells),
         "n_ok": sum(m["status"] == "ok" for m in cell_meta),
         "n_error": sum(m["status"] == "error" for m in cell_meta),
-        "n_missing": sum(m["status"] == "missing" for m in cell_meta),
-        "versions": _versions(), "git": _git_commit(),
+        "n_missing": sum(m["status"] not in ("ok", "error") for m in cell_meta),
+        "n_resumed": sum(m["origin"] == "resumed" for m in cell_meta),
+        "n_computed": sum(m["origin"] == "computed" for m in cell_meta),
+        "code_version": version["hash"],
+        "versions": _versions(), "git": {"commit": version["commit"],
+                                         "dirty": version["dirty"]},
         "written_utc": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime()),
         "tables": {t: f"{t}.parquet" for t in TABLES},
     }

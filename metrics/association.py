@@ -3,8 +3,11 @@
 Every detection of a point cloud gets one label:
 
 TRUE
-    inside the footprint gate of a road user (car, truck, motorcycle, bicycle, pedestrian) and
-    its radial velocity within the velocity gate of that actor's truth;
+    inside the footprint gate of a road user (car, truck, motorcycle, bicycle, pedestrian),
+    its radial velocity within the velocity gate of that actor's truth and, when the run's
+    scatterers are given, within the same position gate of at least one scatterer of that actor
+    in that frame (``require_scatterer``): a point inside a truck's box but 14 m from everything
+    the truck reflects is not a detection of the truck;
 VELOCITY_AMBIGUOUS
     inside the footprint gate of a road user, velocity off by a non-zero multiple k of the
     scheme's unambiguous span 2 Vmax (and within the velocity gate after removing k 2 Vmax);
@@ -41,6 +44,8 @@ import numpy as np
 import pandas as pd
 from scipy.optimize import linear_sum_assignment
 from scipy.spatial import cKDTree
+
+from scenarios.checks import require
 
 __all__ = [
     "AssociationConfig", "LABELS", "TRUE", "VELOCITY_AMBIGUOUS", "GHOST", "CLUTTER",
@@ -96,6 +101,11 @@ class AssociationConfig:
         Width of the range bins of detection probability versus range, m.
     pd_min_count : int
         Minimum actor-frames in a range bin for its Pd to be used by ``max_range_pd90``.
+    require_scatterer : bool
+        A detection is TRUE or VELOCITY_AMBIGUOUS of an actor only if it also lies within the
+        position gate of one of that actor's scatterers in the frame (when a scatterer table is
+        given). Default True; False restores the footprint-only rule (numbers before the fix of
+        issue 15: one point 13.9 m from every scatterer of a truck doubled a range RMSE).
 
     Raises
     ------
@@ -111,18 +121,16 @@ class AssociationConfig:
     max_range_m: float = 253.0
     pd_range_bin_m: float = 10.0
     pd_min_count: int = 5
+    require_scatterer: bool = True
 
     def __post_init__(self) -> None:
-        for name in ("range_gate_m", "azimuth_gate_deg", "velocity_gate_mps",
-                     "unambiguity_window_mps", "fov_deg", "max_range_m", "pd_range_bin_m"):
-            val = getattr(self, name)
-            if not (isinstance(val, (int, float)) and math.isfinite(val) and val > 0):
-                raise ValueError(f"{name}={val!r} must be a finite number > 0")
-        if self.azimuth_gate_deg >= 90 or self.fov_deg > 180:
-            raise ValueError(f"azimuth_gate_deg={self.azimuth_gate_deg!r} must be < 90 and "
-                             f"fov_deg={self.fov_deg!r} <= 180")
-        if not isinstance(self.pd_min_count, (int, np.integer)) or self.pd_min_count < 1:
-            raise ValueError(f"pd_min_count={self.pd_min_count!r} must be an integer >= 1")
+        require(self, ("range_gate_m", "azimuth_gate_deg", "velocity_gate_mps",
+                       "unambiguity_window_mps", "fov_deg", "max_range_m", "pd_range_bin_m"),
+                gt=0)
+        require(self, "azimuth_gate_deg", lt=90, unit="deg")
+        require(self, "fov_deg", le=180, unit="deg")
+        require(self, "pd_min_count", "integer", ge=1)
+        require(self, "require_scatterer", "bool")
 
     def to_dict(self) -> dict:
         """Plain dict of the gates (for manifests)."""
@@ -133,6 +141,17 @@ def _require(df: pd.DataFrame, columns, what: str) -> None:
     missing = [c for c in columns if c not in df.columns]
     if missing:
         raise ValueError(f"{what} lacks column(s) {missing}; has {list(df.columns)}")
+
+
+def _gate_cost(det_x, det_y, ref_x, ref_y, cfg: AssociationConfig) -> np.ndarray:
+    """Position-gate cost (<= 1 inside) of detections at (det_x, det_y) against reference
+    points: an ellipse of ``range_gate_m`` along the detection's line of sight and
+    ``max(range_gate_m, R tan(azimuth_gate_deg))`` across it."""
+    ox, oy = det_x - ref_x, det_y - ref_y
+    r_det = np.hypot(det_x, det_y)
+    ux, uy = det_x / np.maximum(r_det, 1e-9), det_y / np.maximum(r_det, 1e-9)
+    gate_t = np.maximum(cfg.range_gate_m, r_det * math.tan(math.radians(cfg.azimuth_gate_deg)))
+    return np.hypot((ox * ux + oy * uy) / cfg.range_gate_m, (-ox * uy + oy * ux) / gate_t)
 
 
 def _pairs(detections: pd.DataFrame, truth: pd.DataFrame, cfg: AssociationConfig,
@@ -161,14 +180,8 @@ def _pairs(detections: pd.DataFrame, truth: pd.DataFrame, cfg: AssociationConfig
     near_x = p["x_radar_m"].to_numpy() + c * qx - s * qy
     near_y = p["y_radar_m"].to_numpy() + s * qx + c * qy
     ox, oy = p["x_m"].to_numpy() - near_x, p["y_m"].to_numpy() - near_y
-    # Decompose the miss distance along / across the detection's line of sight.
-    r_det = np.hypot(p["x_m"].to_numpy(), p["y_m"].to_numpy())
-    ux, uy = p["x_m"].to_numpy() / np.maximum(r_det, 1e-9), p["y_m"].to_numpy() / \
-        np.maximum(r_det, 1e-9)
-    d_r = ox * ux + oy * uy
-    d_t = -ox * uy + oy * ux
-    gate_t = np.maximum(cfg.range_gate_m, r_det * math.tan(math.radians(cfg.azimuth_gate_deg)))
-    pos_cost = np.hypot(d_r / cfg.range_gate_m, d_t / gate_t)
+    # The miss distance along / across the detection's line of sight, in gate units.
+    pos_cost = _gate_cost(p["x_m"].to_numpy(), p["y_m"].to_numpy(), near_x, near_y, cfg)
     # Truth radial velocity at the nearest box point (rigid translation).
     r_near = np.maximum(np.hypot(near_x, near_y), 1e-9)
     v_true = (p["vx_radar_mps"].to_numpy() * near_x + p["vy_radar_mps"].to_numpy() * near_y) \
@@ -184,6 +197,27 @@ def _pairs(detections: pd.DataFrame, truth: pd.DataFrame, cfg: AssociationConfig
         "truth_radial_velocity_mps": v_true, "near_x_m": near_x, "near_y_m": near_y,
         "near_range_m": r_near, "box_distance_m": np.hypot(ox, oy),
     })
+
+
+def _scatterer_support(pairs: pd.DataFrame, detections: pd.DataFrame,
+                       scatterers: pd.DataFrame, cfg: AssociationConfig) -> np.ndarray:
+    """(P,) bool: the pair's detection lies within the position gate of at least one
+    scatterer (RCS > 0) of the pair's actor in the same frame."""
+    out = np.zeros(len(pairs), dtype=bool)
+    if pairs.empty or scatterers is None or scatterers.empty:
+        return out
+    sc = scatterers.loc[scatterers["rcs_m2"] > 0, ["frame", "actor_id", "x_m", "y_m"]]
+    q = pd.DataFrame({"pair": np.arange(len(pairs)), "frame": pairs["frame"].to_numpy(),
+                      "actor_id": pairs["actor_id"].to_numpy(),
+                      "dx": detections["x_m"].to_numpy()[pairs["det_index"].to_numpy()],
+                      "dy": detections["y_m"].to_numpy()[pairs["det_index"].to_numpy()]})
+    m = q.merge(sc, on=["frame", "actor_id"], how="inner")
+    if m.empty:
+        return out
+    cost = _gate_cost(m["dx"].to_numpy(), m["dy"].to_numpy(), m["x_m"].to_numpy(),
+                      m["y_m"].to_numpy(), cfg)
+    out[np.unique(m["pair"].to_numpy()[cost <= 1.0])] = True
+    return out
 
 
 def associate(detections: pd.DataFrame, truth: pd.DataFrame, *, velocity_span_mps: float,
@@ -207,7 +241,9 @@ def associate(detections: pd.DataFrame, truth: pd.DataFrame, *, velocity_span_mp
         within ``range_gate_m`` in range and ``velocity_gate_mps`` in radial velocity of a
         ground-clutter scatterer (``actor_id`` in `STATIC_SCATTERER_IDS`), i.e. in a
         range-Doppler cell the modelled ground occupies, is CLUTTER (``actor_class``
-        "ground"): the ground is modelled static infrastructure too.
+        "ground"): the ground is modelled static infrastructure too. With
+        ``config.require_scatterer`` a detection is TRUE / VELOCITY_AMBIGUOUS of an actor only
+        within the position gate of one of that actor's scatterers.
 
     Returns
     -------
@@ -240,6 +276,12 @@ def associate(detections: pd.DataFrame, truth: pd.DataFrame, *, velocity_span_mp
     if not pairs.empty:
         in_gate = pairs["pos_cost"].to_numpy() <= 1.0
         road = ~pairs["is_static"].to_numpy()
+        if cfg.require_scatterer and scatterers is not None:
+            road_gate = in_gate & road
+            support = np.ones(len(pairs), dtype=bool)
+            support[road_gate] = _scatterer_support(pairs[road_gate], detections.reset_index(
+                drop=True), scatterers, cfg)
+            in_gate = in_gate & (support | ~road)
         vg = cfg.velocity_gate_mps
         is_true = in_gate & road & (np.abs(pairs["dv_mps"].to_numpy()) <= vg)
         is_amb = in_gate & road & ~is_true & (pairs["alias_k"].to_numpy() != 0) & \
@@ -348,13 +390,15 @@ def detection_errors(labelled: pd.DataFrame, truth: pd.DataFrame,
     -------
     DataFrame
         ``labelled`` with columns ``range_error_m`` (detection minus reference slant range, m),
-        ``radial_velocity_error_mps`` (detection minus reference, m/s) and
-        ``error_reference`` ("scatterer", "box" or "").
+        ``radial_velocity_error_mps`` (detection minus reference, m/s),
+        ``azimuth_error_deg`` (detection minus nearest scatterer azimuth, deg; NaN for a box
+        reference) and ``error_reference`` ("scatterer", "box" or "").
     """
     out = labelled.copy()
     out["range_error_m"] = np.nan
     out["radial_velocity_error_mps"] = np.nan
     out["error_reference"] = ""
+    out["azimuth_error_deg"] = np.nan
     is_true = (out["label"] == TRUE).to_numpy()
     if not is_true.any():
         return out
@@ -376,6 +420,8 @@ def detection_errors(labelled: pd.DataFrame, truth: pd.DataFrame,
             out.iloc[rows, out.columns.get_loc("radial_velocity_error_mps")] = \
                 (m["radial_velocity_mps"] - m["radial_velocity_mps_sc"]).to_numpy()
             out.iloc[rows, out.columns.get_loc("error_reference")] = "scatterer"
+            out.iloc[rows, out.columns.get_loc("azimuth_error_deg")] = np.degrees(
+                np.arctan2(m["y_m"], m["x_m"]) - np.arctan2(m["y_m_sc"], m["x_m_sc"])).to_numpy()
             done[rows] = True
     rest = np.flatnonzero(is_true & ~done)
     if len(rest):
@@ -436,12 +482,13 @@ def actor_frames(labelled: pd.DataFrame, truth: pd.DataFrame, *,
     af = af.join(agg, on=["frame", "actor_id"]).join(amb, on=["frame", "actor_id"])
     af["n_true"] = af["n_true"].fillna(0).astype(np.int64)
     af["n_ambiguous"] = af["n_ambiguous"].fillna(0).astype(np.int64)
-    af["detected"] = _assign_one_to_one(labelled, truth, af, cfg)
+    af["detected"] = _assign_one_to_one(labelled, truth, af, cfg, scatterers)
     return af
 
 
 def _assign_one_to_one(labelled: pd.DataFrame, truth: pd.DataFrame, af: pd.DataFrame,
-                       cfg: AssociationConfig) -> np.ndarray:
+                       cfg: AssociationConfig,
+                       scatterers: pd.DataFrame | None = None) -> np.ndarray:
     """Per frame, linear_sum_assignment between TRUE-gated detections and actors."""
     detected = np.zeros(len(af), dtype=bool)
     tru = labelled[labelled["label"] == TRUE]
@@ -456,6 +503,8 @@ def _assign_one_to_one(labelled: pd.DataFrame, truth: pd.DataFrame, af: pd.DataF
         return detected
     ok = (pairs["pos_cost"] <= 1.0) & (pairs["dv_mps"].abs() <= cfg.velocity_gate_mps)
     pairs = pairs[ok]
+    if cfg.require_scatterer and scatterers is not None:
+        pairs = pairs[_scatterer_support(pairs, tru.reset_index(drop=True), scatterers, cfg)]
     pairs = pairs.assign(cost=pairs["pos_cost"] ** 2 +
                          (pairs["dv_mps"] / cfg.velocity_gate_mps) ** 2)
     row_of = {key: i for i, key in enumerate(zip(af["frame"].to_numpy(),

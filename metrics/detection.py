@@ -20,13 +20,19 @@ __all__ = [
     "error_stats", "velocity_unambiguity_rate", "ghost_stats", "actor_detection",
     "pd_vs_range", "max_range_pd90", "snr_gain_pairs", "snr_gain_stats", "summarize_scheme",
     "target_first_detection_range_m", "case_criteria", "CRITERION_MEASURES",
-    "NOISE_LIMITED_SNR_DB", "NOISE_LIMITED_MIN_PAIRS",
+    "NOISE_LIMITED_SNR_DB", "NOISE_LIMITED_MIN_PAIRS", "velocity_resolution_failures",
+    "velocity_failure_stats",
 ]
 
 
 def _rmse(x: np.ndarray) -> float:
     x = x[np.isfinite(x)]
     return float(np.sqrt(np.mean(x ** 2))) if len(x) else float("nan")
+
+
+def _median_abs(x: np.ndarray) -> float:
+    x = x[np.isfinite(x)]
+    return float(np.median(np.abs(x))) if len(x) else float("nan")
 
 
 def _p95_abs(x: np.ndarray) -> float:
@@ -40,15 +46,19 @@ def error_stats(labelled: pd.DataFrame) -> dict[str, float]:
     ``range_error_rmse_m`` = sqrt(mean(e_R^2)) and ``range_error_p95_m`` = 95th percentile of
     |e_R| over TRUE detections, e_R = detection slant range minus the slant range of the nearest
     scatterer of its actor (`association.detection_errors`); the same for the radial velocity
-    (``radial_velocity_error_rmse_mps``, ``radial_velocity_error_p95_mps``). NaN when there is no
-    TRUE detection. ``n_error_samples`` counts the detections used.
+    (``radial_velocity_error_rmse_mps``, ``radial_velocity_error_p95_mps``). The medians of
+    |e| (``range_error_median_m``, ``radial_velocity_error_median_mps``) are robust to the odd
+    outlier that dominates an RMSE. NaN when there is no TRUE detection. ``n_error_samples``
+    counts the detections used.
     """
     tru = labelled[labelled["label"] == TRUE]
     er = tru["range_error_m"].to_numpy(dtype=float) if "range_error_m" in tru else np.array([])
     ev = tru["radial_velocity_error_mps"].to_numpy(dtype=float) \
         if "radial_velocity_error_mps" in tru else np.array([])
-    return {"range_error_rmse_m": _rmse(er), "range_error_p95_m": _p95_abs(er),
+    return {"range_error_rmse_m": _rmse(er), "range_error_median_m": _median_abs(er),
+            "range_error_p95_m": _p95_abs(er),
             "radial_velocity_error_rmse_mps": _rmse(ev),
+            "radial_velocity_error_median_mps": _median_abs(ev),
             "radial_velocity_error_p95_mps": _p95_abs(ev),
             "n_error_samples": int(np.isfinite(er).sum())}
 
@@ -66,6 +76,45 @@ def velocity_unambiguity_rate(labelled: pd.DataFrame, window_mps: float) -> floa
     if lab.empty:
         return float("nan")
     return float((lab["label"] == TRUE).mean())
+
+
+def velocity_resolution_failures(detections: pd.DataFrame, truth: pd.DataFrame,
+                                 step_mps: float, *, config: AssociationConfig | None = None,
+                                 scatterers: pd.DataFrame | None = None) -> np.ndarray:
+    """Detections whose velocity resolution failed: inside an actor's footprint gate with the
+    radial velocity off by a non-zero multiple of ``step_mps`` (within the velocity gate).
+
+    ``step_mps`` is the scheme's own failure step (`radarsim.mimo.MimoScheme.
+    velocity_failure_step_mps`): one sub-band for DDMA (a demodulation or assignment error
+    moves the velocity by whole sub-bands), the unambiguous span 2 Vmax of one Tx's slow time
+    for TDMA and BPM (a wrong disambiguation hypothesis), so DDMA demodulation errors,
+    classic-DDMA assignment errors and TDMA/BPM disambiguation errors count on one scale. It is
+    `association.associate` with ``velocity_span_mps = step_mps``: its VELOCITY_AMBIGUOUS
+    detections.
+
+    Returns
+    -------
+    (n,) bool, in the row order of ``detections``.
+    """
+    from .association import associate
+    if len(detections) == 0:
+        return np.zeros(0, dtype=bool)
+    lab = associate(detections, truth, velocity_span_mps=step_mps, config=config,
+                    scatterers=scatterers)
+    return (lab["label"] == VELOCITY_AMBIGUOUS).to_numpy()
+
+
+def velocity_failure_stats(labelled: pd.DataFrame) -> dict[str, float]:
+    """``n_velocity_resolution_failures`` (column ``velocity_resolution_failure`` of the
+    detections) and ``velocity_resolution_failure_rate`` = failures / (TRUE + failures), NaN
+    without either."""
+    fail = labelled["velocity_resolution_failure"].to_numpy(dtype=bool) \
+        if "velocity_resolution_failure" in labelled else np.zeros(len(labelled), dtype=bool)
+    n_fail = int(fail.sum())
+    n_true = int((labelled["label"] == TRUE).sum()) if len(labelled) else 0
+    return {"n_velocity_resolution_failures": n_fail,
+            "velocity_resolution_failure_rate": n_fail / (n_true + n_fail)
+            if n_true + n_fail else float("nan")}
 
 
 def ghost_stats(labelled: pd.DataFrame, n_frames: int) -> dict[str, float]:

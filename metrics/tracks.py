@@ -8,7 +8,7 @@ velocity RMSE; GOSPA scores the track set against the truth set each frame indep
 
 Inputs
 ------
-tracks : the tracker's table (`pipeline.tracker.TRACK_COLUMNS` plus `frame`): frame, time_s,
+tracks : the tracker's table (`pipeline.tracking.TRACK_COLUMNS` plus `frame`): frame, time_s,
     track_id, state, x_m, y_m, vx_mps, vy_mps (vehicle frame; velocity RELATIVE to the ego).
 truth : the scenario's per-frame, per-actor table (common brief): frame, time_s, actor_id,
     actor_class, x_m, y_m, vx_mps, vy_mps (vehicle frame, velocity RELATIVE to the ego),
@@ -32,6 +32,8 @@ from dataclasses import dataclass
 import numpy as np
 import pandas as pd
 from scipy.optimize import linear_sum_assignment
+
+from scenarios.checks import require
 
 __all__ = [
     "TrackMetricsConfig", "gospa", "match_tracks", "gospa_per_frame", "per_actor_track_metrics",
@@ -104,24 +106,11 @@ class TrackMetricsConfig:
     max_range_m: float | None = 200.0
 
     def __post_init__(self) -> None:
-        for name in ("match_gate_m", "gospa_c_m"):
-            val = getattr(self, name)
-            if not (math.isfinite(val) and val > 0):
-                raise ValueError(f"{name}={val!r} must be a finite number > 0")
-        if not (math.isfinite(self.gospa_p) and self.gospa_p >= 1):
-            raise ValueError(f"gospa_p={self.gospa_p!r} must be a finite number >= 1")
-        if not 0 <= self.false_track_max_match_fraction <= 1:
-            raise ValueError("false_track_max_match_fraction="
-                             f"{self.false_track_max_match_fraction!r} must be in [0, 1]")
-        if self.frame_period_s is not None and not (math.isfinite(self.frame_period_s)
-                                                    and self.frame_period_s > 0):
-            raise ValueError(f"frame_period_s={self.frame_period_s!r} must be None or > 0")
-        if self.fov_azimuth_deg is not None and not 0 < self.fov_azimuth_deg <= 180:
-            raise ValueError(f"fov_azimuth_deg={self.fov_azimuth_deg!r} must be None or in "
-                             "(0, 180]")
-        if self.max_range_m is not None and not (math.isfinite(self.max_range_m)
-                                                 and self.max_range_m > 0):
-            raise ValueError(f"max_range_m={self.max_range_m!r} must be None or > 0")
+        require(self, ("match_gate_m", "gospa_c_m"), gt=0)
+        require(self, "gospa_p", ge=1)
+        require(self, "false_track_max_match_fraction", ge=0, le=1)
+        require(self, ("frame_period_s", "max_range_m"), gt=0, none_ok=True)
+        require(self, "fov_azimuth_deg", gt=0, le=180, unit="deg", none_ok=True)
         if isinstance(self.confirmed_states, str) or not self.confirmed_states:
             raise ValueError(f"confirmed_states={self.confirmed_states!r} must be a non-empty "
                              "tuple of state names")

@@ -7,10 +7,9 @@ from .chain import (MIMO_CHAINS, POINT_CLOUD_COLUMNS, detection_map, doppler_azi
                     frame_spectra, process_frame)
 from .config import CfarConfig, ProcessingConfig
 from .mimo import DetectionMap, MimoChain, register_chain
-from .ego_motion import (EGO_MODELS, EgoMotionConfig, EgoMotionEstimate, estimate_ego_motion,
-                         ground_radial_velocity, static_mask)
-from .tracker import (MOTION_MODELS, TRACK_COLUMNS, TRACK_STATES, GroupTracker, TrackerConfig,
-                      track_frames)
+from .tracking import (EGO_MODELS, MOTION_MODELS, TRACK_COLUMNS, TRACK_STATES, EgoMotionConfig,
+                       EgoMotionEstimate, GroupTracker, TrackerConfig, estimate_ego_motion,
+                       ground_radial_velocity, static_mask, track_frames)
 
 __all__ = ["process_frame", "frame_spectra", "detection_map", "doppler_azimuth_map",
            "ProcessingConfig", "CfarConfig", "CFAR_MODES", "MIMO_CHAINS", "POINT_CLOUD_COLUMNS",

@@ -7,6 +7,12 @@ exponential (square-law) looks: L = 1 for a coherent map, L = number of channels
 non-coherent sum. Pfa(alpha) = E_Y[ Q(L, alpha Y) ] is integrated numerically for every mode; for
 L = 1 it reproduces Rohling's OS formula and the CA closed form (DESIGN section 8).
 
+Each mode is a `CfarMode` object in the `CFAR_MODES` registry: the distribution of its noise
+estimate (threshold design), the estimate itself (gathered training cells or a full map), its TI
+``cfarCfg`` averageMode code, and an optional cheap necessary condition that the chain uses to
+skip cells before gathering training cells. A new CFAR mode is one `CfarMode` subclass (or
+instance) here and one registry entry; the module functions below only look the name up.
+
 References
 ----------
 .. [1] H. Rohling, "Radar CFAR thresholding in clutter and multiple target situations",
@@ -18,21 +24,18 @@ References
 """
 from __future__ import annotations
 
+from collections.abc import Callable
+from dataclasses import dataclass
 from functools import lru_cache
 
 import numpy as np
-from scipy import integrate, optimize, special, stats
+from scipy import integrate, ndimage, optimize, special, stats
 
-__all__ = ["CFAR_MODES", "cfar_scale", "noise_mean_factor", "pfa_of_scale", "pfa_numeric",
+from scenarios.checks import one_of
+
+__all__ = ["CfarMode", "CellAveraging", "SideSelecting", "OrderStatistic", "CFAR_MODES",
+           "cfar_mode", "cfar_scale", "noise_mean_factor", "pfa_of_scale", "pfa_numeric",
            "training_offsets", "noise_estimate", "cfar_map", "rohling_os_pfa"]
-
-#: CFAR modes: how the training cells become one noise estimate.
-CFAR_MODES = {
-    "ca": "cell averaging: mean of both windows",
-    "cago": "greatest-of: larger of the two window means",
-    "caso": "smallest-of: smaller of the two window means",
-    "os": "ordered statistic: k-th smallest training cell",
-}
 
 
 def training_offsets(guard_cells: int, window_cells: int,
@@ -48,18 +51,118 @@ def training_offsets(guard_cells: int, window_cells: int,
     return -lead[::-1], lead
 
 
-def _stat_pdf(mode: str, n_cells: int, os_rank: int, looks: int):
-    """pdf of the noise estimate Y for unit-mean-per-look Gamma(L, 1) cells, and its support."""
-    gam = stats.gamma(looks)
-    half = n_cells // 2
-    if mode == "ca":
+@dataclass(frozen=True, kw_only=True, slots=True)
+class CfarMode:
+    """One CFAR mode: how training cells become one noise estimate, and its statistics.
+
+    Parameters
+    ----------
+    name : str
+        Registry key (what `pipeline.CfarConfig.mode` holds).
+    description : str
+    ti_code : int
+        TI ``cfarCfg`` averageMode code (seed 003 ``DPU_CFARProc_CfarCfg``).
+
+    Subclasses implement `estimate_pdf`, `noise_estimate` and `noise_map`; `closed_form_pfa`
+    and `candidate_mask` have defaults (numerical integration; every cell a candidate).
+    """
+
+    name: str
+    description: str
+    ti_code: int
+
+    def estimate_pdf(self, n_cells: int, os_rank: int, looks: int) -> Callable:
+        """pdf of the noise estimate Y for cells of `looks` unit-mean exponential looks."""
+        raise NotImplementedError
+
+    def closed_form_pfa(self, scale: float, n_cells: int, os_rank: int,
+                        looks: int) -> float | None:
+        """Pfa(alpha) in closed form where one exists, else None (numerical integration)."""
+        return None
+
+    def noise_estimate(self, train: np.ndarray, n_lag: int, os_rank: int) -> np.ndarray:
+        """Noise estimate from gathered training cells ``train: (..., N)`` (lagging first)."""
+        raise NotImplementedError
+
+    def noise_map(self, power: np.ndarray, lag_fp: np.ndarray, lead_fp: np.ndarray,
+                  window_cells: int, os_rank: int) -> np.ndarray:
+        """Noise estimate of every cell (cyclic), from lag/lead footprints shaped for
+        scipy.ndimage (a size-(2 h + 1) bool line along the CFAR axis)."""
+        raise NotImplementedError
+
+    def candidate_mask(self, power: np.ndarray, axis: int, alpha: float,
+                       os_rank: int) -> np.ndarray:
+        """Cells that can pass the test at all: a cheap necessary condition (bool, `power`'s
+        shape). Default: every cell."""
+        return np.ones(power.shape, dtype=bool)
+
+
+def _half_means(train: np.ndarray, n_lag: int) -> tuple[np.ndarray, np.ndarray]:
+    return train[..., :n_lag].mean(axis=-1), train[..., n_lag:].mean(axis=-1)
+
+
+def _half_maps(power, lag_fp, lead_fp, window_cells):
+    # The footprint is centred on the cell; ndimage correlates with a mirrored footprint,
+    # which is symmetric in the two-sided case and swaps lag/lead for one side.
+    lag = ndimage.correlate(power, lag_fp / window_cells, mode="wrap")
+    lead = ndimage.correlate(power, lead_fp / window_cells, mode="wrap")
+    return lag, lead
+
+
+@dataclass(frozen=True, kw_only=True, slots=True)
+class CellAveraging(CfarMode):
+    """CA: the mean of both training windows (Richards eq. 6.167 for L = 1)."""
+
+    def estimate_pdf(self, n_cells, os_rank, looks):
         return stats.gamma(n_cells * looks, scale=1.0 / n_cells).pdf
-    if mode in ("cago", "caso"):
+
+    def closed_form_pfa(self, scale, n_cells, os_rank, looks):
+        return float((1.0 + scale / n_cells) ** -n_cells) if looks == 1 else None
+
+    def noise_estimate(self, train, n_lag, os_rank):
+        lag, lead = _half_means(train, n_lag)
+        return 0.5 * (lag + lead)
+
+    def noise_map(self, power, lag_fp, lead_fp, window_cells, os_rank):
+        lag, lead = _half_maps(power, lag_fp, lead_fp, window_cells)
+        return 0.5 * (lag + lead)
+
+
+@dataclass(frozen=True, kw_only=True, slots=True)
+class SideSelecting(CfarMode):
+    """CAGO / CASO: the greater (or smaller) of the two window means (Hansen & Sawyers).
+
+    Parameters
+    ----------
+    greatest : bool
+        True: greatest-of (CAGO); False: smallest-of (CASO).
+    """
+
+    greatest: bool
+
+    def estimate_pdf(self, n_cells, os_rank, looks):
+        half = n_cells // 2
         mean_half = stats.gamma(half * looks, scale=1.0 / half)
-        if mode == "cago":
+        if self.greatest:
             return lambda y: 2 * mean_half.cdf(y) * mean_half.pdf(y)
         return lambda y: 2 * mean_half.sf(y) * mean_half.pdf(y)
-    if mode == "os":
+
+    def _select(self, lag, lead):
+        return np.maximum(lag, lead) if self.greatest else np.minimum(lag, lead)
+
+    def noise_estimate(self, train, n_lag, os_rank):
+        return self._select(*_half_means(train, n_lag))
+
+    def noise_map(self, power, lag_fp, lead_fp, window_cells, os_rank):
+        return self._select(*_half_maps(power, lag_fp, lead_fp, window_cells))
+
+
+@dataclass(frozen=True, kw_only=True, slots=True)
+class OrderStatistic(CfarMode):
+    """OS: the k-th smallest training cell (Rohling 1983)."""
+
+    def estimate_pdf(self, n_cells, os_rank, looks):
+        gam = stats.gamma(looks)
         n, k = n_cells, os_rank
         log_c = special.gammaln(n + 1) - special.gammaln(k) - special.gammaln(n - k + 1)
 
@@ -68,7 +171,47 @@ def _stat_pdf(mode: str, n_cells: int, os_rank: int, looks: int):
             sf = np.clip(gam.sf(y), 1e-300, 1.0)
             return np.exp(log_c + (k - 1) * np.log(cdf) + (n - k) * np.log(sf)) * gam.pdf(y)
         return pdf
-    raise ValueError(f"mode={mode!r} is not one of {sorted(CFAR_MODES)}")
+
+    def closed_form_pfa(self, scale, n_cells, os_rank, looks):
+        return rohling_os_pfa(scale, n_cells, os_rank) if looks == 1 else None
+
+    def noise_estimate(self, train, n_lag, os_rank):
+        """OS partitions `train` in place."""
+        train.partition(os_rank - 1, axis=-1)
+        return train[..., os_rank - 1]
+
+    def noise_map(self, power, lag_fp, lead_fp, window_cells, os_rank):
+        return ndimage.rank_filter(power, os_rank - 1, footprint=lag_fp | lead_fp, mode="wrap")
+
+    def candidate_mask(self, power, axis, alpha, os_rank):
+        """Exact necessary condition: the k-th smallest of a subset of the line along `axis`
+        is >= the k-th smallest of the whole line, so alpha x that bounds the threshold."""
+        col_k = np.take(np.partition(power, os_rank - 1, axis=axis), [os_rank - 1], axis=axis)
+        return power > alpha * col_k
+
+
+#: CFAR modes by the name `CfarConfig.mode` holds (TI codes: seed 003 averageMode).
+CFAR_MODES: dict[str, CfarMode] = {m.name: m for m in (
+    CellAveraging(name="ca", ti_code=0, description="cell averaging: mean of both windows"),
+    SideSelecting(name="cago", ti_code=1, greatest=True,
+                  description="greatest-of: larger of the two window means"),
+    SideSelecting(name="caso", ti_code=2, greatest=False,
+                  description="smallest-of: smaller of the two window means"),
+    OrderStatistic(name="os", ti_code=3,
+                   description="ordered statistic: k-th smallest training cell"),
+)}
+
+
+def cfar_mode(name: str) -> CfarMode:
+    """The registered mode of that name.
+
+    Raises
+    ------
+    ValueError
+        ``mode='x' is not one of [...]``.
+    """
+    one_of("mode", name, CFAR_MODES)
+    return CFAR_MODES[name]
 
 
 def _integrate(fn, looks: int) -> float:
@@ -100,17 +243,14 @@ def pfa_of_scale(scale: float, mode: str, n_cells: int, os_rank: int = 0,
     the N cells); everything else integrates numerically (`pfa_numeric`), which the tests check
     against the closed forms.
     """
-    if looks == 1 and mode == "os":
-        return rohling_os_pfa(scale, n_cells, os_rank)
-    if looks == 1 and mode == "ca":
-        return float((1.0 + scale / n_cells) ** -n_cells)
-    return pfa_numeric(scale, mode, n_cells, os_rank, looks)
+    closed = cfar_mode(mode).closed_form_pfa(scale, n_cells, os_rank, looks)
+    return pfa_numeric(scale, mode, n_cells, os_rank, looks) if closed is None else closed
 
 
 def pfa_numeric(scale: float, mode: str, n_cells: int, os_rank: int = 0,
                 looks: int = 1) -> float:
     """`pfa_of_scale` by numerical integration of E_Y[Q(L, scale Y)] for every mode."""
-    pdf = _stat_pdf(mode, n_cells, os_rank, looks)
+    pdf = cfar_mode(mode).estimate_pdf(n_cells, os_rank, looks)
     return _integrate(lambda y: special.gammaincc(looks, scale * y) * pdf(y), looks)
 
 
@@ -151,7 +291,7 @@ def noise_mean_factor(mode: str, n_cells: int, os_rank: int = 0, looks: int = 1)
     """E[Y] / E[cell] in homogeneous noise: divides a CFAR estimate into a mean-power estimate.
 
     CA: 1; OS on exponential cells: sum_{i=N-k+1}^{N} 1/i (e.g. 1.3 for N=16, k=12)."""
-    pdf = _stat_pdf(mode, n_cells, os_rank, looks)
+    pdf = cfar_mode(mode).estimate_pdf(n_cells, os_rank, looks)
     return _integrate(lambda y: y * pdf(y), looks) / looks
 
 
@@ -173,16 +313,7 @@ def noise_estimate(train: np.ndarray, n_lag: int, mode: str, os_rank: int) -> np
     -------
     (...) float
     """
-    if mode == "os":
-        train.partition(os_rank - 1, axis=-1)
-        return train[..., os_rank - 1]
-    if mode not in CFAR_MODES:
-        raise ValueError(f"mode={mode!r} is not one of {sorted(CFAR_MODES)}")
-    lag = train[..., :n_lag].mean(axis=-1)
-    lead = train[..., n_lag:].mean(axis=-1)
-    if mode == "ca":
-        return 0.5 * (lag + lead)
-    return np.maximum(lag, lead) if mode == "cago" else np.minimum(lag, lead)
+    return cfar_mode(mode).noise_estimate(train, n_lag, os_rank)
 
 
 def cfar_map(power: np.ndarray, axis: int, guard_cells: int, window_cells: int, mode: str,
@@ -203,8 +334,6 @@ def cfar_map(power: np.ndarray, axis: int, guard_cells: int, window_cells: int, 
     -------
     (...) float, same shape as `power`.
     """
-    from scipy import ndimage
-
     power = np.asarray(power)
     lag, lead = training_offsets(guard_cells, window_cells, stride)
     half = int(lead[-1])
@@ -215,17 +344,5 @@ def cfar_map(power: np.ndarray, axis: int, guard_cells: int, window_cells: int, 
     lag_fp[lag + half] = True
     lead_fp = np.zeros(size, bool)
     lead_fp[lead + half] = True
-    if mode == "os":
-        fp = (lag_fp | lead_fp).reshape(shape)
-        return ndimage.rank_filter(power, os_rank - 1, footprint=fp, mode="wrap")
-    # The footprint is centred on the cell; ndimage correlates with a mirrored footprint,
-    # which is symmetric in the two-sided case and swaps lag/lead for one side.
-    lag = ndimage.correlate(power, (lag_fp / window_cells).reshape(shape), mode="wrap")
-    lead = ndimage.correlate(power, (lead_fp / window_cells).reshape(shape), mode="wrap")
-    if mode == "ca":
-        return 0.5 * (lag + lead)
-    if mode == "cago":
-        return np.maximum(lag, lead)
-    if mode == "caso":
-        return np.minimum(lag, lead)
-    raise ValueError(f"mode={mode!r} is not one of {sorted(CFAR_MODES)}")
+    return cfar_mode(mode).noise_map(power, lag_fp.reshape(shape), lead_fp.reshape(shape),
+                                     window_cells, os_rank)

@@ -16,6 +16,7 @@ import pandas as pd
 
 from radarsim.config import RadarConfig
 
+from . import saturation
 from .config import ProcessingConfig
 from .mimo import MIMO_CHAINS, chain_of
 from .stages import POINT_CLOUD_COLUMNS, check_frame
@@ -29,7 +30,9 @@ def _inputs(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig | None):
     proc = ProcessingConfig() if proc is None else proc
     if not isinstance(proc, ProcessingConfig):
         raise ValueError(f"proc must be a pipeline.ProcessingConfig, got {type(proc).__name__}")
-    return chain_of(cfg), proc
+    chain = chain_of(cfg)
+    proc.check_doppler_axis(cfg.n_doppler_bins)
+    return chain, proc
 
 
 def process_frame(cfg: RadarConfig, adc: np.ndarray,
@@ -50,16 +53,21 @@ def process_frame(cfg: RadarConfig, adc: np.ndarray,
     pandas.DataFrame
         One row per detection, radar frame: range_m, azimuth_deg, elevation_deg,
         radial_velocity_mps (negative = approaching), snr_db, x_m, y_m, z_m, range_bin,
-        doppler_bin (0..n_chirps-1 in the full unambiguous Doppler span), azimuth_bin.
+        doppler_bin (0..n_chirps-1 in the full unambiguous Doppler span), azimuth_bin, and
+        ``saturated`` with ``attrs["saturation"]``: ADC saturation per chirp and Rx
+        (`pipeline.saturation`; ``proc.saturation_policy`` flags or drops the detections of a
+        saturated frame).
 
     Raises
     ------
     ValueError
         If `adc` is not an array of the config's dtype and shape, `cfg`/`proc` are of the wrong
-        type, or no chain is registered for `cfg.mimo`.
+        type, no chain is registered for `cfg.mimo`, or the CFAR window does not fit the
+        Doppler axis.
     """
     chain, proc = _inputs(cfg, adc, proc)
-    return chain.process(cfg, adc, proc)
+    return saturation.apply_policy(chain.process(cfg, adc, proc), saturation.monitor(adc),
+                                   proc.saturation_policy)
 
 
 def detection_map(cfg: RadarConfig, adc: np.ndarray,

@@ -2,11 +2,13 @@
 from __future__ import annotations
 
 import dataclasses
-import math
 from dataclasses import dataclass, field
 from typing import Any
 
+from scenarios.checks import one_of, require
+
 from .cfar import CFAR_MODES, cfar_scale
+from .saturation import SATURATION_POLICIES
 
 __all__ = ["CfarConfig", "ProcessingConfig", "WINDOWS"]
 
@@ -48,26 +50,18 @@ class CfarConfig:
     threshold_db: float | None = None
 
     def __post_init__(self) -> None:
-        if self.mode not in CFAR_MODES:
-            raise ValueError(f"cfar mode={self.mode!r} is not one of {sorted(CFAR_MODES)}")
-        if not isinstance(self.guard_cells, int) or self.guard_cells < 0:
-            raise ValueError(f"guard_cells={self.guard_cells!r} must be an integer >= 0")
-        if not isinstance(self.window_cells, int) or self.window_cells < 1:
-            raise ValueError(f"window_cells={self.window_cells!r} must be an integer >= 1")
-        if not isinstance(self.training_stride, int) or self.training_stride < 1:
-            raise ValueError(f"training_stride={self.training_stride!r} must be an integer >= 1")
+        one_of("mode", self.mode, CFAR_MODES, what="cfar ")
+        require(self, "guard_cells", "integer", ge=0)
+        require(self, ("window_cells", "training_stride"), "integer", ge=1)
         n = 2 * self.window_cells
         if self.os_rank is None:
             object.__setattr__(self, "os_rank", max(1, round(0.75 * n)))
-        elif not isinstance(self.os_rank, int) or not 1 <= self.os_rank <= n:
-            raise ValueError(f"os_rank={self.os_rank!r} must be an integer in 1..{n} "
-                             "(2 x window_cells)")
+        else:
+            require(self, "os_rank", "integer", ge=1, le=n)  # n = 2 x window_cells
         if self.threshold_db is None:
-            if self.pfa is None or not (0 < self.pfa < 1):
-                raise ValueError(f"pfa={self.pfa!r} must be in (0, 1) when threshold_db is "
-                                 "not given")
-        elif not math.isfinite(self.threshold_db):
-            raise ValueError(f"threshold_db={self.threshold_db!r} must be finite")
+            require(self, "pfa", gt=0, lt=1)  # the threshold comes from pfa
+        else:
+            require(self, "threshold_db")
 
     @property
     def n_training(self) -> int:
@@ -98,8 +92,11 @@ class ProcessingConfig:
         First range bin searched (bin 0 holds DC).
     tdma_disambiguation : bool
         TDMA: resolve velocity beyond +/-Vmax by hypothesis testing (seed 001 section 4): each
-        v_est + 2 k Vmax is compensated and scored by the phase agreement of the raised row
-        with the horizontal elements it overlaps (or, without overlap, the azimuth-FFT peak).
+        v_est + 2 k Vmax within +/- n_tx Vmax has its slot Doppler phase compensated and is
+        scored by the generalised likelihood of one echo on the whole virtual array,
+        max over wx of (|A_h(wx)| + |A_v(wx)|)^2 (A_h, A_v: beams of the horizontal and the
+        raised row); without a raised row, by the horizontal azimuth-FFT peak. False: v_est
+        as measured, aliased beyond +/-Vmax (the sweep's ``tdma_raw`` scheme).
     correct_range_doppler_coupling : bool
         Remove the fast-time Doppler shift f_D from the beat frequency (R += v c / (S lambda)).
     range_peak_check : bool
@@ -110,6 +107,10 @@ class ProcessingConfig:
         Keep a DDMA azimuth peak only if it is within this many dB of the strongest azimuth
         peak of its (range, Doppler) cell: rejects the -13 dB sidelobes of the unwindowed
         12-element array (TI's multi-object beamforming uses a 6 dB ratio). None disables it.
+    saturation_policy : {"flag", "drop"}
+        What a frame with saturated ADC samples does to its detections
+        (`pipeline.saturation`): "flag" keeps them with ``saturated = True``, "drop" removes
+        them.
     """
 
     cfar: CfarConfig = field(default_factory=CfarConfig)
@@ -121,21 +122,33 @@ class ProcessingConfig:
     correct_range_doppler_coupling: bool = True
     range_peak_check: bool = True
     azimuth_sidelobe_db: float | None = 10.0
+    saturation_policy: str = "flag"
 
     def __post_init__(self) -> None:
         if not isinstance(self.cfar, CfarConfig):
             raise ValueError(f"cfar must be a CfarConfig, got {type(self.cfar).__name__}")
-        for name in ("range_window", "doppler_window"):
-            if getattr(self, name) not in WINDOWS:
-                raise ValueError(f"{name}={getattr(self, name)!r} is not one of "
-                                 f"{sorted(WINDOWS)}")
-        if not isinstance(self.n_azimuth_bins, int) or self.n_azimuth_bins < 16:
-            raise ValueError(f"n_azimuth_bins={self.n_azimuth_bins!r} must be an integer >= 16")
-        if self.azimuth_sidelobe_db is not None and not (self.azimuth_sidelobe_db > 0):
-            raise ValueError(f"azimuth_sidelobe_db={self.azimuth_sidelobe_db!r} must be > 0 "
-                             "or None")
-        if not isinstance(self.min_range_bin, int) or self.min_range_bin < 0:
-            raise ValueError(f"min_range_bin={self.min_range_bin!r} must be an integer >= 0")
+        one_of("range_window", self.range_window, WINDOWS)
+        one_of("doppler_window", self.doppler_window, WINDOWS)
+        require(self, "n_azimuth_bins", "integer", ge=16)
+        require(self, "azimuth_sidelobe_db", gt=0, none_ok=True)
+        require(self, "min_range_bin", "integer", ge=0)
+        require(self, ("tdma_disambiguation", "correct_range_doppler_coupling",
+                       "range_peak_check"), "bool")
+        one_of("saturation_policy", self.saturation_policy, SATURATION_POLICIES)
+
+    def check_doppler_axis(self, n_doppler_bins: int) -> None:
+        """Raise if the CFAR's cyclic window does not fit the Doppler axis of a radar.
+
+        The training cells reach ``guard_cells + window_cells x training_stride`` bins to each
+        side; both sides and the cell under test must fit in ``n_doppler_bins`` (DDMA: chirps
+        per sub-band, TDMA: chirps per Tx), or the cyclic window would train on the cell itself.
+        """
+        c = self.cfar
+        span = 2 * (c.guard_cells + c.window_cells * c.training_stride) + 1
+        if span > n_doppler_bins:
+            raise ValueError(f"cfar window_cells={c.window_cells} (guard_cells={c.guard_cells}, "
+                             f"training_stride={c.training_stride}) spans {span} Doppler bins, "
+                             f"more than the {n_doppler_bins} bins of the radar's Doppler axis")
 
     def replace(self, **changes: Any) -> "ProcessingConfig":
         """Copy with changes; `cfar_<field>` keys change the CFAR sub-config."""
@@ -146,5 +159,30 @@ class ProcessingConfig:
         if unknown:
             raise ValueError(f"unknown ProcessingConfig field(s) {unknown}")
         if cfar_changes:
-            rest["cfar"] = dataclasses.replace(rest.get("cfar", self.cfar), **cfar_changes)
+            rest["cfar"] = _replace_cfar(rest.get("cfar", self.cfar), cfar_changes)
         return dataclasses.replace(self, **rest)
+
+
+def _replace_cfar(cfar: CfarConfig, changes: dict[str, Any]) -> CfarConfig:
+    """`dataclasses.replace` of a CfarConfig that never keeps a stale OS rank.
+
+    A new ``window_cells`` without an ``os_rank`` re-derives the default rank (3/4 N) when the
+    old rank was the old default; an explicitly chosen rank is never carried over silently to
+    another window: the caller must give ``os_rank`` too.
+    """
+    names = {f.name for f in dataclasses.fields(CfarConfig)}
+    unknown = sorted(set(changes) - names)
+    if unknown:
+        raise ValueError(f"unknown CfarConfig field(s) {['cfar_' + u for u in unknown]}; known: "
+                         f"{sorted('cfar_' + n for n in names)}")
+    changes = dict(changes)
+    if "window_cells" in changes and "os_rank" not in changes and \
+            changes["window_cells"] != cfar.window_cells:
+        if cfar.os_rank == max(1, round(0.75 * cfar.n_training)):
+            changes["os_rank"] = None
+        else:
+            raise ValueError(f"cfar_window_cells={changes['window_cells']!r} changes the training "
+                             f"window, but os_rank={cfar.os_rank} was chosen for window_cells="
+                             f"{cfar.window_cells}: give cfar_os_rank too (None: 3/4 of the "
+                             "training cells)")
+    return dataclasses.replace(cfar, **changes)

@@ -29,7 +29,7 @@ __all__ = ["POINT_CLOUD_COLUMNS", "check_frame", "power_of", "log_power", "point
 #: Columns of every point cloud, in order.
 POINT_CLOUD_COLUMNS = ["range_m", "azimuth_deg", "elevation_deg", "radial_velocity_mps",
                        "snr_db", "x_m", "y_m", "z_m", "range_bin", "doppler_bin",
-                       "azimuth_bin"]
+                       "azimuth_bin", "saturated"]
 
 
 def check_frame(cfg: RadarConfig, adc: np.ndarray) -> None:

@@ -3,14 +3,19 @@
     cfg = radarsim.presets.r79_ddma()
     adc = radarsim.simulate_frame(cfg, radarsim.Scatterers(P, V, S), rng=np.random.default_rng(0))
 """
-from . import presets
+from . import presets, shifter
+from .calibration import ShifterCalibration, calibrate_shifters, measure_shifters
 from .config import RadarConfig
 from .mimo import MIMO_SCHEMES, MimoScheme, register_scheme
 from .frontend import (ADCSaturationWarning, expected_sample_snr_db, received_power_w,
-                       saturation_fraction, simulate_frame, transmit_phasors)
+                       saturation_fraction, simulate_frame, simulate_frame_weights,
+                       transmit_phasors)
 from .scatterers import Scatterers
+from .shifter import ShifterErrorSpec
 
 __all__ = ["RadarConfig", "MIMO_SCHEMES", "MimoScheme", "register_scheme", "Scatterers",
            "presets", "simulate_frame",
            "received_power_w", "expected_sample_snr_db", "saturation_fraction",
-           "transmit_phasors", "ADCSaturationWarning"]
+           "transmit_phasors", "ADCSaturationWarning", "shifter", "calibrate_shifters",
+           "measure_shifters", "ShifterCalibration", "ShifterErrorSpec",
+           "simulate_frame_weights"]

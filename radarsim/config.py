@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
 
@@ -22,7 +23,10 @@ import numpy as np
 
 from .boards import get_board
 from .chips import ADC_MODES, CHIPS, get_chip
-from .mimo import MIMO_SCHEMES, scheme_of
+from scenarios.checks import require
+
+from . import shifter as _shifter
+from .mimo import MIMO_SCHEMES, MimoScheme, scheme_of
 
 __all__ = [
     "RadarConfig", "MIMO_SCHEMES", "PHASE_QUANTIZATIONS", "ANTENNA_PATTERNS", "ADC_MODES",
@@ -55,7 +59,10 @@ ANTENNA_PATTERNS = {
 
 # Fields re-derived by `replace` when the field they depend on changes and they are not given.
 _DEPENDENT_FIELDS = {
-    "n_tx": ("tx_order", "n_subbands", "tx_phase_error_deg", "tx_gain_error_db", "tx_channels"),
+    "n_tx": ("tx_order", "n_subbands", "tx_phase_error_deg", "tx_gain_error_db", "tx_channels",
+             "shifter_phase_error_deg", "shifter_gain_error_db", "tx_coupling_db",
+             "tx_coupling_deg", "shifter_calibration_deg"),
+    "mimo": ("tx_order", "n_subbands"),
     "n_rx": ("rx_channels",),
     "chip": ("board", "phase_shifter_bits", "adcbuf_interleaved", "tx_positions_wl",
              "rx_positions_wl", "pattern_exponent_az", "pattern_exponent_el"),
@@ -84,6 +91,54 @@ def _channels(value, n: int, n_chip: int, name: str, chip: str) -> tuple[int, ..
         raise ValueError(f"{name}={value!r} must list {n} distinct channel numbers in "
                          f"1..{n_chip} ({chip})")
     return chans
+
+
+#: Plausible RF budget of a radar front end: field -> (low, high). Beyond these the radar
+#: equation overflows (10^(5000/10) W) or the value is a typo; the AWR2944 EVM sits far inside
+#: (12 dBm per Tx, 10 dBi elements, 12 dB noise figure).
+RF_BUDGET_LIMITS = {
+    "tx_power_dbm": (-40.0, 40.0),          # 40 dBm = 10 W per transmitter
+    "tx_antenna_gain_dbi": (-30.0, 50.0),
+    "rx_antenna_gain_dbi": (-30.0, 50.0),
+    "noise_figure_db": (0.0, 60.0),
+    "system_loss_db": (0.0, 100.0),
+    "adc_full_scale_dbm": (-100.0, 30.0),
+    "temperature_k": (1.0, 1000.0),
+    "phase_noise_deg_rms": (0.0, 180.0),
+}
+#: Per-Tx static errors: field -> (low, high). A gain error far below 0 dB mutes a Tx (tests
+#: use -300 dB); above +40 dB it is a typo that overflows the received power.
+TX_ERROR_LIMITS = {"tx_gain_error_db": (-400.0, 40.0), "tx_phase_error_deg": (-360.0, 360.0)}
+
+
+def _is_number(v) -> bool:
+    return isinstance(v, (int, float, np.integer, np.floating)) and not isinstance(v, bool)
+
+
+def _check_numbers(cfg) -> None:
+    """Every numeric field holds a number (a string or bool would fail later without the field
+    name)."""
+    for f in dataclasses.fields(cfg):
+        v = getattr(cfg, f.name)
+        if _is_number(f.default) and not _is_number(v):
+            raise ValueError(f"{f.name}={v!r} must be a number")
+
+
+def _check_rf_budget(cfg) -> None:
+    """The RF budget lies within `RF_BUDGET_LIMITS`; per-Tx errors hold numbers within
+    `TX_ERROR_LIMITS`."""
+    for name, (lo, hi) in RF_BUDGET_LIMITS.items():
+        v = getattr(cfg, name)
+        if not (math.isfinite(v) and lo <= v <= hi):
+            raise ValueError(f"{name}={v!r} is outside the plausible range [{lo:g}, {hi:g}]")
+    for name, (lo, hi) in TX_ERROR_LIMITS.items():
+        v = getattr(cfg, name)
+        if v is None:
+            continue
+        if isinstance(v, (str, bytes)) or not hasattr(v, "__len__") or \
+                not all(_is_number(x) and math.isfinite(x) and lo <= x <= hi for x in v):
+            raise ValueError(f"{name}={v!r} must be a list of finite numbers in "
+                             f"[{lo:g}, {hi:g}] (one per Tx)")
 
 
 @dataclass(frozen=True, kw_only=True, slots=True)
@@ -130,16 +185,35 @@ class RadarConfig:
         (seed 000 3.3), Nt for classic DDMA. Ignored by schemes without sub-bands.
     tx_order : tuple of int or None
         DDMA: which Tx occupies sub-band 0, 1, ...; TDMA: which Tx fires in slot 0, 1, ...
-        Default (1, 3, 4, 2) restricted to the active Tx.
+        Default: the board's horizontal Tx first and raised Tx last, in channel order (the R79
+        demo's (1, 3, 4, 2) on the AWR2944 EVM), unless the scheme has its own (classic DDMA:
+        (1, 2, 3, 4)).
     phase_shifter_bits : int or None
-        Shifter resolution, must be the chip's (AWR2944: 6 bits, 5.625 deg per LSB; None for a
-        chip without shifters, which cannot run DDMA); default the chip's.
+        Shifter resolution, must be the chip's (AWR2944: 6 bits, 5.625 deg per LSB; 0 for a
+        chip without shifters, which cannot run schemes that need them); default the chip's.
     phase_quantization : {"floor", "round", "none"}
         How programmed phases map to codes, see `PHASE_QUANTIZATIONS`.
     tx_phase_error_deg, tx_gain_error_db : tuple of float or None
         Static per-Tx phase and gain errors (uncalibrated shifters: > +/-10 deg).
     phase_noise_deg_rms : float
         Random per-chirp, per-Tx phase error, deg rms (independent Gaussian).
+    shifter_phase_error_deg, shifter_gain_error_db : (n_tx, 2**bits) table, mapping or None
+        Per-Tx (rows Tx1..Txn), per-code shifter errors: Tx k at programmed code q gets the
+        phase -(q LSB + shifter_phase_error_deg[k][q]) and the amplitude gain
+        10^(shifter_gain_error_db[k][q] / 20), on top of the static and per-chirp errors.
+        None: all zero. A mapping {distribution, rms, seed[, dnl_fraction]} draws the table
+        once at construction (`radarsim.shifter.ShifterErrorSpec`); the field then holds it.
+        |phase| <= 180 deg, |gain| <= 10 dB.
+    tx_coupling_db, tx_coupling_deg : (n_tx, n_tx) table or None
+        Tx-to-Tx coupling C[k][j]: level (dB, -inf = none) and phase (deg) of channel j's
+        signal radiated by element k; the diagonal is 0 dB, 0 deg (channel gains are
+        `tx_gain_error_db`), off-diagonal levels <= 0 dB. None: identity (no coupling).
+    shifter_calibration_deg : (n_tx, 2**bits) table, mapping or None
+        The chip's shifter calibration: measured phase error of every code relative to code
+        0, deg. When set, `phase_codes` programs the code whose measured phase is closest to
+        the wanted phase instead of the `phase_quantization` rule. A mapping
+        {seed[, range_m, rcs_m2, n_repeats, thermal_noise]} runs `calibrate_shifters` at
+        construction. None: uncalibrated.
     tx_power_dbm : float
         Power per transmitter at the antenna port.
     tx_antenna_gain_dbi, rx_antenna_gain_dbi : float
@@ -187,6 +261,11 @@ class RadarConfig:
     tx_phase_error_deg: tuple[float, ...] | None = None
     tx_gain_error_db: tuple[float, ...] | None = None
     phase_noise_deg_rms: float = 0.0
+    shifter_phase_error_deg: Any = None
+    shifter_gain_error_db: Any = None
+    tx_coupling_db: Any = None
+    tx_coupling_deg: Any = None
+    shifter_calibration_deg: Any = None
     tx_power_dbm: float = 12.0
     tx_antenna_gain_dbi: float = 10.0
     rx_antenna_gain_dbi: float = 10.0
@@ -200,6 +279,7 @@ class RadarConfig:
 
     def __post_init__(self) -> None:
         _set = lambda name, value: object.__setattr__(self, name, value)  # noqa: E731
+        _check_numbers(self)
         scheme = scheme_of(self.mimo)
         chip = get_chip(self.chip)
         board = get_board(chip.default_board if self.board is None else self.board)
@@ -239,10 +319,7 @@ class RadarConfig:
                             ("pattern_exponent_el", board.pattern_exponent_el)):
             if getattr(self, name) is None:
                 _set(name, value)
-        for name in ("n_samples", "n_chirps"):
-            val = getattr(self, name)
-            if not isinstance(val, (int, np.integer)) or val < 2:
-                raise ValueError(f"{name}={val!r} must be an integer >= 2")
+        require(self, ("n_samples", "n_chirps"), "integer", ge=2)
         if self.n_samples % 2 and not self.is_complex:
             raise ValueError(f"n_samples={self.n_samples} must be even (real ADC: "
                              "n_samples/2 range bins)")
@@ -253,22 +330,15 @@ class RadarConfig:
             raise ValueError(f"n_chirps={self.n_chirps} exceeds the {chip.name} limit of "
                              f"{chip.max_chirps} chirps per frame ({chip.max_chirp_defs} chirp "
                              f"definitions x {chip.max_loops} loops)")
-        for name in ("start_freq_hz", "slope_hz_per_s", "idle_time_s", "ramp_end_time_s",
-                     "chirp_period_s", "adc_rate_sps", "temperature_k"):
-            val = getattr(self, name)
-            if not (math.isfinite(val) and val > 0):
-                raise ValueError(f"{name}={val!r} must be a finite positive number")
+        require(self, ("start_freq_hz", "slope_hz_per_s", "idle_time_s", "ramp_end_time_s",
+                       "chirp_period_s", "adc_rate_sps", "temperature_k"), gt=0)
         if not (math.isfinite(self.adc_start_time_s) and self.adc_start_time_s >= 0):
             raise ValueError(f"adc_start_time_s={self.adc_start_time_s!r} must be >= 0")
-        for name in ("tx_power_dbm", "tx_antenna_gain_dbi", "rx_antenna_gain_dbi",
-                     "noise_figure_db", "system_loss_db", "adc_full_scale_dbm",
-                     "phase_noise_deg_rms", "pattern_exponent_az", "pattern_exponent_el"):
-            if not math.isfinite(getattr(self, name)):
-                raise ValueError(f"{name}={getattr(self, name)!r} must be finite")
-        for name in ("noise_figure_db", "system_loss_db", "phase_noise_deg_rms",
-                     "pattern_exponent_az", "pattern_exponent_el"):
-            if getattr(self, name) < 0:
-                raise ValueError(f"{name}={getattr(self, name)!r} must be >= 0")
+        require(self, ("tx_power_dbm", "tx_antenna_gain_dbi", "rx_antenna_gain_dbi",
+                       "adc_full_scale_dbm"))
+        require(self, ("noise_figure_db", "system_loss_db", "phase_noise_deg_rms",
+                       "pattern_exponent_az", "pattern_exponent_el"), ge=0)
+        _check_rf_budget(self)
 
         # DESIGN 4.4: chip limits, the chip's values.
         max_rate = chip.adc[self.adc_mode].max_rate_sps
@@ -298,15 +368,16 @@ class RadarConfig:
         if not math.isclose(self.chirp_period_s, period, rel_tol=1e-6):
             raise ValueError(f"chirp_period_s={self.chirp_period_s:g} must equal idle_time_s + "
                              f"ramp_end_time_s = {period:g} s")
+        # A chip without shifters has 0 bits: one code, 0 deg (TDMA/BPM signs need none).
+        bits = chip.phase_shifter_bits or 0
         if self.phase_shifter_bits is None:
-            _set("phase_shifter_bits", chip.phase_shifter_bits)
+            _set("phase_shifter_bits", bits)
         elif not isinstance(self.phase_shifter_bits, (int, np.integer)) or \
-                self.phase_shifter_bits != chip.phase_shifter_bits:
-            have = "has no phase shifter" if chip.phase_shifter_bits is None else \
-                f"phase shifter has {chip.phase_shifter_bits} bits"
+                isinstance(self.phase_shifter_bits, bool) or self.phase_shifter_bits != bits:
+            have = "has no phase shifter" if not bits else f"phase shifter has {bits} bits"
             raise ValueError(f"phase_shifter_bits={self.phase_shifter_bits!r}: the {chip.name} "
                              f"{have}")
-        if scheme.needs_phase_shifter and self.phase_shifter_bits is None:
+        if scheme.needs_phase_shifter and self.phase_shifter_bits == 0:
             raise ValueError(f"mimo={self.mimo!r} needs per-Tx phase shifters; the {chip.name} "
                              "has none")
         if self.phase_quantization not in PHASE_QUANTIZATIONS:
@@ -317,8 +388,13 @@ class RadarConfig:
                              f"{sorted(ANTENNA_PATTERNS)}")
 
         # MIMO schedule.
-        order = self._default_tx_order() if self.tx_order is None else \
-            tuple(int(t) for t in self.tx_order)
+        if self.tx_order is None:
+            order = scheme.default_tx_order(self.n_tx)
+            if order == MimoScheme.default_tx_order(scheme, self.n_tx):
+                # The R79 rule (horizontal Tx first, raised last) on this board's geometry.
+                order = self._geometry_tx_order()
+        else:
+            order = tuple(int(t) for t in self.tx_order)
         if sorted(order) != list(range(1, self.n_tx + 1)):
             raise ValueError(f"tx_order={order!r} must be a permutation of Tx 1..{self.n_tx}")
         _set("tx_order", order)
@@ -337,8 +413,60 @@ class RadarConfig:
                 raise ValueError(f"{name} must hold {self.n_tx} finite values (one per Tx), "
                                  f"got {val!r}")
             _set(name, val)
+        self._resolve_shifter_fields(_set)
 
-    def _default_tx_order(self) -> tuple[int, ...]:
+    def _resolve_shifter_fields(self, _set) -> None:
+        """Resolve and validate the shifter tables, the coupling and the calibration."""
+        n_codes = 2 ** self.phase_shifter_bits  # 1 (code 0) on a chip without shifters
+        _set("shifter_phase_error_deg", _shifter.resolve_table(
+            "shifter_phase_error_deg", self.shifter_phase_error_deg, self.n_tx, n_codes,
+            _shifter.MAX_SHIFTER_PHASE_ERROR_DEG))
+        _set("shifter_gain_error_db", _shifter.resolve_table(
+            "shifter_gain_error_db", self.shifter_gain_error_db, self.n_tx, n_codes,
+            _shifter.MAX_SHIFTER_GAIN_ERROR_DB))
+        eye = np.eye(self.n_tx, dtype=bool)
+        lvl = np.where(eye, 0.0, -np.inf) if self.tx_coupling_db is None else \
+            _shifter.check_table("tx_coupling_db", self.tx_coupling_db,
+                                 (self.n_tx, self.n_tx), np.inf, allow_neg_inf=True)
+        ph = np.zeros((self.n_tx, self.n_tx)) if self.tx_coupling_deg is None else \
+            _shifter.check_table("tx_coupling_deg", self.tx_coupling_deg,
+                                 (self.n_tx, self.n_tx), 360.0)
+        if np.any(lvl[eye] != 0) or np.any(ph[eye] != 0):
+            raise ValueError(f"tx_coupling_db / tx_coupling_deg diagonal must be 0 dB and "
+                             f"0 deg (channel gains are tx_gain_error_db), got "
+                             f"{lvl[eye].tolist()} dB, {ph[eye].tolist()} deg")
+        if np.any(lvl[~eye] > _shifter.MAX_TX_COUPLING_DB):
+            raise ValueError(f"tx_coupling_db off-diagonal level {lvl[~eye].max():g} dB "
+                             f"exceeds the limit {_shifter.MAX_TX_COUPLING_DB:g} dB")
+        _set("tx_coupling_db", tuple(tuple(float(v) for v in r) for r in lvl))
+        _set("tx_coupling_deg", tuple(tuple(float(v) for v in r) for r in ph))
+        cal = self.shifter_calibration_deg
+        if cal is None:
+            return
+        if self.phase_quantization == "none":
+            raise ValueError("shifter_calibration_deg is set but phase_quantization='none': "
+                             "an ideal shifter has no codes to choose; use 'floor' or 'round'")
+        if isinstance(cal, Mapping):
+            from .calibration import calibrate_shifters
+            kw = dict(cal)
+            seed = kw.pop("seed", 0)
+            if not isinstance(seed, (int, np.integer)) or seed < 0:
+                raise ValueError(f"shifter_calibration_deg: seed={seed!r} must be an "
+                                 "integer >= 0")
+            raw = {f.name: getattr(self, f.name) for f in dataclasses.fields(self)}
+            raw["shifter_calibration_deg"] = None
+            try:
+                res = calibrate_shifters(RadarConfig(**raw), rng=np.random.default_rng(seed),
+                                         full_output=True, **kw)
+            except TypeError as exc:
+                raise ValueError(f"shifter_calibration_deg: bad calibration spec "
+                                 f"{dict(cal)!r} ({exc})") from exc
+            cal = res.measured_phase_error_deg
+        _set("shifter_calibration_deg", _shifter.resolve_table(
+            "shifter_calibration_deg", cal, self.n_tx, n_codes,
+            _shifter.MAX_SHIFTER_PHASE_ERROR_DEG))
+
+    def _geometry_tx_order(self) -> tuple[int, ...]:
         # Tx on the lowest row first (in channel order), raised Tx last, as the R79 demo's
         # Tx1, Tx3, Tx4, Tx2 (seed 000 3.3) and TI's "elevation antennas last" DDM rule.
         z = [self.tx_positions_wl[c - 1][1] for c in self.tx_channels]
@@ -475,15 +603,13 @@ class RadarConfig:
         """(n_tx, n_subbands) int shifter codes over one code period (seed 000 table 4).
 
         `floor` reproduces table 4 (Tx3: 0, 53, 42, 32, 21, 10); `round` is the SDK's rule;
-        `none` returns the nearest code but `applied_phase_rad` then uses ideal phases."""
-        prog = self.programmed_phase_deg() / self.phase_lsb_deg
-        n_codes = 2 ** self.phase_shifter_bits
-        if self.phase_quantization == "floor":
-            # A tiny tolerance keeps exact multiples (e.g. 180/5.625 = 32) from flooring down.
-            codes = np.floor(prog + 1e-9)
-        else:
-            codes = np.round(prog)
-        return np.mod(codes, n_codes).astype(np.int64)
+        `none` returns the nearest code but `applied_phase_rad` then uses ideal phases. With a
+        `shifter_calibration_deg` table: the code whose measured phase is closest to the
+        programmed phase (`radarsim.shifter.select_codes`)."""
+        cal = self.shifter_calibration_deg
+        return _shifter.program_codes(self.programmed_phase_deg(), self.phase_lsb_deg,
+                                      2 ** self.phase_shifter_bits, self.phase_quantization,
+                                      None if cal is None else np.asarray(cal))
 
     def applied_phase_rad(self) -> np.ndarray:
         """(n_tx, n_subbands) phase actually imposed on each Tx's signal per chirp of one code
@@ -495,6 +621,21 @@ class RadarConfig:
         else:
             prog_deg = self.phase_codes() * self.phase_lsb_deg
         return -np.radians(prog_deg)
+
+    def shifter_phase_residual_deg(self) -> np.ndarray:
+        """(n_tx, P) phase the shifters really program over the first code period
+        (P = `scheme.chirps_per_period`) minus the ideal programmed phase, relative to each
+        Tx's code 0, deg: code-grid rounding plus the table error of the chosen code
+        (`radarsim.shifter.phase_residual_deg`); NaN where a Tx is silent. The ideal phase is
+        the scheme's code with an ideal shifter (`phase_quantization="none"`)."""
+        from .frontend import programmed_codes, wanted_phase_deg
+        p = self.scheme.chirps_per_period(self)
+        wanted, gain = wanted_phase_deg(self)
+        res = _shifter.phase_residual_deg(wanted[:, :p], programmed_codes(self)[:, :p],
+                                          np.asarray(self.shifter_phase_error_deg),
+                                          self.phase_lsb_deg)
+        gain = gain[:, :p]
+        return np.where(gain != 0, res, np.nan)
 
     # ------------------------------------------------------------------ derived: antenna
     @property
@@ -538,10 +679,14 @@ class RadarConfig:
 
     # ------------------------------------------------------------------ (de)serialisation
     def to_dict(self) -> dict[str, Any]:
-        """Plain dict of the fields (tuples as lists), suitable for TOML/JSON."""
+        """Plain dict of the fields (tuples as lists, tables as lists of lists), suitable for
+        TOML/JSON; a field that is None (no shifter calibration) is left out. Absent coupling
+        is -inf dB (TOML `-inf`)."""
         out = {}
         for f in dataclasses.fields(self):
             v = getattr(self, f.name)
+            if v is None:
+                continue
             out[f.name] = _as_lists(v)
         return out
 
@@ -559,14 +704,16 @@ class RadarConfig:
         """A copy with some fields changed (validated again); unknown fields raise ValueError.
 
         Fields that follow another are re-derived when it changes and they are not given:
-        `tx_order`, `n_subbands`, `tx_channels` and the per-Tx error tuples follow `n_tx`,
-        `rx_channels` follows `n_rx`, the board and its geometry and pattern follow `chip`."""
+        `tx_order`, `n_subbands`, `tx_channels`, the per-Tx error tuples and the shifter and
+        coupling tables follow `n_tx`; `tx_order` and `n_subbands` follow `mimo` (the new
+        scheme's defaults); `rx_channels` follows `n_rx`; the board and its geometry and
+        pattern follow `chip`."""
         names = {f.name for f in dataclasses.fields(self)}
         unknown = sorted(set(changes) - names)
         if unknown:
             raise ValueError(f"unknown RadarConfig field(s) {unknown}")
         data = {f.name: getattr(self, f.name) for f in dataclasses.fields(self)}
-        for key in ("chip", "board", "n_tx", "n_rx"):  # chip before board: board follows chip
+        for key in ("chip", "board", "n_tx", "n_rx", "mimo"):  # chip first: board follows it
             if key in changes and changes[key] != getattr(self, key):
                 for k in _DEPENDENT_FIELDS[key]:
                     data[k] = None

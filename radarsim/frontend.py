@@ -29,14 +29,17 @@ References
 from __future__ import annotations
 
 import warnings
+from functools import lru_cache
 
 import numpy as np
 
 from .antenna import element_gain_linear
 from .config import ADC_FULL_SCALE_CODE, C_MPS, RadarConfig
 from .scatterers import Scatterers
+from .shifter import apply_coupling, coupling_matrix, select_codes, shifter_factor
 
-__all__ = ["simulate_frame", "received_power_w", "if_filter_gain", "transmit_phasors",
+__all__ = ["simulate_frame", "simulate_frame_weights", "received_power_w", "if_filter_gain",
+           "transmit_phasors", "programmed_codes",
            "ADCSaturationWarning", "IF_LOWPASS_HZ", "IF_LOWPASS_ORDER"]
 
 #: -3 dB corner of the AWR2944's IF anti-alias low-pass, Hz: just above the 15 MHz usable IF
@@ -96,6 +99,60 @@ def _beat_frequency_hz(cfg: RadarConfig, scatterers: Scatterers) -> np.ndarray:
             - 2 * scatterers.radial_velocity_mps / cfg.wavelength_m)
 
 
+def wanted_phase_deg(cfg: RadarConfig) -> tuple[np.ndarray, np.ndarray]:
+    """Phase each Tx should be programmed to at each chirp with an ideal shifter, and its gain.
+
+    The scheme's code with `phase_quantization="none"` and no calibration: the shifter delays,
+    so the wanted programmed phase is -(applied phase) (+180 deg for a sign-inverted chirp,
+    e.g. BPM's -1 through the shifter's 180 deg setting), wrapped to [0, 360).
+
+    Returns
+    -------
+    wanted_deg : (n_tx, n_chirps) float
+    gain : (n_tx, n_chirps) float
+        The scheme's ideal gain (0 where a Tx is silent).
+    """
+    return _wanted_phase_deg(cfg.replace(phase_quantization="none",
+                                         shifter_calibration_deg=None))
+
+
+@lru_cache(maxsize=32)
+def _wanted_phase_deg(ideal_cfg: RadarConfig) -> tuple[np.ndarray, np.ndarray]:
+    code = ideal_cfg.scheme.transmit_code(ideal_cfg)
+    gain = np.asarray(code.gain, dtype=float)
+    wanted = np.mod(-np.degrees(np.asarray(code.phase_rad)) + np.where(gain < 0, 180.0, 0.0),
+                    360.0)
+    wanted.setflags(write=False)
+    gain.setflags(write=False)
+    return wanted, gain
+
+
+def programmed_codes(cfg: RadarConfig, code=None) -> np.ndarray:
+    """(n_tx, n_chirps) int shifter code of every Tx at every chirp, for any scheme.
+
+    Uncalibrated: the shifter delays, so the code for an applied phase phi (plus pi for a
+    sign-inverted chirp) is round(-phi / LSB) mod 2^bits: DDMA gets exactly
+    `cfg.phase_codes()` repeated over the frame (its applied phases are multiples of the LSB),
+    TDMA code 0, BPM codes 0/32, an ideal ("none") shifter the nearest code. Calibrated
+    (`shifter_calibration_deg`): the code whose measured phase is closest to the wanted phase
+    (`wanted_phase_deg`, `radarsim.shifter.select_codes`), for every scheme. Silent chirps
+    get the code of their wanted phase too (their weight is 0).
+
+    Parameters
+    ----------
+    cfg : RadarConfig
+    code : radarsim.mimo.TransmitCode, optional
+        The scheme's code (default `cfg.scheme.transmit_code(cfg)`), uncalibrated case only.
+    """
+    if cfg.shifter_calibration_deg is not None:
+        wanted, _ = wanted_phase_deg(cfg)
+        return select_codes(wanted, np.asarray(cfg.shifter_calibration_deg), cfg.phase_lsb_deg)
+    code = cfg.scheme.transmit_code(cfg) if code is None else code
+    phase = np.asarray(code.phase_rad) + np.where(np.asarray(code.gain) < 0, np.pi, 0.0)
+    lsb = np.radians(cfg.phase_lsb_deg)
+    return np.mod(np.round(-phase / lsb), 2 ** cfg.phase_shifter_bits).astype(np.int64)
+
+
 def transmit_phasors(cfg: RadarConfig, rng: np.random.Generator | None = None) -> np.ndarray:
     """Complex transmit weight of every Tx at every chirp.
 
@@ -103,6 +160,10 @@ def transmit_phasors(cfg: RadarConfig, rng: np.random.Generator | None = None) -
     applied, negated and quantised shifter phase of the code period repeated over the frame;
     TDMA each Tx active only in its slot; BPM the Hadamard signs), times the static per-Tx gain
     and phase errors, times exp(j e) with e a random per-chirp error of `phase_noise_deg_rms`.
+    Then, for every scheme, the shifter's per-code error at the programmed code
+    (`programmed_codes`; tables `shifter_phase_error_deg`, `shifter_gain_error_db`) and the Tx
+    coupling C @ w (`tx_coupling_db`, `tx_coupling_deg`); all-zero tables and the identity
+    coupling leave the weights bit-identical.
 
     Parameters
     ----------
@@ -116,18 +177,80 @@ def transmit_phasors(cfg: RadarConfig, rng: np.random.Generator | None = None) -
         Rows Tx1..Tx{n_tx}.
     """
     code = cfg.scheme.transmit_code(cfg)
-    phase = code.phase_rad + np.radians(np.asarray(cfg.tx_phase_error_deg))[:, None]
+    codes = programmed_codes(cfg, code)
+    if cfg.shifter_calibration_deg is None:
+        gain, phase = code.gain, code.phase_rad
+    else:
+        # The calibrated chip programs codes: nominal applied phase -q LSB, sign in the code.
+        gain, phase = np.abs(code.gain), -np.radians(codes * cfg.phase_lsb_deg)
+    phase = phase + np.radians(np.asarray(cfg.tx_phase_error_deg))[:, None]
     if cfg.phase_noise_deg_rms > 0:
         if rng is None:
             raise ValueError("rng is required when phase_noise_deg_rms > 0")
         phase = phase + np.radians(cfg.phase_noise_deg_rms) * rng.standard_normal(phase.shape)
     amp = 10 ** (np.asarray(cfg.tx_gain_error_db) / 20)
-    return code.gain * amp[:, None] * np.exp(1j * phase)
+    w = gain * amp[:, None] * np.exp(1j * phase)
+    return apply_transmit_errors(cfg, w, codes)
 
 
-def _chirp_times_s(cfg: RadarConfig) -> np.ndarray:
+def code_weights(cfg: RadarConfig, codes: np.ndarray, active: np.ndarray | None = None,
+                 rng: np.random.Generator | None = None) -> np.ndarray:
+    """Transmit weights of an explicit code sequence, with every error of the front end.
+
+    Parameters
+    ----------
+    cfg : RadarConfig
+        Error tables, static / per-chirp errors, coupling.
+    codes : (n_tx, n_c) int
+        Programmed code of each Tx at each chirp (applied phase -q LSB).
+    active : (n_tx, n_c) bool, optional
+        Which Tx transmit at each chirp (default: all).
+    rng : numpy.random.Generator, optional
+        Required when `cfg.phase_noise_deg_rms > 0`.
+
+    Returns
+    -------
+    (n_tx, n_c) complex128
+    """
+    codes = np.asarray(codes, dtype=np.int64)
+    phase = -np.radians(codes * cfg.phase_lsb_deg) + \
+        np.radians(np.asarray(cfg.tx_phase_error_deg))[:, None]
+    if cfg.phase_noise_deg_rms > 0:
+        if rng is None:
+            raise ValueError("rng is required when phase_noise_deg_rms > 0")
+        phase = phase + np.radians(cfg.phase_noise_deg_rms) * rng.standard_normal(phase.shape)
+    on = np.ones(codes.shape) if active is None else np.asarray(active, dtype=float)
+    w = on * 10 ** (np.asarray(cfg.tx_gain_error_db)[:, None] / 20) * np.exp(1j * phase)
+    return apply_transmit_errors(cfg, w, codes)
+
+
+def apply_transmit_errors(cfg: RadarConfig, weights: np.ndarray, codes: np.ndarray) -> np.ndarray:
+    """Shifter per-code errors and Tx coupling applied to transmit weights.
+
+    Parameters
+    ----------
+    cfg : RadarConfig
+        Holds the error tables and the coupling matrix.
+    weights : (n_tx, n_chirps) complex
+        Transmit weights with the ideal (quantised) shifter phase and the static / per-chirp
+        errors.
+    codes : (n_tx, n_chirps) int
+        Programmed shifter code of each Tx at each chirp.
+
+    Returns
+    -------
+    (n_tx, n_chirps) complex128
+        C @ (weights x 10^(g[k, q] / 20) exp(-j e[k, q])).
+    """
+    w = weights * shifter_factor(np.asarray(cfg.shifter_phase_error_deg),
+                                 np.asarray(cfg.shifter_gain_error_db), codes)
+    return apply_coupling(coupling_matrix(cfg.tx_coupling_db, cfg.tx_coupling_deg), w)
+
+
+def _chirp_times_s(cfg: RadarConfig, n_chirps: int | None = None) -> np.ndarray:
     """(n_chirps,) chirp start times relative to the middle of the burst, s."""
-    return (np.arange(cfg.n_chirps) - (cfg.n_chirps - 1) / 2) * cfg.chirp_period_s
+    n_c = cfg.n_chirps if n_chirps is None else n_chirps
+    return (np.arange(n_c) - (n_c - 1) / 2) * cfg.chirp_period_s
 
 
 def simulate_frame(cfg: RadarConfig, scatterers: Scatterers,
@@ -167,10 +290,32 @@ def simulate_frame(cfg: RadarConfig, scatterers: Scatterers,
                          f"{type(scatterers).__name__}")
     if not isinstance(rng, np.random.Generator):
         raise ValueError(f"rng must be a numpy.random.Generator, got {type(rng).__name__}")
+    return simulate_frame_weights(cfg, scatterers, rng, transmit_phasors(cfg, rng))
 
-    n_c, n_r, n_s = cfg.n_chirps, cfg.n_rx, cfg.n_samples
+
+def simulate_frame_weights(cfg: RadarConfig, scatterers: Scatterers, rng: np.random.Generator,
+                           tx_weights: np.ndarray) -> np.ndarray:
+    """`simulate_frame` with explicit transmit weights (any chirp count and code sequence).
+
+    Used by the shifter calibration and the seed-000 figure 7-8 experiment, which step one Tx
+    through codes no MIMO scheme programs.
+
+    Parameters
+    ----------
+    cfg, scatterers, rng
+        As `simulate_frame`.
+    tx_weights : (n_tx, n_c) complex
+        Radiated weight of each Tx at each of n_c chirps (e.g. `transmit_phasors`).
+
+    Returns
+    -------
+    adc : (n_c, n_rx, n_samples) int16, or complex64 for a complex ADC mode
+    """
+    tx_w = np.asarray(tx_weights)
+    if tx_w.ndim != 2 or tx_w.shape[0] != cfg.n_tx or tx_w.shape[1] < 1:
+        raise ValueError(f"tx_weights shape {tx_w.shape} must be (n_tx={cfg.n_tx}, n_chirps)")
+    n_c, n_r, n_s = tx_w.shape[1], cfg.n_rx, cfg.n_samples
     cplx = cfg.is_complex
-    tx_w = transmit_phasors(cfg, rng)  # (T, C)
     # Thermal noise first: the output buffer, to which the signal is added in place (complex:
     # I and Q interleaved along the last axis, each with the real channel's noise).
     out = _gaussian_noise(rng, (n_c * n_r, 2 * n_s if cplx else n_s), cfg.noise_rms_lsb)
@@ -259,7 +404,7 @@ def _signal(cfg: RadarConfig, sc: Scatterers, keep: np.ndarray, power_w: np.ndar
     -------
     (n_chirps x n_rx, n_samples) float32, or complex64 for a complex ADC mode
     """
-    n_c, n_r, n_s, n_t = cfg.n_chirps, cfg.n_rx, cfg.n_samples, cfg.n_tx
+    n_c, n_r, n_s, n_t = tx_w.shape[1], cfg.n_rx, cfg.n_samples, cfg.n_tx
     r0 = sc.range_m[keep]
     vr = sc.radial_velocity_mps[keep]
     u = sc.unit_vector[keep]
@@ -268,7 +413,7 @@ def _signal(cfg: RadarConfig, sc: Scatterers, keep: np.ndarray, power_w: np.ndar
     k_wave = 2 * np.pi / cfg.wavelength_m
     # Slow time: -(2 pi / lambda) x two-way path at each chirp, (C, K); phases reduced mod
     # 2 pi in float64 before the float32 cos/sin.
-    t_c = _chirp_times_s(cfg)
+    t_c = _chirp_times_s(cfg, n_c)
     ph = np.mod(-2 * k_wave * (r0[None, :] + t_c[:, None] * vr[None, :]), 2 * np.pi)
     ph = ph.astype(np.float32)
     slow = np.empty((n_c, 1, n_k), dtype=np.complex64)
@@ -313,4 +458,5 @@ def expected_sample_snr_db(cfg: RadarConfig, scatterers: Scatterers) -> np.ndarr
     return 10 * np.log10(received_power_w(cfg, scatterers) / cfg.noise_power_w)
 
 
-__all__ += ["saturation_fraction", "expected_sample_snr_db"]
+__all__ += ["saturation_fraction", "expected_sample_snr_db", "apply_transmit_errors",
+            "code_weights"]

@@ -19,6 +19,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from scenarios.checks import require
+
 __all__ = ["RayGridConfig", "RayHits", "ray_box_intersect", "box_windows", "cast_rays",
            "FACE_NORMALS_LOCAL"]
 
@@ -53,17 +55,11 @@ class RayGridConfig:
     elevation_max_deg: float = 20.0
 
     def __post_init__(self) -> None:
-        for name in ("azimuth_step_deg", "elevation_step_deg"):
-            v = getattr(self, name)
-            if not 0 < v <= 5:
-                raise ValueError(f"{name}={v!r} must be in (0, 5] deg")
+        require(self, ("azimuth_step_deg", "elevation_step_deg"), gt=0, le=5, unit="deg")
         if not 0 < self.azimuth_limit_deg <= 90:
             raise ValueError(f"azimuth_limit_deg={self.azimuth_limit_deg!r} must be in (0, 90] "
                              "deg")
-        for name in ("elevation_min_deg", "elevation_max_deg"):
-            v = getattr(self, name)
-            if not -60 <= v <= 60:
-                raise ValueError(f"{name}={v!r} must be within [-60, 60] deg")
+        require(self, ("elevation_min_deg", "elevation_max_deg"), ge=-60, le=60, unit="deg")
         if self.elevation_min_deg >= self.elevation_max_deg:
             raise ValueError(f"elevation_min_deg={self.elevation_min_deg!r} must be below "
                              f"elevation_max_deg={self.elevation_max_deg!r}")

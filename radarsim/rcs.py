@@ -57,6 +57,8 @@ from dataclasses import dataclass, field
 import numpy as np
 import pandas as pd
 
+from scenarios.checks import require
+
 from .raycast import RayGridConfig, cast_rays
 from .scatterers import Scatterers
 
@@ -107,13 +109,9 @@ class ClassRcs:
     plate_rcs_m2: float = 0.0
 
     def __post_init__(self) -> None:
-        for name in ("target_mean_rcs_m2", "specular_width_deg", "gain"):
-            if not getattr(self, name) > 0:
-                raise ValueError(f"{name}={getattr(self, name)!r} must be > 0")
-        for name in ("diffuse_m2_per_m2", "specular_m2_per_m2", "wheel_rcs_m2",
-                     "corner_rcs_m2", "plate_rcs_m2"):
-            if getattr(self, name) < 0:
-                raise ValueError(f"{name}={getattr(self, name)!r} must be >= 0")
+        require(self, ("target_mean_rcs_m2", "specular_width_deg", "gain"), gt=0)
+        require(self, ("diffuse_m2_per_m2", "specular_m2_per_m2", "wheel_rcs_m2",
+                       "corner_rcs_m2", "plate_rcs_m2"), ge=0)
 
 
 #: Class registry of the facet model. Gains fitted so the 30 m aspect-averaged means meet
@@ -211,11 +209,8 @@ class RcsConfig:
         if isinstance(self.ground_points, bool) or not isinstance(self.ground_points, int) \
                 or self.ground_points < 1:
             raise ValueError(f"ground_points={self.ground_points!r} must be an integer >= 1")
-        for name in ("max_range_m", "merge_range_m", "merge_azimuth_deg", "merge_elevation_deg",
-                     "ground_max_range_m"):
-            v = getattr(self, name)
-            if not v > 0:
-                raise ValueError(f"{name}={v!r} must be > 0")
+        require(self, ("max_range_m", "merge_range_m", "merge_azimuth_deg",
+                       "merge_elevation_deg", "ground_max_range_m"), gt=0)
         if self.centre_fluctuation_db < 0:
             raise ValueError(f"centre_fluctuation_db={self.centre_fluctuation_db!r} must be "
                              ">= 0")

@@ -917,53 +917,70 @@ def _frame_masks(st: _State) -> tuple[list[int], int]:
     return masks, pids.pop()
 
 
-def _schedule(st: _State, masks: list[int]) -> None:
+def _schedule(st: _State, masks: list[int]) -> dict:
     """MIMO scheme, Tx channels and order from the frame's chirp Tx masks.
 
-    DDMA: every chirp enables the same two or more Tx (chirps per loop = sub-bands); the order
-    is ``ddmPhaseShiftAntOrder``, or without it the R79 demo's (horizontal Tx first, raised
-    last: Tx1, Tx3, Tx4, Tx2 on the AWR2944 EVM). TDMA: one Tx per chirp, the loop a repetition
-    of one sequence in which each used Tx fires once (e.g. Tx1, Tx3, Tx1, Tx3)."""
+    The chip channels the chirps use become the logical Tx 1..n (`RadarConfig.tx_channels`);
+    the registered scheme that claims the logical pattern (`radarsim.mimo.MimoScheme.from_ti`)
+    gives mimo, sub-bands and order: DDMA when every chirp enables the same two or more Tx
+    (without ``ddmPhaseShiftAntOrder`` the R79 demo's order, horizontal Tx first), TDMA when
+    each chirp enables one Tx and the loop repeats a sequence in which each fires once."""
+    from .mimo import MIMO_SCHEMES
     fr, fln = st.frame, st.frame["line"]
-    per_loop = len(masks)
-    single = [m.bit_length() - 1 if m & (m - 1) == 0 else None for m in masks]
-    if len(set(masks)) == 1 and (bin(masks[0]).count("1") > 1 or st.ddm_order is not None):
-        chans = _bits(masks[0])
-        unused = sorted(set(_bits(st.tx_mask)) - set(chans))
-        if unused:
-            st.notes.append(f"Tx {unused} enabled by channelCfg but not by the chirps")
+    used = 0
+    for m in masks:
+        used |= m
+    chans = _bits(used)
+    unused = sorted(set(_bits(st.tx_mask)) - set(chans))
+    if unused:
+        st.notes.append(f"Tx {unused} enabled by channelCfg but not by the frame's chirps")
+    logical = tuple(sum(1 << chans.index(c) for c in _bits(m)) for m in masks)
+    n_tx = len(chans)
+    order = None if st.ddm_order is None else \
+        tuple(chans.index(t + 1) for t in st.ddm_order if t + 1 in chans)
+    claim = None
+    for scheme in MIMO_SCHEMES.values():
+        try:
+            claim = scheme.from_ti(logical, n_tx, (1 << n_tx) - 1, order)
+        except ValueError as exc:
+            raise fln.fail(str(exc)) from None
+        if claim is not None:
+            break
+    if claim is None:
+        pattern = " ".join(f"0b{m:04b}" for m in masks)
+        raise fln.fail(f"chirp Tx pattern [{pattern}] matches no MIMO scheme "
+                       f"({', '.join(MIMO_SCHEMES)}): DDMA needs the same {n_tx} Tx every chirp "
+                       f"and more than {n_tx} chirps per loop (classic DDMA exactly {n_tx}), "
+                       "TDMA one Tx per chirp in a repeated sequence in which each Tx fires once")
+    claim = dict(claim)
+    tx_order = claim.pop("tx_order", None)
+    st.set(fln, **claim, n_tx=n_tx, tx_channels=chans, n_chirps=len(masks) * fr["loops"])
+    if "n_subbands" in claim:
         if st.ddm_order is None:
             st.notes.append("no ddmPhaseShiftAntOrder: the R79 demo's default order "
                             "(horizontal Tx first, elevation Tx last)")
-            order = None
-        else:
-            order = tuple(chans.index(t + 1) + 1 for t in st.ddm_order if t + 1 in chans)
-            st.field_lines["tx_order"] = st.seen["ddmPhaseShiftAntOrder"]
-        st.set(fln, mimo="ddma", n_tx=len(chans), tx_channels=chans, n_subbands=per_loop,
-               n_chirps=per_loop * fr["loops"])
-        if order is not None:
-            st.fields["tx_order"] = order
-        return
-    if None not in single:
-        seq = [t + 1 for t in single]
-        chans = tuple(sorted(set(seq)))
-        period = len(chans)
-        first = seq[:period]
-        if len(set(first)) == period and per_loop % period == 0 and \
-                all(seq[i] == first[i % period] for i in range(per_loop)):
-            if st.ddm_order is not None:
-                st.ignored.append((st.seen["ddmPhaseShiftAntOrder"].no, "ddmPhaseShiftAntOrder"))
-            unused = sorted(set(_bits(st.tx_mask)) - set(chans))
-            if unused:
-                st.notes.append(f"Tx {unused} enabled by channelCfg but not by the chirps")
-            st.set(fln, mimo="tdma", n_tx=period, tx_channels=chans,
-                   n_chirps=per_loop * fr["loops"],
-                   tx_order=tuple(chans.index(t) + 1 for t in first))
-            return
-    pattern = " ".join(f"0b{m:04b}" for m in masks)
-    raise fln.fail(f"chirp Tx pattern [{pattern}] is neither DDMA (the same two or more Tx "
-                   "every chirp) nor TDMA (one Tx per chirp, a repeated sequence in which each "
-                   "Tx fires once)")
+    elif st.ddm_order is not None:
+        st.ignored.append((st.seen["ddmPhaseShiftAntOrder"].no, "ddmPhaseShiftAntOrder"))
+    if tx_order is not None:
+        ln = st.seen["ddmPhaseShiftAntOrder"] if "n_subbands" in claim else fln
+        st.set(ln, tx_order=tx_order)
+    return claim
+
+
+def _to_channel_bits(line: str, radar: RadarConfig) -> str:
+    """A scheme's TI line over logical Tx 1..n_tx (`MimoScheme.to_ti`) on the config's chip
+    channels: ``chirpCfg`` txEnable masks and the ``ddmPhaseShiftAntOrder`` list (all chip Tx,
+    the active ones first, as TI requires)."""
+    cmd, *args = line.split()
+    chans = radar.tx_channels
+    if cmd == "chirpCfg":
+        mask = int(args[7])
+        args[7] = str(sum(1 << (chans[k] - 1) for k in range(radar.n_tx) if mask >> k & 1))
+    elif cmd == "ddmPhaseShiftAntOrder":
+        order = [chans[int(t)] - 1 for t in args if int(t) < radar.n_tx]
+        order += [t for t in range(radar.chip_spec.n_tx) if t not in order]
+        args = [str(t) for t in order]
+    return " ".join([cmd, *args])
 
 
 def _finish(st: _State, n_lines: int) -> TiProfile:
@@ -999,8 +1016,8 @@ def _finish(st: _State, n_lines: int) -> TiProfile:
         raise aln.fail(f"adcOutputFmt={int(st.adcbuf['real'])} "
                        f"({'real' if st.adcbuf['real'] else 'complex'}) contradicts adcCfg's "
                        f"{'complex' if st.adc_complex else 'real'} output")
-    _schedule(st, masks)
-    if "n_subbands" in st.directives and st.fields["mimo"] == "ddma":
+    claim = _schedule(st, masks)
+    if "n_subbands" in st.directives and "n_subbands" in claim:
         raise st.directive_lines["n_subbands"].fail(
             "n_subbands is set by chirpCfg/frameCfg (chirps per loop) for DDMA")
 
@@ -1121,7 +1138,10 @@ def to_ti_cfg(cfg: RadarConfig | TiProfile, *, frame_period_s: float | None = No
     cfars = list(cfar.values()) if isinstance(cfar, Mapping) else list(cfar)
 
     chip = radar.chip_spec
-    per_loop = radar.n_subbands if radar.mimo == "ddma" else radar.n_tx
+    # The scheme's loop over the logical Tx 1..n_tx (radarsim.mimo), mapped onto the chip
+    # channels `tx_channels` below.
+    ti_frame = radar.scheme.to_ti(radar, radar.n_tx)
+    per_loop = ti_frame.chirps_per_loop
     loops = radar.n_chirps // per_loop
     if loops > chip.max_loops:
         raise ValueError(f"n_chirps={radar.n_chirps}: {loops} loops of {per_loop} chirps "
@@ -1163,18 +1183,11 @@ def to_ti_cfg(cfg: RadarConfig | TiProfile, *, frame_period_s: float | None = No
         f"{_fmt_decimal(radar.slope_hz_per_s, 12)} 0 {radar.n_samples} "
         f"{_fmt_decimal(radar.adc_rate_sps, 3)} 0 0 42",
     ]
-    if radar.mimo == "ddma":
-        out.append(f"chirpCfg 0 {per_loop - 1} 0 0 0 0 0 {tx_mask}")
-    else:
-        out += [f"chirpCfg {i} {i} 0 0 0 0 0 {tx_bits[t - 1]}"
-                for i, t in enumerate(radar.tx_order)]
+    out += [_to_channel_bits(line, radar) for line in ti_frame.chirp_lines]
     out.append(f"frameCfg 0 {per_loop - 1} {loops} {n_frames} "
                + (f"{words} " if mcu_plus else "")
                + f"{_fmt_decimal(frame_period_s, -3)} 1 0")
-    if radar.mimo == "ddma":
-        order = [radar.tx_channels[t - 1] - 1 for t in radar.tx_order]
-        order += [t for t in range(chip.n_tx) if t not in order]
-        out.append("ddmPhaseShiftAntOrder " + " ".join(map(str, order)))
+    out += [_to_channel_bits(line, radar) for line in ti_frame.extra_lines]
     geometry = _ant_geometry_line(radar)
     if geometry is not None and mcu_plus:
         out.append(geometry)

@@ -40,15 +40,27 @@ def _is_kind(value, kind: str) -> bool:
     return kind == "str" and isinstance(value, str)
 
 
-def _bounds_text(gt, ge, lt, le, unit: str) -> str:
-    if (gt is not None or ge is not None) and (lt is not None or le is not None):
-        lo, hi = (f"({gt:g}" if gt is not None else f"[{ge:g}",
-                  f"{lt:g})" if lt is not None else f"{le:g}]")
-        text = f" in {lo}, {hi}"
-    else:
-        text = "".join(f" {op} {v:g}" for op, v in ((">", gt), (">=", ge), ("<", lt),
-                                                     ("<=", le)) if v is not None)
-    return text + (f" {unit}" if unit else "")
+def _requirement(kind: str, finite: bool, gt, ge, lt, le, unit: str) -> str:
+    """What a value must be, e.g. "a finite positive number", "in (0, 5] deg", "an integer in
+    1..4", ">= 0" (`finite`: the value is a finite number) or "finite and >= 0" (it is not)."""
+    unit = f" {unit}" if unit else ""
+    low = f"({gt:g}" if gt is not None else f"[{ge:g}" if ge is not None else None
+    high = f"{lt:g})" if lt is not None else f"{le:g}]" if le is not None else None
+    ops = " and ".join(f"{op} {v:g}" for op, v in ((">", gt), (">=", ge), ("<", lt),
+                                                    ("<=", le)) if v is not None)
+    if kind == "integer":
+        if ge is not None and le is not None and gt is None and lt is None:
+            return f"an integer in {ge}..{le}{unit}"
+        return f"an integer {f'in {low}, {high}' if low and high else ops}{unit}".rstrip()
+    if kind != "number":
+        return _KINDS[kind]
+    if gt == 0 and ge is None and lt is None and le is None:
+        return f"a finite positive number{unit}"
+    if low and high:
+        return f"in {low}, {high}{unit}"
+    if not finite:
+        return f"finite and {ops}{unit}" if ops else "finite"
+    return f"{ops}{unit}"
 
 
 def require(obj, names: str | Iterable[str], kind: str = "number", *, gt=None, ge=None,
@@ -76,7 +88,8 @@ def require(obj, names: str | Iterable[str], kind: str = "number", *, gt=None, g
     Raises
     ------
     ValueError
-        ``{where}{name}={value!r} must be {a finite number > 0 | an integer in [1, 4] | ...}``.
+        ``{where}{name}={value!r} must be {a finite positive number | an integer in 1..4 |
+        in (0, 5] deg | >= 0 | finite and >= 0 | finite | true or false}``.
     """
     if kind not in _KINDS:
         raise ValueError(f"kind={kind!r} is not one of {sorted(_KINDS)}")
@@ -88,10 +101,7 @@ def require(obj, names: str | Iterable[str], kind: str = "number", *, gt=None, g
             (gt is None or value > gt) and (ge is None or value >= ge)
             and (lt is None or value < lt) and (le is None or value <= le))
         if not ok:
-            bounds = _bounds_text(gt, ge, lt, le, unit)
-            # a number within a closed or open interval is finite by itself: "in (0, 120] s"
-            what = (bounds.lstrip() if kind == "number" and bounds.startswith(" in ")
-                    else _KINDS[kind] + bounds)
+            what = _requirement(kind, _is_kind(value, "number"), gt, ge, lt, le, unit)
             raise ValueError(f"{where}{name}={value!r} must be {what}"
                              + (" or None" if none_ok else ""))
 
@@ -126,10 +136,16 @@ def read_toml(path: str | Path) -> dict:
     FileNotFoundError
         The file does not exist.
     ValueError
-        ``{path}: malformed TOML: {parser message}``.
+        ``{path}: malformed TOML: {parser message}``; a directory or a file that is not UTF-8
+        text.
     """
     p = Path(path)
-    text = p.read_text(encoding="utf-8")
+    if p.is_dir():
+        raise ValueError(f"{p}: is a directory, not a TOML file")
+    try:
+        text = p.read_text(encoding="utf-8")
+    except UnicodeDecodeError:
+        raise ValueError(f"{p}: not a UTF-8 text file (TOML is text)") from None
     try:
         return tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:

@@ -11,7 +11,7 @@ import radarsim
 def make_config():
     """make_config(mimo="ddma", **overrides) -> RadarConfig based on the R79 preset."""
     def _make(mimo: str = "ddma", **overrides) -> radarsim.RadarConfig:
-        return radarsim.presets.PRESETS[f"r79_{mimo}"](**overrides)
+        return radarsim.presets.r79(mimo, **overrides)
     return _make
 
 

@@ -19,7 +19,7 @@ import pandas as pd
 
 from radarsim.config import RadarConfig
 
-from ..cfar import noise_mean_factor
+from ..cfar import CFAR_MODES, noise_mean_factor
 from ..config import WINDOWS, ProcessingConfig
 from ..kernels import (array_layout, candidate_cfar, ddma_metric, doppler_fft, estimate_angles,
                        local_max_mask, parabolic_offset, range_fft, window)
@@ -122,13 +122,8 @@ def coherent_detections(power: np.ndarray, proc: ProcessingConfig):
     CFAR noise estimate (order statistic) and the peak power, each (n,)."""
     cf = proc.cfar
     alpha = cf.scale(looks=1)
-    if cf.mode == "os":
-        # Exact necessary condition: the k-th smallest of a subset of the Doppler column is
-        # >= the k-th smallest of the whole column, so alpha x that bounds the threshold.
-        col_k = np.partition(power, cf.os_rank - 1, axis=2)[:, :, cf.os_rank - 1: cf.os_rank]
-        pre = power > alpha * col_k
-    else:
-        pre = np.ones(power.shape, dtype=bool)
+    # A cheap necessary condition of the mode (OS: the whole column's k-th value) skips cells.
+    pre = CFAR_MODES[cf.mode].candidate_mask(power, 2, alpha, cf.os_rank)
     pre[:, : proc.min_range_bin] = False
     # Figure 19: 4-neighbour maximum in (azimuth, Doppler), optionally also along range.
     local_max_mask(power, {0: True, 1: False, 2: True} if proc.range_peak_check

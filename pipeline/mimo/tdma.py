@@ -62,12 +62,12 @@ def slot_maps(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) -> Slot
 class SlotChain(MimoChain):
     """Chain of the schemes that cycle through n_tx chirps per code period (TDMA, BPM).
 
-    Subclasses set `separate` (slot samples -> virtual channels) and `noise_gain` (noise power
-    of a separated channel over that of a slot channel).
+    Subclasses override `separate` (slot samples -> virtual channels) and `noise_gain_of`.
     """
 
-    #: Noise power of a separated virtual channel over that of one slot channel.
-    noise_gain: float = 1.0
+    def noise_gain_of(self, cfg: RadarConfig) -> float:
+        """Noise power of a separated virtual channel over that of one slot channel."""
+        return 1.0
 
     def disambiguate(self, proc: ProcessingConfig) -> bool:
         """Whether to test velocity hypotheses beyond +/-Vmax."""
@@ -140,8 +140,9 @@ class SlotChain(MimoChain):
         # Noise per virtual channel from the L-look CFAR estimate; the coherent azimuth
         # spectrum of n_h unit-weight channels has n_h times that noise power.
         sigma2 = noise / (noise_mean_factor(cf.mode, cf.n_training, cf.os_rank, looks) * looks)
-        if self.noise_gain != 1.0:
-            sigma2 = sigma2 * self.noise_gain
+        noise_gain = self.noise_gain_of(cfg)
+        if noise_gain != 1.0:
+            sigma2 = sigma2 * noise_gain
         snr_db = 10 * np.log10(peak / (h_idx.size * sigma2))
         d_true = np.rint(-2 * velocity / cfg.wavelength_m * n_dop * t_slot).astype(int)
         return point_cloud(cfg, proc, range_pos, velocity, az, el, snr_db,

@@ -93,3 +93,13 @@ def fake_make_processing(overrides: dict):
 FAKE = Components(run_scenario=fake_run_scenario, scene_scatterers=fake_scene_scatterers,
                   simulate_frame=fake_simulate_frame, process_frame=fake_process_frame,
                   make_processing=fake_make_processing)
+
+
+def failing_run_scenario(name: str, seed: int, duration_s=None):
+    """A scenario runner that always fails (a duplicate execution that crashes)."""
+    raise RuntimeError(f"duplicate execution of {name} failed")
+
+
+FAILING = Components(run_scenario=failing_run_scenario, scene_scatterers=fake_scene_scatterers,
+                     simulate_frame=fake_simulate_frame, process_frame=fake_process_frame,
+                     make_processing=fake_make_processing)

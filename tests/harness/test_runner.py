@@ -35,6 +35,20 @@ def test_cell_tables_and_scheme_rows():
                                        "n_clutter"]].sum(axis=1)).all()
 
 
+def test_velocity_resolution_failures_counted_per_scheme():
+    """30 m/s against TDMA's 10.2 m/s: raw TDMA reports every car detection off by 2 Vmax
+    (its failure step), the disambiguated schemes none; detections carry the flag."""
+    res = run_cell(CellSpec(scenario="fast", seed=0, duration_s=1.0), FAKE)
+    s = res.tables["summary"].set_index("scheme")
+    assert s.loc["tdma_raw", "n_velocity_resolution_failures"] == 20
+    assert s.loc["tdma_raw", "velocity_resolution_failure_rate"] == 1.0
+    assert s.loc["ddma", "n_velocity_resolution_failures"] == 0
+    assert s.loc["tdma", "velocity_resolution_failure_rate"] == 0.0
+    det = res.tables["detections"]
+    assert det["velocity_resolution_failure"].dtype == bool
+    assert det.groupby("scheme")["velocity_resolution_failure"].sum()["tdma_raw"] == 20
+
+
 def test_frame_stride():
     res = run_cell(CellSpec(scenario="slow", seed=0, duration_s=1.0, frame_stride=4), FAKE)
     assert sorted(res.tables["frames"]["frame"].unique()) == [0, 4, 8, 12, 16]

@@ -15,9 +15,10 @@ from tests.harness.fakes import FAKE
 
 @pytest.fixture
 def x18_profile(tmp_path):
-    """An xWR18xx TDMA complex profile (3 Tx, 48 chirps), written next to the sweep file."""
+    """An xWR18xx TDMA complex profile (3 Tx, 384 chirps: 128 Doppler bins as TDMA, 96 as
+    DDMA, room for the default CFAR window), written next to the sweep file."""
     cfg = radarsim.RadarConfig(chip="AWR1843", adc_mode="complex1x", mimo="tdma", n_tx=3,
-                               n_chirps=48, n_samples=64, adc_rate_sps=10e6)
+                               n_chirps=384, n_samples=64, adc_rate_sps=10e6)
     (tmp_path / "profiles").mkdir()
     path = tmp_path / "profiles" / "x18.cfg"
     path.write_text(to_ti_cfg(cfg, frame_period_s=0.1))

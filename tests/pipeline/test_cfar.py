@@ -3,8 +3,8 @@ import numpy as np
 import pytest
 from scipy import ndimage
 
-from pipeline.cfar import (cfar_map, cfar_scale, noise_estimate, noise_mean_factor,
-                           pfa_numeric, pfa_of_scale, rohling_os_pfa)
+from pipeline.cfar import (CFAR_MODES, cfar_map, cfar_scale, noise_estimate,
+                           noise_mean_factor, pfa_numeric, pfa_of_scale, rohling_os_pfa)
 from pipeline.kernels import candidate_cfar, local_max_mask
 
 
@@ -38,8 +38,8 @@ def test_os_noise_mean_factor_is_harmonic_sum():
     assert noise_mean_factor("ca", 24) == pytest.approx(1.0, rel=1e-6)
 
 
-@pytest.mark.parametrize("mode, looks", [("os", 1), ("ca", 1), ("cago", 1), ("caso", 1),
-                                         ("os", 16), ("ca", 8)])
+@pytest.mark.parametrize("looks", [1, 8])
+@pytest.mark.parametrize("mode", list(CFAR_MODES))
 def test_design_pfa_matches_monte_carlo(mode, looks):
     """Draw homogeneous L-look noise, apply alpha(Pfa=1e-3): the false-alarm fraction is
     binomial around 1e-3 (3.5 sigma bound)."""
@@ -55,7 +55,7 @@ def test_design_pfa_matches_monte_carlo(mode, looks):
 
 
 @pytest.mark.parametrize("stride", [1, 2, 3])
-@pytest.mark.parametrize("mode", ["os", "ca", "cago", "caso"])
+@pytest.mark.parametrize("mode", list(CFAR_MODES))
 def test_candidate_cfar_equals_full_map(mode, stride):
     rng = np.random.default_rng(1)
     power = rng.exponential(size=(5, 7, 64)).astype(np.float32)
@@ -66,7 +66,7 @@ def test_candidate_cfar_equals_full_map(mode, stride):
     np.testing.assert_allclose(sparse, full[cand], rtol=1e-5)
 
 
-@pytest.mark.parametrize("mode", ["os", "ca"])
+@pytest.mark.parametrize("mode", list(CFAR_MODES))
 def test_candidate_cfar_window_longer_than_axis(mode):
     """A short Doppler axis (small test profiles) wraps the window several times, like
     scipy.ndimage's wrap mode."""
@@ -107,5 +107,27 @@ def test_cfar_scale_rejects_bad_pfa():
 
 
 def test_unknown_mode_rejected():
-    with pytest.raises(ValueError, match="mode"):
+    with pytest.raises(ValueError, match=r"mode='median' is not one of \['ca', 'cago'"):
         noise_estimate(np.ones((1, 4)), 2, "median", 1)
+
+
+@pytest.mark.parametrize("mode", list(CFAR_MODES))
+def test_candidate_mask_is_a_necessary_condition(mode):
+    """A mode's candidate pre-filter never drops a cell its full-map test detects."""
+    rng = np.random.default_rng(5)
+    power = rng.exponential(size=(4, 6, 64))
+    power[1, 2, 10] = 300.0
+    alpha = cfar_scale(1e-3, mode, 24, 18)
+    hit = power > alpha * cfar_map(power, 2, 2, 12, mode, 18, 2)
+    pre = CFAR_MODES[mode].candidate_mask(power, 2, alpha, 18)
+    assert pre.shape == power.shape and hit[1, 2, 10]
+    assert not np.any(hit & ~pre)
+
+
+def test_ti_average_mode_codes_match_the_profile_parser():
+    """seed 003 averageMode: 0 CA, 1 CAGO, 2 CASO, 3 OS; the .cfg reader maps the same codes."""
+    from radarsim.ti_cfg import CFAR_AVERAGE_MODES
+
+    assert {m.ti_code: name for name, m in CFAR_MODES.items()} == CFAR_AVERAGE_MODES
+    for name, m in CFAR_MODES.items():
+        assert m.name == name and m.description

@@ -19,10 +19,14 @@ SCHEMES = {  # id -> (preset, ProcessingConfig overrides, |v| limit m/s)
     "tdma": ("tdma", {}, 40.0),
     "tdma_raw": ("tdma", {"tdma_disambiguation": False}, 10.0),
 }
+#: Every registered scheme (tests parametrised over the registry).
+REGISTRY = sorted(radarsim.MIMO_SCHEMES)
 
 
 def coherent_gain_db(cfg):
-    chirps_per_tx = cfg.n_chirps if cfg.mimo == "ddma" else cfg.n_chirps // cfg.n_tx
+    # Chirps whose energy each Tx contributes, from the scheme's transmit code: DDMA and BPM
+    # every chirp, TDMA one chirp in n_tx.
+    chirps_per_tx = float(np.sum(cfg.scheme.transmit_code(cfg).gain[0] ** 2))
     return (10 * np.log10(cfg.n_samples / 2) + 10 * np.log10(chirps_per_tx)
             + 10 * np.log10(12) - 2 * HANN_LOSS_DB)
 
@@ -254,7 +258,7 @@ def test_training_stride_restores_design_pfa_on_hann_spectra(make_config):
     assert 0.8e-3 < rates[2] < 1.25e-3
 
 
-@pytest.mark.parametrize("preset", ["ddma", "tdma"])
+@pytest.mark.parametrize("preset", REGISTRY)
 def test_noise_only_point_cloud_bounded_by_design(preset, make_config):
     """End to end, local-maximum selection can only remove CFAR exceedances: false detections
     per frame stay below Pfa x cells (DDMA: 1e-6 x 1.18e6 = 1.2; TDMA: 1e-6 x 3.7e4)."""
@@ -267,7 +271,7 @@ def test_noise_only_point_cloud_bounded_by_design(preset, make_config):
     assert np.mean(n) <= 1.5 * max(1.0, 1e-6 * power.size)
 
 
-@pytest.mark.parametrize("preset", ["ddma", "tdma"])
+@pytest.mark.parametrize("preset", REGISTRY)
 def test_point_cloud_columns_and_geometry(preset, make_config, make_scene):
     cfg = make_config(preset)
     sc = scene_at_snr(cfg, make_scene, [[40, 20, 5, -5, 30]])
@@ -308,7 +312,7 @@ def test_config_that_does_not_match_frame_rejected(make_config):
         pipeline.process_frame(make_config("ddma"), frame, proc={"cfar": "os"})
 
 
-@pytest.mark.parametrize("preset", ["ddma", "tdma"])
+@pytest.mark.parametrize("preset", REGISTRY)
 def test_doppler_azimuth_map_peaks_at_target(preset, make_config, make_scene):
     """The plotted map puts a target at its (unwrapped for DDMA) velocity and sin(az)."""
     cfg = make_config(preset, antenna_pattern="isotropic")
@@ -323,7 +327,7 @@ def test_doppler_azimuth_map_peaks_at_target(preset, make_config, make_scene):
         pipeline.doppler_azimuth_map(cfg, adc, cfg.n_range_bins)
 
 
-@pytest.mark.parametrize("preset", ["ddma", "tdma"])
+@pytest.mark.parametrize("preset", REGISTRY)
 @pytest.mark.parametrize("mode", ["os", "ca", "cago", "caso"])
 def test_every_cfar_mode_detects_a_target(mode, preset, make_config, make_scene):
     """Each CFAR mode of seed 003, with its Pfa-derived threshold, finds a 25 dB target and

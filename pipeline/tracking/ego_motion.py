@@ -21,19 +21,43 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 
+from scenarios.checks import one_of, require
+
 __all__ = [
-    "EgoMotionConfig", "EgoMotionEstimate", "EGO_MODELS", "estimate_ego_motion",
-    "ground_radial_velocity", "static_mask",
+    "EgoModel", "EgoMotionConfig", "EgoMotionEstimate", "EGO_MODELS", "estimate_ego_motion",
+    "ground_radial_velocity", "static_mask", "EgoVelocity", "EgoFrame", "RansacEgoMotion",
 ]
 
+
+@dataclass(frozen=True, kw_only=True, slots=True)
+class EgoModel:
+    """A model of the radar's velocity over ground seen in the static world's radial velocity.
+
+    Parameters
+    ----------
+    name : str
+    description : str
+    lateral : bool
+        Whether v_y is fitted (planar) or fixed at 0 (longitudinal).
+    """
+
+    name: str
+    description: str
+    lateral: bool
+
+
 #: Ego-motion models by the name used in `EgoMotionConfig.model`.
-EGO_MODELS = {
-    "longitudinal": "v_r = -v_x cos(theta): the radar moves along the vehicle's x axis",
-    "planar": "v_r = -(v_x cos(theta) + v_y sin(theta)): also lateral motion (Kellner 2013)",
-}
+EGO_MODELS: dict[str, EgoModel] = {m.name: m for m in (
+    EgoModel(name="longitudinal", lateral=False,
+             description="v_r = -v_x cos(theta): the radar moves along the vehicle's x axis"),
+    EgoModel(name="planar", lateral=True,
+             description="v_r = -(v_x cos(theta) + v_y sin(theta)): also lateral motion "
+                         "(Kellner 2013)"),
+)}
 
 
 @dataclass(frozen=True, kw_only=True, slots=True)
@@ -90,25 +114,12 @@ class EgoMotionConfig:
     max_lateral_ratio: float = 0.15
 
     def __post_init__(self) -> None:
-        if self.model not in EGO_MODELS:
-            raise ValueError(f"model={self.model!r} is not one of {sorted(EGO_MODELS)}")
-        for name in ("n_hypotheses", "min_inliers"):
-            val = getattr(self, name)
-            if not isinstance(val, (int, np.integer)) or val < 1:
-                raise ValueError(f"{name}={val!r} must be an integer >= 1")
-        for name in ("inlier_threshold_mps", "max_speed_mps"):
-            val = getattr(self, name)
-            if not (math.isfinite(val) and val > 0):
-                raise ValueError(f"{name}={val!r} must be a finite number > 0")
-        for name in ("azimuth_std_deg", "n_sigma", "max_lateral_ratio"):
-            val = getattr(self, name)
-            if not (math.isfinite(val) and val >= 0):
-                raise ValueError(f"{name}={val!r} must be a finite number >= 0")
-        if not 0 <= self.min_abs_cos < 1:
-            raise ValueError(f"min_abs_cos={self.min_abs_cos!r} must be in [0, 1)")
-        if not 0 <= self.min_inlier_fraction <= 1:
-            raise ValueError(f"min_inlier_fraction={self.min_inlier_fraction!r} must be in "
-                             "[0, 1]")
+        one_of("model", self.model, EGO_MODELS)
+        require(self, ("n_hypotheses", "min_inliers"), "integer", ge=1)
+        require(self, ("inlier_threshold_mps", "max_speed_mps"), gt=0)
+        require(self, ("azimuth_std_deg", "n_sigma", "max_lateral_ratio"), ge=0)
+        require(self, "min_abs_cos", ge=0, lt=1)
+        require(self, "min_inlier_fraction", ge=0, le=1)
 
 
 @dataclass(frozen=True, slots=True)
@@ -252,10 +263,10 @@ def estimate_ego_motion(azimuth_deg, radial_velocity_mps, rng: np.random.Generat
     sig_az = math.radians(cfg.azimuth_std_deg)
     # Free parameters: design columns (N, k) and target y = v_r + fixed part, y = -A p.
     if ego_speed_mps is None:
-        cols = (c, s) if cfg.model == "planar" else (c,)
+        cols = (c, s) if EGO_MODELS[cfg.model].lateral else (c,)
         y = vr
     else:
-        cols = (s,) if cfg.model == "planar" else ()
+        cols = (s,) if EGO_MODELS[cfg.model].lateral else ()
         y = vr + ego_speed_mps * c
     design = np.column_stack(cols) if cols else np.zeros((n, 0))
     k = design.shape[1]
@@ -320,3 +331,93 @@ def estimate_ego_motion(azimuth_deg, radial_velocity_mps, rng: np.random.Generat
     if n_in < need:
         return invalid
     return EgoMotionEstimate(float(v[0]), float(v[1]), inl, n_in, True)
+
+
+class EgoVelocity(NamedTuple):
+    """Radar velocity over ground in the vehicle frame, m/s."""
+
+    vx_mps: float
+    vy_mps: float
+
+
+class EgoFrame(NamedTuple):
+    """What the tracker knows of the ego in one frame.
+
+    Attributes
+    ----------
+    static : (N,) bool
+        Points labelled static (all False when the velocity is unknown).
+    velocity : EgoVelocity or None
+        Radar velocity over ground used this frame (None: unknown).
+    """
+
+    static: np.ndarray
+    velocity: EgoVelocity | None
+
+
+@dataclass(frozen=True, kw_only=True, slots=True)
+class RansacEgoMotion:
+    """Tracker part: the radar's velocity over ground and the static labels of one frame.
+
+    A given ego speed is the speed over ground (vehicle bus). With a lateral ego model the
+    frame's RANSAC estimate (v_x, v_y) is used when it agrees with that speed
+    (|hypot(v_x, v_y) - speed| <= 0.5 m/s + 5 %): in a lane change the velocity is not along
+    the vehicle's x axis, and taking the bus speed as v_x mislabels the static world seen to
+    the side. Otherwise (v_x, v_y) = (speed, 0). Without a speed both are estimated; the
+    previous frame's velocity is kept when RANSAC fails. Points are labelled with the same
+    rule (`static_mask`) whichever the source.
+
+    Parameters
+    ----------
+    config : EgoMotionConfig
+    mount_yaw_deg : float
+        Radar boresight yaw in the vehicle frame, deg.
+    static_threshold_mps, azimuth_std_deg : float
+        `static_mask` settings.
+    """
+
+    config: EgoMotionConfig
+    mount_yaw_deg: float
+    static_threshold_mps: float
+    azimuth_std_deg: float
+
+    def __call__(self, azimuth_deg: np.ndarray, radial_velocity_mps: np.ndarray,
+                 ego_speed_mps: float | None, previous: EgoVelocity | None,
+                 rng: np.random.Generator) -> EgoFrame:
+        """Static labels and radar velocity of a frame.
+
+        Parameters
+        ----------
+        azimuth_deg, radial_velocity_mps : (N,) float
+            The frame's points (radar frame).
+        ego_speed_mps : float or None
+            Ego speed over ground along +x (vehicle bus), m/s; None: estimate it.
+        previous : EgoVelocity or None
+            The velocity used in the previous frame (kept when the estimate fails).
+        rng : numpy.random.Generator
+            RANSAC samples.
+        """
+        cfg = self.config
+        velocity = previous
+        if ego_speed_mps is not None:
+            if not math.isfinite(ego_speed_mps):
+                raise ValueError(f"ego_speed_mps={ego_speed_mps!r} must be finite or None")
+            speed = float(ego_speed_mps)
+            velocity = EgoVelocity(speed, 0.0)
+            if EGO_MODELS[cfg.model].lateral:
+                est = estimate_ego_motion(azimuth_deg, radial_velocity_mps, rng,
+                                          self.mount_yaw_deg, cfg)
+                if est.valid and abs(math.hypot(est.ego_speed_mps, est.ego_lateral_mps)
+                                     - abs(speed)) <= 0.5 + 0.05 * abs(speed):
+                    velocity = EgoVelocity(est.ego_speed_mps, est.ego_lateral_mps)
+        else:
+            est = estimate_ego_motion(azimuth_deg, radial_velocity_mps, rng,
+                                      self.mount_yaw_deg, cfg)
+            if est.valid:
+                velocity = EgoVelocity(est.ego_speed_mps, est.ego_lateral_mps)
+        if velocity is None:
+            return EgoFrame(np.zeros(azimuth_deg.size, dtype=bool), None)
+        static = static_mask(azimuth_deg, radial_velocity_mps, velocity.vx_mps,
+                             self.mount_yaw_deg, self.static_threshold_mps,
+                             self.azimuth_std_deg, ego_lateral_mps=velocity.vy_mps)
+        return EgoFrame(static, velocity)

@@ -4,7 +4,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from pipeline.ego_motion import (EgoMotionConfig, estimate_ego_motion, ground_radial_velocity,
+from pipeline.tracking.ego_motion import (EgoMotionConfig, estimate_ego_motion, ground_radial_velocity,
                                  static_mask)
 
 

@@ -8,7 +8,7 @@ import pytest
 
 import harness.runner as runner
 from metrics.tracks import per_actor_track_metrics, track_metrics
-from pipeline.tracker import TrackerConfig, track_frames
+from pipeline.tracking import TrackerConfig, track_frames
 
 SCENARIO, SEED = "r79_motorcycle_rear", 0
 

@@ -1,0 +1,172 @@
+"""Typed data passed between the tracker's parts: a frame's points, the track set, results.
+
+The track set is struct-of-arrays (T live tracks) and immutable in use: every stage returns a
+new `Tracks` (or a typed result) instead of editing its input, so a part can be swapped or
+tested on its own.
+"""
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass
+from typing import NamedTuple
+
+import numpy as np
+import pandas as pd
+
+__all__ = ["Points", "Tracks", "Association", "NewTracks", "POINT_COLUMNS"]
+
+#: Point-cloud columns the tracker reads.
+POINT_COLUMNS = ("range_m", "azimuth_deg", "radial_velocity_mps", "snr_db")
+
+
+class Points(NamedTuple):
+    """One frame's point cloud (radar frame), (N,) float each.
+
+    Attributes
+    ----------
+    range_m : m
+    azimuth_rad : rad, radar frame
+    radial_velocity_mps : m/s relative to the radar (negative = approaching)
+    snr_db : dB
+    """
+
+    range_m: np.ndarray
+    azimuth_rad: np.ndarray
+    radial_velocity_mps: np.ndarray
+    snr_db: np.ndarray
+
+    @property
+    def size(self) -> int:
+        return int(self.range_m.size)
+
+    @classmethod
+    def from_frame(cls, points: pd.DataFrame) -> "Points":
+        """Checked arrays of a point-cloud DataFrame (columns `POINT_COLUMNS`).
+
+        Raises
+        ------
+        ValueError
+            Not a DataFrame, a missing column, non-finite values, a range <= 0.
+        """
+        if not isinstance(points, pd.DataFrame):
+            raise ValueError(f"points must be a pandas DataFrame, got {type(points).__name__}")
+        if len(points) == 0:
+            return cls(*(np.zeros(0) for _ in range(4)))
+        missing = [c for c in POINT_COLUMNS if c not in points.columns]
+        if missing:
+            raise ValueError(f"points is missing columns {missing}; needs {list(POINT_COLUMNS)}")
+        r, az, vr, snr = (points[c].to_numpy(dtype=np.float64) for c in POINT_COLUMNS)
+        for name, arr in zip(POINT_COLUMNS, (r, az, vr, snr)):
+            if not np.all(np.isfinite(arr)):
+                raise ValueError(f"points column {name} contains non-finite values")
+        if np.any(r <= 0):
+            raise ValueError("points column range_m must be > 0")
+        return cls(r, np.radians(az), vr, snr)
+
+
+@dataclass(frozen=True, slots=True)
+class Tracks:
+    """The live tracks, struct-of-arrays (T tracks, state length n).
+
+    Attributes
+    ----------
+    track_id : (T,) int
+    x : (T, n) float
+        State [x, y, vx, vy(, ax, ay)], vehicle frame, relative velocity.
+    p : (T, n, n) float
+        State covariance.
+    dispersion : (T, 3, 3) float
+        Group dispersion D in measurement space (range m, azimuth rad, radial velocity m/s).
+    n_est : (T,) float
+        Running estimate of the number of points per frame of the group.
+    hits, misses, age : (T,) int
+        Consecutive hits, consecutive misses, frames since the track started.
+    active : (T,) bool
+        ACTIVE (else DETECT).
+    """
+
+    track_id: np.ndarray
+    x: np.ndarray
+    p: np.ndarray
+    dispersion: np.ndarray
+    n_est: np.ndarray
+    hits: np.ndarray
+    misses: np.ndarray
+    age: np.ndarray
+    active: np.ndarray
+
+    @classmethod
+    def empty(cls, n_state: int) -> "Tracks":
+        return cls(np.zeros(0, dtype=np.int64), np.zeros((0, n_state)),
+                   np.zeros((0, n_state, n_state)), np.zeros((0, 3, 3)), np.zeros(0),
+                   np.zeros(0, dtype=np.int64), np.zeros(0, dtype=np.int64),
+                   np.zeros(0, dtype=np.int64), np.zeros(0, dtype=bool))
+
+    @property
+    def size(self) -> int:
+        return int(self.track_id.size)
+
+    def replace(self, **changes) -> "Tracks":
+        return dataclasses.replace(self, **changes)
+
+    def select(self, keep: np.ndarray) -> "Tracks":
+        """The tracks where `keep` (bool (T,) or indices) holds."""
+        return Tracks(*(getattr(self, f.name)[keep] for f in dataclasses.fields(self)))
+
+    def concat(self, other: "Tracks") -> "Tracks":
+        """These tracks followed by `other`."""
+        return Tracks(*(np.concatenate([getattr(self, f.name), getattr(other, f.name)])
+                        for f in dataclasses.fields(self)))
+
+
+class Association(NamedTuple):
+    """Result of an associator.
+
+    Attributes
+    ----------
+    track_index : (N,) int
+        Track each point updates (-1: none).
+    innovation : (N, 3) float
+        Measurement residual of each point against its track (range m, azimuth rad, radial
+        velocity m/s); rows of unassociated points are not meaningful.
+    jacobian : (T, 3, n) float
+        Measurement Jacobian of every track at its predicted state.
+    """
+
+    track_index: np.ndarray
+    innovation: np.ndarray
+    jacobian: np.ndarray
+
+
+@dataclass(frozen=True, slots=True)
+class NewTracks:
+    """Tracks an allocator starts (K new tracks, ids not yet given).
+
+    Attributes
+    ----------
+    x, p, dispersion, n_est : as in `Tracks`, K rows.
+    n_points : (K,) int
+        Points that started each track.
+    members : (M,) int
+        Indices (into the frame's points) of the points of every cluster considered.
+    member_track : (M,) int
+        New track (0..K-1) each of those points started, -1 for a rejected cluster.
+    """
+
+    x: np.ndarray
+    p: np.ndarray
+    dispersion: np.ndarray
+    n_est: np.ndarray
+    n_points: np.ndarray
+    members: np.ndarray
+    member_track: np.ndarray
+
+    @classmethod
+    def none(cls, n_state: int) -> "NewTracks":
+        z = np.zeros(0, dtype=np.int64)
+        return cls(np.zeros((0, n_state)), np.zeros((0, n_state, n_state)),
+                   np.zeros((0, 3, 3)), np.zeros(0), z, z, z)
+
+    @property
+    def size(self) -> int:
+        return int(self.n_points.size)

@@ -1,0 +1,342 @@
+"""Transmit-chain errors: per-code phase-shifter error tables and Tx-to-Tx coupling.
+
+A real 6-bit phase shifter does not produce exactly q x 5.625 deg at code q: each of its 64
+settings has its own phase and gain error (the INL/DNL curve that TI's shifter calibration
+measures), and neighbouring transmit channels couple. This module holds the pure kernels:
+
+- drawing error tables from a documented distribution with a seed (`ShifterErrorSpec`),
+- the shifter's complex factor for programmed codes (`shifter_factor`) and the Tx coupling
+  (`coupling_matrix`, `apply_coupling`), which `radarsim.frontend` applies to every scheme's
+  transmit weights,
+- choosing codes from a calibration table (`select_codes`) and the residual phase error of the
+  codes a config programs (`phase_residual_deg`),
+- the analytic spur prediction: a transmit error periodic in the code period P puts lines at
+  multiples of 1/P of the chirp rate whose complex amplitudes are the DFT of one period's
+  complex weights (`code_period_lines`, `spur_levels_dbc`; DESIGN section 8).
+
+Contract (issue 12): to Tx k at a chirp whose programmed code is q the shifter applies the phase
+-(q LSB + shifter_phase_error_deg[k, q]) and the amplitude gain
+10^(shifter_gain_error_db[k, q] / 20), on top of the static per-Tx and random per-chirp errors.
+
+References
+----------
+.. [1] TI, AWR2944 DDMA application note (seed 000), section 4.1 (6-bit codes, table 4) and
+   section 4.2 (shifter error > +/-10 deg uncalibrated, +/-2 deg calibrated; figures 7-8).
+.. [2] A. V. Oppenheim, R. W. Schafer, Discrete-Time Signal Processing, 3rd ed., section 8.1
+   (a periodic sequence has a line spectrum given by the DFT of one period).
+"""
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+__all__ = ["SHIFTER_ERROR_DISTRIBUTIONS", "ShifterErrorSpec", "MAX_SHIFTER_PHASE_ERROR_DEG",
+           "MAX_SHIFTER_GAIN_ERROR_DB", "MAX_TX_COUPLING_DB", "shifter_factor",
+           "coupling_matrix", "apply_coupling", "select_codes", "program_codes", "wrap_deg",
+           "phase_residual_deg", "code_period_lines", "spur_levels_dbc", "resolve_table",
+           "check_table", "vector_modulator_tables"]
+
+#: Largest accepted |phase error| of one code, deg (beyond +/-180 deg the error is ambiguous).
+MAX_SHIFTER_PHASE_ERROR_DEG = 180.0
+#: Largest accepted |gain error| of one code, dB.
+MAX_SHIFTER_GAIN_ERROR_DB = 10.0
+#: Largest accepted Tx-to-Tx coupling level, dB: a passive neighbour cannot radiate more of a
+#: channel's signal than the channel itself.
+MAX_TX_COUPLING_DB = 0.0
+
+#: How `ShifterErrorSpec` draws a table (every row then scaled to the requested rms over codes,
+#: relative to code 0).
+SHIFTER_ERROR_DISTRIBUTIONS = {
+    "uniform": "independent per code, uniform",
+    "gaussian": "independent per code, Gaussian",
+    "inl_dnl": "smooth INL curve (harmonics 1..3 of the code circle, random phases, amplitude "
+               "1/h) plus white DNL noise (a `dnl_fraction` share of the variance)",
+}
+
+
+def wrap_deg(x: np.ndarray) -> np.ndarray:
+    """Wrap angles to [-180, 180) deg."""
+    return np.mod(np.asarray(x, dtype=float) + 180.0, 360.0) - 180.0
+
+
+@dataclass(frozen=True, kw_only=True, slots=True)
+class ShifterErrorSpec:
+    """A documented random error table: which distribution, how large, which seed.
+
+    Parameters
+    ----------
+    distribution : {"uniform", "gaussian", "inl_dnl"}
+        See `SHIFTER_ERROR_DISTRIBUTIONS`.
+    rms : float
+        Root-mean-square of each Tx's row over its codes (deg for phase tables, dB for gain
+        tables), after making the row relative to code 0; >= 0.
+    seed : int
+        Seed of the generator (`numpy.random.default_rng(seed)`), >= 0.
+    dnl_fraction : float
+        `inl_dnl` only: share of the variance in the white per-code DNL part, 0..1 (default
+        0.2).
+
+    Notes
+    -----
+    Every row is made relative to code 0 (row[0] = 0: the channel's absolute phase and gain at
+    code 0 are the array calibration, `tx_phase_error_deg` / `tx_gain_error_db`), then scaled
+    so that sqrt(mean(row^2)) equals `rms` exactly. The `inl_dnl` curve of Tx k is
+    sum_h a_h cos(2 pi h q / n_codes + phi_h), h = 1..3, a_h = 1/h, phi_h uniform: the first
+    harmonic models LO feed-through, the second I/Q imbalance of a vector-modulator shifter.
+    """
+
+    distribution: str
+    rms: float
+    seed: int = 0
+    dnl_fraction: float = 0.2
+
+    def __post_init__(self) -> None:
+        if self.distribution not in SHIFTER_ERROR_DISTRIBUTIONS:
+            raise ValueError(f"distribution={self.distribution!r} is not one of "
+                             f"{sorted(SHIFTER_ERROR_DISTRIBUTIONS)}")
+        if not (isinstance(self.rms, (int, float)) and math.isfinite(self.rms)
+                and self.rms >= 0):
+            raise ValueError(f"rms={self.rms!r} must be a finite number >= 0")
+        if not isinstance(self.seed, (int, np.integer)) or self.seed < 0:
+            raise ValueError(f"seed={self.seed!r} must be an integer >= 0")
+        if not (isinstance(self.dnl_fraction, (int, float)) and 0 <= self.dnl_fraction <= 1):
+            raise ValueError(f"dnl_fraction={self.dnl_fraction!r} must be in 0..1")
+
+    def draw(self, n_tx: int, n_codes: int) -> np.ndarray:
+        """(n_tx, n_codes) float table, row k for Tx k+1, relative to code 0, rms `rms`."""
+        g = np.random.default_rng(self.seed)
+        shape = (n_tx, n_codes)
+        if self.distribution == "uniform":
+            t = g.uniform(-1.0, 1.0, shape)
+        elif self.distribution == "gaussian":
+            t = g.standard_normal(shape)
+        else:
+            q = np.arange(n_codes)
+            h = np.arange(1, 4)
+            phi = g.uniform(0, 2 * np.pi, (n_tx, h.size))
+            inl = np.sum(np.cos(2 * np.pi * h[None, :, None] * q[None, None, :] / n_codes
+                                + phi[:, :, None]) / h[None, :, None], axis=1)
+            inl = inl - inl[:, :1]
+            dnl = g.standard_normal(shape)
+            dnl = dnl - dnl[:, :1]
+            t = math.sqrt(1 - self.dnl_fraction) * inl / _rms(inl) + \
+                math.sqrt(self.dnl_fraction) * dnl / _rms(dnl)
+        t = t - t[:, :1]
+        r = _rms(t)
+        return np.zeros(shape) if self.rms == 0 else t * (self.rms / np.where(r > 0, r, 1.0))
+
+
+def vector_modulator_tables(n_codes: int, quadrature_skew_deg: float,
+                            iq_gain_imbalance_db: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
+    """Phase and gain error of an I/Q vector-modulator shifter with quadrature errors.
+
+    Code q sets theta = 2 pi q / n_codes; the modulator outputs
+    s = cos(theta) + a exp(j (pi/2 + phi)) sin(theta) with a = 10^(imbalance/20) and phi the
+    quadrature skew, instead of exp(j theta). Phase error arg(s) - theta, gain 20 log10 |s|;
+    both 0 at code 0. The skew gives a smooth INL with a strong second harmonic
+    (0, phi, 0, phi at 0/90/180/270 deg): the pattern that puts a line at the mirror velocity
+    of a 90-deg step.
+
+    Returns
+    -------
+    phase_error_deg, gain_error_db : (n_codes,) float
+    """
+    theta = 2 * np.pi * np.arange(n_codes) / n_codes
+    a = 10 ** (iq_gain_imbalance_db / 20)
+    s = np.cos(theta) + a * np.exp(1j * (np.pi / 2 + np.radians(quadrature_skew_deg))) * \
+        np.sin(theta)
+    return wrap_deg(np.degrees(np.angle(s) - theta)), 20 * np.log10(np.abs(s))
+
+
+def _rms(t: np.ndarray) -> np.ndarray:
+    return np.sqrt(np.mean(np.square(t), axis=-1, keepdims=True))
+
+
+def resolve_table(name: str, value: Any, n_tx: int, n_codes: int,
+                  limit: float) -> tuple[tuple[float, ...], ...]:
+    """A config table field as a tuple of n_tx rows of n_codes floats.
+
+    `value` is None (all zeros), a nested sequence / array of shape (n_tx, n_codes), or a
+    mapping with the keys of `ShifterErrorSpec` (drawn once, here). Raises ValueError naming
+    `name` for a wrong shape, a non-finite value or |value| > `limit`.
+    """
+    if value is None:
+        return ((0.0,) * n_codes,) * n_tx
+    if isinstance(value, ShifterErrorSpec):
+        arr = value.draw(n_tx, n_codes)
+    elif isinstance(value, Mapping):
+        try:
+            spec = ShifterErrorSpec(**dict(value))
+        except TypeError as exc:
+            raise ValueError(f"{name}: bad error-table spec {dict(value)!r} ({exc}); keys: "
+                             "distribution, rms, seed, dnl_fraction") from exc
+        except ValueError as exc:
+            raise ValueError(f"{name}: {exc}") from exc
+        arr = spec.draw(n_tx, n_codes)
+    else:
+        arr = value
+    arr = check_table(name, arr, (n_tx, n_codes), limit)
+    return tuple(tuple(float(v) for v in row) for row in arr)
+
+
+def check_table(name: str, value: Any, shape: tuple[int, int], limit: float,
+                allow_neg_inf: bool = False) -> np.ndarray:
+    """Validate a 2-D float table: shape, finite (or -inf when allowed), |value| <= limit."""
+    try:
+        arr = np.asarray(value, dtype=float)
+    except (TypeError, ValueError) as exc:
+        raise ValueError(f"{name} must be a numeric table of shape {shape}: {exc}") from exc
+    if arr.shape != shape:
+        raise ValueError(f"{name} has shape {arr.shape}, expected {shape} "
+                         "(rows Tx1..Txn)")
+    bad = ~np.isfinite(arr)
+    if allow_neg_inf:
+        bad &= ~np.isneginf(arr)
+    if bad.any():
+        k, q = np.argwhere(bad)[0]
+        raise ValueError(f"{name}[{k}][{q}]={float(arr[k, q])!r} must be finite")
+    fin = np.where(np.isfinite(arr), arr, 0.0)
+    over = np.abs(fin) > limit
+    if over.any():
+        k, q = np.argwhere(over)[0]
+        raise ValueError(f"{name}[{k}][{q}]={float(arr[k, q])!r} exceeds the limit +/-{limit:g}")
+    return arr
+
+
+def shifter_factor(phase_error_deg: np.ndarray, gain_error_db: np.ndarray,
+                   codes: np.ndarray) -> np.ndarray:
+    """Complex error factor of the shifter at the programmed codes.
+
+    Parameters
+    ----------
+    phase_error_deg, gain_error_db : (n_tx, n_codes) float
+        Per-Tx, per-code error tables.
+    codes : (n_tx, n_chirps) int
+        Programmed code of each Tx at each chirp.
+
+    Returns
+    -------
+    (n_tx, n_chirps) complex128
+        10^(g[k, q] / 20) exp(-j e[k, q]): the ideal applied phase -q LSB is not included.
+    """
+    rows = np.arange(codes.shape[0])[:, None]
+    e = np.radians(np.asarray(phase_error_deg, dtype=float))[rows, codes]
+    g = 10 ** (np.asarray(gain_error_db, dtype=float)[rows, codes] / 20)
+    return g * np.exp(-1j * e)
+
+
+def coupling_matrix(level_db: np.ndarray, phase_deg: np.ndarray) -> np.ndarray:
+    """(n_tx, n_tx) complex coupling C[k, j] = 10^(level_db[k, j] / 20) exp(j phase_deg[k, j]):
+    the share of channel j's signal radiated by element k (-inf dB: none)."""
+    return 10 ** (np.asarray(level_db, dtype=float) / 20) * \
+        np.exp(1j * np.radians(np.asarray(phase_deg, dtype=float)))
+
+
+def apply_coupling(coupling: np.ndarray, weights: np.ndarray) -> np.ndarray:
+    """Radiated weights C @ w: (n_tx, n_tx) @ (n_tx, n_chirps) -> (n_tx, n_chirps) complex.
+
+    With the identity matrix (0 dB diagonal, -inf dB elsewhere) every product is an exact 1 or
+    0, so the result is bit-identical to `weights`."""
+    return coupling @ weights
+
+
+def select_codes(wanted_deg: np.ndarray, measured_error_deg: np.ndarray,
+                 lsb_deg: float) -> np.ndarray:
+    """Codes whose measured phase is closest to the wanted phase (calibrated programming).
+
+    Parameters
+    ----------
+    wanted_deg : (n_tx, P) float
+        Phase each Tx should be programmed to, deg (the shifter then delays by it).
+    measured_error_deg : (n_tx, n_codes) float
+        Calibration table: measured phase of code q minus q LSB, deg, relative to code 0.
+    lsb_deg : float
+        Nominal step, deg.
+
+    Returns
+    -------
+    (n_tx, P) int64
+        argmin_q |wrap(q LSB + measured[k, q] - wanted[k, p])| (ties: the lowest code).
+    """
+    cal = np.asarray(measured_error_deg, dtype=float)
+    measured = np.arange(cal.shape[1]) * lsb_deg + cal  # (T, Q)
+    diff = wrap_deg(measured[:, None, :] - np.asarray(wanted_deg, dtype=float)[:, :, None])
+    return np.argmin(np.abs(diff), axis=-1).astype(np.int64)
+
+
+def program_codes(wanted_deg: np.ndarray, lsb_deg: float, n_codes: int, rule: str,
+                  calibration_deg: np.ndarray | None = None) -> np.ndarray:
+    """Shifter codes the chip programs for wanted phases.
+
+    Parameters
+    ----------
+    wanted_deg : (n_tx, P) float
+        Wanted (programmed, i.e. delay) phase of each Tx at each chirp of the period, deg.
+    lsb_deg : float
+        Nominal step, deg.
+    n_codes : int
+        2^bits.
+    rule : {"floor", "round", "none"}
+        Uncalibrated mapping (seed 000 table 4 floors, TI's SDK rounds; "none" rounds for the
+        table look-up while the applied phase stays ideal).
+    calibration_deg : (n_tx, n_codes) float, optional
+        Measured per-code error table; when given, `select_codes` replaces the rule.
+
+    Returns
+    -------
+    (n_tx, P) int64 codes in 0..n_codes-1
+    """
+    wanted = np.asarray(wanted_deg, dtype=float)
+    if calibration_deg is not None:
+        return select_codes(wanted, calibration_deg, lsb_deg)
+    prog = wanted / lsb_deg
+    # A tiny tolerance keeps exact multiples (e.g. 180/5.625 = 32) from flooring down.
+    codes = np.floor(prog + 1e-9) if rule == "floor" else np.round(prog)
+    return np.mod(codes, n_codes).astype(np.int64)
+
+
+def phase_residual_deg(wanted_deg: np.ndarray, codes: np.ndarray,
+                       phase_error_deg: np.ndarray, lsb_deg: float) -> np.ndarray:
+    """Phase the shifter really programs minus the wanted phase, relative to code 0, deg.
+
+    residual[k, p] = wrap(q LSB + e[k, q] - e[k, 0] - wanted[k, p]) with q = codes[k, p]: the
+    code-grid rounding plus the table error of the chosen code (code 0 is the reference the
+    array calibration absorbs).
+
+    Returns
+    -------
+    (n_tx, P) float, deg in [-180, 180)
+    """
+    e = np.asarray(phase_error_deg, dtype=float)
+    rows = np.arange(codes.shape[0])[:, None]
+    return wrap_deg(codes * lsb_deg + e[rows, codes] - e[:, :1] - wanted_deg)
+
+
+def code_period_lines(weights: np.ndarray) -> np.ndarray:
+    """Spectral lines of a transmit sequence periodic in P chirps.
+
+    A slow-time sequence w[c mod P] s[c] has, for each line m = 0..P-1 (a Doppler offset of
+    m/P of the chirp rate, i.e. m x n_chirps / P bins), the complex amplitude
+    W[m] = (1/P) sum_c w[c] exp(-2 pi j m c / P).
+
+    Parameters
+    ----------
+    weights : (..., P) complex
+        One code period of complex transmit weights (phase and gain per chirp).
+
+    Returns
+    -------
+    (..., P) complex
+    """
+    w = np.asarray(weights)
+    return np.fft.fft(w, axis=-1) / w.shape[-1]
+
+
+def spur_levels_dbc(weights: np.ndarray) -> np.ndarray:
+    """(..., P) power of each line of `code_period_lines` over the strongest line, dBc."""
+    p = np.abs(code_period_lines(weights)) ** 2
+    return 10 * np.log10(np.maximum(p, 1e-300) / p.max(axis=-1, keepdims=True))

@@ -1,0 +1,76 @@
+"""Shifter sweep file, report metrics and the `radar-harness shifter` command (issue 12)."""
+from __future__ import annotations
+
+import numpy as np
+import pandas as pd
+import pytest
+
+import radarsim
+from harness.cli import main
+from harness.runner import known_schemes
+from harness.shifter_report import VELOCITY_GATE_MPS, _psl_db, _velocity_failures
+from harness.sweep import load_sweep
+from pathlib import Path
+
+SWEEP = Path(__file__).resolve().parents[2] / "harness" / "shifter_sweep.toml"
+
+
+def test_psl_of_uniform_array_is_the_dirichlet_sidelobe():
+    """Unwindowed N = 12 uniform array sampled on a fine cyclic grid: the peak sidelobe is the
+    first maximum of the Dirichlet kernel sin(N x / 2) / (N sin(x / 2)) between its first and
+    second nulls (-13.06 dB for N = 12; -13.26 dB only as N -> infinity, Harris 1978)."""
+    from scipy.optimize import minimize_scalar
+    n = 12
+    dirichlet = lambda x: -abs(np.sin(n * x / 2) / (n * np.sin(x / 2)))  # noqa: E731
+    peak = -minimize_scalar(dirichlet, bounds=(2 * np.pi / n, 4 * np.pi / n),
+                            method="bounded", options={"xatol": 1e-10}).fun
+    k = np.arange(n * 400)
+    af = np.abs(np.exp(-2j * np.pi * np.outer(np.arange(n), k) / k.size).sum(axis=0)) ** 2
+    assert _psl_db(10 * np.log10(af)) == pytest.approx(20 * np.log10(peak), abs=0.01)
+    assert 20 * np.log10(peak) == pytest.approx(-13.06, abs=0.01)
+
+
+def test_shifter_sweep_file_covers_errors_calibration_and_all_schemes():
+    spec = load_sweep(SWEEP)
+    assert spec.schemes == tuple(known_schemes())
+    names = [v.name for v in spec.variants]
+    assert len(names) == 10
+    rms = sorted({v.radar["shifter_phase_error_deg"]["rms"] for v in spec.variants})
+    assert rms == [0.0, 2.0, 5.0, 10.0, 20.0]
+    assert sum("shifter_calibration_deg" in v.radar for v in spec.variants) == 5
+    worst = [v for v in spec.variants if v.name.startswith("shifter_20deg")]
+    for name in radarsim.MIMO_SCHEMES:
+        r = {v.name.endswith("_cal"): radarsim.presets.r79(name, **v.radar)
+             .shifter_phase_residual_deg() for v in worst}
+        assert np.nanmax(np.abs(r[True])) <= np.nanmax(np.abs(r[False]))
+
+
+def test_velocity_failures_count_multiples_of_the_scheme_step():
+    """A ghost inside the actor's footprint off by one step (within the gate) counts; one off
+    by half a step does not; VELOCITY_AMBIGUOUS detections count."""
+    step = 13.63
+    ids = {"scenario": "s", "variant": "v", "seed": 0, "frame": 0, "scheme": "ddma"}
+    det = pd.DataFrame([
+        {**ids, "label": "GHOST", "x_m": 20.5, "y_m": 0.0, "radial_velocity_mps": -5 + step + 0.5},
+        {**ids, "label": "GHOST", "x_m": 20.5, "y_m": 0.0, "radial_velocity_mps": -5 + step / 2},
+        {**ids, "label": "GHOST", "x_m": 60.0, "y_m": 0.0, "radial_velocity_mps": -5 + step},
+        {**ids, "label": "VELOCITY_AMBIGUOUS", "x_m": 20.0, "y_m": 0.0,
+         "radial_velocity_mps": 76.0},
+    ])
+    truth = pd.DataFrame([{k: ids[k] for k in ("scenario", "variant", "seed", "frame")}
+                          | {"x_radar_m": 20.0, "y_radar_m": 0.0, "length_m": 5.0,
+                             "width_m": 2.0, "radial_velocity_mps": -5.0}])
+    assert 0.5 < VELOCITY_GATE_MPS
+    n = _velocity_failures(det, truth, {"ddma": step})
+    assert n.loc[("v", "ddma")] == 2
+
+
+def test_cli_shifter_prints_lines(capsys):
+    assert main(["shifter", "--n-chirps", "256", "--quadrature-skew-deg", "20"]) == 0
+    out = capsys.readouterr().out
+    assert out.count("mirror ghost") == 2 and "after calibration" in out
+
+
+def test_cli_shifter_bad_input_exits_2(capsys):
+    assert main(["shifter", "--step-deg", "70"]) == 2
+    assert "step_deg=70.0" in capsys.readouterr().err

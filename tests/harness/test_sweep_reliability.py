@@ -1,0 +1,270 @@
+"""Sweeps never mix or lose results: duplicates, code versions, corrupt cells, kills, paths.
+
+Issue 15: a failing duplicate must never replace a completed cell; a resume after a code change
+must not mix versions; a corrupt table under an "ok" cell.json is recomputed; killed writes leave
+no `.tmp-*` behind for good; a relative --out reaches Dask workers as an absolute path; a sweep
+that ends with missing cells says so and exits non-zero; SIGKILL at random points and resume
+gives the tables of an uninterrupted run.
+"""
+from __future__ import annotations
+
+import json
+import os
+import signal
+import subprocess
+import sys
+import textwrap
+import time
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from harness import cellstore as store
+from harness import sweep as sw
+from harness.cli import main
+from harness.sweep import SweepSpec, cell_dir, completed_cells, execute_cell, run_sweep
+from tests.harness.fakes import FAILING, FAKE
+
+ROOT = Path(__file__).resolve().parents[2]
+TABLES = ("summary", "detections", "frames", "actors", "truth")
+
+
+def small_spec(**kw) -> SweepSpec:
+    base = dict(name="t", scenarios=("fast", "slow"), seeds=(0, 1), duration_s=0.4)
+    base.update(kw)
+    return SweepSpec(**base)
+
+
+def assert_same_tables(a: Path, b: Path) -> None:
+    for t in TABLES:
+        pd.testing.assert_frame_equal(pd.read_parquet(a / f"{t}.parquet"),
+                                      pd.read_parquet(b / f"{t}.parquet"))
+
+
+def _snapshot(d: Path) -> dict[str, bytes]:
+    return {f.name: f.read_bytes() for f in sorted(d.iterdir())}
+
+
+def test_failing_duplicate_never_replaces_a_completed_cell(tmp_path):
+    spec = small_spec()
+    run_sweep(spec, tmp_path, components=FAKE, progress=False)
+    cell = spec.cells()[0]
+    before = _snapshot(cell_dir(tmp_path, cell))
+    # A duplicate execution (a concurrent run, an orphaned Dask task) that fails late ...
+    r = execute_cell(cell, str(tmp_path), FAILING)
+    assert (r["status"], r["written"]) == ("ok", "kept")
+    # ... and one that succeeds late: neither touches the completed cell.
+    r = execute_cell(cell, str(tmp_path), FAKE)
+    assert r["written"] == "kept"
+    assert _snapshot(cell_dir(tmp_path, cell)) == before
+    assert not [p for p in (tmp_path / "cells").iterdir() if p.name.startswith(".")]
+
+
+def test_error_record_is_replaced_by_a_later_success(tmp_path):
+    cell = small_spec().cells()[0]
+    assert execute_cell(cell, str(tmp_path), FAILING)["status"] == "error"
+    assert store.cell_state(cell_dir(tmp_path, cell)) == "error"
+    assert execute_cell(cell, str(tmp_path), FAKE)["written"] == "written"
+    assert store.cell_state(cell_dir(tmp_path, cell)) == "ok"
+
+
+def test_every_cell_records_its_code_version(tmp_path):
+    spec = small_spec()
+    run_sweep(spec, tmp_path, components=FAKE, progress=False)
+    version = store.code_version()
+    assert len(version["hash"]) == 16
+    for c in spec.cells():
+        meta = json.loads((cell_dir(tmp_path, c) / "cell.json").read_text())
+        assert meta["code_version"]["hash"] == version["hash"]
+        assert set(meta["files"]) >= {f"{t}.parquet" for t in TABLES}
+    manifest = json.loads((tmp_path / "manifest.json").read_text())
+    assert manifest["code_version"] == version["hash"]
+    assert {c["origin"] for c in manifest["cells"]} == {"computed"}
+
+
+def test_resume_after_a_code_change_never_mixes_versions(tmp_path, monkeypatch):
+    spec = small_spec()
+    first = spec.cells()[:2]
+    # Half of the sweep completed by the current code ...
+    for c in first:
+        execute_cell(c, str(tmp_path), FAKE)
+    old = store.code_version()["hash"]
+    # ... then the code changes.
+    new_version = {**store.code_version(), "hash": "0123456789abcdef"}
+    monkeypatch.setattr(store, "code_version", lambda: new_version)
+    with pytest.raises(ValueError, match=rf"2 completed cell\(s\) were computed by code version "
+                                         rf"{old}, this is 0123456789abcdef: rerun with --force"):
+        run_sweep(spec, tmp_path, components=FAKE, progress=False)
+    # Nothing was touched by the refusal.
+    assert all(store.cell_state(cell_dir(tmp_path, c), old) == "ok" for c in first)
+    o = run_sweep(spec, tmp_path, components=FAKE, progress=False, force=True)
+    assert (o.n_recomputed, o.n_skipped, o.n_ok, o.n_missing) == (2, 0, 4, 0)
+    manifest = json.loads((tmp_path / "manifest.json").read_text())
+    assert {c["code_version"] for c in manifest["cells"]} == {"0123456789abcdef"}
+    # A further resume of the same version reuses everything and says so.
+    o = run_sweep(spec, tmp_path, components=FAKE, progress=False)
+    assert (o.n_skipped, o.n_ok) == (4, 0)
+    manifest = json.loads((tmp_path / "manifest.json").read_text())
+    assert manifest["n_resumed"] == 4 and manifest["n_computed"] == 0
+
+
+def test_cli_refuses_a_resume_across_versions_with_exit_2(tmp_path, monkeypatch, capsys):
+    spec = small_spec(scenarios=("fast",), seeds=(0,))
+    run_sweep(spec, tmp_path, components=FAKE, progress=False)
+    monkeypatch.setattr(store, "code_version", lambda: {"hash": "f" * 16, "commit": None,
+                                                        "dirty": None})
+    monkeypatch.setattr(sw, "load_sweep", lambda path: spec)
+    monkeypatch.setattr(sw, "validate_cells", lambda spec, source=None: None)
+    assert main(["sweep", "x.toml", "--out", str(tmp_path), "--workers", "1"]) == 2
+    last = capsys.readouterr().err.splitlines()[-1]
+    assert last.startswith("radar-harness sweep: error: ")
+    assert "computed by code version" in last and "--force" in last
+
+
+def test_corrupt_table_under_an_ok_cell_is_recomputed(tmp_path):
+    spec = small_spec()
+    run_sweep(spec, tmp_path / "a", components=FAKE, progress=False)
+    run_sweep(spec, tmp_path / "clean", components=FAKE, progress=False)
+    d = cell_dir(tmp_path / "a", spec.cells()[1])
+    f = d / "detections.parquet"
+    f.write_bytes(f.read_bytes()[: f.stat().st_size // 2])  # a torn write
+    (cell_dir(tmp_path / "a", spec.cells()[2]) / "truth.parquet").unlink()
+    assert store.cell_state(d) == "corrupt"
+    o = run_sweep(spec, tmp_path / "a", components=FAKE, progress=False)
+    assert (o.n_recomputed, o.n_ok, o.n_skipped) == (2, 2, 2)
+    assert_same_tables(tmp_path / "a", tmp_path / "clean")
+
+
+def test_temporaries_of_dead_writers_are_cleaned(tmp_path):
+    spec = small_spec()
+    cells = tmp_path / "cells"
+    cells.mkdir(parents=True)
+    host = store._HOST
+    dead = cells / f".tmp-x__s0__abc-{host}-99999999-abcdef"
+    retired = cells / f".old-x__s0__abc-{host}-99999999-abcdef"
+    alive = cells / f".tmp-y__s0__abc-{host}-1-abcdef"  # pid 1 is alive: a concurrent writer
+    foreign = cells / ".tmp-z__s0__abc-otherhost-5-abcdef"  # another host, young: kept
+    for d in (dead, retired, alive, foreign):
+        d.mkdir()
+        (d / "cell.json").write_text("{}")
+    run_sweep(spec, tmp_path, components=FAKE, progress=False)
+    assert not dead.exists() and not retired.exists()
+    assert alive.exists() and foreign.exists()
+    old = time.time() - store.FOREIGN_TEMP_MAX_AGE_S - 10
+    os.utime(foreign, (old, old))
+    store.clean_temporaries(cells)
+    assert not foreign.exists()
+
+
+def test_relative_out_is_resolved_before_dask_workers_see_it(tmp_path, monkeypatch):
+    import distributed
+    monkeypatch.chdir(tmp_path)
+    spec = small_spec()
+    with distributed.LocalCluster(n_workers=1, threads_per_worker=2, processes=False,
+                                  dashboard_address=None) as cluster:
+        o = run_sweep(spec, "rel/out", scheduler=cluster.scheduler_address, components=FAKE,
+                      progress=False)
+    assert o.out_dir == (tmp_path / "rel" / "out") and o.out_dir.is_absolute()
+    assert o.complete and o.n_ok == 4
+    assert len(pd.read_parquet(tmp_path / "rel" / "out" / "summary.parquet")) == 4 * 3
+
+
+def _lost_cell(spec, out, comps=None):
+    """A worker that reports success but writes nowhere visible (its own working directory)."""
+    return {"cell_id": spec.cell_id, "status": "ok", "elapsed_s": 0.0, "written": "written"}
+
+
+def test_missing_cells_make_the_sweep_incomplete(tmp_path, monkeypatch):
+    monkeypatch.setattr(sw, "execute_cell", _lost_cell)
+    o = run_sweep(small_spec(), tmp_path, components=FAKE, progress=False)
+    assert (o.n_missing, o.n_ok, o.complete) == (4, 0, False)
+    manifest = json.loads((tmp_path / "manifest.json").read_text())
+    assert manifest["n_missing"] == 4
+    assert {c["status"] for c in manifest["cells"]} == {"missing"}
+
+
+def test_cli_sweep_with_missing_cells_exits_1_and_says_so(tmp_path, monkeypatch, capsys):
+    monkeypatch.setattr(sw, "execute_cell", _lost_cell)
+    rc = main(["sweep", str(sw.CI_SWEEP_PATH), "--scenarios", "head_on_aliasing",
+               "--workers", "1", "--out", str(tmp_path / "r")])
+    out, err = capsys.readouterr()
+    assert rc == 1
+    assert "0 cells computed" in out and "1 missing" in out
+    assert "1 of 1 cells are missing" in err and "rerun the same command" in err
+
+
+# ------------------------------------------------------------------------- kill and resume
+_KILL_SCRIPT = """
+import sys
+sys.path.insert(0, {root!r})
+from harness.sweep import SweepSpec, run_sweep
+from tests.harness.fakes import FAKE
+spec = SweepSpec(name="k", scenarios={scenarios!r}, seeds=(0, 1, 2), duration_s=0.3)
+run_sweep(spec, {out!r}, workers=2, components=FAKE, progress=False)
+"""
+
+
+def _kill_resume_trials(tmp_path: Path, n_trials: int, seed: int,
+                        scenarios=("fast", "slow", "mid")) -> None:
+    """SIGKILL the whole process group (parent and pool workers) of a real pool sweep at
+    seeded random moments, rerun the same command each time, and compare the final tables
+    with an uninterrupted run. Every kill is bounded: at most 3 s after the start."""
+    rng = np.random.default_rng(seed)
+    out = tmp_path / "killed"
+    env = {**os.environ, "FAKE_PROCESS_DELAY_S": "0.01"}
+    script = _KILL_SCRIPT.format(root=str(ROOT), out=str(out), scenarios=tuple(scenarios))
+    spec = SweepSpec(name="k", scenarios=tuple(scenarios), seeds=(0, 1, 2), duration_s=0.3)
+    for _ in range(n_trials):
+        p = subprocess.Popen([sys.executable, "-c", script], env=env, start_new_session=True,
+                             stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        time.sleep(float(rng.uniform(1.0, 4.0)))  # imports take about 1-2 s
+        try:
+            os.killpg(p.pid, signal.SIGKILL)
+        except ProcessLookupError:
+            pass
+        p.wait(timeout=30)
+        # Whatever the moment, every cell on disk is either complete and intact or absent.
+        for c in spec.cells():
+            assert store.cell_state(cell_dir(out, c)) in ("ok", "missing")
+    done = completed_cells(out, spec.cells())
+    o = run_sweep(spec, out, components=FAKE, progress=False)
+    assert o.complete and o.n_skipped == len(done) and o.n_ok == len(spec.cells()) - len(done)
+    assert not [p for p in (out / "cells").iterdir() if p.name.startswith(".")]
+    run_sweep(spec, tmp_path / "clean", components=FAKE, progress=False)
+    assert_same_tables(out, tmp_path / "clean")
+
+
+def test_sigkill_at_random_points_then_resume_gives_the_same_tables(tmp_path):
+    _kill_resume_trials(tmp_path, n_trials=1, seed=15, scenarios=("fast",))
+
+
+@pytest.mark.slow
+def test_sigkill_at_random_points_many_trials(tmp_path):
+    _kill_resume_trials(tmp_path, n_trials=12, seed=1515)
+
+
+def test_sigint_prints_the_resume_hint_not_a_traceback(tmp_path):
+    """Ctrl-C on a real pool sweep: exit 130, one line, cells already written stay valid."""
+    out = tmp_path / "r"
+    cmd = [sys.executable, "-m", "harness.cli", "sweep", str(sw.CI_SWEEP_PATH), "--scenarios",
+           "blind_spot_overtaking", "head_on_aliasing", "--duration-s", "2", "--workers", "2",
+           "--out", str(out)]
+    p = subprocess.Popen(cmd, cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                         text=True)
+    deadline = time.monotonic() + 60
+    # The results folder appears once the configs are validated, just before the pool starts.
+    while time.monotonic() < deadline and not out.exists() and p.poll() is None:
+        time.sleep(0.05)
+    time.sleep(1.5)
+    p.send_signal(signal.SIGINT)
+    _, err = p.communicate(timeout=120)
+    if p.returncode == 0:
+        pytest.skip("the sweep finished before the signal")
+    assert p.returncode == 130, err
+    assert "Traceback" not in err
+    assert err.strip().splitlines()[-1].endswith("interrupted: rerun the same command to resume")
+    for c in sw.load_sweep(sw.CI_SWEEP_PATH).with_overrides(
+            scenarios=["blind_spot_overtaking", "head_on_aliasing"], duration_s=2.0).cells():
+        assert store.cell_state(cell_dir(out, c)) in ("ok", "missing")
