@@ -354,7 +354,10 @@ class RadarConfig:
             raise ValueError(f"start_freq_hz={self.start_freq_hz:g} is below the {chip.name} "
                              f"band limit {chip.band_min_hz:g} Hz")
         ramp_top = self.start_freq_hz + self.slope_hz_per_s * self.ramp_end_time_s
-        if ramp_top > chip.band_max_hz * (1 + 1e-12):
+        # TI profiles give the ramp end time to 10 ns (two decimals in us), so a ramp sized to
+        # the band edge may pass it by up to one slope x 10 ns (TI Visualizer's 60 GHz
+        # "profileCfg 0 60 ... 114.29 ... 35 ..." ends 0.15 MHz above 64 GHz).
+        if ramp_top > chip.band_max_hz * (1 + 1e-12) + self.slope_hz_per_s * 10e-9:
             raise ValueError(f"start_freq_hz={self.start_freq_hz:g} + slope_hz_per_s="
                              f"{self.slope_hz_per_s:g} x ramp_end_time_s="
                              f"{self.ramp_end_time_s:g}: ramp end frequency {ramp_top:g} Hz "

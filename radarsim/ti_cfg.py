@@ -372,8 +372,16 @@ def _infer_chip(lines: list[str]) -> tuple[str, str]:
             except json.JSONDecodeError:
                 return m.group(2).strip('"\''), "directive"
         m = _PLATFORM_RE.match(text)
-        if m and m.group(1).lower() in PLATFORMS:
-            return PLATFORMS[m.group(1).lower()], f"'% Platform:{m.group(1)}' header"
+        if m:
+            name = m.group(1).lower()
+            base = name.split("_")[0]  # xWR68xx_AOP, xWR18xx_AOP: the chip of the base name
+            if name in PLATFORMS or base in PLATFORMS:
+                chip = PLATFORMS.get(name, PLATFORMS.get(base))
+                how = f"'% Platform:{m.group(1)}' header"
+                if name not in PLATFORMS:
+                    how += (f" (the {m.group(1)} board is not in the board registry: the "
+                            f"{chip}'s default board is assumed unless antGeometryCfg is given)")
+                return chip, how
         if text and not text.startswith("%"):
             cmd, *args = text.split()
             cmds.setdefault(cmd, args)
@@ -485,7 +493,9 @@ def _adcbuf_cfg(st: _State, ln: _Line) -> None:
     real = ln.flag(k, "adcOutputFmt")  # 0 complex, 1 real
     swap = ln.flag(k + 1, "SampleSwap")
     interleaved = not ln.flag(k + 2, "ChanInterleave")
-    ln.int(k + 3, "ChirpThreshold", 1, 1)
+    # SDK 2.0 Visualizer profiles write 0; the demos accept up to 8 chirps per ADC buffer
+    # (the capture layout is per chirp either way: radarsim.capture).
+    ln.int(k + 3, "ChirpThreshold", 0, 8)
     if interleaved not in st.chip.adcbuf_interleave:
         raise ln.fail(f"ChanInterleave=0 (interleaved): the {st.chip.name} demo supports only "
                       "the non-interleaved ADC buffer (1)")
@@ -596,10 +606,18 @@ def _ant_geometry_cfg(st: _State, ln: _Line) -> None:
     st.set(ln, tx_positions_wl=tx, rx_positions_wl=rx)
 
 
+#: cfarCfg argument counts the parser reads, by chip family: mmWave SDK 3.x (9) everywhere, the
+#: R79 / AWR2x44P DDM syntax (11, 12, 13) on the AWR294x family. Other counts (SDK 1.x/2.0
+#: with linear thresholds, toolbox-lab firmwares) are kept and ignored.
+_CFAR_ARGS = {"AWR2944": {9, 11, 12, 13}, "AWR2944P": {9, 11, 12, 13},
+              "AWR2544": {9, 11, 12, 13}, None: {9}}
+
+
 def _cfar_cfg(st: _State, ln: _Line) -> None:
-    if len(ln.args) == 7:  # mmWave SDK 1.x: no subFrameIdx, threshold in linear units
+    if len(ln.args) not in _CFAR_ARGS.get(st.chip.name, _CFAR_ARGS[None]):
         st.ignored.append((ln.no, ln.cmd))
-        st.notes.append(f"line {ln.no}: SDK 1.x cfarCfg (linear threshold) ignored")
+        st.notes.append(f"line {ln.no}: cfarCfg with {len(ln.args)} arguments (SDK 1.x/2.0 "
+                        f"linear threshold or a lab firmware's syntax) ignored")
         return
     ln.int(0, "subFrameIdx", -1, 3)
     direction = _CFAR_DIRECTIONS[ln.int(1, "procDirection", 0, 1)]
@@ -709,7 +727,7 @@ TI_COMMANDS: dict[str, CommandSpec] = {
                                     None: {4}}, _ddm_order, "DDMA Tx order"),
     "antGeometryCfg": _spec({None: {34}, "AWR1843": {26}, "IWR6843": {26}, "AWR1642": {18}},
                             _ant_geometry_cfg, "virtual array geometry"),
-    "cfarCfg": _spec({7, 9, 11, 12, 13}, _cfar_cfg, "CFAR settings"),
+    "cfarCfg": _spec(None, _cfar_cfg, "CFAR settings (counts: _CFAR_ARGS)"),
     "lvdsStreamCfg": _spec({4}, _lvds_stream_cfg, "LVDS streaming (raw capture)"),
     "bpmCfg": _spec({4}, _bpm_cfg, "BPM MIMO (off only)"),
     # --- known but not representable
@@ -723,7 +741,7 @@ TI_COMMANDS: dict[str, CommandSpec] = {
     # --- kept and reported as ignored (SDK demo, monitoring, dither, calibration, tracker)
     "version": _spec({0}, None, "print versions"),
     "lowPower": _spec({2}, None, "low-power ADC mode"),
-    "guiMonitor": _spec({6, 7}, None, "UART output selection"),
+    "guiMonitor": _spec(None, None, "UART output selection (differs per demo and lab)"),
     "aoaFovCfg": _spec({4, 5}, None, "angle field of view"),
     "cfarFovCfg": _spec({3, 4}, None, "CFAR field of view"),
     "multiObjBeamForming": _spec({2, 3}, None, "multi-object beamforming"),
@@ -862,6 +880,9 @@ def parse_ti_cfg(path_or_text: str | os.PathLike) -> TiProfile:
                 st.directive_lines[name] = ln
             continue
         cmd, *args = text.split()
+        # A trailing "% ..." or "# ..." note after the arguments (seen in users' files).
+        cut = next((i for i, a in enumerate(args) if a[:1] in "%#"), len(args))
+        args = args[:cut]
         ln = _Line(no, cmd, tuple(args))
         spec = TI_COMMANDS.get(cmd)
         if spec is None:

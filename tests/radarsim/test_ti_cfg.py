@@ -221,7 +221,7 @@ BAD_LINES = {
     "adcbuf_contradicts_adc": ("adcbufCfg", "adcbufCfg -1 0 0 0 1",
                                r"adcOutputFmt=0 \(complex\) contradicts adcCfg's real"),
     "twelve_bit_adc": ("adcCfg", "adcCfg 0 0", r"numADCBits=0: .* int16"),
-    "chirp_threshold": ("adcbufCfg", "adcbufCfg -1 1 0 1 2", r"ChirpThreshold=2 is outside 1..1"),
+    "chirp_threshold": ("adcbufCfg", "adcbufCfg -1 1 0 0 9", r"ChirpThreshold=9 is outside 0..8"),
     "per_chirp_variation": ("chirpCfg", "chirpCfg 0 5 0 0 0 0.5 0 15",
                             r"per-chirp variations are not modelled"),
     "chirp_unknown_profile": ("chirpCfg", "chirpCfg 0 5 1 0 0 0 0 15",

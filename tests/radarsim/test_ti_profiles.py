@@ -278,6 +278,92 @@ sensorStart
 """
 
 
+# TI Visualizer 3.6 output for an AOP board: "% Platform:xWR68xx_AOP" (the chip of the base
+# name; the AOP antenna is not in the board registry, the ISK's is assumed unless the profile
+# gives antGeometryCfg) and a ramp sized to the 64 GHz band edge with the ramp end time rounded
+# to 10 ns: 60 GHz + 70 MHz/us x 57.15 us = 64.0005 GHz, within one slope x 10 ns of the edge.
+XWR68_AOP = """\
+% Created for SDK ver:03.05
+% Created using Visualizer ver:3.6.0.0
+% Frequency:60
+% Platform:xWR68xx_AOP
+flushCfg
+dfeDataOutputMode 1
+channelCfg 15 7 0
+adcCfg 2 1
+adcbufCfg -1 0 1 1 1
+profileCfg 0 60 200 7 57.15 0 0 70 1 240 5000 0 0 158
+chirpCfg 0 0 0 0 0 0 0 1
+chirpCfg 1 1 0 0 0 0 0 2
+chirpCfg 2 2 0 0 0 0 0 4
+frameCfg 0 2 16 0 33.333 1 0
+lowPower 0 0
+guiMonitor -1 1 0 0 0 0 1
+cfarCfg -1 0 2 8 4 3 0 15 1
+cfarCfg -1 1 0 4 2 3 1 15 1
+lvdsStreamCfg -1 0 0 0
+compRangeBiasAndRxChanPhase 0.0 1 0 -1 0 1 0 -1 0 1 0 -1 0 1 0 -1 0 1 0 -1 0 1 0 -1 0
+CQRxSatMonitor 0 3 11 119 0
+CQSigImgMonitor 0 89 6
+analogMonitor 0 0
+cfarFovCfg -1 1 -1.21 1.21
+calibData 0 0 0
+sensorStart
+"""
+
+# TI Visualizer 2.0 (mmWave SDK 2.0) xWR16xx output: ChirpThreshold 0, 8-argument cfarCfg
+# with a linear threshold, nearFieldCfg, and a user's trailing "#" note.
+XWR16_SDK2 = """\
+% Created for SDK ver:02.00
+% Platform:xWR16xx
+sensorStop
+flushCfg
+dfeDataOutputMode 1
+channelCfg 15 3 0
+adcCfg 2 1
+adcbufCfg -1 0 0 1 0
+profileCfg 0 77 40 7 57.14 0 0 70 1 256 5209 0 0 30
+chirpCfg 0 0 0 0 0 0 0 1
+chirpCfg 1 1 0 0 0 0 0 2
+frameCfg 0 1 16 0 33.333 1 0
+lowPower 0 1
+guiMonitor -1 1 0 0 0 0 0
+cfarCfg -1 0 0 8 4 4 0 3072
+cfarCfg -1 1 0 4 2 3 0 3072
+peakGrouping -1 1 0 1 1 255
+clutterRemoval -1 1 # static clutter off in the lab
+bpmCfg -1 0 0 1
+nearFieldCfg -1 0 0 0
+analogMonitor 1 1
+sensorStart
+"""
+
+# Industrial-toolbox people-counting lab for the IWR1642 (toolbox 3.x): SDK 1.x adcbufCfg, the
+# lab firmware's own guiMonitor/cfarCfg syntax and tracker commands.
+XWR16_LAB = """\
+dfeDataOutputMode 1
+channelCfg 15 3 0
+adcCfg 2 1
+adcbufCfg 0 1 1 1
+profileCfg 0 77 35 7 62 0 0 60 1 128 2500 0 0 30
+chirpCfg 0 0 0 0 0 0 0 1
+chirpCfg 1 1 0 0 0 0 0 2
+frameCfg 0 1 64 0 50 1 0
+lowPower 0 1
+guiMonitor 1 1 0 0
+cfarCfg 6 4 4 4 4 16 16 4 4 50 62 0
+doaCfg 600 1875 30 1
+SceneryParam -6 6 0.05 6
+GatingParam 4 3 2 0
+StateParam 10 5 10 100 5
+AllocationParam 450 0.01 25 1 2
+VariationParam 0.289 0.289 1.0
+PointCloudEn 1
+trackingCfg 1 2 250 20 200 50 90
+sensorStart
+"""
+
+
 def _lam(f_ghz: float) -> float:
     return C / (f_ghz * 1e9)
 
@@ -332,6 +418,24 @@ PROFILES = {
         (1, 2, 3), 288, C / (2 * 54.71e12 * 96 / 2.95e6), 2.95e6 * C / (2 * 54.71e12),
         _lam(60.75) / (4 * 3 * 89.1e-6), _lam(60.75) / (2 * 288 * 89.1e-6), 0.055,
         (list(range(8)), [2, 3, 4, 5], 0.5)),
+    # B = 70 x 240 / 5 = 3360 MHz; Tc = 257.15 us; 3 x 16 = 48 chirps; ISK array assumed.
+    "xwr68xx_aop_visualizer": (
+        XWR68_AOP, "IWR6843", "IWR6843ISK", "complex1x", "tdma", 3, 4, (1, 2, 3), (1, 2, 3), 48,
+        C / (2 * 3360e6), 5e6 * C / (2 * 70e12),
+        _lam(60) / (4 * 3 * 257.15e-6), _lam(60) / (2 * 48 * 257.15e-6), 0.033333,
+        (list(range(8)), [2, 3, 4, 5], 0.5)),
+    # B = 70 x 256 / 5.209 = 3440.2 MHz; Tc = 97.14 us; 2 x 16 = 32 chirps.
+    "xwr16xx_sdk2_visualizer": (
+        XWR16_SDK2, "AWR1642", "AWR1642BOOST", "complex1x", "tdma", 2, 4, (1, 2), (1, 2), 32,
+        C / (2 * 70e12 * 256 / 5.209e6), 5.209e6 * C / (2 * 70e12),
+        _lam(77) / (4 * 2 * 97.14e-6), _lam(77) / (2 * 32 * 97.14e-6), 0.033333,
+        (list(range(8)), [], 0.0)),
+    # B = 60 x 128 / 2.5 = 3072 MHz; Tc = 97 us; 2 x 64 = 128 chirps.
+    "xwr16xx_people_counting_lab": (
+        XWR16_LAB, "AWR1642", "AWR1642BOOST", "complex1x", "tdma", 2, 4, (1, 2), (1, 2), 128,
+        C / (2 * 3072e6), 2.5e6 * C / (2 * 60e12),
+        _lam(77) / (4 * 2 * 97e-6), _lam(77) / (2 * 128 * 97e-6), 0.05,
+        (list(range(8)), [], 0.0)),
     # B = 60 x 256 / 5 = 3072 MHz; Tc = 160 us; 2 x 64 = 128 chirps.
     "xwr16xx_sdk1": (
         XWR16_SDK1, "AWR1642", "AWR1642BOOST", "complex1x", "tdma", 2, 4, (1, 2), (1, 2), 128,
