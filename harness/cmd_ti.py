@@ -148,10 +148,17 @@ def _profile(path: Path):
     if Path(path).is_dir():
         raise ValueError(f"--cfg {str(path)!r} is a directory, not a TI .cfg profile")
     try:
-        return parse_ti_cfg(path)
+        profile = parse_ti_cfg(path)
     except UnicodeDecodeError:
         raise ValueError(f"--cfg {str(path)!r}: not a text file (a TI .cfg profile is text)") \
             from None
+    # What the parser assumed or left out (chip found how, unused chirps, ignored commands).
+    for note in profile.notes:
+        print(f"note: {note}", file=sys.stderr)
+    if profile.ignored:
+        print(f"note: {len(profile.ignored)} command(s) kept but not modelled: "
+              f"{', '.join(sorted(set(profile.ignored_commands)))}", file=sys.stderr)
+    return profile
 
 
 def _track(points: pd.DataFrame, profile, n_frames: int) -> pd.DataFrame:
