@@ -40,7 +40,7 @@ from .shifter import apply_coupling, coupling_matrix, select_codes, shifter_fact
 
 __all__ = ["simulate_frame", "simulate_frame_weights", "received_power_w", "if_filter_gain",
            "transmit_phasors", "programmed_codes",
-           "ADCSaturationWarning", "IF_LOWPASS_HZ", "IF_LOWPASS_ORDER"]
+           "ADCSaturationWarning", "IF_LOWPASS_HZ", "IF_LOWPASS_ORDER", "if_corner_hz"]
 
 #: -3 dB corner of the AWR2944's IF anti-alias low-pass, Hz: just above the 15 MHz usable IF
 #: band, so targets up to ~240 m lose < 0.2 dB and echoes beyond the 253 m Nyquist range are
@@ -90,7 +90,17 @@ def received_power_w(cfg: RadarConfig, scatterers: Scatterers) -> np.ndarray:
     loss = 10 ** (cfg.system_loss_db / 10)
     lam = cfg.wavelength_m
     pr = pt * gt * gr * lam ** 2 * scatterers.rcs_m2 / ((4 * np.pi) ** 3 * r ** 4 * loss)
-    return pr * if_filter_gain(_beat_frequency_hz(cfg, scatterers), cfg.chip_spec.if_lowpass_hz)
+    return pr * if_filter_gain(_beat_frequency_hz(cfg, scatterers), if_corner_hz(cfg))
+
+
+def if_corner_hz(cfg: RadarConfig) -> float:
+    """-3 dB corner of the receive chain's anti-alias low-pass for `cfg`, Hz.
+
+    The analog IF filter's (`radarsim.chips.Chip.if_lowpass_hz`, just above the chip's IF
+    bandwidth) or, when the ADC samples a narrower band, 1.1 x that band (real: f_s / 2,
+    complex: f_s): the chip's decimation filter follows the sampling rate, so an echo beyond
+    the max range is attenuated before it aliases. For the R79 waveform both are 16.5 MHz."""
+    return min(cfg.chip_spec.if_lowpass_hz, 1.1 * cfg.max_beat_frequency_hz)
 
 
 def _beat_frequency_hz(cfg: RadarConfig, scatterers: Scatterers) -> np.ndarray:

@@ -220,3 +220,20 @@ def test_complex_range_fft_keeps_all_bins_and_puts_the_tone_at_fb_n_over_fs():
     # No image at the mirrored bin (the image band is rejected): > 30 dB below the peak.
     p = np.abs(spec).sum(axis=(0, 1)) ** 2
     assert p[128 - peak] < p[peak] * 1e-3
+
+
+def test_if_corner_follows_the_sampled_band():
+    """Anti-alias corner: the chip's IF low-pass, or 1.1 x the sampled band when narrower, so
+    an echo at 1.5 x the max range of a complex profile is down by 1 / (1 + (1.5/1.1)^20)."""
+    from radarsim.frontend import IF_LOWPASS_ORDER, if_corner_hz, received_power_w
+    assert if_corner_hz(radarsim.presets.r79_ddma()) == 16.5e6
+    cfg = _cfg("AWR1843", adc_mode="complex1x", slope_hz_per_s=30e12, adc_rate_sps=5e6,
+               antenna_pattern="isotropic")
+    assert if_corner_hz(cfg) == pytest.approx(5.5e6)
+    near, far = 0.5 * cfg.max_range_m, 1.5 * cfg.max_range_m
+    sc = radarsim.Scatterers(position_m=[[near, 0, 0], [far, 0, 0]],
+                             velocity_mps=np.zeros((2, 3)), rcs_m2=[1.0, 1.0])
+    p = received_power_w(cfg, sc) * np.array([near, far]) ** 4
+    h = lambda f: 1 / (1 + (f / 5.5e6) ** (2 * IF_LOWPASS_ORDER))  # noqa: E731
+    assert p[1] / p[0] == pytest.approx(h(7.5e6) / h(2.5e6), rel=1e-9)
+    assert p[1] / p[0] < 2.1e-3  # -26.9 dB
