@@ -25,8 +25,8 @@ from .args import DURATION_S, FRAME_STRIDE, SEED, TIMEOUT_S, WORKERS
 #: Columns printed by `run` and `sweep` (all are in summary.parquet, with many more).
 SUMMARY_COLUMNS = [
     "scenario", "variant", "seed", "scheme", "n_frames", "detections_per_frame", "ghost_rate",
-    "velocity_unambiguity_rate", "range_error_rmse_m", "range_error_median_m",
-    "radial_velocity_error_rmse_mps",
+    "velocity_unambiguity_rate", "n_velocity_resolution_failures", "range_error_rmse_m",
+    "range_error_median_m", "radial_velocity_error_rmse_mps",
     "detection_probability_mean", "target_first_detection_range_m", "snr_gain_median_db",
     "case_pass",
 ]

@@ -83,17 +83,20 @@ def processing_from_profile(profile, notes: list[str] | None = None):
     """
     import pipeline
     notes = [] if notes is None else notes
+    # Chirp-level chain (intfMitigCfg, compressionCfg): the profile's values, demo defaults
+    # otherwise.
+    chirp = dict(getattr(profile, "chirp_level", {}) or {})
     doppler = profile.cfar.get("doppler")
     if "range" in profile.cfar:
         notes.append(f"line {profile.cfar['range'].line_no}: range cfarCfg ignored (the chain "
                      "has no range CFAR, DESIGN section 5)")
     if doppler is None:
-        proc = pipeline.ProcessingConfig()
+        proc = pipeline.ProcessingConfig(**chirp)
     else:
         if not doppler.cyclic:
             notes.append(f"line {doppler.line_no}: cyclicMode 0 ignored (the Doppler CFAR is "
                          "cyclic)")
-        proc = pipeline.ProcessingConfig(cfar=cfar_config_from_ti(doppler))
+        proc = pipeline.ProcessingConfig(cfar=cfar_config_from_ti(doppler), **chirp)
     n_dop = profile.radar.n_doppler_bins
     try:
         proc.check_doppler_axis(n_dop)
@@ -152,12 +155,6 @@ def _profile(path: Path):
     except UnicodeDecodeError:
         raise ValueError(f"--cfg {str(path)!r}: not a text file (a TI .cfg profile is text)") \
             from None
-    # What the parser assumed or left out (chip found how, unused chirps, ignored commands).
-    for note in profile.notes:
-        print(f"note: {note}", file=sys.stderr)
-    if profile.ignored:
-        print(f"note: {len(profile.ignored)} command(s) kept but not modelled: "
-              f"{', '.join(sorted(set(profile.ignored_commands)))}", file=sys.stderr)
     return profile
 
 

@@ -1,16 +1,20 @@
 """Self-contained HTML report of a results directory (images embedded as base64 PNG).
 
-Sections: run information (manifest, gates with the shipped thresholds), the summary table,
-detection probability versus range per class, the SNR-gain histograms (each scheme minus the
-baseline scheme on the same actor and frame), the ghost map, and per case a bird's-eye view
-(ground truth and the detections of each MIMO scheme) and, when the scenario parts are
-installed, the range-Doppler and Doppler-azimuth maps of one frame, re-simulated bit-exactly
-from the cell's seeds. Panels follow the schemes present in the tables (their ``scheme``
-column, in run order), never a fixed list.
+The page leads with the answer: one headline table (per scheme, suite-wide: detection
+probability and first-detection range per actor class, range and radial-velocity RMSE,
+velocity-unambiguity rate, ghost rate, SNR gain over the baseline scheme and the gate verdict,
+`metrics.suite.headline_table`) and two figures (detection probability versus range per
+class; the SNR-gain histogram of each scheme minus the baseline on the same actor and frame).
+Then one section per case: its summary rows, a bird's-eye view (ground truth and the
+detections of each MIMO scheme) and the range-Doppler and Doppler-azimuth maps of one frame,
+re-simulated bit-exactly from the cell's seeds. Then the ghost map and the full summary table,
+and last, collapsed, the gate table. Panels follow the schemes present in the tables (their
+``scheme`` column, in run order), never a fixed list.
 """
 from __future__ import annotations
 
 import base64
+import fnmatch
 import html
 import io
 import json
@@ -28,7 +32,8 @@ _SUMMARY_COLUMNS = [
     "ghosts_per_frame", "velocity_unambiguity_rate", "range_error_rmse_m",
     "radial_velocity_error_rmse_mps", "detection_probability_mean",
     "target_first_detection_range_m", "case_pass", "snr_gain_median_db",
-    "track_confirm_range_m_max", "gospa_mean_m", "error",
+    "track_confirm_range_m_max", "gospa_mean_m", "noise_floor_rise_db",
+    "interference_to_noise_db", "error",
 ]
 
 
@@ -211,7 +216,7 @@ def _pd_vs_range(actors: pd.DataFrame):
     return fig
 
 
-def _snr_gain_hist(actors: pd.DataFrame, baseline: str = "tdma"):
+def _snr_gain_hist(actors: pd.DataFrame, baseline: str):
     from metrics.detection import snr_gain_pairs
     plt = _plt()
     fig, ax = plt.subplots(figsize=(7, 4))
@@ -249,6 +254,133 @@ def _ghost_map(det: pd.DataFrame):
     return fig
 
 
+_HEADLINE_LABELS = {
+    "scheme": "scheme", "range_rmse_m": "range RMSE, m",
+    "radial_velocity_rmse_mps": "velocity RMSE, m/s",
+    "velocity_unambiguity_rate": "velocity unambiguous", "ghost_rate": "ghost rate",
+    "snr_gain_pairs": "SNR-gain pairs", "gates": "gates",
+}
+
+
+def _headline_label(column: str) -> str:
+    if column in _HEADLINE_LABELS:
+        return _HEADLINE_LABELS[column]
+    if column.startswith("pd_"):
+        return f"Pd {column[3:]}"
+    if column.startswith("first_detection_range_"):
+        return f"first detection {column[len('first_detection_range_'):-2]}, m"
+    if column.startswith("snr_gain_over_"):
+        return f"SNR gain over {column[len('snr_gain_over_'):-3]}, dB"
+    return column
+
+
+def _gate_verdicts(summary: pd.DataFrame, manifest: dict) -> tuple[dict[str, str], str]:
+    """Verdict per scheme (the shipped gates whose scheme pattern matches it, on its rows) and
+    the gate table as HTML."""
+    from . import gates as gt
+    shipped = gt.load_gates()
+    usable = [x for x in shipped if x.metric in summary.columns]
+    verdicts = {}
+    for s in [s for s in dict.fromkeys(summary["scheme"]) if s]:
+        mine = [g for g in usable if fnmatch.fnmatchcase(s, g.scheme)]
+        res = gt.evaluate_gates(summary[summary["scheme"] == s], mine)
+        failed = sorted({r.gate for r in res if r.status == "fail"})
+        verdicts[s] = (f"FAIL: {', '.join(failed)}" if failed else
+                       f"PASS ({len(mine)} gates)" if mine else "no gates")
+    gres = gt.results_table(gt.evaluate_gates(summary, usable, manifest))
+    n_fail = int((gres["status"] == "fail").sum())
+    body = ""
+    if len(usable) < len(shipped):
+        body += "<p>not evaluated (metric not in this summary): " + html.escape(
+            ", ".join(x.name for x in shipped if x not in usable)) + "</p>"
+    body += _table_html(gres.sort_values("status"), ["status", "gate", "where", "value",
+                                                     "bound"])
+    table = (f"<details><summary><h2>Gates (shipped thresholds): "
+             f"{'FAIL' if n_fail else 'PASS'} <small>({len(gres)} evaluations, "
+             f"{n_fail} failed; click to open)</small></h2></summary>{body}</details>")
+    return verdicts, table
+
+
+def _case_section(summary, det, truth, specs, key, maps: bool) -> list[str]:
+    """HTML parts of one case: its summary rows, bird's-eye view, maps of one frame."""
+    import scenarios
+    sc, var, seed = key
+    parts = [f"<h2>Case {html.escape(sc)} <small>({html.escape(var)}, seed {seed})</small></h2>"]
+    parts.append(_table_html(summary[(summary["scenario"] == sc) & (summary["variant"] == var)
+                                     & (summary["seed"] == seed)], _SUMMARY_COLUMNS))
+    cd = det[(det["scenario"] == sc) & (det["variant"] == var) & (det["seed"] == seed)] \
+        if len(det) else det
+    ct = truth[(truth["scenario"] == sc) & (truth["variant"] == var) &
+               (truth["seed"] == seed)] if len(truth) else truth
+    frame = choose_frame(det, sc, var, seed) if len(det) else None
+    if len(ct):
+        parts.append(_img(_birdseye(ct, cd, frame, sc)))
+    if maps and frame is not None and key in specs:
+        if sc in scenarios.SCENARIOS:
+            parts.append(f"<h3>Range-Doppler and Doppler-azimuth maps, frame {frame}</h3>"
+                         + _img(_maps(specs[key], frame, cd)))
+        else:
+            parts.append(f"<p>maps not drawn: {html.escape(sc)} is not a catalogue case, so "
+                         "its frame cannot be re-simulated here.</p>")
+    return parts
+
+
+def interference_section(summary: pd.DataFrame, actors: pd.DataFrame) -> str:
+    """HTML of the interference section (issue 14): per interference case, the noise-floor
+    rise after the Doppler FFT (median over frames) and the INR for every variant and scheme,
+    then Pd versus range per variant (e.g. equipped share x mitigation on/off). Empty when the
+    summary has no interference columns or no case with interferers."""
+    need = {"noise_floor_rise_db", "interference_to_noise_db"}
+    if not need <= set(summary.columns):
+        return ""
+    cases = [c for c in summary["scenario"].unique()
+             if "interfer" in c or summary.loc[summary["scenario"] == c,
+                                               "interference_to_noise_db"].notna().any()]
+    if not cases:
+        return ""
+    from metrics.association import AssociationConfig
+    from metrics.detection import pd_vs_range
+    plt = _plt()
+    parts = ["<h2>Interference: noise-floor rise and Pd versus range</h2>",
+             "<p>Noise-floor rise: median over frames of the Doppler-FFT floor over thermal "
+             "(chirp-level chain of each variant applied); INR: in-burst interference-to-noise "
+             "ratio at the ADC (median over frames with interferers).</p>"]
+    cols = ["scenario", "variant", "scheme", "noise_floor_rise_db", "noise_floor_rise_range_db",
+            "interference_to_noise_db", "ghost_rate", "n_detections"]
+    sub = summary[summary["scenario"].isin(cases)]
+    parts.append(_table_html(sub, [c for c in cols if c in sub.columns]))
+    schemes = _schemes(sub) or ["-"]
+    fig, axes = plt.subplots(1, len(cases), figsize=(5.5 * len(cases), 4), squeeze=False)
+    for ax, case in zip(axes[0], cases):
+        g = sub[sub["scenario"] == case].groupby(["variant", "scheme"])["noise_floor_rise_db"] \
+            .median().unstack("scheme")
+        g = g.reindex(columns=[s for s in schemes if s in g.columns])
+        g.plot.bar(ax=ax, rot=75, fontsize=7)
+        ax.set_title(f"{case}: noise-floor rise", fontsize=9)
+        ax.set_ylabel("dB over thermal (after Doppler FFT)")
+        ax.grid(alpha=0.3, axis="y")
+    parts.append(_img(fig))
+    a = actors[actors["scenario"].isin(cases)] if len(actors) else actors
+    if len(a):
+        bin_m, min_count = AssociationConfig().pd_range_bin_m, AssociationConfig().pd_min_count
+        fig, axes = plt.subplots(1, len(schemes), figsize=(5 * len(schemes), 4), sharey=True,
+                                 squeeze=False)
+        for ax, scheme in zip(axes[0], schemes):
+            for var, g in a[a["scheme"] == scheme].groupby("variant"):
+                t = pd_vs_range(g.assign(actor_class="all"), bin_m)
+                t = t[t["n_frames"] >= min_count]
+                ax.plot((t["range_lo_m"] + t["range_hi_m"]) / 2, t["detection_probability"],
+                        "o-", ms=3, label=var)
+            ax.axhline(0.9, color="k", ls=":", lw=0.8)
+            ax.set_title(f"{scheme}: Pd vs range, interference cases", fontsize=9)
+            ax.set_xlabel("actor centre range, m")
+            ax.grid(alpha=0.3)
+            ax.legend(fontsize=6)
+        axes[0][0].set_ylabel("detection probability")
+        parts.append(_img(fig))
+    return "\n".join(parts)
+
+
 def build_report(results: str | Path, out: str | Path | None = None, *, maps: bool = True,
                  max_cases: int | None = None) -> Path:
     """Write ``report.html`` for a results directory and return its path.
@@ -260,8 +392,7 @@ def build_report(results: str | Path, out: str | Path | None = None, *, maps: bo
     out : path, optional
         Output HTML (default ``<results>/report.html``).
     maps : bool
-        Re-simulate one frame per case for the range-Doppler / Doppler-azimuth maps (needs the
-        scenario, front-end and pipeline parts; skipped with a note if they fail).
+        Re-simulate one frame per catalogue case for the range-Doppler / Doppler-azimuth maps.
     max_cases : int, optional
         Limit the per-case sections.
 
@@ -270,15 +401,20 @@ def build_report(results: str | Path, out: str | Path | None = None, *, maps: bo
     FileNotFoundError
         No summary.parquet in ``results``.
     """
+    from metrics.suite import headline_table
+
     res = Path(results)
     if not (res / "summary.parquet").exists():
         raise FileNotFoundError(f"no summary.parquet in {res} (run `radar-harness sweep`)")
     summary = _read(res, "summary")
     det = _read(res, "detections")
     actors = _read(res, "actors")
+    actor_summary = _read(res, "actor_summary")
     truth = _read(res, "truth")
     manifest = json.loads((res / "manifest.json").read_text()) \
         if (res / "manifest.json").exists() else {}
+    from .runner import DEFAULT_BASELINE_SCHEME
+    base = manifest.get("baseline_scheme", DEFAULT_BASELINE_SCHEME)
     parts = [f"<h1>Corner-radar evaluation: {html.escape(str(manifest.get('run_id', res.name)))}"
              "</h1>"]
     git = manifest.get("git", {})
@@ -286,31 +422,20 @@ def build_report(results: str | Path, out: str | Path | None = None, *, maps: bo
                  f"{manifest.get('n_ok', '?')} of {manifest.get('n_cells', '?')} cells ok, "
                  f"{manifest.get('n_error', 0)} failed; written "
                  f"{html.escape(str(manifest.get('written_utc', '')))}.</p>")
-    try:
-        from . import gates as gt
-        shipped = gt.load_gates()
-        usable = [x for x in shipped if x.metric in summary.columns]
-        gres = gt.results_table(gt.evaluate_gates(summary, usable, manifest))
-        n_fail = int((gres["status"] == "fail").sum())
-        parts.append(f"<h2>Gates (shipped thresholds): {'FAIL' if n_fail else 'PASS'}</h2>")
-        if len(usable) < len(shipped):
-            parts.append("<p>not evaluated (metric not in this summary): " + html.escape(
-                ", ".join(x.name for x in shipped if x not in usable)) + "</p>")
-        parts.append(_table_html(gres.sort_values("status"), ["status", "gate", "where",
-                                                               "value", "bound"]))
-    except Exception as exc:  # noqa: BLE001 - the report still renders without gates
-        parts.append(f"<p>gates not evaluated: {html.escape(str(exc))}</p>")
-    parts.append("<h2>Summary</h2>")
-    parts.append(_table_html(summary, _SUMMARY_COLUMNS))
+    verdicts, gate_table = _gate_verdicts(summary, manifest)
+    head = headline_table(summary, actor_summary, actors if len(actors) else None, base,
+                          verdicts)
+    parts.append("<h2>Headline: every scheme over the whole suite</h2>")
+    parts.append("<p>Pd: detected / visible actor-frames per class; first detection: median "
+                 "range of each actor's first TRUE detection; RMSE pooled over every TRUE "
+                 f"detection; SNR gain: median over noise-limited pairs against {html.escape(base)}"
+                 " on the same actor and frame; gates: the shipped thresholds on that scheme's "
+                 "rows.</p>")
+    parts.append(_table_html(head.rename(columns=_headline_label)))
     if len(actors):
         parts.append("<h2>Detection probability versus range</h2>" + _img(_pd_vs_range(actors)))
-        base = manifest.get("baseline_scheme", "tdma")
         parts.append(f"<h2>SNR gain over {html.escape(base)}</h2>"
                      + _img(_snr_gain_hist(actors, base)))
-    if len(det):
-        parts.append("<h2>Ghost map</h2>" + _img(_ghost_map(det)))
-    from .shifter_report import html_section as _shifter_section  # "" unless a shifter sweep
-    parts.append(_shifter_section(res))
     specs = {}
     cell_dirs = sorted((res / "cells").glob("*/cell.json")) if (res / "cells").exists() else []
     for f in cell_dirs:
@@ -324,30 +449,20 @@ def build_report(results: str | Path, out: str | Path | None = None, *, maps: bo
     if max_cases is not None:
         keys = keys.iloc[:max_cases]
     for _, k in keys.iterrows():
-        sc, var, seed = k["scenario"], k["variant"], int(k["seed"])
-        parts.append(f"<h2>Case {html.escape(sc)} <small>({html.escape(var)}, seed {seed})"
-                     "</small></h2>")
-        parts.append(_table_html(summary[(summary["scenario"] == sc) &
-                                         (summary["variant"] == var) &
-                                         (summary["seed"] == seed)], _SUMMARY_COLUMNS))
-        cd = det[(det["scenario"] == sc) & (det["variant"] == var) & (det["seed"] == seed)] \
-            if len(det) else det
-        ct = truth[(truth["scenario"] == sc) & (truth["variant"] == var) &
-                   (truth["seed"] == seed)] if len(truth) else truth
-        frame = choose_frame(det, sc, var, seed) if len(det) else None
-        if len(ct):
-            parts.append(_img(_birdseye(ct, cd, frame, sc)))
-        if maps and frame is not None and (sc, var, seed) in specs:
-            try:
-                img = _img(_maps(specs[(sc, var, seed)], frame, cd))
-                parts.append(f"<h3>Range-Doppler and Doppler-azimuth maps, frame {frame}</h3>"
-                             + img)
-            except Exception as exc:  # noqa: BLE001 - maps need every part installed
-                parts.append(f"<p>maps not available: {html.escape(type(exc).__name__)}: "
-                             f"{html.escape(str(exc))}</p>")
+        parts += _case_section(summary, det, truth, specs,
+                               (k["scenario"], k["variant"], int(k["seed"])), maps)
+    if len(det):
+        parts.append("<h2>Ghost map</h2>" + _img(_ghost_map(det)))
+    parts.append(interference_section(summary, actors))
+    from .shifter_report import html_section as _shifter_section  # "" unless a shifter sweep
+    parts.append(_shifter_section(res))
+    parts.append("<details><summary><h2>Summary: every run</h2></summary>"
+                 + _table_html(summary, _SUMMARY_COLUMNS) + "</details>")
+    parts.append(gate_table)
     style = ("body{font-family:sans-serif;margin:2em;max-width:1400px}"
              ".tbl{border-collapse:collapse;font-size:12px}"
              ".tbl td,.tbl th{border:1px solid #ccc;padding:2px 6px;text-align:right}"
+             "summary h2{display:inline;cursor:pointer}"
              "img{max-width:100%}")
     page = ("<!DOCTYPE html><html><head><meta charset='utf-8'><title>radar-harness report"
             f"</title><style>{style}</style></head><body>" + "\n".join(parts) +

@@ -3,8 +3,8 @@
 A cell runs the scenario once, and for every processed frame builds the scatterers of the
 scene, simulates one ADC frame per MIMO scheme of the cell (``CellSpec.schemes``, names of
 ``radarsim.MIMO_SCHEMES``; independent noise: generator ``SeedSequence([seed, frame, stream])``
-with stream 0 = RCS model, 1 = DDMA ADC, 2 = TDMA ADC and, for every other scheme, a stream id
-derived from its name alone, so adding or removing a scheme never changes another scheme's
+with stream 0 = RCS model, 1 = DDMA ADC, 2 = TDMA ADC, 3 = the tracker's RANSAC (frame 0)
+and, for every other scheme, a stream id derived from its name alone, so adding or removing a scheme never changes another scheme's
 numbers), processes each result scheme (a registered scheme, or a variant its receive chain
 declares in ``pipeline.MIMO_CHAINS``, e.g. ``tdma_raw`` = TDMA without velocity disambiguation
 on the same TDMA ADC frame), optionally tracks each scheme, and scores everything with
@@ -79,6 +79,9 @@ class CellSpec:
     baseline_scheme : str
         Scheme the SNR gain is taken over (the gain columns of its own row are NaN, as are
         those of every scheme when it is not run).
+    scene : dict
+        Scene overrides (`SCENE_FIELDS`): ``equipped_share`` replaces the case's share of
+        vehicles carrying radars (interference).
     association : dict
         `metrics.association.AssociationConfig` overrides (the sweep's ``[association]``);
         the radar-dependent settings otherwise come from the cell's configs
@@ -98,11 +101,13 @@ class CellSpec:
     duration_s: float | None = None
     schemes: tuple[str, ...] = DEFAULT_SCHEMES
     baseline_scheme: str = DEFAULT_BASELINE_SCHEME
+    scene: dict = field(default_factory=dict)
     association: dict = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         if not isinstance(self.scenario, str) or not self.scenario:
             raise ValueError(f"scenario={self.scenario!r} must be a non-empty name")
+        check_scene(self.scene)
         object.__setattr__(self, "schemes", tuple(self.schemes))
         result_schemes(self.schemes)
         if not isinstance(self.baseline_scheme, str) or \
@@ -130,6 +135,8 @@ class CellSpec:
             del d["schemes"]
         if d["baseline_scheme"] == DEFAULT_BASELINE_SCHEME:
             del d["baseline_scheme"]
+        if not d["scene"]:
+            del d["scene"]
         if not d["association"]:
             del d["association"]
         blob = json.dumps(d, sort_keys=True, default=str)
@@ -145,10 +152,15 @@ class Components:
     run_scenario(name, seed, duration_s[, frame_rate_hz=]) -> object with ``truth``, ``ego``, ``mount``,
     ``case`` (and optionally ``radar_velocity_mps()``); scene_scatterers(truth_rows, rng,
     [radar_velocity_mps=, mount_height_m=]) -> Scatterers; simulate_frame(cfg, sc, rng) ->
-    ADC; process_frame(cfg, adc, proc) -> point cloud; make_processing(overrides) ->
+    ADC (simulate_frame(cfg, sc, rng, interferers) when the frame has interferers);
+    process_frame(cfg, adc, proc) -> point cloud; make_processing(overrides) ->
     ProcessingConfig; track(radar_cfg, clouds, times_s, ego_speeds_mps, mount, overrides,
     rng) -> tracks table (``frame`` = index in the sequence) or None;
-    track_metrics(tracks, truth, mount) -> dict of numbers or None.
+    track_metrics(tracks, truth, mount) -> dict of numbers or None;
+    equipment(run, seed, scene) -> per-actor radar table (empty: no interference);
+    interferers(radar_cfg, truth_rows, equipment) -> radarsim.interference.Interferers;
+    noise_floor(radar_cfg, adc, proc) -> (rise after range FFT, after Doppler FFT), dB;
+    interference_to_noise(radar_cfg, interferers) -> dB (NaN without interferers).
     """
 
     run_scenario: Callable
@@ -158,6 +170,9 @@ class Components:
     make_processing: Callable
     track: Callable | None = None
     track_metrics: Callable | None = None
+    equipment: Callable | None = None
+    interferers: Callable | None = None
+    noise_floor: Callable | None = None
 
 
 def _real_run_scenario(name, seed, duration_s, frame_rate_hz=20.0):
@@ -181,14 +196,14 @@ def _real_process_frame(cfg, adc, proc):
     return pipeline.process_frame(cfg, adc, proc)
 
 
-def _real_simulate_frame(cfg, sc, rng):
+def _real_simulate_frame(cfg, sc, rng, interferers=None):
     import warnings
 
     import radarsim
     with warnings.catch_warnings():
         # Saturation is a property of the scene (a car at 2 m); it is counted, not fatal.
         warnings.simplefilter("ignore", radarsim.ADCSaturationWarning)
-        return radarsim.simulate_frame(cfg, sc, rng)
+        return radarsim.simulate_frame(cfg, sc, rng, interferers)
 
 
 def _real_track(radar_cfg, clouds, times_s, ego_speeds_mps, mount, overrides, rng):
@@ -216,6 +231,47 @@ def _mount_value(mount, key):
     return getattr(mount, key, None)
 
 
+#: Scene overrides a sweep may give (``[vary] "scene.equipped_share" = [...]``).
+SCENE_FIELDS = {"equipped_share": "share of vehicles carrying a radar (interferers), [0, 1]"}
+
+
+def check_scene(scene) -> None:
+    """Validate scene overrides: known keys (`SCENE_FIELDS`), equipped_share in [0, 1]."""
+    if not isinstance(scene, dict):
+        raise ValueError(f"scene must be a table of field = value, got {scene!r}")
+    bad = sorted(set(scene) - set(SCENE_FIELDS))
+    if bad:
+        raise ValueError(f"unknown scene field(s) {bad}; known: {sorted(SCENE_FIELDS)}")
+    share = scene.get("equipped_share", 0.0)
+    if isinstance(share, bool) or not isinstance(share, (int, float)) or not 0 <= share <= 1:
+        raise ValueError(f"scene.equipped_share={share!r} must be in [0, 1]")
+
+
+def _real_equipment(run, seed, scene):
+    """Radars of the run's actors: the case's explicit radars plus its (or the scene's)
+    equipped share, drawn with the seed (`scenarios.equipment.equipment_table`)."""
+    from scenarios.equipment import equipment_table
+    case = getattr(run, "case", None)
+    share = scene.get("equipped_share", getattr(case, "equipped_share", 0.0))
+    radars = tuple(getattr(case, "radars", ()) or ())
+    if not radars and not share:
+        return None
+    actors = run.truth.drop_duplicates("actor_id")[["actor_id", "actor_class", "length_m",
+                                                    "width_m"]]
+    table = equipment_table(actors, seed, equipped_share=float(share), radars=radars)
+    return table if len(table) else None
+
+
+def _real_interferers(cfg, rows, equipment):
+    from radarsim.interference import interferers_from_truth
+    return interferers_from_truth(cfg, rows, equipment)
+
+
+def _real_noise_floor(cfg, adc, proc):
+    from pipeline.chirp_level import noise_floor_rise
+    return tuple(noise_floor_rise(cfg, adc, proc))
+
+
 def _real_track_metrics(tracks, truth, mount):
     """`metrics.tracks.track_metrics` of one scheme."""
     from metrics import tracks as mtr
@@ -227,7 +283,8 @@ def default_components() -> Components:
     return Components(run_scenario=_real_run_scenario, scene_scatterers=_real_scene_scatterers,
                       simulate_frame=_real_simulate_frame, process_frame=_real_process_frame,
                       make_processing=_real_make_processing, track=_real_track,
-                      track_metrics=_real_track_metrics)
+                      track_metrics=_real_track_metrics, equipment=_real_equipment,
+                      interferers=_real_interferers, noise_floor=_real_noise_floor)
 
 
 @dataclass
@@ -420,14 +477,20 @@ def frame_scatterers(comps: Components, run, frame: int, seed: int):
 def simulate_cell_frame(spec: CellSpec, frame: int, comps: Components | None = None, run=None):
     """Re-simulate one frame of a cell exactly as `run_cell` did (for the report's maps).
 
-    Returns (radar configs by mimo, ADC frames by mimo, Scatterers, run).
+    Returns (radar configs by mimo, ADC frames by mimo, Scatterers, run). Runs with one BLAS
+    thread, as every sweep path does, so the report's maps show the sweep's bits.
     """
+    from .runtime import single_thread_blas
+    single_thread_blas()
     comps = comps or default_components()
     run = run if run is not None else comps.run_scenario(spec.scenario, spec.seed,
                                                          spec.duration_s)
     radar, _ = build_configs(spec, comps)
     sc = frame_scatterers(comps, run, frame, spec.seed)
-    adc = {m: comps.simulate_frame(radar[m], sc, frame_rng(spec.seed, frame, m)) for m in radar}
+    equipment = comps.equipment(run, spec.seed, dict(spec.scene)) \
+        if comps.equipment is not None else None
+    adc, _ = _simulate_frames(comps, radar, sc, spec.seed, frame,
+                              run.truth[run.truth["frame"] == frame], equipment)
     return radar, adc, sc, run
 
 
@@ -467,11 +530,15 @@ def run_cell(spec: CellSpec, comps: Components | None = None,
     saturated: dict[str, list[int]] = {s.name: [] for s in schemes}
     scat = []
     ctx = _frame_context(run)
+    equipment = comps.equipment(run, spec.seed, dict(spec.scene)) \
+        if comps.equipment is not None else None
+    floor_rows = []
     for f in frames:
         rows = truth[truth["frame"] == f]
         sc = _scatterers(comps, rows, frame_rng(spec.seed, f, "rcs"), ctx.get(int(f)))
         scat.append((f, sc))
-        adc = {m: comps.simulate_frame(radar[m], sc, frame_rng(spec.seed, f, m)) for m in radar}
+        adc, inr = _simulate_frames(comps, radar, sc, spec.seed, f, rows, equipment)
+        floor_rows += _noise_floors(comps, radar, adc, procs, schemes, f, inr)
         for rs in schemes:
             pc = comps.process_frame(radar[rs.mimo], adc[rs.mimo], procs[rs.name]) \
                 .reset_index(drop=True)
@@ -529,9 +596,14 @@ def run_cell(spec: CellSpec, comps: Components | None = None,
         row["n_saturated_frames"] = int(np.count_nonzero(saturated[s]))
         rows_out.append({"scheme": s, **row})
         det_tables.append(lab.assign(scheme=s))
-        frame_tables.append(_frame_counts(lab, frames).assign(
+        fc = _frame_counts(lab, frames).assign(
             n_saturated_chirp_rx=np.asarray(saturated[s], dtype=np.int64)
-            if saturated[s] else np.zeros(len(frames), dtype=np.int64), scheme=s))
+            if saturated[s] else np.zeros(len(frames), dtype=np.int64), scheme=s)
+        if floor_rows:
+            fl = pd.DataFrame([r for r in floor_rows if r["scheme"] == s]).drop(columns="scheme")
+            fc = fc.merge(fl, on="frame", how="left")
+            rows_out[-1].update(_floor_summary(fl))
+        frame_tables.append(fc)
         actor_tables.append(af.assign(scheme=s))
 
     actors = pd.concat(actor_tables, ignore_index=True)
@@ -560,6 +632,54 @@ def run_cell(spec: CellSpec, comps: Components | None = None,
         "tracks": _with_ids(tracks, ids),
     }
     return CellResult(spec=spec, tables=tables, elapsed_s=time.perf_counter() - t0)
+
+
+def _simulate_frames(comps: Components, radar: dict, sc, seed: int, frame, rows, equipment):
+    """ADC frame per mimo (with the equipped actors' radars as interferers) and the in-burst
+    interference-to-noise ratio at the victim's ADC, dB (NaN without interferers)."""
+    itf = None
+    inr = float("nan")
+    if equipment is not None and comps.interferers is not None:
+        from radarsim.interference import interference_to_noise_db
+        first = next(iter(radar.values()))
+        itf = comps.interferers(first, rows, equipment)
+        inr = interference_to_noise_db(first, itf) if len(itf) else inr
+    adc = {}
+    for m in radar:
+        rng = frame_rng(seed, frame, m)
+        adc[m] = comps.simulate_frame(radar[m], sc, rng, itf) if itf is not None and len(itf) \
+            else comps.simulate_frame(radar[m], sc, rng)
+    return adc, inr
+
+
+def _noise_floors(comps: Components, radar: dict, adc: dict, procs: dict, schemes, frame,
+                  inr: float) -> list[dict]:
+    """Per scheme: noise-floor rise over thermal after the range and Doppler FFTs (the
+    chirp-level chain of its processing config applied), and the frame's INR."""
+    if comps.noise_floor is None:
+        return []
+    out, cache = [], {}
+    for rs in schemes:
+        p = procs[rs.name]
+        key = (rs.mimo, p.dc_removal, p.interference_mitigation, p.compression,
+               p.range_window, p.doppler_window)
+        if key not in cache:
+            cache[key] = comps.noise_floor(radar[rs.mimo], adc[rs.mimo], p)
+        r_db, d_db = cache[key]
+        out.append({"scheme": rs.name, "frame": np.int64(frame),
+                    "interference_to_noise_db": inr, "noise_floor_rise_range_db": r_db,
+                    "noise_floor_rise_db": d_db})
+    return out
+
+
+def _floor_summary(fl: pd.DataFrame) -> dict:
+    """Summary columns of one scheme: medians over frames (INR over frames that have
+    interferers; NaN when none has)."""
+    inr = fl["interference_to_noise_db"].to_numpy(dtype=float)
+    return {"noise_floor_rise_db": float(np.median(fl["noise_floor_rise_db"])),
+            "noise_floor_rise_range_db": float(np.median(fl["noise_floor_rise_range_db"])),
+            "interference_to_noise_db": float(np.nanmedian(inr)) if np.isfinite(inr).any()
+            else float("nan")}
 
 
 def _frame_counts(lab: pd.DataFrame, frames: np.ndarray) -> pd.DataFrame:

@@ -60,18 +60,19 @@ from scenarios.checks import check_keys, read_toml
 
 from . import cellstore as store
 from .args import MAX_DURATION_S, MAX_SEED
-from .runner import (DEFAULT_BASELINE_SCHEME, DEFAULT_SCHEMES, TABLES, CellSpec, Components,
-                     result_schemes, run_cell)
+from .runner import (DEFAULT_BASELINE_SCHEME, DEFAULT_SCHEMES, SEED_STREAMS, TABLES, CellSpec,
+                     Components, result_schemes, run_cell)
 
 __all__ = ["Variant", "SweepSpec", "SweepOutcome", "load_sweep", "default_sweep",
            "run_sweep", "cell_dir", "completed_cells", "cell_states", "assemble",
            "validate_cells", "prepare_out", "dask_security", "DEFAULT_SWEEP_PATH",
-           "CI_SWEEP_PATH", "MAX_DURATION_S", "MAX_CELLS", "MAX_WORKERS", "MAX_FRAME_STRIDE",
-           "MAX_SEED"]
+           "CI_SWEEP_PATH", "SCHEMES_SWEEP_PATH", "MAX_DURATION_S", "MAX_CELLS", "MAX_WORKERS",
+           "MAX_FRAME_STRIDE", "MAX_SEED"]
 
 DEFAULT_SWEEP_PATH = Path(__file__).with_name("default_sweep.toml")
 CI_SWEEP_PATH = Path(__file__).with_name("ci_sweep.toml")
-_SECTIONS = ("radar", "processing", "tracker")
+SCHEMES_SWEEP_PATH = Path(__file__).with_name("schemes_sweep.toml")
+_SECTIONS = ("radar", "processing", "tracker", "scene")
 #: Most cells in one sweep (scenarios x variants x seeds): beyond it a typo in [vary] is likelier
 #: than a plan (10 000 R79 cells are days of CPU).
 MAX_CELLS = 10_000
@@ -95,6 +96,7 @@ class Variant:
     radar: dict = field(default_factory=dict)
     processing: dict = field(default_factory=dict)
     tracker: dict = field(default_factory=dict)
+    scene: dict = field(default_factory=dict)
 
 
 @dataclass(frozen=True)
@@ -159,6 +161,7 @@ class SweepSpec:
         """Cells in a fixed order: scenario, then variant, then seed."""
         return [CellSpec(scenario=sc, seed=seed, variant=v.name, radar=dict(v.radar),
                          processing=dict(v.processing), tracker=dict(v.tracker),
+                         scene=dict(v.scene),
                          frame_stride=self.frame_stride, duration_s=self.duration_s,
                          schemes=self.schemes, baseline_scheme=self.baseline_scheme,
                          association=dict(self.association))
@@ -176,6 +179,9 @@ class SweepSpec:
             del d["schemes"]
         if d["baseline_scheme"] == DEFAULT_BASELINE_SCHEME:
             del d["baseline_scheme"]
+        for v in d["variants"]:  # the scene section enters the id only when used
+            if not v.get("scene"):
+                v.pop("scene", None)
         if not d["association"]:
             del d["association"]
         blob = json.dumps(d, sort_keys=True, default=str)
@@ -245,6 +251,9 @@ def _check_section(where: str, section: str, overrides: dict) -> None:
             pipeline.ProcessingConfig().replace(**overrides)
         except (ValueError, TypeError) as exc:
             raise ValueError(f"{where}: processing {overrides!r}: {exc}") from None
+    if section == "scene" and overrides:
+        from .runner import check_scene
+        check_scene(overrides)
 
 
 def _init_worker() -> None:
@@ -311,7 +320,7 @@ def validate_cells(spec: SweepSpec, source: str | Path | None = None) -> None:
         try:
             check(CellSpec(scenario=spec.scenarios[0], seed=spec.seeds[0], variant=v.name,
                            radar=dict(v.radar), processing=dict(v.processing),
-                           tracker=dict(v.tracker), **schemes))
+                           tracker=dict(v.tracker), scene=dict(v.scene), **schemes))
             TrackerConfig(**v.tracker)
         except (ValueError, TypeError, KeyError) as exc:
             why = _culprit(v, build) or f"{type(exc).__name__}: {exc}"
@@ -388,11 +397,12 @@ def load_sweep(path: str | Path | None = None, *, check_scenarios: bool = True) 
             parts.append(f"{fld}={_fmt(v)}")
         variants.append(Variant(name=",".join(parts) or "baseline", **ov))
     for i, extra in enumerate(data.get("variants", [])):
-        if not isinstance(extra, dict):
-            raise ValueError(f"{p}: [[variants]] #{i}: {extra!r} must be a table")
-        bad = sorted(set(extra) - {"name", *_SECTIONS})
-        if bad or "name" not in extra:
-            raise ValueError(f"{p}: [[variants]] #{i}: needs a name, unknown key(s) {bad}")
+        try:
+            check_keys(extra, {"name", *_SECTIONS}, f"variants[{i}].")
+            if "name" not in extra:
+                raise ValueError(f"variants[{i}].name: required key missing")
+        except ValueError as exc:
+            raise ValueError(f"{p}: {exc}") from None
         for s in _SECTIONS:
             if not isinstance(extra.get(s, {}), dict):
                 raise ValueError(f"{p}: [[variants]] {extra['name']!r}: {s} = {extra[s]!r} must "
@@ -843,8 +853,10 @@ def assemble(spec: SweepSpec, out: str | Path,
                                            "[association] sets them"},
         "schemes": list(spec.schemes),
         "baseline_scheme": spec.baseline_scheme,
-        "seed_streams": "SeedSequence([seed, frame, stream]); stream 0 RCS, 1 DDMA ADC, "
-                        "2 TDMA ADC, other schemes harness.runner.stream_id(name)",
+        "seed_streams": "SeedSequence([seed, frame, stream]); " + ", ".join(
+            f"stream {i} {name}" for name, i in SEED_STREAMS.items())
+        + " (the tracker's RANSAC: frame 0 of that stream); other schemes' ADC "
+          "harness.runner.stream_id(name)",
         "cells": cell_meta,
         "n_cells": len(cells),
         "n_ok": sum(m["status"] == "ok" for m in cell_meta),
@@ -858,12 +870,12 @@ def assemble(spec: SweepSpec, out: str | Path,
         "written_utc": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime()),
         "tables": {t: f"{t}.parquet" for t in TABLES},
     }
+    import radarsim
     try:
-        import radarsim
         manifest["radar_presets"] = {
             m: radarsim.presets.r79(m).to_dict()
             for m in dict.fromkeys(rs.mimo for rs in result_schemes(spec.schemes))}
-    except Exception:  # noqa: BLE001 - the manifest is informative, never fatal
+    except ValueError:  # a scheme with no R79 preset: the manifest just lacks the presets
         pass
     _write_atomic(out / "manifest.json", lambda tmp: tmp.write_text(
         json.dumps(manifest, indent=1, default=str)))

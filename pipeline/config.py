@@ -10,10 +10,17 @@ from scenarios.checks import one_of, require
 from .cfar import CFAR_MODES, cfar_scale
 from .saturation import SATURATION_POLICIES
 
-__all__ = ["CfarConfig", "ProcessingConfig", "WINDOWS"]
+__all__ = ["CfarConfig", "ProcessingConfig", "WINDOWS", "INTF_THRESHOLD_MODES"]
 
 #: Windows by name (scipy.signal.get_window names).
 WINDOWS = {"hann": "hann", "hamming": "hamming", "blackman": "blackman", "rect": "boxcar"}
+#: HWA interference localisation modes (HWA_INTERFTHRESH_MODE_*), see `chirp_level`.
+INTF_THRESHOLD_MODES = {
+    "magdiff": "|x_n - x_{n-1}| > AbsDiffThreshold (the DDM demo's RangeProc)",
+    "mag": "|x_n| > AbsThreshold",
+    "mag_or_magdiff": "either threshold",
+    "mag_and_magdiff": "both thresholds",
+}
 
 
 @dataclass(frozen=True, kw_only=True, slots=True)
@@ -22,7 +29,8 @@ class CfarConfig:
 
     Parameters
     ----------
-    mode : {"os", "ca", "cago", "caso"}
+    mode : str
+        Key of `pipeline.cfar.CFAR_MODES` ("os", "ca", "cago", "caso").
     guard_cells : int
         Guard cells on each side of the cell under test.
     window_cells : int
@@ -91,12 +99,14 @@ class ProcessingConfig:
     min_range_bin : int
         First range bin searched (bin 0 holds DC).
     tdma_disambiguation : bool
-        TDMA: resolve velocity beyond +/-Vmax by hypothesis testing (seed 001 section 4): each
-        v_est + 2 k Vmax within +/- n_tx Vmax has its slot Doppler phase compensated and is
-        scored by the generalised likelihood of one echo on the whole virtual array,
-        max over wx of (|A_h(wx)| + |A_v(wx)|)^2 (A_h, A_v: beams of the horizontal and the
-        raised row); without a raised row, by the horizontal azimuth-FFT peak. False: v_est
-        as measured, aliased beyond +/-Vmax (the sweep's ``tdma_raw`` scheme).
+        TDMA and BPM (the slot-coded chains): resolve velocity beyond +/-Vmax by hypothesis
+        testing (seed 001 section 4): each v_est + 2 k Vmax within +/- n_tx Vmax has its slot
+        Doppler phase compensated (and, for BPM, is Hadamard-decoded) and is scored by the
+        generalised likelihood of one echo on the whole virtual array, max over wx of
+        (|A_h(wx)| + |A_v(wx)|)^2 (A_h, A_v: beams of the horizontal and the raised row;
+        `pipeline.stages.array_likelihood`); without a raised row, by the horizontal
+        azimuth-FFT peak. False: v_est as measured, aliased beyond +/-Vmax (the sweep's
+        ``tdma_raw`` scheme).
     correct_range_doppler_coupling : bool
         Remove the fast-time Doppler shift f_D from the beat frequency (R += v c / (S lambda)).
     range_peak_check : bool
@@ -107,6 +117,25 @@ class ProcessingConfig:
         Keep a DDMA azimuth peak only if it is within this many dB of the strongest azimuth
         peak of its (range, Doppler) cell: rejects the -13 dB sidelobes of the unwindowed
         12-element array (TI's multi-object beamforming uses a 6 dB ratio). None disables it.
+    dc_removal : bool
+        Chirp-level chain (`chirp_level`, seed 004 section 2): subtract each chirp's and Rx's
+        mean before the range FFT, as the R79 demo (default on).
+    interference_mitigation : bool
+        Flag samples by the HWA interference statistics and zero them before the window
+        (``intfMitigCfg``; default on).
+    intf_mag_snr_db, intf_magdiff_snr_db : float
+        ``intfMitigCfg`` magSNRdB and magDiffSNRdB: thresholds over the chirp's mean |x| and
+        mean |x_n - x_{n-1}|, amplitude dB (the demo profile: 15, 18), in (0, 60].
+    intf_threshold_mode : str
+        Which statistic flags a sample, see `INTF_THRESHOLD_MODES` (the demo: "magdiff").
+    intf_hysteresis_samples : int
+        Samples zeroed on each side of a flagged run (the demo's hysteresis order 3), 0..32.
+    compression : bool
+        EGE compression/decompression of the range-FFT cube (``compressionCfg``; default on).
+    compression_ratio : float
+        Compressed / raw size, in [0.25, 1) (the demo: 0.5).
+    compression_range_bins_per_block : int
+        Range bins per block (blocks hold all Rx; the demo: 8), a power of 2 in 1..32.
     saturation_policy : {"flag", "drop"}
         What a frame with saturated ADC samples does to its detections
         (`pipeline.saturation`): "flag" keeps them with ``saturated = True``, "drop" removes
@@ -122,6 +151,15 @@ class ProcessingConfig:
     correct_range_doppler_coupling: bool = True
     range_peak_check: bool = True
     azimuth_sidelobe_db: float | None = 10.0
+    dc_removal: bool = True
+    interference_mitigation: bool = True
+    intf_mag_snr_db: float = 15.0
+    intf_magdiff_snr_db: float = 18.0
+    intf_threshold_mode: str = "magdiff"
+    intf_hysteresis_samples: int = 3
+    compression: bool = True
+    compression_ratio: float = 0.5
+    compression_range_bins_per_block: int = 8
     saturation_policy: str = "flag"
 
     def __post_init__(self) -> None:
@@ -135,6 +173,16 @@ class ProcessingConfig:
         require(self, ("tdma_disambiguation", "correct_range_doppler_coupling",
                        "range_peak_check"), "bool")
         one_of("saturation_policy", self.saturation_policy, SATURATION_POLICIES)
+
+        require(self, ("dc_removal", "interference_mitigation", "compression"), "bool")
+        require(self, ("intf_mag_snr_db", "intf_magdiff_snr_db"), gt=0, le=60, unit="dB")
+        one_of("intf_threshold_mode", self.intf_threshold_mode, INTF_THRESHOLD_MODES)
+        require(self, "intf_hysteresis_samples", "integer", ge=0, le=32)
+        require(self, "compression_ratio", ge=0.25, lt=1)
+        b = self.compression_range_bins_per_block
+        if isinstance(b, bool) or not isinstance(b, int) or b not in (1, 2, 4, 8, 16, 32):
+            raise ValueError(f"compression_range_bins_per_block={b!r} must be a power of 2 "
+                             "in 1..32")
 
     def check_doppler_axis(self, n_doppler_bins: int) -> None:
         """Raise if the CFAR's cyclic window does not fit the Doppler axis of a radar.

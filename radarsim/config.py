@@ -226,6 +226,12 @@ class RadarConfig:
         Receiver noise figure, lumped losses (radome, cabling, implementation), noise temperature.
     adc_full_scale_dbm : float
         Input-referred power of a full-scale sine at the ADC (receiver gain folded in).
+    adc_dc_offset_lsb : float
+        Static DC offset of every ADC sample (all chirps and Rx), LSB; 0 = none (default). The
+        R79 demo removes it per chirp and Rx before the range FFT (seed 004 section 2).
+    tx_leakage_dbfs : float or None
+        Tx-to-Rx leakage (antenna coupling, bumper) as a tone from a 0.1 m path at this level
+        relative to a full-scale sine, dBFS; None = none (default).
 
     Raises
     ------
@@ -276,6 +282,8 @@ class RadarConfig:
     system_loss_db: float = 3.0
     temperature_k: float = 290.0
     adc_full_scale_dbm: float = -20.0
+    adc_dc_offset_lsb: float = 0.0
+    tx_leakage_dbfs: float | None = None
 
     def __post_init__(self) -> None:
         _set = lambda name, value: object.__setattr__(self, name, value)  # noqa: E731
@@ -340,11 +348,20 @@ class RadarConfig:
                        "pattern_exponent_az", "pattern_exponent_el"), ge=0)
         _check_rf_budget(self)
 
+        if not (math.isfinite(self.adc_dc_offset_lsb)
+                and abs(self.adc_dc_offset_lsb) <= ADC_FULL_SCALE_CODE):
+            raise ValueError(f"adc_dc_offset_lsb={self.adc_dc_offset_lsb!r} must be finite and "
+                             f"within +/-{ADC_FULL_SCALE_CODE} LSB")
+        if self.tx_leakage_dbfs is not None and not (math.isfinite(self.tx_leakage_dbfs)
+                                                     and self.tx_leakage_dbfs <= 0):
+            raise ValueError(f"tx_leakage_dbfs={self.tx_leakage_dbfs!r} must be <= 0 dBFS or "
+                             "None")
+
         # DESIGN 4.4: chip limits, the chip's values.
         max_rate = chip.adc[self.adc_mode].max_rate_sps
         if self.adc_rate_sps > max_rate:
             raise ValueError(f"adc_rate_sps={self.adc_rate_sps:g} exceeds the {chip.name} "
-                             f"{self.adc_mode} limit {max_rate:g} sps")
+                             f"limit {max_rate:g} sps ({self.adc_mode} ADC)")
         if not self.is_complex and \
                 self.max_beat_frequency_hz > chip.if_bandwidth_hz * (1 + 1e-9):
             raise ValueError(f"adc_rate_sps={self.adc_rate_sps:g}: beat (IF) frequency span "

@@ -264,7 +264,7 @@ def _chirp_times_s(cfg: RadarConfig, n_chirps: int | None = None) -> np.ndarray:
 
 
 def simulate_frame(cfg: RadarConfig, scatterers: Scatterers,
-                   rng: np.random.Generator) -> np.ndarray:
+                   rng: np.random.Generator, interferers=None) -> np.ndarray:
     """Simulate one frame of ADC samples as the chip delivers it (real or complex I/Q).
 
     Parameters
@@ -275,13 +275,18 @@ def simulate_frame(cfg: RadarConfig, scatterers: Scatterers,
         K point scatterers at the frame's reference time (middle of the burst), radar frame.
     rng : numpy.random.Generator
         Source of the thermal noise and the random phase errors; same seed, same bits.
+    interferers : radarsim.interference.Interferers, optional
+        Other radars whose direct-path bursts are added before rounding and clipping
+        (`interference.synthesize`); deterministic, draws nothing from `rng`.
 
     Returns
     -------
     adc : (n_chirps, n_rx, n_samples) int16 (real ADC) or complex64 (complex ADC modes)
-        ADC samples: signal + thermal noise (k T NF B per real channel, B = adc_rate / 2),
+        ADC samples: signal + interference + DC/leakage (`adc_dc_offset_lsb`,
+        `tx_leakage_dbfs`) + thermal noise (k T NF B per real channel, B = adc_rate / 2),
         scaled so a sine of `adc_full_scale_dbm` reaches 32767, rounded and clipped to int16;
-        complex frames hold int16-valued I and Q parts (what a DCA1000 records).
+        complex frames hold int16-valued I and Q parts (what a DCA1000 records; interference
+        and DC/leakage are modelled for real ADC frames only).
 
     Warns
     -----
@@ -300,11 +305,12 @@ def simulate_frame(cfg: RadarConfig, scatterers: Scatterers,
                          f"{type(scatterers).__name__}")
     if not isinstance(rng, np.random.Generator):
         raise ValueError(f"rng must be a numpy.random.Generator, got {type(rng).__name__}")
-    return simulate_frame_weights(cfg, scatterers, rng, transmit_phasors(cfg, rng))
+    return simulate_frame_weights(cfg, scatterers, rng, transmit_phasors(cfg, rng),
+                                  interferers=interferers)
 
 
 def simulate_frame_weights(cfg: RadarConfig, scatterers: Scatterers, rng: np.random.Generator,
-                           tx_weights: np.ndarray) -> np.ndarray:
+                           tx_weights: np.ndarray, interferers=None) -> np.ndarray:
     """`simulate_frame` with explicit transmit weights (any chirp count and code sequence).
 
     Used by the shifter calibration and the seed-000 figure 7-8 experiment, which step one Tx
@@ -316,6 +322,8 @@ def simulate_frame_weights(cfg: RadarConfig, scatterers: Scatterers, rng: np.ran
         As `simulate_frame`.
     tx_weights : (n_tx, n_c) complex
         Radiated weight of each Tx at each of n_c chirps (e.g. `transmit_phasors`).
+    interferers : radarsim.interference.Interferers, optional
+        As `simulate_frame` (n_c must then be cfg.n_chirps).
 
     Returns
     -------
@@ -334,6 +342,19 @@ def simulate_frame_weights(cfg: RadarConfig, scatterers: Scatterers, rng: np.ran
     if np.any(keep):
         sig = _signal(cfg, scatterers, keep, power[keep], tx_w)
         out += sig.view(np.float32) if cplx else sig
+    has_intf = interferers is not None and len(interferers)
+    has_dc = bool(cfg.adc_dc_offset_lsb) or cfg.tx_leakage_dbfs is not None
+    if cplx and (has_intf or has_dc):
+        raise ValueError(f"adc_mode={cfg.adc_mode!r}: interferers and DC/Tx leakage are "
+                         "synthesised for real ADC frames only")
+    if has_intf:
+        if n_c != cfg.n_chirps:
+            raise ValueError(f"interferers need the config's {cfg.n_chirps} chirps, "
+                             f"tx_weights has {n_c}")
+        from .interference import synthesize
+        synthesize(cfg, interferers, out=out)
+    if has_dc:
+        out += _dc_leakage(cfg)
     np.rint(out, out=out)
     # max/min are cheap reductions; the clipped samples are only counted when there are some.
     if out.max() > ADC_FULL_SCALE_CODE or out.min() < -ADC_FULL_SCALE_CODE - 1:
@@ -346,6 +367,23 @@ def simulate_frame_weights(cfg: RadarConfig, scatterers: Scatterers, rng: np.ran
     if cplx:
         return out.view(np.complex64).reshape(n_c, n_r, n_s)
     return out.astype(np.int16).reshape(n_c, n_r, n_s)
+
+
+#: Length of the Tx-to-Rx leakage path, m (antenna coupling behind the radome).
+LEAKAGE_PATH_M = 0.1
+
+
+def _dc_leakage(cfg: RadarConfig) -> np.ndarray:
+    """(n_samples,) float32 static front-end term, the same on every chirp and Rx: the DC
+    offset plus the leakage tone of a `LEAKAGE_PATH_M` path (beat 2 S d / c, 5.9 kHz for the
+    R79 slope: far below one range bin, so it looks like a slowly varying offset)."""
+    t_n = np.arange(cfg.n_samples) / cfg.adc_rate_sps + cfg.adc_start_time_s
+    x = np.full(cfg.n_samples, float(cfg.adc_dc_offset_lsb))
+    if cfg.tx_leakage_dbfs is not None:
+        amp = ADC_FULL_SCALE_CODE * 10 ** (cfg.tx_leakage_dbfs / 20)
+        f_l = 2 * cfg.slope_hz_per_s * LEAKAGE_PATH_M / C_MPS
+        x += amp * np.cos(2 * np.pi * f_l * t_n - 4 * np.pi * LEAKAGE_PATH_M / cfg.wavelength_m)
+    return x.astype(np.float32)
 
 
 def _gaussian_noise(rng: np.random.Generator, shape: tuple[int, int],

@@ -10,11 +10,23 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["Scatterers"]
+__all__ = ["Scatterers", "MAX_RCS_M2", "MAX_SPEED_MPS"]
+
+#: Largest RCS of one scatterer, m^2 (90 dBsm, far above any real object: a large ship is about
+#: 60 dBsm, a truck's flat back about 30 dBsm; tests use ~63 dBsm for far calibrated targets).
+#: Far beyond it (1e300) the received power overflows float32 and the ADC frame silently becomes
+#: garbage (all zeros).
+MAX_RCS_M2 = 1e9
+#: Largest relative speed of a scatterer, m/s (road users close at < 150 m/s; the front end's
+#: Doppler model assumes v << c).
+MAX_SPEED_MPS = 1000.0
 
 
 def _as_float_array(name: str, value, shape_tail: tuple[int, ...]) -> np.ndarray:
-    arr = np.asarray(value, dtype=np.float64)
+    try:
+        arr = np.asarray(value, dtype=np.float64)
+    except (TypeError, ValueError) as exc:
+        raise ValueError(f"{name} must hold real numbers: {exc}") from None
     if arr.ndim != 1 + len(shape_tail) or arr.shape[1:] != shape_tail:
         want = "(K, " + ", ".join(map(str, shape_tail)) + ")" if shape_tail else "(K,)"
         raise ValueError(f"{name} must have shape {want}, got {arr.shape}")
@@ -41,8 +53,9 @@ class Scatterers:
     Raises
     ------
     ValueError
-        On a wrong shape, a non-finite value, a negative RCS, a scatterer at the radar
-        (range < 1 mm) or mismatched K.
+        On a wrong shape, a non-numeric or non-finite value, a negative RCS or one above
+        `MAX_RCS_M2`, a speed above `MAX_SPEED_MPS`, a scatterer at the radar (range < 1 mm)
+        or mismatched K.
     """
 
     position_m: np.ndarray
@@ -62,6 +75,13 @@ class Scatterers:
                              f"{pos.shape[0]}, {vel.shape[0]}, {rcs.shape[0]}")
         if np.any(rcs < 0):
             raise ValueError(f"rcs_m2 must be >= 0, got min {rcs.min():g}")
+        if np.any(rcs > MAX_RCS_M2):
+            raise ValueError(f"rcs_m2={rcs.max():g} exceeds the limit {MAX_RCS_M2:g} m^2 "
+                             "(90 dBsm)")
+        speed = np.linalg.norm(vel, axis=1) if k else np.zeros(0)
+        if np.any(speed > MAX_SPEED_MPS):
+            raise ValueError(f"velocity_mps: speed {speed.max():g} m/s exceeds the limit "
+                             f"{MAX_SPEED_MPS:g} m/s")
         if k and np.min(np.linalg.norm(pos, axis=1)) < 1e-3:
             raise ValueError("position_m: a scatterer sits at the radar (range < 1 mm)")
         if actor_id is None:

@@ -254,6 +254,10 @@ class TiProfile:
     profile_extras : dict
         profileCfg values the front-end model does not use: tx_start_time_s,
         hpf_corner_1_code, hpf_corner_2_code, rx_gain_code.
+    chirp_level : dict
+        The DDM demo's chirp-level settings as `pipeline.ProcessingConfig` field values:
+        ``intfMitigCfg`` -> intf_mag_snr_db, intf_magdiff_snr_db; ``compressionCfg`` ->
+        compression, compression_ratio, compression_range_bins_per_block (EGE only).
     ignored : tuple of (int, str)
         (line number, command) of every command kept but not used (demo, monitoring, tracker
         and calibration commands, unknown commands).
@@ -274,6 +278,7 @@ class TiProfile:
     sample_swap: bool | None = None
     lvds_stream: tuple | None = None
     profile_extras: dict[str, Any] = dataclasses.field(default_factory=dict)
+    chirp_level: dict[str, Any] = dataclasses.field(default_factory=dict)
     ignored: tuple[tuple[int, str], ...] = ()
     notes: tuple[str, ...] = ()
     directives: dict[str, Any] = dataclasses.field(default_factory=dict)
@@ -425,6 +430,7 @@ class _State:
     adcbuf: dict[str, Any] = dataclasses.field(default_factory=dict)
     lvds: tuple | None = None
     extras: dict[str, Any] = dataclasses.field(default_factory=dict)
+    chirp_level: dict[str, Any] = dataclasses.field(default_factory=dict)
     ignored: list[tuple[int, str]] = dataclasses.field(default_factory=list)
     notes: list[str] = dataclasses.field(default_factory=list)
     directives: dict[str, Any] = dataclasses.field(default_factory=dict)
@@ -662,6 +668,25 @@ def _bpm_cfg(st: _State, ln: _Line) -> None:
     st.ignored.append((ln.no, ln.cmd))
 
 
+def _intf_mitig_cfg(st: _State, ln: _Line) -> None:
+    """intfMitigCfg <subFrameIdx> <magSNRdB> <magDiffSNRdB> (MCU+ SDK DDM demo, integers)."""
+    ln.int(0, "subFrameIdx", -1, 3)
+    st.chirp_level.update(intf_mag_snr_db=float(ln.int(1, "magSNRdB", 1, 60)),
+                          intf_magdiff_snr_db=float(ln.int(2, "magDiffSNRdB", 1, 60)))
+
+
+def _compression_cfg(st: _State, ln: _Line) -> None:
+    """compressionCfg <subFrameIdx> <enabled> <method 0 EGE / 1 BFP> <ratio> <rangeBinsPerBlock>
+    (MCU+ SDK DDM demo)."""
+    ln.int(0, "subFrameIdx", -1, 3)
+    enabled = ln.flag(1, "enabled")
+    if ln.int(2, "compressionMethod", 0, 1) == 1 and enabled:
+        raise ln.fail("compressionMethod=1 (BFP) is not modelled; use 0 (EGE)")
+    st.chirp_level.update(compression=enabled,
+                          compression_ratio=float(ln.dec(3, "compressionRatio")),
+                          compression_range_bins_per_block=ln.int(4, "rangeBinsPerBlock", 1, 32))
+
+
 def _flush_cfg(st: _State, ln: _Line) -> None:
     # TI's flushCfg resets the configuration given so far; ignored-command records are kept.
     keep = (st.ignored, st.notes, st.directives, st.directive_lines)
@@ -760,8 +785,8 @@ TI_COMMANDS: dict[str, CommandSpec] = {
     "configDataPort": _spec({2}, None, "data UART"),
     "queryDemoStatus": _spec({0}, None, "status query"),
     "calibData": _spec({3}, None, "calibration data save/restore"),
-    "compressionCfg": _spec({5}, None, "DDM demo compression"),
-    "intfMitigCfg": _spec({3}, None, "interference mitigation"),
+    "compressionCfg": _spec({5}, _compression_cfg, "DDM demo compression (EGE)"),
+    "intfMitigCfg": _spec({3}, _intf_mitig_cfg, "interference mitigation thresholds"),
     "localMaxCfg": _spec({3}, None, "local-maximum thresholds"),
     "rangeProcCfg": _spec(None, None, "range processing"),
     "procChain": _spec(None, None, "processing chain"),
@@ -1062,8 +1087,9 @@ def _finish(st: _State, n_lines: int) -> TiProfile:
                      ddm_phase_order=st.ddm_order, ant_geometry=st.ant_geometry,
                      adc_channel_interleaved=radar.adcbuf_interleaved,
                      sample_swap=st.adcbuf.get("sample_swap"), lvds_stream=st.lvds,
-                     profile_extras=dict(st.extras), ignored=tuple(st.ignored),
-                     notes=tuple(st.notes), directives=dict(st.directives))
+                     profile_extras=dict(st.extras), chirp_level=dict(st.chirp_level),
+                     ignored=tuple(st.ignored), notes=tuple(st.notes),
+                     directives=dict(st.directives))
 
 
 def _relabel(exc: Exception, lines: Mapping[str, _Line], st: _State) -> ValueError:

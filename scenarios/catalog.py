@@ -22,6 +22,7 @@ import math
 from dataclasses import dataclass, field
 
 from .checks import one_of, require
+from .equipment import RadarSpec
 from .roads import ROAD_LAYOUTS, TRAFFIC_ENVS
 
 __all__ = ["ActorClass", "ACTOR_CLASSES", "GUARD_RAIL", "Mount", "MOUNTS", "ActorSpec",
@@ -291,6 +292,12 @@ class Case:
         Physical pass criteria.
     references : str
         Regulation / protocol the case comes from.
+    equipped_share : float
+        Share of the vehicles (car, truck, motorcycle) without an explicit radar that carry one
+        radar drawn with the seed from `equipment.WAVEFORM_FAMILIES`, in [0, 1] (default 0).
+    radars : tuple of equipment.RadarSpec
+        Radars on given actors (``[[radars]]`` tables: actor_id, optional family, and
+        `equipment.RadarEquipment` fields).
     """
 
     name: str
@@ -310,6 +317,8 @@ class Case:
     must_detect: tuple[int, ...] = ()
     criteria: tuple[Criterion, ...] = ()
     references: str = ""
+    equipped_share: float = 0.0
+    radars: tuple[RadarSpec, ...] = ()
 
     def __post_init__(self) -> None:
         if not self.name or not all(ch.islower() or ch.isdigit() or ch == "_"
@@ -339,6 +348,13 @@ class Case:
         if self.truck_fraction + self.motorcycle_fraction > 1:
             raise ValueError("truck_fraction + motorcycle_fraction must be <= 1")
         n = len(self.actors)
+        require(self, "equipped_share", ge=0, le=1)
+        for r in self.radars:
+            if not isinstance(r, RadarSpec):
+                raise ValueError(f"radars must hold RadarSpec objects, got {r!r}")
+            if self.traffic is None and r.actor_id >= n:
+                raise ValueError(f"radars: actor_id={r.actor_id} is not a scripted actor "
+                                 f"(0..{n - 1})")
         for i in self.must_detect:
             if not isinstance(i, int) or not 0 <= i < n:
                 raise ValueError(f"must_detect id {i!r} is not a scripted actor (0..{n - 1})")

@@ -31,6 +31,7 @@ _KINDS = {"number": "a finite number", "integer": "an integer", "bool": "true or
 
 
 def _is_kind(value, kind: str) -> bool:
+    # numpy.bool_ by name: this module imports nothing beyond the standard library
     if isinstance(value, bool) or type(value).__name__ == "bool_":
         return kind == "bool"
     if kind == "number":
@@ -109,12 +110,8 @@ def require(obj, names: str | Iterable[str], kind: str = "number", *, gt=None, g
 def one_of(name: str, value, known: Iterable, what: str = "") -> None:
     """Raise ``ValueError("{name}={value!r} is not one of [...]")`` unless `value` is a key of
     `known` (a registry); `what` prefixes the field name (e.g. "cfar ")."""
-    known = list(known)
-    try:
-        ok = value in known
-    except TypeError:  # an unhashable value compared against dict keys
-        ok = False
-    if not ok:
+    known = list(known)  # a list: an unhashable value is simply not found
+    if value not in known:
         raise ValueError(f"{what}{name}={value!r} is not one of {sorted(map(str, known))}")
 
 

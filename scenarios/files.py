@@ -19,10 +19,12 @@ from pathlib import Path
 
 from .catalog import MOUNTS, ActorSpec, Case, Criterion, Mount
 from .checks import UNIT_ALIASES, build_from_table, check_keys, check_types, read_toml
+from .equipment import RadarSpec
 
 __all__ = ["load_scenario_file", "load_case_directory", "parse_scenario", "UNIT_ALIASES"]
 
-_NESTED = {"ego": ActorSpec, "actors": ActorSpec, "criteria": Criterion, "mount": Mount}
+_NESTED = {"ego": ActorSpec, "actors": ActorSpec, "criteria": Criterion, "mount": Mount,
+           "radars": RadarSpec}
 
 
 def _mount(value) -> Mount:
@@ -59,6 +61,11 @@ def parse_scenario(data: dict, source: str = "<scenario>") -> Case:
         for name in ("actors", "criteria"):
             if name in data:
                 nested[name] = _array(data, name, _NESTED[name])
+        if "radars" in data:  # [[radars]]: actor_id, family, RadarEquipment fields
+            if not isinstance(data["radars"], list):
+                raise ValueError("radars: must be an array of tables ([[radars]])")
+            nested["radars"] = tuple(RadarSpec.from_table(t, f"radars[{i}]")
+                                     for i, t in enumerate(data["radars"]))
         flat = {k: v for k, v in data.items() if k not in _NESTED}
         check_types(flat, Case)
         if "must_detect" in flat:

@@ -20,9 +20,10 @@ import pandas as pd
 from radarsim.config import RadarConfig
 
 from ..cfar import CFAR_MODES, noise_mean_factor
+from ..chirp_level import range_stage
 from ..config import WINDOWS, ProcessingConfig
 from ..kernels import (array_layout, candidate_cfar, ddma_metric, doppler_fft, estimate_angles,
-                       local_max_mask, parabolic_offset, range_fft, window)
+                       local_max_mask, parabolic_offset, window)
 from ..stages import (array_dft, empty_cloud, interp_azimuth, interp_range, log_power,
                       point_cloud, power_of, row_offsets)
 from .base import DetectionMap, DopplerAzimuth, MimoChain, register_chain
@@ -63,7 +64,7 @@ def full_doppler_spectrum(cfg: RadarConfig, adc: np.ndarray,
     energy : (n_range, n_chirps) float32
         Summed over Rx.
     """
-    rf = range_fft(adc, window(WINDOWS[proc.range_window], cfg.n_samples))  # (C, R, B)
+    rf = range_stage(cfg, adc, proc)  # (C, R, B): chirp-level chain + range FFT
     spec = doppler_fft(np.ascontiguousarray(rf.transpose(2, 1, 0)),
                        window(WINDOWS[proc.doppler_window], cfg.n_chirps), axis=-1)  # (B, R, C)
     return spec, power_of(spec).sum(axis=1)

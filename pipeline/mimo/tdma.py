@@ -21,9 +21,10 @@ import pandas as pd
 from radarsim.config import RadarConfig
 
 from ..cfar import noise_mean_factor
+from ..chirp_level import range_stage
 from ..config import WINDOWS, ProcessingConfig
 from ..kernels import (array_layout, candidate_cfar, doppler_fft, estimate_angles,
-                       local_max_mask, parabolic_offset, range_fft, window)
+                       local_max_mask, parabolic_offset, window)
 from ..stages import (array_dft, array_likelihood, empty_cloud, interp_azimuth, interp_range,
                       log_power, point_cloud)
 from .base import DetectionMap, DopplerAzimuth, MimoChain, register_chain
@@ -50,7 +51,7 @@ def slot_maps(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) -> Slot
     """Range FFT and per-slot Doppler FFT (chirp = n_tx c' + slot)."""
     n_tx = cfg.n_tx
     n_dop = cfg.n_chirps // n_tx
-    rf = range_fft(adc, window(WINDOWS[proc.range_window], cfg.n_samples))  # (C, R, B)
+    rf = range_stage(cfg, adc, proc)  # (C, R, B): chirp-level chain + range FFT
     rf = rf.reshape(n_dop, n_tx, cfg.n_rx, -1)  # chirp = n_tx c' + slot
     spec = doppler_fft(rf, window(WINDOWS[proc.doppler_window], n_dop))  # (D, S, R, B)
     n_range = spec.shape[-1]

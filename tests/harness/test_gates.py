@@ -124,3 +124,19 @@ def test_shipped_gates_file_is_valid(fake_results):
     by = {x.name: x for x in gates}
     assert by["ddma_velocity_unambiguity"].min == 0.99
     assert by["r79_motorcycle_first_detection"].min == 55.0
+
+
+@pytest.mark.parametrize("text, match", [
+    ("[[gate]]\nname = 'x'\nmetric = 'ghost_rate'\nmax = 1\nmax_pct = 2",
+     r"gate\[0\]\.max_pct: unknown key; known: \["),
+    ("[[gate]]\nname = 'x'\nmetric = 'ghost_rate'\nmax = '0.1'",
+     r"gate\[0\]\.max: must be a number"),
+    ("[[gate]]\nname = 'x'\nmax = 1", r"gate\[0\]\.metric: required key missing"),
+])
+def test_gates_file_messages_follow_the_shared_file_policy(tmp_path, text, match):
+    """Same message shape as case files and sweeps: file, key with its position, what."""
+    from harness.gates import load_gates
+    p = tmp_path / "g.toml"
+    p.write_text(text)
+    with pytest.raises(ValueError, match=rf"g\.toml: {match}"):
+        load_gates(p)

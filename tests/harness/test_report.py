@@ -36,6 +36,20 @@ def test_report_is_self_contained(report):
     assert not re.search(r'src="(?!data:)', page)  # nothing fetched from disk or network
 
 
+def test_report_leads_with_the_answer(report):
+    """Headline table, then the two figures, then the cases; the gate table last, collapsed."""
+    page = report.read_text()
+    order = [page.index(h) for h in ("<h2>Headline", "<h2>Detection probability versus range",
+                                     "<h2>SNR gain over", "<h2>Case fast", "<h2>Ghost map",
+                                     "<details><summary><h2>Gates (shipped thresholds)")]
+    assert order == sorted(order)
+    head = page[order[0]:order[1]]
+    for col in ("Pd car", "first detection car, m", "range RMSE, m", "velocity RMSE, m/s",
+                "velocity unambiguous", "ghost rate", "gates"):
+        assert f"<th>{col}</th>" in head
+    assert page.rstrip().endswith("</details></body></html>")
+
+
 def test_report_missing_results_exit_2(tmp_path):
     assert main(["report", str(tmp_path)]) == 2
 
@@ -59,3 +73,21 @@ def test_report_renders_in_headless_chromium(report, tmp_path):
                           "--virtual-time-budget=5000", "--dump-dom", report.as_uri()],
                          capture_output=True, text=True, timeout=120).stdout
     assert dom.count("<img") == 5
+
+
+def test_report_panels_follow_the_schemes_in_the_tables(tmp_path):
+    """A sweep of other schemes (BPM against a TDMA baseline) gets panels for exactly those:
+    no fixed DDMA/TDMA list in the report."""
+    from harness.report import _schemes, build_report
+    from harness.sweep import SweepSpec, run_sweep
+    from tests.harness.fakes import FAKE
+
+    spec = SweepSpec(name="bpm", scenarios=("fast",), seeds=(0,), duration_s=0.5,
+                     schemes=("bpm", "tdma", "tdma_raw"))
+    run_sweep(spec, tmp_path, components=FAKE, progress=False)
+    import pandas as pd
+    det = pd.read_parquet(tmp_path / "detections.parquet")
+    assert _schemes(det) == ["bpm", "tdma", "tdma_raw"]
+    assert _schemes(det, mimo_only=True) == ["bpm", "tdma"]
+    page = build_report(tmp_path, maps=False).read_text()
+    assert "SNR gain over tdma" in page and ">bpm<" in page

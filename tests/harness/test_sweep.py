@@ -1,6 +1,7 @@
 """Sweeps: TOML suites, atomic cells, resume, errors, process pool, Dask, interruption."""
 from __future__ import annotations
 
+import dataclasses
 import json
 import os
 import signal
@@ -13,7 +14,9 @@ from pathlib import Path
 import pandas as pd
 import pytest
 
-from harness.sweep import SweepSpec, Variant, completed_cells, load_sweep, run_sweep
+import radarsim
+from harness.sweep import (SCHEMES_SWEEP_PATH, SweepSpec, Variant, completed_cells, load_sweep,
+                           run_sweep)
 from tests.harness.fakes import FAKE
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -65,6 +68,9 @@ def test_load_sweep_vary_product(tmp_path):
     ('scenarios = ["a"]\nseeds = [-1]', "seeds"),
     ('scenarios = ["a"]\nframe_stride = 0', "frame_stride"),
     ('scenarios = [\n', "malformed TOML"),
+    ('scenarios = ["a"]\nschemes = ["ddma", "fdma"]', r"unknown scheme\(s\) \['fdma'\]"),
+    ('scenarios = ["a"]\nschemes = "ddma"', r"schemes='ddma' must be a list"),
+    ('scenarios = ["a"]\nbaseline_scheme = "fdma"', r"baseline_scheme='fdma' is not one of"),
 ])
 def test_load_sweep_rejects_bad_files(tmp_path, text, match):
     f = tmp_path / "bad.toml"
@@ -148,6 +154,27 @@ def test_killed_worker_loses_no_completed_cell_and_rerun_resumes(tmp_path):
     assert_same_tables(out, tmp_path / "clean")
 
 
+def test_sweep_scheme_keys_reach_the_cells_and_manifest(tmp_path):
+    f = tmp_path / "s.toml"
+    f.write_text('scenarios = ["fast"]\nduration_s = 0.5\nschemes = ["tdma_raw", "ddma"]\n'
+                 'baseline_scheme = "ddma"\n')
+    spec = load_sweep(f, check_scenarios=False)
+    assert spec.schemes == ("tdma_raw", "ddma") and spec.baseline_scheme == "ddma"
+    assert spec.cells()[0].schemes == ("tdma_raw", "ddma")
+    assert spec.run_id != dataclasses.replace(spec, schemes=("ddma",)).run_id
+    run_sweep(spec, tmp_path / "r", components=FAKE, progress=False)
+    s = pd.read_parquet(tmp_path / "r" / "summary.parquet")
+    assert list(s["scheme"]) == ["tdma_raw", "ddma"]
+    man = json.loads((tmp_path / "r" / "manifest.json").read_text())
+    assert man["schemes"] == ["tdma_raw", "ddma"] and man["baseline_scheme"] == "ddma"
+    assert list(man["radar_presets"]) == ["tdma", "ddma"]
+
+
+def test_shipped_scheme_comparison_sweep_loads():
+    spec = load_sweep(SCHEMES_SWEEP_PATH)
+    assert set(radarsim.MIMO_SCHEMES) <= set(spec.schemes) and spec.baseline_scheme == "tdma"
+
+
 def test_variants_reach_the_cells(tmp_path):
     spec = small_spec(scenarios=("fast",), seeds=(0,),
                       variants=(Variant(name="a"), Variant(name="b",
@@ -155,3 +182,19 @@ def test_variants_reach_the_cells(tmp_path):
     run_sweep(spec, tmp_path, components=FAKE, progress=False)
     s = pd.read_parquet(tmp_path / "summary.parquet")
     assert sorted(s["variant"].unique()) == ["a", "b"]
+
+
+@pytest.mark.parametrize("text, match", [
+    ('scenarios = ["a"]\nspeed_kmh = 3', r"speed_kmh: unknown key; known: \["),
+    ('scenarios = ["a"]\n[[variants]]\nname = "x"\ncolour = 1',
+     r"variants\[0\]\.colour: unknown key; known: \["),
+    ('scenarios = ["a"]\n[[variants]]\n[variants.radar]\nn_tx = 2',
+     r"variants\[0\]\.name: required key missing"),
+])
+def test_sweep_file_messages_follow_the_shared_file_policy(tmp_path, text, match):
+    """Same message shape as case files and gates: file, key with its position, what is wrong."""
+    from harness.sweep import load_sweep
+    p = tmp_path / "s.toml"
+    p.write_text(text)
+    with pytest.raises(ValueError, match=rf"s\.toml: {match}"):
+        load_sweep(p, check_scenarios=False)

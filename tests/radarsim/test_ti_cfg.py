@@ -193,7 +193,7 @@ BAD_LINES = {
     "start_freq_outside_band": ("profileCfg", PROFILE.replace(" 77 ", " 82 "),
                                 r"startFreq=82 GHz is outside the AWR2944 band"),
     "adc_rate_over_chip_limit": ("profileCfg", PROFILE.replace("30000", "40000"),
-                                 r"adc_rate_sps=4e\+07 exceeds the AWR2944 real limit"),
+                                 r"adc_rate_sps=4e\+07 exceeds the AWR2944 limit"),
     "adc_window_after_ramp_end": ("profileCfg", PROFILE.replace("5 5 18.81", "5 10 18.81"),
                                   r"n_samples=384: ADC window ends"),
     "ramp_beyond_band": ("profileCfg", PROFILE.replace(" 77 ", " 80.9 "),

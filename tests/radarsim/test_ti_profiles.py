@@ -530,7 +530,7 @@ CHIP_REFUSALS = {
     "awr1642_third_tx": (XWR16_ROS, "channelCfg 15 3 0", "channelCfg 15 3 0\n% Platform:xWR16xx"
                          "\nchannelCfg 15 7 0", r"txChannelEn=7 is outside 1..3 \(AWR1642"),
     "awr1843_complex_rate": (XWR18_VISUALIZER, " 256 5209 ", " 256 13000 ",
-                             r"adc_rate_sps=1.3e\+07 exceeds the AWR1843 complex1x limit"),
+                             r"adc_rate_sps=1.3e\+07 exceeds the AWR1843 limit .*complex1x"),
     "awr1843_interleaved_buffer": (XWR18_VISUALIZER, "adcbufCfg -1 0 1 1 1",
                                    "adcbufCfg -1 0 1 0 1",
                                    r"AWR1843 demo supports only the non-interleaved"),

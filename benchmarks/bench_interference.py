@@ -1,0 +1,120 @@
+"""Interference synthesis and the chirp-level chain: cost and what they do (issue 14).
+
+Targets: synthesising 10 interferers costs at most 1x `simulate_frame`'s own time for K = 100
+scatterers; the chirp-level chain (DC removal, interference statistics and zeroing, EGE
+compression) adds at most 30 % to `process_frame` (R79 DDMA). Both are ratios measured in the
+same run. The bench also prints the noise-floor rise of one interferer with mitigation off and
+on, and the SNR loss EGE compression causes a weak target in the same block as a strong one.
+"""
+from __future__ import annotations
+
+import os
+
+import numpy as np
+
+import pipeline
+import radarsim
+from benchmarks._timing import median_time_s
+from pipeline import chirp_level as cl
+from radarsim import interference as itf_mod
+
+N_SCATTERERS = 100
+N_INTERFERERS = 10
+CHAIN_OFF = dict(dc_removal=False, interference_mitigation=False, compression=False)
+
+
+def _scene(k: int, seed: int = 0) -> radarsim.Scatterers:
+    g = np.random.default_rng(seed)
+    return radarsim.Scatterers.from_spherical(g.uniform(5.0, 200.0, k), g.uniform(-70.0, 70.0, k),
+                                              g.uniform(-5.0, 5.0, k),
+                                              g.uniform(-30.0, 30.0, k), g.uniform(1.0, 10.0, k))
+
+
+def interferers(n: int, seed: int = 1) -> itf_mod.Interferers:
+    """n radars 10-150 m away, +/-60 deg, waveforms spread over the corner/front families."""
+    g = np.random.default_rng(seed)
+    r, az = g.uniform(10, 150, n), np.radians(g.uniform(-60, 60, n))
+    slope = g.choice([-1, 1], n) * g.uniform(8e12, 50e12, n)
+    period = g.uniform(20e-6, 60e-6, n)
+    return itf_mod.Interferers(
+        position_m=np.column_stack([r * np.cos(az), r * np.sin(az), np.zeros(n)]),
+        radial_velocity_mps=g.uniform(-30, 30, n), tx_gain_dbi=np.full(n, 10.0),
+        start_freq_hz=g.uniform(76.9e9, 77.1e9, n) + np.where(slope < 0, 0.5e9, 0.0),
+        slope_hz_per_s=slope, chirp_period_s=period, ramp_time_s=0.75 * period,
+        chirp_offset_s=g.uniform(0, 20e-6, n), tx_power_dbm=np.full(n, 12.0))
+
+
+def _weak_next_to_strong(diff_db: float, n_c: int = 256, sigma: float = 8.0) -> tuple:
+    """(block scale factor median, SNR loss dB) of a weak target 10 sigma above the noise in
+    the same EGE block as a strong one `diff_db` above it (three-bin Hann main lobe)."""
+    g = np.random.default_rng(2)
+    lsb = 1 / cl.HWA_OUTPUT_SCALE
+    rf = (g.standard_normal((n_c, 4, 192)) + 1j * g.standard_normal((n_c, 4, 192))) * sigma * lsb
+    c = np.arange(n_c)
+    rf[:, :, 35] += 10 * sigma * lsb * np.exp(2j * np.pi * 25 / n_c * c)[:, None]
+    strong = 10 * sigma * lsb * 10 ** (diff_db / 20) * np.exp(2j * np.pi * 77 / n_c * c)[:, None]
+    for b, w in ((32, 0.5), (33, 1.0), (34, 0.5)):
+        rf[:, :, b] += w * strong
+    rf = rf.astype(np.complex64)
+
+    def snr(x):
+        p = np.abs(np.fft.fft(x[:, :, 35], axis=0)) ** 2
+        floor = np.delete(p, [25], axis=0).mean()
+        return 10 * np.log10((p[25].mean() - floor) / floor)
+
+    out, shift = cl.ege_compress(rf.copy())
+    return int(np.median(shift[:, 4])), snr(rf) - snr(out)
+
+
+def run(repeats: int = 15, warmup: int = 2) -> list[str]:
+    cfg = radarsim.presets.r79_ddma()
+    sc = _scene(N_SCATTERERS)
+    itf = interferers(N_INTERFERERS)
+    out = np.zeros((cfg.n_chirps * cfg.n_rx, cfg.n_samples), np.float32)
+    rng = np.random.default_rng(0)
+    t_sim = median_time_s(lambda: radarsim.simulate_frame(cfg, sc, rng), repeats, warmup)
+    t_itf = median_time_s(lambda: itf_mod.synthesize(cfg, itf, out=out), repeats, warmup)
+    n_burst = int(itf_mod.burst_windows(cfg, itf)["n_samples"].sum())
+    adc = radarsim.simulate_frame(cfg, sc, rng, itf)
+    on, off = pipeline.ProcessingConfig(), pipeline.ProcessingConfig(**CHAIN_OFF)
+    t_on = median_time_s(lambda: pipeline.process_frame(cfg, adc, on), repeats, warmup)
+    t_off = median_time_s(lambda: pipeline.process_frame(cfg, adc, off), repeats, warmup)
+    t_stage = {k: median_time_s(lambda p=p: cl.range_stage(cfg, adc, p), repeats, warmup)
+               for k, p in (("range FFT only", off),
+                            ("+ DC removal", pipeline.ProcessingConfig(
+                                interference_mitigation=False, compression=False)),
+                            ("+ mitigation", pipeline.ProcessingConfig(compression=False)),
+                            ("+ EGE compression (all)", on))}
+    load = os.getloadavg()[0] if hasattr(os, "getloadavg") else float("nan")
+    lines = [f"machine: {os.cpu_count()} cpus, 1-min load average {load:.2f}",
+             f"simulate_frame r79_ddma K={N_SCATTERERS}: median {1e3 * t_sim:.2f} ms",
+             f"interference synthesis, {N_INTERFERERS} interferers ({n_burst} burst samples "
+             f"x {cfg.n_rx} Rx): median {1e3 * t_itf:.2f} ms = {t_itf / t_sim:.2f} x "
+             f"simulate_frame (target <= 1: {'met' if t_itf <= t_sim else 'MISSED'})",
+             f"process_frame r79_ddma chirp-level chain off: {1e3 * t_off:.2f} ms, on (R79 demo "
+             f"defaults): {1e3 * t_on:.2f} ms = +{100 * (t_on / t_off - 1):.0f} % "
+             f"(target <= +30 %: {'met' if t_on <= 1.3 * t_off else 'MISSED'})"]
+    lines += [f"  range stage {k}: {1e3 * v:.2f} ms" for k, v in t_stage.items()]
+    # What the chain does to one interferer's floor (short and long bursts).
+    empty = radarsim.Scatterers.empty()
+    for slope, what in ((50e12, "short bursts, |dS| = 41 MHz/us"),
+                        (15e12, "long bursts, |dS| = 6 MHz/us")):
+        one = itf_mod.Interferers(position_m=[[15.0, 5.0, 0.0]], radial_velocity_mps=[-5.0],
+                                  tx_gain_dbi=[10.0], start_freq_hz=[77.02e9],
+                                  slope_hz_per_s=[slope], chirp_period_s=[31e-6],
+                                  ramp_time_s=[25e-6], chirp_offset_s=[2e-6],
+                                  tx_power_dbm=[15.0])
+        a = radarsim.simulate_frame(cfg, empty, np.random.default_rng(6), one)
+        inr = itf_mod.interference_to_noise_db(cfg, one)
+        f_off = cl.noise_floor_rise(cfg, a, pipeline.ProcessingConfig(
+            interference_mitigation=False)).doppler_db
+        f_on = cl.noise_floor_rise(cfg, a, on).doppler_db
+        lines.append(f"one interferer at 15.8 m ({what}), INR {inr:.1f} dB: floor rise after "
+                     f"the Doppler FFT {f_off:.1f} dB without mitigation, {f_on:.1f} dB with")
+    for diff in (30.0, 50.0, 60.0, 70.0):
+        s, loss = _weak_next_to_strong(diff)
+        lines.append(f"EGE 50 %: weak target (10 sigma) {diff:.0f} dB below a strong one in "
+                     f"its block: scale factor {s}, SNR loss {loss:.2f} dB "
+                     f"(model 10 log10(1 + 4^s / 4 / sigma^2) = "
+                     f"{10 * np.log10(1 + 4.0 ** s / 4 / 64):.2f} dB)")
+    return lines

@@ -1,0 +1,437 @@
+"""The chip's chirp-level chain before the radar cube is stored (R79 demo RangeProc DPU).
+
+Seed 004 section 2 / seed 000 section 5.1 (table 5): per chirp, the HWA estimates and removes
+the DC of each Rx (param 2-3), gathers interference statistics (param 3), zeroes the samples the
+statistics flag and takes the windowed range FFT (param 4), then EGE-compresses the range FFT to
+50 % in blocks of 4 antennas x 8 range bins (param 5, section 5.2); the Doppler stage
+decompresses first (section 5.3). Each step is switchable in `ProcessingConfig`
+(`dc_removal`, `interference_mitigation`, `compression`); `range_stage` is the hook the chains
+call instead of a bare range FFT.
+
+Interference mitigation, as TI documents it (with where this model assumes):
+
+* Statistics per chirp and Rx (SWRA725 sec. 3.1): absSum = sum |x_n| and diffAbsSum =
+  sum |x_n - x_{n-1}|, scaled to means and then by the ``intfMitigCfg`` SNRs into the thresholds
+  AbsThreshold = mean |x| 10^(magSNRdB / 20) and AbsDiffThreshold = mean |dx| 10^(magDiffSNRdB
+  / 20): the SDK's ``rangeProcHWADDMA_findIntfStatsStaticParams`` programs the HWA scale as
+  10^(SNRdB / 20) / numSamples x 2^(8 + shift), i.e. an amplitude ratio over the mean.
+  ``intfMitigCfg -1 15 18`` (the shipped profile, TI's defaults) gives 15 and 18 dB.
+* Localisation (SWRA725 sec. 3.2; HWA_INTERFTHRESH_MODE_*): a sample whose |x| and/or |dx|
+  exceeds its threshold gets an interference indicator bit. The DDM demo's RangeProc programs
+  ``thresholdMode = MAGDIFF`` with per-Rx built-in statistics, so the default mode is
+  "magdiff"; the other HWA modes are selectable (`INTF_THRESHOLD_MODES`).
+* Mitigation (SWRA725 sec. 3.3; HWA_INTERFMITIGATION_PATH_*): the demo selects the windowed
+  zero-out path with left/right hysteresis orders 3 and a count threshold of 1. ASSUMED here:
+  the hysteresis extends every flagged run by `intf_hysteresis_samples` samples on each side
+  and the flagged samples are set to zero (the taper of the "windowed" zero-out is not
+  documented publicly; a hard zero is modelled). NOTE: the DDM demo source we found
+  (rangeprochwaDDMA.c, rangeProcHWA_ConfigHWA) computes the thresholds from intfMitigCfg but
+  leaves ``interfMitigation.enable = 0`` with a TODO; the harness follows the issue's contract
+  and turns mitigation on by default.
+
+EGE compression (HWA compression engine, ``HWA_AccelModeCompress``: method EGE, both passes,
+``EGEKarrayLength = 3``, ``scaleFactorBW = 4``, header on, dither on, as the demo's RangeProc
+compression paramset; AWR294x TRM, Radar Hardware Accelerator chapter, compression/
+decompression engine). Model: each block of 4 Rx x 8 range bins of one chirp (32 complex
+samples of 16-bit I/Q, 128 bytes) must fit 64 bytes. Pass 1 picks, per block, the smallest
+right-shift s (the scale factor, 4 bits in the header) for which the exponential-Golomb codes
+of the 64 shifted integers, with the best order k out of the 2^3 = 8 of the k-array (3-bit
+index in the header), fit the budget; pass 2 encodes. Decompression restores q x 2^s, so every
+I and Q value carries a rounding error of at most 2^(s-1) (the bound the tests check). ASSUMED:
+sign-magnitude EG codes (1 sign bit + EG_k of |q|: k + 1 + 2 floor(log2(1 + |q| >> k)) bits),
+k-array 0..7, rounding instead of the dithered truncation (dither decorrelates the error but
+does not change its power), and the 16-bit HWA output scale of `HWA_OUTPUT_SCALE` (no
+saturation of the 16-bit output is modelled).
+
+References
+----------
+.. [1] TI, seed 000 section 5.1-5.3 (tables 5-8), seed 004 section 2-4.
+.. [2] TI SWRA725, "Interference Mitigation for AWR294x" (2021), sections 3.1-3.3.
+.. [3] TI MMWAVE-MCUPLUS-SDK, DDM demo: ``MmwDemo_CLIIntfMitigCfg`` (mmw_cli.c),
+       ``rangeProcHWADDMA_findIntfStatsStaticParams`` and ``rangeProcHWA_ConfigHWA``
+       (datapath/dpu/rangeproc, rangeprochwaDDMA.c); MCU+ SDK HWA driver API
+       ``HWA_PreProcessing.interfMitigation``, ``HWA_AccelModeCompress``.
+"""
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+import scipy.fft
+
+from radarsim.config import RadarConfig
+
+from .config import INTF_THRESHOLD_MODES, WINDOWS, ProcessingConfig
+from .kernels import range_fft, window
+
+__all__ = ["range_stage", "remove_dc", "interference_flags", "zero_flagged", "ege_compress",
+           "ege_block_bits", "NoiseFloor", "noise_floor_rise", "INTF_THRESHOLD_MODES",
+           "HWA_OUTPUT_SCALE", "EGE_K_ARRAY", "EGE_HEADER_BITS"]
+
+#: Range-FFT value -> 16-bit HWA output LSB: the demo's range FFT scales its last 3 butterfly
+#: stages by 1/2 (butterflyScaling = 7), i.e. 1/8 of the unscaled FFT of the int16 samples.
+HWA_OUTPUT_SCALE = 1.0 / 8.0
+#: EGE orders of the k-array (EGEKarrayLength = 3: 8 entries, assumed 0..7).
+EGE_K_ARRAY = np.arange(8)
+#: Block header: scale factor (scaleFactorBW = 4) + k index (3 bits).
+EGE_HEADER_BITS = 4 + 3
+_MAX_SHIFT = 15  # a 4-bit scale factor
+#: The encoder's dither (``ditherEnable = 1`` in the demo): a fixed pseudo-random sequence of
+#: triangular offsets in (-1, 1) quantisation steps (sum of two uniform), like the HWA's LFSR
+#: (deterministic). TPDF dither makes the error independent of the signal, of variance
+#: step^2 / 4 (Wannamaker, Lipshitz & Vanderkooy, J. AES 48(6), 2000).
+_DITHER = (np.random.default_rng(0x2944).random((2, 1 << 16), dtype=np.float32)
+           .sum(axis=0) - np.float32(1.0))
+
+
+# ------------------------------------------------------------------------------- kernels
+def remove_dc(adc: np.ndarray) -> np.ndarray:
+    """Per chirp and Rx mean of the samples (the HWA DC estimate), float32.
+
+    Parameters
+    ----------
+    adc : (n_chirps, n_rx, n_samples) int16 or float
+
+    Returns
+    -------
+    (n_chirps, n_rx, 1) float32
+        The DC estimate to subtract.
+    """
+    n = adc.shape[-1]
+    if np.iscomplexobj(adc):  # I/Q frames: the complex mean (I and Q DC together)
+        return (adc.sum(axis=-1, dtype=np.complex128, keepdims=True) / n).astype(np.complex64)
+    s = adc.sum(axis=-1, dtype=np.int64 if adc.dtype.kind == "i" else np.float64,
+                keepdims=True)
+    return (s / n).astype(np.float32)
+
+
+def interference_flags(adc: np.ndarray, dc: np.ndarray | None, mag_snr_db: float,
+                       magdiff_snr_db: float, mode: str = "magdiff") -> np.ndarray:
+    """Interference indicator bits (before hysteresis) of every sample.
+
+    Parameters
+    ----------
+    adc : (n_chirps, n_rx, n_samples) int16 or float
+    dc : (n_chirps, n_rx, 1) float or None
+        DC estimate removed before the statistics (None: none).
+    mag_snr_db, magdiff_snr_db : float
+        ``intfMitigCfg`` magSNRdB and magDiffSNRdB: thresholds over the mean |x| and mean
+        |x_n - x_{n-1}| of the same chirp and Rx, amplitude dB.
+    mode : str
+        Key of `INTF_THRESHOLD_MODES`.
+
+    Returns
+    -------
+    (n_chirps, n_rx, n_samples) bool
+        Sample 0 has no difference; in "magdiff" mode it is never flagged.
+    """
+    if mode not in INTF_THRESHOLD_MODES:
+        raise ValueError(f"intf_threshold_mode={mode!r} is not one of "
+                         f"{sorted(INTF_THRESHOLD_MODES)}")
+    n = adc.shape[-1]
+    flags = None
+    work = np.complex64 if np.iscomplexobj(adc) else np.float32  # I/Q: |complex| statistics
+    if mode != "mag":
+        d = np.abs(np.subtract(adc[..., 1:], adc[..., :-1], dtype=work))
+        thr = d.sum(axis=-1, keepdims=True) * np.float32(10 ** (magdiff_snr_db / 20) / n)
+        flags = np.zeros(adc.shape, dtype=bool)
+        np.greater(d, thr, out=flags[..., 1:])
+    if mode != "magdiff":
+        x = adc.astype(work)
+        if dc is not None:
+            x -= dc
+        a = np.abs(x)
+        thr = a.sum(axis=-1, keepdims=True) * np.float32(10 ** (mag_snr_db / 20) / n)
+        fm = a > thr
+        if flags is None:
+            flags = fm
+        elif mode == "mag_or_magdiff":
+            flags |= fm
+        else:
+            flags &= fm
+    return flags
+
+
+def _dilate(mask: np.ndarray, left: int, right: int) -> np.ndarray:
+    """Extend every True run of the last axis by `left` samples before and `right` after."""
+    if left == 0 and right == 0:
+        return mask
+    n = mask.shape[-1]
+    c = np.concatenate([np.zeros(mask.shape[:-1] + (1,), np.int32),
+                        np.cumsum(mask, axis=-1, dtype=np.int32)], axis=-1)
+    idx = np.arange(n)
+    hi = np.minimum(idx + left + 1, n)   # sample i is hit by a flag in [i - right, i + left]
+    lo = np.maximum(idx - right, 0)
+    return (c[..., hi] - c[..., lo]) > 0
+
+
+def zero_flagged(x: np.ndarray, flags: np.ndarray, hysteresis: int = 3) -> np.ndarray:
+    """Zero the flagged samples, each flagged run widened by `hysteresis` on both sides.
+
+    Parameters
+    ----------
+    x : (..., n_samples) float32
+        DC-removed samples (modified in place and returned).
+    flags : (..., n_samples) bool
+    hysteresis : int
+        Left and right hysteresis order, samples (the demo: 3).
+    """
+    x[_dilate(flags, hysteresis, hysteresis)] = 0
+    return x
+
+
+def _ege_shift(vb: np.ndarray, budget: int) -> tuple[np.ndarray, np.ndarray]:
+    """Scale factor s and EG order k of each block (pass 1 of the encoder).
+
+    vb : (n_blocks, n_val) float32 values in HWA LSB. The bit-length histogram of each block
+    gives the estimate bits(s, k) ~ n_val (2 + k) + 2 sum_j max(L_j - s - k - 1, 0) (|q| >> k
+    has about L - s - k bits, its EG prefix one fewer leading zeros); the smallest s whose best
+    k fits wins, then the exact length of that choice is checked and s raised where it does not
+    fit (rare).
+    """
+    n_blk, n_val = vb.shape
+    lens = np.clip((vb.view(np.int32) >> 23 & 0xFF) - 126, 0, 31)
+    hist = np.bincount((np.arange(n_blk)[:, None] * 32 + lens).reshape(-1),
+                       minlength=n_blk * 32).reshape(n_blk, 32)
+    above = np.cumsum(hist[:, ::-1], axis=-1)[:, ::-1]               # count with L >= t
+    g = np.cumsum(above[:, ::-1], axis=-1)[:, ::-1] - above         # sum over L > t of L - t
+    g = g.astype(np.int32)
+    kk = EGE_K_ARRAY.astype(np.int32)
+    # s = 0 first (most blocks), then the full (s, k) search for the others only.
+    bits0 = n_val * (2 + kk)[None, :] + 2 * g[:, np.minimum(kk + 1, 31)]   # (blocks, K)
+    shift = np.zeros(n_blk, dtype=np.int64)
+    k_sel = bits0.argmin(axis=-1)
+    k_best = np.broadcast_to(k_sel[:, None], (n_blk, _MAX_SHIFT + 1)).copy()
+    rest = np.flatnonzero(bits0[np.arange(n_blk), k_sel] > budget)
+    if rest.size:
+        t = np.minimum(np.arange(_MAX_SHIFT + 1)[:, None] + kk[None, :] + 1, 31)
+        bits = n_val * (2 + kk)[None, None, :] + 2 * g[rest][:, t]          # (rest, S, K)
+        kb = bits.argmin(axis=-1)
+        fits = np.take_along_axis(bits, kb[..., None], -1)[..., 0] <= budget
+        shift[rest] = np.where(fits.any(axis=-1), fits.argmax(axis=-1), _MAX_SHIFT)
+        k_best[rest] = kb
+        k_sel[rest] = kb[np.arange(rest.size), shift[rest]]
+    todo = np.arange(n_blk)
+    for _ in range(_MAX_SHIFT + 1):
+        q = np.rint(np.ldexp(vb[todo], -shift[todo, None]).astype(np.float32))
+        over = _eg_bits_f32(q, k_sel[todo]) > budget
+        todo = todo[over & (shift[todo] < _MAX_SHIFT)]
+        if todo.size == 0:
+            break
+        shift[todo] += 1
+        k_sel[todo] = k_best[todo, shift[todo]]
+    return shift, k_sel
+
+
+def _eg_bits_f32(q: np.ndarray, k: np.ndarray) -> np.ndarray:
+    """`ege_block_bits` of float32 integer blocks (n, n_val) with per-block k, via the IEEE
+    exponent of 1 + |q| >> k (exact for |q| < 2^24)."""
+    m = np.floor(np.abs(q) * np.ldexp(np.float32(1), -k).astype(np.float32)[:, None]) \
+        + np.float32(1)
+    lead = (m.view(np.int32) >> 23) - 127
+    return q.shape[1] * (2 + k) + 2 * lead.sum(axis=1)
+
+
+def ege_block_bits(q: np.ndarray, k) -> np.ndarray:
+    """Exact EG_k code length of integer blocks, sign-magnitude, bits (header excluded).
+
+    Parameters
+    ----------
+    q : (..., n) integer-valued float or int
+        Quantised values of each block (last axis).
+    k : int or (...,) int
+        EG order of each block.
+
+    Returns
+    -------
+    (...,) int
+        sum over the block of 1 sign bit + k + 1 + 2 floor(log2(1 + |q| >> k)).
+    """
+    k = np.asarray(k)
+    m = np.floor(np.ldexp(np.abs(np.asarray(q, dtype=np.float64)), -k[..., None])) + 1
+    lead = np.floor(np.log2(m)).astype(np.int64)
+    return np.sum(2 + k[..., None] + 2 * lead, axis=-1)
+
+
+def ege_compress(rf: np.ndarray, ratio: float = 0.5, range_bins_per_block: int = 8,
+                 scale: float = HWA_OUTPUT_SCALE) -> tuple[np.ndarray, np.ndarray]:
+    """EGE compression + decompression of a range-FFT cube, in place.
+
+    Parameters
+    ----------
+    rf : (n_chirps, n_rx, n_range) complex64
+        Range FFT (C-contiguous last axis); n_range must be a multiple of
+        `range_bins_per_block`. A block holds all Rx (4 for the R79 demo) x
+        `range_bins_per_block` bins of one chirp. Overwritten with the decompressed values.
+    ratio : float
+        Compressed / uncompressed size (the demo: 0.5: 128 -> 64 bytes).
+    range_bins_per_block : int
+        The demo: 8 (compressionCfg).
+    scale : float
+        HWA LSB per rf unit (`HWA_OUTPUT_SCALE`).
+
+    Returns
+    -------
+    rf : (n_chirps, n_rx, n_range) complex64
+        The decompressed cube (the same array).
+    shift : (n_chirps, n_range / range_bins_per_block) int8
+        Scale factor s of every block: each decompressed I/Q value is within 1.5 x 2^s HWA LSB
+        of the input (half a step of rounding plus up to a step of dither; s = 0: not
+        requantised, see Notes). The error is independent of the signal, of variance
+        2^(2s) / 4 per I/Q value (non-subtractive triangular dither).
+
+    Notes
+    -----
+    A block whose sum of |values| is small enough fits with s = 0 whatever its values are
+    (bound log2(1 + x) <= x / ln 2 on every EG prefix: sum |v| <= 639 HWA LSB for the demo,
+    a mean of 10 LSB against the 8.5 LSB of thermal noise); those blocks only see the 16-bit rounding of the HWA output (-33 dB below the thermal
+    noise of the R79 profile), which is not modelled. Only the other blocks (strong echoes,
+    interference, some noise peaks) go through the encoder model.
+    """
+    n_c, n_r, n_b = rf.shape
+    if n_b % range_bins_per_block:
+        raise ValueError(f"compression_range_bins_per_block={range_bins_per_block} does not "
+                         f"divide the {n_b} range bins")
+    nb = n_b // range_bins_per_block
+    n_val = 2 * n_r * range_bins_per_block
+    budget = int(np.floor(ratio * 32 * n_r * range_bins_per_block)) - EGE_HEADER_BITS
+    kk = EGE_K_ARRAY.astype(np.float64)
+    vv = rf.view(np.float32).reshape(n_c, n_r, nb, 2 * range_bins_per_block)
+    blocks = np.ascontiguousarray(vv.transpose(0, 2, 1, 3)).reshape(n_c * nb, n_val)
+    total = np.abs(blocks).sum(axis=1) * np.float32(scale)  # sum |v| per block, HWA LSB
+    # Cold blocks fit unshifted for sure: log2(1 + x) <= x / ln 2 bounds every EG prefix, so
+    # bits <= n (2 + k) + (2 / ln 2) (sum |v| + n / 2) / 2^k for the best k.
+    room = (budget - n_val * (2 + kk)) * np.log(2) / 2 * 2.0 ** kk - n_val / 2
+    shift = np.zeros(n_c * nb, dtype=np.int8)
+    hot = np.flatnonzero(total > room.max())
+    if hot.size:
+        vb = blocks[hot] * np.float32(scale)
+        s, _ = _ege_shift(vb, budget)
+        shift[hot] = s
+        moved = s > 0  # s = 0: only the (unmodelled) 16-bit rounding
+        rows, s = hot[moved], s[moved]
+        if rows.size:
+            step = np.ldexp(np.float32(1), s.astype(np.int32)).astype(np.float32)[:, None]
+            d = _DITHER[(rows[:, None] * n_val + np.arange(n_val)) % _DITHER.size]
+            q = np.rint(vb[moved] / step + d)
+            c_i, b_i = np.divmod(rows, nb)
+            vv[c_i, :, b_i, :] = (q * (step / np.float32(scale))) \
+                .reshape(rows.size, n_r, 2 * range_bins_per_block)
+    shift = shift.reshape(n_c, nb)
+    return rf, shift
+
+
+# ------------------------------------------------------------------------------- stage
+def range_stage(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) -> np.ndarray:
+    """The chirp-level chain: DC removal, interference mitigation, windowed range FFT,
+    EGE compression/decompression, each as `proc` switches it.
+
+    Parameters
+    ----------
+    cfg : RadarConfig
+    adc : (n_chirps, n_rx, n_samples) int16, or complex64 I/Q (complex ADC modes)
+    proc : ProcessingConfig
+
+    Returns
+    -------
+    (n_chirps, n_rx, n_samples // 2) complex64, or (..., n_samples) for I/Q input
+        With every switch off, exactly `kernels.range_fft(adc, window)`.
+    """
+    cplx = np.iscomplexobj(adc)
+    win = window(WINDOWS[proc.range_window], cfg.n_samples)
+    rf = range_fft(adc, win)
+    if not (proc.dc_removal or proc.interference_mitigation or proc.compression):
+        return rf
+    dc = remove_dc(adc) if proc.dc_removal else None
+    if dc is not None:
+        # FFT(w (x - m)) = FFT(w x) - m FFT(w): the window's spectrum has a few bins only.
+        w_spec = _window_spectrum(WINDOWS[proc.range_window], cfg.n_samples, cplx)
+        for k, wk in w_spec:
+            rf[..., k] -= dc[..., 0] * wk
+    if proc.interference_mitigation:
+        flags = interference_flags(adc, dc, proc.intf_mag_snr_db, proc.intf_magdiff_snr_db,
+                                   proc.intf_threshold_mode)
+        rows = np.flatnonzero(flags.reshape(-1, cfg.n_samples).any(axis=-1))
+        if rows.size:
+            # Only the flagged chirps are redone: DC removed, zeroed, windowed, FFT.
+            x = adc.reshape(-1, cfg.n_samples)[rows].astype(
+                np.complex64 if cplx else np.float32)
+            if dc is not None:
+                x -= dc.reshape(-1, 1)[rows]
+            zero_flagged(x, flags.reshape(-1, cfg.n_samples)[rows],
+                         proc.intf_hysteresis_samples)
+            x *= win
+            c_i, r_i = np.divmod(rows, cfg.n_rx)
+            fft = scipy.fft.fft if cplx else scipy.fft.rfft
+            rf[c_i, r_i] = fft(x, axis=-1)[:, : rf.shape[-1]]
+    if proc.compression:
+        rf, _ = ege_compress(rf, proc.compression_ratio, proc.compression_range_bins_per_block)
+    return rf
+
+
+_WSPEC_CACHE: dict[tuple[str, int, bool], tuple] = {}
+
+
+def _window_spectrum(name: str, n: int, full: bool = False) -> tuple:
+    """Non-negligible bins (k, W[k]) of the window's rFFT (Hann: k = 0, 1), or of its full FFT
+    for complex samples (Hann: k = 0, 1, n - 1)."""
+    key = (name, n, full)
+    if key not in _WSPEC_CACHE:
+        w64 = window(name, n).astype(np.float64)
+        w = scipy.fft.fft(w64) if full else scipy.fft.rfft(w64)[: n // 2]
+        big = np.flatnonzero(np.abs(w) > 1e-6 * np.abs(w).max())
+        if big.size > 8:  # rect windows of odd shapes: subtract in the time domain instead
+            big = big[:8]
+        _WSPEC_CACHE[key] = tuple((int(k), np.complex64(w[k])) for k in big)
+    return _WSPEC_CACHE[key]
+
+
+# ------------------------------------------------------------------------------- metrics
+class NoiseFloor(NamedTuple):
+    """Noise-floor rise over thermal, dB, after the range FFT and after the Doppler FFT."""
+
+    range_db: float
+    doppler_db: float
+
+
+def noise_floor_rise(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig | None = None,
+                     range_stride: int = 4, rf: np.ndarray | None = None) -> NoiseFloor:
+    """Noise floor after the range and Doppler FFTs relative to the thermal floor, dB.
+
+    The floor is the median cell power / ln 2 (the mean of exponential cells; echoes occupy
+    few cells and do not move it) over range bins >= `proc.min_range_bin`; the thermal
+    reference is sigma^2 sum w_r^2 (x sum w_d^2 after the Doppler FFT), sigma =
+    `cfg.noise_rms_lsb`. After the Doppler FFT a bursty interferer has spread over all
+    Doppler bins, so that rise equals 10 log10(1 + burst energy / noise energy); after the
+    range FFT the median sees the chirps without bursts and rises less.
+
+    Parameters
+    ----------
+    cfg : RadarConfig
+    adc : (n_chirps, n_rx, n_samples) int16
+    proc : ProcessingConfig, optional
+        The chirp-level switches applied first (default `ProcessingConfig()`).
+    range_stride : int
+        Doppler FFT of every `range_stride`-th range bin only (cost).
+    rf : (n_chirps, n_rx, n_range) complex64, optional
+        The chirp-level output if already computed.
+
+    Returns
+    -------
+    NoiseFloor
+    """
+    proc = proc or ProcessingConfig()
+    if rf is None:
+        rf = range_stage(cfg, adc, proc)
+    wr = window(WINDOWS[proc.range_window], cfg.n_samples).astype(np.float64)
+    wd = window(WINDOWS[proc.doppler_window], cfg.n_chirps).astype(np.float64)
+    sigma2 = cfg.noise_rms_lsb ** 2
+    ref_r = sigma2 * np.sum(wr ** 2)
+    sub = rf[:, :, proc.min_range_bin::range_stride]
+    p = sub.real ** 2 + sub.imag ** 2
+    floor_r = float(np.median(p)) / np.log(2)
+    spec = scipy.fft.fft(sub * wd.astype(np.float32)[:, None, None], axis=0, workers=-1)
+    pd_ = spec.real ** 2 + spec.imag ** 2
+    floor_d = float(np.median(pd_)) / np.log(2)
+    return NoiseFloor(10 * np.log10(floor_r / ref_r),
+                      10 * np.log10(floor_d / (ref_r * np.sum(wd ** 2))))

@@ -1,0 +1,117 @@
+"""Same seed, same bits on every execution path (issue 15, item 4).
+
+`run`, a serial sweep (`--workers 1`), a pool sweep (`--workers 2`) and a Dask cluster give
+bit-identical tables for the same cell, and `simulate` writes exactly the ADC frames a pool
+worker simulates. Each CLI path runs in its own fresh process, so a BLAS thread setting left
+behind by another test cannot hide a difference: one BLAS thread must come from the path itself
+(`harness.runtime.single_thread_blas`). The dense highway is used because its front-end GEMM
+is large enough for a two-thread OpenBLAS to split the sums differently: before the fix, 2 ADC
+samples of its frame 3 flipped by 1 LSB and `--workers 1` and `--workers 2` gave different
+range errors.
+"""
+from __future__ import annotations
+
+import concurrent.futures as cf
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from harness import runner
+from harness import sweep as sw
+from radarsim.capture import read_capture
+from radarsim.ti_cfg import parse_ti_cfg, r79_cfg_path
+
+ROOT = Path(__file__).resolve().parents[2]
+CASE, SEEDS, DURATION_S = "dense_highway", ("0", "1"), "0.2"
+TABLES = ("summary", "detections", "frames", "actors", "actor_summary", "truth", "tracks")
+
+
+def _cli(*argv: str) -> None:
+    r = subprocess.run([sys.executable, "-m", "harness.cli", *argv], cwd=ROOT,
+                       capture_output=True, text=True, timeout=300)
+    assert r.returncode == 0, r.stderr
+
+
+def _cell_tables(out: Path, seed: int) -> dict[str, pd.DataFrame]:
+    tabs = {t: pd.read_parquet(out / f"{t}.parquet") for t in TABLES}
+    return {t: df[df["seed"] == seed].reset_index(drop=True) if "seed" in df else df
+            for t, df in tabs.items()}
+
+
+def _assert_same(a: dict, b: dict) -> None:
+    for t in TABLES:
+        pd.testing.assert_frame_equal(a[t], b[t], check_exact=True, obj=t)
+
+
+_COMMON = [str(sw.CI_SWEEP_PATH), "--scenarios", CASE, "--duration-s", DURATION_S,
+           "--seeds", *SEEDS]
+
+
+@pytest.fixture(scope="module")
+def tmp(tmp_path_factory):
+    return tmp_path_factory.mktemp("paths")
+
+
+@pytest.fixture(scope="module")
+def pool(tmp):
+    _cli("sweep", *_COMMON, "--workers", "2", "--out", str(tmp / "w2"))
+    return tmp / "w2"
+
+
+def test_workers_1_and_2_give_the_same_bits(tmp, pool):
+    _cli("sweep", *_COMMON, "--workers", "1", "--out", str(tmp / "w1"))
+    for seed in (0, 1):
+        _assert_same(_cell_tables(tmp / "w1", seed), _cell_tables(pool, seed))
+
+
+@pytest.mark.slow
+def test_dask_gives_the_same_bits_as_the_pool(tmp, pool):
+    import distributed
+    spec = sw.load_sweep(sw.CI_SWEEP_PATH).with_overrides(
+        scenarios=[CASE], duration_s=float(DURATION_S), seeds=[int(s) for s in SEEDS])
+    with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=True,
+                                  dashboard_address=None) as cluster:
+        o = sw.run_sweep(spec, tmp / "dask", scheduler=cluster.scheduler_address,
+                         progress=False)
+    assert o.complete
+    for seed in (0, 1):
+        _assert_same(_cell_tables(tmp / "dask", seed), _cell_tables(pool, seed))
+
+
+@pytest.mark.slow
+def test_run_gives_the_same_bits_as_the_sweep(tmp, pool):
+    _cli("run", CASE, "--seed", "1", "--duration-s", DURATION_S, "--out", str(tmp / "run"))
+    run = {t: pd.read_parquet(tmp / "run" / f"{t}.parquet") for t in TABLES}
+    sweep = _cell_tables(pool, 1)
+    for t in TABLES:
+        # `run` has no error column (it raises instead of recording a failed cell).
+        pd.testing.assert_frame_equal(run[t].drop(columns=["variant"], errors="ignore"),
+                                      sweep[t].drop(columns=["variant", "error"],
+                                                    errors="ignore"),
+                                      check_exact=True, obj=t)
+
+
+def _pool_frames(case: str, seed: int, duration_s: float, n: int) -> np.ndarray:
+    """ADC frames of the R79 profile simulated inside a sweep pool worker."""
+    from harness.cmd_ti import simulate_frames
+    comps = runner.default_components()
+    cfg = parse_ti_cfg(r79_cfg_path()).radar
+    run = comps.run_scenario(case, seed, duration_s)
+    frames = np.unique(run.ego["frame"].to_numpy())[:n]
+    return np.stack(list(simulate_frames(cfg, run, seed, frames, comps)))
+
+
+@pytest.mark.slow
+def test_simulate_writes_the_bits_a_pool_worker_simulates(tmp_path):
+    out = tmp_path / "sim.bin"
+    _cli("simulate", CASE, "--cfg", str(r79_cfg_path()), "--out", str(out), "--seed", "1",
+         "--frames", "2", "--duration-s", DURATION_S)
+    with cf.ProcessPoolExecutor(1, initializer=sw._init_worker) as ex:
+        ref = ex.submit(_pool_frames, CASE, 1, float(DURATION_S), 2).result(timeout=300)
+    got = read_capture(out, parse_ti_cfg(r79_cfg_path()).radar,
+                       interleaved=parse_ti_cfg(r79_cfg_path()).adc_channel_interleaved)
+    np.testing.assert_array_equal(got, ref)

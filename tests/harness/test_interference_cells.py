@@ -1,0 +1,55 @@
+"""Interference in sweep cells: the scene section, the summary and frame columns."""
+from __future__ import annotations
+
+import math
+
+import pytest
+
+from harness.runner import CellSpec, check_scene, run_cell
+from harness.sweep import load_sweep
+
+
+@pytest.mark.parametrize("scene, match", [
+    ({"equiped_share": 0.5}, "unknown scene field"),
+    ({"equipped_share": 1.5}, r"equipped_share=1.5 must be in \[0, 1\]"),
+    ({"equipped_share": True}, "equipped_share=True"),
+    ([0.5], "must be a table"),
+])
+def test_scene_validation(scene, match):
+    with pytest.raises(ValueError, match=match):
+        check_scene(scene)
+    if isinstance(scene, dict):
+        with pytest.raises(ValueError, match=match):
+            CellSpec(scenario="a", scene=scene)
+
+
+def test_scene_enters_the_cell_id_only_when_used():
+    assert CellSpec(scenario="x").cell_id == CellSpec(scenario="x", scene={}).cell_id
+    assert CellSpec(scenario="x").cell_id != \
+        CellSpec(scenario="x", scene={"equipped_share": 0.5}).cell_id
+
+
+def test_shipped_interference_sweep():
+    spec = load_sweep("harness/interference_sweep.toml")
+    shares = {c.scene["equipped_share"] for c in spec.cells()}
+    mitig = {c.processing["interference_mitigation"] for c in spec.cells()}
+    assert shares == {0.0, 0.25, 0.5, 1.0} and mitig == {True, False}
+    assert all("interfer" in c.scenario for c in spec.cells())
+
+
+def test_interference_case_summary_columns():
+    """A real (short) run of the same-slope case: the contract columns exist, the INR is the
+    in-burst ratio of a radar 20 m ahead (tens of dB), the floor rise is per scheme."""
+    res = run_cell(CellSpec(scenario="interference_same_slope_ghosts", duration_s=0.1,
+                            frame_stride=10, schemes=("ddma", "tdma")))
+    s = res.tables["summary"].set_index("scheme")
+    for col in ("noise_floor_rise_db", "noise_floor_rise_range_db",
+                "interference_to_noise_db"):
+        assert col in s.columns and s[col].notna().all()
+    assert 10 < s.loc["ddma", "interference_to_noise_db"] < 40
+    f = res.tables["frames"]
+    assert {"interference_to_noise_db", "noise_floor_rise_db"} <= set(f.columns)
+    off = run_cell(CellSpec(scenario="interference_same_slope_ghosts", duration_s=0.1,
+                            frame_stride=10, schemes=("ddma",),
+                            processing={"interference_mitigation": False}))
+    assert math.isfinite(off.tables["summary"]["noise_floor_rise_db"].iloc[0])
