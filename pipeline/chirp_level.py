@@ -31,8 +31,10 @@ Interference mitigation, as TI documents it (with where this model assumes):
 
 EGE compression (HWA compression engine, ``HWA_AccelModeCompress``: method EGE, both passes,
 ``EGEKarrayLength = 3``, ``scaleFactorBW = 4``, header on, dither on, as the demo's RangeProc
-compression paramset; AWR294x TRM, Radar Hardware Accelerator chapter, compression/
-decompression engine). Model: each block of 4 Rx x 8 range bins of one chirp (32 complex
+compression paramset). The device TRM's section on the HWA compression/decompression engine
+(AWR294x TRM, Radar Hardware Accelerator chapter) was not available to us as text: the model
+below follows the SDK's documented register fields (k-array, scale-factor width, two passes,
+dither) and seed 000 section 5.2 (block layout and ratio), and says where it assumes. Model: each block of 4 Rx x 8 range bins of one chirp (32 complex
 samples of 16-bit I/Q, 128 bytes) must fit 64 bytes. Pass 1 picks, per block, the smallest
 right-shift s (the scale factor, 4 bits in the header) for which the exponential-Golomb codes
 of the 64 shifted integers, with the best order k out of the 2^3 = 8 of the k-array (3-bit
@@ -98,6 +100,8 @@ def remove_dc(adc: np.ndarray) -> np.ndarray:
         The DC estimate to subtract.
     """
     n = adc.shape[-1]
+    if np.iscomplexobj(adc):  # I/Q frames: the complex mean (I and Q DC together)
+        return (adc.sum(axis=-1, dtype=np.complex128, keepdims=True) / n).astype(np.complex64)
     s = adc.sum(axis=-1, dtype=np.int64 if adc.dtype.kind == "i" else np.float64,
                 keepdims=True)
     return (s / n).astype(np.float32)
@@ -128,16 +132,17 @@ def interference_flags(adc: np.ndarray, dc: np.ndarray | None, mag_snr_db: float
                          f"{sorted(INTF_THRESHOLD_MODES)}")
     n = adc.shape[-1]
     flags = None
+    work = np.complex64 if np.iscomplexobj(adc) else np.float32  # I/Q: |complex| statistics
     if mode != "mag":
-        d = np.abs(np.subtract(adc[..., 1:], adc[..., :-1], dtype=np.float32))
+        d = np.abs(np.subtract(adc[..., 1:], adc[..., :-1], dtype=work))
         thr = d.sum(axis=-1, keepdims=True) * np.float32(10 ** (magdiff_snr_db / 20) / n)
         flags = np.zeros(adc.shape, dtype=bool)
         np.greater(d, thr, out=flags[..., 1:])
     if mode != "magdiff":
-        x = adc.astype(np.float32)
+        x = adc.astype(work)
         if dc is not None:
             x -= dc
-        a = np.abs(x, out=x)
+        a = np.abs(x)
         thr = a.sum(axis=-1, keepdims=True) * np.float32(10 ** (mag_snr_db / 20) / n)
         fm = a > thr
         if flags is None:
@@ -294,15 +299,21 @@ def ege_compress(rf: np.ndarray, ratio: float = 0.5, range_bins_per_block: int =
     budget = int(np.floor(ratio * 32 * n_r * range_bins_per_block)) - EGE_HEADER_BITS
     kk = EGE_K_ARRAY.astype(np.float64)
     vv = rf.view(np.float32).reshape(n_c, n_r, nb, 2 * range_bins_per_block)
-    blocks = np.ascontiguousarray(vv.transpose(0, 2, 1, 3)).reshape(n_c * nb, n_val)
-    total = np.abs(blocks).sum(axis=1) * np.float32(scale)  # sum |v| per block, HWA LSB
+    mag = np.abs(rf.view(np.float32))                                # (C, R, 2 n_range)
+    total = np.add.reduceat(mag, np.arange(0, 2 * n_b, 2 * range_bins_per_block), axis=-1) \
+        .sum(axis=1).reshape(-1) * np.float32(scale)                  # (C nb,): sum |v|
     # Cold blocks fit unshifted for sure: log2(1 + x) <= x / ln 2 bounds every EG prefix, so
     # bits <= n (2 + k) + (2 / ln 2) (sum |v| + n / 2) / 2^k for the best k.
     room = (budget - n_val * (2 + kk)) * np.log(2) / 2 * 2.0 ** kk - n_val / 2
     shift = np.zeros(n_c * nb, dtype=np.int8)
     hot = np.flatnonzero(total > room.max())
     if hot.size:
-        vb = blocks[hot] * np.float32(scale)
+        if hot.size > n_c * nb // 4:  # many hot blocks (interference): one transposed copy
+            vb = np.ascontiguousarray(vv.transpose(0, 2, 1, 3)).reshape(n_c * nb, n_val)[hot]
+        else:
+            c_i, b_i = np.divmod(hot, nb)
+            vb = vv[c_i, :, b_i, :].reshape(hot.size, n_val)
+        vb *= np.float32(scale)
         s, _ = _ege_shift(vb, budget)
         shift[hot] = s
         moved = s > 0  # s = 0: only the (unmodelled) 16-bit rounding
@@ -326,14 +337,15 @@ def range_stage(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) -> np
     Parameters
     ----------
     cfg : RadarConfig
-    adc : (n_chirps, n_rx, n_samples) int16
+    adc : (n_chirps, n_rx, n_samples) int16, or complex64 I/Q (complex ADC modes)
     proc : ProcessingConfig
 
     Returns
     -------
-    (n_chirps, n_rx, n_samples // 2) complex64
+    (n_chirps, n_rx, n_samples // 2) complex64, or (..., n_samples) for I/Q input
         With every switch off, exactly `kernels.range_fft(adc, window)`.
     """
+    cplx = np.iscomplexobj(adc)
     win = window(WINDOWS[proc.range_window], cfg.n_samples)
     rf = range_fft(adc, win)
     if not (proc.dc_removal or proc.interference_mitigation or proc.compression):
@@ -341,36 +353,56 @@ def range_stage(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) -> np
     dc = remove_dc(adc) if proc.dc_removal else None
     if dc is not None:
         # FFT(w (x - m)) = FFT(w x) - m FFT(w): the window's spectrum has a few bins only.
-        w_spec = _window_spectrum(WINDOWS[proc.range_window], cfg.n_samples)
+        w_spec = _window_spectrum(WINDOWS[proc.range_window], cfg.n_samples, cplx)
         for k, wk in w_spec:
             rf[..., k] -= dc[..., 0] * wk
     if proc.interference_mitigation:
-        flags = interference_flags(adc, dc, proc.intf_mag_snr_db, proc.intf_magdiff_snr_db,
-                                   proc.intf_threshold_mode)
-        rows = np.flatnonzero(flags.reshape(-1, cfg.n_samples).any(axis=-1))
+        rows, flags = _flagged_rows(adc, dc, proc)
         if rows.size:
             # Only the flagged chirps are redone: DC removed, zeroed, windowed, FFT.
-            x = adc.reshape(-1, cfg.n_samples)[rows].astype(np.float32)
+            x = adc.reshape(-1, cfg.n_samples)[rows].astype(
+                np.complex64 if cplx else np.float32)
             if dc is not None:
                 x -= dc.reshape(-1, 1)[rows]
-            zero_flagged(x, flags.reshape(-1, cfg.n_samples)[rows],
-                         proc.intf_hysteresis_samples)
+            zero_flagged(x, flags, proc.intf_hysteresis_samples)
             x *= win
             c_i, r_i = np.divmod(rows, cfg.n_rx)
-            rf[c_i, r_i] = scipy.fft.rfft(x, axis=-1)[:, : rf.shape[-1]]
+            fft = scipy.fft.fft if cplx else scipy.fft.rfft
+            rf[c_i, r_i] = fft(x, axis=-1)[:, : rf.shape[-1]]
     if proc.compression:
         rf, _ = ege_compress(rf, proc.compression_ratio, proc.compression_range_bins_per_block)
     return rf
 
 
-_WSPEC_CACHE: dict[tuple[str, int], tuple] = {}
+def _flagged_rows(adc: np.ndarray, dc, proc: ProcessingConfig) -> tuple[np.ndarray, np.ndarray]:
+    """(chirp x Rx rows with a flagged sample, their (rows, n_samples) flags). The demo's
+    "magdiff" mode takes a fast path: a row is flagged iff its largest |dx| exceeds its
+    threshold, and only those rows get their flags built."""
+    n = adc.shape[-1]
+    a2 = adc.reshape(-1, n)
+    if proc.intf_threshold_mode == "magdiff" and not np.iscomplexobj(adc):
+        d = np.abs(np.subtract(a2[:, 1:], a2[:, :-1], dtype=np.float32))
+        thr = d.sum(axis=-1) * np.float32(10 ** (proc.intf_magdiff_snr_db / 20) / n)
+        rows = np.flatnonzero(d.max(axis=-1) > thr)
+        flags = np.zeros((rows.size, n), dtype=bool)
+        np.greater(d[rows], thr[rows, None], out=flags[:, 1:])
+        return rows, flags
+    flags = interference_flags(adc, dc, proc.intf_mag_snr_db, proc.intf_magdiff_snr_db,
+                               proc.intf_threshold_mode).reshape(-1, n)
+    rows = np.flatnonzero(flags.any(axis=-1))
+    return rows, flags[rows]
 
 
-def _window_spectrum(name: str, n: int) -> tuple:
-    """Non-negligible bins (k, W[k]) of the window's rFFT (Hann: k = 0, 1)."""
-    key = (name, n)
+_WSPEC_CACHE: dict[tuple[str, int, bool], tuple] = {}
+
+
+def _window_spectrum(name: str, n: int, full: bool = False) -> tuple:
+    """Non-negligible bins (k, W[k]) of the window's rFFT (Hann: k = 0, 1), or of its full FFT
+    for complex samples (Hann: k = 0, 1, n - 1)."""
+    key = (name, n, full)
     if key not in _WSPEC_CACHE:
-        w = scipy.fft.rfft(window(name, n).astype(np.float64))[: n // 2]
+        w64 = window(name, n).astype(np.float64)
+        w = scipy.fft.fft(w64) if full else scipy.fft.rfft(w64)[: n // 2]
         big = np.flatnonzero(np.abs(w) > 1e-6 * np.abs(w).max())
         if big.size > 8:  # rect windows of odd shapes: subtract in the time domain instead
             big = big[:8]
