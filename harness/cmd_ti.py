@@ -71,7 +71,8 @@ def cfar_config_from_ti(ti_cfar):
     import pipeline
     return pipeline.CfarConfig(mode=ti_cfar.mode, guard_cells=int(ti_cfar.guard_cells),
                                window_cells=int(ti_cfar.window_cells),
-                               os_rank=int(ti_cfar.os_rank) if ti_cfar.mode == "os" else None,
+                               os_rank=int(ti_cfar.os_rank)
+                               if pipeline.CFAR_MODES[ti_cfar.mode].ranked else None,
                                pfa=None, threshold_db=float(ti_cfar.threshold_db))
 
 

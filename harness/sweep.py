@@ -132,6 +132,9 @@ class SweepSpec:
         CellSpec(scenario="-", schemes=self.schemes, baseline_scheme=self.baseline_scheme)
         if not self.scenarios:
             raise ValueError("scenarios: the sweep has no scenario")
+        dup = sorted({sc for sc in self.scenarios if list(self.scenarios).count(sc) > 1})
+        if dup:
+            raise ValueError(f"scenarios: duplicate case(s) {dup}")
         if not self.seeds or any(isinstance(s, bool) or not isinstance(s, int)
                                  or not 0 <= s <= MAX_SEED for s in self.seeds):
             raise ValueError(f"seeds={list(self.seeds)!r} must be a non-empty list of "
@@ -687,7 +690,7 @@ def run_sweep(spec: SweepSpec, out: str | Path, *, workers: int = 1,
                            n_error=len(errors), n_interrupted=len(interrupted), errors=errors,
                            n_missing=len(missing), n_recomputed=len(recompute),
                            missing=missing)
-    assemble(spec, out, origin=origin)
+    assemble(spec, out, origin=origin, states=final)
     return outcome
 
 
@@ -798,15 +801,16 @@ def _write_atomic(path: Path, write) -> None:
             tmp.unlink()
 
 
-def assemble(spec: SweepSpec, out: str | Path,
-             origin: dict[str, str] | None = None) -> dict[str, pd.DataFrame]:
+def assemble(spec: SweepSpec, out: str | Path, origin: dict[str, str] | None = None,
+             states: dict[str, str] | None = None) -> dict[str, pd.DataFrame]:
     """Concatenate completed cells (in cell order) into ``out/<table>.parquet`` + manifest.
 
     Only cells completed by this code version with intact tables enter the tables
     (`harness.cellstore.cell_state` "ok"). The summary table gets an ``error`` column ("" for
     completed cells) and one row per errored cell, so gates see failures. The manifest lists
     every cell with its state and origin ("resumed": reused from an earlier run, "computed":
-    by this run, or "error" / "missing" / "stale" / "corrupt"). Returns the tables.
+    by this run, or "error" / "missing" / "stale" / "corrupt"). ``states`` (cell id ->
+    `cell_state`) saves re-verifying cells the caller has just checked. Returns the tables.
     """
     out = Path(out)
     cells = spec.cells()
@@ -815,7 +819,7 @@ def assemble(spec: SweepSpec, out: str | Path,
     cell_meta = []
     for c in cells:
         d = cell_dir(out, c)
-        state = store.cell_state(d, version["hash"])
+        state = (states or {}).get(c.cell_id) or store.cell_state(d, version["hash"])
         meta = (_read_cell_meta(d) or {}) if state in ("ok", "error") else {}
         meta = {**meta, "status": state, "cell_id": c.cell_id}
         cell_meta.append({k: meta.get(k) for k in ("cell_id", "status", "elapsed_s", "error")}
