@@ -364,7 +364,8 @@ class BpmScheme(MimoScheme):
         ``bpmCfg -1 1 0 1`` (chirp 0: +,+; chirp 1: +,- on the lower, higher Tx)."""
         if cfg.n_tx != 2 or cfg.tx_order != (1, 2):
             raise ValueError(f"mimo={self.name!r} with n_tx={cfg.n_tx}, tx_order="
-                             f"{cfg.tx_order}: TI's bpmCfg codes two Tx in order (1, 2) only")
+                             f"{cfg.tx_order} has no TI mmWave SDK CLI form (TI's bpmCfg codes "
+                             "two Tx in order (1, 2) only)")
         return TiFrame(2, ("chirpCfg 0 1 0 0 0 0 0 3",), ("bpmCfg -1 1 0 1",))
 
     def transmit_code(self, cfg: "RadarConfig") -> TransmitCode:
