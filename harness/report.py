@@ -375,7 +375,8 @@ def interference_section(summary: pd.DataFrame, actors: pd.DataFrame) -> str:
             ax.set_title(f"{scheme}: Pd vs range, interference cases", fontsize=9)
             ax.set_xlabel("actor centre range, m")
             ax.grid(alpha=0.3)
-            ax.legend(fontsize=6)
+            if ax.get_legend_handles_labels()[1]:
+                ax.legend(fontsize=6)
         axes[0][0].set_ylabel("detection probability")
         parts.append(_img(fig))
     return "\n".join(parts)

@@ -26,14 +26,26 @@ profile's waveform (e.g. a DDMA profile's TDMA baseline). Radar-dependent associ
 (unambiguous-velocity window, field of view, maximum range) come from each cell's configs
 (`harness.runner.cell_association`) unless [association] sets them.
 
+Validation: the file and every variant's configs (both radar presets, the processing config of
+every scheme, the tracker config; chip limits, RF budget, CFAR window against the Doppler axis)
+are built before any worker starts; a bad value raises ValueError naming the file, the variant,
+the key and the value. Durations, seeds, strides and the cell count are bounded; the sweep
+``name`` is a single folder name, so ``results/<run-id>`` never leaves the results folder.
+
 Execution: a local ``concurrent.futures.ProcessPoolExecutor`` (``workers``) or, given a
-scheduler address, a Dask distributed cluster (workers must see the output directory). Every
-cell is written by the worker that ran it, atomically (temporary directory, then
-``os.replace``), to ``<out>/cells/<cell_id>/``; a rerun skips cells already written, so killing a
-sweep loses no completed cell. A cell that raises is recorded (``cell.json`` with status
-"error" and the traceback) and the sweep continues; errored cells are retried by the next run.
-When all cells are done the per-cell tables are concatenated in cell order into
-``<out>/<table>.parquet`` and a ``manifest.json`` is written.
+scheduler address, a Dask distributed cluster (``tls://`` with `dask_security`; workers must see
+the output directory, which is made absolute first). Every cell is written by the worker that
+ran it through `harness.cellstore`: atomically (temporary directory, then one rename) to
+``<out>/cells/<cell_id>/``, never over a completed cell, with the code version and the checksum
+of every table. A rerun reuses cells of the same code version whose tables are intact
+(damaged ones are recomputed, temporaries of killed writers removed) and refuses to resume over
+cells of another version unless ``force`` (then they are recomputed). A cell that raises is
+recorded (``cell.json`` with status "error" and the traceback) and the sweep continues; errored
+cells are retried by the next run. Every path runs with one BLAS thread, so the same seeds give
+the same bits whatever the worker count or scheduler. When all cells are done the per-cell
+tables are concatenated in cell order into ``<out>/<table>.parquet`` and a ``manifest.json``
+lists every cell as resumed, computed, error or missing; a sweep with missing cells is
+incomplete (`SweepOutcome.complete`).
 """
 from __future__ import annotations
 
@@ -762,6 +774,11 @@ def _run_dask(pending, out, scheduler, components, bar, security=None,
     from distributed import as_completed
     client = _connect(scheduler, security, timeout_s)
     try:
+        try:  # a scheduler without workers would leave every task waiting forever
+            client.wait_for_workers(1, timeout=timeout_s)
+        except (TimeoutError, OSError):
+            raise ValueError(f"--scheduler {client.scheduler.address!r}: no Dask worker joined "
+                             f"the scheduler within {timeout_s:g} s") from None
         futs = {client.submit(execute_cell, c, str(out), components, key=f"cell-{c.cell_id}",
                               pure=False): c for c in pending}
         res, lost = {}, []

@@ -31,8 +31,10 @@ Interference mitigation, as TI documents it (with where this model assumes):
 
 EGE compression (HWA compression engine, ``HWA_AccelModeCompress``: method EGE, both passes,
 ``EGEKarrayLength = 3``, ``scaleFactorBW = 4``, header on, dither on, as the demo's RangeProc
-compression paramset; AWR294x TRM, Radar Hardware Accelerator chapter, compression/
-decompression engine). Model: each block of 4 Rx x 8 range bins of one chirp (32 complex
+compression paramset). The device TRM's section on the HWA compression/decompression engine
+(AWR294x TRM, Radar Hardware Accelerator chapter) was not available to us as text: the model
+below follows the SDK's documented register fields (k-array, scale-factor width, two passes,
+dither) and seed 000 section 5.2 (block layout and ratio), and says where it assumes. Model: each block of 4 Rx x 8 range bins of one chirp (32 complex
 samples of 16-bit I/Q, 128 bytes) must fit 64 bytes. Pass 1 picks, per block, the smallest
 right-shift s (the scale factor, 4 bits in the header) for which the exponential-Golomb codes
 of the 64 shifted integers, with the best order k out of the 2^3 = 8 of the k-array (3-bit
@@ -297,15 +299,21 @@ def ege_compress(rf: np.ndarray, ratio: float = 0.5, range_bins_per_block: int =
     budget = int(np.floor(ratio * 32 * n_r * range_bins_per_block)) - EGE_HEADER_BITS
     kk = EGE_K_ARRAY.astype(np.float64)
     vv = rf.view(np.float32).reshape(n_c, n_r, nb, 2 * range_bins_per_block)
-    blocks = np.ascontiguousarray(vv.transpose(0, 2, 1, 3)).reshape(n_c * nb, n_val)
-    total = np.abs(blocks).sum(axis=1) * np.float32(scale)  # sum |v| per block, HWA LSB
+    mag = np.abs(rf.view(np.float32))                                # (C, R, 2 n_range)
+    total = np.add.reduceat(mag, np.arange(0, 2 * n_b, 2 * range_bins_per_block), axis=-1) \
+        .sum(axis=1).reshape(-1) * np.float32(scale)                  # (C nb,): sum |v|
     # Cold blocks fit unshifted for sure: log2(1 + x) <= x / ln 2 bounds every EG prefix, so
     # bits <= n (2 + k) + (2 / ln 2) (sum |v| + n / 2) / 2^k for the best k.
     room = (budget - n_val * (2 + kk)) * np.log(2) / 2 * 2.0 ** kk - n_val / 2
     shift = np.zeros(n_c * nb, dtype=np.int8)
     hot = np.flatnonzero(total > room.max())
     if hot.size:
-        vb = blocks[hot] * np.float32(scale)
+        if hot.size > n_c * nb // 4:  # many hot blocks (interference): one transposed copy
+            vb = np.ascontiguousarray(vv.transpose(0, 2, 1, 3)).reshape(n_c * nb, n_val)[hot]
+        else:
+            c_i, b_i = np.divmod(hot, nb)
+            vb = vv[c_i, :, b_i, :].reshape(hot.size, n_val)
+        vb *= np.float32(scale)
         s, _ = _ege_shift(vb, budget)
         shift[hot] = s
         moved = s > 0  # s = 0: only the (unmodelled) 16-bit rounding
@@ -349,17 +357,14 @@ def range_stage(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) -> np
         for k, wk in w_spec:
             rf[..., k] -= dc[..., 0] * wk
     if proc.interference_mitigation:
-        flags = interference_flags(adc, dc, proc.intf_mag_snr_db, proc.intf_magdiff_snr_db,
-                                   proc.intf_threshold_mode)
-        rows = np.flatnonzero(flags.reshape(-1, cfg.n_samples).any(axis=-1))
+        rows, flags = _flagged_rows(adc, dc, proc)
         if rows.size:
             # Only the flagged chirps are redone: DC removed, zeroed, windowed, FFT.
             x = adc.reshape(-1, cfg.n_samples)[rows].astype(
                 np.complex64 if cplx else np.float32)
             if dc is not None:
                 x -= dc.reshape(-1, 1)[rows]
-            zero_flagged(x, flags.reshape(-1, cfg.n_samples)[rows],
-                         proc.intf_hysteresis_samples)
+            zero_flagged(x, flags, proc.intf_hysteresis_samples)
             x *= win
             c_i, r_i = np.divmod(rows, cfg.n_rx)
             fft = scipy.fft.fft if cplx else scipy.fft.rfft
@@ -367,6 +372,25 @@ def range_stage(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) -> np
     if proc.compression:
         rf, _ = ege_compress(rf, proc.compression_ratio, proc.compression_range_bins_per_block)
     return rf
+
+
+def _flagged_rows(adc: np.ndarray, dc, proc: ProcessingConfig) -> tuple[np.ndarray, np.ndarray]:
+    """(chirp x Rx rows with a flagged sample, their (rows, n_samples) flags). The demo's
+    "magdiff" mode takes a fast path: a row is flagged iff its largest |dx| exceeds its
+    threshold, and only those rows get their flags built."""
+    n = adc.shape[-1]
+    a2 = adc.reshape(-1, n)
+    if proc.intf_threshold_mode == "magdiff" and not np.iscomplexobj(adc):
+        d = np.abs(np.subtract(a2[:, 1:], a2[:, :-1], dtype=np.float32))
+        thr = d.sum(axis=-1) * np.float32(10 ** (proc.intf_magdiff_snr_db / 20) / n)
+        rows = np.flatnonzero(d.max(axis=-1) > thr)
+        flags = np.zeros((rows.size, n), dtype=bool)
+        np.greater(d[rows], thr[rows, None], out=flags[:, 1:])
+        return rows, flags
+    flags = interference_flags(adc, dc, proc.intf_mag_snr_db, proc.intf_magdiff_snr_db,
+                               proc.intf_threshold_mode).reshape(-1, n)
+    rows = np.flatnonzero(flags.any(axis=-1))
+    return rows, flags[rows]
 
 
 _WSPEC_CACHE: dict[tuple[str, int, bool], tuple] = {}

@@ -267,10 +267,11 @@ def _bursts(cfg: RadarConfig, itf: Interferers, i: int,
         hi = np.minimum(hi, np.maximum(t_a, t_b))
     else:
         inside = np.abs(alpha) < passband_hz
-        hi = np.where(inside, hi, -np.inf)
+        hi = np.where(inside, hi, lo - 1.0)  # empty span
     t0 = t_first[chirp]
-    n0 = np.maximum(np.ceil((lo - t0) * fs - 1e-9), 0).astype(np.int64)
-    n1 = np.minimum(np.floor((hi - t0) * fs + 1e-9), n_s - 1).astype(np.int64) + 1
+    # Clipped in float before the integer cast (spans may be empty or far outside).
+    n0 = np.clip(np.ceil((lo - t0) * fs - 1e-9), 0, n_s).astype(np.int64)
+    n1 = np.clip(np.floor((hi - t0) * fs + 1e-9), -1, n_s - 1).astype(np.int64) + 1
     count = np.maximum(n1 - n0, 0)
     keep = count > 0
     return _Bursts(chirp[keep], n0[keep], count[keep], a_m[keep], tau_p[keep])

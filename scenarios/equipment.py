@@ -152,8 +152,10 @@ WAVEFORM_FAMILIES: dict[str, WaveformFamily] = {
         ramp_fraction=(18.81 / 23.81, 18.81 / 23.81), tx_power_dbm=12.0,
         antenna_gain_dbi=10.0, pattern_exponent_az=1.2, pattern_exponent_el=4.0),
     "corner_srr": WaveformFamily(
-        description="77-81 GHz short-range corner radar, 20-60 MHz/us, 20-40 us chirps",
-        mounts=_CORNERS, band_hz=(77.0e9, 81.0e9), slope_hz_per_s=(20e12, 60e12),
+        description="77 GHz short-range corner radar in the lower part of 77-81 GHz "
+                    "(76.5-78.5 GHz assumed: most 77 GHz corner radars use 1-2 GHz near the "
+                    "band start), 20-60 MHz/us, 20-40 us chirps",
+        mounts=_CORNERS, band_hz=(76.5e9, 78.5e9), slope_hz_per_s=(20e12, 60e12),
         chirp_period_s=(20e-6, 40e-6), ramp_fraction=(0.6, 0.85), tx_power_dbm=12.0,
         antenna_gain_dbi=10.0, pattern_exponent_az=1.2, pattern_exponent_el=4.0,
         down_chirp_probability=0.2),

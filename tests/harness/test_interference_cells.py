@@ -53,3 +53,22 @@ def test_interference_case_summary_columns():
                             frame_stride=10, schemes=("ddma",),
                             processing={"interference_mitigation": False}))
     assert math.isfinite(off.tables["summary"]["noise_floor_rise_db"].iloc[0])
+
+
+def test_report_interference_section():
+    import pandas as pd
+
+    from harness.report import interference_section
+    summary = pd.DataFrame({
+        "scenario": ["interference_x"] * 4, "variant": ["a", "a", "b", "b"],
+        "seed": 0, "scheme": ["ddma", "tdma"] * 2, "noise_floor_rise_db": [0.1, 0.1, 5.0, 4.8],
+        "noise_floor_rise_range_db": [0.3, 0.3, 1.0, 1.0],
+        "interference_to_noise_db": [float("nan")] * 2 + [17.0, 17.0], "ghost_rate": 0.01,
+        "n_detections": 10})
+    actors = pd.DataFrame({"scenario": "interference_x", "variant": ["a", "b"] * 10,
+                           "seed": 0, "scheme": "ddma", "actor_id": 0, "actor_class": "car",
+                           "frame": range(20), "range_m": [50.0 + i for i in range(20)],
+                           "visible": True, "detected": [True, False] * 10})
+    html = interference_section(summary, actors)
+    assert "Interference: noise-floor rise" in html and html.count("<img") == 2
+    assert interference_section(summary.drop(columns="interference_to_noise_db"), actors) == ""

@@ -171,6 +171,17 @@ def test_relative_out_is_resolved_before_dask_workers_see_it(tmp_path, monkeypat
     assert len(pd.read_parquet(tmp_path / "rel" / "out" / "summary.parquet")) == 3 * 3
 
 
+def test_a_scheduler_without_workers_fails_within_the_timeout(tmp_path):
+    import distributed
+    with distributed.LocalCluster(n_workers=0, processes=False,
+                                  dashboard_address=None) as cluster:
+        t0 = time.monotonic()
+        with pytest.raises(ValueError, match=r"no Dask worker joined the scheduler within 1 s"):
+            run_sweep(small_spec(), tmp_path, scheduler=cluster.scheduler_address,
+                      components=FAKE, progress=False, scheduler_timeout_s=1.0)
+        assert time.monotonic() - t0 < 15
+
+
 def _lost_cell(spec, out, comps=None):
     """A worker that reports success but writes nowhere visible (its own working directory)."""
     return {"cell_id": spec.cell_id, "status": "ok", "elapsed_s": 0.0, "written": "written"}

@@ -102,6 +102,15 @@ def test_same_slope_interferer_is_a_tone_at_its_one_way_range(cfg):
     assert int(np.argmax(spec[1:]) + 1) == pytest.approx(want_bin, abs=1)
 
 
+def test_same_slope_out_of_band_makes_no_burst(cfg):
+    """Equal slope, offset 10 us: f_d = S (Delta + tau) = 89 MHz, far outside the IF band."""
+    itf = _itf(slope=cfg.slope_hz_per_s, period=cfg.chirp_period_s,
+               ramp=cfg.ramp_end_time_s, offset=10e-6)
+    assert len(itf_mod.burst_windows(cfg, itf)) == 0
+    assert not itf_mod.synthesize(cfg, itf).any()
+    assert math.isnan(itf_mod.interference_to_noise_db(cfg, itf))
+
+
 def test_blocked_path_and_back_lobe_are_silent(cfg):
     truth = pd.DataFrame({
         "actor_id": [0, 1], "x_radar_m": [40.0, 20.0], "y_radar_m": [0.0, 0.0],
