@@ -359,6 +359,15 @@ class BpmScheme(MimoScheme):
         """(n_tx, n_tx) signs: row = chirp of the block, column = position in `tx_order`."""
         return hadamard(cfg.n_tx)
 
+    def to_ti(self, cfg: "RadarConfig", n_tx_chip: int) -> TiFrame:
+        """TI's SDK BPM (xwr16xx/18xx/68xx demos): two chirps enabling both Tx and
+        ``bpmCfg -1 1 0 1`` (chirp 0: +,+; chirp 1: +,- on the lower, higher Tx)."""
+        if cfg.n_tx != 2 or cfg.tx_order != (1, 2):
+            raise ValueError(f"mimo={self.name!r} with n_tx={cfg.n_tx}, tx_order="
+                             f"{cfg.tx_order} has no TI mmWave SDK CLI form (TI's bpmCfg codes "
+                             "two Tx in order (1, 2) only)")
+        return TiFrame(2, ("chirpCfg 0 1 0 0 0 0 0 3",), ("bpmCfg -1 1 0 1",))
+
     def transmit_code(self, cfg: "RadarConfig") -> TransmitCode:
         h = self.code_matrix(cfg)
         slot = np.arange(cfg.n_chirps) % cfg.n_tx

@@ -426,6 +426,7 @@ class _State:
     frame: dict[str, Any] = dataclasses.field(default_factory=dict)
     cfar: dict[str, TiCfar] = dataclasses.field(default_factory=dict)
     ddm_order: tuple[int, ...] | None = None
+    bpm: tuple | None = None
     ant_geometry: tuple | None = None
     adcbuf: dict[str, Any] = dataclasses.field(default_factory=dict)
     lvds: tuple | None = None
@@ -661,11 +662,21 @@ def _lvds_stream_cfg(st: _State, ln: _Line) -> None:
     st.ignored.append((ln.no, ln.cmd))
 
 
+#: TI commands that select a MIMO scheme of `radarsim.mimo.MIMO_SCHEMES` by themselves.
+_TI_SCHEME_COMMANDS = {"bpmCfg": "bpm"}
+
+
 def _bpm_cfg(st: _State, ln: _Line) -> None:
-    """``bpmCfg <subFrameIdx> <isEnabled> <chirp0Idx> <chirp1Idx>``: only BPM off is modelled."""
+    """``bpmCfg <subFrameIdx> <isEnabled> <chirp0Idx> <chirp1Idx>`` (mmWave SDK demos): with
+    isEnabled 1 the two chirps carry the 2 x 2 Hadamard code (chirp0 +,+; chirp1 +,-), the
+    harness's BPM scheme; with 0 it is kept and ignored."""
+    ln.int(0, "subFrameIdx", -1, 3)
     if ln.flag(1, "isEnabled"):
-        raise ln.fail("isEnabled=1: BPM (binary phase) MIMO is not modelled")
-    st.ignored.append((ln.no, ln.cmd))
+        st.bpm = (ln.int(2, "chirp0Idx", 0, st.chip.max_chirp_defs - 1),
+                  ln.int(3, "chirp1Idx", 0, st.chip.max_chirp_defs - 1), ln)
+    else:
+        st.bpm = None
+        st.ignored.append((ln.no, ln.cmd))
 
 
 def _intf_mitig_cfg(st: _State, ln: _Line) -> None:
@@ -754,7 +765,7 @@ TI_COMMANDS: dict[str, CommandSpec] = {
                             _ant_geometry_cfg, "virtual array geometry"),
     "cfarCfg": _spec(None, _cfar_cfg, "CFAR settings (counts: _CFAR_ARGS)"),
     "lvdsStreamCfg": _spec({4}, _lvds_stream_cfg, "LVDS streaming (raw capture)"),
-    "bpmCfg": _spec({4}, _bpm_cfg, "BPM MIMO (off only)"),
+    "bpmCfg": _spec({4}, _bpm_cfg, "BPM MIMO (2 Tx Hadamard)"),
     # --- known but not representable
     "advFrameCfg": _spec(None, _unsupported("advanced frames (sub-frames)"), "advanced frame"),
     "subFrameCfg": _spec(None, _unsupported("advanced frames (sub-frames)"), "sub-frame"),
@@ -985,7 +996,14 @@ def _schedule(st: _State, masks: list[int]) -> dict:
     order = None if st.ddm_order is None else \
         tuple(chans.index(t + 1) for t in st.ddm_order if t + 1 in chans)
     claim = None
-    for scheme in MIMO_SCHEMES.values():
+    if st.bpm is not None:  # bpmCfg names its scheme: both Tx on the two coded chirps
+        c0, c1, bln = st.bpm
+        if n_tx != 2 or len(masks) != 2 or set(logical) != {3} or \
+                (c0, c1) != (fr["start"], fr["start"] + 1):
+            raise bln.fail(f"chirp0Idx={c0}, chirp1Idx={c1}: BPM needs a loop of exactly these "
+                           "two chirps, both enabling the same two Tx")
+        claim = {"mimo": MIMO_SCHEMES[_TI_SCHEME_COMMANDS["bpmCfg"]].name, "tx_order": (1, 2)}
+    for scheme in () if claim is not None else MIMO_SCHEMES.values():
         try:
             claim = scheme.from_ti(logical, n_tx, (1 << n_tx) - 1, order)
         except ValueError as exc:

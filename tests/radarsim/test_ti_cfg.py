@@ -228,7 +228,7 @@ BAD_LINES = {
                               r"profileId=1 is not defined"),
     "mixed_tx_pattern": ("chirpCfg", "chirpCfg 0 4 0 0 0 0 0 15\nchirpCfg 5 5 0 0 0 0 0 3",
                          r"matches no MIMO scheme", "frameCfg"),
-    "bpm_enabled": ("lowPower", "bpmCfg -1 1 0 1", r"isEnabled=1: BPM .* not modelled"),
+    "bpm_on_a_ddma_loop": ("lowPower", "bpmCfg -1 1 0 1", r"BPM needs a loop of exactly"),
     "sub_frame": ("lowPower", "subFrameCfg 0 0 0 1 1 1 0 0 0 0", r"not supported: advanced "),
     "ddm_order_not_permutation": ("ddmPhaseShiftAntOrder", "ddmPhaseShiftAntOrder 0 2 2 1",
                                   r"must list each of the AWR2944's Tx 0..3 once"),

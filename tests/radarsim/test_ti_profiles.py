@@ -565,3 +565,18 @@ def test_ant_geometry_defines_the_array():
     assert sorted(lay.v_pos) == [3, 4, 5, 6] and lay.v_height_wl == pytest.approx(0.5)
     assert parse_ti_cfg(to_ti_cfg(cfg)).radar == cfg
     np.testing.assert_allclose(cfg.virtual_positions_m[:, 0], 0.0)
+
+
+def test_sdk_bpm_profile_is_the_bpm_scheme():
+    """mmWave SDK ``profile_2d_bpm.cfg`` style: two chirps enabling Tx1+Tx2, ``bpmCfg -1 1 0 1``
+    (chirp 0: +,+; chirp 1: +,-) is the harness's 2 x 2 Hadamard BPM: Vmax = lambda / (4 x 2 Tc)
+    as TDMA; it writes back as itself."""
+    text = XWR16_ROS.replace("chirpCfg 0 0 0 0 0 0 0 1\nchirpCfg 1 1 0 0 0 0 0 2",
+                             "chirpCfg 0 0 0 0 0 0 0 3\nchirpCfg 1 1 0 0 0 0 0 3") \
+        .replace("clutterRemoval -1 0", "clutterRemoval -1 0\nbpmCfg -1 1 0 1")
+    prof = parse_ti_cfg(text)
+    cfg = prof.radar
+    assert (cfg.mimo, cfg.n_tx, cfg.tx_order, cfg.n_chirps) == ("bpm", 2, (1, 2), 64)
+    assert cfg.max_unambiguous_velocity_mps == pytest.approx(_lam(77) / (4 * 2 * 486.14e-6))
+    assert "bpmCfg -1 1 0 1" in to_ti_cfg(prof)
+    assert parse_ti_cfg(to_ti_cfg(prof)).radar == cfg
