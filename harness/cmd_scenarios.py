@@ -47,6 +47,8 @@ def run_show(args: argparse.Namespace) -> int:
     from scenarios import run_scenario
     from scenarios.plot import write_views
 
+    if Path(args.out).exists() and not Path(args.out).is_dir():
+        raise ValueError(f"--out {args.out!r} is a file; give a folder for the PNG and GIF")
     run = run_scenario(_resolve(args.case), seed=args.seed)
     png, gif = write_views(run, args.out)
     print(f"wrote {png}")

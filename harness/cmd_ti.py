@@ -9,9 +9,11 @@ point cloud table (a `frame` and a `time_s` column in front of the chain's colum
 CSV by the file suffix). The profile's Doppler ``cfarCfg`` becomes the chain's CFAR
 (`cfar_config_from_ti`); without one the chain's default CFAR is used.
 
-`simulate` runs a scenario, builds each frame's scatterers with the RCS model and writes the
-front end's ADC frames for the profile's radar as a capture, so the same data can be replayed
-here or on other tools. Random streams are those of a sweep cell
+`simulate` runs a scenario at the profile's frame rate (1 / ``framePeriodicity``, the period
+`process` stamps the frames with), builds each frame's scatterers with the RCS model and writes
+the front end's ADC frames for the profile's radar as a capture in the DCA1000 layout the
+profile implies (`radarsim.capture.layout_of`: real or complex, ADC buffer interleaving), so
+the same data can be replayed here or read by TI's and OpenRadar's readers. Random streams are those of a sweep cell
 (``harness.runner.frame_rng(seed, frame, "rcs" | mimo)``), so a capture of the R79 preset
 holds exactly the ADC frames a sweep of the same scenario and seed processes.
 """
@@ -69,7 +71,8 @@ def cfar_config_from_ti(ti_cfar):
     import pipeline
     return pipeline.CfarConfig(mode=ti_cfar.mode, guard_cells=int(ti_cfar.guard_cells),
                                window_cells=int(ti_cfar.window_cells),
-                               os_rank=int(ti_cfar.os_rank) if ti_cfar.mode == "os" else None,
+                               os_rank=int(ti_cfar.os_rank)
+                               if pipeline.CFAR_MODES[ti_cfar.mode].ranked else None,
                                pfa=None, threshold_db=float(ti_cfar.threshold_db))
 
 
@@ -89,20 +92,33 @@ def processing_from_profile(profile, notes: list[str] | None = None):
         notes.append(f"line {profile.cfar['range'].line_no}: range cfarCfg ignored (the chain "
                      "has no range CFAR, DESIGN section 5)")
     if doppler is None:
-        return pipeline.ProcessingConfig(**chirp)
-    if not doppler.cyclic:
-        notes.append(f"line {doppler.line_no}: cyclicMode 0 ignored (the Doppler CFAR is "
-                     "cyclic)")
-    return pipeline.ProcessingConfig(cfar=cfar_config_from_ti(doppler), **chirp)
+        proc = pipeline.ProcessingConfig(**chirp)
+    else:
+        if not doppler.cyclic:
+            notes.append(f"line {doppler.line_no}: cyclicMode 0 ignored (the Doppler CFAR is "
+                         "cyclic)")
+        proc = pipeline.ProcessingConfig(cfar=cfar_config_from_ti(doppler), **chirp)
+    n_dop = profile.radar.n_doppler_bins
+    try:
+        proc.check_doppler_axis(n_dop)
+    except ValueError:
+        # Demo profiles of 16 loops have 16 Doppler bins: train on contiguous cells (TI's
+        # CFAR) when the stride-2 window does not fit; if that does not fit either, the
+        # chain names the window and the axis.
+        proc = proc.replace(cfar_training_stride=1)
+        notes.append(f"CFAR training_stride 1 (contiguous cells, as TI's CFAR): the stride-2 "
+                     f"window does not fit the {n_dop} Doppler bins")
+    return proc
 
 
-def _interleaved(layout: str, profile) -> bool:
+def _interleaved(layout: str, profile) -> bool | None:
+    """None (the profile's adcbufCfg decides) for "auto", else the forced buffer order."""
     if layout == "auto":
-        return bool(profile.adc_channel_interleaved)
+        return None
     return layout == "interleaved"
 
 
-def process_capture(capture, profile, proc=None, *, interleaved: bool = False,
+def process_capture(capture, profile, proc=None, *, interleaved: bool | None = None,
                     max_frames: int | None = None) -> pd.DataFrame:
     """Point cloud of every frame of a capture: `frame`, `time_s`, then the chain's columns.
 
@@ -136,10 +152,11 @@ def _profile(path: Path):
     if Path(path).is_dir():
         raise ValueError(f"--cfg {str(path)!r} is a directory, not a TI .cfg profile")
     try:
-        return parse_ti_cfg(path)
+        profile = parse_ti_cfg(path)
     except UnicodeDecodeError:
         raise ValueError(f"--cfg {str(path)!r}: not a text file (a TI .cfg profile is text)") \
             from None
+    return profile
 
 
 def _track(points: pd.DataFrame, profile, n_frames: int) -> pd.DataFrame:
@@ -152,7 +169,8 @@ def _track(points: pd.DataFrame, profile, n_frames: int) -> pd.DataFrame:
 
 # ---------------------------------------------------------------------------- process
 def add_arguments_process(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("capture", type=Path, help="DCA1000 capture (.bin, int16 real ADC)")
+    parser.add_argument("capture", type=Path,
+                        help="DCA1000 capture (.bin, int16 words, real or complex ADC)")
     parser.add_argument("--cfg", type=Path, required=True, help="TI mmWave SDK .cfg profile")
     parser.add_argument("--out", type=Path, default=None,
                         help="point cloud table, .parquet or .csv (default CAPTURE.parquet)")
@@ -218,7 +236,7 @@ def _components():
 def simulate_frames(cfg, run, seed: int, frames, comps):
     """ADC frames of a scenario run for radar `cfg`, as a sweep cell simulates them.
 
-    Yields (n_chirps, n_rx, n_samples) int16 per frame of `frames`.
+    Yields (n_chirps, n_rx, n_samples) int16 (real) or complex64 (complex ADC) per frame.
     """
     from harness import runner
     for f in frames:
@@ -236,8 +254,11 @@ def run_simulate(args: argparse.Namespace) -> int:
     check_output_file(args.out, "--out")
     profile = _profile(args.cfg)
     comps = _components()
+    # The scenario advances one profile frame period per frame: process stamps frame f at
+    # f x framePeriodicity, so the capture's scene must move by the same step.
+    rate_hz = 1.0 / profile.frame_period_s
     try:
-        run = comps.run_scenario(args.case, args.seed, args.duration_s)
+        run = comps.run_scenario(args.case, args.seed, args.duration_s, frame_rate_hz=rate_hz)
     except KeyError as exc:
         raise ValueError(f"unknown scenario {args.case!r}: {exc}") from exc
     src = run.ego if getattr(run, "ego", None) is not None and len(run.ego) else run.truth
@@ -249,6 +270,6 @@ def run_simulate(args: argparse.Namespace) -> int:
         # Saturation is a property of the scene (a car at 2 m), as in a sweep cell.
         warnings.simplefilter("ignore", category=ADCSaturationWarning)
         n = write_capture(args.out, simulate_frames(profile.radar, run, args.seed, frames, comps),
-                          cfg=profile.radar, interleaved=profile.adc_channel_interleaved)
+                          cfg=profile.radar)
     print(f"{n} frame(s) of {args.case} (seed {args.seed}) -> {args.out}")
     return 0

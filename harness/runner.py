@@ -26,6 +26,7 @@ import json
 import re
 import time
 from dataclasses import dataclass, field
+from pathlib import Path
 from typing import Any, Callable
 
 import numpy as np
@@ -38,7 +39,7 @@ from metrics.association import (AssociationConfig, actor_frames, associate, det
 __all__ = ["CellSpec", "Components", "CellResult", "ResultScheme", "DEFAULT_SCHEMES",
            "DEFAULT_BASELINE_SCHEME", "SEED_STREAMS", "TABLES", "default_components", "run_cell",
            "frame_rng", "stream_id", "result_schemes", "known_schemes", "build_configs",
-           "simulate_cell_frame", "frame_scatterers"]
+           "radar_config", "cell_association", "simulate_cell_frame", "frame_scatterers"]
 
 #: Result schemes of a cell when none are given (the scheme column's values).
 DEFAULT_SCHEMES: tuple[str, ...] = ("ddma", "tdma", "tdma_raw")
@@ -81,6 +82,13 @@ class CellSpec:
     scene : dict
         Scene overrides (`SCENE_FIELDS`): ``equipped_share`` replaces the case's share of
         vehicles carrying radars (interference).
+    association : dict
+        `metrics.association.AssociationConfig` overrides (the sweep's ``[association]``);
+        the radar-dependent settings otherwise come from the cell's configs
+        (`cell_association`).
+
+    ``radar`` may hold ``profile``: a TI .cfg path whose `RadarConfig` replaces the R79
+    preset (the other radar keys then override the profile's fields).
     """
 
     scenario: str
@@ -94,6 +102,7 @@ class CellSpec:
     schemes: tuple[str, ...] = DEFAULT_SCHEMES
     baseline_scheme: str = DEFAULT_BASELINE_SCHEME
     scene: dict = field(default_factory=dict)
+    association: dict = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         if not isinstance(self.scenario, str) or not self.scenario:
@@ -128,6 +137,8 @@ class CellSpec:
             del d["baseline_scheme"]
         if not d["scene"]:
             del d["scene"]
+        if not d["association"]:
+            del d["association"]
         blob = json.dumps(d, sort_keys=True, default=str)
         h = hashlib.sha1(blob.encode()).hexdigest()[:8]
         safe = re.sub(r"[^A-Za-z0-9_.=-]+", "-", f"{self.scenario}__{self.variant}")
@@ -138,7 +149,7 @@ class CellSpec:
 class Components:
     """The parts a cell wires together (module-level callables, so it pickles).
 
-    run_scenario(name, seed, duration_s) -> object with ``truth``, ``ego``, ``mount``,
+    run_scenario(name, seed, duration_s[, frame_rate_hz=]) -> object with ``truth``, ``ego``, ``mount``,
     ``case`` (and optionally ``radar_velocity_mps()``); scene_scatterers(truth_rows, rng,
     [radar_velocity_mps=, mount_height_m=]) -> Scatterers; simulate_frame(cfg, sc, rng) ->
     ADC (simulate_frame(cfg, sc, rng, interferers) when the frame has interferers);
@@ -164,9 +175,9 @@ class Components:
     noise_floor: Callable | None = None
 
 
-def _real_run_scenario(name, seed, duration_s):
+def _real_run_scenario(name, seed, duration_s, frame_rate_hz=20.0):
     import scenarios
-    return scenarios.run_scenario(name, seed, duration_s=duration_s)
+    return scenarios.run_scenario(name, seed, duration_s=duration_s, frame_rate_hz=frame_rate_hz)
 
 
 def _real_scene_scatterers(truth_rows, rng, radar_velocity_mps=None, mount_height_m=None):
@@ -370,11 +381,52 @@ def _mimos(schemes: list[ResultScheme]) -> list[str]:
     return list(dict.fromkeys(s.mimo for s in schemes))
 
 
+def radar_config(overrides: dict, mimo: str):
+    """`RadarConfig` of a cell for one MIMO scheme: the R79 preset with `overrides`, or, when
+    they name a ``profile`` (TI .cfg path), that profile's radar run with `mimo` and the other
+    overrides.
+
+    Raises
+    ------
+    ValueError
+        If the profile's chip cannot run `mimo` (e.g. DDMA on a chip without phase shifters),
+        naming the profile and the scheme.
+    """
+    import radarsim
+    ov = dict(overrides)
+    path = ov.pop("profile", None)
+    if path is None:
+        return radarsim.presets.r79(mimo, **ov)
+    from radarsim.config import from_ti_cfg
+    base = from_ti_cfg(Path(path))
+    try:
+        return base.replace(**{"mimo": mimo, **ov}) if base.mimo != mimo or ov else base
+    except ValueError as exc:
+        raise ValueError(f"radar.profile={str(path)!r} ({base.chip}, {base.mimo}) as scheme "
+                         f"{mimo!r}: {exc}") from exc
+
+
+def cell_association(radar: dict, overrides: dict | None = None) -> AssociationConfig:
+    """Association settings of a cell from its radar configs, then `overrides`.
+
+    The radar-dependent ones follow the configs, not the R79 numbers: the unambiguous-velocity
+    window is the widest the cell's schemes report (max of `max_unambiguous_velocity_mps`,
+    DDMA's lambda / (4 Tc)), the field of view is the board's (`radarsim.boards.Board.fov_deg`)
+    and the maximum range the configs' `max_range_m` (N/2 or N bins x resolution).
+    """
+    from radarsim.boards import get_board
+    cfgs = list(radar.values())
+    kw = {"unambiguity_window_mps": max(c.max_unambiguous_velocity_mps for c in cfgs),
+          "fov_deg": min(get_board(c.board).fov_deg for c in cfgs),
+          "max_range_m": min(c.max_range_m for c in cfgs)}
+    kw.update(overrides or {})
+    return AssociationConfig(**kw)
+
+
 def build_configs(spec: CellSpec, comps: Components):
     """(radar config per mimo, processing config per result scheme) of a cell."""
-    import radarsim
     schemes = result_schemes(spec.schemes)
-    radar = {m: radarsim.presets.r79(m, **spec.radar) for m in _mimos(schemes)}
+    radar = {m: radar_config(spec.radar, m) for m in _mimos(schemes)}
     procs = {s.name: comps.make_processing({**spec.processing, **s.processing})
              for s in schemes}
     return radar, procs
@@ -460,9 +512,9 @@ def run_cell(spec: CellSpec, comps: Components | None = None,
     """
     t0 = time.perf_counter()
     comps = comps or default_components()
-    assoc = assoc or AssociationConfig()
     run = comps.run_scenario(spec.scenario, spec.seed, spec.duration_s)
     radar, procs = build_configs(spec, comps)
+    assoc = assoc or cell_association(radar, spec.association)
     schemes = result_schemes(spec.schemes)
     frames = _frames_of(run, spec.frame_stride)
     truth = run.truth[run.truth["frame"].isin(frames)].reset_index(drop=True)

@@ -11,8 +11,8 @@ angle sidelobe level at a strong target, against the per-code shifter error and 
   inside an actor's footprint (grown by `FOOTPRINT_GATE_M`) whose radial velocity is off the
   actor's by a non-zero multiple of the scheme's failure step (one DDMA sub-band, or the
   unambiguous span of a TDMA/BPM slot sequence, `MimoScheme.velocity_failure_step_mps`)
-  within `VELOCITY_GATE_MPS`; a summary column ``velocity_resolution_failures`` is used instead
-  when the runner provides one;
+  within `VELOCITY_GATE_MPS` (fallback for results written before the runner counted them);
+  the summary column ``n_velocity_resolution_failures`` (`metrics.detection`) when present;
 - azimuth RMSE of TRUE detections against their nearest scatterer (``azimuth_error_deg``);
 - angle sidelobe level: a strong point target (`PROBE`) simulated with the variant's radar and
   processed by the scheme's chain; the highest azimuth sidelobe outside the main lobe of its
@@ -154,8 +154,8 @@ def shifter_table(results: str | Path, *, probe: bool = True) -> pd.DataFrame:
     grp = summ.groupby(["variant", "scheme"])
     out = grp[["n_frames", "n_ghost", "n_detections"]].sum()
     out["ghost_rate"] = out["n_ghost"] / out["n_detections"].where(out["n_detections"] > 0)
-    if "velocity_resolution_failures" in summ:
-        fails = grp["velocity_resolution_failures"].sum()
+    if "n_velocity_resolution_failures" in summ:  # the runner's own count (metrics.detection)
+        fails = grp["n_velocity_resolution_failures"].sum()
     else:
         fails = _velocity_failures(det, truth, _failure_steps(summ["scheme"].unique()))
     out["velocity_resolution_failures_per_frame"] = \

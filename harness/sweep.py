@@ -17,15 +17,35 @@ A sweep is described by a `SweepSpec`, usually read from a TOML file::
     [vary]                        # cartesian product -> one variant per combination
     "radar.phase_noise_deg_rms" = [0.0, 2.0, 10.0]
     "processing.cfar_mode" = ["os", "ca"]
+    [association]                 # optional AssociationConfig overrides (e.g. fov_deg = 60.0)
+
+A variant may replace the R79 preset by a TI profile: ``"radar.profile" = ["my.cfg"]`` in
+[vary] or ``profile = "my.cfg"`` in a [[variants]] radar table (a path relative to the sweep
+file); its other radar keys then override the profile's fields, and each scheme runs the
+profile's waveform (e.g. a DDMA profile's TDMA baseline). Radar-dependent association settings
+(unambiguous-velocity window, field of view, maximum range) come from each cell's configs
+(`harness.runner.cell_association`) unless [association] sets them.
+
+Validation: the file and every variant's configs (both radar presets, the processing config of
+every scheme, the tracker config; chip limits, RF budget, CFAR window against the Doppler axis)
+are built before any worker starts; a bad value raises ValueError naming the file, the variant,
+the key and the value. Durations, seeds, strides and the cell count are bounded; the sweep
+``name`` is a single folder name, so ``results/<run-id>`` never leaves the results folder.
 
 Execution: a local ``concurrent.futures.ProcessPoolExecutor`` (``workers``) or, given a
-scheduler address, a Dask distributed cluster (workers must see the output directory). Every
-cell is written by the worker that ran it, atomically (temporary directory, then
-``os.replace``), to ``<out>/cells/<cell_id>/``; a rerun skips cells already written, so killing a
-sweep loses no completed cell. A cell that raises is recorded (``cell.json`` with status
-"error" and the traceback) and the sweep continues; errored cells are retried by the next run.
-When all cells are done the per-cell tables are concatenated in cell order into
-``<out>/<table>.parquet`` and a ``manifest.json`` is written.
+scheduler address, a Dask distributed cluster (``tls://`` with `dask_security`; workers must see
+the output directory, which is made absolute first). Every cell is written by the worker that
+ran it through `harness.cellstore`: atomically (temporary directory, then one rename) to
+``<out>/cells/<cell_id>/``, never over a completed cell, with the code version and the checksum
+of every table. A rerun reuses cells of the same code version whose tables are intact
+(damaged ones are recomputed, temporaries of killed writers removed) and refuses to resume over
+cells of another version unless ``force`` (then they are recomputed). A cell that raises is
+recorded (``cell.json`` with status "error" and the traceback) and the sweep continues; errored
+cells are retried by the next run. Every path runs with one BLAS thread, so the same seeds give
+the same bits whatever the worker count or scheduler. When all cells are done the per-cell
+tables are concatenated in cell order into ``<out>/<table>.parquet`` and a ``manifest.json``
+lists every cell as resumed, computed, error or missing; a sweep with missing cells is
+incomplete (`SweepOutcome.complete`).
 """
 from __future__ import annotations
 
@@ -77,7 +97,7 @@ DEFAULT_SCHEDULER_TIMEOUT_S = 20.0
 #: A sweep name becomes a folder under results/: letters, digits, "_", "-", "." (not first).
 _NAME_RE = re.compile(r"[A-Za-z0-9_][A-Za-z0-9_.-]{0,99}")
 _TOP_KEYS = {"name", "scenarios", "seeds", "frame_stride", "duration_s", "base", "vary",
-             "variants", "description", "schemes", "baseline_scheme"}
+             "variants", "description", "schemes", "baseline_scheme", "association"}
 
 
 @dataclass(frozen=True)
@@ -110,17 +130,23 @@ class SweepSpec:
     description: str = ""
     schemes: tuple[str, ...] = DEFAULT_SCHEMES
     baseline_scheme: str = DEFAULT_BASELINE_SCHEME
+    association: dict = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         if not isinstance(self.name, str) or not _NAME_RE.fullmatch(self.name):
             raise ValueError(f"name={self.name!r} must be 1-100 letters, digits, '_', '-' or "
                              "'.' (not first): it names a folder under the results directory")
         object.__setattr__(self, "schemes", tuple(self.schemes))
+        from metrics.association import AssociationConfig
+        AssociationConfig(**self.association)  # unknown keys / bad values fail here
         result_schemes(self.schemes)
         # CellSpec checks the baseline name; check it here too, before any cell is built.
         CellSpec(scenario="-", schemes=self.schemes, baseline_scheme=self.baseline_scheme)
         if not self.scenarios:
             raise ValueError("scenarios: the sweep has no scenario")
+        dup = sorted({sc for sc in self.scenarios if list(self.scenarios).count(sc) > 1})
+        if dup:
+            raise ValueError(f"scenarios: duplicate case(s) {dup}")
         if not self.seeds or any(isinstance(s, bool) or not isinstance(s, int)
                                  or not 0 <= s <= MAX_SEED for s in self.seeds):
             raise ValueError(f"seeds={list(self.seeds)!r} must be a non-empty list of "
@@ -152,7 +178,8 @@ class SweepSpec:
                          processing=dict(v.processing), tracker=dict(v.tracker),
                          scene=dict(v.scene),
                          frame_stride=self.frame_stride, duration_s=self.duration_s,
-                         schemes=self.schemes, baseline_scheme=self.baseline_scheme)
+                         schemes=self.schemes, baseline_scheme=self.baseline_scheme,
+                         association=dict(self.association))
                 for sc in self.scenarios for v in self.variants for seed in self.seeds]
 
     def to_dict(self) -> dict[str, Any]:
@@ -170,6 +197,8 @@ class SweepSpec:
         for v in d["variants"]:  # the scene section enters the id only when used
             if not v.get("scene"):
                 v.pop("scene", None)
+        if not d["association"]:
+            del d["association"]
         blob = json.dumps(d, sort_keys=True, default=str)
         return f"{self.name}-{hashlib.sha1(blob.encode()).hexdigest()[:8]}"
 
@@ -218,10 +247,19 @@ def _check_section(where: str, section: str, overrides: dict) -> None:
         raise ValueError(f"{where}: [{section}] must be a table of field = value")
     if section == "radar" and overrides:
         from radarsim.config import RadarConfig
-        names = {f.name for f in dataclasses.fields(RadarConfig)}
+        names = {f.name for f in dataclasses.fields(RadarConfig)} | {"profile"}
         bad = sorted(set(overrides) - names)
         if bad:
             raise ValueError(f"{where}: unknown radar field(s) {bad}")
+        if "profile" in overrides:
+            from radarsim.config import from_ti_cfg
+            prof = overrides["profile"]
+            if not isinstance(prof, str) or not Path(prof).is_file():
+                raise ValueError(f"{where}: radar.profile={prof!r} is not a TI .cfg file")
+            try:
+                from_ti_cfg(Path(prof))
+            except ValueError as exc:
+                raise ValueError(f"{where}: radar.profile={prof!r}: {exc}") from None
     if section == "processing" and overrides:
         import pipeline
         try:
@@ -308,6 +346,23 @@ def _fmt(v) -> str:
     return "-".join(map(str, v)) if isinstance(v, (list, tuple)) else str(v)
 
 
+def _resolve_profiles(p: Path, data: dict) -> None:
+    """``radar.profile`` paths relative to the sweep file become absolute (in place)."""
+    def fix(v):
+        return str((p.parent / v).resolve()) if isinstance(v, str) and \
+            not Path(v).is_absolute() else v
+    radar = data.get("base", {}).get("radar")
+    if isinstance(radar, dict) and "profile" in radar:
+        radar["profile"] = fix(radar["profile"])
+    vary = data.get("vary", {})
+    if isinstance(vary, dict) and isinstance(vary.get("radar.profile"), list):
+        vary["radar.profile"] = [fix(v) for v in vary["radar.profile"]]
+    for extra in data.get("variants", []) or []:
+        if isinstance(extra, dict) and isinstance(extra.get("radar"), dict) and \
+                "profile" in extra["radar"]:
+            extra["radar"]["profile"] = fix(extra["radar"]["profile"])
+
+
 def load_sweep(path: str | Path | None = None, *, check_scenarios: bool = True) -> SweepSpec:
     """Read a sweep TOML (None: the shipped default sweep).
 
@@ -334,6 +389,7 @@ def load_sweep(path: str | Path | None = None, *, check_scenarios: bool = True) 
         if key in data and not isinstance(data[key], kind):
             raise ValueError(f"{p}: {key} = {data[key]!r} must be {what}")
     base = data.get("base", {})
+    _resolve_profiles(p, data)
     for sec, ov in base.items():
         _check_section(f"{p} [base]", sec, ov)
     variants: list[Variant] = []
@@ -382,11 +438,24 @@ def load_sweep(path: str | Path | None = None, *, check_scenarios: bool = True) 
                          duration_s=data.get("duration_s"),
                          description=data.get("description", ""),
                          schemes=_schemes_key(p, data.get("schemes", list(DEFAULT_SCHEMES))),
-                         baseline_scheme=data.get("baseline_scheme", DEFAULT_BASELINE_SCHEME))
+                         baseline_scheme=data.get("baseline_scheme", DEFAULT_BASELINE_SCHEME),
+                         association=_association_key(p, data.get("association", {})))
     except ValueError as exc:
-        raise ValueError(f"{p}: {exc}") from None
+        msg = str(exc)
+        raise ValueError(msg if msg.startswith(f"{p}:") else f"{p}: {msg}") from None
     validate_cells(spec, p)
     return spec
+
+
+def _association_key(p: Path, value) -> dict:
+    if not isinstance(value, dict):
+        raise ValueError(f"{p}: [association] must be a table of AssociationConfig fields")
+    from metrics.association import AssociationConfig
+    try:
+        AssociationConfig(**value)
+    except TypeError as exc:
+        raise ValueError(f"{p}: [association]: {exc}") from None
+    return dict(value)
 
 
 def _schemes_key(p: Path, value) -> tuple[str, ...]:
@@ -633,7 +702,7 @@ def run_sweep(spec: SweepSpec, out: str | Path, *, workers: int = 1,
                            n_error=len(errors), n_interrupted=len(interrupted), errors=errors,
                            n_missing=len(missing), n_recomputed=len(recompute),
                            missing=missing)
-    assemble(spec, out, origin=origin)
+    assemble(spec, out, origin=origin, states=final)
     return outcome
 
 
@@ -705,6 +774,11 @@ def _run_dask(pending, out, scheduler, components, bar, security=None,
     from distributed import as_completed
     client = _connect(scheduler, security, timeout_s)
     try:
+        try:  # a scheduler without workers would leave every task waiting forever
+            client.wait_for_workers(1, timeout=timeout_s)
+        except (TimeoutError, OSError):
+            raise ValueError(f"--scheduler {client.scheduler.address!r}: no Dask worker joined "
+                             f"the scheduler within {timeout_s:g} s") from None
         futs = {client.submit(execute_cell, c, str(out), components, key=f"cell-{c.cell_id}",
                               pure=False): c for c in pending}
         res, lost = {}, []
@@ -744,15 +818,16 @@ def _write_atomic(path: Path, write) -> None:
             tmp.unlink()
 
 
-def assemble(spec: SweepSpec, out: str | Path,
-             origin: dict[str, str] | None = None) -> dict[str, pd.DataFrame]:
+def assemble(spec: SweepSpec, out: str | Path, origin: dict[str, str] | None = None,
+             states: dict[str, str] | None = None) -> dict[str, pd.DataFrame]:
     """Concatenate completed cells (in cell order) into ``out/<table>.parquet`` + manifest.
 
     Only cells completed by this code version with intact tables enter the tables
     (`harness.cellstore.cell_state` "ok"). The summary table gets an ``error`` column ("" for
     completed cells) and one row per errored cell, so gates see failures. The manifest lists
     every cell with its state and origin ("resumed": reused from an earlier run, "computed":
-    by this run, or "error" / "missing" / "stale" / "corrupt"). Returns the tables.
+    by this run, or "error" / "missing" / "stale" / "corrupt"). ``states`` (cell id ->
+    `cell_state`) saves re-verifying cells the caller has just checked. Returns the tables.
     """
     out = Path(out)
     cells = spec.cells()
@@ -761,7 +836,7 @@ def assemble(spec: SweepSpec, out: str | Path,
     cell_meta = []
     for c in cells:
         d = cell_dir(out, c)
-        state = store.cell_state(d, version["hash"])
+        state = (states or {}).get(c.cell_id) or store.cell_state(d, version["hash"])
         meta = (_read_cell_meta(d) or {}) if state in ("ok", "error") else {}
         meta = {**meta, "status": state, "cell_id": c.cell_id}
         cell_meta.append({k: meta.get(k) for k in ("cell_id", "status", "elapsed_s", "error")}
@@ -792,7 +867,12 @@ def assemble(spec: SweepSpec, out: str | Path,
     from metrics.association import AssociationConfig
     manifest = {
         "run_id": spec.run_id, "sweep": spec.to_dict(), "seeds": list(spec.seeds),
-        "association": AssociationConfig().to_dict(), "schemes": list(spec.schemes),
+        # Radar-dependent settings (window, FOV, max range) are each cell's
+        # (harness.runner.cell_association); the rest are these, with [association] applied.
+        "association": {**AssociationConfig().to_dict(), **spec.association,
+                        "radar_dependent": "per cell from its radar configs unless "
+                                           "[association] sets them"},
+        "schemes": list(spec.schemes),
         "baseline_scheme": spec.baseline_scheme,
         "seed_streams": "SeedSequence([seed, frame, stream]); " + ", ".join(
             f"stream {i} {name}" for name, i in SEED_STREAMS.items())

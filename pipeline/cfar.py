@@ -27,6 +27,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from dataclasses import dataclass
 from functools import lru_cache
+from typing import ClassVar
 
 import numpy as np
 from scipy import integrate, ndimage, optimize, special, stats
@@ -65,7 +66,10 @@ class CfarMode:
 
     Subclasses implement `estimate_pdf`, `noise_estimate` and `noise_map`; `closed_form_pfa`
     and `candidate_mask` have defaults (numerical integration; every cell a candidate).
+    `ranked` says whether the mode uses an order-statistic rank k (`CfarConfig.os_rank`).
     """
+
+    ranked: ClassVar[bool] = False
 
     name: str
     description: str
@@ -160,6 +164,8 @@ class SideSelecting(CfarMode):
 @dataclass(frozen=True, kw_only=True, slots=True)
 class OrderStatistic(CfarMode):
     """OS: the k-th smallest training cell (Rohling 1983)."""
+
+    ranked: ClassVar[bool] = True
 
     def estimate_pdf(self, n_cells, os_rank, looks):
         gam = stats.gamma(looks)

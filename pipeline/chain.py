@@ -43,8 +43,8 @@ def process_frame(cfg: RadarConfig, adc: np.ndarray,
     ----------
     cfg : radarsim.RadarConfig
         The radar that produced the frame (`cfg.mimo` selects the chain in `MIMO_CHAINS`).
-    adc : (n_chirps, n_rx, n_samples) int16
-        Real ADC samples.
+    adc : (n_chirps, n_rx, n_samples) int16, or complex64 for a complex ADC mode
+        ADC samples (`RadarConfig.adc_dtype`).
     proc : ProcessingConfig, optional
         Windows, CFAR and disambiguation settings; default `ProcessingConfig()`.
 
@@ -61,7 +61,7 @@ def process_frame(cfg: RadarConfig, adc: np.ndarray,
     Raises
     ------
     ValueError
-        If `adc` is not an int16 array of the config's shape, `cfg`/`proc` are of the wrong
+        If `adc` is not an array of the config's dtype and shape, `cfg`/`proc` are of the wrong
         type, no chain is registered for `cfg.mimo`, or the CFAR window does not fit the
         Doppler axis.
     """

@@ -108,6 +108,8 @@ def remove_dc(adc: np.ndarray) -> np.ndarray:
         The DC estimate to subtract.
     """
     n = adc.shape[-1]
+    if np.iscomplexobj(adc):  # I/Q frames: the complex mean (I and Q DC together)
+        return (adc.sum(axis=-1, dtype=np.complex128, keepdims=True) / n).astype(np.complex64)
     s = adc.sum(axis=-1, dtype=np.int64 if adc.dtype.kind == "i" else np.float64,
                 keepdims=True)
     return (s / n).astype(np.float32)
@@ -138,16 +140,17 @@ def interference_flags(adc: np.ndarray, dc: np.ndarray | None, mag_snr_db: float
                          f"{sorted(INTF_THRESHOLD_MODES)}")
     n = adc.shape[-1]
     flags = None
+    work = np.complex64 if np.iscomplexobj(adc) else np.float32  # I/Q: |complex| statistics
     if mode != "mag":
-        d = np.abs(np.subtract(adc[..., 1:], adc[..., :-1], dtype=np.float32))
+        d = np.abs(np.subtract(adc[..., 1:], adc[..., :-1], dtype=work))
         thr = d.sum(axis=-1, keepdims=True) * np.float32(10 ** (magdiff_snr_db / 20) / n)
         flags = np.zeros(adc.shape, dtype=bool)
         np.greater(d, thr, out=flags[..., 1:])
     if mode != "magdiff":
-        x = adc.astype(np.float32)
+        x = adc.astype(work)
         if dc is not None:
             x -= dc
-        a = np.abs(x, out=x)
+        a = np.abs(x)
         thr = a.sum(axis=-1, keepdims=True) * np.float32(10 ** (mag_snr_db / 20) / n)
         fm = a > thr
         if flags is None:
@@ -342,14 +345,15 @@ def range_stage(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) -> np
     Parameters
     ----------
     cfg : RadarConfig
-    adc : (n_chirps, n_rx, n_samples) int16
+    adc : (n_chirps, n_rx, n_samples) int16, or complex64 I/Q (complex ADC modes)
     proc : ProcessingConfig
 
     Returns
     -------
-    (n_chirps, n_rx, n_samples // 2) complex64
+    (n_chirps, n_rx, n_samples // 2) complex64, or (..., n_samples) for I/Q input
         With every switch off, exactly `kernels.range_fft(adc, window)`.
     """
+    cplx = np.iscomplexobj(adc)
     win = window(WINDOWS[proc.range_window], cfg.n_samples)
     rf = range_fft(adc, win)
     if not (proc.dc_removal or proc.interference_mitigation or proc.compression):
@@ -357,20 +361,22 @@ def range_stage(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) -> np
     dc = remove_dc(adc) if proc.dc_removal else None
     if dc is not None:
         # FFT(w (x - m)) = FFT(w x) - m FFT(w): the window's spectrum has a few bins only.
-        w_spec = _window_spectrum(WINDOWS[proc.range_window], cfg.n_samples)
+        w_spec = _window_spectrum(WINDOWS[proc.range_window], cfg.n_samples, cplx)
         for k, wk in w_spec:
             rf[..., k] -= dc[..., 0] * wk
     if proc.interference_mitigation:
         rows, flags = _flagged_rows(adc, dc, proc)
         if rows.size:
             # Only the flagged chirps are redone: DC removed, zeroed, windowed, FFT.
-            x = adc.reshape(-1, cfg.n_samples)[rows].astype(np.float32)
+            x = adc.reshape(-1, cfg.n_samples)[rows].astype(
+                np.complex64 if cplx else np.float32)
             if dc is not None:
                 x -= dc.reshape(-1, 1)[rows]
             zero_flagged(x, flags, proc.intf_hysteresis_samples)
             x *= win
             c_i, r_i = np.divmod(rows, cfg.n_rx)
-            rf[c_i, r_i] = scipy.fft.rfft(x, axis=-1)[:, : rf.shape[-1]]
+            fft = scipy.fft.fft if cplx else scipy.fft.rfft
+            rf[c_i, r_i] = fft(x, axis=-1)[:, : rf.shape[-1]]
     if proc.compression:
         rf, _ = ege_compress(rf, proc.compression_ratio, proc.compression_range_bins_per_block)
     return rf
@@ -382,7 +388,7 @@ def _flagged_rows(adc: np.ndarray, dc, proc: ProcessingConfig) -> tuple[np.ndarr
     threshold, and only those rows get their flags built."""
     n = adc.shape[-1]
     a2 = adc.reshape(-1, n)
-    if proc.intf_threshold_mode == "magdiff":
+    if proc.intf_threshold_mode == "magdiff" and not np.iscomplexobj(adc):
         d = np.abs(np.subtract(a2[:, 1:], a2[:, :-1], dtype=np.float32))
         thr = d.sum(axis=-1) * np.float32(10 ** (proc.intf_magdiff_snr_db / 20) / n)
         rows = np.flatnonzero(d.max(axis=-1) > thr)
@@ -395,14 +401,16 @@ def _flagged_rows(adc: np.ndarray, dc, proc: ProcessingConfig) -> tuple[np.ndarr
     return rows, flags[rows]
 
 
-_WSPEC_CACHE: dict[tuple[str, int], tuple] = {}
+_WSPEC_CACHE: dict[tuple[str, int, bool], tuple] = {}
 
 
-def _window_spectrum(name: str, n: int) -> tuple:
-    """Non-negligible bins (k, W[k]) of the window's rFFT (Hann: k = 0, 1)."""
-    key = (name, n)
+def _window_spectrum(name: str, n: int, full: bool = False) -> tuple:
+    """Non-negligible bins (k, W[k]) of the window's rFFT (Hann: k = 0, 1), or of its full FFT
+    for complex samples (Hann: k = 0, 1, n - 1)."""
+    key = (name, n, full)
     if key not in _WSPEC_CACHE:
-        w = scipy.fft.rfft(window(name, n).astype(np.float64))[: n // 2]
+        w64 = window(name, n).astype(np.float64)
+        w = scipy.fft.fft(w64) if full else scipy.fft.rfft(w64)[: n // 2]
         big = np.flatnonzero(np.abs(w) > 1e-6 * np.abs(w).max())
         if big.size > 8:  # rect windows of odd shapes: subtract in the time domain instead
             big = big[:8]

@@ -10,7 +10,7 @@ from scenarios.checks import one_of, require
 from .cfar import CFAR_MODES, cfar_scale
 from .saturation import SATURATION_POLICIES
 
-__all__ = ["CfarConfig", "ProcessingConfig", "WINDOWS", "INTF_THRESHOLD_MODES"]
+__all__ = ["CfarConfig", "ProcessingConfig", "WINDOWS", "INTF_THRESHOLD_MODES", "default_os_rank"]
 
 #: Windows by name (scipy.signal.get_window names).
 WINDOWS = {"hann": "hann", "hamming": "hamming", "blackman": "blackman", "rect": "boxcar"}
@@ -21,6 +21,11 @@ INTF_THRESHOLD_MODES = {
     "mag_or_magdiff": "either threshold",
     "mag_and_magdiff": "both thresholds",
 }
+
+
+def default_os_rank(n_training: int) -> int:
+    """Rohling's recommended OS rank: k = round(3/4 N) of N training cells (at least 1)."""
+    return max(1, round(0.75 * n_training))
 
 
 @dataclass(frozen=True, kw_only=True, slots=True)
@@ -63,7 +68,7 @@ class CfarConfig:
         require(self, ("window_cells", "training_stride"), "integer", ge=1)
         n = 2 * self.window_cells
         if self.os_rank is None:
-            object.__setattr__(self, "os_rank", max(1, round(0.75 * n)))
+            object.__setattr__(self, "os_rank", default_os_rank(n))
         else:
             require(self, "os_rank", "integer", ge=1, le=n)  # n = 2 x window_cells
         if self.threshold_db is None:
@@ -226,7 +231,7 @@ def _replace_cfar(cfar: CfarConfig, changes: dict[str, Any]) -> CfarConfig:
     changes = dict(changes)
     if "window_cells" in changes and "os_rank" not in changes and \
             changes["window_cells"] != cfar.window_cells:
-        if cfar.os_rank == max(1, round(0.75 * cfar.n_training)):
+        if cfar.os_rank == default_os_rank(cfar.n_training):
             changes["os_rank"] = None
         else:
             raise ValueError(f"cfar_window_cells={changes['window_cells']!r} changes the training "

@@ -9,13 +9,15 @@ References
 """
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numpy as np
 import scipy.fft
 from scipy.signal import get_window
 
 from .cfar import noise_estimate, training_offsets
 
-__all__ = ["window", "range_fft", "doppler_fft", "ddma_metric",
+__all__ = ["window", "range_fft", "doppler_fft", "ddma_metric", "ArrayLayout",
            "array_layout", "local_max_mask", "parabolic_offset", "candidate_cfar",
            "estimate_angles"]
 
@@ -26,17 +28,24 @@ def window(name: str, n: int) -> np.ndarray:
 
 
 def range_fft(adc: np.ndarray, win: np.ndarray) -> np.ndarray:
-    """Windowed real FFT of each chirp and Rx, keeping the n_samples / 2 positive bins.
+    """Windowed range FFT of each chirp and Rx.
+
+    Real samples: real FFT, keeping the n_samples / 2 positive bins (the others mirror them).
+    Complex (I/Q) samples: complex FFT, keeping all n_samples bins, bin k at beat frequency
+    k f_s / N (the image band is rejected on the chip, so there is no mirror).
 
     Parameters
     ----------
-    adc : (n_chirps, n_rx, n_samples) int16
+    adc : (n_chirps, n_rx, n_samples) int16 (real) or complex64 (I/Q)
     win : (n_samples,) float32
 
     Returns
     -------
-    (n_chirps, n_rx, n_samples // 2) complex64
+    (n_chirps, n_rx, n_samples // 2) or (n_chirps, n_rx, n_samples) complex64
     """
+    if np.iscomplexobj(adc):
+        x = np.multiply(adc, win, dtype=np.complex64)
+        return scipy.fft.fft(x, axis=-1, workers=-1, overwrite_x=True)
     x = np.multiply(adc, win, dtype=np.float32)  # int16 -> float32 and window in one pass
     return scipy.fft.rfft(x, axis=-1, workers=-1)[..., : adc.shape[-1] // 2]
 
@@ -69,7 +78,17 @@ def ddma_metric(power: np.ndarray, n_subbands: int, n_tx: int) -> np.ndarray:
     return z
 
 
-def array_layout(virtual_positions_m: np.ndarray, wavelength_m: float):
+class ArrayLayout(NamedTuple):
+    """Rows of a virtual array (`array_layout`)."""
+
+    h_idx: np.ndarray       # (n_h,) int: one virtual element per horizontal position, z = 0
+    h_pos: np.ndarray       # (n_h,) int: their positions, lambda/2 units
+    v_idx: np.ndarray       # (n_v,) int: elements of the raised row
+    v_pos: np.ndarray       # (n_v,) int: their horizontal positions, lambda/2 units
+    v_height_wl: float      # height of the raised row, wavelengths (0 if none)
+
+
+def array_layout(virtual_positions_m: np.ndarray, wavelength_m: float) -> ArrayLayout:
     """Horizontal and vertical sub-arrays of the virtual array, in lambda/2 units.
 
     Parameters
@@ -79,6 +98,7 @@ def array_layout(virtual_positions_m: np.ndarray, wavelength_m: float):
 
     Returns
     -------
+    ArrayLayout, with
     h_idx : (n_h,) int
         Virtual elements on the z = 0 row, one per horizontal position, sorted by position.
     h_pos : (n_h,) int
@@ -95,7 +115,7 @@ def array_layout(virtual_positions_m: np.ndarray, wavelength_m: float):
     h_idx = np.flatnonzero(low)[first]
     v_idx = np.flatnonzero(~low)
     v_height = float(z[v_idx[0]]) if v_idx.size else 0.0
-    return h_idx, h_pos, v_idx, y[v_idx], v_height
+    return ArrayLayout(h_idx, h_pos, v_idx, y[v_idx], v_height)
 
 
 def local_max_mask(power: np.ndarray, axes_cyclic: dict[int, bool],

@@ -89,8 +89,8 @@ def monitor(adc: np.ndarray) -> SaturationReport:
 
     Parameters
     ----------
-    adc : (n_chirps, n_rx, n_samples) int16
-        Real ADC frame.
+    adc : (n_chirps, n_rx, n_samples) int16, or complex64 with int16-valued I and Q
+        ADC frame (a complex sample counts once per saturated part).
 
     Returns
     -------
@@ -102,10 +102,12 @@ def monitor(adc: np.ndarray) -> SaturationReport:
     per-chirp counts are only computed then, so a clean frame costs about two passes over
     the int16 samples.
     """
-    if adc.dtype != np.int16 or adc.ndim != 3:
-        raise ValueError(f"adc must be a (n_chirps, n_rx, n_samples) int16 array, got "
-                         f"{adc.dtype} with shape {adc.shape}")
+    if adc.dtype not in (np.int16, np.complex64) or adc.ndim != 3:
+        raise ValueError(f"adc must be a (n_chirps, n_rx, n_samples) int16 (or complex64 I/Q) "
+                         f"array, got {adc.dtype} with shape {adc.shape}")
     n_c, n_r, n_s = adc.shape
+    if adc.dtype == np.complex64:  # I/Q: a sample saturates when its I or Q part does
+        adc = adc.view(np.float32).reshape(n_c, n_r, 2 * n_s)
     if adc.max() < ADC_MAX_CODE and adc.min() > ADC_MIN_CODE:
         return SaturationReport(np.zeros((n_c, n_r), dtype=np.int64), n_s)
     counts = np.count_nonzero((adc == ADC_MAX_CODE) | (adc == ADC_MIN_CODE), axis=-1)

@@ -37,8 +37,9 @@ def check_frame(cfg: RadarConfig, adc: np.ndarray) -> None:
         raise ValueError(f"cfg must be a radarsim.RadarConfig, got {type(cfg).__name__}")
     if not isinstance(adc, np.ndarray):
         raise ValueError(f"adc must be a numpy.ndarray, got {type(adc).__name__}")
-    if adc.dtype != np.int16:
-        raise ValueError(f"adc dtype must be int16 (real ADC samples), got {adc.dtype}")
+    if adc.dtype != cfg.adc_dtype:
+        raise ValueError(f"adc dtype must be {cfg.adc_dtype} ({cfg.adc_mode} ADC samples), got "
+                         f"{adc.dtype}")
     want = (cfg.n_chirps, cfg.n_rx, cfg.n_samples)
     if adc.shape != want:
         raise ValueError(f"adc shape {adc.shape} does not match the config "

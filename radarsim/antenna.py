@@ -1,10 +1,12 @@
-"""Element gain pattern of the AWR2944 EVM patch arrays.
+"""Element gain pattern of a board's patch arrays (`radarsim.boards`: each board's exponents).
 
 The default is a cosine power pattern, G(az, el) = G0 cos(az)^n_az cos(el)^n_el for
 |az| < 90 deg (zero behind the radar). With n_az = 1.2 the one-way gain is -3 dB at +/-56 deg and
 -9 dB at +/-80 deg, so the published +/-80 deg azimuth FOV is usable but some 18 dB weaker
 (two-way) at its edges; n_el = 4 gives a -3 dB half-angle of 33 deg in elevation, a typical
-vertically narrower series-fed patch. The isotropic option returns G0 everywhere (tests).
+vertically narrower series-fed patch (the AWR2944 EVM's values; other boards' exponents give
+their user guides' half-power field of view, `radarsim.boards.cos_exponent_for_half_power`). The
+isotropic option returns G0 everywhere (tests).
 
 References
 ----------

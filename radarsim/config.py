@@ -1,9 +1,10 @@
-"""Radar configuration: the AWR2944 waveform, antenna, DDMA/TDMA schedule and RF budget.
+"""Radar configuration: waveform, chip, board, ADC mode, DDMA/TDMA schedule and RF budget.
 
 `RadarConfig` is the single description of a radar that every stage reads. It is a frozen
-dataclass with units in its field names; every chip or method limit of DESIGN section 4.4 is
-checked at construction and named in the error. Derived quantities (resolutions, unambiguous
-velocity, phase codes, virtual array) are read-only properties.
+dataclass with units in its field names; it names its chip (`radarsim.chips.CHIPS`) and board
+(`radarsim.boards.BOARDS`), and every chip or method limit (DESIGN section 4.4, each chip's own
+values) is checked at construction and named in the error. Derived quantities (resolutions,
+unambiguous velocity, phase codes, virtual array) are read-only properties.
 
 References
 ----------
@@ -20,25 +21,28 @@ from typing import Any
 
 import numpy as np
 
+from .boards import get_board
+from .chips import ADC_MODES, CHIPS, get_chip
 from scenarios.checks import require
 
 from . import shifter as _shifter
-from .mimo import MIMO_SCHEMES, scheme_of
+from .mimo import MIMO_SCHEMES, MimoScheme, scheme_of
 
 __all__ = [
-    "RadarConfig", "MIMO_SCHEMES", "PHASE_QUANTIZATIONS", "ANTENNA_PATTERNS",
+    "RadarConfig", "MIMO_SCHEMES", "PHASE_QUANTIZATIONS", "ANTENNA_PATTERNS", "ADC_MODES",
     "C_MPS", "K_BOLTZMANN", "MAX_ADC_RATE_SPS", "MAX_IF_BANDWIDTH_HZ", "BAND_MIN_HZ",
     "BAND_MAX_HZ", "from_ti_cfg", "to_ti_cfg",
 ]
 
 C_MPS = 299_792_458.0
 K_BOLTZMANN = 1.380649e-23
-MAX_ADC_RATE_SPS = 37.5e6  # AWR2944 real ADC chain
-MAX_IF_BANDWIDTH_HZ = 15e6  # AWR2944 IF bandwidth
-BAND_MIN_HZ = 76e9
-BAND_MAX_HZ = 81e9
-MAX_N_TX = 4
-MAX_N_RX = 4
+# The AWR2944's limits, kept for callers of the single-chip era; configs use their chip's.
+MAX_ADC_RATE_SPS = CHIPS["AWR2944"].adc["real"].max_rate_sps
+MAX_IF_BANDWIDTH_HZ = CHIPS["AWR2944"].if_bandwidth_hz
+BAND_MIN_HZ = CHIPS["AWR2944"].band_min_hz
+BAND_MAX_HZ = CHIPS["AWR2944"].band_max_hz
+MAX_N_TX = CHIPS["AWR2944"].n_tx
+MAX_N_RX = CHIPS["AWR2944"].n_rx
 ADC_FULL_SCALE_CODE = 32767
 
 #: How a programmed phase is mapped onto the shifter's codes.
@@ -53,9 +57,40 @@ ANTENNA_PATTERNS = {
     "isotropic": "G0 in every direction (tests)",
 }
 
-# AWR2944 EVM element positions (DESIGN 4.2) in wavelengths: (y, z). y grows to the left.
-_TX_POS_WL = {1: (0.0, 0.0), 2: (1.0, 0.8), 3: (2.0, 0.0), 4: (4.0, 0.0)}
-_RX_POS_WL = {1: (0.0, 0.0), 2: (0.5, 0.0), 3: (1.0, 0.0), 4: (1.5, 0.0)}
+# Fields re-derived by `replace` when the field they depend on changes and they are not given.
+_DEPENDENT_FIELDS = {
+    "n_tx": ("tx_order", "n_subbands", "tx_phase_error_deg", "tx_gain_error_db", "tx_channels",
+             "shifter_phase_error_deg", "shifter_gain_error_db", "tx_coupling_db",
+             "tx_coupling_deg", "shifter_calibration_deg"),
+    "mimo": ("tx_order", "n_subbands"),
+    "n_rx": ("rx_channels",),
+    "chip": ("board", "phase_shifter_bits", "adcbuf_interleaved", "tx_positions_wl",
+             "rx_positions_wl", "pattern_exponent_az", "pattern_exponent_el"),
+    "board": ("tx_positions_wl", "rx_positions_wl", "pattern_exponent_az",
+              "pattern_exponent_el"),
+}
+
+
+def _positions(value, n: int, name: str) -> tuple[tuple[float, float], ...]:
+    try:
+        pos = tuple((float(y), float(z)) for y, z in value)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name}={value!r} must be a sequence of (y, z) pairs in "
+                         "wavelengths") from None
+    if len(pos) != n or not all(math.isfinite(c) for p in pos for c in p):
+        raise ValueError(f"{name} must hold {n} finite (y, z) pairs (one per chip channel), "
+                         f"got {value!r}")
+    return pos
+
+
+def _channels(value, n: int, n_chip: int, name: str, chip: str) -> tuple[int, ...]:
+    if value is None:
+        return tuple(range(1, n + 1))
+    chans = tuple(int(c) for c in value)
+    if len(chans) != n or len(set(chans)) != n or not all(1 <= c <= n_chip for c in chans):
+        raise ValueError(f"{name}={value!r} must list {n} distinct channel numbers in "
+                         f"1..{n_chip} ({chip})")
+    return chans
 
 
 #: Plausible RF budget of a radar front end: field -> (low, high). Beyond these the radar
@@ -108,23 +143,41 @@ def _check_rf_budget(cfg) -> None:
 
 @dataclass(frozen=True, kw_only=True, slots=True)
 class RadarConfig:
-    """One AWR2944 radar: waveform, MIMO schedule, antenna and RF budget.
+    """One radar: chip, board, waveform, ADC mode, MIMO schedule, antenna and RF budget.
 
     Parameters (all SI, unit in the name)
     ----------
+    chip : str
+        Chip name, see `radarsim.chips.CHIPS`; every limit below is this chip's.
+    board : str or None
+        Board name (`radarsim.boards.BOARDS`): element positions and pattern; default the
+        chip's evaluation board.
+    adc_mode : {"real", "complex1x", "complex2x"}
+        ADC output format (`radarsim.chips.ADC_MODES`): real keeps n_samples/2 range bins,
+        complex all n_samples (the max range doubles for the same bandwidth).
     mimo : str
         MIMO scheme, a name of `MIMO_SCHEMES` ("ddma", "tdma", ...); the scheme object owns
         its validation rules, transmit code and unambiguous velocity (`radarsim.mimo`).
     n_tx, n_rx : int
-        Active transmitters (Tx1..Tx{n_tx}) and receivers, 1..4 each.
+        Active transmitters and receivers (1..the chip's count).
+    tx_channels, rx_channels : tuple of int or None
+        Chip channel (1-based, TI's Tx0 = 1) of each active Tx / Rx; default 1..n. Tx k of
+        `tx_order` and of every per-Tx tuple is the k-th entry here (``txChannelEn 5`` =
+        channels (1, 3)).
+    tx_positions_wl, rx_positions_wl : tuple of (y, z) or None
+        Element positions of every chip channel in wavelengths; default the board's (an
+        ``antGeometryCfg`` sets them).
+    adcbuf_interleaved : bool or None
+        ADC buffer channel interleaving (``adcbufCfg`` ChanInterleave 0); it fixes the raw
+        capture layout (`radarsim.capture`); default the chip demo's.
     start_freq_hz, slope_hz_per_s : float
         Ramp start frequency and slope.
     idle_time_s, adc_start_time_s, ramp_end_time_s, chirp_period_s : float
         Chirp timing; the period must equal idle + ramp end time.
     n_samples : int
-        Real ADC samples per chirp and Rx.
+        ADC samples (real, or complex I/Q pairs) per chirp and Rx.
     adc_rate_sps : float
-        ADC sampling rate (real samples per second).
+        ADC sampling rate (samples per second).
     n_chirps : int
         Chirps per frame (all transmitters together).
     n_subbands : int or None
@@ -132,10 +185,12 @@ class RadarConfig:
         (seed 000 3.3), Nt for classic DDMA. Ignored by schemes without sub-bands.
     tx_order : tuple of int or None
         DDMA: which Tx occupies sub-band 0, 1, ...; TDMA: which Tx fires in slot 0, 1, ...
-        Default from the scheme: (1, 3, 4, 2) restricted to the active Tx (R79 demo);
-        classic DDMA (1, 2, 3, 4).
-    phase_shifter_bits : int
-        Shifter resolution (AWR2944: 6 bits, 5.625 deg per LSB).
+        Default: the board's horizontal Tx first and raised Tx last, in channel order (the R79
+        demo's (1, 3, 4, 2) on the AWR2944 EVM), unless the scheme has its own (classic DDMA:
+        (1, 2, 3, 4)).
+    phase_shifter_bits : int or None
+        Shifter resolution, must be the chip's (AWR2944: 6 bits, 5.625 deg per LSB; 0 for a
+        chip without shifters, which cannot run schemes that need them); default the chip's.
     phase_quantization : {"floor", "round", "none"}
         How programmed phases map to codes, see `PHASE_QUANTIZATIONS`.
     tx_phase_error_deg, tx_gain_error_db : tuple of float or None
@@ -165,8 +220,8 @@ class RadarConfig:
         Element boresight gains.
     antenna_pattern : {"cosine", "isotropic"}
         Element pattern, see `ANTENNA_PATTERNS`.
-    pattern_exponent_az, pattern_exponent_el : float
-        Exponents n of the cosine power pattern (per element, one way).
+    pattern_exponent_az, pattern_exponent_el : float or None
+        Exponents n of the cosine power pattern (per element, one way); default the board's.
     noise_figure_db, system_loss_db, temperature_k : float
         Receiver noise figure, lumped losses (radome, cabling, implementation), noise temperature.
     adc_full_scale_dbm : float
@@ -181,10 +236,13 @@ class RadarConfig:
     Raises
     ------
     ValueError
-        For every limit of DESIGN 4.4 and every out-of-domain value; the message names the
-        field, the value and the limit.
+        For every limit of DESIGN 4.4 (with the chip's values) and every out-of-domain value;
+        the message names the field, the value and the limit.
     """
 
+    chip: str = "AWR2944"
+    board: str | None = None
+    adc_mode: str = "real"
     mimo: str = "ddma"
     n_tx: int = 4
     n_rx: int = 4
@@ -199,7 +257,12 @@ class RadarConfig:
     n_chirps: int = 768
     n_subbands: int | None = None
     tx_order: tuple[int, ...] | None = None
-    phase_shifter_bits: int = 6
+    tx_channels: tuple[int, ...] | None = None
+    rx_channels: tuple[int, ...] | None = None
+    tx_positions_wl: tuple[tuple[float, float], ...] | None = None
+    rx_positions_wl: tuple[tuple[float, float], ...] | None = None
+    adcbuf_interleaved: bool | None = None
+    phase_shifter_bits: int | None = None
     phase_quantization: str = "floor"
     tx_phase_error_deg: tuple[float, ...] | None = None
     tx_gain_error_db: tuple[float, ...] | None = None
@@ -213,8 +276,8 @@ class RadarConfig:
     tx_antenna_gain_dbi: float = 10.0
     rx_antenna_gain_dbi: float = 10.0
     antenna_pattern: str = "cosine"
-    pattern_exponent_az: float = 1.2
-    pattern_exponent_el: float = 4.0
+    pattern_exponent_az: float | None = None
+    pattern_exponent_el: float | None = None
     noise_figure_db: float = 12.0
     system_loss_db: float = 3.0
     temperature_k: float = 290.0
@@ -226,12 +289,55 @@ class RadarConfig:
         _set = lambda name, value: object.__setattr__(self, name, value)  # noqa: E731
         _check_numbers(self)
         scheme = scheme_of(self.mimo)
-        require(self, "n_tx", "integer", ge=1, le=MAX_N_TX)  # AWR2944
-        require(self, "n_rx", "integer", ge=1, le=MAX_N_RX)
+        chip = get_chip(self.chip)
+        board = get_board(chip.default_board if self.board is None else self.board)
+        if board.chip != chip.name:
+            raise ValueError(f"board={board.name!r} carries a {board.chip}, not chip="
+                             f"{chip.name!r}")
+        _set("board", board.name)
+        if self.adc_mode not in ADC_MODES:
+            raise ValueError(f"adc_mode={self.adc_mode!r} is not one of {sorted(ADC_MODES)}")
+        if not chip.supports(self.adc_mode):
+            raise ValueError(f"adc_mode={self.adc_mode!r}: the {chip.name} supports "
+                             f"{sorted(chip.adc)} ({chip.datasheet}, receive subsystem)")
+        for name, hi in (("n_tx", chip.n_tx), ("n_rx", chip.n_rx)):
+            val = getattr(self, name)
+            if not isinstance(val, (int, np.integer)) or not 1 <= val <= hi:
+                raise ValueError(f"{name}={val!r} must be an integer in 1..{hi} ({chip.name})")
+        _set("tx_channels", _channels(self.tx_channels, self.n_tx, chip.n_tx, "tx_channels",
+                                      chip.name))
+        _set("rx_channels", _channels(self.rx_channels, self.n_rx, chip.n_rx, "rx_channels",
+                                      chip.name))
+        _set("tx_positions_wl", _positions(board.tx_positions_wl if self.tx_positions_wl is None
+                                           else self.tx_positions_wl, chip.n_tx,
+                                           "tx_positions_wl"))
+        _set("rx_positions_wl", _positions(board.rx_positions_wl if self.rx_positions_wl is None
+                                           else self.rx_positions_wl, chip.n_rx,
+                                           "rx_positions_wl"))
+        if self.adcbuf_interleaved is None:
+            _set("adcbuf_interleaved", chip.adcbuf_interleaved_default)
+        elif bool(self.adcbuf_interleaved) not in chip.adcbuf_interleave:
+            raise ValueError(f"adcbuf_interleaved={self.adcbuf_interleaved!r}: the {chip.name} "
+                             "demo firmware accepts only a "
+                             f"{'non-' if False in chip.adcbuf_interleave else ''}interleaved "
+                             "ADC buffer")
+        else:
+            _set("adcbuf_interleaved", bool(self.adcbuf_interleaved))
+        for name, value in (("pattern_exponent_az", board.pattern_exponent_az),
+                            ("pattern_exponent_el", board.pattern_exponent_el)):
+            if getattr(self, name) is None:
+                _set(name, value)
         require(self, ("n_samples", "n_chirps"), "integer", ge=2)
-        if self.n_samples % 2:
+        if self.n_samples % 2 and not self.is_complex:
             raise ValueError(f"n_samples={self.n_samples} must be even (real ADC: "
                              "n_samples/2 range bins)")
+        if self.n_samples > chip.max_adc_samples:
+            raise ValueError(f"n_samples={self.n_samples} exceeds the {chip.name} limit of "
+                             f"{chip.max_adc_samples} ADC samples per chirp")
+        if self.n_chirps > chip.max_chirps:
+            raise ValueError(f"n_chirps={self.n_chirps} exceeds the {chip.name} limit of "
+                             f"{chip.max_chirps} chirps per frame ({chip.max_chirp_defs} chirp "
+                             f"definitions x {chip.max_loops} loops)")
         require(self, ("start_freq_hz", "slope_hz_per_s", "idle_time_s", "ramp_end_time_s",
                        "chirp_period_s", "adc_rate_sps", "temperature_k"), gt=0)
         if not (math.isfinite(self.adc_start_time_s) and self.adc_start_time_s >= 0):
@@ -251,23 +357,28 @@ class RadarConfig:
             raise ValueError(f"tx_leakage_dbfs={self.tx_leakage_dbfs!r} must be <= 0 dBFS or "
                              "None")
 
-        # DESIGN 4.4: chip limits.
-        if self.adc_rate_sps > MAX_ADC_RATE_SPS:
-            raise ValueError(f"adc_rate_sps={self.adc_rate_sps:g} exceeds the AWR2944 limit "
-                             f"{MAX_ADC_RATE_SPS:g} sps")
-        if self.max_beat_frequency_hz > MAX_IF_BANDWIDTH_HZ * (1 + 1e-9):
+        # DESIGN 4.4: chip limits, the chip's values.
+        max_rate = chip.adc[self.adc_mode].max_rate_sps
+        if self.adc_rate_sps > max_rate:
+            raise ValueError(f"adc_rate_sps={self.adc_rate_sps:g} exceeds the {chip.name} "
+                             f"limit {max_rate:g} sps ({self.adc_mode} ADC)")
+        if not self.is_complex and \
+                self.max_beat_frequency_hz > chip.if_bandwidth_hz * (1 + 1e-9):
             raise ValueError(f"adc_rate_sps={self.adc_rate_sps:g}: beat (IF) frequency span "
-                             f"{self.max_beat_frequency_hz:g} Hz exceeds the IF bandwidth "
-                             f"limit {MAX_IF_BANDWIDTH_HZ:g} Hz")
-        if self.start_freq_hz < BAND_MIN_HZ:
-            raise ValueError(f"start_freq_hz={self.start_freq_hz:g} is below the band limit "
-                             f"{BAND_MIN_HZ:g} Hz")
+                             f"{self.max_beat_frequency_hz:g} Hz exceeds the {chip.name} IF "
+                             f"bandwidth limit {chip.if_bandwidth_hz:g} Hz")
+        if self.start_freq_hz < chip.band_min_hz:
+            raise ValueError(f"start_freq_hz={self.start_freq_hz:g} is below the {chip.name} "
+                             f"band limit {chip.band_min_hz:g} Hz")
         ramp_top = self.start_freq_hz + self.slope_hz_per_s * self.ramp_end_time_s
-        if ramp_top > BAND_MAX_HZ * (1 + 1e-12):
+        # TI profiles give the ramp end time to 10 ns (two decimals in us), so a ramp sized to
+        # the band edge may pass it by up to one slope x 10 ns (TI Visualizer's 60 GHz
+        # "profileCfg 0 60 ... 114.29 ... 35 ..." ends 0.15 MHz above 64 GHz).
+        if ramp_top > chip.band_max_hz * (1 + 1e-12) + self.slope_hz_per_s * 10e-9:
             raise ValueError(f"start_freq_hz={self.start_freq_hz:g} + slope_hz_per_s="
                              f"{self.slope_hz_per_s:g} x ramp_end_time_s="
                              f"{self.ramp_end_time_s:g}: ramp end frequency {ramp_top:g} Hz "
-                             f"exceeds the band limit {BAND_MAX_HZ:g} Hz")
+                             f"exceeds the {chip.name} band limit {chip.band_max_hz:g} Hz")
         adc_end = self.adc_start_time_s + self.n_samples / self.adc_rate_sps
         if adc_end > self.ramp_end_time_s * (1 + 1e-9):
             raise ValueError(f"n_samples={self.n_samples}: ADC window ends at "
@@ -277,10 +388,18 @@ class RadarConfig:
         if not math.isclose(self.chirp_period_s, period, rel_tol=1e-6):
             raise ValueError(f"chirp_period_s={self.chirp_period_s:g} must equal idle_time_s + "
                              f"ramp_end_time_s = {period:g} s")
-        if not isinstance(self.phase_shifter_bits, (int, np.integer)) or \
-                self.phase_shifter_bits != 6:
-            raise ValueError(f"phase_shifter_bits={self.phase_shifter_bits!r}: the AWR2944 "
-                             "phase shifter has 6 bits")
+        # A chip without shifters has 0 bits: one code, 0 deg (TDMA/BPM signs need none).
+        bits = chip.phase_shifter_bits or 0
+        if self.phase_shifter_bits is None:
+            _set("phase_shifter_bits", bits)
+        elif not isinstance(self.phase_shifter_bits, (int, np.integer)) or \
+                isinstance(self.phase_shifter_bits, bool) or self.phase_shifter_bits != bits:
+            have = "has no phase shifter" if not bits else f"phase shifter has {bits} bits"
+            raise ValueError(f"phase_shifter_bits={self.phase_shifter_bits!r}: the {chip.name} "
+                             f"{have}")
+        if scheme.needs_phase_shifter and self.phase_shifter_bits == 0:
+            raise ValueError(f"mimo={self.mimo!r} needs per-Tx phase shifters; the {chip.name} "
+                             "has none")
         if self.phase_quantization not in PHASE_QUANTIZATIONS:
             raise ValueError(f"phase_quantization={self.phase_quantization!r} is not one of "
                              f"{sorted(PHASE_QUANTIZATIONS)}")
@@ -289,8 +408,13 @@ class RadarConfig:
                              f"{sorted(ANTENNA_PATTERNS)}")
 
         # MIMO schedule.
-        order = scheme.default_tx_order(self.n_tx) if self.tx_order is None else \
-            tuple(int(t) for t in self.tx_order)
+        if self.tx_order is None:
+            order = scheme.default_tx_order(self.n_tx)
+            if order == MimoScheme.default_tx_order(scheme, self.n_tx):
+                # The R79 rule (horizontal Tx first, raised last) on this board's geometry.
+                order = self._geometry_tx_order()
+        else:
+            order = tuple(int(t) for t in self.tx_order)
         if sorted(order) != list(range(1, self.n_tx + 1)):
             raise ValueError(f"tx_order={order!r} must be a permutation of Tx 1..{self.n_tx}")
         _set("tx_order", order)
@@ -313,7 +437,7 @@ class RadarConfig:
 
     def _resolve_shifter_fields(self, _set) -> None:
         """Resolve and validate the shifter tables, the coupling and the calibration."""
-        n_codes = 2 ** self.phase_shifter_bits
+        n_codes = 2 ** self.phase_shifter_bits  # 1 (code 0) on a chip without shifters
         _set("shifter_phase_error_deg", _shifter.resolve_table(
             "shifter_phase_error_deg", self.shifter_phase_error_deg, self.n_tx, n_codes,
             _shifter.MAX_SHIFTER_PHASE_ERROR_DEG))
@@ -362,6 +486,30 @@ class RadarConfig:
             "shifter_calibration_deg", cal, self.n_tx, n_codes,
             _shifter.MAX_SHIFTER_PHASE_ERROR_DEG))
 
+    def _geometry_tx_order(self) -> tuple[int, ...]:
+        # Tx on the lowest row first (in channel order), raised Tx last, as the R79 demo's
+        # Tx1, Tx3, Tx4, Tx2 (seed 000 3.3) and TI's "elevation antennas last" DDM rule.
+        z = [self.tx_positions_wl[c - 1][1] for c in self.tx_channels]
+        low = min(z)
+        return tuple(sorted(range(1, self.n_tx + 1),
+                            key=lambda k: (not math.isclose(z[k - 1], low, abs_tol=1e-9), k)))
+
+    # ------------------------------------------------------------------ derived: chip
+    @property
+    def chip_spec(self):
+        """The `radarsim.chips.Chip` record of `chip`."""
+        return CHIPS[self.chip]
+
+    @property
+    def is_complex(self) -> bool:
+        """True for the complex (I/Q) ADC modes."""
+        return ADC_MODES[self.adc_mode].is_complex
+
+    @property
+    def adc_dtype(self) -> np.dtype:
+        """dtype of an ADC frame: int16 (real) or complex64 with integer parts (complex)."""
+        return np.dtype(np.complex64) if self.is_complex else np.dtype(np.int16)
+
     # ------------------------------------------------------------------ derived: waveform
     @property
     def wavelength_m(self) -> float:
@@ -375,8 +523,8 @@ class RadarConfig:
 
     @property
     def n_range_bins(self) -> int:
-        """Range bins kept after the real FFT: n_samples / 2."""
-        return self.n_samples // 2
+        """Range bins kept after the range FFT: n_samples / 2 (real) or n_samples (complex)."""
+        return self.n_samples if self.is_complex else self.n_samples // 2
 
     @property
     def range_resolution_m(self) -> float:
@@ -385,17 +533,20 @@ class RadarConfig:
 
     @property
     def max_range_m(self) -> float:
-        """Range of the last kept bin edge, n_samples/2 x resolution, m (R79: 253 m)."""
+        """Range of the last kept bin edge, n_range_bins x resolution, m (R79: 253 m; a complex
+        profile reaches twice as far for the same bandwidth)."""
         return self.n_range_bins * self.range_resolution_m
 
     @property
     def max_beat_frequency_hz(self) -> float:
-        """Highest beat frequency the real ADC can represent: adc_rate / 2, Hz."""
-        return self.adc_rate_sps / 2
+        """Highest beat frequency the ADC represents: adc_rate / 2 (real) or adc_rate
+        (complex, image band rejected), Hz."""
+        return self.adc_rate_sps * ADC_MODES[self.adc_mode].span_per_rate
 
     @property
     def noise_bandwidth_hz(self) -> float:
-        """Noise bandwidth of the real ADC samples (Nyquist band), Hz."""
+        """Noise bandwidth of each real ADC channel (the real samples, or I and Q each): its
+        Nyquist band adc_rate / 2, Hz."""
         return self.adc_rate_sps / 2
 
     @property
@@ -509,14 +660,15 @@ class RadarConfig:
     # ------------------------------------------------------------------ derived: antenna
     @property
     def tx_positions_m(self) -> np.ndarray:
-        """(n_tx, 3) positions of Tx1..Tx{n_tx} in the radar frame, m (DESIGN 4.2)."""
-        yz = np.array([_TX_POS_WL[t] for t in range(1, self.n_tx + 1)])
+        """(n_tx, 3) positions of the active Tx (`tx_channels`) in the radar frame, m (board
+        geometry, DESIGN 4.2 for the AWR2944 EVM)."""
+        yz = np.array([self.tx_positions_wl[c - 1] for c in self.tx_channels])
         return self.wavelength_m * np.column_stack([np.zeros(self.n_tx), yz])
 
     @property
     def rx_positions_m(self) -> np.ndarray:
-        """(n_rx, 3) positions of Rx1..Rx{n_rx} in the radar frame, m (lambda/2 line)."""
-        yz = np.array([_RX_POS_WL[r] for r in range(1, self.n_rx + 1)])
+        """(n_rx, 3) positions of the active Rx (`rx_channels`) in the radar frame, m."""
+        yz = np.array([self.rx_positions_wl[c - 1] for c in self.rx_channels])
         return self.wavelength_m * np.column_stack([np.zeros(self.n_rx), yz])
 
     @property
@@ -555,9 +707,7 @@ class RadarConfig:
             v = getattr(self, f.name)
             if v is None:
                 continue
-            if isinstance(v, tuple):
-                v = [list(r) if isinstance(r, tuple) else r for r in v]
-            out[f.name] = v
+            out[f.name] = _as_lists(v)
         return out
 
     @classmethod
@@ -567,28 +717,48 @@ class RadarConfig:
         unknown = sorted(set(data) - names)
         if unknown:
             raise ValueError(f"unknown RadarConfig field(s) {unknown}; known: {sorted(names)}")
-        kw = {k: tuple(v) if isinstance(v, list) else v for k, v in data.items()}
+        kw = {k: _as_tuples(v) for k, v in data.items()}
         return cls(**kw)
 
     def replace(self, **changes: Any) -> "RadarConfig":
         """A copy with some fields changed (validated again); unknown fields raise ValueError.
 
-        `tx_order`, `n_subbands` and the per-Tx error tuples are re-derived when `n_tx` changes
-        and they are not given; `tx_order` and `n_subbands` also when `mimo` changes."""
+        Fields that follow another are re-derived when it changes and they are not given:
+        `tx_order`, `n_subbands`, `tx_channels`, the per-Tx error tuples and the shifter and
+        coupling tables follow `n_tx`; `tx_order` and `n_subbands` follow `mimo` (the new
+        scheme's defaults); `rx_channels` follows `n_rx`; the board and its geometry and
+        pattern follow `chip`."""
         names = {f.name for f in dataclasses.fields(self)}
         unknown = sorted(set(changes) - names)
         if unknown:
             raise ValueError(f"unknown RadarConfig field(s) {unknown}")
         data = {f.name: getattr(self, f.name) for f in dataclasses.fields(self)}
-        if "n_tx" in changes and changes["n_tx"] != self.n_tx:
-            for k in ("tx_order", "n_subbands", "tx_phase_error_deg", "tx_gain_error_db",
-                      "shifter_phase_error_deg", "shifter_gain_error_db", "tx_coupling_db",
-                      "tx_coupling_deg", "shifter_calibration_deg"):
-                data[k] = None
-        if "mimo" in changes and changes["mimo"] != self.mimo:
-            for k in ("tx_order", "n_subbands"):  # the new scheme's defaults
-                data[k] = None
+        for key in ("chip", "board", "n_tx", "n_rx", "mimo"):  # chip first: board follows it
+            if key in changes and changes[key] != getattr(self, key):
+                for k in _DEPENDENT_FIELDS[key]:
+                    data[k] = None
         data.update(changes)
         return RadarConfig(**data)
 
-from .ti_cfg import from_ti_cfg, to_ti_cfg  # noqa: E402  (re-export; ti_cfg imports RadarConfig)
+
+def _as_lists(v: Any) -> Any:
+    return [_as_lists(x) for x in v] if isinstance(v, tuple) else v
+
+
+def _as_tuples(v: Any) -> Any:
+    return tuple(_as_tuples(x) for x in v) if isinstance(v, list) else v
+
+
+def from_ti_cfg(path_or_text):
+    """`RadarConfig` of a TI mmWave .cfg; see `radarsim.ti_cfg.parse_ti_cfg`.
+
+    Imported on call: ti_cfg builds on this module, so config does not import it at load
+    time (no import cycle)."""
+    from .ti_cfg import from_ti_cfg as _from
+    return _from(path_or_text)
+
+
+def to_ti_cfg(cfg, **kwargs):
+    """TI mmWave .cfg text for a `RadarConfig`; see `radarsim.ti_cfg.to_ti_cfg`."""
+    from .ti_cfg import to_ti_cfg as _to
+    return _to(cfg, **kwargs)

@@ -1,4 +1,4 @@
-"""AWR2944 front-end model: scatterers to one int16 ADC frame.
+"""Front-end model of a TI mmWave chip: scatterers to one ADC frame, real or complex (I/Q).
 
 The IF signal of scatterer s, transmitter k, receiver r at chirp c and fast-time sample n is a
 real tone (DESIGN section 3)
@@ -10,6 +10,11 @@ f_D = -2 v_r / lambda), path_sc = 2 (R_s + v_r t_c) the two-way path at chirp c,
 vector to the scatterer and phi_kc the transmit phase of Tx k at chirp c (DDMA phase code with
 its quantisation, static and random errors; in TDMA a Tx is silent outside its slot). The
 amplitude follows the radar equation (seed 000 eq. 1) with the element gain pattern.
+A complex (I/Q) ADC mode delivers the analytic tone A_skr exp(j(...)) instead of its real part:
+the I channel is the real receiver's sample, Q its quadrature, each with the real receiver's
+thermal noise; the image band (negative beat frequencies) is rejected, so a beat frequency f_b
+sits at range bin f_b N / f_s of the complex FFT and echoes beyond the IF band are attenuated by
+the chip's IF low-pass before they alias.
 
 Because the tone separates into fast-time x slow-time x antenna factors, the whole cube is one
 matrix product: (chirp x Rx, scatterer) @ (scatterer, sample). Range migration over the frame
@@ -35,11 +40,12 @@ from .shifter import apply_coupling, coupling_matrix, select_codes, shifter_fact
 
 __all__ = ["simulate_frame", "simulate_frame_weights", "received_power_w", "if_filter_gain",
            "transmit_phasors", "programmed_codes",
-           "ADCSaturationWarning", "IF_LOWPASS_HZ", "IF_LOWPASS_ORDER"]
+           "ADCSaturationWarning", "IF_LOWPASS_HZ", "IF_LOWPASS_ORDER", "if_corner_hz"]
 
-#: -3 dB corner of the IF anti-alias low-pass, Hz: just above the 15 MHz usable IF band, so
-#: targets up to ~240 m lose < 0.2 dB and echoes beyond the 253 m Nyquist range are attenuated
-#: (-7.5 dB at 300 m, -31 dB at 400 m) rather than aliasing at full strength.
+#: -3 dB corner of the AWR2944's IF anti-alias low-pass, Hz: just above the 15 MHz usable IF
+#: band, so targets up to ~240 m lose < 0.2 dB and echoes beyond the 253 m Nyquist range are
+#: attenuated (-7.5 dB at 300 m, -31 dB at 400 m) rather than aliasing at full strength. Each
+#: chip's corner is `radarsim.chips.Chip.if_lowpass_hz`.
 IF_LOWPASS_HZ = 16.5e6
 #: Butterworth order of that low-pass.
 IF_LOWPASS_ORDER = 10
@@ -49,15 +55,17 @@ class ADCSaturationWarning(UserWarning):
     """Some ADC samples were clipped at the int16 full scale."""
 
 
-def if_filter_gain(beat_hz: np.ndarray) -> np.ndarray:
+def if_filter_gain(beat_hz: np.ndarray, corner_hz: float = IF_LOWPASS_HZ) -> np.ndarray:
     """Power gain of the IF anti-alias low-pass (Butterworth magnitude), linear.
 
     Parameters
     ----------
     beat_hz : (K,) float
         Beat frequency, Hz.
+    corner_hz : float
+        -3 dB corner, Hz (default the AWR2944's).
     """
-    return 1.0 / (1.0 + (np.abs(beat_hz) / IF_LOWPASS_HZ) ** (2 * IF_LOWPASS_ORDER))
+    return 1.0 / (1.0 + (np.abs(beat_hz) / corner_hz) ** (2 * IF_LOWPASS_ORDER))
 
 
 def received_power_w(cfg: RadarConfig, scatterers: Scatterers) -> np.ndarray:
@@ -82,7 +90,17 @@ def received_power_w(cfg: RadarConfig, scatterers: Scatterers) -> np.ndarray:
     loss = 10 ** (cfg.system_loss_db / 10)
     lam = cfg.wavelength_m
     pr = pt * gt * gr * lam ** 2 * scatterers.rcs_m2 / ((4 * np.pi) ** 3 * r ** 4 * loss)
-    return pr * if_filter_gain(_beat_frequency_hz(cfg, scatterers))
+    return pr * if_filter_gain(_beat_frequency_hz(cfg, scatterers), if_corner_hz(cfg))
+
+
+def if_corner_hz(cfg: RadarConfig) -> float:
+    """-3 dB corner of the receive chain's anti-alias low-pass for `cfg`, Hz.
+
+    The analog IF filter's (`radarsim.chips.Chip.if_lowpass_hz`, just above the chip's IF
+    bandwidth) or, when the ADC samples a narrower band, 1.1 x that band (real: f_s / 2,
+    complex: f_s): the chip's decimation filter follows the sampling rate, so an echo beyond
+    the max range is attenuated before it aliases. For the R79 waveform both are 16.5 MHz."""
+    return min(cfg.chip_spec.if_lowpass_hz, 1.1 * cfg.max_beat_frequency_hz)
 
 
 def _beat_frequency_hz(cfg: RadarConfig, scatterers: Scatterers) -> np.ndarray:
@@ -247,7 +265,7 @@ def _chirp_times_s(cfg: RadarConfig, n_chirps: int | None = None) -> np.ndarray:
 
 def simulate_frame(cfg: RadarConfig, scatterers: Scatterers,
                    rng: np.random.Generator, interferers=None) -> np.ndarray:
-    """Simulate one frame of real ADC samples as the AWR2944 delivers it.
+    """Simulate one frame of ADC samples as the chip delivers it (real or complex I/Q).
 
     Parameters
     ----------
@@ -263,10 +281,12 @@ def simulate_frame(cfg: RadarConfig, scatterers: Scatterers,
 
     Returns
     -------
-    adc : (n_chirps, n_rx, n_samples) int16
-        Real ADC samples: signal + interference + DC/leakage (`adc_dc_offset_lsb`,
-        `tx_leakage_dbfs`) + thermal noise (k T NF B, B = adc_rate / 2), scaled so a sine
-        of `adc_full_scale_dbm` reaches 32767, rounded and clipped to int16.
+    adc : (n_chirps, n_rx, n_samples) int16 (real ADC) or complex64 (complex ADC modes)
+        ADC samples: signal + interference + DC/leakage (`adc_dc_offset_lsb`,
+        `tx_leakage_dbfs`) + thermal noise (k T NF B per real channel, B = adc_rate / 2),
+        scaled so a sine of `adc_full_scale_dbm` reaches 32767, rounded and clipped to int16;
+        complex frames hold int16-valued I and Q parts (what a DCA1000 records; interference
+        and DC/leakage are modelled for real ADC frames only).
 
     Warns
     -----
@@ -307,25 +327,33 @@ def simulate_frame_weights(cfg: RadarConfig, scatterers: Scatterers, rng: np.ran
 
     Returns
     -------
-    adc : (n_c, n_rx, n_samples) int16
+    adc : (n_c, n_rx, n_samples) int16, or complex64 for a complex ADC mode
     """
     tx_w = np.asarray(tx_weights)
     if tx_w.ndim != 2 or tx_w.shape[0] != cfg.n_tx or tx_w.shape[1] < 1:
         raise ValueError(f"tx_weights shape {tx_w.shape} must be (n_tx={cfg.n_tx}, n_chirps)")
     n_c, n_r, n_s = tx_w.shape[1], cfg.n_rx, cfg.n_samples
-    # Thermal noise first: the output buffer, to which the signal is added in place.
-    out = _gaussian_noise(rng, (n_c * n_r, n_s), cfg.noise_rms_lsb)
+    cplx = cfg.is_complex
+    # Thermal noise first: the output buffer, to which the signal is added in place (complex:
+    # I and Q interleaved along the last axis, each with the real channel's noise).
+    out = _gaussian_noise(rng, (n_c * n_r, 2 * n_s if cplx else n_s), cfg.noise_rms_lsb)
     power = received_power_w(cfg, scatterers) if len(scatterers) else np.zeros(0)
     keep = power > 0  # only scatterers in front of the radar with non-zero power contribute
     if np.any(keep):
-        out += _signal(cfg, scatterers, keep, power[keep], tx_w)
-    if interferers is not None and len(interferers):
+        sig = _signal(cfg, scatterers, keep, power[keep], tx_w)
+        out += sig.view(np.float32) if cplx else sig
+    has_intf = interferers is not None and len(interferers)
+    has_dc = bool(cfg.adc_dc_offset_lsb) or cfg.tx_leakage_dbfs is not None
+    if cplx and (has_intf or has_dc):
+        raise ValueError(f"adc_mode={cfg.adc_mode!r}: interferers and DC/Tx leakage are "
+                         "synthesised for real ADC frames only")
+    if has_intf:
         if n_c != cfg.n_chirps:
             raise ValueError(f"interferers need the config's {cfg.n_chirps} chirps, "
                              f"tx_weights has {n_c}")
         from .interference import synthesize
         synthesize(cfg, interferers, out=out)
-    if cfg.adc_dc_offset_lsb or cfg.tx_leakage_dbfs is not None:
+    if has_dc:
         out += _dc_leakage(cfg)
     np.rint(out, out=out)
     # max/min are cheap reductions; the clipped samples are only counted when there are some.
@@ -336,6 +364,8 @@ def simulate_frame_weights(cfg: RadarConfig, scatterers: Scatterers, rng: np.ran
                       f"({100 * n_clip / out.size:.3g} %) clipped at -{ADC_FULL_SCALE_CODE + 1}"
                       f"/+{ADC_FULL_SCALE_CODE}", ADCSaturationWarning, stacklevel=2)
         np.clip(out, -ADC_FULL_SCALE_CODE - 1, ADC_FULL_SCALE_CODE, out=out)
+    if cplx:
+        return out.view(np.complex64).reshape(n_c, n_r, n_s)
     return out.astype(np.int16).reshape(n_c, n_r, n_s)
 
 
@@ -400,12 +430,12 @@ def _gaussian_noise(rng: np.random.Generator, shape: tuple[int, int],
 
 def _signal(cfg: RadarConfig, sc: Scatterers, keep: np.ndarray, power_w: np.ndarray,
             tx_w: np.ndarray) -> np.ndarray:
-    """Noise-free real IF samples of the kept scatterers, LSB.
+    """Noise-free IF samples of the kept scatterers, LSB: real, or complex for I/Q modes.
 
     The tone of scatterer k at chirp c, Rx r, sample n separates into
     M[c, r, k] = slow[c, k] sum_t w[t, c] ant[t, r, k] and F[k, n] = exp(j 2 pi f_k t_n);
-    the frame is Re(M F), one real float32 GEMM: interleaving (Re M, Im M) against
-    (Re F, -Im F) rows gives Re M Re F - Im M Im F.
+    the real frame is Re(M F), one real float32 GEMM: interleaving (Re M, Im M) against
+    (Re F, -Im F) rows gives Re M Re F - Im M Im F; the complex frame is M F (complex64 GEMM).
 
     Parameters
     ----------
@@ -420,7 +450,7 @@ def _signal(cfg: RadarConfig, sc: Scatterers, keep: np.ndarray, power_w: np.ndar
 
     Returns
     -------
-    (n_chirps x n_rx, n_samples) float32
+    (n_chirps x n_rx, n_samples) float32, or complex64 for a complex ADC mode
     """
     n_c, n_r, n_s, n_t = tx_w.shape[1], cfg.n_rx, cfg.n_samples, cfg.n_tx
     r0 = sc.range_m[keep]
@@ -449,6 +479,11 @@ def _signal(cfg: RadarConfig, sc: Scatterers, keep: np.ndarray, power_w: np.ndar
     f_b = _beat_frequency_hz(cfg, sc)[keep]
     t_n = np.arange(n_s) / cfg.adc_rate_sps
     ph_f = (2 * np.pi * np.mod(f_b[:, None] * t_n[None, :], 1.0)).astype(np.float32)
+    if cfg.is_complex:
+        fast = np.empty((n_k, n_s), dtype=np.complex64)
+        fast.real = np.cos(ph_f)
+        fast.imag = np.sin(ph_f)
+        return m.reshape(n_c * n_r, n_k) @ fast
     rhs = np.empty((n_k, 2, n_s), dtype=np.float32)
     np.cos(ph_f, out=rhs[:, 0])
     np.sin(ph_f, out=rhs[:, 1])
@@ -457,13 +492,16 @@ def _signal(cfg: RadarConfig, sc: Scatterers, keep: np.ndarray, power_w: np.ndar
 
 
 def saturation_fraction(adc: np.ndarray) -> float:
-    """Fraction of samples of an int16 frame sitting at the clipping rails."""
-    return float(np.mean((adc >= ADC_FULL_SCALE_CODE) | (adc <= -ADC_FULL_SCALE_CODE - 1)))
+    """Fraction of samples of an int16 frame (or of the I and Q parts of a complex frame)
+    sitting at the clipping rails."""
+    x = adc.view(np.float32) if np.iscomplexobj(adc) else adc
+    return float(np.mean((x >= ADC_FULL_SCALE_CODE) | (x <= -ADC_FULL_SCALE_CODE - 1)))
 
 
 def expected_sample_snr_db(cfg: RadarConfig, scatterers: Scatterers) -> np.ndarray:
     """(K,) per-sample SNR of each scatterer's tone at the ADC for one Tx-Rx pair, dB:
-    P_r / (k T NF B). Coherent gains then add 10 log10(N/2) (real range FFT), 10 log10(chirps)
+    P_r / (k T NF B). Coherent gains then add 10 log10(N/2) (real range FFT; 10 log10(2 N)
+    for a complex one, whose tone keeps its full amplitude over I/Q noise), 10 log10(chirps)
     (Doppler FFT) and 10 log10(channels) (angle FFT)."""
     return 10 * np.log10(received_power_w(cfg, scatterers) / cfg.noise_power_w)
 

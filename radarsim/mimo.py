@@ -17,7 +17,7 @@ References
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, NamedTuple
+from typing import TYPE_CHECKING, ClassVar, NamedTuple
 
 import numpy as np
 
@@ -104,6 +104,8 @@ class MimoScheme:
 
     name: str
     description: str
+    #: True if the scheme programs per-chirp Tx phases (chips without shifters cannot run it).
+    needs_phase_shifter: ClassVar[bool] = False
 
     # ------------------------------------------------------------------ configuration
     def default_n_subbands(self, n_tx: int) -> int:
@@ -113,7 +115,9 @@ class MimoScheme:
 
     def default_tx_order(self, n_tx: int) -> tuple[int, ...]:
         """`RadarConfig.tx_order` when not given: horizontal Tx first (Tx1, Tx3, Tx4), the
-        raised Tx2 last, as the R79 demo (seed 000 3.3), restricted to the active Tx."""
+        raised Tx2 last, as the R79 demo (seed 000 3.3), restricted to the active Tx (a
+        `RadarConfig` applies this rule to its board's geometry: lowest row first, raised
+        last)."""
         return tuple(t for t in (1, 3, 4, 2) if t <= n_tx)
 
     def validate(self, cfg: "RadarConfig") -> None:
@@ -209,6 +213,7 @@ class DdmaScheme(MimoScheme):
     """
 
     empty_band: bool = True
+    needs_phase_shifter: ClassVar[bool] = True
 
     def default_n_subbands(self, n_tx: int) -> int:
         return super().default_n_subbands(n_tx) if self.empty_band else n_tx
@@ -274,9 +279,9 @@ class DdmaScheme(MimoScheme):
         if (per_loop > n_tx) != self.empty_band or per_loop < n_tx:
             return None
         if ddm_order is None:
-            raise ValueError("every chirp enables all Tx (DDMA) but there is no "
-                             "ddmPhaseShiftAntOrder (TI: 'DDM Proc chain requires "
-                             "ddmPhaseShiftAntOrder')")
+            # The R79 firmware's hard-coded list has no ddmPhaseShiftAntOrder: its order is
+            # the demo's (horizontal Tx first, raised last), the config's default.
+            return {"mimo": self.name, "n_subbands": per_loop}
         return {"mimo": self.name, "n_subbands": per_loop,
                 "tx_order": tuple(t + 1 for t in ddm_order if t < n_tx)}
 
@@ -309,10 +314,14 @@ class TdmaScheme(MimoScheme):
                                        for i, t in enumerate(cfg.tx_order)))
 
     def from_ti(self, tx_masks, n_tx, tx_mask, ddm_order):
+        """One Tx per chirp; the loop repeats a sequence in which each Tx fires once (e.g.
+        Tx1, Tx3, Tx1, Tx3 twice per loop: order Tx1, Tx3)."""
         single = [m.bit_length() - 1 if m & (m - 1) == 0 else None for m in tx_masks]
-        if None in single or sorted(single) != list(range(n_tx)):
+        first = single[:n_tx]
+        if None in single or sorted(first) != list(range(n_tx)) or len(single) % n_tx or \
+                any(t != first[i % n_tx] for i, t in enumerate(single)):
             return None
-        return {"mimo": self.name, "tx_order": tuple(t + 1 for t in single)}
+        return {"mimo": self.name, "tx_order": tuple(t + 1 for t in first)}
 
 
 # ------------------------------------------------------------------------------ BPM
@@ -349,6 +358,15 @@ class BpmScheme(MimoScheme):
     def code_matrix(self, cfg: "RadarConfig") -> np.ndarray:
         """(n_tx, n_tx) signs: row = chirp of the block, column = position in `tx_order`."""
         return hadamard(cfg.n_tx)
+
+    def to_ti(self, cfg: "RadarConfig", n_tx_chip: int) -> TiFrame:
+        """TI's SDK BPM (xwr16xx/18xx/68xx demos): two chirps enabling both Tx and
+        ``bpmCfg -1 1 0 1`` (chirp 0: +,+; chirp 1: +,- on the lower, higher Tx)."""
+        if cfg.n_tx != 2 or cfg.tx_order != (1, 2):
+            raise ValueError(f"mimo={self.name!r} with n_tx={cfg.n_tx}, tx_order="
+                             f"{cfg.tx_order} has no TI mmWave SDK CLI form (TI's bpmCfg codes "
+                             "two Tx in order (1, 2) only)")
+        return TiFrame(2, ("chirpCfg 0 1 0 0 0 0 0 3",), ("bpmCfg -1 1 0 1",))
 
     def transmit_code(self, cfg: "RadarConfig") -> TransmitCode:
         h = self.code_matrix(cfg)

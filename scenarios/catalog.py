@@ -43,6 +43,13 @@ class ActorClass:
         Box size, m (> 0).
     max_speed_mps : float
         Highest speed a scenario may give this class, m/s (> 0).
+    random_traffic : bool
+        Drives in highway-env's random traffic (an IDM/MOBIL class, `traffic.IDM_CLASSES`).
+    cruise_speed_cap_mps : float or None
+        Random traffic: cap on the IDM target speed, m/s (None: highway-env's own).
+    initial_speed_fractions : (float, float) or None
+        highway-env's default initial speed range as fractions of `max_speed_mps` (None:
+        highway-env's own, 23-25 m/s, far too fast for road users on foot or bicycle).
     """
 
     name: str
@@ -50,24 +57,30 @@ class ActorClass:
     width_m: float
     height_m: float
     max_speed_mps: float
+    random_traffic: bool = False
+    cruise_speed_cap_mps: float | None = None
+    initial_speed_fractions: tuple[float, float] | None = None
 
     def __post_init__(self) -> None:
         require(self, ("length_m", "width_m", "height_m", "max_speed_mps"), gt=0)
+        require(self, "random_traffic", "bool")
+        require(self, "cruise_speed_cap_mps", gt=0, none_ok=True)
 
 
 #: Road-user classes. Car 5 x 2 m is highway-env's default; motorcycle 2.2 x 0.8 m and truck
 #: about 16 m (DESIGN 6); heights include a rider. Max speeds: motorcycles must reach the R79
 #: 130 km/h (and 160 km/h for margin), pedestrians run at most ~4 m/s.
 ACTOR_CLASSES: dict[str, ActorClass] = {
-    "car": ActorClass(name="car", length_m=5.0, width_m=2.0, height_m=1.5, max_speed_mps=45.0),
+    "car": ActorClass(name="car", length_m=5.0, width_m=2.0, height_m=1.5, max_speed_mps=45.0,
+                      random_traffic=True),
     "truck": ActorClass(name="truck", length_m=16.5, width_m=2.55, height_m=4.0,
-                        max_speed_mps=36.0),
+                        max_speed_mps=36.0, random_traffic=True, cruise_speed_cap_mps=25.0),
     "motorcycle": ActorClass(name="motorcycle", length_m=2.2, width_m=0.8, height_m=1.4,
-                             max_speed_mps=45.0),
+                             max_speed_mps=45.0, random_traffic=True),
     "bicycle": ActorClass(name="bicycle", length_m=1.8, width_m=0.6, height_m=1.8,
-                          max_speed_mps=15.0),
+                          max_speed_mps=15.0, initial_speed_fractions=(0.5, 0.7)),
     "pedestrian": ActorClass(name="pedestrian", length_m=0.5, width_m=0.6, height_m=1.75,
-                             max_speed_mps=4.0),
+                             max_speed_mps=4.0, initial_speed_fractions=(0.5, 0.7)),
 }
 #: Guard-rail segment box (steel W-beam on posts, top at 0.75 m); static infrastructure.
 GUARD_RAIL = ActorClass(name="guard_rail", length_m=16.0, width_m=0.3, height_m=0.75,

@@ -19,11 +19,12 @@ References
 """
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, fields
 
 import numpy as np
 import pandas as pd
+
+from .checks import check_keys, check_types, require
 
 __all__ = ["RadarEquipment", "WaveformFamily", "WAVEFORM_FAMILIES", "RadarSpec",
            "EQUIPPED_CLASSES", "draw_equipment", "equipment_table", "FAMILY_WEIGHTS",
@@ -76,10 +77,7 @@ class RadarEquipment:
     phase_rad: float = 0.0
 
     def __post_init__(self) -> None:
-        for f in fields(self):
-            v = getattr(self, f.name)
-            if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
-                raise ValueError(f"{f.name}={v!r} must be a finite number")
+        require(self, [f.name for f in fields(self)])
         if abs(self.mount_x_m) > 10 or abs(self.mount_y_m) > 3:
             raise ValueError(f"mount_x_m={self.mount_x_m!r}, mount_y_m={self.mount_y_m!r} must "
                              "be within +/-10 m and +/-3 m of the vehicle centre")
@@ -90,9 +88,7 @@ class RadarEquipment:
         if not 1e12 <= abs(self.slope_hz_per_s) <= 2e14:
             raise ValueError(f"slope_hz_per_s={self.slope_hz_per_s!r}: |slope| must be in "
                              "[1e12, 2e14] Hz/s")
-        for name in ("chirp_period_s", "ramp_time_s"):
-            if not 1e-6 < getattr(self, name) <= 1e-3:
-                raise ValueError(f"{name}={getattr(self, name)!r} must be in (1e-6, 1e-3] s")
+        require(self, ("chirp_period_s", "ramp_time_s"), gt=1e-6, le=1e-3, unit="s")
         if self.ramp_time_s > self.chirp_period_s:
             raise ValueError(f"ramp_time_s={self.ramp_time_s!r} must be <= chirp_period_s="
                              f"{self.chirp_period_s!r}")
@@ -208,12 +204,13 @@ class RadarSpec:
 
     @classmethod
     def from_table(cls, table: dict, where: str = "radars") -> "RadarSpec":
-        """From a TOML table: actor_id, optional family, and RadarEquipment fields."""
-        if not isinstance(table, dict):
-            raise ValueError(f"{where}: must be a table")
-        t = dict(table)
+        """From a TOML table: actor_id, optional family, and RadarEquipment fields, under the
+        case-file policy of `scenarios.checks` (unknown keys, wrong units and types named)."""
+        equipment = {f.name for f in fields(RadarEquipment)}
+        t = check_keys(table, {"actor_id", "family", *equipment}, f"{where}.")
+        check_types({k: v for k, v in t.items() if k in equipment}, RadarEquipment, f"{where}.")
         if "actor_id" not in t:
-            raise ValueError(f"{where}: actor_id is required")
+            raise ValueError(f"{where}.actor_id: required key missing")
         actor_id = t.pop("actor_id")
         family = t.pop("family", None)
         try:

@@ -1,12 +1,12 @@
 """Case files: a TOML file with the same fields as a `Case`; the shipped catalogue is made of them.
 
 The cases in ``scenarios/cases/*.toml`` are the catalogue (`scenarios.registry.SCENARIOS`); a
-user's case is the same kind of file, run with ``radar-harness show|run my_case.toml`` or added
+user's case is the same kind of file, shown with ``radar-harness show my_case.toml`` or added
 to that folder. ``scenarios/cases/r79_motorcycle_rear.toml`` is a complete example. Keys: the
 fields of `scenarios.catalog.Case` (name, description, mount and duration_s are required;
 ``mount`` is a `MOUNTS` name or a ``[mount]`` table name, x_m, y_m, z_m, yaw_deg), an ``[ego]``
 table and ``[[actors]]`` tables with the fields of `ActorSpec`, ``[[criteria]]`` tables with
-the fields of `Criterion`.
+the fields of `Criterion`, ``[[radars]]`` tables (radars on actors, `equipment.RadarSpec`).
 
 Every error is a `ValueError` that names the offending key with its position
 (e.g. ``actors[0].speed_kmh``): unknown keys, keys in a non-SI unit (``speed_kmh`` instead of
@@ -23,8 +23,15 @@ from .equipment import RadarSpec
 
 __all__ = ["load_scenario_file", "load_case_directory", "parse_scenario", "UNIT_ALIASES"]
 
-_NESTED = {"ego": ActorSpec, "actors": ActorSpec, "criteria": Criterion, "mount": Mount,
-           "radars": RadarSpec}
+#: Arrays of tables (``[[actors]]`` ...) and how one table, at position ``name[i]``, becomes
+#: its object; ``[[radars]]`` holds actor_id, an optional family and RadarEquipment fields.
+_ARRAYS = {
+    "actors": lambda table, where: build_from_table(ActorSpec, table, f"{where}."),
+    "criteria": lambda table, where: build_from_table(Criterion, table, f"{where}."),
+    "radars": RadarSpec.from_table,
+}
+#: Keys holding tables rather than plain values.
+_NESTED = {"ego", "mount", *_ARRAYS}
 
 
 def _mount(value) -> Mount:
@@ -35,11 +42,11 @@ def _mount(value) -> Mount:
     return build_from_table(Mount, value, "mount.")
 
 
-def _array(data: dict, name: str, cls: type) -> tuple:
+def _array(data: dict, name: str) -> tuple:
     items = data[name]
     if not isinstance(items, list):
         raise ValueError(f"{name}: must be an array of tables ([[{name}]])")
-    return tuple(build_from_table(cls, t, f"{name}[{i}].") for i, t in enumerate(items))
+    return tuple(_ARRAYS[name](t, f"{name}[{i}]") for i, t in enumerate(items))
 
 
 def parse_scenario(data: dict, source: str = "<scenario>") -> Case:
@@ -58,14 +65,9 @@ def parse_scenario(data: dict, source: str = "<scenario>") -> Case:
             nested["mount"] = _mount(data["mount"])
         if "ego" in data:
             nested["ego"] = build_from_table(ActorSpec, data["ego"], "ego.")
-        for name in ("actors", "criteria"):
+        for name in _ARRAYS:
             if name in data:
-                nested[name] = _array(data, name, _NESTED[name])
-        if "radars" in data:  # [[radars]]: actor_id, family, RadarEquipment fields
-            if not isinstance(data["radars"], list):
-                raise ValueError("radars: must be an array of tables ([[radars]])")
-            nested["radars"] = tuple(RadarSpec.from_table(t, f"radars[{i}]")
-                                     for i, t in enumerate(data["radars"]))
+                nested[name] = _array(data, name)
         flat = {k: v for k, v in data.items() if k not in _NESTED}
         check_types(flat, Case)
         if "must_detect" in flat:

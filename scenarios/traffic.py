@@ -58,8 +58,9 @@ def _vehicle_class(name: str, base: type) -> type:
              "MAX_SPEED": spec.max_speed_mps, "ACTOR_CLASS": name,
              "__doc__": f"highway-env {base.__name__} with {name} size "
                         f"{spec.length_m} x {spec.width_m} x {spec.height_m} m."}
-    if name in ("bicycle", "pedestrian"):
-        attrs["DEFAULT_INITIAL_SPEEDS"] = [0.5 * spec.max_speed_mps, 0.7 * spec.max_speed_mps]
+    if spec.initial_speed_fractions is not None:
+        attrs["DEFAULT_INITIAL_SPEEDS"] = [f * spec.max_speed_mps
+                                           for f in spec.initial_speed_fractions]
     prefix = "IDM" if base is IDMVehicle else ""
     return type(f"{prefix}{name.title()}", (base,), attrs)
 
@@ -68,7 +69,7 @@ def _vehicle_class(name: str, base: type) -> type:
 VEHICLE_CLASSES: dict[str, type] = {n: _vehicle_class(n, Vehicle) for n in ACTOR_CLASSES}
 #: IDM-driven classes for random traffic.
 IDM_CLASSES: dict[str, type] = {n: _vehicle_class(n, IDMVehicle)
-                                for n in ("car", "truck", "motorcycle")}
+                                for n, c in ACTOR_CLASSES.items() if c.random_traffic}
 
 
 class ScriptedVehicle(Vehicle):
@@ -284,8 +285,9 @@ def _random_traffic(case: Case, seed: int, frame_rate_hz: float, substeps: int):
                 if u < case.truck_fraction + case.motorcycle_fraction else None)
         if name is not None:
             new = IDM_CLASSES[name].create_from(v)
-            if name == "truck":
-                new.target_speed = min(new.target_speed, 25.0)
+            cap = ACTOR_CLASSES[name].cruise_speed_cap_mps
+            if cap is not None:
+                new.target_speed = min(new.target_speed, cap)
             new.check_collisions = False
             road.vehicles[i] = new
     return road, ego, {}, traffic.rails_y_hw(case.lanes), env

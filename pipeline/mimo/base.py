@@ -70,7 +70,8 @@ class MimoChain:
     variants: ClassVar[dict[str, dict[str, Any]]] = {}
 
     def process(self, cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) -> pd.DataFrame:
-        """(n_chirps, n_rx, n_samples) int16 frame -> point cloud (`POINT_CLOUD_COLUMNS`)."""
+        """(n_chirps, n_rx, n_samples) int16 (real) or complex64 (I/Q) frame -> point cloud
+        (`POINT_CLOUD_COLUMNS`)."""
         raise NotImplementedError
 
     def detection_map(self, cfg: RadarConfig, adc: np.ndarray,

@@ -21,7 +21,7 @@ from harness.runner import Components
 FRAME_DT_S = 0.05
 
 
-def fake_run_scenario(name: str, seed: int, duration_s=None):
+def fake_run_scenario(name: str, seed: int, duration_s=None, frame_rate_hz=None):
     if name == "boom":
         raise RuntimeError("scenario exploded")
     n = int(round((duration_s or 0.5) / FRAME_DT_S))

@@ -72,7 +72,11 @@ def _cases(tmp):
         "unknown_mimo": (["frame", "--mimo", "fdma"], r"--mimo: invalid choice: 'fdma'"),
         "unknown_command": (["bogus"], r"invalid choice: 'bogus'"),
         "no_command": ([], r"required: command"),
+        "duplicate_scenarios": (["sweep", "--scenarios", "head_on_aliasing", "head_on_aliasing"],
+                                r"scenarios: duplicate case\(s\) \['head_on_aliasing'\]"),
         # outputs
+        "show_out_is_file": (["show", "head_on_aliasing", "--out", str(afile)],
+                             r"--out '.*afile' is a file"),
         "sweep_out_is_file": (["sweep", CI, "--out", str(afile)],
                               r"--out '.*afile': exists and is not a directory"),
         "sweep_out_under_file": (["sweep", CI, "--out", str(afile / "x")],

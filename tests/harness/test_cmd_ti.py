@@ -24,7 +24,7 @@ def r79_capture(tmp_path, make_scene):
     rng = np.random.default_rng(7)
     frames = np.stack([radarsim.simulate_frame(cfg, scene, rng) for _ in range(2)])
     path = tmp_path / "adc_data.bin"
-    write_capture(path, frames)
+    write_capture(path, frames, cfg=cfg)  # the R79 profile's interleaved layout
     return path, frames
 
 
@@ -169,4 +169,64 @@ def test_simulate_real_scenario_then_process(tmp_path, small_cfg_file):
     small = tmp_path / "small_cfar.cfg"
     small.write_text(cfg_path.read_text() + "cfarCfg -1 1 3 1 0 0 1 12 0 2 0\n")
     assert main(["process", str(out), "--cfg", str(small), "--out",
+                 str(tmp_path / "p.parquet"), "--no-track"]) == 0
+
+
+def test_process_layout_override_reads_a_non_interleaved_recording(tmp_path, r79_capture):
+    import pipeline
+
+    _, frames = r79_capture
+    path = tmp_path / "lvds.bin"
+    write_capture(path, frames, interleaved=False)
+    out = tmp_path / "p.parquet"
+    assert main(["process", str(path), "--cfg", str(r79_cfg_path()), "--out", str(out),
+                 "--no-track", "--layout", "non-interleaved"]) == 0
+    profile = parse_ti_cfg(r79_cfg_path())
+    got = pd.read_parquet(out)
+    expected = pipeline.process_frame(profile.radar, frames[0],
+                                      cmd_ti.processing_from_profile(profile))
+    assert len(got[got["frame"] == 0]) == len(expected) > 0
+
+
+def test_simulate_runs_the_scenario_at_the_profile_frame_rate(tmp_path, monkeypatch,
+                                                              fake_components, small_cfg_file):
+    """simulate samples the scene once per framePeriodicity (here 50 ms: 20 Hz), the period
+    process stamps the frames with."""
+    from tests.harness import fakes
+
+    seen = {}
+
+    def spy(name, seed, duration_s=None, frame_rate_hz=None):
+        seen["rate"] = frame_rate_hz
+        return fakes.fake_run_scenario(name, seed, duration_s)
+
+    import dataclasses
+    monkeypatch.setattr(cmd_ti, "_components",
+                        lambda: dataclasses.replace(fake_components, run_scenario=spy))
+    cfg_path, _ = small_cfg_file
+    assert main(["simulate", "straight", "--cfg", str(cfg_path), "--out",
+                 str(tmp_path / "s.bin"), "--frames", "1"]) == 0
+    assert seen["rate"] == pytest.approx(1 / 0.05)
+
+
+def test_simulate_complex_profile_writes_the_public_layout(tmp_path, fake_components):
+    """A complex xWR18xx profile: the capture holds I I Q Q words per Rx, read back complex."""
+    from radarsim.capture import layout_of
+
+    cfg = radarsim.RadarConfig(chip="AWR1843", adc_mode="complex1x", mimo="tdma", n_tx=3,
+                               n_chirps=48, n_samples=64, adc_rate_sps=10e6)  # 16 Doppler bins
+    cfg_path = tmp_path / "x18.cfg"
+    # The xWR18xx demo's Doppler CFAR (cfarCfg -1 1 0 4 2 3 1 15 1): it fits 16 Doppler bins.
+    cfg_path.write_text(to_ti_cfg(cfg, frame_period_s=0.1,
+                                  extra_lines=["cfarCfg -1 1 0 4 2 3 1 15 1"]))
+    out = tmp_path / "sim.bin"
+    assert main(["simulate", "straight", "--cfg", str(cfg_path), "--out", str(out),
+                 "--frames", "2"]) == 0
+    frames = read_capture(out, parse_ti_cfg(cfg_path))
+    assert frames.dtype == np.complex64 and frames.shape == (2, 48, 4, 64)
+    assert layout_of(cfg).name == "complex_noninterleaved"
+    words = np.fromfile(out, dtype="<i2")
+    np.testing.assert_array_equal(words[:4], [frames[0, 0, 0, 0].real, frames[0, 0, 0, 1].real,
+                                              frames[0, 0, 0, 0].imag, frames[0, 0, 0, 1].imag])
+    assert main(["process", str(out), "--cfg", str(cfg_path), "--out",
                  str(tmp_path / "p.parquet"), "--no-track"]) == 0

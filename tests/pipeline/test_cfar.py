@@ -131,3 +131,4 @@ def test_ti_average_mode_codes_match_the_profile_parser():
     assert {m.ti_code: name for name, m in CFAR_MODES.items()} == CFAR_AVERAGE_MODES
     for name, m in CFAR_MODES.items():
         assert m.name == name and m.description
+    assert [n for n, m in CFAR_MODES.items() if m.ranked] == ["os"]  # only OS uses os_rank

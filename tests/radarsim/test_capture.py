@@ -1,4 +1,8 @@
-"""DCA1000 capture I/O: documented byte layout, bit-exact round trip, clean failures."""
+"""DCA1000 capture I/O: documented byte layouts, bit-exact round trips, clean failures.
+
+The small fixture config is the R79 preset (AWR2944, real ADC, interleaved ADC buffer as the
+R79 firmware's ``adcbufCfg -1 1 0 0 1``); hand-made files with their word order written out and
+the public readers' ordering are in test_capture_layouts.py."""
 from __future__ import annotations
 
 import numpy as np
@@ -10,8 +14,9 @@ from radarsim.capture import (capture_n_frames, frame_nbytes, iter_capture, open
 
 @pytest.fixture
 def small_cfg(make_config):
-    # 12 chirps (2 DDMA code periods) x 4 Rx x 16 samples: 1536 bytes a frame.
-    return make_config(n_chirps=12, n_samples=16)
+    # 12 chirps (2 DDMA code periods) x 4 Rx x 16 samples: 1536 bytes a frame; the
+    # non-interleaved buffer (profile_LVDS.cfg's adcbufCfg -1 1 1 1 1) unless a test says.
+    return make_config(n_chirps=12, n_samples=16, adcbuf_interleaved=False)
 
 
 @pytest.fixture
@@ -56,6 +61,12 @@ def test_interleaved_layout(tmp_path, small_cfg, frames):
     flat = np.fromfile(path, dtype="<i2")
     np.testing.assert_array_equal(flat, frames.transpose(0, 1, 3, 2).ravel())
     np.testing.assert_array_equal(read_capture(path, small_cfg, interleaved=True), frames)
+    # The reader follows the profile: the R79 config's own buffer is interleaved.
+    r79 = small_cfg.replace(adcbuf_interleaved=True)
+    np.testing.assert_array_equal(read_capture(path, r79), frames)
+    path2 = tmp_path / "d.bin"
+    write_capture(path2, frames, cfg=r79)
+    assert path2.read_bytes() == path.read_bytes()
 
 
 def test_streamed_frames_equal_array(tmp_path, small_cfg, frames):
@@ -71,10 +82,10 @@ def test_streamed_frames_equal_array(tmp_path, small_cfg, frames):
 def test_memory_map_is_read_only_view(tmp_path, small_cfg, frames):
     path = tmp_path / "c.bin"
     write_capture(path, frames)
-    mm = open_capture(path, small_cfg)
-    np.testing.assert_array_equal(mm[2], frames[2])
+    mm = open_capture(path, small_cfg)   # (frames, words) in file order
+    np.testing.assert_array_equal(mm[2], frames[2].ravel())
     with pytest.raises(ValueError):
-        mm[0, 0, 0, 0] = 1
+        mm[0, 0] = 1
 
 
 @pytest.mark.parametrize("cut", [2, 1, 1536 + 2])
@@ -94,7 +105,7 @@ def test_truncated_capture_is_rejected(tmp_path, small_cfg, frames, cut):
 def test_capture_of_another_profile_is_rejected(tmp_path, small_cfg, frames, make_config):
     path = tmp_path / "c.bin"
     write_capture(path, frames)          # 3 x 1536 bytes
-    other = make_config(n_chirps=12, n_samples=20)   # 1920-byte frames: 4608 % 1920 != 0
+    other = make_config(n_chirps=12, n_samples=20, adcbuf_interleaved=False)  # 4608 % 1920
     with pytest.raises(ValueError, match=r"12 chirps x 4 Rx x 20 samples x 2 bytes"):
         read_capture(path, other)
     assert capture_n_frames(path, small_cfg) == 3
@@ -124,6 +135,6 @@ def test_failed_write_leaves_target_untouched(tmp_path, small_cfg, frames, bad, 
 
 def test_frames_of_differing_shapes_are_rejected(tmp_path, frames):
     path = tmp_path / "c.bin"
-    with pytest.raises(ValueError, match=r"frame 1: shape \(12, 4, 8\) differs from the first"):
+    with pytest.raises(ValueError, match=r"frame 1: shape \(12, 4, 8\) differs from the expected"):
         write_capture(path, [frames[0], frames[1][:, :, :8]])
     assert not path.exists() and _tmp_files(tmp_path) == []

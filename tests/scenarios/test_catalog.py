@@ -137,3 +137,22 @@ def test_criterion_validation(kwargs, match):
     base = dict(metric="ghost_rate", op="<=", value=0.1)
     with pytest.raises(ValueError, match=match):
         Criterion(**{**base, **kwargs})
+
+
+@pytest.mark.parametrize("kwargs, match", [
+    ({"length_m": 0.0}, "length_m=0.0 must be a finite positive number"),
+    ({"max_speed_mps": float("nan")}, "max_speed_mps=nan"),
+    ({"random_traffic": 1}, "random_traffic=1 must be true or false"),
+    ({"cruise_speed_cap_mps": -1.0}, "cruise_speed_cap_mps=-1.0"),
+])
+def test_actor_class_validation(kwargs, match):
+    from scenarios.catalog import ActorClass
+    base = dict(name="x", length_m=1.0, width_m=1.0, height_m=1.0, max_speed_mps=1.0)
+    with pytest.raises(ValueError, match=match):
+        ActorClass(**{**base, **kwargs})
+
+
+def test_random_traffic_classes_are_data():
+    from scenarios.traffic import IDM_CLASSES, VEHICLE_CLASSES
+    assert set(IDM_CLASSES) == {n for n, c in ACTOR_CLASSES.items() if c.random_traffic}
+    assert VEHICLE_CLASSES["pedestrian"].DEFAULT_INITIAL_SPEEDS == [2.0, 2.8]  # 0.5, 0.7 x 4

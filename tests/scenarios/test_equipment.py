@@ -79,9 +79,12 @@ def _case(radars):
 
 
 @pytest.mark.parametrize("radars, match", [
-    ([{"family": "front_lrr"}], r"radars\[0\]: actor_id is required"),
+    ([{"family": "front_lrr"}], r"radars\[0\]\.actor_id: required key missing"),
     ([{"actor_id": 0, "family": "nope"}], "family='nope' unknown"),
-    ([{"actor_id": 0, "slope_mhz_per_us": 20.0}], "unknown RadarEquipment field"),
+    ([{"actor_id": 0, "slope_mhz_per_us": 20.0}],
+     r"radars\[0\]\.slope_mhz_per_us: unknown key; known: \["),
+    ([{"actor_id": 0, "ramp_time_ms": 0.03}], r"radars\[0\]\.ramp_time_ms: wrong unit; give "
+                                              r"radars\[0\]\.ramp_time_s"),
     ([{"actor_id": 0, "tx_power_dbm": 40.0}], "tx_power_dbm"),
     ([{"actor_id": 3}], "not a scripted actor"),
     ({"actor_id": 0}, "array of tables"),

@@ -1,0 +1,105 @@
+"""Registry of TI evaluation boards: element positions and element patterns.
+
+Positions are (y, z) in wavelengths in the radar frame (y to the left, z up, DESIGN 3), one per
+Tx and Rx channel of the chip in TI's channel order (Tx1 = TI's Tx0). The virtual array, its
+horizontal row and its raised rows follow from these positions for any Tx subset and order
+(`RadarConfig.virtual_positions_m`, `pipeline.kernels.array_layout`).
+
+Element patterns are cosine power patterns G0 cos(az)^n_az cos(el)^n_el (`radarsim.antenna`),
+with n chosen so the one-way half-power angle matches the field of view the board's user guide
+states: n = ln(0.5) / ln(cos(theta_3dB)).
+
+Sources
+-------
+- AWR2944EVM: DESIGN 4.2 / seed 000 figure 20, and the ``antGeometryCfg 1 0 1 1 1 2 1 3 0 2 0 3
+  0 4 0 5 1 4 1 5 1 6 1 7 1 8 1 9 1 10 1 11 0.5 0.8`` of TI's AWR294X profiles (mmWave MCU+ SDK
+  ``profile_LVDS.cfg``; R79 / DDM demo): Tx1, Tx3, Tx4 at 0, 2, 4 lambda, Tx2 at 1 lambda and
+  0.8 lambda up; Rx at lambda/2. Azimuth FOV +/-80 deg (seed 000 section 1).
+- AWR2944PEVM: the AWR2944P visualizer profiles carry the same ``antGeometryCfg`` (same EVM
+  antenna layout as the AWR2944EVM).
+- AWR2544LOPEVM: the AWR2544 DDM demo orders ``ddmPhaseShiftAntOrder 0 1 2 3`` (no elevation
+  Tx, which TI requires last); modelled as four azimuth Tx 2 lambda apart (a filled 16-element
+  lambda/2 virtual row). NOT checked against the EVM drawing: give ``antGeometryCfg`` in the
+  profile to override.
+- AWR1843BOOST, IWR6843ISK: mmWave SDK 3.x xwr18xx / xwr68xx demo documentation, "antenna
+  geometry": Tx1 and Tx3 2 lambda apart in azimuth, Tx2 between them (1 lambda) and lambda/2
+  above; Rx at lambda/2 (8 azimuth + 4 elevation virtual elements). Azimuth FOV +/-60 deg,
+  elevation +/-30 deg (BOOST / ISK user guides, approximate).
+- AWR1642BOOST: Tx1 and Tx2 2 lambda apart, Rx at lambda/2 (8 virtual elements in one row;
+  mmWave SDK xwr16xx demo documentation; seed 001). FOV as the AWR1843BOOST.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from types import MappingProxyType
+from typing import Mapping
+
+__all__ = ["Board", "BOARDS", "get_board", "cos_exponent_for_half_power"]
+
+
+def cos_exponent_for_half_power(theta_deg: float) -> float:
+    """n with cos(theta)^n = 1/2: the exponent of a cosine power pattern whose one-way gain is
+    -3 dB at theta."""
+    return math.log(0.5) / math.log(math.cos(math.radians(theta_deg)))
+
+
+@dataclass(frozen=True, slots=True)
+class Board:
+    """One board: chip, element positions and element pattern.
+
+    Attributes
+    ----------
+    tx_positions_wl, rx_positions_wl : tuple of (y, z)
+        Element positions in wavelengths, Tx1.. and Rx1.. (TI's Tx0.., Rx0..).
+    pattern_exponent_az, pattern_exponent_el : float
+        Cosine power-pattern exponents (one way).
+    fov_deg : float
+        Azimuth field of view the user guide states, +/- deg (the association's visibility
+        cone, `harness.runner.cell_association`).
+    """
+
+    name: str
+    chip: str
+    tx_positions_wl: tuple[tuple[float, float], ...]
+    rx_positions_wl: tuple[tuple[float, float], ...]
+    pattern_exponent_az: float
+    pattern_exponent_el: float
+    source: str
+    fov_deg: float = 80.0
+
+
+_RX_HALF_WAVE = ((0.0, 0.0), (0.5, 0.0), (1.0, 0.0), (1.5, 0.0))
+_AWR2944_TX = ((0.0, 0.0), (1.0, 0.8), (2.0, 0.0), (4.0, 0.0))
+_XWR18_TX = ((0.0, 0.0), (1.0, 0.5), (2.0, 0.0))
+# n_az = 1.2: -3 dB at +/-56 deg, -9 dB at +/-80 deg (usable +/-80 deg FOV); n_el = 4: -3 dB
+# at +/-33 deg (the values the harness has always used for the AWR2944 EVM).
+_EVM_AZ, _EVM_EL = 1.2, 4.0
+_BOOST_AZ, _BOOST_EL = cos_exponent_for_half_power(60.0), cos_exponent_for_half_power(30.0)
+
+#: Boards by name.
+BOARDS: Mapping[str, Board] = MappingProxyType({
+    "AWR2944EVM": Board("AWR2944EVM", "AWR2944", _AWR2944_TX, _RX_HALF_WAVE, _EVM_AZ, _EVM_EL,
+                        "DESIGN 4.2, seed 000 fig. 20, TI antGeometryCfg"),
+    "AWR2944PEVM": Board("AWR2944PEVM", "AWR2944P", _AWR2944_TX, _RX_HALF_WAVE, _EVM_AZ,
+                         _EVM_EL, "AWR2944P visualizer antGeometryCfg (as AWR2944EVM)"),
+    "AWR2544LOPEVM": Board("AWR2544LOPEVM", "AWR2544",
+                           ((0.0, 0.0), (2.0, 0.0), (4.0, 0.0), (6.0, 0.0)), _RX_HALF_WAVE,
+                           _EVM_AZ, _EVM_EL,
+                           "assumed filled azimuth row (DDM demo order 0 1 2 3); unverified"),
+    "AWR1843BOOST": Board("AWR1843BOOST", "AWR1843", _XWR18_TX, _RX_HALF_WAVE, _BOOST_AZ,
+                          _BOOST_EL, "mmWave SDK xwr18xx demo antenna geometry", 60.0),
+    "IWR6843ISK": Board("IWR6843ISK", "IWR6843", _XWR18_TX, _RX_HALF_WAVE, _BOOST_AZ, _BOOST_EL,
+                        "mmWave SDK xwr68xx demo antenna geometry (ISK as xWR18xx BOOST)",
+                        60.0),
+    "AWR1642BOOST": Board("AWR1642BOOST", "AWR1642", ((0.0, 0.0), (2.0, 0.0)), _RX_HALF_WAVE,
+                          _BOOST_AZ, _BOOST_EL, "mmWave SDK xwr16xx demo; seed 001", 60.0),
+})
+
+
+def get_board(name: str) -> Board:
+    """The board of that name; ValueError naming the known boards otherwise."""
+    try:
+        return BOARDS[name]
+    except (KeyError, TypeError):
+        raise ValueError(f"board={name!r} is not one of {sorted(BOARDS)}") from None

@@ -1,0 +1,192 @@
+"""Registry of TI mmWave radar chips: the limits a `RadarConfig` is validated against.
+
+Every value carries its source in a comment. Datasheets (ti.com document viewer):
+
+- AWR2944: SWRS273D, sec. 8 "Detailed Description", receive subsystem ("real-only receiver ...
+  bandwidths up to 15 MHz"), Features (76-81 GHz, 4 Tx, 4 Rx); ADC rate 37.5 Msps as DESIGN 4.4
+  (seed 000 section 1); 6-bit phase shifter: seed 000 section 3.3 / table 4.
+- AWR2944P: SWRS318A, same receive subsystem and RF front end as the AWR2944 (sec. 8).
+- AWR2544: SWRS314B, receive subsystem ("real-only receiver ... up to 15 MHz"), 4 Tx 4 Rx,
+  76-81 GHz; DDM demo (mmWave MCU+ SDK AWR2544 ``ddmPhaseShiftAntOrder``): 6-bit shifter.
+- AWR1843: SWRS222D, receive subsystem ("complex baseband architecture ... up to 10 MHz" as
+  the IWR1843AOP sheet), 3 Tx, 4 Rx, 76-81 GHz, "6-bit phase shifter" (Features).
+- AWR1642: SWRS203D, receive subsystem ("complex baseband ... up to 5 MHz"), 2 Tx, 4 Rx,
+  76-81 GHz; binary phase modulation only (Features), no phase shifter.
+- IWR6843: SWRS219F, receive subsystem ("complex baseband ... up to 10 MHz"), 3 Tx, 4 Rx,
+  60-64 GHz, 6-bit phase shifter (Features).
+
+ADC rates per output mode (``adcCfg <bits> <fmt>``: 0 real, 1 complex 1x, 2 complex 2x) for the
+complex-baseband xWR16/18/68 family follow mmWaveLink ``rlProfileCfg_t.digOutSampleRate`` and the
+mmWave SDK user guide (real and complex 2x up to 25 Msps, complex 1x up to 12.5 Msps). TI's own
+demo profiles sample complex 1x above the IF bandwidth (xWR16xx ``profile_2d.cfg``: 5209 ksps
+with a 5 MHz IF band), so for complex modes the ADC rate binds and echoes beyond the IF band are
+attenuated by the IF low-pass (`Chip.if_lowpass_hz`) rather than refused; for the real mode the
+Nyquist band must lie inside the IF band (DESIGN 4.4).
+
+ADC buffer and capture: ``adcbufCfg ... <ChanInterleave>``: the AWR2944 demo buffer is
+interleaved (seed 004 section 2; the R79 firmware's ``adcbufCfg -1 1 0 0 1``), the xWR16/18/68
+SDK demos support only the non-interleaved buffer (mmWave SDK 3.x user guide, ``adcbufCfg``:
+"only non-interleaved (1) supported"). LVDS lanes: 2 on xWR16/18/68 with the SDK (DCA1000 user
+guide SPRUIJ4, "lvdsMode 2"), 4 on the AWR294x (MCU+ SDK ``lvdsStreamCfg``, 4-lane HSI).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from types import MappingProxyType
+from typing import Mapping, NamedTuple
+
+__all__ = ["AdcMode", "ADC_MODES", "AdcLimits", "Chip", "CHIPS", "get_chip"]
+
+
+class AdcMode(NamedTuple):
+    """One ADC output format (``adcCfg <numADCBits> <adcOutputFmt>``)."""
+
+    name: str
+    ti_code: int          # adcCfg adcOutputFmt
+    is_complex: bool
+    #: beat-frequency span the samples represent, in units of the ADC rate: real fs/2 (the
+    #: upper half of the spectrum is the mirror image), complex fs (image band rejected).
+    span_per_rate: float
+    description: str
+
+
+#: ADC output formats by name; complex 2x has the complex 1x signal model (its image band is
+#: passed rather than filtered, which point targets with positive beat frequencies never use).
+ADC_MODES: Mapping[str, AdcMode] = MappingProxyType({
+    "real": AdcMode("real", 0, False, 0.5, "real samples: n_samples/2 range bins"),
+    "complex1x": AdcMode("complex1x", 1, True, 1.0,
+                         "I/Q, image band filtered: n_samples range bins"),
+    "complex2x": AdcMode("complex2x", 2, True, 1.0,
+                         "I/Q at the real-mode rate, image band kept: n_samples range bins"),
+})
+
+
+class AdcLimits(NamedTuple):
+    """ADC limits of one output mode."""
+
+    max_rate_sps: float
+
+
+@dataclass(frozen=True, slots=True)
+class Chip:
+    """Limits of one chip (see the module docstring for every source).
+
+    Attributes
+    ----------
+    band_min_hz, band_max_hz : float
+        RF band of the synthesizer.
+    n_tx, n_rx : int
+        Transmit / receive channels.
+    adc : mapping of ADC mode name to AdcLimits
+        Supported ADC output modes and their maximum rates.
+    if_bandwidth_hz : float
+        IF (beat) bandwidth of the receive chain.
+    if_lowpass_hz : float
+        -3 dB corner of the modelled IF anti-alias low-pass.
+    phase_shifter_bits : int or None
+        Per-Tx phase-shifter resolution; None: no shifter (no DDMA).
+    max_adc_samples : int
+        ``profileCfg numAdcSamples`` upper limit (ADC ping-pong buffer).
+    max_chirp_defs, max_loops, max_profiles : int
+        Chirp RAM entries, ``frameCfg numLoops`` and profile limits (rlChirpCfg_t,
+        rlFrameCfg_t, rlProfileCfg_t).
+    adcbuf_interleave : frozenset of bool
+        Interleaved ADC buffer settings the demo firmware accepts (True = ChanInterleave 0).
+    adcbuf_interleaved_default : bool
+        The demo's setting, used when a config does not say.
+    lvds_lanes : int
+        LVDS lanes streamed to a DCA1000.
+    """
+
+    name: str
+    band_min_hz: float
+    band_max_hz: float
+    n_tx: int
+    n_rx: int
+    adc: Mapping[str, AdcLimits]
+    if_bandwidth_hz: float
+    if_lowpass_hz: float
+    phase_shifter_bits: int | None
+    max_adc_samples: int
+    max_chirp_defs: int
+    max_loops: int
+    max_profiles: int
+    adcbuf_interleave: frozenset
+    adcbuf_interleaved_default: bool
+    lvds_lanes: int
+    default_board: str
+    datasheet: str
+
+    @property
+    def max_chirps(self) -> int:
+        """Chirps per frame the chirp RAM and loop counter allow: max_chirp_defs x max_loops."""
+        return self.max_chirp_defs * self.max_loops
+
+    def supports(self, adc_mode: str) -> bool:
+        return adc_mode in self.adc
+
+
+def _awr294x(name: str, board: str, datasheet: str, interleaved_default: bool = True) -> Chip:
+    return Chip(
+        name=name,
+        band_min_hz=76e9, band_max_hz=81e9,           # Features: 76- to 81-GHz
+        n_tx=4, n_rx=4,                                # Features: four Tx, four Rx
+        adc=MappingProxyType({"real": AdcLimits(37.5e6)}),  # real-only receiver; DESIGN 4.4
+        if_bandwidth_hz=15e6,                          # receive subsystem: up to 15 MHz
+        # Just above the usable IF band: < 0.2 dB loss to ~240 m at the R79 slope, echoes
+        # beyond the 253 m Nyquist range attenuated instead of aliasing at full strength.
+        if_lowpass_hz=16.5e6,
+        phase_shifter_bits=6,                          # seed 000 3.3, table 4: 5.625 deg LSB
+        max_adc_samples=1024,                          # rlProfileCfg_t numAdcSamples
+        max_chirp_defs=512,                            # rlChirpCfg_t: chirp RAM of 512
+        max_loops=255,                                 # rlFrameCfg_t.numLoops 1..255
+        max_profiles=4,                                # RL_MAX_PROFILES_CNT
+        adcbuf_interleave=frozenset({True, False}),    # MCU+ SDK adcbufCfg: both
+        # AWR2944: seed 004 sec. 2 and the R79 firmware's adcbufCfg -1 1 0 0 1; AWR2544: its
+        # DDM demo profile's adcbufCfg -1 1 0 1 1.
+        adcbuf_interleaved_default=interleaved_default,
+        lvds_lanes=4,                                  # MCU+ SDK lvdsStreamCfg: 4-lane HSI
+        default_board=board,
+        datasheet=datasheet,
+    )
+
+
+def _xwr1x6x(name: str, band: tuple[float, float], n_tx: int, if_bw: float,
+             shifter: int | None, board: str, datasheet: str) -> Chip:
+    return Chip(
+        name=name, band_min_hz=band[0], band_max_hz=band[1], n_tx=n_tx, n_rx=4,
+        adc=MappingProxyType({
+            "real": AdcLimits(25e6),        # mmWave SDK / rlProfileCfg_t: real up to 25 Msps
+            "complex1x": AdcLimits(12.5e6),  # complex 1x up to 12.5 Msps
+            "complex2x": AdcLimits(25e6),    # complex 2x up to 25 Msps
+        }),
+        if_bandwidth_hz=if_bw,
+        if_lowpass_hz=1.1 * if_bw,
+        phase_shifter_bits=shifter,
+        max_adc_samples=1024,               # 32 KB ping-pong ADC buffer: 4 Rx x 1024 x 4 B
+        max_chirp_defs=512, max_loops=255, max_profiles=4,
+        adcbuf_interleave=frozenset({False}),  # SDK 3.x: only non-interleaved supported
+        adcbuf_interleaved_default=False,
+        lvds_lanes=2,                       # SDK LVDS streaming, DCA1000 lvdsMode 2
+        default_board=board, datasheet=datasheet,
+    )
+
+
+#: Chips by the name users type (TI part number).
+CHIPS: Mapping[str, Chip] = MappingProxyType({
+    "AWR2944": _awr294x("AWR2944", "AWR2944EVM", "SWRS273D"),
+    "AWR2944P": _awr294x("AWR2944P", "AWR2944PEVM", "SWRS318A"),
+    "AWR2544": _awr294x("AWR2544", "AWR2544LOPEVM", "SWRS314B", interleaved_default=False),
+    # Complex-baseband family: IF bandwidths from each receive-subsystem section.
+    "AWR1843": _xwr1x6x("AWR1843", (76e9, 81e9), 3, 10e6, 6, "AWR1843BOOST", "SWRS222D"),
+    "AWR1642": _xwr1x6x("AWR1642", (76e9, 81e9), 2, 5e6, None, "AWR1642BOOST", "SWRS203D"),
+    "IWR6843": _xwr1x6x("IWR6843", (60e9, 64e9), 3, 10e6, 6, "IWR6843ISK", "SWRS219F"),
+})
+
+
+def get_chip(name: str) -> Chip:
+    """The chip of that name; ValueError naming the known chips otherwise."""
+    try:
+        return CHIPS[name]
+    except (KeyError, TypeError):
+        raise ValueError(f"chip={name!r} is not one of {sorted(CHIPS)}") from None

@@ -1,0 +1,145 @@
+"""Sweeps with TI profiles per variant and association settings from each cell's config."""
+from __future__ import annotations
+
+import textwrap
+
+import pandas as pd
+import pytest
+
+import radarsim
+from harness.runner import CellSpec, build_configs, cell_association, radar_config, run_cell
+from harness.sweep import load_sweep, run_sweep
+from radarsim.ti_cfg import to_ti_cfg
+from tests.harness.fakes import FAKE
+
+
+@pytest.fixture
+def x18_profile(tmp_path):
+    """An xWR18xx TDMA complex profile (3 Tx, 384 chirps: 128 Doppler bins as TDMA, 96 as
+    DDMA, room for the default CFAR window), written next to the sweep file."""
+    cfg = radarsim.RadarConfig(chip="AWR1843", adc_mode="complex1x", mimo="tdma", n_tx=3,
+                               n_chirps=384, n_samples=64, adc_rate_sps=10e6)
+    (tmp_path / "profiles").mkdir()
+    path = tmp_path / "profiles" / "x18.cfg"
+    path.write_text(to_ti_cfg(cfg, frame_period_s=0.1))
+    return path, cfg
+
+
+def _sweep_file(tmp_path, body: str):
+    f = tmp_path / "s.toml"
+    f.write_text(textwrap.dedent(body))
+    return f
+
+
+def test_radar_profile_key_resolves_relative_to_the_sweep_file(tmp_path, x18_profile):
+    path, cfg = x18_profile
+    f = _sweep_file(tmp_path, """
+        name = "p"
+        scenarios = ["fast"]
+        [vary]
+        "radar.profile" = ["profiles/x18.cfg"]
+    """)
+    spec = load_sweep(f, check_scenarios=False)
+    (v,) = spec.variants
+    assert v.radar["profile"] == str(path.resolve())
+    cell = spec.cells()[0]
+    radar, _ = build_configs(cell, FAKE)
+    assert radar["tdma"] == cfg
+    # The DDMA scheme runs the profile's waveform with DDMA (3 Tx: 4 sub-bands).
+    assert radar["ddma"] == cfg.replace(mimo="ddma")
+
+
+def test_profile_compared_with_the_r79_preset_in_one_sweep(tmp_path, x18_profile):
+    f = _sweep_file(tmp_path, """
+        name = "cmp"
+        scenarios = ["fast"]
+        duration_s = 0.3
+        schemes = ["tdma"]
+        baseline_scheme = "tdma"
+        [[variants]]
+        name = "r79"
+        [[variants]]
+        name = "mine"
+        radar = {profile = "profiles/x18.cfg"}
+    """)
+    spec = load_sweep(f, check_scenarios=False)
+    out = run_sweep(spec, tmp_path / "out", components=FAKE, progress=False)
+    assert out.n_error == 0, out.errors
+    summary = pd.read_parquet(out.out_dir / "summary.parquet")
+    assert set(summary["variant"]) == {"r79", "mine"}
+
+
+def test_bad_profile_in_a_sweep_is_named(tmp_path):
+    (tmp_path / "bad.cfg").write_text("sensorStop\nprofileCfg 0 77\n")
+    f = _sweep_file(tmp_path, """
+        name = "p"
+        scenarios = ["fast"]
+        [vary]
+        "radar.profile" = ["bad.cfg", "missing.cfg"]
+    """)
+    with pytest.raises(ValueError, match=r"radar.profile='.*bad.cfg': line 2"):
+        load_sweep(f, check_scenarios=False)
+
+
+def test_profile_that_cannot_run_a_scheme_names_it(tmp_path):
+    cfg = radarsim.RadarConfig(chip="AWR1642", adc_mode="complex1x", mimo="tdma", n_tx=2,
+                               n_chirps=32, n_samples=64, adc_rate_sps=5e6)
+    path = tmp_path / "x16.cfg"
+    path.write_text(to_ti_cfg(cfg))
+    assert radar_config({"profile": str(path)}, "tdma") == cfg
+    with pytest.raises(ValueError, match=r"radar.profile=.*x16.cfg' \(AWR1642, tdma\) as scheme "
+                                         r"'ddma': .*no"):
+        radar_config({"profile": str(path)}, "ddma")
+
+
+def test_association_follows_each_cells_config(x18_profile):
+    """Window = widest unambiguous velocity of the cell's schemes, FOV = the board's, max
+    range = the config's; never the R79 numbers unless the cell is the R79 preset."""
+    _, cfg = x18_profile
+    radar = {"ddma": cfg.replace(mimo="ddma"), "tdma": cfg}
+    a = cell_association(radar)
+    assert a.unambiguity_window_mps == pytest.approx(cfg.wavelength_m / (4 * cfg.chirp_period_s))
+    assert a.fov_deg == 60.0                      # AWR1843BOOST
+    assert a.max_range_m == pytest.approx(cfg.max_range_m)
+    r79 = {m: radarsim.presets.r79(m) for m in ("ddma", "tdma")}
+    b = cell_association(r79)
+    assert b.fov_deg == 80.0 and b.max_range_m == pytest.approx(253.12, abs=0.01)
+    assert b.unambiguity_window_mps == pytest.approx(40.88, abs=0.01)
+    # An explicit [association] wins.
+    assert cell_association(r79, {"fov_deg": 45.0}).fov_deg == 45.0
+
+
+def test_association_section_reaches_the_cells(tmp_path):
+    f = _sweep_file(tmp_path, """
+        name = "a"
+        scenarios = ["fast"]
+        [association]
+        fov_deg = 30.0
+    """)
+    spec = load_sweep(f, check_scenarios=False)
+    assert spec.cells()[0].association == {"fov_deg": 30.0}
+    bad = _sweep_file(tmp_path, """
+        name = "a"
+        scenarios = ["fast"]
+        [association]
+        fov = 30.0
+    """)
+    with pytest.raises(ValueError, match=r"\[association\]: .*fov"):
+        load_sweep(bad, check_scenarios=False)
+    # Cells without overrides keep their ids (and so resume old results).
+    assert "association" not in CellSpec(scenario="x").cell_id
+
+
+def test_run_cell_uses_the_cell_association(monkeypatch):
+    import harness.runner as runner
+
+    seen = {}
+    real = runner.mdet.summarize_scheme
+
+    def spy(lab, af, n, assoc, **kw):
+        seen["assoc"] = assoc
+        return real(lab, af, n, assoc, **kw)
+
+    monkeypatch.setattr(runner.mdet, "summarize_scheme", spy)
+    run_cell(CellSpec(scenario="fast", duration_s=0.2, association={"max_range_m": 99.0}), FAKE)
+    assert seen["assoc"].max_range_m == 99.0 and seen["assoc"].fov_deg == 80.0
