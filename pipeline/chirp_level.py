@@ -100,11 +100,11 @@ def remove_dc(adc: np.ndarray) -> np.ndarray:
 
     Parameters
     ----------
-    adc : (n_chirps, n_rx, n_samples) int16 or float
+    adc : (n_chirps, n_rx, n_samples) int16, float or complex (I/Q)
 
     Returns
     -------
-    (n_chirps, n_rx, 1) float32
+    (n_chirps, n_rx, 1) float32 (complex64 for I/Q)
         The DC estimate to subtract.
     """
     n = adc.shape[-1]
@@ -457,7 +457,8 @@ def noise_floor_rise(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig |
         rf = range_stage(cfg, adc, proc)
     wr = window(WINDOWS[proc.range_window], cfg.n_samples).astype(np.float64)
     wd = window(WINDOWS[proc.doppler_window], cfg.n_chirps).astype(np.float64)
-    sigma2 = cfg.noise_rms_lsb ** 2
+    # Thermal noise variance per sample: sigma^2 (real), 2 sigma^2 (I and Q each sigma^2).
+    sigma2 = cfg.noise_rms_lsb ** 2 * (2 if np.iscomplexobj(rf) else 1)
     ref_r = sigma2 * np.sum(wr ** 2)
     sub = rf[:, :, proc.min_range_bin::range_stride]
     p = sub.real ** 2 + sub.imag ** 2
