@@ -458,7 +458,7 @@ def noise_floor_rise(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig |
     wr = window(WINDOWS[proc.range_window], cfg.n_samples).astype(np.float64)
     wd = window(WINDOWS[proc.doppler_window], cfg.n_chirps).astype(np.float64)
     # Thermal noise variance per sample: sigma^2 (real), 2 sigma^2 (I and Q each sigma^2).
-    sigma2 = cfg.noise_rms_lsb ** 2 * (2 if np.iscomplexobj(rf) else 1)
+    sigma2 = cfg.noise_rms_lsb ** 2 * (2 if cfg.is_complex else 1)
     ref_r = sigma2 * np.sum(wr ** 2)
     sub = rf[:, :, proc.min_range_bin::range_stride]
     p = sub.real ** 2 + sub.imag ** 2
