@@ -13,14 +13,16 @@ References
 from __future__ import annotations
 
 from functools import lru_cache
+from typing import NamedTuple
 
 import numpy as np
 import pandas as pd
 
 from radarsim.config import C_MPS, RadarConfig
 
+from .cfar import noise_mean_factor
 from .config import ProcessingConfig
-from .kernels import array_layout, parabolic_offset
+from .kernels import array_layout, candidate_cfar, local_max_mask, parabolic_offset
 
 __all__ = ["POINT_CLOUD_COLUMNS", "check_frame", "power_of", "log_power", "point_cloud",
            "empty_cloud", "interp_azimuth", "interp_range", "array_dft", "row_offsets",
@@ -161,3 +163,77 @@ def array_likelihood(cfg: RadarConfig, virt: np.ndarray, az_pow: np.ndarray,
     n_az = az_pow.shape[-1]
     a_v = np.abs(virt @ array_dft(cfg, n_az, "raised"))  # (n, H, A)
     return ((np.sqrt(az_pow) + a_v) ** 2).max(axis=-1)
+
+
+class RangeDopplerHits(NamedTuple):
+    """CFAR hits of a non-coherent range-Doppler map (`noncoherent_hits`).
+
+    Attributes
+    ----------
+    range_bin, doppler_bin : (n,) int
+        Cells that passed the local-maximum test and the CFAR threshold.
+    noise : (n,) float
+        The CFAR's noise statistic of each cell (an L-look power, L = `looks`).
+    range_pos : (n,) float
+        Interpolated range position, bins.
+    doppler_offset : (n,) float
+        Parabolic Doppler offset from `doppler_bin` on the log power, bins (-0.5..0.5).
+    looks : int
+        Non-coherent looks summed into the map.
+    """
+
+    range_bin: np.ndarray
+    doppler_bin: np.ndarray
+    noise: np.ndarray
+    range_pos: np.ndarray
+    doppler_offset: np.ndarray
+    looks: int
+
+
+def noncoherent_hits(rd: np.ndarray, looks: int, proc: ProcessingConfig) -> RangeDopplerHits:
+    """Detect on a non-coherent range-Doppler map: local maximum along Doppler (and range when
+    `proc.range_peak_check`), cyclic CFAR along Doppler designed for `looks`-look cells, then
+    range and Doppler interpolation. Shared by the chains that detect before they separate the
+    transmitters (TDMA and its slot family, classic DDMA).
+
+    Parameters
+    ----------
+    rd : (n_range, n_dop) float
+        Power summed over `looks` virtual channels.
+    looks : int
+        Number of channels summed (the CFAR threshold's degrees of freedom / 2).
+    proc : ProcessingConfig
+
+    Returns
+    -------
+    RangeDopplerHits
+        Empty arrays when nothing passes.
+    """
+    n_range, n_dop = rd.shape
+    cf = proc.cfar
+    cand_mask = local_max_mask(rd, {0: False, 1: True} if proc.range_peak_check else {1: True})
+    cand_mask[: proc.min_range_bin] = False
+    cand = np.nonzero(cand_mask)
+    noise = candidate_cfar(rd, cand, 1, cf.guard_cells, cf.window_cells, cf.mode, cf.os_rank,
+                           cf.training_stride)
+    hit = rd[cand] > cf.scale(looks=looks) * noise
+    r, d = (c[hit] for c in cand)
+    noise = noise[hit]
+    range_pos = interp_range(rd[np.clip(r[:, None] + np.arange(-1, 2), 0, n_range - 1),
+                                d[:, None]], r, n_range)
+    y = log_power(rd[r[:, None], (d[:, None] + np.arange(-1, 2)) % n_dop])
+    return RangeDopplerHits(r, d, noise, range_pos, parabolic_offset(y[:, 0], y[:, 1], y[:, 2]),
+                            looks)
+
+
+def hits_snr_db(hits: RangeDopplerHits, peak: np.ndarray, proc: ProcessingConfig,
+                n_channels: int, noise_gain: float = 1.0) -> np.ndarray:
+    """Detection SNR (dB) of a coherent azimuth peak over `n_channels` unit-weight channels,
+    with the noise per channel taken from the hits' L-look CFAR statistic (converted from the
+    order statistic to a mean) times `noise_gain` (the channel separation's noise gain)."""
+    cf = proc.cfar
+    sigma2 = hits.noise / (noise_mean_factor(cf.mode, cf.n_training, cf.os_rank, hits.looks)
+                           * hits.looks)
+    if noise_gain != 1.0:
+        sigma2 = sigma2 * noise_gain
+    return 10 * np.log10(peak / (n_channels * sigma2))

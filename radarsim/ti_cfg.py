@@ -448,12 +448,6 @@ def _bits(mask: int) -> tuple[int, ...]:
     return tuple(i + 1 for i in range(mask.bit_length()) if mask >> i & 1)
 
 
-def _require_frame_mode(st: _State, ln: _Line) -> None:
-    # TI's CLI rejects profile/chirp/frame commands unless the DFE output mode is set first.
-    if "dfeDataOutputMode" not in st.seen:
-        raise ln.fail("needs 'dfeDataOutputMode 1' on an earlier line")
-
-
 # ---------------------------------------------------------------------------- handlers
 def _dfe_output_mode(st: _State, ln: _Line) -> None:
     mode = ln.int(0, "modeType", 1, 5)
@@ -511,7 +505,6 @@ def _adcbuf_cfg(st: _State, ln: _Line) -> None:
 
 
 def _profile_cfg(st: _State, ln: _Line) -> None:
-    _require_frame_mode(st, ln)
     chip = st.chip
     pid = ln.int(0, "profileId", 0, chip.max_profiles - 1, chip.name)
     if pid in st.profiles:
@@ -542,7 +535,6 @@ def _profile_cfg(st: _State, ln: _Line) -> None:
 
 
 def _chirp_cfg(st: _State, ln: _Line) -> None:
-    _require_frame_mode(st, ln)
     chip = st.chip
     start = ln.int(0, "startIdx", 0, chip.max_chirp_defs - 1, chip.name)
     end = ln.int(1, "endIdx", start, chip.max_chirp_defs - 1, chip.name)
@@ -559,7 +551,6 @@ def _chirp_cfg(st: _State, ln: _Line) -> None:
 
 
 def _frame_cfg(st: _State, ln: _Line) -> None:
-    _require_frame_mode(st, ln)
     chip = st.chip
     start = ln.int(0, "chirpStartIdx", 0, chip.max_chirp_defs - 1, chip.name)
     end = ln.int(1, "chirpEndIdx", start, chip.max_chirp_defs - 1, chip.name)
@@ -1049,8 +1040,7 @@ def _to_channel_bits(line: str, radar: RadarConfig) -> str:
 
 def _finish(st: _State, n_lines: int) -> TiProfile:
     end = f"line {n_lines} (end of input)"
-    for cmd in ("dfeDataOutputMode", "channelCfg", "adcCfg", "profileCfg", "chirpCfg",
-                "frameCfg"):
+    for cmd in ("channelCfg", "adcCfg", "profileCfg", "chirpCfg", "frameCfg"):
         if cmd not in st.seen:
             raise _LineError(f"{end}: missing required command {cmd!r}")
     fr = st.frame

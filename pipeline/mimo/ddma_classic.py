@@ -23,12 +23,20 @@ import pandas as pd
 
 from radarsim.config import RadarConfig
 
-from ..cfar import noise_mean_factor
 from ..config import ProcessingConfig
-from ..kernels import (array_layout, candidate_cfar, estimate_angles, local_max_mask,
-                       parabolic_offset)
-from ..stages import (array_dft, array_likelihood, empty_cloud, interp_azimuth, interp_range,
-                      log_power, point_cloud)
+from ..kernels import (
+    array_layout,
+    estimate_angles,
+)
+from ..stages import (
+    array_dft,
+    array_likelihood,
+    empty_cloud,
+    hits_snr_db,
+    interp_azimuth,
+    noncoherent_hits,
+    point_cloud,
+)
 from .base import DetectionMap, DopplerAzimuth, MimoChain, register_chain
 from .ddma import doppler_velocity_mps, full_doppler_spectrum
 
@@ -110,25 +118,12 @@ class ClassicDdmaChain(MimoChain):
     def process(self, cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) -> pd.DataFrame:
         maps = classic_ddma_maps(cfg, adc, proc)
         rd = maps.power
-        n_range, n_dop = rd.shape
-        cf = proc.cfar
-        looks = cfg.n_virtual
-        alpha = cf.scale(looks=looks)
-        cand_mask = local_max_mask(rd, {0: False, 1: True} if proc.range_peak_check
-                                   else {1: True})
-        cand_mask[: proc.min_range_bin] = False
-        cand = np.nonzero(cand_mask)
-        noise = candidate_cfar(rd, cand, 1, cf.guard_cells, cf.window_cells, cf.mode,
-                               cf.os_rank, cf.training_stride)
-        hit = rd[cand] > alpha * noise
-        r, d = (c[hit] for c in cand)
-        noise = noise[hit]
-        if r.size == 0:
+        n_dop = rd.shape[1]
+        hits = noncoherent_hits(rd, cfg.n_virtual, proc)
+        if hits.range_bin.size == 0:
             return empty_cloud()
-        range_pos = interp_range(rd[np.clip(r[:, None] + np.arange(-1, 2), 0, n_range - 1),
-                                    d[:, None]], r, n_range)
-        y = log_power(rd[r[:, None], (d[:, None] + np.arange(-1, 2)) % n_dop])
-        d_off = parabolic_offset(y[:, 0], y[:, 1], y[:, 2])
+        r, d, range_pos, d_off = hits.range_bin, hits.doppler_bin, hits.range_pos, \
+            hits.doppler_offset
 
         bands = _band_samples(cfg, maps.spec, r, d)
         _, _, score = assignment_scores(cfg, bands, self.score_bins)
@@ -144,8 +139,7 @@ class ClassicDdmaChain(MimoChain):
                                                        cfg.wavelength_m)
         sin_term = interp_azimuth(power_az, a)
         az, el = estimate_angles(virt[rows, best], sin_term, h_idx, h_pos, v_idx, v_pos, v_h)
-        sigma2 = noise / (noise_mean_factor(cf.mode, cf.n_training, cf.os_rank, looks) * looks)
-        snr_db = 10 * np.log10(peak / (h_idx.size * sigma2))
+        snr_db = hits_snr_db(hits, peak, proc, h_idx.size)
         return point_cloud(cfg, proc, range_pos, velocity, az, el, snr_db,
                            {"range_bin": r, "doppler_bin": k_true % cfg.n_chirps,
                             "azimuth_bin": a})

@@ -20,13 +20,23 @@ import pandas as pd
 
 from radarsim.config import RadarConfig
 
-from ..cfar import noise_mean_factor
 from ..chirp_level import range_stage
 from ..config import WINDOWS, ProcessingConfig
-from ..kernels import (array_layout, candidate_cfar, doppler_fft, estimate_angles,
-                       local_max_mask, parabolic_offset, window)
-from ..stages import (array_dft, array_likelihood, empty_cloud, interp_azimuth, interp_range,
-                      log_power, point_cloud)
+from ..kernels import (
+    array_layout,
+    doppler_fft,
+    estimate_angles,
+    window,
+)
+from ..stages import (
+    array_dft,
+    array_likelihood,
+    empty_cloud,
+    hits_snr_db,
+    interp_azimuth,
+    noncoherent_hits,
+    point_cloud,
+)
 from .base import DetectionMap, DopplerAzimuth, MimoChain, register_chain
 
 __all__ = ["SlotMaps", "SlotChain", "TdmaChain", "slot_maps"]
@@ -85,27 +95,12 @@ class SlotChain(MimoChain):
         n_az = proc.n_azimuth_bins
         maps = slot_maps(cfg, adc, proc)
         rd, virt_all = maps.power, maps.virt
-        n_range = rd.shape[0]
 
-        cf = proc.cfar
-        looks = cfg.n_virtual
-        alpha = cf.scale(looks=looks)
-        cand_mask = local_max_mask(rd, {0: False, 1: True} if proc.range_peak_check
-                                   else {1: True})
-        cand_mask[: proc.min_range_bin] = False
-        cand = np.nonzero(cand_mask)
-        noise = candidate_cfar(rd, cand, 1, cf.guard_cells, cf.window_cells, cf.mode,
-                               cf.os_rank, cf.training_stride)
-        hit = rd[cand] > alpha * noise
-        r, d = (c[hit] for c in cand)
-        noise = noise[hit]
-        if r.size == 0:
+        hits = noncoherent_hits(rd, cfg.n_virtual, proc)
+        if hits.range_bin.size == 0:
             return empty_cloud()
-
-        range_pos = interp_range(rd[np.clip(r[:, None] + np.arange(-1, 2), 0, n_range - 1),
-                                    d[:, None]], r, n_range)
-        y = log_power(rd[r[:, None], (d[:, None] + np.arange(-1, 2)) % n_dop])
-        d_frac = d + parabolic_offset(y[:, 0], y[:, 1], y[:, 2])
+        r, d, range_pos = hits.range_bin, hits.doppler_bin, hits.range_pos
+        d_frac = d + hits.doppler_offset
         d_signed = (d_frac + n_dop / 2) % n_dop - n_dop / 2
         t_slot = n_tx * cfg.chirp_period_s
         v_est = -d_signed / (n_dop * t_slot) * cfg.wavelength_m / 2
@@ -140,11 +135,7 @@ class SlotChain(MimoChain):
         az, el = estimate_angles(virt_h[rows, best], sin_term, h_idx, h_pos, v_idx, v_pos, v_h)
         # Noise per virtual channel from the L-look CFAR estimate; the coherent azimuth
         # spectrum of n_h unit-weight channels has n_h times that noise power.
-        sigma2 = noise / (noise_mean_factor(cf.mode, cf.n_training, cf.os_rank, looks) * looks)
-        noise_gain = self.noise_gain_of(cfg)
-        if noise_gain != 1.0:
-            sigma2 = sigma2 * noise_gain
-        snr_db = 10 * np.log10(peak / (h_idx.size * sigma2))
+        snr_db = hits_snr_db(hits, peak, proc, h_idx.size, self.noise_gain_of(cfg))
         d_true = np.rint(-2 * velocity / cfg.wavelength_m * n_dop * t_slot).astype(int)
         return point_cloud(cfg, proc, range_pos, velocity, az, el, snr_db,
                            {"range_bin": r, "doppler_bin": d_true % (n_tx * n_dop),
