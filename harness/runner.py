@@ -175,9 +175,17 @@ class Components:
     noise_floor: Callable | None = None
 
 
+#: highway-env integration rate of the catalogue's traffic, Hz (the sweep's 20 Hz frames).
+TRAFFIC_SIM_RATE_HZ = 20.0
+
+
 def _real_run_scenario(name, seed, duration_s, frame_rate_hz=20.0):
     import scenarios
-    return scenarios.run_scenario(name, seed, duration_s=duration_s, frame_rate_hz=frame_rate_hz)
+    # A TI profile's frames can be slower than the traffic's integration (R79: 250 ms): integrate
+    # in substeps so highway-env still steps at >= 20 Hz and the drivers decide at their 10 Hz.
+    substeps = max(1, int(np.ceil(TRAFFIC_SIM_RATE_HZ / frame_rate_hz - 1e-9)))
+    return scenarios.run_scenario(name, seed, duration_s=duration_s, frame_rate_hz=frame_rate_hz,
+                                  substeps=substeps)
 
 
 def _real_scene_scatterers(truth_rows, rng, radar_velocity_mps=None, mount_height_m=None):

@@ -96,11 +96,13 @@ def test_run_gives_the_same_bits_as_the_sweep(tmp, pool):
 
 
 def _pool_frames(case: str, seed: int, duration_s: float, n: int) -> np.ndarray:
-    """ADC frames of the R79 profile simulated inside a sweep pool worker."""
+    """ADC frames of the R79 profile simulated inside a sweep pool worker, the scene sampled at
+    the profile's frame period as `simulate` does."""
     from harness.cmd_ti import simulate_frames
     comps = runner.default_components()
-    cfg = parse_ti_cfg(r79_cfg_path()).radar
-    run = comps.run_scenario(case, seed, duration_s)
+    profile = parse_ti_cfg(r79_cfg_path())
+    cfg = profile.radar
+    run = comps.run_scenario(case, seed, duration_s, frame_rate_hz=1.0 / profile.frame_period_s)
     frames = np.unique(run.ego["frame"].to_numpy())[:n]
     return np.stack(list(simulate_frames(cfg, run, seed, frames, comps)))
 
@@ -108,10 +110,11 @@ def _pool_frames(case: str, seed: int, duration_s: float, n: int) -> np.ndarray:
 @pytest.mark.slow
 def test_simulate_writes_the_bits_a_pool_worker_simulates(tmp_path):
     out = tmp_path / "sim.bin"
+    duration_s = "0.5"  # two frames of the R79 profile's 250 ms period
     _cli("simulate", CASE, "--cfg", str(r79_cfg_path()), "--out", str(out), "--seed", "1",
-         "--frames", "2", "--duration-s", DURATION_S)
+         "--frames", "2", "--duration-s", duration_s)
     with cf.ProcessPoolExecutor(1, initializer=sw._init_worker) as ex:
-        ref = ex.submit(_pool_frames, CASE, 1, float(DURATION_S), 2).result(timeout=300)
+        ref = ex.submit(_pool_frames, CASE, 1, float(duration_s), 2).result(timeout=300)
     got = read_capture(out, parse_ti_cfg(r79_cfg_path()).radar,
                        interleaved=parse_ti_cfg(r79_cfg_path()).adc_channel_interleaved)
     np.testing.assert_array_equal(got, ref)

@@ -123,3 +123,11 @@ def test_cell_id_depends_on_overrides():
     assert a.cell_id == CellSpec(scenario="x", radar={"phase_noise_deg_rms": 2.0}).cell_id
     assert a.cell_id != CellSpec(scenario="x", radar={"phase_noise_deg_rms": 2.0},
                                  schemes=("ddma", "tdma")).cell_id
+
+
+def test_random_traffic_runs_at_a_slow_profile_frame_rate():
+    # The R79 profile's 250 ms frames (4 Hz) are below the drivers' 10 Hz decisions: the
+    # traffic is integrated in substeps instead of being refused.
+    from harness import runner
+    run = runner.default_components().run_scenario("dense_highway", 0, 0.5, frame_rate_hz=4.0)
+    assert run.ego["frame"].nunique() == 2
