@@ -22,11 +22,17 @@ from radarsim.config import C_MPS, RadarConfig
 
 from .cfar import noise_mean_factor
 from .config import ProcessingConfig
-from .kernels import array_layout, candidate_cfar, local_max_mask, parabolic_offset
+from .kernels import (
+    array_layout,
+    candidate_cfar,
+    estimate_angles,
+    local_max_mask,
+    parabolic_offset,
+)
 
 __all__ = ["POINT_CLOUD_COLUMNS", "check_frame", "power_of", "log_power", "point_cloud",
            "empty_cloud", "interp_azimuth", "interp_range", "array_dft", "row_offsets",
-           "array_likelihood"]
+           "array_likelihood", "hypothesis_cloud"]
 
 #: Columns of every point cloud, in order.
 POINT_CLOUD_COLUMNS = ["range_m", "azimuth_deg", "elevation_deg", "radial_velocity_mps",
@@ -237,3 +243,30 @@ def hits_snr_db(hits: RangeDopplerHits, peak: np.ndarray, proc: ProcessingConfig
     if noise_gain != 1.0:
         sigma2 = sigma2 * noise_gain
     return 10 * np.log10(peak / (n_channels * sigma2))
+
+
+def hypothesis_cloud(cfg: RadarConfig, proc: ProcessingConfig, hits: RangeDopplerHits,
+                     virt: np.ndarray, az_pow: np.ndarray, best: np.ndarray,
+                     velocity: np.ndarray, doppler_bin: np.ndarray,
+                     noise_gain: float = 1.0) -> pd.DataFrame:
+    """Point cloud of the winning hypothesis of each hit: azimuth peak and interpolation,
+    angle estimation, SNR and assembly. Shared by the chains that score hypotheses with
+    `array_likelihood` (TDMA/BPM velocity, classic-DDMA assignment).
+
+    virt : (n, H, n_virtual) samples and az_pow : (n, H, n_az) horizontal-row power of each
+    hypothesis; best : (n,) winning hypothesis; velocity, doppler_bin : (n,) reported values;
+    noise_gain : noise gain of the channel separation (`hits_snr_db`).
+    """
+    rows = np.arange(best.size)
+    power_az = az_pow[rows, best]  # (n, A)
+    a = np.argmax(power_az, axis=1)
+    peak = power_az[rows, a]
+    h_idx, h_pos, v_idx, v_pos, v_h = array_layout(cfg.virtual_positions_m, cfg.wavelength_m)
+    sin_term = interp_azimuth(power_az, a)
+    az, el = estimate_angles(virt[rows, best], sin_term, h_idx, h_pos, v_idx, v_pos, v_h)
+    # Noise per virtual channel from the L-look CFAR estimate; the coherent azimuth spectrum
+    # of n_h unit-weight channels has n_h times that noise power.
+    snr_db = hits_snr_db(hits, peak, proc, h_idx.size, noise_gain)
+    return point_cloud(cfg, proc, hits.range_pos, velocity, az, el, snr_db,
+                       {"range_bin": hits.range_bin, "doppler_bin": doppler_bin,
+                        "azimuth_bin": a})

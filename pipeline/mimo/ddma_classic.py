@@ -24,18 +24,13 @@ import pandas as pd
 from radarsim.config import RadarConfig
 
 from ..config import ProcessingConfig
-from ..kernels import (
-    array_layout,
-    estimate_angles,
-)
+from ..kernels import array_layout
 from ..stages import (
     array_dft,
     array_likelihood,
     empty_cloud,
-    hits_snr_db,
-    interp_azimuth,
+    hypothesis_cloud,
     noncoherent_hits,
-    point_cloud,
 )
 from .base import DetectionMap, DopplerAzimuth, MimoChain, register_chain
 from .ddma import doppler_velocity_mps, full_doppler_spectrum
@@ -95,12 +90,18 @@ def assignment_scores(cfg: RadarConfig, bands: np.ndarray, n_az: int):
     score : (n, N) float
         Whole-array likelihood (`stages.array_likelihood`).
     """
+    virt, az_pow = _assignment_arrays(cfg, bands, n_az)
+    _, _, v_idx, _, _ = array_layout(cfg.virtual_positions_m, cfg.wavelength_m)
+    return virt, az_pow, array_likelihood(cfg, virt, az_pow, v_idx)
+
+
+def _assignment_arrays(cfg: RadarConfig, bands: np.ndarray,
+                       n_az: int) -> tuple[np.ndarray, np.ndarray]:
+    """`assignment_scores` without the likelihood: (virt, az_pow)."""
     n_sb = cfg.n_subbands
     idx = (np.arange(n_sb)[:, None] + np.arange(cfg.n_tx)[None, :]) % n_sb  # (H, P)
     virt = bands[:, idx].reshape(bands.shape[0], n_sb, -1)  # (n, H, P*R)
-    az_pow = np.abs(virt @ array_dft(cfg, n_az, "horizontal")) ** 2
-    _, _, v_idx, _, _ = array_layout(cfg.virtual_positions_m, cfg.wavelength_m)
-    return virt, az_pow, array_likelihood(cfg, virt, az_pow, v_idx)
+    return virt, np.abs(virt @ array_dft(cfg, n_az, "horizontal")) ** 2
 
 
 class ClassicDdmaChain(MimoChain):
@@ -122,27 +123,16 @@ class ClassicDdmaChain(MimoChain):
         hits = noncoherent_hits(rd, cfg.n_virtual, proc)
         if hits.range_bin.size == 0:
             return empty_cloud()
-        r, d, range_pos, d_off = hits.range_bin, hits.doppler_bin, hits.range_pos, \
-            hits.doppler_offset
+        r, d = hits.range_bin, hits.doppler_bin
 
         bands = _band_samples(cfg, maps.spec, r, d)
         _, _, score = assignment_scores(cfg, bands, self.score_bins)
         best = np.argmax(score, axis=1)
-        rows = np.arange(r.size)
-        virt, az_pow, _ = assignment_scores(cfg, bands, proc.n_azimuth_bins)
+        virt, az_pow = _assignment_arrays(cfg, bands, proc.n_azimuth_bins)
         k_true = d + n_dop * best
-        velocity = doppler_velocity_mps(cfg, k_true + d_off)
-        power_az = az_pow[rows, best]
-        a = np.argmax(power_az, axis=1)
-        peak = power_az[rows, a]
-        h_idx, h_pos, v_idx, v_pos, v_h = array_layout(cfg.virtual_positions_m,
-                                                       cfg.wavelength_m)
-        sin_term = interp_azimuth(power_az, a)
-        az, el = estimate_angles(virt[rows, best], sin_term, h_idx, h_pos, v_idx, v_pos, v_h)
-        snr_db = hits_snr_db(hits, peak, proc, h_idx.size)
-        return point_cloud(cfg, proc, range_pos, velocity, az, el, snr_db,
-                           {"range_bin": r, "doppler_bin": k_true % cfg.n_chirps,
-                            "azimuth_bin": a})
+        velocity = doppler_velocity_mps(cfg, k_true + hits.doppler_offset)
+        return hypothesis_cloud(cfg, proc, hits, virt, az_pow, best, velocity,
+                                k_true % cfg.n_chirps)
 
     def detection_map(self, cfg: RadarConfig, adc: np.ndarray,
                       proc: ProcessingConfig) -> DetectionMap:
@@ -157,7 +147,7 @@ class ClassicDdmaChain(MimoChain):
         r = np.full(n_dop, range_bin)
         bands = _band_samples(cfg, maps.spec, r, d)
         best = np.argmax(assignment_scores(cfg, bands, self.score_bins)[2], axis=1)
-        _, az_pow, _ = assignment_scores(cfg, bands, proc.n_azimuth_bins)
+        _, az_pow = _assignment_arrays(cfg, bands, proc.n_azimuth_bins)
         return DopplerAzimuth(doppler_velocity_mps(cfg, d + n_dop * best),
                               az_pow[np.arange(n_dop), best])
 

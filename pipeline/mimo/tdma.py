@@ -22,20 +22,13 @@ from radarsim.config import RadarConfig
 
 from ..chirp_level import range_stage
 from ..config import WINDOWS, ProcessingConfig
-from ..kernels import (
-    array_layout,
-    doppler_fft,
-    estimate_angles,
-    window,
-)
+from ..kernels import array_layout, doppler_fft, window
 from ..stages import (
     array_dft,
     array_likelihood,
     empty_cloud,
-    hits_snr_db,
-    interp_azimuth,
+    hypothesis_cloud,
     noncoherent_hits,
-    point_cloud,
 )
 from .base import DetectionMap, DopplerAzimuth, MimoChain, register_chain
 
@@ -99,7 +92,7 @@ class SlotChain(MimoChain):
         hits = noncoherent_hits(rd, cfg.n_virtual, proc)
         if hits.range_bin.size == 0:
             return empty_cloud()
-        r, d, range_pos = hits.range_bin, hits.doppler_bin, hits.range_pos
+        r, d = hits.range_bin, hits.doppler_bin
         d_frac = d + hits.doppler_offset
         d_signed = (d_frac + n_dop / 2) % n_dop - n_dop / 2
         t_slot = n_tx * cfg.chirp_period_s
@@ -115,8 +108,7 @@ class SlotChain(MimoChain):
         else:
             v_hyp = v_est[:, None]
             valid = np.ones_like(v_hyp, dtype=bool)
-        h_idx, h_pos, v_idx, v_pos, v_h = array_layout(cfg.virtual_positions_m,
-                                                       cfg.wavelength_m)
+        _, _, v_idx, _, _ = array_layout(cfg.virtual_positions_m, cfg.wavelength_m)
         virt = virt_all[r, d].reshape(-1, 1, n_tx, cfg.n_rx)  # (n, 1, S, R)
         # Doppler phase of slot s: 2 pi f_D s Tc, f_D = -2 v / lambda (eq. 8-10): remove it.
         f_hyp = -2 * v_hyp / cfg.wavelength_m
@@ -126,20 +118,10 @@ class SlotChain(MimoChain):
         az_pow = np.abs(virt_h @ array_dft(cfg, n_az, "horizontal")) ** 2  # (n, H, A)
         score = array_likelihood(cfg, virt_h, az_pow, v_idx)
         best = np.argmax(np.where(valid, score, -np.inf), axis=1)
-        rows = np.arange(r.size)
-        velocity = v_hyp[rows, best]
-        power_az = az_pow[rows, best]  # (n, A)
-        a = np.argmax(power_az, axis=1)
-        peak = power_az[rows, a]
-        sin_term = interp_azimuth(power_az, a)
-        az, el = estimate_angles(virt_h[rows, best], sin_term, h_idx, h_pos, v_idx, v_pos, v_h)
-        # Noise per virtual channel from the L-look CFAR estimate; the coherent azimuth
-        # spectrum of n_h unit-weight channels has n_h times that noise power.
-        snr_db = hits_snr_db(hits, peak, proc, h_idx.size, self.noise_gain_of(cfg))
+        velocity = v_hyp[np.arange(r.size), best]
         d_true = np.rint(-2 * velocity / cfg.wavelength_m * n_dop * t_slot).astype(int)
-        return point_cloud(cfg, proc, range_pos, velocity, az, el, snr_db,
-                           {"range_bin": r, "doppler_bin": d_true % (n_tx * n_dop),
-                            "azimuth_bin": a})
+        return hypothesis_cloud(cfg, proc, hits, virt_h, az_pow, best, velocity,
+                                d_true % (n_tx * n_dop), self.noise_gain_of(cfg))
 
     def detection_map(self, cfg: RadarConfig, adc: np.ndarray,
                       proc: ProcessingConfig) -> DetectionMap:

@@ -361,6 +361,15 @@ def test_step_input_validation(rng):
     ("merge_tracks", "yes", "merge_tracks"),
     ("merge_width_m", 0.0, "merge_width_m"),
     ("ego_motion", {}, "ego_motion"),
+    ("gate_depth_m", 0.0, "gate_depth_m"),
+    ("gate_velocity_mps", -1.0, "gate_velocity_mps"),
+    ("group_velocity_spread_mps", 0.0, "group_velocity_spread_mps"),
+    ("alloc_radial_velocity_mps", float("nan"), "alloc_radial_velocity_mps"),
+    ("init_velocity_std_mps", 0.0, "init_velocity_std_mps"),
+    ("static_threshold_mps", -0.3, "static_threshold_mps"),
+    ("merge_depth_m", 0.0, "merge_depth_m"),
+    ("merge_velocity_mps", float("inf"), "merge_velocity_mps"),
+    ("max_tracks", 0, "max_tracks"),
 ])
 def test_config_validation(field, value, match):
     with pytest.raises(ValueError, match=match):
