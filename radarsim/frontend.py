@@ -193,14 +193,18 @@ def transmit_phasors(cfg: RadarConfig, rng: np.random.Generator | None = None) -
     else:
         # The calibrated chip programs codes: nominal applied phase -q LSB, sign in the code.
         gain, phase = np.abs(code.gain), -np.radians(codes * cfg.phase_lsb_deg)
+    return apply_transmit_errors(cfg, _tx_weights(cfg, gain, phase, rng), codes)
+
+
+def _tx_weights(cfg: RadarConfig, gain: np.ndarray, phase: np.ndarray,
+                rng: np.random.Generator | None) -> np.ndarray:
+    """gain x static Tx gain error x exp(j (phase + static Tx phase error + per-chirp noise))."""
     phase = phase + np.radians(np.asarray(cfg.tx_phase_error_deg))[:, None]
     if cfg.phase_noise_deg_rms > 0:
         if rng is None:
             raise ValueError("rng is required when phase_noise_deg_rms > 0")
         phase = phase + np.radians(cfg.phase_noise_deg_rms) * rng.standard_normal(phase.shape)
-    amp = 10 ** (np.asarray(cfg.tx_gain_error_db) / 20)
-    w = gain * amp[:, None] * np.exp(1j * phase)
-    return apply_transmit_errors(cfg, w, codes)
+    return gain * 10 ** (np.asarray(cfg.tx_gain_error_db)[:, None] / 20) * np.exp(1j * phase)
 
 
 def code_weights(cfg: RadarConfig, codes: np.ndarray, active: np.ndarray | None = None,
@@ -223,14 +227,8 @@ def code_weights(cfg: RadarConfig, codes: np.ndarray, active: np.ndarray | None 
     (n_tx, n_c) complex128
     """
     codes = np.asarray(codes, dtype=np.int64)
-    phase = -np.radians(codes * cfg.phase_lsb_deg) + \
-        np.radians(np.asarray(cfg.tx_phase_error_deg))[:, None]
-    if cfg.phase_noise_deg_rms > 0:
-        if rng is None:
-            raise ValueError("rng is required when phase_noise_deg_rms > 0")
-        phase = phase + np.radians(cfg.phase_noise_deg_rms) * rng.standard_normal(phase.shape)
     on = np.ones(codes.shape) if active is None else np.asarray(active, dtype=float)
-    w = on * 10 ** (np.asarray(cfg.tx_gain_error_db)[:, None] / 20) * np.exp(1j * phase)
+    w = _tx_weights(cfg, on, -np.radians(codes * cfg.phase_lsb_deg), rng)
     return apply_transmit_errors(cfg, w, codes)
 
 

@@ -124,6 +124,9 @@ DEFAULT_FRAME_PERIOD_S = 0.25
 
 #: TI ``averageMode`` code -> CFAR mode name (seed 003; the pipeline's CFAR_MODES keys).
 CFAR_AVERAGE_MODES = {0: "ca", 1: "cago", 2: "caso", 3: "os"}
+#: ``averageMode`` codes whose noise estimate is an order statistic (they need ``osKvalue``).
+_CFAR_RANKED_CODES = frozenset({3})
+_CFAR_RANKED_MODES = frozenset(CFAR_AVERAGE_MODES[c] for c in _CFAR_RANKED_CODES)
 _CFAR_DIRECTIONS = {0: "range", 1: "doppler"}
 
 # RadarConfig fields that TI commands define (a directive may not set them).
@@ -198,7 +201,7 @@ class TiCfar:
         if not 0.0 <= self.threshold_db <= _MAX_CFAR_THRESHOLD_DB:
             raise ValueError(f"threshold_db={self.threshold_db:g} must be within 0.."
                              f"{_MAX_CFAR_THRESHOLD_DB:g} dB (TI CLI limit)")
-        if self.mode == "os":
+        if self.mode in _CFAR_RANKED_MODES:
             if self.os_rank is None or not 1 <= self.os_rank <= 2 * self.window_cells:
                 raise ValueError(f"os_rank={self.os_rank!r}: OS-CFAR needs 1 <= k <= 2 x "
                                  f"window_cells = {2 * self.window_cells}")
@@ -359,6 +362,10 @@ PLATFORMS = {
 #: chip -> the ``% Platform:`` name `to_ti_cfg` writes.
 PLATFORM_OF_CHIP = {"AWR2944": "AWR294X", "AWR2944P": "AWR2X44P", "AWR2544": "AWR2544",
                     "AWR1843": "xWR18xx", "AWR1642": "xWR16xx", "IWR6843": "xWR68xx"}
+#: Chips whose demo CLI is the mmWave MCU+ SDK's (the others: mmWave SDK 3.x).
+_MCU_PLUS_CHIPS = frozenset({"AWR2944", "AWR2944P", "AWR2544"})
+#: Chips whose channelCfg takes the 5-argument form (<ethOscClkEn> <driveStrength>).
+_CHANNEL_CFG_5ARG_CHIPS = frozenset({"AWR2944P", "AWR2544"})
 _PLATFORM_RE = re.compile(r"^%\s*platform\s*:\s*(\S+)", re.IGNORECASE)
 
 
@@ -462,7 +469,7 @@ def _channel_cfg(st: _State, ln: _Line) -> None:
     tx = ln.int(1, "txChannelEn", 1, (1 << chip.n_tx) - 1, chip.name)
     ln.int(2, "cascading", 0, 0, chip.name)
     if len(ln.args) == 5:  # AWR2x44P / AWR2544: <ethOscClkEn> <driveStrength>
-        if chip.name not in ("AWR2944P", "AWR2544"):
+        if chip.name not in _CHANNEL_CFG_5ARG_CHIPS:
             raise ln.fail(f"the 5-argument form (ethOscClkEn, driveStrength) is AWR2x44P / "
                           f"AWR2544 syntax; the {chip.name} demo takes 3 arguments")
         ln.int(3, "ethOscClkEn", 0, 1)
@@ -607,8 +614,7 @@ def _ant_geometry_cfg(st: _State, ln: _Line) -> None:
 #: cfarCfg argument counts the parser reads, by chip family: mmWave SDK 3.x (9) everywhere, the
 #: R79 / AWR2x44P DDM syntax (11, 12, 13) on the AWR294x family. Other counts (SDK 1.x/2.0
 #: with linear thresholds, toolbox-lab firmwares) are kept and ignored.
-_CFAR_ARGS = {"AWR2944": {9, 11, 12, 13}, "AWR2944P": {9, 11, 12, 13},
-              "AWR2544": {9, 11, 12, 13}, None: {9}}
+_CFAR_ARGS = {**{name: {9, 11, 12, 13} for name in _MCU_PLUS_CHIPS}, None: {9}}
 
 
 def _cfar_cfg(st: _State, ln: _Line) -> None:
@@ -619,11 +625,14 @@ def _cfar_cfg(st: _State, ln: _Line) -> None:
         return
     ln.int(0, "subFrameIdx", -1, 3)
     direction = _CFAR_DIRECTIONS[ln.int(1, "procDirection", 0, 1)]
-    mode = CFAR_AVERAGE_MODES[ln.int(2, "averageMode", 0, 3)]
+    code = ln.int(2, "averageMode", 0, 3)
+    mode = CFAR_AVERAGE_MODES[code]
+    ranked = code in _CFAR_RANKED_CODES
     n = len(ln.args)
     os_rank = ln.int(9, "osKvalue", 0, 255) if n >= 11 else None
-    if mode == "os" and os_rank is None:
-        raise ln.fail("averageMode=3 (OS) needs the osKvalue argument (11-argument syntax)")
+    if ranked and os_rank is None:
+        raise ln.fail(f"averageMode={code} ({mode.upper()}) needs the osKvalue argument "
+                      f"(11-argument syntax)")
     try:
         cfar = TiCfar(direction=direction, mode=mode,
                       window_cells=ln.int(3, "winLen", 1, 255),
@@ -632,7 +641,7 @@ def _cfar_cfg(st: _State, ln: _Line) -> None:
                       cyclic=ln.flag(6, "cyclicMode"),
                       threshold_db=float(ln.dec(7, "thresholdScale")),
                       peak_grouping=ln.flag(8, "peakGroupingEn"),
-                      os_rank=os_rank if mode == "os" else (os_rank or None),
+                      os_rank=os_rank if ranked else (os_rank or None),
                       os_edge_k_scale=ln.flag(10, "osEdgeKscaleEn") if n >= 11 else False,
                       enabled=ln.flag(11, "isEnabled") if n >= 12 else True,
                       variable_threshold_mode=ln.int(12, "variableThresholdMode", 0, 255)
@@ -1204,7 +1213,7 @@ def to_ti_cfg(cfg: RadarConfig | TiProfile, *, frame_period_s: float | None = No
     rx_mask = sum(1 << (c - 1) for c in radar.rx_channels)
     tx_bits = [1 << (c - 1) for c in radar.tx_channels]  # logical Tx k -> TI txEnable bit
     tx_mask = sum(tx_bits)
-    mcu_plus = chip.name in ("AWR2944", "AWR2944P", "AWR2544")  # MCU+ SDK syntax
+    mcu_plus = chip.name in _MCU_PLUS_CHIPS
     idle_us = _fmt_decimal(radar.idle_time_s, -6)
     ramp_us = _fmt_decimal(radar.ramp_end_time_s, -6)
     fmt = ADC_MODES[radar.adc_mode].ti_code
@@ -1223,7 +1232,7 @@ def to_ti_cfg(cfg: RadarConfig | TiProfile, *, frame_period_s: float | None = No
         "sensorStop",
         "flushCfg",
         "dfeDataOutputMode 1",
-        f"channelCfg {rx_mask} {tx_mask} 0" + (" 0 0" if chip.name in ("AWR2944P", "AWR2544")
+        f"channelCfg {rx_mask} {tx_mask} 0" + (" 0 0" if chip.name in _CHANNEL_CFG_5ARG_CHIPS
                                               else ""),
         f"adcCfg 2 {fmt}",
         # adcbufCfg <subFrameIdx> <adcOutputFmt 0 complex / 1 real> <SampleSwap>

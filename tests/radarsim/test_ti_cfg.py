@@ -240,6 +240,8 @@ BAD_LINES = {
                                   r"threshold_db=120 must be within 0..100 dB"),
     "cfar_os_rank_too_large": ("cfarCfg", "cfarCfg -1 1 3 16 0 0 1 12 0 40 0",
                                r"os_rank=40: OS-CFAR needs 1 <= k <= 2 x window_cells = 32"),
+    "cfar_os_without_k": ("cfarCfg", "cfarCfg -1 1 3 16 0 0 1 12 0",
+                          r"averageMode=3 \(OS\) needs the osKvalue argument"),
     "advanced_frame": ("lowPower", "advFrameCfg 1 0 0 1 0 1", r"not supported: advanced frames"),
     "frame_mode": ("dfeDataOutputMode", "dfeDataOutputMode 3", r"only 1 \(frame mode\)"),
     "directive_unknown_field": ("lowPower", "% radarsim: noise_figure = 3",
