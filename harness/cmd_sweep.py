@@ -39,8 +39,7 @@ def format_summary(summary: pd.DataFrame, columns=None) -> str:
         return "(no rows)"
     text = summary[cols].to_string(index=False, float_format=lambda v: f"{v:.3g}",
                                    na_rep="-")
-    err = summary[summary.get("error", pd.Series("", index=summary.index)).astype(str) != ""] \
-        if "error" in summary else summary.iloc[:0]
+    err = summary[summary["error"].astype(str) != ""] if "error" in summary else summary.iloc[:0]
     for _, r in err.iterrows():
         text += f"\nERROR {r['scenario']} {r['variant']} seed {r['seed']}: {r['error']}"
     return text

@@ -40,7 +40,8 @@ TABLE_WRITERS = {
     ".parquet": lambda df, path: df.to_parquet(path, index=False),
     ".csv": lambda df, path: df.to_csv(path, index=False),
 }
-_LAYOUTS = ("auto", "non-interleaved", "interleaved")
+#: --layout choices -> the ADC buffer order they force (None: the profile's adcbufCfg decides).
+_LAYOUTS: dict[str, bool | None] = {"auto": None, "non-interleaved": False, "interleaved": True}
 
 
 # ---------------------------------------------------------------------------- helpers
@@ -111,13 +112,6 @@ def processing_from_profile(profile, notes: list[str] | None = None):
     return proc
 
 
-def _interleaved(layout: str, profile) -> bool | None:
-    """None (the profile's adcbufCfg decides) for "auto", else the forced buffer order."""
-    if layout == "auto":
-        return None
-    return layout == "interleaved"
-
-
 def process_capture(capture, profile, proc=None, *, interleaved: bool | None = None,
                     max_frames: int | None = None) -> pd.DataFrame:
     """Point cloud of every frame of a capture: `frame`, `time_s`, then the chain's columns.
@@ -175,7 +169,7 @@ def add_arguments_process(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--out", type=Path, default=None,
                         help="point cloud table, .parquet or .csv (default CAPTURE.parquet)")
     parser.add_argument("--frames", type=FRAMES, default=None, help="process at most N frames")
-    parser.add_argument("--layout", choices=_LAYOUTS, default="auto",
+    parser.add_argument("--layout", choices=list(_LAYOUTS), default="auto",
                         help="sample order; auto follows the profile's adcbufCfg")
     parser.add_argument("--tracks", type=Path, default=None,
                         help="track table (default OUT with '_tracks' appended to the stem)")
@@ -204,7 +198,7 @@ def run_process(args: argparse.Namespace) -> int:
     for note in notes:
         print(f"note: {note}", file=sys.stderr)
     points = process_capture(args.capture, profile, proc,
-                             interleaved=_interleaved(args.layout, profile),
+                             interleaved=_LAYOUTS[args.layout],
                              max_frames=n_frames)
     write_table(points, out)
     print(f"{n_frames} frame(s), {len(points)} detection(s) -> {out}")

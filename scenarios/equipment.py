@@ -78,13 +78,10 @@ class RadarEquipment:
 
     def __post_init__(self) -> None:
         require(self, [f.name for f in fields(self)])
-        if abs(self.mount_x_m) > 10 or abs(self.mount_y_m) > 3:
-            raise ValueError(f"mount_x_m={self.mount_x_m!r}, mount_y_m={self.mount_y_m!r} must "
-                             "be within +/-10 m and +/-3 m of the vehicle centre")
-        if not 0 < self.mount_z_m <= 3:
-            raise ValueError(f"mount_z_m={self.mount_z_m!r} must be in (0, 3] m")
-        if not -180 <= self.mount_yaw_deg <= 180:
-            raise ValueError(f"mount_yaw_deg={self.mount_yaw_deg!r} must be in [-180, 180] deg")
+        require(self, "mount_x_m", ge=-10, le=10, unit="m")
+        require(self, "mount_y_m", ge=-3, le=3, unit="m")
+        require(self, "mount_z_m", gt=0, le=3, unit="m")
+        require(self, "mount_yaw_deg", ge=-180, le=180, unit="deg")
         if not 1e12 <= abs(self.slope_hz_per_s) <= 2e14:
             raise ValueError(f"slope_hz_per_s={self.slope_hz_per_s!r}: |slope| must be in "
                              "[1e12, 2e14] Hz/s")
@@ -96,12 +93,9 @@ class RadarEquipment:
         if min(self.start_freq_hz, end) < 76e9 or max(self.start_freq_hz, end) > 81e9:
             raise ValueError(f"start_freq_hz={self.start_freq_hz:g}: the ramp "
                              f"{self.start_freq_hz:g}..{end:g} Hz leaves the 76-81 GHz band")
-        if self.tx_power_dbm > 20:
-            raise ValueError(f"tx_power_dbm={self.tx_power_dbm!r} exceeds 20 dBm")
-        if self.antenna_gain_dbi > 35:
-            raise ValueError(f"antenna_gain_dbi={self.antenna_gain_dbi!r} exceeds 35 dBi")
-        if self.pattern_exponent_az < 0 or self.pattern_exponent_el < 0:
-            raise ValueError("pattern exponents must be >= 0")
+        require(self, "tx_power_dbm", le=20, unit="dBm")
+        require(self, "antenna_gain_dbi", le=35, unit="dBi")
+        require(self, ("pattern_exponent_az", "pattern_exponent_el"), ge=0)
 
 
 @dataclass(frozen=True, kw_only=True, slots=True)

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import os
 import time
+from pathlib import Path
 from types import SimpleNamespace
 
 import numpy as np
@@ -19,6 +20,15 @@ import radarsim
 from harness.runner import Components
 
 FRAME_DT_S = 0.05
+#: The result tables sweep tests compare between runs.
+TABLES = ("summary", "detections", "frames", "actors", "truth")
+
+
+def assert_same_tables(a: Path, b: Path) -> None:
+    """Assert two results directories hold equal `TABLES`."""
+    for t in TABLES:
+        pd.testing.assert_frame_equal(pd.read_parquet(a / f"{t}.parquet"),
+                                      pd.read_parquet(b / f"{t}.parquet"))
 
 
 def fake_run_scenario(name: str, seed: int, duration_s=None, frame_rate_hz=None):

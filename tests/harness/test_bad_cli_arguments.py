@@ -70,6 +70,8 @@ def _cases(tmp):
                                    str(tmp / "x.bin"), "--frames", "1"],
                                   r"unknown scenario 'nope'"),
         "unknown_mimo": (["frame", "--mimo", "fdma"], r"--mimo: invalid choice: 'fdma'"),
+        "unknown_layout": (["process", str(afile), "--cfg", CFG, "--layout", "planar"],
+                           r"--layout: invalid choice: 'planar'"),
         "unknown_command": (["bogus"], r"invalid choice: 'bogus'"),
         "no_command": ([], r"required: command"),
         "duplicate_scenarios": (["sweep", "--scenarios", "head_on_aliasing", "head_on_aliasing"],

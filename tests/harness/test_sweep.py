@@ -17,22 +17,15 @@ import pytest
 import radarsim
 from harness.sweep import (SCHEMES_SWEEP_PATH, SweepSpec, Variant, completed_cells, load_sweep,
                            run_sweep)
-from tests.harness.fakes import FAKE
+from tests.harness.fakes import FAKE, assert_same_tables
 
 ROOT = Path(__file__).resolve().parents[2]
-TABLES = ("summary", "detections", "frames", "actors", "truth")
 
 
 def small_spec(**kw) -> SweepSpec:
     base = dict(name="t", scenarios=("fast", "slow"), seeds=(0, 1), duration_s=0.4)
     base.update(kw)
     return SweepSpec(**base)
-
-
-def assert_same_tables(a: Path, b: Path) -> None:
-    for t in TABLES:
-        pd.testing.assert_frame_equal(pd.read_parquet(a / f"{t}.parquet"),
-                                      pd.read_parquet(b / f"{t}.parquet"))
 
 
 def test_load_sweep_vary_product(tmp_path):

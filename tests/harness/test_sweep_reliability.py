@@ -25,22 +25,15 @@ from harness import cellstore as store
 from harness import sweep as sw
 from harness.cli import main
 from harness.sweep import SweepSpec, cell_dir, completed_cells, execute_cell, run_sweep
-from tests.harness.fakes import FAILING, FAKE
+from tests.harness.fakes import FAILING, FAKE, TABLES, assert_same_tables
 
 ROOT = Path(__file__).resolve().parents[2]
-TABLES = ("summary", "detections", "frames", "actors", "truth")
 
 
 def small_spec(**kw) -> SweepSpec:
     base = dict(name="t", scenarios=("fast",), seeds=(0, 1, 2), duration_s=0.2)
     base.update(kw)
     return SweepSpec(**base)
-
-
-def assert_same_tables(a: Path, b: Path) -> None:
-    for t in TABLES:
-        pd.testing.assert_frame_equal(pd.read_parquet(a / f"{t}.parquet"),
-                                      pd.read_parquet(b / f"{t}.parquet"))
 
 
 def _snapshot(d: Path) -> dict[str, bytes]:
