@@ -56,6 +56,7 @@ References
 """
 from __future__ import annotations
 
+from functools import lru_cache
 from typing import NamedTuple
 
 import numpy as np
@@ -107,6 +108,15 @@ def _dither(index: np.ndarray) -> np.ndarray:
     return u
 
 
+@lru_cache(maxsize=4)
+def _dither_table(size: int) -> np.ndarray:
+    """`_dither` of every flat position of a cube of `size` values (read-only): computed once
+    per cube size, then gathered (the hash costs 4x the gather)."""
+    d = _dither(np.arange(size))
+    d.flags.writeable = False
+    return d
+
+
 # ------------------------------------------------------------------------------- kernels
 def remove_dc(adc: np.ndarray) -> np.ndarray:
     """Per chirp and Rx mean of the samples (the HWA DC estimate), float32.
@@ -123,8 +133,11 @@ def remove_dc(adc: np.ndarray) -> np.ndarray:
     n = adc.shape[-1]
     if np.iscomplexobj(adc):  # I/Q frames: the complex mean (I and Q DC together)
         return (adc.sum(axis=-1, dtype=np.complex128, keepdims=True) / n).astype(np.complex64)
-    s = adc.sum(axis=-1, dtype=np.int64 if adc.dtype.kind == "i" else np.float64,
-                keepdims=True)
+    # int32 holds any sum of n < 2^16 int16 samples exactly (and is twice as fast as int64)
+    acc = np.float64
+    if adc.dtype.kind == "i":
+        acc = np.int32 if adc.dtype.itemsize <= 2 and n < 2 ** 16 else np.int64
+    s = adc.sum(axis=-1, dtype=acc, keepdims=True)
     return (s / n).astype(np.float32)
 
 
@@ -204,17 +217,18 @@ def zero_flagged(x: np.ndarray, flags: np.ndarray, hysteresis: int = 3) -> np.nd
 
 
 def _ege_shift(vb: np.ndarray, budget: int) -> tuple[np.ndarray, np.ndarray]:
-    """Scale factor s and EG order k of each block (pass 1 of the encoder).
+    """Scale factor s and EG order k of each block (pass 1 of the encoder): the smallest s for
+    which the exact code length of the best k fits `budget`.
 
     vb : (n_blocks, n_val) float32 values in HWA LSB. The bit-length histogram of each block
-    (L_j: |v_j| < 2^L_j) gives the estimate bits(s, k) ~ n_val (2 + k) + 2 sum_j max(L_j - s -
-    k - 1, 0) (|q| >> k has about L - s - k bits, its EG prefix one fewer leading zeros); the
-    smallest s whose best k fits wins, then the exact length of that choice is checked and s
-    raised where it does not fit (the estimate is a lower bound; on a K = 100 frame about half
-    of the checked blocks go up one step). The exact check is skipped, at every step, for the
-    blocks whose upper bound n_val (2 + k) + 2 sum_j f(L_j - s - k), f(a) = max(a, 0) + [a = 0],
-    fits: rounding makes |q| <= 2^(L - s), so the prefix of |q| >> k has at most f(L - s - k)
-    leading zeros (and at least max(L - s - k - 1, 0): the estimate).
+    (L_j: |v_j| < 2^L_j) gives a lower bound of the code length, bits(s, k) >= n_val (2 + k) +
+    2 sum_j max(L_j - s - k - 1, 0) (|q| >> k has about L - s - k bits, its EG prefix one fewer
+    leading zeros), and an upper bound with f(a) = max(a, 0) + [a = 0] in place of
+    max(a - 1, 0) (rounding makes |q| <= 2^(L - s)). The search starts every block at the
+    smallest s whose lower bound fits for some k (no smaller s can fit) and, per s, tries the
+    k of the smallest lower bound: a block whose upper bound fits is done, the others get the
+    exact length, first of that k, then of every other k whose lower bound fits; s is raised
+    only when none fits.
     """
     n_blk, n_val = vb.shape
     # L = biased exponent - 126 of |v|, clipped to 0..31. One bincount over all blocks builds
@@ -231,22 +245,25 @@ def _ege_shift(vb: np.ndarray, budget: int) -> tuple[np.ndarray, np.ndarray]:
     g = g_r[:, 31::-1]          # g[:, t] = sum over u > t of #(L >= u) = sum_j max(L_j - t, 0)
     hist = hist_r[:, 32:0:-1]   # hist[:, t] = #(L = t)
     kk = EGE_K_ARRAY.astype(np.int32)
-    # s = 0 first (most blocks), then the full (s, k) search for the others only.
-    bits0 = n_val * (2 + kk)[None, :] + 2 * g[:, np.minimum(kk + 1, 31)]   # (blocks, K)
-    shift = np.zeros(n_blk, dtype=np.int64)
-    k_sel = bits0.argmin(axis=-1)
-    k_best = np.broadcast_to(k_sel[:, None], (n_blk, _MAX_SHIFT + 1)).copy()
-    rest = np.flatnonzero(bits0[np.arange(n_blk), k_sel] > budget)
+    # Lower bounds at s = 0 first (most blocks fit there), the full (s, k) table for the rest.
+    t0 = np.minimum(kk + 1, 31)
+    lower0 = n_val * (2 + kk)[None, :] + 2 * g[:, t0]                    # (blocks, K)
+    shift = np.zeros(n_blk, dtype=np.int32)  # int32: ldexp's fast loop (int64 is 15x slower)
+    k_sel = lower0.argmin(axis=-1)
+    rest = np.flatnonzero(lower0[np.arange(n_blk), k_sel] > budget)
     if rest.size:
         t = np.minimum(np.arange(_MAX_SHIFT + 1)[:, None] + kk[None, :] + 1, 31)
-        bits = n_val * (2 + kk)[None, None, :] + 2 * g[rest][:, t]          # (rest, S, K)
-        kb = bits.argmin(axis=-1)
-        fits = np.take_along_axis(bits, kb[..., None], -1)[..., 0] <= budget
+        low = n_val * (2 + kk)[None, None, :] + 2 * g[rest][:, t]        # (rest, S, K)
+        fits = low.min(axis=-1) <= budget
         shift[rest] = np.where(fits.any(axis=-1), fits.argmax(axis=-1), _MAX_SHIFT)
-        k_best[rest] = kb
-        k_sel[rest] = kb[np.arange(rest.size), shift[rest]]
+        k_sel[rest] = low[np.arange(rest.size), shift[rest]].argmin(axis=-1)
 
-    def bound_fits(i: np.ndarray) -> np.ndarray:
+    def lower(i: np.ndarray) -> np.ndarray:
+        """(len(i), K) lower bounds of blocks i at their current s."""
+        return n_val * (2 + kk)[None, :] + 2 * g[i[:, None],
+                                                 np.minimum(shift[i, None] + kk + 1, 31)]
+
+    def upper_fits(i: np.ndarray) -> np.ndarray:
         """Blocks i whose upper bound fits at their current (s, k): they need no exact
         length (a value with L = 31, the clip, has no bound)."""
         sk = shift[i] + k_sel[i]
@@ -254,19 +271,25 @@ def _ege_shift(vb: np.ndarray, budget: int) -> tuple[np.ndarray, np.ndarray]:
         return (n_val * (2 + k_sel[i]) + 2 * ub <= budget) & (hist[i, 31] == 0)
 
     todo = np.arange(n_blk)
-    todo = todo[~bound_fits(todo)]
     for _ in range(_MAX_SHIFT + 1):
+        todo = todo[~upper_fits(todo)]
         if todo.size == 0:
             break
-        q = np.ldexp(vb[todo], -shift[todo, None])   # float32, exact scaling
-        np.rint(q, out=q)
-        over = _eg_bits_f32(q, k_sel[todo]) > budget
+        q = np.rint(np.ldexp(vb[todo], -shift[todo, None]))   # float32, exact scaling
+        over = _eg_bits_f32(q.copy(), k_sel[todo]) > budget
+        if over.any():  # the other orders whose lower bound fits
+            j, k = np.nonzero(lower(todo[over]) <= budget)
+            j, k = j[k != k_sel[todo[over]][j]], k[k != k_sel[todo[over]][j]]
+            if j.size:
+                row = np.flatnonzero(over)[j]
+                ok = _eg_bits_f32(q[row], k) <= budget
+                k_sel[todo[row[ok]]] = k[ok]
+                over[row[ok]] = False
         todo = todo[over & (shift[todo] < _MAX_SHIFT)]
         if todo.size == 0:
             break
         shift[todo] += 1
-        k_sel[todo] = k_best[todo, shift[todo]]
-        todo = todo[~bound_fits(todo)]
+        k_sel[todo] = lower(todo).argmin(axis=-1)
     return shift, k_sel
 
 
@@ -275,7 +298,7 @@ def _eg_bits_f32(q: np.ndarray, k: np.ndarray) -> np.ndarray:
     exponent (exact for |q| < 2^24); q is overwritten. floor(log2(1 + |q| >> k)) =
     floor(log2(|q| + 2^k)) - k, so one add replaces the shift (scale, floor, + 1)."""
     m = np.abs(q, out=q)
-    m += np.ldexp(np.float32(1), k).astype(np.float32)[:, None]
+    m += np.ldexp(np.float32(1), k.astype(np.int32))[:, None]
     # sum of floor(log2(|q| + 2^k)) = sum of the biased exponents - 127 per value
     lead = (m.view(np.int32) >> 23).sum(axis=1) - (127 + k) * q.shape[1]
     return q.shape[1] * (2 + k) + 2 * lead
@@ -300,6 +323,17 @@ def ege_block_bits(q: np.ndarray, k) -> np.ndarray:
     m = np.floor(np.ldexp(np.abs(np.asarray(q, dtype=np.float64)), -k[..., None])) + 1
     lead = np.floor(np.log2(m)).astype(np.int64)
     return np.sum(2 + k[..., None] + 2 * lead, axis=-1)
+
+
+def _cold_sum(n_val: int, budget: int) -> float:
+    """Largest sum of |v| (HWA LSB) of a block of n_val values that fits `budget` unshifted,
+    whatever the values: |q| = |rint(v)| <= |v| + 1/2 and floor(log2(1 + (|q| >> k))) <=
+    log2(1 + |q| / 2^k), which is concave in |q|, so by Jensen's inequality the block's code
+    length is at most n_val (2 + k) + 2 n_val log2(1 + (mean |v| + 1/2) / 2^k); the best k gives
+    the largest mean. Less a relative 1e-5 for the float32 sums it is compared with."""
+    k = EGE_K_ARRAY.astype(np.float64)
+    mean = 2.0 ** k * (2.0 ** ((budget / n_val - 2 - k) / 2) - 1) - 0.5
+    return float(n_val * mean.max() * (1 - 1e-5))
 
 
 def ege_compress(rf: np.ndarray, ratio: float = 0.5, range_bins_per_block: int = 8,
@@ -332,9 +366,10 @@ def ege_compress(rf: np.ndarray, ratio: float = 0.5, range_bins_per_block: int =
     Notes
     -----
     A block whose sum of |values| is small enough fits with s = 0 whatever its values are
-    (bound log2(1 + x) <= x / ln 2 on every EG prefix: sum |v| <= 639 HWA LSB for the demo,
-    a mean of 10 LSB against the 8.5 LSB of thermal noise); those blocks only see the 16-bit rounding of the HWA output (-33 dB below the thermal
-    noise of the R79 profile), which is not modelled. Only the other blocks (strong echoes,
+    (`_cold_sum`, Jensen's inequality on the EG prefix lengths: sum |v| <= 915 HWA LSB for
+    the demo, a mean of 14.3 LSB against the 8.5 LSB of thermal noise); those blocks only see
+    the 16-bit rounding of the HWA output (-33 dB below the thermal noise of the R79 profile),
+    which is not modelled. Only the other blocks (strong echoes,
     interference, some noise peaks) go through the encoder model.
     """
     n_c, n_r, n_b = rf.shape
@@ -344,16 +379,14 @@ def ege_compress(rf: np.ndarray, ratio: float = 0.5, range_bins_per_block: int =
     nb = n_b // range_bins_per_block
     n_val = 2 * n_r * range_bins_per_block
     budget = int(np.floor(ratio * 32 * n_r * range_bins_per_block)) - EGE_HEADER_BITS
-    kk = EGE_K_ARRAY.astype(np.float64)
     vv = rf.view(np.float32).reshape(n_c, n_r, nb, 2 * range_bins_per_block)
-    mag = np.abs(rf.view(np.float32))                                # (C, R, 2 n_range)
-    total = np.add.reduceat(mag, np.arange(0, 2 * n_b, 2 * range_bins_per_block), axis=-1) \
-        .sum(axis=1).reshape(-1) * np.float32(scale)                  # (C nb,): sum |v|
-    # Cold blocks fit unshifted for sure: log2(1 + x) <= x / ln 2 bounds every EG prefix, so
-    # bits <= n (2 + k) + (2 / ln 2) (sum |v| + n / 2) / 2^k for the best k.
-    room = (budget - n_val * (2 + kk)) * np.log(2) / 2 * 2.0 ** kk - n_val / 2
+    # sum |v| of every block: |I|, |Q| summed over its bins by one matrix-vector product
+    # (much faster than add.reduceat), then over the Rx.
+    mag = np.abs(rf.view(np.float32)).reshape(-1, 2 * range_bins_per_block)
+    total = (mag @ np.ones(2 * range_bins_per_block, np.float32)).reshape(n_c, n_r, nb) \
+        .sum(axis=1).reshape(-1)                                      # (C nb,), rf units
     shift = np.zeros(n_c * nb, dtype=np.int8)
-    hot = np.flatnonzero(total > room.max())
+    hot = np.flatnonzero(total > _cold_sum(n_val, budget) / np.float32(scale))
     if hot.size:
         # One fancy-index gather (faster than a transposed copy of the cube even when most
         # blocks are hot, as with interference).
@@ -365,9 +398,11 @@ def ege_compress(rf: np.ndarray, ratio: float = 0.5, range_bins_per_block: int =
         moved = s > 0  # s = 0: only the (unmodelled) 16-bit rounding
         rows, s = hot[moved], s[moved]
         if rows.size:
-            step = np.ldexp(np.float32(1), s.astype(np.int32)).astype(np.float32)[:, None]
-            d = _dither(rows[:, None] * n_val + np.arange(n_val))
-            q = np.rint(vb[moved] / step + d)
+            step = np.ldexp(np.float32(1), s)[:, None]                # int32 s: fast loop
+            q = vb[moved]
+            q *= np.ldexp(np.float32(1), -s)[:, None]   # / step, exact for a power of two
+            q += _dither_table(n_c * nb * n_val).reshape(-1, n_val)[rows]
+            np.rint(q, out=q)
             c_i, b_i = np.divmod(rows, nb)
             vv[c_i, :, b_i, :] = (q * (step / np.float32(scale))) \
                 .reshape(rows.size, n_r, 2 * range_bins_per_block)
@@ -427,8 +462,10 @@ def _flagged_rows(adc: np.ndarray, dc, proc: ProcessingConfig) -> tuple[np.ndarr
     n = adc.shape[-1]
     a2 = adc.reshape(-1, n)
     if proc.intf_threshold_mode == "magdiff" and not np.iscomplexobj(adc):
-        d = np.abs(np.subtract(a2[:, 1:], a2[:, :-1], dtype=np.float32))
-        thr = d.sum(axis=-1) * np.float32(10 ** (proc.intf_magdiff_snr_db / 20) / n)
+        d = _abs_diff(a2)
+        # float32 threshold as `interference_flags` (an int16 row sum < 2^24 is exact in it)
+        thr = d.sum(axis=-1, dtype=np.int32 if d.dtype.kind == "i" else np.float32) \
+            .astype(np.float32) * np.float32(10 ** (proc.intf_magdiff_snr_db / 20) / n)
         rows = np.flatnonzero(d.max(axis=-1) > thr)
         flags = np.zeros((rows.size, n), dtype=bool)
         np.greater(d[rows], thr[rows, None], out=flags[:, 1:])
@@ -437,6 +474,15 @@ def _flagged_rows(adc: np.ndarray, dc, proc: ProcessingConfig) -> tuple[np.ndarr
                                proc.intf_threshold_mode).reshape(-1, n)
     rows = np.flatnonzero(flags.any(axis=-1))
     return rows, flags[rows]
+
+
+def _abs_diff(a2: np.ndarray) -> np.ndarray:
+    """|x_n - x_{n-1}| of (rows, n) samples: int16 when no difference can overflow it (four
+    times cheaper than float32 for real ADC frames), else float32."""
+    if a2.dtype == np.int16 and int(a2.max()) - int(a2.min()) <= np.iinfo(np.int16).max:
+        d = np.subtract(a2[:, 1:], a2[:, :-1])
+        return np.abs(d, out=d)
+    return np.abs(np.subtract(a2[:, 1:], a2[:, :-1], dtype=np.float32))
 
 
 _WSPEC_CACHE: dict[tuple[str, int, bool], tuple] = {}

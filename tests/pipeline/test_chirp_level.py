@@ -168,7 +168,38 @@ def test_ege_block_reproduces_the_hardware_ratio_and_error_bound():
         if s > 0:  # a finer scale would not have fitted
             q1 = np.rint(np.ldexp(vin, -(s - 1)))
             assert min(int(cl.ege_block_bits(q1[None], k)[0]) for k in cl.EGE_K_ARRAY) \
-                > budget - 2 * 64 or s == 1
+                > budget
+
+
+def _brute_force_shift(vin: np.ndarray, budget: int) -> np.ndarray:
+    """Smallest s of each block (n_blocks, n_val) in HWA LSB whose best-k exact EG code length
+    fits `budget`: every (s, k) tried."""
+    s_all = np.arange(16)
+    q = np.rint(np.ldexp(vin[:, None, :].astype(np.float64), -s_all[None, :, None]))
+    bits = np.stack([cl.ege_block_bits(q, np.full(q.shape[:2], k)) for k in cl.EGE_K_ARRAY])
+    fits = bits.min(axis=0) <= budget                                  # (blocks, s)
+    return np.where(fits.any(axis=1), fits.argmax(axis=1), 15)
+
+
+def test_ege_scale_factor_is_the_smallest_that_fits():
+    """Pass 1 of the encoder model against an exhaustive search over every (s, k), on blocks of
+    every kind: thermal noise at 2..200 LSB, noise with a strong echo, blocks at the edge of
+    the unshifted budget (a mean |v| of 8..16 LSB) and rail-to-rail interference."""
+    rng = np.random.default_rng(5)
+    n_c, n_r, nb = 48, 4, 24
+    sigma = np.exp(rng.uniform(np.log(2.0), np.log(200.0), (n_c, 1, nb, 1)))
+    sigma[: n_c // 3] = rng.uniform(8.0, 16.0, (n_c // 3, 1, nb, 1)) * np.sqrt(np.pi / 2)
+    v = rng.standard_normal((n_c, n_r, nb, 16)) * sigma
+    echo = rng.random((n_c, 1, nb, 1)) < 0.3
+    v += echo * rng.uniform(1e2, 3e4, (n_c, 1, nb, 1)) * (rng.random((n_c, n_r, nb, 16)) < 0.1)
+    v[-4:] = rng.uniform(-32767, 32767, (4, n_r, nb, 16))
+    rf = (v / cl.HWA_OUTPUT_SCALE).astype(np.float32).reshape(n_c, n_r, -1).view(np.complex64)
+    vin = rf.view(np.float32).reshape(n_c, n_r, nb, 16).transpose(0, 2, 1, 3) \
+        .reshape(n_c * nb, 64) * np.float32(cl.HWA_OUTPUT_SCALE)
+    _, shift = cl.ege_compress(rf.copy())
+    want = _brute_force_shift(vin, 64 * 8 - cl.EGE_HEADER_BITS)
+    assert np.bincount(want).size > 8  # the blocks span the scale factors
+    np.testing.assert_array_equal(shift.reshape(-1), want)
 
 
 @pytest.mark.parametrize("diff_db", [40.0, 60.0, 70.0])  # 70 dB: the 16-bit output's span
