@@ -189,16 +189,18 @@ def interference_flags(adc: np.ndarray, dc: np.ndarray | None, mag_snr_db: float
 
 
 def _dilate(mask: np.ndarray, left: int, right: int) -> np.ndarray:
-    """Extend every True run of the last axis by `left` samples before and `right` after."""
-    if left == 0 and right == 0:
-        return mask
+    """Extend every True run of the last axis by `left` samples before and `right` after.
+
+    One OR of shifted copies per hysteresis sample: sample i is hit by a flag in
+    [i - right, i + left]. (scipy.ndimage.binary_dilation gives the same mask 12x slower.)
+    """
+    out = mask.copy()
     n = mask.shape[-1]
-    c = np.concatenate([np.zeros(mask.shape[:-1] + (1,), np.int32),
-                        np.cumsum(mask, axis=-1, dtype=np.int32)], axis=-1)
-    idx = np.arange(n)
-    hi = np.minimum(idx + left + 1, n)   # sample i is hit by a flag in [i - right, i + left]
-    lo = np.maximum(idx - right, 0)
-    return (c[..., hi] - c[..., lo]) > 0
+    for j in range(1, min(left, n - 1) + 1):
+        out[..., :-j] |= mask[..., j:]
+    for j in range(1, min(right, n - 1) + 1):
+        out[..., j:] |= mask[..., :-j]
+    return out
 
 
 def zero_flagged(x: np.ndarray, flags: np.ndarray, hysteresis: int = 3) -> np.ndarray:
@@ -428,28 +430,37 @@ def range_stage(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) -> np
     """
     cplx = np.iscomplexobj(adc)
     win = window(WINDOWS[proc.range_window], cfg.n_samples)
-    rf = range_fft(adc, win)
     if not (proc.dc_removal or proc.interference_mitigation or proc.compression):
-        return rf
+        return range_fft(adc, win)
     dc = remove_dc(adc) if proc.dc_removal else None
-    if dc is not None:
-        # FFT(w (x - m)) = FFT(w x) - m FFT(w): the window's spectrum has a few bins only.
-        w_spec = _window_spectrum(WINDOWS[proc.range_window], cfg.n_samples, cplx)
-        for k, wk in w_spec:
-            rf[..., k] -= dc[..., 0] * wk
+    rows = np.zeros(0, dtype=np.intp)
     if proc.interference_mitigation:
         rows, flags = _flagged_rows(adc, dc, proc)
+    if rows.size == 0:
+        rf = range_fft(adc, win)
+    else:
+        # One FFT of the whole frame, the flagged chirps (DC removed, zeroed) swapped in first.
+        work = np.complex64 if cplx else np.float32
+        x = np.multiply(adc, win, dtype=work)
+        y = adc.reshape(-1, cfg.n_samples)[rows].astype(work)
+        if dc is not None:
+            y -= dc.reshape(-1, 1)[rows]
+        zero_flagged(y, flags, proc.intf_hysteresis_samples)
+        y *= win
+        x.reshape(-1, cfg.n_samples)[rows] = y
+        if cplx:
+            rf = scipy.fft.fft(x, axis=-1, workers=-1, overwrite_x=True)
+        else:
+            rf = scipy.fft.rfft(x, axis=-1, workers=-1)[..., : cfg.n_samples // 2]
+    if dc is not None:
+        # FFT(w (x - m)) = FFT(w x) - m FFT(w): the window's spectrum has a few bins only.
+        # The flagged chirps had their DC removed before the FFT.
+        m = dc[..., 0]
         if rows.size:
-            # Only the flagged chirps are redone: DC removed, zeroed, windowed, FFT.
-            x = adc.reshape(-1, cfg.n_samples)[rows].astype(
-                np.complex64 if cplx else np.float32)
-            if dc is not None:
-                x -= dc.reshape(-1, 1)[rows]
-            zero_flagged(x, flags, proc.intf_hysteresis_samples)
-            x *= win
-            c_i, r_i = np.divmod(rows, cfg.n_rx)
-            fft = scipy.fft.fft if cplx else scipy.fft.rfft
-            rf[c_i, r_i] = fft(x, axis=-1)[:, : rf.shape[-1]]
+            m = m.copy()
+            m.reshape(-1)[rows] = 0
+        for k, wk in _window_spectrum(WINDOWS[proc.range_window], cfg.n_samples, cplx):
+            rf[..., k] -= m * wk
     if proc.compression:
         rf, _ = ege_compress(rf, proc.compression_ratio, proc.compression_range_bins_per_block)
     return rf
