@@ -302,8 +302,16 @@ def _eg_bits_f32(q: np.ndarray, k: np.ndarray) -> np.ndarray:
     m = np.abs(q, out=q)
     m += np.ldexp(np.float32(1), k.astype(np.int32))[:, None]
     # sum of floor(log2(|q| + 2^k)) = sum of the biased exponents - 127 per value
-    lead = (m.view(np.int32) >> 23).sum(axis=1) - (127 + k) * q.shape[1]
+    lead = _exponent_sums(m) - (127 + k) * q.shape[1]
     return q.shape[1] * (2 + k) + 2 * lead
+
+
+def _exponent_sums(m: np.ndarray) -> np.ndarray:
+    """Sum over each row of the biased IEEE exponents of positive float32 values (n, n_val),
+    as int64. By a float32 matrix-vector product, 8x faster than numpy's int row sums; exact,
+    as every partial sum is an integer below 255 n_val < 2^24."""
+    e = m.view(np.int32) >> 23
+    return (e.astype(np.float32) @ np.ones(m.shape[1], np.float32)).astype(np.int64)
 
 
 def ege_block_bits(q: np.ndarray, k) -> np.ndarray:
@@ -325,6 +333,30 @@ def ege_block_bits(q: np.ndarray, k) -> np.ndarray:
     m = np.floor(np.ldexp(np.abs(np.asarray(q, dtype=np.float64)), -k[..., None])) + 1
     lead = np.floor(np.log2(m)).astype(np.int64)
     return np.sum(2 + k[..., None] + 2 * lead, axis=-1)
+
+
+def _noise_orders(n_val: int, budget: int) -> tuple[int, int]:
+    """The EG order that admits the largest mean |v| in `_cold_sum` (4 for the demo) and the
+    next: the orders with which noise-like blocks near that limit fit."""
+    k = EGE_K_ARRAY.astype(np.float64)
+    best = int(np.argmax(2.0 ** k * (2.0 ** ((budget / n_val - 2 - k) / 2) - 1)))
+    return best, min(best + 1, int(EGE_K_ARRAY[-1]))
+
+
+def _fits_unshifted(vb: np.ndarray, budget: int, orders) -> np.ndarray:
+    """Blocks (n_blocks, n_val) of HWA LSB values whose exact EG code length fits `budget`
+    with s = 0 and one of `orders` (`_eg_bits_f32`: the exponent of |q| + 2^k)."""
+    m = np.rint(vb)
+    np.abs(m, out=m)
+    ok = np.zeros(vb.shape[0], dtype=bool)
+    left = np.arange(vb.shape[0])
+    for k in orders:  # each order tried on the blocks the previous ones left
+        mk = m + np.float32(2.0 ** k) if left.size == m.shape[0] else m[left] + np.float32(2.0 ** k)
+        lead = _exponent_sums(mk) - (127 + k) * vb.shape[1]
+        fit = vb.shape[1] * (2 + k) + 2 * lead <= budget
+        ok[left[fit]] = True
+        left = left[~fit]
+    return ok
 
 
 def _cold_sum(n_val: int, budget: int) -> float:
@@ -395,7 +427,11 @@ def ege_compress(rf: np.ndarray, ratio: float = 0.5, range_bins_per_block: int =
         c_i, b_i = np.divmod(hot, nb)
         vb = vv[c_i, :, b_i, :].reshape(hot.size, n_val)
         vb *= np.float32(scale)
-        s, _ = _ege_shift(vb, budget)
+        # Most hot blocks are noise-like and fit unshifted with the orders that suit noise:
+        # an exact check of those two orders spares them the full search.
+        s = np.zeros(hot.size, dtype=np.int32)
+        search = ~_fits_unshifted(vb, budget, _noise_orders(n_val, budget))
+        s[search], _ = _ege_shift(vb[search], budget)
         shift[hot] = s
         moved = s > 0  # s = 0: only the (unmodelled) 16-bit rounding
         rows, s = hot[moved], s[moved]
