@@ -116,7 +116,7 @@ def run(repeats: int = 15, warmup: int = 2) -> list[str]:
              f"{'met' if t_on <= 1.3 * t_off else 'MISSED'})",
              f"process_frame r79_ddma, same frame + {N_INTERFERERS} interferers: off "
              f"{1e3 * ti_off:.2f} ms, on {1e3 * ti_on:.2f} ms = +{100 * (ti_on / ti_off - 1):.0f} %"
-             " (flagged chirps re-transformed, most EGE blocks through the encoder model)"]
+             " (flagged chirps zeroed before the one range FFT; half the EGE blocks hot)"]
     lines += [f"  range stage {k}: {1e3 * v:.2f} ms" for k, v in t_stage.items()]
     # What the chain does to one interferer's floor (short and long bursts).
     empty = radarsim.Scatterers.empty()

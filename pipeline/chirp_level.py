@@ -188,21 +188,6 @@ def interference_flags(adc: np.ndarray, dc: np.ndarray | None, mag_snr_db: float
     return flags
 
 
-def _dilate(mask: np.ndarray, left: int, right: int) -> np.ndarray:
-    """Extend every True run of the last axis by `left` samples before and `right` after.
-
-    One OR of shifted copies per hysteresis sample: sample i is hit by a flag in
-    [i - right, i + left]. (scipy.ndimage.binary_dilation gives the same mask 12x slower.)
-    """
-    out = mask.copy()
-    n = mask.shape[-1]
-    for j in range(1, min(left, n - 1) + 1):
-        out[..., :-j] |= mask[..., j:]
-    for j in range(1, min(right, n - 1) + 1):
-        out[..., j:] |= mask[..., :-j]
-    return out
-
-
 def zero_flagged(x: np.ndarray, flags: np.ndarray, hysteresis: int = 3) -> np.ndarray:
     """Zero the flagged samples, each flagged run widened by `hysteresis` on both sides.
 
@@ -212,9 +197,15 @@ def zero_flagged(x: np.ndarray, flags: np.ndarray, hysteresis: int = 3) -> np.nd
         DC-removed samples (modified in place and returned).
     flags : (..., n_samples) bool
     hysteresis : int
-        Left and right hysteresis order, samples (the demo: 3).
+        Left and right hysteresis order, samples (the demo: 3): sample i is zeroed iff a flag
+        lies in [i - hysteresis, i + hysteresis] of its own chirp.
     """
-    x[_dilate(flags, hysteresis, hysteresis)] = 0
+    n = x.shape[-1]
+    f = np.flatnonzero(flags)  # flags are sparse: index arithmetic beats dilating the mask
+    if f.size:
+        col = f % n
+        span = np.arange(-hysteresis, hysteresis + 1)
+        np.put(x, (f - col)[:, None] + np.clip(col[:, None] + span, 0, n - 1), 0)
     return x
 
 
@@ -436,14 +427,13 @@ def ege_compress(rf: np.ndarray, ratio: float = 0.5, range_bins_per_block: int =
         moved = s > 0  # s = 0: only the (unmodelled) 16-bit rounding
         rows, s = hot[moved], s[moved]
         if rows.size:
-            step = np.ldexp(np.float32(1), s)[:, None]                # int32 s: fast loop
             q = vb[moved]
             q *= np.ldexp(np.float32(1), -s)[:, None]   # / step, exact for a power of two
             q += _dither_table(n_c * nb * n_val).reshape(-1, n_val)[rows]
             np.rint(q, out=q)
+            q *= np.ldexp(np.float32(1), s)[:, None] / np.float32(scale)  # int32 s: fast loop
             c_i, b_i = np.divmod(rows, nb)
-            vv[c_i, :, b_i, :] = (q * (step / np.float32(scale))) \
-                .reshape(rows.size, n_r, 2 * range_bins_per_block)
+            vv[c_i, :, b_i, :] = q.reshape(rows.size, n_r, 2 * range_bins_per_block)
     shift = shift.reshape(n_c, nb)
     return rf, shift
 
@@ -478,9 +468,8 @@ def range_stage(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) -> np
         # One FFT of the whole frame, the flagged chirps (DC removed, zeroed) swapped in first.
         work = np.complex64 if cplx else np.float32
         x = np.multiply(adc, win, dtype=work)
-        y = adc.reshape(-1, cfg.n_samples)[rows].astype(work)
-        if dc is not None:
-            y -= dc.reshape(-1, 1)[rows]
+        y = adc.reshape(-1, cfg.n_samples)[rows]
+        y = y.astype(work) if dc is None else np.subtract(y, dc.reshape(-1, 1)[rows], dtype=work)
         zero_flagged(y, flags, proc.intf_hysteresis_samples)
         y *= win
         x.reshape(-1, cfg.n_samples)[rows] = y

@@ -171,14 +171,16 @@ def test_ege_block_reproduces_the_hardware_ratio_and_error_bound():
                 > budget
 
 
-@pytest.mark.parametrize("left, right", [(0, 0), (3, 3), (1, 4), (5, 0), (50, 2)])
-def test_hysteresis_widens_every_flagged_run(left, right):
-    """Sample i is zeroed iff a flag lies in [i - right, i + left] (the run widened by `left`
-    samples before it and `right` after it), checked sample by sample."""
+@pytest.mark.parametrize("hysteresis", [0, 1, 3, 50])
+def test_hysteresis_widens_every_flagged_run(hysteresis):
+    """Sample i is zeroed iff a flag of its own chirp lies in [i - h, i + h], checked sample by
+    sample (runs at both ends of a chirp, and a hysteresis longer than the chirp)."""
     mask = np.random.default_rng(4).random((6, 40)) < 0.06
-    want = np.array([[mask[r, max(i - right, 0): i + left + 1].any() for i in range(40)]
-                     for r in range(6)])
-    np.testing.assert_array_equal(cl._dilate(mask, left, right), want)
+    mask[0, 0] = mask[1, -1] = True
+    want = np.array([[mask[r, max(i - hysteresis, 0): i + hysteresis + 1].any()
+                      for i in range(40)] for r in range(6)])
+    x = cl.zero_flagged(np.ones((6, 40), np.float32), mask, hysteresis)
+    np.testing.assert_array_equal(x == 0, want)
 
 
 def _brute_force_shift(vin: np.ndarray, budget: int) -> np.ndarray:
