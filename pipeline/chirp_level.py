@@ -214,14 +214,15 @@ def _ege_shift(vb: np.ndarray, budget: int) -> tuple[np.ndarray, np.ndarray]:
     which the exact code length of the best k fits `budget`.
 
     vb : (n_blocks, n_val) float32 values in HWA LSB. The bit-length histogram of each block
-    (L_j: |v_j| < 2^L_j) gives a lower bound of the code length, bits(s, k) >= n_val (2 + k) +
-    2 sum_j max(L_j - s - k - 1, 0) (|q| >> k has about L - s - k bits, its EG prefix one fewer
-    leading zeros), and an upper bound with f(a) = max(a, 0) + [a = 0] in place of
-    max(a - 1, 0) (rounding makes |q| <= 2^(L - s)). The search starts every block at the
-    smallest s whose lower bound fits for some k (no smaller s can fit) and, per s, tries the
-    k of the smallest lower bound: a block whose upper bound fits is done, the others get the
-    exact length, first of that k, then of every other k whose lower bound fits; s is raised
-    only when none fits.
+    (L_j: |v_j| < 2^L_j, clipped to 0..31) bounds the EG prefix of every value: with a =
+    L - s - k - 1 and f(a) = max(a, 0) + [a = 0], f(a) <= floor(log2(1 + (|q| >> k))) <= f(a + 1)
+    (rint(v / 2^s) keeps |q| in [2^(L-1-s), 2^(L-s)] when L - 1 >= s; a = 0 puts |q| >> k at 1
+    or 2, a prefix of exactly one). So bits(s, k) lies between n_val (2 + k) + 2 sum_j f(a_j)
+    and the same with a_j + 1, both read off cumulative sums of the histogram. The search
+    starts every block at the smallest s whose lower bound fits for some k (no smaller s can
+    fit) and, per s, tries the k of the smallest lower bound: a block whose upper bound fits is
+    done, the others get the exact length, first of that k, then of every other k whose lower
+    bound fits; s is raised only when none fits.
     """
     n_blk, n_val = vb.shape
     # L = biased exponent - 126 of |v|, clipped to 0..31. One bincount over all blocks builds
@@ -239,29 +240,29 @@ def _ege_shift(vb: np.ndarray, budget: int) -> tuple[np.ndarray, np.ndarray]:
     hist = hist_r[:, 32:0:-1]   # hist[:, t] = #(L = t)
     kk = EGE_K_ARRAY.astype(np.int32)
     # Lower bounds at s = 0 first (most blocks fit there), the full (s, k) table for the rest.
+    fsum = g + hist             # fsum[:, t] = sum_j f(L_j - t)
     t0 = np.minimum(kk + 1, 31)
-    lower0 = n_val * (2 + kk)[None, :] + 2 * g[:, t0]                    # (blocks, K)
+    lower0 = n_val * (2 + kk)[None, :] + 2 * fsum[:, t0]                 # (blocks, K)
     shift = np.zeros(n_blk, dtype=np.int32)  # int32: ldexp's fast loop (int64 is 15x slower)
     k_sel = lower0.argmin(axis=-1)
     rest = np.flatnonzero(lower0[np.arange(n_blk), k_sel] > budget)
     if rest.size:
         t = np.minimum(np.arange(_MAX_SHIFT + 1)[:, None] + kk[None, :] + 1, 31)
-        low = n_val * (2 + kk)[None, None, :] + 2 * g[rest][:, t]        # (rest, S, K)
+        low = n_val * (2 + kk)[None, None, :] + 2 * fsum[rest][:, t]     # (rest, S, K)
         fits = low.min(axis=-1) <= budget
         shift[rest] = np.where(fits.any(axis=-1), fits.argmax(axis=-1), _MAX_SHIFT)
         k_sel[rest] = low[np.arange(rest.size), shift[rest]].argmin(axis=-1)
 
     def lower(i: np.ndarray) -> np.ndarray:
         """(len(i), K) lower bounds of blocks i at their current s."""
-        return n_val * (2 + kk)[None, :] + 2 * g[i[:, None],
-                                                 np.minimum(shift[i, None] + kk + 1, 31)]
+        return n_val * (2 + kk)[None, :] + 2 * fsum[i[:, None],
+                                                    np.minimum(shift[i, None] + kk + 1, 31)]
 
     def upper_fits(i: np.ndarray) -> np.ndarray:
         """Blocks i whose upper bound fits at their current (s, k): they need no exact
         length (a value with L = 31, the clip, has no bound)."""
         sk = shift[i] + k_sel[i]
-        ub = g[i, sk] + hist[i, sk]                                  # sum_j f(L_j - s - k)
-        return (n_val * (2 + k_sel[i]) + 2 * ub <= budget) & (hist[i, 31] == 0)
+        return (n_val * (2 + k_sel[i]) + 2 * fsum[i, sk] <= budget) & (hist[i, 31] == 0)
 
     todo = np.arange(n_blk)
     for _ in range(_MAX_SHIFT + 1):
