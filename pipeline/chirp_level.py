@@ -272,13 +272,13 @@ def _ege_shift(vb: np.ndarray, budget: int) -> tuple[np.ndarray, np.ndarray]:
         q = np.rint(np.ldexp(vb[todo], -shift[todo, None]))   # float32, exact scaling
         over = _eg_bits_f32(q.copy(), k_sel[todo]) > budget
         if over.any():  # the other orders whose lower bound fits
-            j, k = np.nonzero(lower(todo[over]) <= budget)
-            j, k = j[k != k_sel[todo[over]][j]], k[k != k_sel[todo[over]][j]]
-            if j.size:
-                row = np.flatnonzero(over)[j]
-                ok = _eg_bits_f32(q[row], k) <= budget
-                k_sel[todo[row[ok]]] = k[ok]
-                over[row[ok]] = False
+            failed = np.flatnonzero(over)
+            j, k = np.nonzero(lower(todo[failed]) <= budget)
+            other = k != k_sel[todo[failed[j]]]
+            row, k = failed[j[other]], k[other]
+            ok = _eg_bits_f32(q[row], k) <= budget
+            k_sel[todo[row[ok]]] = k[ok]
+            over[row[ok]] = False
         todo = todo[over & (shift[todo] < _MAX_SHIFT)]
         if todo.size == 0:
             break
@@ -293,17 +293,18 @@ def _eg_bits_f32(q: np.ndarray, k: np.ndarray) -> np.ndarray:
     floor(log2(|q| + 2^k)) - k, so one add replaces the shift (scale, floor, + 1)."""
     m = np.abs(q, out=q)
     m += np.ldexp(np.float32(1), k.astype(np.int32))[:, None]
-    # sum of floor(log2(|q| + 2^k)) = sum of the biased exponents - 127 per value
-    lead = _exponent_sums(m) - (127 + k) * q.shape[1]
-    return q.shape[1] * (2 + k) + 2 * lead
+    return _eg_bits_from(m, k)
 
 
-def _exponent_sums(m: np.ndarray) -> np.ndarray:
-    """Sum over each row of the biased IEEE exponents of positive float32 values (n, n_val),
-    as int64. By a float32 matrix-vector product, 8x faster than numpy's int row sums; exact,
-    as every partial sum is an integer below 255 n_val < 2^24."""
-    e = m.view(np.int32) >> 23
-    return (e.astype(np.float32) @ np.ones(m.shape[1], np.float32)).astype(np.int64)
+def _eg_bits_from(m: np.ndarray, k) -> np.ndarray:
+    """EG_k code length of blocks given m = |q| + 2^k (n, n_val) float32: the sum of
+    floor(log2(|q| + 2^k)) is that of the biased IEEE exponents less 127 per value, summed by a
+    float32 matrix-vector product (8x numpy's int row sums; exact, as every partial sum is an
+    integer below 255 n_val < 2^24)."""
+    n_val = m.shape[1]
+    e = (m.view(np.int32) >> 23).astype(np.float32) @ np.ones(n_val, np.float32)
+    lead = e.astype(np.int64) - (127 + np.asarray(k)) * n_val
+    return n_val * (2 + np.asarray(k)) + 2 * lead
 
 
 def ege_block_bits(q: np.ndarray, k) -> np.ndarray:
@@ -330,8 +331,7 @@ def ege_block_bits(q: np.ndarray, k) -> np.ndarray:
 def _noise_orders(n_val: int, budget: int) -> tuple[int, int]:
     """The EG order that admits the largest mean |v| in `_cold_sum` (4 for the demo) and the
     next: the orders with which noise-like blocks near that limit fit."""
-    k = EGE_K_ARRAY.astype(np.float64)
-    best = int(np.argmax(2.0 ** k * (2.0 ** ((budget / n_val - 2 - k) / 2) - 1)))
+    best = int(np.argmax(_jensen_mean(n_val, budget)))
     return best, min(best + 1, int(EGE_K_ARRAY[-1]))
 
 
@@ -343,9 +343,8 @@ def _fits_unshifted(vb: np.ndarray, budget: int, orders) -> np.ndarray:
     ok = np.zeros(vb.shape[0], dtype=bool)
     left = np.arange(vb.shape[0])
     for k in orders:  # each order tried on the blocks the previous ones left
-        mk = m + np.float32(2.0 ** k) if left.size == m.shape[0] else m[left] + np.float32(2.0 ** k)
-        lead = _exponent_sums(mk) - (127 + k) * vb.shape[1]
-        fit = vb.shape[1] * (2 + k) + 2 * lead <= budget
+        fit = _eg_bits_from((m if left.size == m.shape[0] else m[left]) + np.float32(2.0 ** k),
+                            k) <= budget
         ok[left[fit]] = True
         left = left[~fit]
     return ok
@@ -357,9 +356,14 @@ def _cold_sum(n_val: int, budget: int) -> float:
     log2(1 + |q| / 2^k), which is concave in |q|, so by Jensen's inequality the block's code
     length is at most n_val (2 + k) + 2 n_val log2(1 + (mean |v| + 1/2) / 2^k); the best k gives
     the largest mean. Less a relative 1e-5 for the float32 sums it is compared with."""
+    return float(n_val * _jensen_mean(n_val, budget).max() * (1 - 1e-5))
+
+
+def _jensen_mean(n_val: int, budget: int) -> np.ndarray:
+    """(K,) largest mean |v| (HWA LSB) per EG order k of the k-array for which the Jensen bound
+    n_val (2 + k) + 2 n_val log2(1 + (mean + 1/2) / 2^k) fits `budget`."""
     k = EGE_K_ARRAY.astype(np.float64)
-    mean = 2.0 ** k * (2.0 ** ((budget / n_val - 2 - k) / 2) - 1) - 0.5
-    return float(n_val * mean.max() * (1 - 1e-5))
+    return 2.0 ** k * (2.0 ** ((budget / n_val - 2 - k) / 2) - 1) - 0.5
 
 
 def ege_compress(rf: np.ndarray, ratio: float = 0.5, range_bins_per_block: int = 8,
