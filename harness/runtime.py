@@ -49,8 +49,19 @@ def tune_allocator() -> bool:
 def single_thread_blas() -> None:
     """Limit BLAS to one thread in this process (threadpoolctl), for bit-identical results on
     every execution path (module docstring). Process-wide and permanent: entry points and
-    workers call it once; calling it again is harmless."""
+    workers call it once; calling it again is harmless.
+
+    threadpoolctl limits only the BLAS libraries already loaded, and scipy ships its own
+    OpenBLAS, loaded with `scipy.linalg`: it is imported first, and the OpenBLAS / OpenMP
+    thread variables are set for any library loaded later (without this, `radar-harness run`,
+    which limits before importing the chain, differed from a sweep cell in the last bits).
+    """
+    import os
+
+    import scipy.linalg  # noqa: F401  (loads scipy's OpenBLAS so that the limit reaches it)
     from threadpoolctl import threadpool_limits
+    for var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
+        os.environ[var] = "1"
     threadpool_limits(limits=1, user_api="blas")
 
 

@@ -12,6 +12,7 @@ range errors.
 from __future__ import annotations
 
 import concurrent.futures as cf
+import os
 import subprocess
 import sys
 from pathlib import Path
@@ -118,3 +119,19 @@ def test_simulate_writes_the_bits_a_pool_worker_simulates(tmp_path):
     got = read_capture(out, parse_ti_cfg(r79_cfg_path()).radar,
                        interleaved=parse_ti_cfg(r79_cfg_path()).adc_channel_interleaved)
     np.testing.assert_array_equal(got, ref)
+
+
+def test_one_blas_thread_reaches_every_blas_library():
+    """`prepare_process` runs before the chain is imported (the CLI's first step): afterwards
+    every loaded BLAS, scipy's own OpenBLAS included, runs one thread. It did not reach scipy's
+    OpenBLAS, loaded later with `scipy.linalg`, so `run` differed from a sweep cell in the last
+    bits of every range (the slow test above)."""
+    code = ("from harness.runtime import prepare_process; prepare_process(); "
+            "import scipy.linalg, pipeline, radarsim; from threadpoolctl import threadpool_info; "
+            "print(sorted({i['num_threads'] for i in threadpool_info() "
+            "if i['user_api'] == 'blas'}))")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         check=True, cwd=ROOT, env={**os.environ,
+                                                    "OPENBLAS_NUM_THREADS": "",
+                                                    "OMP_NUM_THREADS": ""})
+    assert out.stdout.strip() == "[1]"
