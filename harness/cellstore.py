@@ -30,6 +30,8 @@ import uuid
 from pathlib import Path
 from typing import Callable
 
+import numpy as np
+
 __all__ = ["CELL_STATES", "code_version", "read_meta", "cell_state", "table_files",
            "write_cell_dir", "retire", "clean_temporaries", "TEMP_PREFIXES"]
 
@@ -250,3 +252,13 @@ def clean_temporaries(cells_root: Path) -> list[Path]:
             shutil.rmtree(d, ignore_errors=True)
             removed.append(d)
     return removed
+
+
+def failed_rows(summary) -> "np.ndarray":
+    """(n_rows,) bool: the rows of a sweep summary table that record an errored cell, i.e. a
+    non-empty ``error``. A missing value, or a table without the column, counts as completed
+    (`harness.sweep.assemble` writes "" for completed cells). The one rule every reader of
+    sweep results applies."""
+    if "error" not in summary.columns:
+        return np.zeros(len(summary), dtype=bool)
+    return (summary["error"].fillna("").astype(str) != "").to_numpy()

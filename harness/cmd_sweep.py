@@ -21,6 +21,7 @@ from pathlib import Path
 import pandas as pd
 
 from .args import DURATION_S, FRAME_STRIDE, SEED, TIMEOUT_S, WORKERS
+from .cellstore import failed_rows
 
 #: Columns printed by `run` and `sweep` (all are in summary.parquet, with many more).
 SUMMARY_COLUMNS = [
@@ -39,8 +40,7 @@ def format_summary(summary: pd.DataFrame, columns=None) -> str:
         return "(no rows)"
     text = summary[cols].to_string(index=False, float_format=lambda v: f"{v:.3g}",
                                    na_rep="-")
-    err = summary[summary["error"].astype(str) != ""] if "error" in summary else summary.iloc[:0]
-    for _, r in err.iterrows():
+    for _, r in summary[failed_rows(summary)].iterrows():
         text += f"\nERROR {r['scenario']} {r['variant']} seed {r['seed']}: {r['error']}"
     return text
 

@@ -29,6 +29,8 @@ import pandas as pd
 
 from scenarios.checks import build_from_table, check_keys, one_of, read_toml, require
 
+from .cellstore import failed_rows
+
 __all__ = ["Gate", "GateResult", "load_gates", "evaluate_gates", "load_summary",
            "junit_xml", "markdown", "DEFAULT_GATES_PATH", "AGGREGATES"]
 
@@ -173,8 +175,8 @@ def evaluate_gates(summary: pd.DataFrame, gates: list[Gate],
             raise ValueError(f"gate {g.name!r}: metric {g.metric!r} is not numeric (dtype "
                              f"{col.dtype}); a threshold cannot apply to it")
     out: list[GateResult] = []
-    err = summary.get("error", pd.Series("", index=summary.index)).fillna("").astype(str)
-    bad = summary[err != ""]
+    failed = failed_rows(summary)
+    bad = summary[failed]
     missing = [c["cell_id"] for c in (manifest or {}).get("cells", [])
                if c.get("status") not in ("ok", "error")]
     ok = bad.empty and not missing
@@ -182,7 +184,7 @@ def evaluate_gates(summary: pd.DataFrame, gates: list[Gate],
                     [f"{m}: not run" for m in missing])
     out.append(GateResult("sweep_cells_ok", "error", "all cells", float(len(bad) + len(missing)),
                           "== 0", "pass" if ok else "fail", msg))
-    good = summary[err == ""]
+    good = summary[~failed]
     for g in gates:
         sel = good
         for col in ("scheme", "scenario", "variant"):

@@ -23,6 +23,8 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from .cellstore import failed_rows
+
 __all__ = ["build_report", "doppler_azimuth_map", "choose_frame"]
 
 _LABEL_COLOURS = {"TRUE": "tab:green", "VELOCITY_AMBIGUOUS": "tab:orange", "GHOST": "tab:red",
@@ -444,7 +446,7 @@ def build_report(results: str | Path, out: str | Path | None = None, *, maps: bo
         if meta.get("status") == "ok":
             sp = meta["spec"]
             specs.setdefault((sp["scenario"], sp["variant"], sp["seed"]), sp)
-    ok_rows = summary[summary["error"] == ""] if "error" in summary else summary
+    ok_rows = summary[~failed_rows(summary)]
     keys = ok_rows[["scenario", "variant", "seed"]].drop_duplicates()
     keys = keys.drop_duplicates("scenario")  # one section per case: its first variant/seed
     if max_cases is not None:

@@ -28,6 +28,8 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from .cellstore import failed_rows
+
 __all__ = ["shifter_table", "html_section", "angle_sidelobe_db", "PROBE",
            "FOOTPRINT_GATE_M", "VELOCITY_GATE_MPS"]
 
@@ -149,8 +151,7 @@ def shifter_table(results: str | Path, *, probe: bool = True) -> pd.DataFrame:
     det = pd.read_parquet(results / "detections.parquet")
     truth = pd.read_parquet(results / "truth.parquet")
     info = _variant_info(results)
-    if "error" in summ:
-        summ = summ[summ["error"].fillna("") == ""]
+    summ = summ[~failed_rows(summ)]
     grp = summ.groupby(["variant", "scheme"])
     out = grp[["n_frames", "n_ghost", "n_detections"]].sum()
     out["ghost_rate"] = out["n_ghost"] / out["n_detections"].where(out["n_detections"] > 0)
