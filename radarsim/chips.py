@@ -96,6 +96,14 @@ class Chip:
         The demo's setting, used when a config does not say.
     lvds_lanes : int
         LVDS lanes streamed to a DCA1000.
+    ti_platform : str
+        The ``% Platform:`` name of TI's mmWave Visualizer profiles (e.g. xWR18xx, AWR294X).
+    mcu_plus_sdk : bool
+        The demo CLI is the mmWave MCU+ SDK's (AWR294x family: DDM demo syntax); otherwise the
+        mmWave SDK 3.x's.
+    channel_cfg_args : int
+        Arguments of the demo's ``channelCfg``: 3, or 5 on the AWR2x44P / AWR2544 (adds
+        ``<ethOscClkEn> <driveStrength>``, MCU+ SDK AWR2x44P demo user guide).
     """
 
     name: str
@@ -116,6 +124,9 @@ class Chip:
     lvds_lanes: int
     default_board: str
     datasheet: str
+    ti_platform: str
+    mcu_plus_sdk: bool
+    channel_cfg_args: int
 
     @property
     def max_chirps(self) -> int:
@@ -126,7 +137,8 @@ class Chip:
         return adc_mode in self.adc
 
 
-def _awr294x(name: str, board: str, datasheet: str, interleaved_default: bool = True) -> Chip:
+def _awr294x(name: str, board: str, datasheet: str, platform: str,
+             interleaved_default: bool = True, channel_cfg_args: int = 3) -> Chip:
     return Chip(
         name=name,
         band_min_hz=76e9, band_max_hz=81e9,           # Features: 76- to 81-GHz
@@ -148,11 +160,12 @@ def _awr294x(name: str, board: str, datasheet: str, interleaved_default: bool = 
         lvds_lanes=4,                                  # MCU+ SDK lvdsStreamCfg: 4-lane HSI
         default_board=board,
         datasheet=datasheet,
+        ti_platform=platform, mcu_plus_sdk=True, channel_cfg_args=channel_cfg_args,
     )
 
 
 def _xwr1x6x(name: str, band: tuple[float, float], n_tx: int, if_bw: float,
-             shifter: int | None, board: str, datasheet: str) -> Chip:
+             shifter: int | None, board: str, datasheet: str, platform: str) -> Chip:
     return Chip(
         name=name, band_min_hz=band[0], band_max_hz=band[1], n_tx=n_tx, n_rx=4,
         adc=MappingProxyType({
@@ -169,18 +182,23 @@ def _xwr1x6x(name: str, band: tuple[float, float], n_tx: int, if_bw: float,
         adcbuf_interleaved_default=False,
         lvds_lanes=2,                       # SDK LVDS streaming, DCA1000 lvdsMode 2
         default_board=board, datasheet=datasheet,
+        ti_platform=platform, mcu_plus_sdk=False, channel_cfg_args=3,
     )
 
 
 #: Chips by the name users type (TI part number).
 CHIPS: Mapping[str, Chip] = MappingProxyType({
-    "AWR2944": _awr294x("AWR2944", "AWR2944EVM", "SWRS273D"),
-    "AWR2944P": _awr294x("AWR2944P", "AWR2944PEVM", "SWRS318A"),
-    "AWR2544": _awr294x("AWR2544", "AWR2544LOPEVM", "SWRS314B", interleaved_default=False),
+    "AWR2944": _awr294x("AWR2944", "AWR2944EVM", "SWRS273D", "AWR294X"),
+    "AWR2944P": _awr294x("AWR2944P", "AWR2944PEVM", "SWRS318A", "AWR2X44P", channel_cfg_args=5),
+    "AWR2544": _awr294x("AWR2544", "AWR2544LOPEVM", "SWRS314B", "AWR2544",
+                        interleaved_default=False, channel_cfg_args=5),
     # Complex-baseband family: IF bandwidths from each receive-subsystem section.
-    "AWR1843": _xwr1x6x("AWR1843", (76e9, 81e9), 3, 10e6, 6, "AWR1843BOOST", "SWRS222D"),
-    "AWR1642": _xwr1x6x("AWR1642", (76e9, 81e9), 2, 5e6, None, "AWR1642BOOST", "SWRS203D"),
-    "IWR6843": _xwr1x6x("IWR6843", (60e9, 64e9), 3, 10e6, 6, "IWR6843ISK", "SWRS219F"),
+    "AWR1843": _xwr1x6x("AWR1843", (76e9, 81e9), 3, 10e6, 6, "AWR1843BOOST", "SWRS222D",
+                        "xWR18xx"),
+    "AWR1642": _xwr1x6x("AWR1642", (76e9, 81e9), 2, 5e6, None, "AWR1642BOOST", "SWRS203D",
+                        "xWR16xx"),
+    "IWR6843": _xwr1x6x("IWR6843", (60e9, 64e9), 3, 10e6, 6, "IWR6843ISK", "SWRS219F",
+                        "xWR68xx"),
 })
 
 

@@ -110,7 +110,7 @@ from typing import Any, Callable, Iterable, Mapping
 
 from types import MappingProxyType
 
-from .chips import ADC_MODES, Chip, get_chip
+from .chips import ADC_MODES, CHIPS, Chip, get_chip
 from .config import RadarConfig
 
 __all__ = ["TiCfar", "TiProfile", "parse_ti_cfg", "from_ti_cfg", "to_ti_cfg", "r79_cfg_path",
@@ -359,13 +359,6 @@ PLATFORMS = {
     "awr2x44p": "AWR2944P", "awr2944p": "AWR2944P",
     "awr2544": "AWR2544", "xwr2544": "AWR2544",
 }
-#: chip -> the ``% Platform:`` name `to_ti_cfg` writes.
-PLATFORM_OF_CHIP = {"AWR2944": "AWR294X", "AWR2944P": "AWR2X44P", "AWR2544": "AWR2544",
-                    "AWR1843": "xWR18xx", "AWR1642": "xWR16xx", "IWR6843": "xWR68xx"}
-#: Chips whose demo CLI is the mmWave MCU+ SDK's (the others: mmWave SDK 3.x).
-_MCU_PLUS_CHIPS = frozenset({"AWR2944", "AWR2944P", "AWR2544"})
-#: Chips whose channelCfg takes the 5-argument form (<ethOscClkEn> <driveStrength>).
-_CHANNEL_CFG_5ARG_CHIPS = frozenset({"AWR2944P", "AWR2544"})
 _PLATFORM_RE = re.compile(r"^%\s*platform\s*:\s*(\S+)", re.IGNORECASE)
 
 
@@ -469,7 +462,7 @@ def _channel_cfg(st: _State, ln: _Line) -> None:
     tx = ln.int(1, "txChannelEn", 1, (1 << chip.n_tx) - 1, chip.name)
     ln.int(2, "cascading", 0, 0, chip.name)
     if len(ln.args) == 5:  # AWR2x44P / AWR2544: <ethOscClkEn> <driveStrength>
-        if chip.name not in _CHANNEL_CFG_5ARG_CHIPS:
+        if chip.channel_cfg_args != 5:
             raise ln.fail(f"the 5-argument form (ethOscClkEn, driveStrength) is AWR2x44P / "
                           f"AWR2544 syntax; the {chip.name} demo takes 3 arguments")
         ln.int(3, "ethOscClkEn", 0, 1)
@@ -614,7 +607,8 @@ def _ant_geometry_cfg(st: _State, ln: _Line) -> None:
 #: cfarCfg argument counts the parser reads, by chip family: mmWave SDK 3.x (9) everywhere, the
 #: R79 / AWR2x44P DDM syntax (11, 12, 13) on the AWR294x family. Other counts (SDK 1.x/2.0
 #: with linear thresholds, toolbox-lab firmwares) are kept and ignored.
-_CFAR_ARGS = {**{name: {9, 11, 12, 13} for name in _MCU_PLUS_CHIPS}, None: {9}}
+_CFAR_ARGS = {**{name: {9, 11, 12, 13} for name, c in CHIPS.items() if c.mcu_plus_sdk},
+              None: {9}}
 
 
 def _cfar_cfg(st: _State, ln: _Line) -> None:
@@ -1213,7 +1207,7 @@ def to_ti_cfg(cfg: RadarConfig | TiProfile, *, frame_period_s: float | None = No
     rx_mask = sum(1 << (c - 1) for c in radar.rx_channels)
     tx_bits = [1 << (c - 1) for c in radar.tx_channels]  # logical Tx k -> TI txEnable bit
     tx_mask = sum(tx_bits)
-    mcu_plus = chip.name in _MCU_PLUS_CHIPS
+    mcu_plus = chip.mcu_plus_sdk
     idle_us = _fmt_decimal(radar.idle_time_s, -6)
     ramp_us = _fmt_decimal(radar.ramp_end_time_s, -6)
     fmt = ADC_MODES[radar.adc_mode].ti_code
@@ -1222,7 +1216,7 @@ def to_ti_cfg(cfg: RadarConfig | TiProfile, *, frame_period_s: float | None = No
     out = [
         f"% {chip.name} profile written by radarsim.ti_cfg.to_ti_cfg "
         f"({'mmWave MCU+ SDK' if mcu_plus else 'mmWave SDK 3.x'} CLI).",
-        f"% Platform:{PLATFORM_OF_CHIP[chip.name]}",
+        f"% Platform:{chip.ti_platform}",
         f"% {radar.mimo.upper()} {radar.n_tx} Tx x {radar.n_rx} Rx, {radar.n_chirps} chirps of "
         f"{radar.chirp_period_s * 1e6:.6g} us, {radar.n_samples} {kind} samples at "
         f"{radar.adc_rate_sps / 1e6:g} Msps: range resolution {radar.range_resolution_m:.3f} m, "
@@ -1232,8 +1226,7 @@ def to_ti_cfg(cfg: RadarConfig | TiProfile, *, frame_period_s: float | None = No
         "sensorStop",
         "flushCfg",
         "dfeDataOutputMode 1",
-        f"channelCfg {rx_mask} {tx_mask} 0" + (" 0 0" if chip.name in _CHANNEL_CFG_5ARG_CHIPS
-                                              else ""),
+        f"channelCfg {rx_mask} {tx_mask} 0" + " 0" * (chip.channel_cfg_args - 3),
         f"adcCfg 2 {fmt}",
         # adcbufCfg <subFrameIdx> <adcOutputFmt 0 complex / 1 real> <SampleSwap>
         # <ChanInterleave> <ChirpThreshold>: TI's demo values (SampleSwap 1 for complex).
