@@ -426,8 +426,8 @@ def build_report(results: str | Path, out: str | Path | None = None, *, maps: bo
                  f"{manifest.get('n_error', 0)} failed; written "
                  f"{html.escape(str(manifest.get('written_utc', '')))}.</p>")
     verdicts, gate_table = _gate_verdicts(summary, manifest)
-    head = headline_table(summary, actor_summary, actors if len(actors) else None, base,
-                          verdicts)
+    head = headline_table(summary, actor_summary, actors if len(actors) else None,
+                          baseline=base, verdicts=verdicts)
     parts.append("<h2>Headline: every scheme over the whole suite</h2>")
     parts.append("<p>Pd: detected / visible actor-frames per class; first detection: median "
                  "range of each actor's first TRUE detection; RMSE pooled over every TRUE "

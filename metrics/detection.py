@@ -211,7 +211,7 @@ def max_range_pd90(pd_table: pd.DataFrame, min_count: int = 5,
     return out
 
 
-def snr_gain_pairs(af: pd.DataFrame, a: str = "ddma", b: str = "tdma") -> pd.DataFrame:
+def snr_gain_pairs(af: pd.DataFrame, a: str, b: str) -> pd.DataFrame:
     """SNR gain of scheme ``a`` over ``b`` on the same actor and frame.
 
     ``af`` is the actor-frame table of both schemes with a ``scheme`` column. For every

@@ -52,7 +52,7 @@ def suite_snr_gain_db(actors: pd.DataFrame, scheme: str, baseline: str,
 
 
 def headline_table(summary: pd.DataFrame, actor_summary: pd.DataFrame,
-                   actors: pd.DataFrame | None = None, baseline: str = "tdma",
+                   actors: pd.DataFrame | None = None, *, baseline: str,
                    verdicts: dict[str, str] | None = None) -> pd.DataFrame:
     """One row per scheme (run order) with the suite-wide answer.
 

@@ -99,7 +99,7 @@ def test_snr_gain_pairs_same_actor_and_frame():
     af = actor_frames_table()
     both = pd.concat([af.assign(scheme="ddma", max_snr_db=af["max_snr_db"] + 5.4),
                       af.assign(scheme="tdma").iloc[:3]])
-    pairs = snr_gain_pairs(both)
+    pairs = snr_gain_pairs(both, "ddma", "tdma")
     # Frames 1 and 2 are detected by both (frame 3 is missing in TDMA).
     assert list(pairs["frame"]) == [1, 2]
     s = snr_gain_stats(pairs, min_pairs=2)

@@ -31,8 +31,8 @@ def _actor_summary():
 
 
 def test_pooling_weights():
-    t = headline_table(_summary(), _actor_summary(), verdicts={"ddma": "PASS"}).set_index(
-        "scheme")
+    t = headline_table(_summary(), _actor_summary(), baseline="tdma",
+                       verdicts={"ddma": "PASS"}).set_index("scheme")
     assert list(t.index) == ["ddma", "tdma"]
     # detected / visible actor-frames; guard rails are not actors
     assert t.loc["ddma", "pd_car"] == pytest.approx(30 / 40)
@@ -53,7 +53,8 @@ def test_snr_gain_is_median_of_noise_limited_pairs():
             rows.append({"scenario": "a", "variant": "v", "seed": 0, "scheme": scheme,
                          "frame": frame, "actor_id": 0, "actor_class": "car", "range_m": 50.0,
                          "detected": True, "max_snr_db": snr})
-    t = headline_table(_summary(), _actor_summary(), pd.DataFrame(rows)).set_index("scheme")
+    t = headline_table(_summary(), _actor_summary(), pd.DataFrame(rows),
+                       baseline="tdma").set_index("scheme")
     assert t.loc["ddma", "snr_gain_over_tdma_db"] == pytest.approx(5.5)  # 6 and 5; not 20
     assert t.loc["ddma", "snr_gain_pairs"] == 2 and np.isnan(t.loc["tdma",
                                                                    "snr_gain_over_tdma_db"])
