@@ -20,38 +20,44 @@ Interference mitigation, as TI documents it (with where this model assumes):
   exceeds its threshold gets an interference indicator bit. The DDM demo's RangeProc programs
   ``thresholdMode = MAGDIFF`` with per-Rx built-in statistics, so the default mode is
   "magdiff"; the other HWA modes are selectable (`INTF_THRESHOLD_MODES`).
-* Mitigation (SWRA725 sec. 3.3; HWA_INTERFMITIGATION_PATH_*): the demo selects the windowed
-  zero-out path with left/right hysteresis orders 3 and a count threshold of 1. ASSUMED here:
-  the hysteresis extends every flagged run by `intf_hysteresis_samples` samples on each side
-  and the flagged samples are set to zero (the taper of the "windowed" zero-out is not
-  documented publicly; a hard zero is modelled). NOTE: the DDM demo source we found
-  (rangeprochwaDDMA.c, rangeProcHWA_ConfigHWA) computes the thresholds from intfMitigCfg but
-  leaves ``interfMitigation.enable = 0`` with a TODO; the harness follows the issue's contract
-  and turns mitigation on by default.
+* Mitigation (SWRA725 sec. 3.3; HWA_INTERFMITIGATION_PATH_*): the DDM demo's RangeProc
+  (rangeprochwaDDMA.c, ``rangeProcHWA_ConfigHWA``, current MCU+ SDK) enables it
+  (``interfMitigation.enable = 1``) on the windowed zero-out path with left/right hysteresis
+  orders 3 and a count threshold of 1 (an older release left it disabled with a TODO), so the
+  harness turns it on by default. ASSUMED here: the hysteresis extends every flagged run by
+  `intf_hysteresis_samples` samples on each side and those samples are set to zero. The
+  "windowed" part is a 5-sample taper (the demo programs samples 2-6 of a 16-point Hann in
+  Q5, ``hwaInterfMitigWindow``), but where the HWA applies it is not documented publicly: it
+  is not modelled (a hard zero).
 
 EGE compression (HWA compression engine, ``HWA_AccelModeCompress``: method EGE, both passes,
 ``EGEKarrayLength = 3``, ``scaleFactorBW = 4``, header on, dither on, as the demo's RangeProc
-compression paramset). The device TRM's section on the HWA compression/decompression engine
-(AWR294x TRM, Radar Hardware Accelerator chapter) was not available to us as text: the model
-below follows the SDK's documented register fields (k-array, scale-factor width, two passes,
-dither) and seed 000 section 5.2 (block layout and ratio), and says where it assumes. Model: each block of 4 Rx x 8 range bins of one chirp (32 complex
-samples of 16-bit I/Q, 128 bytes) must fit 64 bytes. Pass 1 picks, per block, the smallest
-right-shift s (the scale factor, 4 bits in the header) for which the exponential-Golomb codes
-of the 64 shifted integers, with the best order k out of the 2^3 = 8 of the k-array (3-bit
-index in the header), fit the budget; pass 2 encodes. Decompression restores q x 2^s, so every
-I and Q value carries a rounding error of at most 2^(s-1) (the bound the tests check). ASSUMED:
-sign-magnitude EG codes (1 sign bit + EG_k of |q|: k + 1 + 2 floor(log2(1 + |q| >> k)) bits),
-k-array 0..7, rounding instead of the dithered truncation (dither decorrelates the error but
-does not change its power), and the 16-bit HWA output scale of `HWA_OUTPUT_SCALE` (no
-saturation of the 16-bit output is modelled).
+compression paramset; k-array {3, 4, 5, 7, 9, 11, 13, 15} as its ``EGEKparam``). The device
+TRM's section on the HWA compression/decompression engine (AWR294x TRM, Radar Hardware
+Accelerator chapter) was not available to us as text: the model follows the SDK's register
+fields and the demo's settings (rangeprochwaDDMA.c) and seed 000 section 5.2 (block layout and
+ratio), and says where it assumes. Model: each block of 4 Rx x 8 range bins of one chirp (32
+complex samples of 16-bit I/Q, 128 bytes) must fit 64 bytes. Pass 1 picks, per block, the
+smallest right-shift s (the scale factor, 4 bits in the header) for which the
+exponential-Golomb codes of the 64 shifted integers, with the best order k of the 8-entry
+k-array (3-bit index in the header), fit the budget; pass 2 encodes. Decompression restores
+q x 2^s. The demo enables dither (an LFSR seeded by ``HWA_configCmpLFSRSeed0``): modelled as
+non-subtractive triangular dither of +/-1 step before rounding, so every I and Q value is
+within 1.5 x 2^s of its input and the error, independent of the signal, has variance
+2^(2s) / 4 (the tests check both). ASSUMED: sign-magnitude EG codes (1 sign bit + EG_k of |q|:
+k + 1 + 2 floor(log2(1 + |q| >> k)) bits), a deterministic hash in place of the undocumented
+LFSR sequence, and the 16-bit HWA output scale of `HWA_OUTPUT_SCALE` (no saturation of the
+16-bit output is modelled).
 
 References
 ----------
 .. [1] TI, seed 000 section 5.1-5.3 (tables 5-8), seed 004 section 2-4.
 .. [2] TI SWRA725, "Interference Mitigation for AWR294x" (2021), sections 3.1-3.3.
 .. [3] TI MMWAVE-MCUPLUS-SDK, DDM demo: ``MmwDemo_CLIIntfMitigCfg`` (mmw_cli.c),
-       ``rangeProcHWADDMA_findIntfStatsStaticParams`` and ``rangeProcHWA_ConfigHWA``
-       (datapath/dpu/rangeproc, rangeprochwaDDMA.c); MCU+ SDK HWA driver API
+       ``rangeProcHWADDMA_findIntfStatsStaticParams``, ``rangeProcHWA_ConfigHWACommon``
+       (EGEKparam, compression LFSR) and ``rangeProcHWA_ConfigHWA`` (mitigation and
+       compression paramsets) in datapath/dpu/rangeprocDDMA/rangeprochwaDDMA.c; the DPC's
+       ``hwaInterfMitigWindow`` (16-point Hann, Q5); MCU+ SDK HWA driver API
        ``HWA_PreProcessing.interfMitigation``, ``HWA_AccelModeCompress``.
 """
 from __future__ import annotations
@@ -74,8 +80,9 @@ __all__ = ["range_stage", "remove_dc", "interference_flags", "zero_flagged", "eg
 #: Range-FFT value -> 16-bit HWA output LSB: the demo's range FFT scales its last 3 butterfly
 #: stages by 1/2 (butterflyScaling = 7), i.e. 1/8 of the unscaled FFT of the int16 samples.
 HWA_OUTPUT_SCALE = 1.0 / 8.0
-#: EGE orders of the k-array (EGEKarrayLength = 3: 8 entries, assumed 0..7).
-EGE_K_ARRAY = np.arange(8)
+#: EGE orders of the k-array: EGEKarrayLength = 3 (8 entries), the values the DDM demo's
+#: RangeProc programs (rangeprochwaDDMA.c, ``rangeProcHWA_ConfigHWACommon``: EGEKparam).
+EGE_K_ARRAY = np.array([3, 4, 5, 7, 9, 11, 13, 15])
 #: Block header: scale factor (scaleFactorBW = 4) + k index (3 bits).
 EGE_HEADER_BITS = 4 + 3
 _MAX_SHIFT = 15  # a 4-bit scale factor
@@ -261,8 +268,8 @@ def _ege_shift(vb: np.ndarray, budget: int) -> tuple[np.ndarray, np.ndarray]:
     def upper_fits(i: np.ndarray) -> np.ndarray:
         """Blocks i whose upper bound fits at their current (s, k): they need no exact
         length (a value with L = 31, the clip, has no bound)."""
-        sk = shift[i] + k_sel[i]
-        return (n_val * (2 + k_sel[i]) + 2 * fsum[i, sk] <= budget) & (hist[i, 31] == 0)
+        k = kk[k_sel[i]]
+        return (n_val * (2 + k) + 2 * fsum[i, shift[i] + k] <= budget) & (hist[i, 31] == 0)
 
     todo = np.arange(n_blk)
     for _ in range(_MAX_SHIFT + 1):
@@ -270,13 +277,13 @@ def _ege_shift(vb: np.ndarray, budget: int) -> tuple[np.ndarray, np.ndarray]:
         if todo.size == 0:
             break
         q = np.rint(np.ldexp(vb[todo], -shift[todo, None]))   # float32, exact scaling
-        over = _eg_bits_f32(q.copy(), k_sel[todo]) > budget
+        over = _eg_bits_f32(q.copy(), kk[k_sel[todo]]) > budget
         if over.any():  # the other orders whose lower bound fits
             failed = np.flatnonzero(over)
             j, k = np.nonzero(lower(todo[failed]) <= budget)
             other = k != k_sel[todo[failed[j]]]
             row, k = failed[j[other]], k[other]
-            ok = _eg_bits_f32(q[row], k) <= budget
+            ok = _eg_bits_f32(q[row], kk[k]) <= budget
             k_sel[todo[row[ok]]] = k[ok]
             over[row[ok]] = False
         todo = todo[over & (shift[todo] < _MAX_SHIFT)]
@@ -284,7 +291,7 @@ def _ege_shift(vb: np.ndarray, budget: int) -> tuple[np.ndarray, np.ndarray]:
             break
         shift[todo] += 1
         k_sel[todo] = lower(todo).argmin(axis=-1)
-    return shift, k_sel
+    return shift, kk[k_sel]
 
 
 def _eg_bits_f32(q: np.ndarray, k: np.ndarray) -> np.ndarray:
@@ -332,7 +339,7 @@ def _noise_orders(n_val: int, budget: int) -> tuple[int, int]:
     """The EG order that admits the largest mean |v| in `_cold_sum` (4 for the demo) and the
     next: the orders with which noise-like blocks near that limit fit."""
     best = int(np.argmax(_jensen_mean(n_val, budget)))
-    return best, min(best + 1, int(EGE_K_ARRAY[-1]))
+    return int(EGE_K_ARRAY[best]), int(EGE_K_ARRAY[min(best + 1, EGE_K_ARRAY.size - 1)])
 
 
 def _fits_unshifted(vb: np.ndarray, budget: int, orders) -> np.ndarray:
