@@ -48,6 +48,9 @@ class AdcMode(NamedTuple):
     #: upper half of the spectrum is the mirror image), complex fs (image band rejected).
     span_per_rate: float
     description: str
+    #: The receiver rejects negative beat frequencies (complex 1x: its image band is filtered,
+    #: so an interferer sweeping through 0 Hz is heard on one side only).
+    image_rejected: bool = False
 
 
 #: ADC output formats by name; complex 2x has the complex 1x signal model (its image band is
@@ -55,7 +58,7 @@ class AdcMode(NamedTuple):
 ADC_MODES: Mapping[str, AdcMode] = MappingProxyType({
     "real": AdcMode("real", 0, False, 0.5, "real samples: n_samples/2 range bins"),
     "complex1x": AdcMode("complex1x", 1, True, 1.0,
-                         "I/Q, image band filtered: n_samples range bins"),
+                         "I/Q, image band filtered: n_samples range bins", image_rejected=True),
     "complex2x": AdcMode("complex2x", 2, True, 1.0,
                          "I/Q at the real-mode rate, image band kept: n_samples range bins"),
 })

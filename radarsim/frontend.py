@@ -283,8 +283,9 @@ def simulate_frame(cfg: RadarConfig, scatterers: Scatterers,
         ADC samples: signal + interference + DC/leakage (`adc_dc_offset_lsb`,
         `tx_leakage_dbfs`) + thermal noise (k T NF B per real channel, B = adc_rate / 2),
         scaled so a sine of `adc_full_scale_dbm` reaches 32767, rounded and clipped to int16;
-        complex frames hold int16-valued I and Q parts (what a DCA1000 records; interference
-        and DC/leakage are modelled for real ADC frames only).
+        complex frames hold int16-valued I and Q parts (what a DCA1000 records): the I/Q
+        receiver sees the interference's analytic signal (complex 1x: its image band, f_d < 0,
+        rejected) and the DC offset on I and Q alike.
 
     Warns
     -----
@@ -342,9 +343,6 @@ def simulate_frame_weights(cfg: RadarConfig, scatterers: Scatterers, rng: np.ran
         out += sig.view(np.float32) if cplx else sig
     has_intf = interferers is not None and len(interferers)
     has_dc = bool(cfg.adc_dc_offset_lsb) or cfg.tx_leakage_dbfs is not None
-    if cplx and (has_intf or has_dc):
-        raise ValueError(f"adc_mode={cfg.adc_mode!r}: interferers and DC/Tx leakage are "
-                         "synthesised for real ADC frames only")
     if has_intf:
         if n_c != cfg.n_chirps:
             raise ValueError(f"interferers need the config's {cfg.n_chirps} chirps, "
@@ -352,7 +350,8 @@ def simulate_frame_weights(cfg: RadarConfig, scatterers: Scatterers, rng: np.ran
         from .interference import synthesize
         synthesize(cfg, interferers, out=out)
     if has_dc:
-        out += _dc_leakage(cfg)
+        dcl = _dc_leakage(cfg)
+        out += dcl.view(np.float32) if cplx else dcl
     np.rint(out, out=out)
     # max/min are cheap reductions; the clipped samples are only counted when there are some.
     if out.max() > ADC_FULL_SCALE_CODE or out.min() < -ADC_FULL_SCALE_CODE - 1:
@@ -374,14 +373,17 @@ LEAKAGE_PATH_M = 0.1
 def _dc_leakage(cfg: RadarConfig) -> np.ndarray:
     """(n_samples,) float32 static front-end term, the same on every chirp and Rx: the DC
     offset plus the leakage tone of a `LEAKAGE_PATH_M` path (beat 2 S d / c, 5.9 kHz for the
-    R79 slope: far below one range bin, so it looks like a slowly varying offset)."""
+    R79 slope: far below one range bin, so it looks like a slowly varying offset). Complex
+    ADC modes: complex64, the offset on I and Q alike and the tone as exp(j phase)."""
     t_n = np.arange(cfg.n_samples) / cfg.adc_rate_sps + cfg.adc_start_time_s
-    x = np.full(cfg.n_samples, float(cfg.adc_dc_offset_lsb))
+    dc = float(cfg.adc_dc_offset_lsb)
+    x = np.full(cfg.n_samples, dc * (1 + 1j) if cfg.is_complex else dc)
     if cfg.tx_leakage_dbfs is not None:
         amp = ADC_FULL_SCALE_CODE * 10 ** (cfg.tx_leakage_dbfs / 20)
         f_l = 2 * cfg.slope_hz_per_s * LEAKAGE_PATH_M / C_MPS
-        x += amp * np.cos(2 * np.pi * f_l * t_n - 4 * np.pi * LEAKAGE_PATH_M / cfg.wavelength_m)
-    return x.astype(np.float32)
+        ph = 2 * np.pi * f_l * t_n - 4 * np.pi * LEAKAGE_PATH_M / cfg.wavelength_m
+        x = x + amp * (np.exp(1j * ph) if cfg.is_complex else np.cos(ph))
+    return x.astype(np.complex64 if cfg.is_complex else np.float32)
 
 
 def _gaussian_noise(rng: np.random.Generator, shape: tuple[int, int],

@@ -52,8 +52,9 @@ import numpy as np
 import pandas as pd
 
 from .antenna import element_gain_linear
+from .chips import ADC_MODES
 from .config import C_MPS, RadarConfig
-from .frontend import IF_LOWPASS_HZ, IF_LOWPASS_ORDER
+from .frontend import IF_LOWPASS_ORDER, if_corner_hz
 
 __all__ = ["Interferers", "received_power_w", "interference_to_noise_db", "synthesize",
            "burst_windows", "interferers_from_truth", "EQUIPMENT_COLUMNS", "PASSBAND_FACTOR"]
@@ -61,6 +62,14 @@ __all__ = ["Interferers", "received_power_w", "interference_to_noise_db", "synth
 #: Bursts are synthesised while |f_d| < PASSBAND_FACTOR x the IF corner: the order-10
 #: Butterworth is 60 dB down at twice its corner, so nothing audible is cut.
 PASSBAND_FACTOR = 2.0
+
+
+def _passband_hz(cfg: RadarConfig) -> tuple[float, float]:
+    """(lowest, highest) difference frequency f_d the victim's receiver passes, Hz: +/-
+    PASSBAND_FACTOR x its IF corner (`frontend.if_corner_hz`, the echoes' low-pass), from 0 Hz
+    up only when the ADC mode rejects the image band (complex 1x)."""
+    hi = PASSBAND_FACTOR * if_corner_hz(cfg)
+    return (0.0 if ADC_MODES[cfg.adc_mode].image_rejected else -hi), hi
 
 #: Columns of the per-actor equipment table `interferers_from_truth` joins on ``actor_id``
 #: (one row per equipped actor; mount in the actor's vehicle frame, waveform in SI units).
@@ -235,8 +244,7 @@ class _Bursts:
         self.ramp_start_s, self.tau_s = ramp_start_s, tau_s
 
 
-def _bursts(cfg: RadarConfig, itf: Interferers, i: int,
-            passband_hz: float = PASSBAND_FACTOR * IF_LOWPASS_HZ) -> _Bursts:
+def _bursts(cfg: RadarConfig, itf: Interferers, i: int) -> _Bursts:
     """Closed-form sample spans of interferer i inside the victim's passband, all chirps."""
     fs = cfg.adc_rate_sps
     n_s = cfg.n_samples
@@ -260,13 +268,14 @@ def _bursts(cfg: RadarConfig, itf: Interferers, i: int,
     ds = cfg.slope_hz_per_s - itf.slope_hz_per_s[i]
     alpha = (cfg.start_freq_hz - itf.start_freq_hz[i] - cfg.slope_hz_per_s * ramp_start[chirp]
              + itf.slope_hz_per_s[i] * (tau_p + a_m))
+    f_lo, f_hi = _passband_hz(cfg)
     if abs(ds) > 0:
-        t_a = (-passband_hz - alpha) / ds
-        t_b = (passband_hz - alpha) / ds
+        t_a = (f_lo - alpha) / ds
+        t_b = (f_hi - alpha) / ds
         lo = np.maximum(lo, np.minimum(t_a, t_b))
         hi = np.minimum(hi, np.maximum(t_a, t_b))
     else:
-        inside = np.abs(alpha) < passband_hz
+        inside = (alpha > f_lo) & (alpha < f_hi)
         hi = np.where(inside, hi, lo - 1.0)  # empty span
     t0 = t_first[chirp]
     # Clipped in float before the integer cast (spans may be empty or far outside).
@@ -313,20 +322,31 @@ def synthesize(cfg: RadarConfig, itf: Interferers, out: np.ndarray | None = None
         The victim radar.
     itf : Interferers
     out : (n_chirps x n_rx, n_samples) float32, optional
-        Buffer to add into (the front end's noise buffer); a new zero array if None.
+        Buffer to add into (the front end's noise buffer); a new zero array if None. For a
+        complex ADC mode: complex64, or float32 (n_chirps x n_rx, 2 n_samples) of interleaved
+        I and Q (the front end's buffer).
     analytic : bool
         Return the complex analytic samples A sqrt(H) exp(j psi) instead (tests, metrics);
         `out` must then be None.
 
     Returns
     -------
-    (n_chirps x n_rx, n_samples) float32, or complex64 when `analytic`
+    (n_chirps x n_rx, n_samples) float32 for a real ADC; complex64 I/Q samples
+    A sqrt(H) exp(j psi) for a complex ADC mode or when `analytic` (the I/Q receiver sees the
+    analytic signal: positive f_d in the positive-frequency bins, as the echoes)
     """
     n_c, n_r, n_s = cfg.n_chirps, cfg.n_rx, cfg.n_samples
+    cplx = analytic or cfg.is_complex
     if out is None:
-        out = np.zeros((n_c * n_r, n_s), dtype=np.complex64 if analytic else np.float32)
+        out = np.zeros((n_c * n_r, n_s), dtype=np.complex64 if cplx else np.float32)
     elif analytic:
         raise ValueError("analytic=True builds its own output; pass out=None")
+    flat = out.view(np.complex64) if cplx and out.dtype == np.float32 else out
+    if flat.shape != (n_c * n_r, n_s) or flat.dtype != (np.complex64 if cplx else np.float32):
+        raise ValueError(f"out has shape {out.shape} and dtype {out.dtype}; the "
+                         f"{cfg.adc_mode} ADC needs {n_c * n_r} rows of {n_s} "
+                         f"{'complex' if cplx else 'real'} samples")
+    flat = flat.reshape(-1)
     if len(itf) == 0:
         return out
     power = received_power_w(cfg, itf)
@@ -337,8 +357,7 @@ def synthesize(cfg: RadarConfig, itf: Interferers, out: np.ndarray | None = None
     ramp_start, _ = _victim_times(cfg)
     fs = cfg.adc_rate_sps
     row_off = (np.arange(n_r) * n_s).astype(np.int64)  # flat offset of each Rx row
-    flat = out.reshape(-1)
-    fc = np.float32(1.0 / IF_LOWPASS_HZ)
+    fc = np.float32(1.0 / if_corner_hz(cfg))
     for i in np.flatnonzero(amp > 0):  # a loop over interferers only
         b = _bursts(cfg, itf, i)
         total = int(b.count.sum())
@@ -371,7 +390,7 @@ def synthesize(cfg: RadarConfig, itf: Interferers, out: np.ndarray | None = None
         cos_p, sin_p = env * np.cos(psi), env * np.sin(psi)
         for r in range(n_r):  # 4 receivers: x_r = env cos(psi + phi_r)
             cr, sr = np.float32(math.cos(rx_phase[i, r])), np.float32(math.sin(rx_phase[i, r]))
-            if analytic:
+            if cplx:
                 flat[base + row_off[r]] += (cos_p * cr - sin_p * sr) \
                     + 1j * (sin_p * cr + cos_p * sr)
             else:

@@ -1,6 +1,7 @@
 """FMCW-FMCW interference synthesis against analytic references (DESIGN 6 and 8)."""
 from __future__ import annotations
 
+import dataclasses
 import hashlib
 import math
 
@@ -186,3 +187,72 @@ def test_interferers_validation(kw, match):
 def test_front_end_term_validation(kw, match):
     with pytest.raises(ValueError, match=match):
         radarsim.presets.r79_ddma(**kw)
+
+
+@pytest.mark.parametrize("mode, sides", [("real", 2), ("complex2x", 2), ("complex1x", 1)])
+def test_burst_length_follows_the_receiver_passband(make_x18, mode, sides):
+    """The -3 dB burst lasts sides x B_IF / |dS|, B_IF the receiver's IF corner (the echoes'
+    low-pass: 1.1 x the sampled band, 5.5 MHz real and 11 MHz I/Q at 10 Msps): both sides of
+    the crossing for a real or complex-2x receiver, f_d in (0, B_IF) only for complex 1x,
+    whose image band is rejected."""
+    cfg = make_x18(mode)
+    ds, offset, r = 5e12, 0.7e-6, 25.0
+    # Same chirp period, so every victim chirp holds one burst; the crossing f_d = 0 at
+    # u = (f0_i - f0_v - S_i (offset + tau)) / dS = 11.4 us after the ramp start, mid-window.
+    si = cfg.slope_hz_per_s - ds
+    f0 = cfg.start_freq_hz + 11.4e-6 * ds + si * (offset + r / C_MPS)
+    itf = _itf(slope=si, f0=f0, period=cfg.chirp_period_s, ramp=cfg.ramp_end_time_s,
+               offset=offset, r=r)
+    corner = radarsim.frontend.if_corner_hz(cfg)
+    assert corner == pytest.approx(5.5e6 if mode == "real" else 11e6)
+    x = itf_mod.synthesize(cfg, itf).reshape(cfg.n_chirps, cfg.n_rx, -1)[:, 0]
+    assert x.dtype == (np.float32 if mode == "real" else np.complex64)
+    env = np.abs(itf_mod.synthesize(cfg, itf, analytic=True)).reshape(
+        cfg.n_chirps, cfg.n_rx, -1)[:, 0]
+    want = sides * corner / ds * cfg.adc_rate_sps  # samples
+    lengths = []
+    for c in range(cfg.n_chirps):
+        above = np.flatnonzero(env[c] > env.max() / math.sqrt(2))
+        if above.size and 2 < above[0] and above[-1] < cfg.n_samples - 3:
+            lengths.append(above.size)
+    assert len(lengths) == cfg.n_chirps
+    assert np.median(lengths) == pytest.approx(want, abs=2)
+
+
+@pytest.mark.parametrize("mode", ["complex1x", "complex2x"])
+def test_iq_receiver_hears_the_image_side_only_without_image_rejection(make_x18, mode):
+    """Equal slopes, the interferer 2 MHz above the victim: f_d = -2 MHz + S tau, a constant
+    negative difference frequency. Complex 1x filters the image band: no burst, no sample;
+    complex 2x passes it: a tone in the negative-frequency bin (f_s - |f_d|) / f_s N."""
+    cfg = make_x18(mode)
+    r = 15.0
+    itf = _itf(slope=cfg.slope_hz_per_s, period=cfg.chirp_period_s,
+               ramp=cfg.ramp_end_time_s, offset=0.0, f0=cfg.start_freq_hz + 2e6, r=r)
+    f_d = -2e6 + cfg.slope_hz_per_s * r / C_MPS
+    x = itf_mod.synthesize(cfg, itf).reshape(cfg.n_chirps, cfg.n_rx, -1)
+    if mode == "complex1x":
+        assert len(itf_mod.burst_windows(cfg, itf)) == 0 and not x.any()
+        return
+    spec = np.abs(np.fft.fft(x[:, 0], axis=-1)).mean(axis=0)
+    want_bin = (1 + f_d / cfg.adc_rate_sps) * cfg.n_samples
+    assert int(np.argmax(spec)) == pytest.approx(want_bin, abs=1)
+
+
+def test_iq_frames_carry_interference_and_the_dc_term(make_x18):
+    """simulate_frame on an I/Q profile: the interferer raises the frame's power by its
+    in-burst power x burst share, and the DC offset sits on I and Q alike."""
+    cfg = make_x18("complex1x")
+    rng = np.random.default_rng(3)
+    empty = radarsim.Scatterers.empty()
+    si = cfg.slope_hz_per_s - 5e12
+    itf = _itf(slope=si, f0=cfg.start_freq_hz + 11.4e-6 * 5e12 + si * (0.7e-6 + 25.0 / C_MPS),
+               period=cfg.chirp_period_s, ramp=cfg.ramp_end_time_s, offset=0.7e-6, r=25.0)
+    clean = radarsim.simulate_frame(cfg, empty, np.random.default_rng(3))
+    adc = radarsim.simulate_frame(cfg, empty, rng, itf)
+    extra = np.mean(np.abs(adc.astype(np.complex128)) ** 2) - \
+        np.mean(np.abs(clean.astype(np.complex128)) ** 2)
+    synth = np.mean(np.abs(itf_mod.synthesize(cfg, itf).astype(np.complex128)) ** 2)
+    assert extra == pytest.approx(synth, rel=0.05)
+    dc = radarsim.simulate_frame(dataclasses.replace(cfg, adc_dc_offset_lsb=200),
+                                 empty, np.random.default_rng(3))
+    assert np.mean(dc - clean) == pytest.approx(200 + 200j, abs=1)
