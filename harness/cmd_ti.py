@@ -109,6 +109,7 @@ def processing_from_profile(profile, notes: list[str] | None = None):
         proc = proc.replace(cfar_training_stride=1)
         notes.append(f"CFAR training_stride 1 (contiguous cells, as TI's CFAR): the stride-2 "
                      f"window does not fit the {n_dop} Doppler bins")
+    proc.check_compression(profile.radar.n_rx, profile.radar.n_range_bins)
     return proc
 
 

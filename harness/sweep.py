@@ -319,9 +319,9 @@ def validate_cells(spec: SweepSpec, source: str | Path | None = None) -> None:
 
     def check(cell: CellSpec) -> None:
         radar, procs = build_configs(cell, comps)
-        for proc in procs.values():  # the CFAR window must fit every radar's Doppler axis
+        for proc in procs.values():  # CFAR window and EGE blocks must fit every radar
             for r in radar.values():
-                proc.check_doppler_axis(r.n_doppler_bins)
+                proc.check_radar(r)
 
     schemes = {"schemes": spec.schemes, "baseline_scheme": spec.baseline_scheme}
 

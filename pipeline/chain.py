@@ -31,7 +31,7 @@ def _inputs(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig | None):
     if not isinstance(proc, ProcessingConfig):
         raise ValueError(f"proc must be a pipeline.ProcessingConfig, got {type(proc).__name__}")
     chain = chain_of(cfg)
-    proc.check_doppler_axis(cfg.n_doppler_bins)
+    proc.check_radar(cfg)
     return chain, proc
 
 

@@ -74,8 +74,8 @@ from .config import INTF_THRESHOLD_MODES, WINDOWS, ProcessingConfig
 from .kernels import range_fft, window
 
 __all__ = ["range_stage", "remove_dc", "interference_flags", "zero_flagged", "ege_compress",
-           "ege_block_bits", "NoiseFloor", "noise_floor_rise", "INTF_THRESHOLD_MODES",
-           "HWA_OUTPUT_SCALE", "EGE_K_ARRAY", "EGE_HEADER_BITS"]
+           "ege_block_bits", "ege_min_ratio", "NoiseFloor", "noise_floor_rise",
+           "INTF_THRESHOLD_MODES", "HWA_OUTPUT_SCALE", "EGE_K_ARRAY", "EGE_HEADER_BITS"]
 
 #: Range-FFT value -> 16-bit HWA output LSB: the demo's range FFT scales its last 3 butterfly
 #: stages by 1/2 (butterflyScaling = 7), i.e. 1/8 of the unscaled FFT of the int16 samples.
@@ -357,6 +357,20 @@ def _fits_unshifted(vb: np.ndarray, budget: int, orders) -> np.ndarray:
     return ok
 
 
+def _ege_budget_bits(n_rx: int, range_bins_per_block: int, ratio: float) -> int:
+    """Code bits of one block (header excluded) at `ratio` of its 32-bit complex samples."""
+    return int(np.floor(ratio * 32 * n_rx * range_bins_per_block)) - EGE_HEADER_BITS
+
+
+def ege_min_ratio(n_rx: int, range_bins_per_block: int) -> float:
+    """Smallest compression ratio whose budget holds a block of zeros: every one of its
+    2 n_rx range_bins_per_block I/Q values needs 2 + k bits with the smallest k of the
+    k-array, plus the header (0.32 for the demo's 4 Rx x 8 bins and k >= 3)."""
+    n_val = 2 * n_rx * range_bins_per_block
+    need = n_val * (2 + int(EGE_K_ARRAY.min())) + EGE_HEADER_BITS
+    return need / (32 * n_rx * range_bins_per_block)
+
+
 def _cold_sum(n_val: int, budget: int) -> float:
     """Largest sum of |v| (HWA LSB) of a block of n_val values that fits `budget` unshifted,
     whatever the values: |q| = |rint(v)| <= |v| + 1/2 and floor(log2(1 + (|q| >> k))) <=
@@ -415,7 +429,11 @@ def ege_compress(rf: np.ndarray, ratio: float = 0.5, range_bins_per_block: int =
                          f"divide the {n_b} range bins")
     nb = n_b // range_bins_per_block
     n_val = 2 * n_r * range_bins_per_block
-    budget = int(np.floor(ratio * 32 * n_r * range_bins_per_block)) - EGE_HEADER_BITS
+    budget = _ege_budget_bits(n_r, range_bins_per_block, ratio)
+    if ratio < ege_min_ratio(n_r, range_bins_per_block):
+        raise ValueError(f"compression_ratio={ratio:g} is below "
+                         f"{ege_min_ratio(n_r, range_bins_per_block):.4f}: no EG code of the "
+                         f"k-array fits a block of {n_r} Rx x {range_bins_per_block} bins")
     vv = rf.view(np.float32).reshape(n_c, n_r, nb, 2 * range_bins_per_block)
     # sum |v| of every block: |I|, |Q| summed over its bins by one matrix-vector product
     # (much faster than add.reduceat), then over the Rx.

@@ -138,7 +138,9 @@ class ProcessingConfig:
     compression : bool
         EGE compression/decompression of the range-FFT cube (``compressionCfg``; default on).
     compression_ratio : float
-        Compressed / raw size, in [0.25, 1) (the demo: 0.5).
+        Compressed / raw size, in [0.25, 1) (the demo: 0.5); a radar also needs at least
+        `chirp_level.ege_min_ratio` for its block (0.32 for 4 Rx x 8 bins), which
+        `check_radar` tests.
     compression_range_bins_per_block : int
         Range bins per block (blocks hold all Rx; the demo: 8), a power of 2 in 1..32.
     saturation_policy : {"flag", "drop"}
@@ -202,6 +204,29 @@ class ProcessingConfig:
             raise ValueError(f"cfar window_cells={c.window_cells} (guard_cells={c.guard_cells}, "
                              f"training_stride={c.training_stride}) spans {span} Doppler bins, "
                              f"more than the {n_doppler_bins} bins of the radar's Doppler axis")
+
+    def check_compression(self, n_rx: int, n_range_bins: int) -> None:
+        """Raise if EGE compression cannot run on a radar's range-FFT cube: the blocks must
+        tile the range bins, and the ratio must leave room for the shortest EG code of the
+        demo's k-array (`chirp_level.ege_min_ratio`)."""
+        if not self.compression:
+            return
+        from .chirp_level import ege_min_ratio  # chirp_level imports this module
+        b = self.compression_range_bins_per_block
+        if n_range_bins % b:
+            raise ValueError(f"compression_range_bins_per_block={b} does not divide the "
+                             f"radar's {n_range_bins} range bins")
+        lo = ege_min_ratio(n_rx, b)
+        if self.compression_ratio < lo:
+            raise ValueError(f"compression_ratio={self.compression_ratio:g} is below {lo:.4f}, "
+                             f"the smallest a block of {n_rx} Rx x {b} range bins fits with "
+                             "the demo's EG k-array (k >= 3: at least 5 bits per I/Q value)")
+
+    def check_radar(self, cfg) -> None:
+        """Raise if these settings cannot process `cfg`'s frames (`check_doppler_axis`,
+        `check_compression`): what a sweep checks for every cell before it starts."""
+        self.check_doppler_axis(cfg.n_doppler_bins)
+        self.check_compression(cfg.n_rx, cfg.n_range_bins)
 
     def replace(self, **changes: Any) -> "ProcessingConfig":
         """Copy with changes; `cfar_<field>` keys change the CFAR sub-config."""

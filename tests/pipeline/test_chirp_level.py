@@ -334,3 +334,33 @@ def test_process_frame_still_finds_a_target_with_the_demo_chain(cfg):
     pc = pipeline.process_frame(cfg, adc, pipeline.ProcessingConfig())
     near = pc[np.abs(pc["range_m"] - math.hypot(60, 10)) < 2]
     assert len(near) >= 1
+
+
+@pytest.mark.parametrize("n_rx, bins, lowest", [(4, 8, (320 + 7) / 1024),
+                                                (2, 4, (80 + 7) / 256), (3, 16, (480 + 7) / 1536)])
+def test_compression_ratio_must_hold_the_shortest_code(make_config, n_rx, bins, lowest):
+    """A block of n_rx x bins I/Q values needs 5 bits per value (k = 3, the demo's smallest
+    order) plus the 7-bit header: a smaller ratio cannot be met by any scale factor. The
+    radar-level check refuses it before any frame (as a sweep does for every cell), and
+    `ege_compress` refuses it too; the ratio at the limit is accepted."""
+    assert cl.ege_min_ratio(n_rx, bins) == pytest.approx(lowest)
+    cfg = make_config(n_rx=n_rx, rx_channels=tuple(range(1, n_rx + 1)))
+    proc = pipeline.ProcessingConfig(compression_ratio=0.25,
+                                     compression_range_bins_per_block=bins)
+    with pytest.raises(ValueError, match="compression_ratio=0.25 is below"):
+        proc.check_radar(cfg)
+    rf = np.zeros((2, n_rx, 4 * bins), np.complex64)
+    with pytest.raises(ValueError, match="compression_ratio=0.25 is below"):
+        cl.ege_compress(rf, 0.25, bins)
+    ok = proc.replace(compression_ratio=math.ceil(lowest * 1e4) / 1e4)
+    ok.check_radar(cfg)
+    assert not cl.ege_compress(rf, ok.compression_ratio, bins)[1].any()
+
+
+def test_compression_blocks_must_tile_the_range_bins(make_config):
+    """Blocks of 32 bins tile the R79 radar's 192 range bins; a radar of 100 bins is
+    refused, naming the block size and the bin count."""
+    proc = pipeline.ProcessingConfig(compression_range_bins_per_block=32)
+    proc.check_radar(make_config())
+    with pytest.raises(ValueError, match="=32 does not divide the radar's 100 range bins"):
+        proc.check_compression(4, 100)
