@@ -245,7 +245,9 @@ def _ege_shift(vb: np.ndarray, budget: int) -> tuple[np.ndarray, np.ndarray]:
     g_r = np.cumsum(above_r, axis=1, dtype=np.int32)             # sum over u >= 32 - i of above
     g = g_r[:, 31::-1]          # g[:, t] = sum over u > t of #(L >= u) = sum_j max(L_j - t, 0)
     hist = hist_r[:, 32:0:-1]   # hist[:, t] = #(L = t)
-    kk = EGE_K_ARRAY.astype(np.int32)
+    # Only the orders whose sign + suffix bits alone fit can ever be chosen (3, 4, 5 of the
+    # demo's k-array at 50 %): the others would only widen every table below.
+    kk = EGE_K_ARRAY[n_val * (2 + EGE_K_ARRAY) <= budget].astype(np.int32)
     # Lower bounds at s = 0 first (most blocks fit there), the full (s, k) table for the rest.
     fsum = g + hist             # fsum[:, t] = sum_j f(L_j - t)
     t0 = np.minimum(kk + 1, 31)
