@@ -171,28 +171,45 @@ def interference_flags(adc: np.ndarray, dc: np.ndarray | None, mag_snr_db: float
     if mode not in INTF_THRESHOLD_MODES:
         raise ValueError(f"intf_threshold_mode={mode!r} is not one of "
                          f"{sorted(INTF_THRESHOLD_MODES)}")
+    m = INTF_THRESHOLD_MODES[mode]
     n = adc.shape[-1]
+    a2 = adc.reshape(-1, n)
     flags = None
-    work = np.complex64 if np.iscomplexobj(adc) else np.float32  # I/Q: |complex| statistics
-    if mode != "mag":
-        d = np.abs(np.subtract(adc[..., 1:], adc[..., :-1], dtype=work))
-        thr = d.sum(axis=-1, keepdims=True) * np.float32(10 ** (magdiff_snr_db / 20) / n)
-        flags = np.zeros(adc.shape, dtype=bool)
-        np.greater(d, thr, out=flags[..., 1:])
-    if mode != "magdiff":
-        x = adc.astype(work)
+    if m.difference:
+        d, thr = _diff_statistics(a2, magdiff_snr_db)
+        flags = np.zeros(a2.shape, dtype=bool)
+        np.greater(d, thr[:, None], out=flags[:, 1:])
+    if m.magnitude:
+        x = a2.astype(np.complex64 if np.iscomplexobj(adc) else np.float32)  # I/Q: |complex|
         if dc is not None:
-            x -= dc
+            x -= dc.reshape(-1, 1)
         a = np.abs(x)
         thr = a.sum(axis=-1, keepdims=True) * np.float32(10 ** (mag_snr_db / 20) / n)
         fm = a > thr
         if flags is None:
             flags = fm
-        elif mode == "mag_or_magdiff":
-            flags |= fm
-        else:
+        elif m.both_required:
             flags &= fm
-    return flags
+        else:
+            flags |= fm
+    return flags.reshape(adc.shape)
+
+
+def _diff_statistics(a2: np.ndarray, snr_db: float) -> tuple[np.ndarray, np.ndarray]:
+    """|x_n - x_{n-1}| of (rows, n) samples and each row's threshold mean |dx| 10^(SNR/20),
+    float32 (`interference_flags`). Real int16 rows are differenced in int16 when no
+    difference can overflow it (four times cheaper than float32; the int32 row sums are below
+    2^24, so the float32 threshold is the same), I/Q rows as complex64."""
+    n = a2.shape[-1]
+    if np.iscomplexobj(a2):
+        d = np.abs(np.subtract(a2[:, 1:], a2[:, :-1], dtype=np.complex64))
+    elif a2.dtype == np.int16 and int(a2.max()) - int(a2.min()) <= np.iinfo(np.int16).max:
+        d = np.subtract(a2[:, 1:], a2[:, :-1])
+        np.abs(d, out=d)
+    else:
+        d = np.abs(np.subtract(a2[:, 1:], a2[:, :-1], dtype=np.float32))
+    total = d.sum(axis=-1, dtype=np.int32 if d.dtype.kind == "i" else np.float32)
+    return d, total.astype(np.float32) * np.float32(10 ** (snr_db / 20) / n)
 
 
 def zero_flagged(x: np.ndarray, flags: np.ndarray, hysteresis: int = 3) -> np.ndarray:
@@ -524,16 +541,14 @@ def range_stage(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) -> np
 
 
 def _flagged_rows(adc: np.ndarray, dc, proc: ProcessingConfig) -> tuple[np.ndarray, np.ndarray]:
-    """(chirp x Rx rows with a flagged sample, their (rows, n_samples) flags). The demo's
-    "magdiff" mode takes a fast path: a row is flagged iff its largest |dx| exceeds its
-    threshold, and only those rows get their flags built."""
+    """(chirp x Rx rows with a flagged sample, their (rows, n_samples) flags). A mode that
+    uses the difference statistic alone (the demo's "magdiff") takes a fast path: a row is
+    flagged iff its largest |dx| exceeds its threshold, and only those rows get their flags
+    built."""
     n = adc.shape[-1]
     a2 = adc.reshape(-1, n)
-    if proc.intf_threshold_mode == "magdiff" and not np.iscomplexobj(adc):
-        d = _abs_diff(a2)
-        # float32 threshold as `interference_flags` (an int16 row sum < 2^24 is exact in it)
-        thr = d.sum(axis=-1, dtype=np.int32 if d.dtype.kind == "i" else np.float32) \
-            .astype(np.float32) * np.float32(10 ** (proc.intf_magdiff_snr_db / 20) / n)
+    if not INTF_THRESHOLD_MODES[proc.intf_threshold_mode].magnitude:
+        d, thr = _diff_statistics(a2, proc.intf_magdiff_snr_db)
         rows = np.flatnonzero(d.max(axis=-1) > thr)
         flags = np.zeros((rows.size, n), dtype=bool)
         np.greater(d[rows], thr[rows, None], out=flags[:, 1:])
@@ -542,15 +557,6 @@ def _flagged_rows(adc: np.ndarray, dc, proc: ProcessingConfig) -> tuple[np.ndarr
                                proc.intf_threshold_mode).reshape(-1, n)
     rows = np.flatnonzero(flags.any(axis=-1))
     return rows, flags[rows]
-
-
-def _abs_diff(a2: np.ndarray) -> np.ndarray:
-    """|x_n - x_{n-1}| of (rows, n) samples: int16 when no difference can overflow it (four
-    times cheaper than float32 for real ADC frames), else float32."""
-    if a2.dtype == np.int16 and int(a2.max()) - int(a2.min()) <= np.iinfo(np.int16).max:
-        d = np.subtract(a2[:, 1:], a2[:, :-1])
-        return np.abs(d, out=d)
-    return np.abs(np.subtract(a2[:, 1:], a2[:, :-1], dtype=np.float32))
 
 
 _WSPEC_CACHE: dict[tuple[str, int, bool], tuple] = {}

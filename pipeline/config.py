@@ -3,23 +3,36 @@ from __future__ import annotations
 
 import dataclasses
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, NamedTuple
 
 from scenarios.checks import one_of, require
 
 from .cfar import CFAR_MODES, cfar_scale
 from .saturation import SATURATION_POLICIES
 
-__all__ = ["CfarConfig", "ProcessingConfig", "WINDOWS", "INTF_THRESHOLD_MODES", "default_os_rank"]
+__all__ = ["CfarConfig", "ProcessingConfig", "WINDOWS", "INTF_THRESHOLD_MODES", "IntfThresholdMode",
+           "default_os_rank"]
 
 #: Windows by name (scipy.signal.get_window names).
 WINDOWS = {"hann": "hann", "hamming": "hamming", "blackman": "blackman", "rect": "boxcar"}
-#: HWA interference localisation modes (HWA_INTERFTHRESH_MODE_*), see `chirp_level`.
+class IntfThresholdMode(NamedTuple):
+    """One HWA interference localisation mode (HWA_INTERFTHRESH_MODE_*): which statistics
+    flag a sample and, with both, whether either or both must exceed their thresholds."""
+
+    description: str
+    magnitude: bool         # |x_n| > AbsThreshold
+    difference: bool        # |x_n - x_{n-1}| > AbsDiffThreshold
+    both_required: bool = False
+
+
+#: Interference localisation modes by name, see `chirp_level`.
 INTF_THRESHOLD_MODES = {
-    "magdiff": "|x_n - x_{n-1}| > AbsDiffThreshold (the DDM demo's RangeProc)",
-    "mag": "|x_n| > AbsThreshold",
-    "mag_or_magdiff": "either threshold",
-    "mag_and_magdiff": "both thresholds",
+    "magdiff": IntfThresholdMode("|x_n - x_{n-1}| > AbsDiffThreshold (the DDM demo's RangeProc)",
+                                 magnitude=False, difference=True),
+    "mag": IntfThresholdMode("|x_n| > AbsThreshold", magnitude=True, difference=False),
+    "mag_or_magdiff": IntfThresholdMode("either threshold", magnitude=True, difference=True),
+    "mag_and_magdiff": IntfThresholdMode("both thresholds", magnitude=True, difference=True,
+                                         both_required=True),
 }
 
 
