@@ -45,12 +45,8 @@ MAX_N_TX = CHIPS["AWR2944"].n_tx
 MAX_N_RX = CHIPS["AWR2944"].n_rx
 ADC_FULL_SCALE_CODE = 32767
 
-#: How a programmed phase is mapped onto the shifter's codes.
-PHASE_QUANTIZATIONS = {
-    "floor": "code = floor(phase / lsb), as seed 000 table 4",
-    "round": "code = round(phase / lsb), as TI's SDK",
-    "none": "ideal shifter (no quantisation)",
-}
+#: How a programmed phase is mapped onto the shifter's codes (`radarsim.shifter`).
+PHASE_QUANTIZATIONS = _shifter.PHASE_QUANTIZATIONS
 #: Element gain patterns.
 ANTENNA_PATTERNS = {
     "cosine": "power gain G0 cos(az)^n_az cos(el)^n_el inside +/-90 deg, 0 behind",
@@ -463,8 +459,9 @@ class RadarConfig:
         cal = self.shifter_calibration_deg
         if cal is None:
             return
-        if self.phase_quantization == "none":
-            raise ValueError("shifter_calibration_deg is set but phase_quantization='none': "
+        if PHASE_QUANTIZATIONS[self.phase_quantization].ideal:
+            raise ValueError(f"shifter_calibration_deg is set but phase_quantization="
+                             f"{self.phase_quantization!r}: "
                              "an ideal shifter has no codes to choose; use 'floor' or 'round'")
         if isinstance(cal, Mapping):
             from .calibration import calibrate_shifters
@@ -636,7 +633,7 @@ class RadarConfig:
         period, rad, before static and random errors: the negative of the programmed shifter
         phase (ideal or quantised). Which schemes use it is theirs to say
         (`radarsim.mimo`)."""
-        if self.phase_quantization == "none":
+        if PHASE_QUANTIZATIONS[self.phase_quantization].ideal:
             prog_deg = self.programmed_phase_deg()
         else:
             prog_deg = self.phase_codes() * self.phase_lsb_deg

@@ -30,11 +30,12 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, Callable, NamedTuple
 
 import numpy as np
 
-__all__ = ["SHIFTER_ERROR_DISTRIBUTIONS", "ShifterErrorSpec", "MAX_SHIFTER_PHASE_ERROR_DEG",
+__all__ = ["SHIFTER_ERROR_DISTRIBUTIONS", "ShifterErrorDistribution", "PHASE_QUANTIZATIONS",
+           "PhaseQuantization", "ShifterErrorSpec", "MAX_SHIFTER_PHASE_ERROR_DEG",
            "MAX_SHIFTER_GAIN_ERROR_DB", "MAX_TX_COUPLING_DB", "shifter_factor",
            "coupling_matrix", "apply_coupling", "select_codes", "program_codes", "wrap_deg",
            "phase_residual_deg", "code_period_lines", "spur_levels_dbc", "resolve_table",
@@ -48,13 +49,60 @@ MAX_SHIFTER_GAIN_ERROR_DB = 10.0
 #: channel's signal than the channel itself.
 MAX_TX_COUPLING_DB = 0.0
 
+class ShifterErrorDistribution(NamedTuple):
+    """One way to draw a per-code error table: ``draw(g, (n_tx, n_codes), dnl_fraction)``
+    returns the raw table, which `ShifterErrorSpec.draw` makes relative to code 0 and scales."""
+
+    description: str
+    draw: Callable[[np.random.Generator, tuple[int, int], float], np.ndarray]
+
+
+def _inl_dnl(g: np.random.Generator, shape: tuple[int, int], dnl_fraction: float) -> np.ndarray:
+    """INL curve sum_h cos(2 pi h q / n_codes + phi_h) / h, h = 1..3, plus white DNL noise
+    carrying `dnl_fraction` of the variance (see `ShifterErrorSpec`)."""
+    n_tx, n_codes = shape
+    q = np.arange(n_codes)
+    h = np.arange(1, 4)
+    phi = g.uniform(0, 2 * np.pi, (n_tx, h.size))
+    inl = np.sum(np.cos(2 * np.pi * h[None, :, None] * q[None, None, :] / n_codes
+                        + phi[:, :, None]) / h[None, :, None], axis=1)
+    inl = inl - inl[:, :1]
+    dnl = g.standard_normal(shape)
+    dnl = dnl - dnl[:, :1]
+    return math.sqrt(1 - dnl_fraction) * inl / _rms(inl) + \
+        math.sqrt(dnl_fraction) * dnl / _rms(dnl)
+
+
 #: How `ShifterErrorSpec` draws a table (every row then scaled to the requested rms over codes,
 #: relative to code 0).
 SHIFTER_ERROR_DISTRIBUTIONS = {
-    "uniform": "independent per code, uniform",
-    "gaussian": "independent per code, Gaussian",
-    "inl_dnl": "smooth INL curve (harmonics 1..3 of the code circle, random phases, amplitude "
-               "1/h) plus white DNL noise (a `dnl_fraction` share of the variance)",
+    "uniform": ShifterErrorDistribution("independent per code, uniform",
+                                        lambda g, shape, _: g.uniform(-1.0, 1.0, shape)),
+    "gaussian": ShifterErrorDistribution("independent per code, Gaussian",
+                                         lambda g, shape, _: g.standard_normal(shape)),
+    "inl_dnl": ShifterErrorDistribution(
+        "smooth INL curve (harmonics 1..3 of the code circle, random phases, amplitude 1/h) "
+        "plus white DNL noise (a `dnl_fraction` share of the variance)", _inl_dnl),
+}
+
+
+class PhaseQuantization(NamedTuple):
+    """One rule mapping a programmed phase onto shifter codes: ``code_of(phase / lsb)`` (before
+    the modulo); `ideal`: the applied phase stays the wanted one (no code grid)."""
+
+    description: str
+    code_of: Callable[[np.ndarray], np.ndarray]
+    ideal: bool = False
+
+
+#: How a programmed phase is mapped onto the shifter's codes. A tiny tolerance keeps exact
+#: multiples (e.g. 180 / 5.625 = 32) from flooring down.
+PHASE_QUANTIZATIONS = {
+    "floor": PhaseQuantization("code = floor(phase / lsb), as seed 000 table 4",
+                               lambda p: np.floor(p + 1e-9)),
+    "round": PhaseQuantization("code = round(phase / lsb), as TI's SDK", np.round),
+    "none": PhaseQuantization("ideal shifter (no quantisation; codes rounded for look-ups)",
+                              np.round, ideal=True),
 }
 
 
@@ -108,23 +156,9 @@ class ShifterErrorSpec:
 
     def draw(self, n_tx: int, n_codes: int) -> np.ndarray:
         """(n_tx, n_codes) float table, row k for Tx k+1, relative to code 0, rms `rms`."""
-        g = np.random.default_rng(self.seed)
         shape = (n_tx, n_codes)
-        if self.distribution == "uniform":
-            t = g.uniform(-1.0, 1.0, shape)
-        elif self.distribution == "gaussian":
-            t = g.standard_normal(shape)
-        else:
-            q = np.arange(n_codes)
-            h = np.arange(1, 4)
-            phi = g.uniform(0, 2 * np.pi, (n_tx, h.size))
-            inl = np.sum(np.cos(2 * np.pi * h[None, :, None] * q[None, None, :] / n_codes
-                                + phi[:, :, None]) / h[None, :, None], axis=1)
-            inl = inl - inl[:, :1]
-            dnl = g.standard_normal(shape)
-            dnl = dnl - dnl[:, :1]
-            t = math.sqrt(1 - self.dnl_fraction) * inl / _rms(inl) + \
-                math.sqrt(self.dnl_fraction) * dnl / _rms(dnl)
+        t = SHIFTER_ERROR_DISTRIBUTIONS[self.distribution].draw(
+            np.random.default_rng(self.seed), shape, self.dnl_fraction)
         t = t - t[:, :1]
         r = _rms(t)
         return np.zeros(shape) if self.rms == 0 else t * (self.rms / np.where(r > 0, r, 1.0))
@@ -280,9 +314,9 @@ def program_codes(wanted_deg: np.ndarray, lsb_deg: float, n_codes: int, rule: st
         Nominal step, deg.
     n_codes : int
         2^bits.
-    rule : {"floor", "round", "none"}
-        Uncalibrated mapping (seed 000 table 4 floors, TI's SDK rounds; "none" rounds for the
-        table look-up while the applied phase stays ideal).
+    rule : str
+        Key of `PHASE_QUANTIZATIONS`: the uncalibrated mapping (seed 000 table 4 floors, TI's
+        SDK rounds; "none" rounds for the table look-up while the applied phase stays ideal).
     calibration_deg : (n_tx, n_codes) float, optional
         Measured per-code error table; when given, `select_codes` replaces the rule.
 
@@ -293,9 +327,7 @@ def program_codes(wanted_deg: np.ndarray, lsb_deg: float, n_codes: int, rule: st
     wanted = np.asarray(wanted_deg, dtype=float)
     if calibration_deg is not None:
         return select_codes(wanted, calibration_deg, lsb_deg)
-    prog = wanted / lsb_deg
-    # A tiny tolerance keeps exact multiples (e.g. 180/5.625 = 32) from flooring down.
-    codes = np.floor(prog + 1e-9) if rule == "floor" else np.round(prog)
+    codes = PHASE_QUANTIZATIONS[rule].code_of(wanted / lsb_deg)
     return np.mod(codes, n_codes).astype(np.int64)
 
 
