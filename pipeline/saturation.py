@@ -37,15 +37,23 @@ from typing import NamedTuple
 import numpy as np
 import pandas as pd
 
-__all__ = ["SaturationReport", "SATURATION_POLICIES", "monitor", "apply_policy",
+__all__ = ["SaturationReport", "SaturationPolicy", "SATURATION_POLICIES", "monitor", "apply_policy",
            "ADC_MIN_CODE", "ADC_MAX_CODE"]
 
 #: int16 ADC rails: a sample at either is saturated.
 ADC_MIN_CODE, ADC_MAX_CODE = -32768, 32767
 #: What a saturated frame does to its detections (module docstring).
+class SaturationPolicy(NamedTuple):
+    """What a saturated frame does to its detections."""
+
+    description: str
+    drops_frame: bool   # a saturated frame yields no detections
+
+
 SATURATION_POLICIES = {
-    "flag": "keep the detections of a saturated frame, with saturated = True",
-    "drop": "a saturated frame yields no detections",
+    "flag": SaturationPolicy("keep the detections of a saturated frame, with saturated = True",
+                             drops_frame=False),
+    "drop": SaturationPolicy("a saturated frame yields no detections", drops_frame=True),
 }
 
 
@@ -129,7 +137,7 @@ def apply_policy(points: pd.DataFrame, report: SaturationReport, policy: str) ->
     if policy not in SATURATION_POLICIES:
         raise ValueError(f"saturation_policy={policy!r} is not one of "
                          f"{sorted(SATURATION_POLICIES)}")
-    if report.saturated and policy == "drop":
+    if report.saturated and SATURATION_POLICIES[policy].drops_frame:
         points = points.iloc[:0]
     points = points.assign(saturated=np.full(len(points), report.saturated, dtype=bool))
     points.attrs["saturation"] = report.to_dict()
