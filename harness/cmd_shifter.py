@@ -35,7 +35,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     import radarsim
-    from harness.shifter_experiment import format_lines, phase_step_experiment, plot_phase_step
+    from harness.shifter_experiment import (check_phase_step, format_lines, phase_step_experiment,
+                                            plot_phase_step)
     from radarsim import shifter as sh
 
     if not (math.isfinite(args.error_deg_rms) and args.error_deg_rms >= 0):
@@ -52,6 +53,7 @@ def run(args: argparse.Namespace) -> int:
             "seed": args.seed + 1}
     cfg = radarsim.presets.r79_ddma(phase_quantization="round", shifter_phase_error_deg=phase,
                                     shifter_gain_error_db=gain)
+    check_phase_step(cfg, args.step_deg, args.tx, args.n_chirps)  # before the calibration
     cal = radarsim.calibrate_shifters(cfg, rng=np.random.default_rng(args.seed),
                                       range_m=args.range_m, full_output=True)
     kw = dict(step_deg=args.step_deg, tx=args.tx, range_m=args.range_m,

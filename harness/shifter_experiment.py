@@ -82,6 +82,22 @@ def line_spectrum(adc: np.ndarray) -> tuple[int, np.ndarray]:
     return r0, np.sum(np.abs(dop) ** 2, axis=1)
 
 
+def check_phase_step(cfg: radarsim.RadarConfig, step_deg: float, tx: int,
+                     n_chirps: int) -> int:
+    """Raise unless `phase_step_experiment` can run these settings; returns the code period
+    P = 360 / step_deg."""
+    p_float = 360.0 / step_deg if step_deg > 0 else math.inf
+    period = int(round(p_float))
+    if not (math.isfinite(p_float) and abs(p_float - period) < 1e-9 and period >= 2):
+        raise ValueError(f"step_deg={step_deg!r}: 360 / step_deg must be an integer >= 2")
+    if not 1 <= tx <= cfg.n_tx:
+        raise ValueError(f"tx={tx!r} must be in 1..{cfg.n_tx}")
+    if not isinstance(n_chirps, int) or n_chirps < period or n_chirps % period:
+        raise ValueError(f"n_chirps={n_chirps!r} must be a positive multiple of the code "
+                         f"period {period}")
+    return period
+
+
 def phase_step_experiment(cfg: radarsim.RadarConfig, *, rng: np.random.Generator,
                           step_deg: float = 90.0, tx: int = 1, range_m: float = 4.5,
                           rcs_m2: float = 10.0, n_chirps: int = 256) -> PhaseStepResult:
@@ -108,15 +124,7 @@ def phase_step_experiment(cfg: radarsim.RadarConfig, *, rng: np.random.Generator
     -------
     PhaseStepResult
     """
-    p_float = 360.0 / step_deg if step_deg > 0 else math.inf
-    period = int(round(p_float))
-    if not (math.isfinite(p_float) and abs(p_float - period) < 1e-9 and period >= 2):
-        raise ValueError(f"step_deg={step_deg!r}: 360 / step_deg must be an integer >= 2")
-    if not 1 <= tx <= cfg.n_tx:
-        raise ValueError(f"tx={tx!r} must be in 1..{cfg.n_tx}")
-    if not isinstance(n_chirps, int) or n_chirps < period or n_chirps % period:
-        raise ValueError(f"n_chirps={n_chirps!r} must be a positive multiple of the code "
-                         f"period {period}")
+    period = check_phase_step(cfg, step_deg, tx, n_chirps)
     k = tx - 1
     wanted = np.mod(step_deg * np.arange(period), 360.0)[None, :]
     cal = cfg.shifter_calibration_deg

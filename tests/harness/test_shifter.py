@@ -71,6 +71,17 @@ def test_cli_shifter_prints_lines(capsys):
     assert out.count("mirror ghost") == 2 and "after calibration" in out
 
 
-def test_cli_shifter_bad_input_exits_2(capsys):
-    assert main(["shifter", "--step-deg", "70"]) == 2
-    assert "step_deg=70.0" in capsys.readouterr().err
+@pytest.mark.parametrize("args, message", [
+    (["--step-deg", "70"], "step_deg=70.0"),
+    (["--tx", "5"], "tx=5 must be in 1..4"),
+    (["--n-chirps", "101"], "n_chirps=101 must be a positive multiple of the code period 4"),
+    (["--error-deg-rms", "-1"], "--error-deg-rms=-1.0 must be >= 0"),
+    (["--gain-error-db-rms", "-1"], "shifter_gain_error_db: rms=-1.0"),
+    (["--seed", "-1"], "--seed=-1 must be >= 0"),
+    (["--range-m", "0"], "range_m=0.0 must be a finite distance > 0 m"),
+    (["--quadrature-skew-deg", "nan"], "must be finite"),
+    (["--distribution", "nope"], "invalid choice: 'nope'"),
+])
+def test_cli_shifter_bad_input_exits_2(capsys, args, message):
+    assert main(["shifter", *args]) == 2
+    assert message in capsys.readouterr().err

@@ -88,6 +88,12 @@ LIMITS = {
                          r"n_samples=63 must be even"),
     "positions_wrong_size": ("AWR1843", dict(tx_positions_wl=((0, 0), (1, 0))),
                              r"tx_positions_wl must hold 3 finite"),
+    "rx_positions_not_finite": ("AWR1843", dict(rx_positions_wl=((0, 0), (0.5, 0), (1, 0),
+                                                                 (float("nan"), 0))),
+                                r"rx_positions_wl must hold 4 finite"),
+    "positions_not_pairs": ("AWR1843", dict(rx_positions_wl=(0, 0.5, 1, 1.5)),
+                            r"rx_positions_wl=\(0, 0.5, 1, 1.5\) must be a sequence of \(y, z\) "
+                            r"pairs in wavelengths"),
 }
 
 
