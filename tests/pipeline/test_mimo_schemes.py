@@ -32,11 +32,12 @@ def test_same_targets_through_every_scheme(name, make_config, make_scene):
                                       np.random.default_rng(int(r * 100)))
         best = best_near(pipeline.process_frame(cfg, adc), r)
         assert best is not None, f"{name}: missed target at r={r:.1f} az={az:.1f} v={v:.1f}"
-        assert abs(best.range_m - r) <= 0.66
+        assert abs(best.range_m - r) <= cfg.range_resolution_m / 2
         dv = best.radial_velocity_mps - v
-        if abs(dv) > 0.11:
+        if abs(dv) > cfg.velocity_resolution_mps:
             k = np.rint(dv / step)
-            assert k != 0 and abs(dv - k * step) <= 0.11, (name, v, best.radial_velocity_mps)
+            assert k != 0 and abs(dv - k * step) <= cfg.velocity_resolution_mps, \
+                (name, v, best.radial_velocity_mps)
             n_fail += 1
             continue
         assert abs(best.azimuth_deg - az) <= 1.5
