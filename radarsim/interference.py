@@ -57,6 +57,7 @@ from .antenna import element_gain_linear
 from .chips import ADC_MODES
 from .config import C_MPS, RadarConfig
 from .frontend import IF_LOWPASS_ORDER, if_corner_hz
+from .scatterers import PointGeometry
 
 __all__ = ["Interferers", "received_power_w", "interference_to_noise_db", "synthesize",
            "burst_windows", "interferers_from_truth", "EQUIPMENT_COLUMNS", "PASSBAND_FACTOR"]
@@ -91,7 +92,7 @@ def _vec(name: str, value, n: int | None, dtype=np.float64) -> np.ndarray:
 
 
 @dataclass(frozen=True, init=False)
-class Interferers:
+class Interferers(PointGeometry):
     """I interfering radars as seen by the victim in one frame (struct of arrays).
 
     Parameters
@@ -166,16 +167,6 @@ class Interferers:
 
     def __len__(self) -> int:
         return self.position_m.shape[0]
-
-    @property
-    def range_m(self) -> np.ndarray:
-        """(I,) distance from the victim, m."""
-        return np.linalg.norm(self.position_m, axis=1)
-
-    @property
-    def unit_vector(self) -> np.ndarray:
-        """(I, 3) unit vector from the victim to each interferer."""
-        return self.position_m / self.range_m[:, None]
 
     def subset(self, mask: np.ndarray) -> "Interferers":
         """The interferers where `mask` is True."""

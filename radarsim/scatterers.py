@@ -10,7 +10,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["Scatterers", "MAX_RCS_M2", "MAX_SPEED_MPS"]
+__all__ = ["Scatterers", "PointGeometry", "MAX_RCS_M2", "MAX_SPEED_MPS"]
 
 #: Largest RCS of one scatterer, m^2 (90 dBsm, far above any real object: a large ship is about
 #: 60 dBsm, a truck's flat back about 30 dBsm; tests use ~63 dBsm for far calibrated targets).
@@ -35,8 +35,26 @@ def _as_float_array(name: str, value, shape_tail: tuple[int, ...]) -> np.ndarray
     return arr
 
 
+class PointGeometry:
+    """Range and direction of points ``position_m`` (K, 3) in the radar frame: shared by the
+    scatterers and the interfering radars."""
+
+    __slots__ = ()
+    position_m: np.ndarray
+
+    @property
+    def range_m(self) -> np.ndarray:
+        """(K,) slant range, m."""
+        return np.linalg.norm(self.position_m, axis=1)
+
+    @property
+    def unit_vector(self) -> np.ndarray:
+        """(K, 3) unit vectors from the radar to each point."""
+        return self.position_m / self.range_m[:, None]
+
+
 @dataclass(frozen=True, slots=True, init=False)
-class Scatterers:
+class Scatterers(PointGeometry):
     """K point scatterers in the radar frame.
 
     Parameters
@@ -126,16 +144,6 @@ class Scatterers:
                    np.concatenate([p.velocity_mps for p in parts]),
                    np.concatenate([p.rcs_m2 for p in parts]),
                    np.concatenate([p.actor_id for p in parts]))
-
-    @property
-    def range_m(self) -> np.ndarray:
-        """(K,) slant range, m."""
-        return np.linalg.norm(self.position_m, axis=1)
-
-    @property
-    def unit_vector(self) -> np.ndarray:
-        """(K, 3) unit vectors from the radar to each scatterer."""
-        return self.position_m / self.range_m[:, None]
 
     @property
     def radial_velocity_mps(self) -> np.ndarray:
