@@ -347,18 +347,17 @@ class _Line:
 
 
 # ---------------------------------------------------------------------------- chip inference
-#: TI visualizer ``% Platform:`` names -> chip (the header TI's Visualizer writes).
-PLATFORMS = {
-    "xwr18xx": "AWR1843", "awr18xx": "AWR1843", "iwr18xx": "AWR1843", "xwr1843": "AWR1843",
-    "awr1843": "AWR1843", "iwr1843": "AWR1843",
-    "xwr16xx": "AWR1642", "awr16xx": "AWR1642", "iwr16xx": "AWR1642", "xwr1642": "AWR1642",
-    "awr1642": "AWR1642", "iwr1642": "AWR1642",
-    "xwr68xx": "IWR6843", "iwr68xx": "IWR6843", "xwr64xx": "IWR6843", "iwr6843": "IWR6843",
-    "awr6843": "IWR6843", "xwr6843": "IWR6843",
-    "awr294x": "AWR2944", "xwr294x": "AWR2944", "awr2944": "AWR2944",
-    "awr2x44p": "AWR2944P", "awr2944p": "AWR2944P",
-    "awr2544": "AWR2544", "xwr2544": "AWR2544",
+#: Family spellings of the ``% Platform:`` header other TI tools and SDK releases write.
+_PLATFORM_ALIASES = {
+    "awr18xx": "AWR1843", "iwr18xx": "AWR1843", "xwr1843": "AWR1843", "iwr1843": "AWR1843",
+    "awr16xx": "AWR1642", "iwr16xx": "AWR1642", "xwr1642": "AWR1642", "iwr1642": "AWR1642",
+    "iwr68xx": "IWR6843", "xwr64xx": "IWR6843", "awr6843": "IWR6843", "xwr6843": "IWR6843",
+    "xwr294x": "AWR2944", "xwr2544": "AWR2544",
 }
+#: TI visualizer ``% Platform:`` names -> chip: each chip's own name and its
+#: `Chip.ti_platform` (the header TI's Visualizer writes), plus the aliases.
+PLATFORMS = {**{name.lower(): name for name in CHIPS},
+             **{c.ti_platform.lower(): name for name, c in CHIPS.items()}, **_PLATFORM_ALIASES}
 _PLATFORM_RE = re.compile(r"^%\s*platform\s*:\s*(\S+)", re.IGNORECASE)
 
 
