@@ -666,11 +666,11 @@ def _noise_floors(comps: Components, radar: dict, adc: dict, procs: dict, scheme
     chirp-level chain of its processing config applied), and the frame's INR."""
     if comps.noise_floor is None:
         return []
+    from pipeline.chirp_level import NOISE_FLOOR_FIELDS
     out, cache = [], {}
     for rs in schemes:
         p = procs[rs.name]
-        key = (rs.mimo, p.dc_removal, p.interference_mitigation, p.compression,
-               p.range_window, p.doppler_window)
+        key = (rs.mimo, *(getattr(p, f) for f in NOISE_FLOOR_FIELDS))
         if key not in cache:
             cache[key] = comps.noise_floor(radar[rs.mimo], adc[rs.mimo], p)
         r_db, d_db = cache[key]

@@ -75,7 +75,7 @@ from .kernels import range_fft, window
 
 __all__ = ["range_stage", "remove_dc", "interference_flags", "zero_flagged", "ege_compress",
            "ege_block_bits", "ege_min_ratio", "NoiseFloor", "noise_floor_rise",
-           "INTF_THRESHOLD_MODES", "HWA_OUTPUT_SCALE", "EGE_K_ARRAY", "EGE_HEADER_BITS"]
+           "NOISE_FLOOR_FIELDS", "INTF_THRESHOLD_MODES", "HWA_OUTPUT_SCALE", "EGE_K_ARRAY", "EGE_HEADER_BITS"]
 
 #: Range-FFT value -> 16-bit HWA output LSB: the demo's range FFT scales its last 3 butterfly
 #: stages by 1/2 (butterflyScaling = 7), i.e. 1/8 of the unscaled FFT of the int16 samples.
@@ -577,6 +577,14 @@ def _window_spectrum(name: str, n: int, full: bool = False) -> tuple:
 
 
 # ------------------------------------------------------------------------------- metrics
+#: The `ProcessingConfig` fields `noise_floor_rise` reads (the chirp-level chain's and the
+#: windows): two settings equal on these give the same floor for the same frame.
+NOISE_FLOOR_FIELDS = ("range_window", "doppler_window", "min_range_bin", "dc_removal",
+                      "interference_mitigation", "intf_mag_snr_db", "intf_magdiff_snr_db",
+                      "intf_threshold_mode", "intf_hysteresis_samples", "compression",
+                      "compression_ratio", "compression_range_bins_per_block")
+
+
 class NoiseFloor(NamedTuple):
     """Noise-floor rise over thermal, dB, after the range FFT and after the Doppler FFT."""
 

@@ -72,3 +72,25 @@ def test_report_interference_section():
     html = interference_section(summary, actors)
     assert "Interference: noise-floor rise" in html and html.count("<img") == 2
     assert interference_section(summary.drop(columns="interference_to_noise_db"), actors) == ""
+
+
+def test_noise_floor_is_shared_only_by_equal_chirp_level_settings():
+    """Schemes of one ADC frame share a measured floor when every setting the floor reads
+    (`chirp_level.NOISE_FLOOR_FIELDS`) is equal: TDMA and its raw variant do, a second TDMA
+    chain with another compression ratio does not."""
+    import dataclasses
+
+    import pipeline
+    from harness import runner
+    calls = []
+    comps = dataclasses.replace(runner.default_components(),
+                                noise_floor=lambda cfg, adc, p: calls.append(p) or (0.0, 0.0))
+    base = pipeline.ProcessingConfig()
+    schemes = [runner.ResultScheme("tdma", "tdma", {}),
+               runner.ResultScheme("tdma_raw", "tdma", {"tdma_disambiguation": False}),
+               runner.ResultScheme("tdma_c", "tdma", {"compression_ratio": 0.4})]
+    procs = {"tdma": base, "tdma_raw": base.replace(tdma_disambiguation=False),
+             "tdma_c": base.replace(compression_ratio=0.4)}
+    rows = runner._noise_floors(comps, {"tdma": None}, {"tdma": None}, procs, schemes, 0, 0.0)
+    assert [r["scheme"] for r in rows] == ["tdma", "tdma_raw", "tdma_c"]
+    assert [p.compression_ratio for p in calls] == [0.5, 0.4]
