@@ -20,24 +20,10 @@ import pytest
 import radarsim
 from radarsim.capture import CAPTURE_LAYOUTS, layout_of, read_capture, write_capture
 from radarsim.ti_cfg import parse_ti_cfg, to_ti_cfg
+from tests.radarsim.profiles import profile_text
 
 # A small xWR18xx-style complex profile (TI Visualizer 3.5 syntax, our own numbers).
-XWR18_SMALL = """\
-% Platform:xWR18xx
-sensorStop
-flushCfg
-dfeDataOutputMode 1
-channelCfg 15 7 0
-adcCfg 2 1
-adcbufCfg -1 0 1 1 1
-profileCfg 0 77 100 6 60 0 0 29.982 1 64 10000 0 0 30
-chirpCfg 0 0 0 0 0 0 0 1
-chirpCfg 1 1 0 0 0 0 0 4
-chirpCfg 2 2 0 0 0 0 0 2
-frameCfg 0 2 8 0 40 1 0
-lvdsStreamCfg -1 0 1 0
-sensorStart
-"""
+XWR18_SMALL = profile_text("xwr18_small")
 
 
 def _tiny(chip: str, adc_mode: str, interleaved: bool | None = None) -> radarsim.RadarConfig:

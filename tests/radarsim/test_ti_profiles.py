@@ -16,352 +16,52 @@ import pytest
 
 from pipeline.kernels import array_layout
 from radarsim.ti_cfg import parse_ti_cfg, to_ti_cfg
+from tests.radarsim.profiles import profile_text
 
 C = 299_792_458.0
 
-XWR18_VISUALIZER = """\
-% ***************************************************************
-% Created for SDK ver:03.05
-% Created using Visualizer ver:3.5.0.0
-% Frequency:77
-% Platform:xWR18xx
-% Scene Classifier:best_range_res
-% ***************************************************************
-sensorStop
-flushCfg
-dfeDataOutputMode 1
-channelCfg 15 7 0
-adcCfg 2 1
-adcbufCfg -1 0 1 1 1
-profileCfg 0 77 267 7 57.14 0 0 70 1 256 5209 0 0 30
-chirpCfg 0 0 0 0 0 0 0 1
-chirpCfg 1 1 0 0 0 0 0 4
-chirpCfg 2 2 0 0 0 0 0 2
-frameCfg 0 2 16 0 100 1 0
-lowPower 0 0
-guiMonitor -1 1 1 0 0 0 1
-cfarCfg -1 0 2 8 4 3 0 15 1
-cfarCfg -1 1 0 4 2 3 1 15 1
-multiObjBeamForming -1 1 0.5
-clutterRemoval -1 0
-calibDcRangeSig -1 0 -5 8 256
-extendedMaxVelocity -1 0
-bpmCfg -1 0 0 1
-lvdsStreamCfg -1 0 1 0
-compRangeBiasAndRxChanPhase 0.0 1 0 1 0 1 0 1 0 1 0 1 0 1 0 1 0 1 0 1 0 1 0 1 0
-measureRangeBiasAndRxChanPhase 0 1.5 0.2
-CQRxSatMonitor 0 3 5 121 0
-CQSigImgMonitor 0 127 4
-analogMonitor 0 0
-aoaFovCfg -1 -90 90 -90 90
-cfarFovCfg -1 0 0 11.15
-cfarFovCfg -1 1 -1 1.00
-calibData 0 0 0
-sensorStart
-"""
+XWR18_VISUALIZER = profile_text("xwr18_visualizer")
 
 # ROS driver / SDK 2.x style xWR16xx profile: no Platform header (the chip follows from the
 # complex ADC and the Tx1/Tx2 mask), a 33.333 ms frame.
-XWR16_ROS = """\
-sensorStop
-flushCfg
-dfeDataOutputMode 1
-channelCfg 15 3 0
-adcCfg 2 1
-adcbufCfg -1 0 1 1 1
-profileCfg 0 77 429 7 57.14 0 0 70 1 240 4884 0 0 30
-chirpCfg 0 0 0 0 0 0 0 1
-chirpCfg 1 1 0 0 0 0 0 2
-frameCfg 0 1 32 0 33.333 1 0
-lowPower 0 0
-guiMonitor -1 1 1 1 0 0 1
-cfarCfg -1 0 2 8 4 3 0 15 1
-cfarCfg -1 1 0 4 2 3 1 15 1
-peakGrouping -1 1 1 1 1 229
-multiObjBeamForming -1 1 0.5
-clutterRemoval -1 0
-calibDcRangeSig -1 0 -5 8 256
-extendedMaxVelocity -1 0
-compRangeBiasAndRxChanPhase 0.0 1 0 1 0 1 0 1 0 1 0 1 0 1 0 1 0
-measureRangeBiasAndRxChanPhase 0 1.5 0.2
-CQRxSatMonitor 0 3 5 123 0
-CQSigImgMonitor 0 115 6
-analogMonitor 1 1
-sensorStart
-"""
+XWR16_ROS = profile_text("xwr16_ros")
 
 # IWR6843ISK, SDK 3.5 demo profile style, Tx1 and Tx3 only (txChannelEn 5), 60 GHz.
-XWR68_TX13 = """\
-% Platform:xWR68xx
-sensorStop
-flushCfg
-dfeDataOutputMode 1
-channelCfg 15 5 0
-adcCfg 2 1
-adcbufCfg -1 0 1 1 1
-profileCfg 0 60 567 7 57.14 0 0 70 1 256 5209 0 0 158
-chirpCfg 0 0 0 0 0 0 0 1
-chirpCfg 1 1 0 0 0 0 0 4
-frameCfg 0 1 16 0 100 1 0
-lowPower 0 0
-guiMonitor -1 1 1 0 0 0 1
-cfarCfg -1 0 2 8 4 3 0 15 1
-cfarCfg -1 1 0 4 2 3 1 15 1
-multiObjBeamForming -1 1 0.5
-clutterRemoval -1 0
-calibDcRangeSig -1 0 -5 8 256
-extendedMaxVelocity -1 0
-bpmCfg -1 0 0 1
-lvdsStreamCfg -1 0 0 0
-compRangeBiasAndRxChanPhase 0.0 1 0 1 0 1 0 1 0 1 0 1 0 1 0 1 0 1 0 1 0 1 0 1 0
-measureRangeBiasAndRxChanPhase 0 1.5 0.2
-CQRxSatMonitor 0 3 5 121 0
-CQSigImgMonitor 0 127 4
-analogMonitor 0 0
-aoaFovCfg -1 -90 90 -90 90
-cfarFovCfg -1 0 0 8.92
-cfarFovCfg -1 1 -1 1.00
-calibData 0 0 0
-sensorStart
-"""
+XWR68_TX13 = profile_text("xwr68_tx13")
 
 # AWR294X MCU+ SDK TDM demo, profile_LVDS.cfg style: real ADC, non-interleaved buffer for the
 # DCA1000, frameCfg with numAdcSamples, the EVM antGeometryCfg, Tx4 disabled.
-AWR2944_TDM_LVDS = """\
-% Created for SDK ver:04.01
-% Platform:AWR294X
-% CFG TYPE: LVDS streaming enabled
-sensorStop
-flushCfg
-dfeDataOutputMode 1
-channelCfg 15 7 0
-adcCfg 2 0
-adcbufCfg -1 1 1 1 1
-lowPower 0 0
-profileCfg 0 77 267 7 57.14 0 0 70 1 448 10000 0 0 158
-chirpCfg 0 0 0 0 0 0 0 1
-chirpCfg 1 1 0 0 0 0 0 4
-chirpCfg 2 2 0 0 0 0 0 2
-frameCfg 0 2 32 20 448 100 1 0
-lowPower 0 0
-guiMonitor -1 1 1 0 0 0 1
-cfarCfg -1 0 2 8 4 3 0 15 1
-cfarCfg -1 1 0 4 2 3 1 15 1
-multiObjBeamForming -1 1 0.5
-calibDcRangeSig -1 0 -5 8 256
-clutterRemoval -1 0
-antGeometryCfg 1 0 1 1 1 2 1 3 0 2 0 3 0 4 0 5 1 4 1 5 1 6 1 7 1 8 1 9 1 10 1 11 0.5 0.8
-compRangeBiasAndRxChanPhase 0.0 1 0 1 0 1 0 1 0 1 0 1 0 1 0 1 0 1 0 1 0 1 0 1 0 1 0 1 0 1 0 1 0
-measureRangeBiasAndRxChanPhase 0 1.5 0.2
-aoaFovCfg -1 -90 90 -90 90
-cfarFovCfg -1 0 0 10.7
-cfarFovCfg -1 1 -1 1.00
-extendedMaxVelocity -1 0
-calibData 0 0 0x1f0000
-CQRxSatMonitor 0 3 11 121 0
-CQSigImgMonitor 0 127 8
-analogMonitor 0 0
-lvdsStreamCfg -1 0 1 0
-sensorStart
-"""
+AWR2944_TDM_LVDS = profile_text("awr2944_tdm_lvds")
 
 # AWR2x44P DDM demo style: 5-argument channelCfg, 12/13-argument cfarCfg, DDM order and array.
-AWR2944P_DDM = """\
-% Platform:AWR2X44P
-sensorStop
-flushCfg
-dfeDataOutputMode 1
-channelCfg 15 15 0 0 0
-adcCfg 2 0
-adcbufCfg -1 1 0 0 1
-lowPower 0 0
-profileCfg 0 77 5 6 20 0 0 15 0 256 25000 0 0 36
-chirpCfg 0 5 0 0 0 0 0 15
-frameCfg 0 5 64 0 256 100 1 0
-guiMonitor -1 1 0 0 0 0 0
-cfarCfg -1 0 3 16 0 0 1 15.0 0 7 0 0
-cfarCfg -1 1 3 16 0 0 1 12.0 0 24 0 1 0
-compressionCfg -1 1 0 0.5 8
-intfMitigCfg -1 15 18
-localMaxCfg -1 4 40
-ddmPhaseShiftAntOrder 0 2 3 1
-antGeometryCfg 1 0 1 1 1 2 1 3 0 2 0 3 0 4 0 5 1 4 1 5 1 6 1 7 1 8 1 9 1 10 1 11 0.5 0.8
-antennaCalibParams 0 1 0 1 0 1 0 1 0 1 0 1 0 1 0 1 0 1 0 1 0 1 0 1 0 1 0 1 0 1 0 1
-aoaFovCfg -1 -70 70 -20 20
-measureRangeBiasAndRxChanPhase 0 1.5 0.2
-analogMonitor 0 0
-calibData 0 0 0
-sensorStart
-"""
+AWR2944P_DDM = profile_text("awr2944p_ddm")
 
 # AWR2544 DDM demo style: procChainCfg, 3-argument dither and analog-monitor commands, a DDM
 # order without an elevation Tx, no Platform header.
-AWR2544_DDM = """\
-sensorStop
-flushCfg
-dfeDataOutputMode 1
-channelCfg 15 15 0 0 0
-adcCfg 2 0
-adcbufCfg -1 1 0 1 1
-lowPower 0 0
-profileCfg 0 77 7 7 20.81 0 0 8.883 0 256 30000 0 0 164
-chirpCfg 0 5 0 0 0 0 0 15
-frameCfg 0 5 128 0 256 50 1 0
-compressionCfg -1 1 0 0.5 8
-intfMitigCfg -1 15 18
-procChainCfg 1 0 530 0 1
-ddmPhaseShiftAntOrder 0 1 2 3
-adcDataDitherCfg 0 0 1
-analogMonitor 0 0 0
-calibData 0 0 0
-sensorStart
-"""
+AWR2544_DDM = profile_text("awr2544_ddm")
 
 # Industrial toolbox people-counting lab style on the IWR6843ISK: lab commands, a second
 # profile and chirps the frame does not use.
-XWR68_PEOPLE_COUNTING = """\
-sensorStop
-flushCfg
-dfeDataOutputMode 1
-channelCfg 15 7 0
-adcCfg 2 1
-adcbufCfg -1 0 1 1 1
-lowPower 0 0
-profileCfg 0 60.75 30.00 25.00 59.10 0 0 54.71 1 96 2950.00 0 0 30
-profileCfg 1 60.75 30.00 25.00 59.10 0 0 54.71 1 96 2950.00 0 0 30
-chirpCfg 0 0 0 0 0 0 0 1
-chirpCfg 1 1 0 0 0 0 0 2
-chirpCfg 2 2 0 0 0 0 0 4
-chirpCfg 3 3 1 0 0 0 0 1
-frameCfg 0 2 96 0 55.00 1 0
-dynamicRACfarCfg -1 4 4 2 2 8 12 4 12 5.00 8.00 0.40 1 1
-staticRACfarCfg -1 6 2 2 2 8 8 6 4 8.00 15.00 0.30 0 0
-dynamicRangeAngleCfg -1 0.75 0.0010 1 0
-dynamic2DAngleCfg -1 3.0 0.0300 1 0 1 0.30 0.85 8.00
-staticRangeAngleCfg -1 0 8 8
-antGeometry0 -1 -1 0 0 -3 -3 -2 -2 -1 -1 0 0
-antGeometry1 -1 0 -1 0 -3 -2 -3 -2 -3 -2 -3 -2
-antPhaseRot 1 -1 1 -1 1 -1 1 -1 1 -1 1 -1
-fovCfg -1 70.0 70.0
-compRangeBiasAndRxChanPhase 0.0 1.00000 0.00000 -1.00000 0.00000 1.00000 0.00000 -1.00000 0.00000 1.00000 0.00000 -1.00000 0.00000 1.00000 0.00000 -1.00000 0.00000 1.00000 0.00000 -1.00000 0.00000 1.00000 0.00000 -1.00000 0.00000
-staticBoundaryBox -3 3 0.5 7.5 0 3
-boundaryBox -4 4 0 8 0 3
-sensorPosition 2 0 15
-gatingParam 3 2 2 3 4
-stateParam 3 3 12 500 5 6000
-allocationParam 40 100 0.1 20 0.5 20
-maxAcceleration 0.1 0.1 0.1
-trackingCfg 1 2 800 30 46 96 55
-presenceBoundaryBox -3 3 0.5 7.5 0 3
-sensorStart
-"""
+XWR68_PEOPLE_COUNTING = profile_text("xwr68_people_counting")
 
 # mmWave SDK 1.x xWR16xx syntax: adcbufCfg and guiMonitor without subFrameIdx, cfarCfg with a
 # linear threshold.
-XWR16_SDK1 = """\
-sensorStop
-flushCfg
-dfeDataOutputMode 1
-channelCfg 15 3 0
-adcCfg 2 1
-adcbufCfg 0 1 1 1
-profileCfg 0 77 100 6 60 0 0 60 1 256 5000 0 0 30
-chirpCfg 0 0 0 0 0 0 0 1
-chirpCfg 1 1 0 0 0 0 0 2
-frameCfg 0 1 64 0 50 1 0
-guiMonitor 1 1 0 0 0 1
-cfarCfg 0 2 8 4 3 0 1280
-peakGrouping 1 0 1 1 229
-multiObjBeamForming 1 0.5
-calibDcRangeSig 0 -5 8 256
-sensorStart
-"""
+XWR16_SDK1 = profile_text("xwr16_sdk1")
 
 
 # TI Visualizer 3.6 output for an AOP board: "% Platform:xWR68xx_AOP" (the chip of the base
 # name; the AOP antenna is not in the board registry, the ISK's is assumed unless the profile
 # gives antGeometryCfg) and a ramp sized to the 64 GHz band edge with the ramp end time rounded
 # to 10 ns: 60 GHz + 70 MHz/us x 57.15 us = 64.0005 GHz, within one slope x 10 ns of the edge.
-XWR68_AOP = """\
-% Created for SDK ver:03.05
-% Created using Visualizer ver:3.6.0.0
-% Frequency:60
-% Platform:xWR68xx_AOP
-flushCfg
-dfeDataOutputMode 1
-channelCfg 15 7 0
-adcCfg 2 1
-adcbufCfg -1 0 1 1 1
-profileCfg 0 60 200 7 57.15 0 0 70 1 240 5000 0 0 158
-chirpCfg 0 0 0 0 0 0 0 1
-chirpCfg 1 1 0 0 0 0 0 2
-chirpCfg 2 2 0 0 0 0 0 4
-frameCfg 0 2 16 0 33.333 1 0
-lowPower 0 0
-guiMonitor -1 1 0 0 0 0 1
-cfarCfg -1 0 2 8 4 3 0 15 1
-cfarCfg -1 1 0 4 2 3 1 15 1
-lvdsStreamCfg -1 0 0 0
-compRangeBiasAndRxChanPhase 0.0 1 0 -1 0 1 0 -1 0 1 0 -1 0 1 0 -1 0 1 0 -1 0 1 0 -1 0
-CQRxSatMonitor 0 3 11 119 0
-CQSigImgMonitor 0 89 6
-analogMonitor 0 0
-cfarFovCfg -1 1 -1.21 1.21
-calibData 0 0 0
-sensorStart
-"""
+XWR68_AOP = profile_text("xwr68_aop")
 
 # TI Visualizer 2.0 (mmWave SDK 2.0) xWR16xx output: ChirpThreshold 0, 8-argument cfarCfg
 # with a linear threshold, nearFieldCfg, and a user's trailing "#" note.
-XWR16_SDK2 = """\
-% Created for SDK ver:02.00
-% Platform:xWR16xx
-sensorStop
-flushCfg
-dfeDataOutputMode 1
-channelCfg 15 3 0
-adcCfg 2 1
-adcbufCfg -1 0 0 1 0
-profileCfg 0 77 40 7 57.14 0 0 70 1 256 5209 0 0 30
-chirpCfg 0 0 0 0 0 0 0 1
-chirpCfg 1 1 0 0 0 0 0 2
-frameCfg 0 1 16 0 33.333 1 0
-lowPower 0 1
-guiMonitor -1 1 0 0 0 0 0
-cfarCfg -1 0 0 8 4 4 0 3072
-cfarCfg -1 1 0 4 2 3 0 3072
-peakGrouping -1 1 0 1 1 255
-clutterRemoval -1 1 # static clutter off in the lab
-bpmCfg -1 0 0 1
-nearFieldCfg -1 0 0 0
-analogMonitor 1 1
-sensorStart
-"""
+XWR16_SDK2 = profile_text("xwr16_sdk2")
 
 # Industrial-toolbox people-counting lab for the IWR1642 (toolbox 3.x): SDK 1.x adcbufCfg, the
 # lab firmware's own guiMonitor/cfarCfg syntax and tracker commands.
-XWR16_LAB = """\
-dfeDataOutputMode 1
-channelCfg 15 3 0
-adcCfg 2 1
-adcbufCfg 0 1 1 1
-profileCfg 0 77 35 7 62 0 0 60 1 128 2500 0 0 30
-chirpCfg 0 0 0 0 0 0 0 1
-chirpCfg 1 1 0 0 0 0 0 2
-frameCfg 0 1 64 0 50 1 0
-lowPower 0 1
-guiMonitor 1 1 0 0
-cfarCfg 6 4 4 4 4 16 16 4 4 50 62 0
-doaCfg 600 1875 30 1
-SceneryParam -6 6 0.05 6
-GatingParam 4 3 2 0
-StateParam 10 5 10 100 5
-AllocationParam 450 0.01 25 1 2
-VariationParam 0.289 0.289 1.0
-PointCloudEn 1
-trackingCfg 1 2 250 20 200 50 90
-sensorStart
-"""
+XWR16_LAB = profile_text("xwr16_lab")
 
 
 def _lam(f_ghz: float) -> float:
