@@ -17,12 +17,13 @@ import sys
 import time
 
 import numpy as np
-import scipy.fft
 
 import pipeline
 import radarsim
 from pipeline.mimo.bpm import bpm_decode
 from pipeline.mimo.tdma import slot_maps
+
+from ._timing import fft_floor_once
 
 HANN_LOSS_DB = 1.76
 N_TARGETS = 40
@@ -117,19 +118,11 @@ def _chain_and_floor_s(cfg, adc, rounds: int = 7) -> dict[str, float]:
 
     chain = lambda: pipeline.process_frame(cfg, adc)  # noqa: E731
     chain()
+    x = adc.astype(np.float32)
     for _ in range(rounds):
         timed(chain, "chain", 3)
-        timed(lambda: _fft_floor_once(cfg, adc), "floor", 5)
+        timed(lambda: fft_floor_once(cfg, x), "floor", 5)
     return {k: float(np.median(v)) for k, v in out.items()}
-
-
-def _fft_floor_once(cfg, adc) -> None:
-    """One range rFFT + Doppler FFT over one Tx's slow-time sequence (`bench_pipeline`'s
-    floor, without its own timing loop)."""
-    x = adc.astype(np.float32)
-    per = int(round(cfg.scheme.slow_time_period_s(cfg) / cfg.chirp_period_s))
-    rf = scipy.fft.rfft(x, axis=-1, workers=-1)[..., : cfg.n_samples // 2]
-    scipy.fft.fft(rf.reshape(-1, per, cfg.n_rx, rf.shape[-1]), axis=0, workers=-1)
 
 
 def _snr_gain_over(base: str, names, rng, n: int = 30) -> dict[str, float]:
