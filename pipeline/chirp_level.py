@@ -559,21 +559,14 @@ def _flagged_rows(adc: np.ndarray, dc, proc: ProcessingConfig) -> tuple[np.ndarr
     return rows, flags[rows]
 
 
-_WSPEC_CACHE: dict[tuple[str, int, bool], tuple] = {}
-
-
+@lru_cache(maxsize=32)
 def _window_spectrum(name: str, n: int, full: bool = False) -> tuple:
     """Non-negligible bins (k, W[k]) of the window's rFFT (Hann: k = 0, 1), or of its full FFT
-    for complex samples (Hann: k = 0, 1, n - 1)."""
-    key = (name, n, full)
-    if key not in _WSPEC_CACHE:
-        w64 = window(name, n).astype(np.float64)
-        w = scipy.fft.fft(w64) if full else scipy.fft.rfft(w64)[: n // 2]
-        big = np.flatnonzero(np.abs(w) > 1e-6 * np.abs(w).max())
-        if big.size > 8:  # rect windows of odd shapes: subtract in the time domain instead
-            big = big[:8]
-        _WSPEC_CACHE[key] = tuple((int(k), np.complex64(w[k])) for k in big)
-    return _WSPEC_CACHE[key]
+    for complex samples (Hann: k = 0, 1, n - 1); cached per window."""
+    w64 = window(name, n).astype(np.float64)
+    w = scipy.fft.fft(w64) if full else scipy.fft.rfft(w64)[: n // 2]
+    big = np.flatnonzero(np.abs(w) > 1e-6 * np.abs(w).max())
+    return tuple((int(k), np.complex64(w[k])) for k in big)
 
 
 # ------------------------------------------------------------------------------- metrics
