@@ -22,7 +22,7 @@ import numpy as np
 from scenarios.checks import require
 
 __all__ = ["RayGridConfig", "RayHits", "ray_box_intersect", "box_windows", "cast_rays",
-           "FACE_NORMALS_LOCAL"]
+           "segments_blocked", "FACE_NORMALS_LOCAL"]
 
 #: Outward normals of the six box faces in box-local coordinates, indexed by face id:
 #: 0 +x (front), 1 -x (rear), 2 +y (left), 3 -y (right), 4 +z (top), 5 -z (bottom).
@@ -338,3 +338,48 @@ def cast_rays(grid: RayGridConfig, centres_m, half_sizes_m, yaws_rad, *,
     normal = np.stack([cb * n_local[:, 0] - sb * n_local[:, 1],
                        sb * n_local[:, 0] + cb * n_local[:, 1], n_local[:, 2]], axis=-1)
     return RayHits(ia[keep], ie[keep], dirs, t_in[keep], b, f, normal)
+
+
+def segments_blocked(starts_m, ends_m, centres_m, half_sizes_m, yaws_rad, *, ignore=None,
+                     end_tolerance_m: float = 0.0) -> np.ndarray:
+    """Whether each segment start -> end passes through any of B yawed boxes.
+
+    A segment is blocked by a box when the slab test finds an overlap of the segment's open
+    interval with the box: t_in < t_out, t_out > 0 and t_in < 1 - end_tolerance_m / length
+    (a segment that ends ON a box surface, a scatterer seen from outside, is not blocked by that
+    box; one whose end lies behind the box's near face is).
+
+    Parameters
+    ----------
+    starts_m, ends_m : (K, 3) float
+        Segment end points, radar frame, m.
+    centres_m, half_sizes_m : (B, 3) float
+    yaws_rad : (B,) float
+    ignore : (K, B) bool, optional
+        Pairs not tested (the box a segment starts from, e.g. the rail of a bounce).
+    end_tolerance_m : float
+        Entry this close to the segment's end does not count, m (>= 0).
+
+    Returns
+    -------
+    (K,) bool
+    """
+    s = np.asarray(starts_m, dtype=np.float64).reshape(-1, 3)
+    e = np.asarray(ends_m, dtype=np.float64).reshape(-1, 3)
+    c = np.asarray(centres_m, dtype=np.float64).reshape(-1, 3)
+    h = np.asarray(half_sizes_m, dtype=np.float64).reshape(-1, 3)
+    yaw = np.asarray(yaws_rad, dtype=np.float64).reshape(-1)
+    if s.shape[0] == 0 or c.shape[0] == 0:
+        return np.zeros(s.shape[0], dtype=bool)
+    d = e - s
+    length = np.maximum(np.linalg.norm(d, axis=1), 1e-12)
+    # (K, B) pairs in box-local coordinates: origin = segment start relative to the box centre.
+    y = np.broadcast_to(yaw[None, :], (s.shape[0], c.shape[0]))
+    o_local = _to_local(s[:, None, :] - c[None, :, :], y)
+    d_local = _to_local(np.broadcast_to(d[:, None, :], o_local.shape), y)
+    t_in, t_out, _ = _slab(_cols(o_local), _cols(d_local), _cols(np.broadcast_to(
+        h[None, :, :], o_local.shape)))
+    blocked = (t_in < t_out) & (t_out > 0) & (t_in < 1.0 - end_tolerance_m / length[:, None])
+    if ignore is not None:
+        blocked &= ~np.asarray(ignore, dtype=bool)
+    return blocked.any(axis=1)

@@ -59,16 +59,14 @@ import pandas as pd
 
 from scenarios.checks import require
 
+from .multipath import MULTIPATH_ACTOR_ID, rail_ghosts
 from .raycast import RayGridConfig, cast_rays
+from .road_clutter import GROUND_ACTOR_ID, ground_clutter
 from .scatterers import Scatterers
 
 __all__ = ["RcsConfig", "ClassRcs", "CLASS_RCS", "GROUND_ACTOR_ID", "MULTIPATH_ACTOR_ID",
            "scene_scatterers", "actor_boxes", "strong_centres", "REQUIRED_COLUMNS"]
 
-#: actor_id of ground-clutter scatterers (not a truth actor; not a ghost either).
-GROUND_ACTOR_ID = -2
-#: actor_id of multipath (guard-rail mirror) ghost scatterers.
-MULTIPATH_ACTOR_ID = -1
 
 #: Guard-rail post spacing, m (2 m for high containment levels, 4 m common on motorways).
 POST_SPACING_M = 4.0
@@ -424,80 +422,6 @@ def _merge(actor_key: np.ndarray, pos: np.ndarray, rcs: np.ndarray, cfg: RcsConf
     return first, merged, w
 
 
-def _ground(hits, cfg: RcsConfig, mount_height_m: float, radar_velocity_mps: np.ndarray,
-            az_grid: np.ndarray, rng: np.random.Generator) -> Scatterers:
-    """Constant-gamma ground patches at random positions, hidden behind the first box hit."""
-    g = cfg.grid
-    if g.elevation_min_deg >= 0:
-        return Scatterers.empty()
-    # Nearest ground the lowest ray reaches; patches start there.
-    r_min = mount_height_m / np.tan(np.radians(-g.elevation_min_deg))
-    r_max = cfg.ground_max_range_m
-    if r_min >= r_max:
-        return Scatterers.empty()
-    n = cfg.ground_points
-    a_lim = np.radians(g.azimuth_limit_deg)
-    # Uniform in area over the annular sector: r = sqrt(U(r_min^2, r_max^2)).
-    r = np.sqrt(rng.uniform(r_min ** 2, r_max ** 2, n))
-    az = rng.uniform(-a_lim, a_lim, n)
-    area_total = a_lim * (r_max ** 2 - r_min ** 2)   # (2 a_lim / 2) (r_max^2 - r_min^2)
-    # Shadow: the nearest horizontal hit distance in each ray column.
-    col_min = np.full(az_grid.size, np.inf)
-    if len(hits):
-        np.minimum.at(col_min, hits.azimuth_index,
-                      hits.t_m * np.sqrt(1 - hits.direction[:, 2] ** 2))
-    col = np.clip(np.rint((az - az_grid[0]) / np.radians(g.azimuth_step_deg)).astype(int), 0,
-                  az_grid.size - 1)
-    vis = r < col_min[col]
-    r, az = r[vis], az[vis]
-    sigma0 = 10 ** (cfg.ground_gamma_db / 10) * np.sin(np.arctan2(mount_height_m, r))
-    pos = np.column_stack([r * np.cos(az), r * np.sin(az), np.full(r.size, -mount_height_m)])
-    vel = np.broadcast_to(-np.asarray(radar_velocity_mps, dtype=float), pos.shape)
-    return Scatterers(pos, vel, sigma0 * area_total / n, np.full(r.size, GROUND_ACTOR_ID))
-
-
-def _mirror(sc: Scatterers, boxes: _Boxes, cfg: RcsConfig) -> Scatterers:
-    """Guard-rail double-bounce ghosts: actor scatterers mirrored in the rail's road-side face."""
-    rail = np.flatnonzero(boxes.cls == "guard_rail")
-    src = np.flatnonzero(sc.actor_id >= 0)
-    if rail.size == 0 or src.size == 0:
-        return Scatterers.empty()
-    rail_ids = set(boxes.actor_id[rail].tolist())
-    src = src[~np.isin(sc.actor_id[src], list(rail_ids))]
-    if src.size == 0:
-        return Scatterers.empty()
-    c, h, yaw = boxes.centre[rail], boxes.half[rail], boxes.yaw[rail]
-    n = np.column_stack([-np.sin(yaw), np.cos(yaw), np.zeros(rail.size)])  # local +y
-    e = np.column_stack([np.cos(yaw), np.sin(yaw), np.zeros(rail.size)])
-    # Face toward the radar (origin): flip n so that the radar is on its positive side.
-    side = -np.einsum("bd,bd->b", c, n)
-    n = n * np.sign(np.where(side == 0, 1.0, side))[:, None]
-    q0 = c + n * h[:, 1:2]
-    p = sc.position_m[src]
-    v = sc.velocity_mps[src]
-    dp = np.einsum("kd,bd->kb", p, n) - np.einsum("bd,bd->b", q0, n)[None, :]   # (K, B)
-    radar_side = np.einsum("bd,bd->b", -q0, n) > 0
-    p_img = p[:, None, :] - 2 * dp[..., None] * n[None, :, :]
-    denom = np.einsum("kbd,bd->kb", p_img, n)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        lam = np.einsum("bd,bd->b", q0, n)[None, :] / denom
-    cross = lam[..., None] * p_img
-    along = np.einsum("kbd,bd->kb", cross - c[None, :, :], e)
-    ok = ((dp > 0) & radar_side[None, :] & (lam > 0) & (lam < 1)
-          & (np.abs(along) <= h[None, :, 0]))
-    k_idx, b_idx = np.nonzero(ok)
-    if k_idx.size == 0:
-        return Scatterers.empty()
-    nb = n[b_idx]
-    vv = v[k_idx]
-    v_img = vv - 2 * np.einsum("kd,kd->k", vv, nb)[:, None] * nb
-    rcs = sc.rcs_m2[src][k_idx] * cfg.guard_rail_reflectivity ** 2
-    pos = p_img[k_idx, b_idx]
-    keep = np.linalg.norm(pos, axis=1) < cfg.max_range_m
-    return Scatterers(pos[keep], v_img[keep], rcs[keep],
-                      np.full(int(keep.sum()), MULTIPATH_ACTOR_ID))
-
-
 def scene_scatterers(truth_frame: pd.DataFrame, rng: np.random.Generator,
                      cfg: RcsConfig | None = None, *, radar_velocity_mps=None,
                      mount_height_m: float | None = None) -> Scatterers:
@@ -542,6 +466,7 @@ def scene_scatterers(truth_frame: pd.DataFrame, rng: np.random.Generator,
     hits = cast_rays(cfg.grid, boxes.centre, boxes.half, boxes.yaw, azimuth_offset=a_off,
                      elevation_offset=e_off, max_range_m=cfg.max_range_m)
     parts = []
+    actor_box = np.zeros(0, dtype=np.int64)
     if boxes.centre.shape[0]:
         p_rcs = _patch_rcs(hits, boxes, cfg)
         c_box, c_pos, c_rcs = _visible_centres(boxes, cfg, rng, hits,
@@ -554,14 +479,22 @@ def scene_scatterers(truth_frame: pd.DataFrame, rng: np.random.Generator,
             scale = np.where(boxes.cls[box] == "guard_rail", cfg.clutter_merge_factor, 1.0)
             first, mpos, mrcs = _merge(box, pos, rcs, cfg, scale)
             mbox = box[first]
+            actor_box = mbox
             parts.append(Scatterers(mpos, boxes.velocity[mbox], mrcs, boxes.actor_id[mbox]))
     actors = Scatterers.concatenate(parts)
     out = [actors]
     if cfg.multipath:
-        out.append(_mirror(actors, boxes, cfg))
+        out.append(rail_ghosts(actors, actor_box, boxes.centre, boxes.half, boxes.yaw,
+                               boxes.cls == "guard_rail",
+                               reflectivity=cfg.guard_rail_reflectivity,
+                               max_range_m=cfg.max_range_m))
     if cfg.ground and radar_velocity_mps is not None:
-        out.append(_ground(hits, cfg, mount_height_m, radar_velocity_mps,
-                           cfg.grid.azimuths_rad(a_off), rng))
+        out.append(ground_clutter(hits, cfg.grid, cfg.grid.azimuths_rad(a_off),
+                                  mount_height_m=mount_height_m,
+                                  radar_velocity_mps=radar_velocity_mps,
+                                  max_range_m=cfg.ground_max_range_m,
+                                  n_points=cfg.ground_points, gamma_db=cfg.ground_gamma_db,
+                                  rng=rng))
     sc = Scatterers.concatenate(out)
     if cfg.cull_rcs_at_100m_m2 > 0 and len(sc):
         keep = sc.rcs_m2 * (100.0 / sc.range_m) ** 4 >= cfg.cull_rcs_at_100m_m2
