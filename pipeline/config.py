@@ -8,6 +8,7 @@ from typing import Any, NamedTuple
 from scenarios.checks import one_of, require
 
 from .cfar import CFAR_MODES, cfar_scale
+from .ege_format import ege_min_ratio
 from .saturation import SATURATION_POLICIES
 
 __all__ = ["CfarConfig", "ProcessingConfig", "WINDOWS", "INTF_THRESHOLD_MODES", "IntfThresholdMode",
@@ -152,7 +153,7 @@ class ProcessingConfig:
         EGE compression/decompression of the range-FFT cube (``compressionCfg``; default on).
     compression_ratio : float
         Compressed / raw size, in [0.25, 1) (the demo: 0.5); a radar also needs at least
-        `chirp_level.ege_min_ratio` for its block (0.32 for 4 Rx x 8 bins), which
+        `ege_format.ege_min_ratio` for its block (0.32 for 4 Rx x 8 bins), which
         `check_radar` tests.
     compression_range_bins_per_block : int
         Range bins per block (blocks hold all Rx; the demo: 8), a power of 2 in 1..32.
@@ -221,10 +222,9 @@ class ProcessingConfig:
     def check_compression(self, n_rx: int, n_range_bins: int) -> None:
         """Raise if EGE compression cannot run on a radar's range-FFT cube: the blocks must
         tile the range bins, and the ratio must leave room for the shortest EG code of the
-        demo's k-array (`chirp_level.ege_min_ratio`)."""
+        demo's k-array (`ege_format.ege_min_ratio`)."""
         if not self.compression:
             return
-        from .chirp_level import ege_min_ratio  # chirp_level imports this module
         b = self.compression_range_bins_per_block
         if n_range_bins % b:
             raise ValueError(f"compression_range_bins_per_block={b} does not divide the "

@@ -20,7 +20,7 @@ import pandas as pd
 from radarsim.config import RadarConfig
 
 from ..cfar import CFAR_MODES, noise_mean_factor
-from ..chirp_level import range_stage
+from ..chirp_level.stage import range_stage
 from ..config import WINDOWS, ProcessingConfig
 from ..kernels import (array_layout, candidate_cfar, ddma_metric, doppler_fft, estimate_angles,
                        local_max_mask, parabolic_offset, window)

@@ -20,7 +20,7 @@ import pandas as pd
 
 from radarsim.config import RadarConfig
 
-from ..chirp_level import range_stage
+from ..chirp_level.stage import range_stage
 from ..config import WINDOWS, ProcessingConfig
 from ..kernels import array_layout, doppler_fft, window
 from ..stages import (
