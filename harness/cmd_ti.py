@@ -63,7 +63,7 @@ def write_table(df: pd.DataFrame, path: str | os.PathLike) -> Path:
 
 
 def cfar_config_from_ti(ti_cfar):
-    """`pipeline.CfarConfig` from a TI ``cfarCfg`` (`radarsim.ti_cfg.TiCfar`).
+    """`pipeline.CfarConfig` from a TI ``cfarCfg`` (`radarsim.ti.TiCfar`).
 
     averageMode -> mode, one-sided winLen/guardLen -> window_cells/guard_cells, osKvalue ->
     os_rank (OS only), thresholdScale (dB over the noise estimate) -> threshold_db (so the
@@ -121,7 +121,7 @@ def process_capture(capture, profile, proc=None, *, interleaved: bool | None = N
     ----------
     capture : path-like
         DCA1000 capture (`radarsim.capture` layout).
-    profile : radarsim.ti_cfg.TiProfile
+    profile : radarsim.ti.TiProfile
         The profile it was recorded with (frame time = frame index x frame period).
     proc : pipeline.ProcessingConfig, optional
         Default `processing_from_profile(profile)`.
@@ -143,7 +143,7 @@ def process_capture(capture, profile, proc=None, *, interleaved: bool | None = N
 
 def _profile(path: Path):
     """`parse_ti_cfg` with the file's own problems (a directory, binary data) as bad input."""
-    from radarsim.ti_cfg import parse_ti_cfg
+    from radarsim.ti import parse_ti_cfg
     if Path(path).is_dir():
         raise ValueError(f"--cfg {str(path)!r} is a directory, not a TI .cfg profile")
     try:

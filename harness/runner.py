@@ -405,7 +405,7 @@ def radar_config(overrides: dict, mimo: str):
     path = ov.pop("profile", None)
     if path is None:
         return radarsim.presets.r79(mimo, **ov)
-    from radarsim.config import from_ti_cfg
+    from radarsim.ti import from_ti_cfg
     base = from_ti_cfg(Path(path))
     try:
         return base.replace(**{"mimo": mimo, **ov}) if base.mimo != mimo or ov else base

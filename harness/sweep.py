@@ -252,7 +252,7 @@ def _check_section(where: str, section: str, overrides: dict) -> None:
         if bad:
             raise ValueError(f"{where}: unknown radar field(s) {bad}")
         if "profile" in overrides:
-            from radarsim.config import from_ti_cfg
+            from radarsim.ti import from_ti_cfg
             prof = overrides["profile"]
             if not isinstance(prof, str) or not Path(prof).is_file():
                 raise ValueError(f"{where}: radar.profile={prof!r} is not a TI .cfg file")

@@ -8,9 +8,10 @@ non-coherent sum. Pfa(alpha) = E_Y[ Q(L, alpha Y) ] is integrated numerically fo
 L = 1 it reproduces Rohling's OS formula and the CA closed form (DESIGN section 8).
 
 Each mode is a `CfarMode` object in the `CFAR_MODES` registry: the distribution of its noise
-estimate (threshold design), the estimate itself (gathered training cells or a full map), its TI
-``cfarCfg`` averageMode code, and an optional cheap necessary condition that the chain uses to
-skip cells before gathering training cells. A new CFAR mode is one `CfarMode` subclass (or
+estimate (threshold design), the estimate itself (gathered training cells or a full map), and an
+optional cheap necessary condition that the chain uses to skip cells before gathering training
+cells. TI's ``cfarCfg`` averageMode codes name these modes in one table,
+`radarsim.ti.codes.CFAR_AVERAGE_MODES`. A new CFAR mode is one `CfarMode` subclass (or
 instance) here and one registry entry; the module functions below only look the name up.
 
 References
@@ -61,8 +62,6 @@ class CfarMode:
     name : str
         Registry key (what `pipeline.CfarConfig.mode` holds).
     description : str
-    ti_code : int
-        TI ``cfarCfg`` averageMode code (seed 003 ``DPU_CFARProc_CfarCfg``).
 
     Subclasses implement `estimate_pdf`, `noise_estimate` and `noise_map`; `closed_form_pfa`
     and `candidate_mask` have defaults (numerical integration; every cell a candidate).
@@ -73,7 +72,6 @@ class CfarMode:
 
     name: str
     description: str
-    ti_code: int
 
     def estimate_pdf(self, n_cells: int, os_rank: int, looks: int) -> Callable:
         """pdf of the noise estimate Y for cells of `looks` unit-mean exponential looks."""
@@ -196,14 +194,14 @@ class OrderStatistic(CfarMode):
         return power > alpha * col_k
 
 
-#: CFAR modes by the name `CfarConfig.mode` holds (TI codes: seed 003 averageMode).
+#: CFAR modes by the name `CfarConfig.mode` holds (TI codes: `radarsim.ti.codes`).
 CFAR_MODES: dict[str, CfarMode] = {m.name: m for m in (
-    CellAveraging(name="ca", ti_code=0, description="cell averaging: mean of both windows"),
-    SideSelecting(name="cago", ti_code=1, greatest=True,
+    CellAveraging(name="ca", description="cell averaging: mean of both windows"),
+    SideSelecting(name="cago", greatest=True,
                   description="greatest-of: larger of the two window means"),
-    SideSelecting(name="caso", ti_code=2, greatest=False,
+    SideSelecting(name="caso", greatest=False,
                   description="smallest-of: smaller of the two window means"),
-    OrderStatistic(name="os", ti_code=3,
+    OrderStatistic(name="os",
                    description="ordered statistic: k-th smallest training cell"),
 )}
 

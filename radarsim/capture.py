@@ -116,7 +116,7 @@ CAPTURE_LAYOUTS: Mapping[str, CaptureLayout] = MappingProxyType({
 
 
 def _radar(cfg) -> RadarConfig:
-    radar = getattr(cfg, "radar", cfg)  # a radarsim.ti_cfg.TiProfile carries its RadarConfig
+    radar = getattr(cfg, "radar", cfg)  # a radarsim.ti.TiProfile carries its RadarConfig
     if not isinstance(radar, RadarConfig):
         raise ValueError(f"cfg must be a RadarConfig or TiProfile, got {type(cfg).__name__}")
     return radar

@@ -31,7 +31,7 @@ from .mimo import MIMO_SCHEMES, MimoScheme, scheme_of
 __all__ = [
     "RadarConfig", "MIMO_SCHEMES", "PHASE_QUANTIZATIONS", "ANTENNA_PATTERNS", "ADC_MODES",
     "C_MPS", "K_BOLTZMANN", "MAX_ADC_RATE_SPS", "MAX_IF_BANDWIDTH_HZ", "BAND_MIN_HZ",
-    "BAND_MAX_HZ", "from_ti_cfg", "to_ti_cfg",
+    "BAND_MAX_HZ",
 ]
 
 C_MPS = 299_792_458.0
@@ -744,18 +744,3 @@ def _as_lists(v: Any) -> Any:
 
 def _as_tuples(v: Any) -> Any:
     return tuple(_as_tuples(x) for x in v) if isinstance(v, list) else v
-
-
-def from_ti_cfg(path_or_text):
-    """`RadarConfig` of a TI mmWave .cfg; see `radarsim.ti_cfg.parse_ti_cfg`.
-
-    Imported on call: ti_cfg builds on this module, so config does not import it at load
-    time (no import cycle)."""
-    from .ti_cfg import from_ti_cfg as _from
-    return _from(path_or_text)
-
-
-def to_ti_cfg(cfg, **kwargs):
-    """TI mmWave .cfg text for a `RadarConfig`; see `radarsim.ti_cfg.to_ti_cfg`."""
-    from .ti_cfg import to_ti_cfg as _to
-    return _to(cfg, **kwargs)

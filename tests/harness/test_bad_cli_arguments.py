@@ -14,7 +14,7 @@ import pytest
 
 from harness import sweep as sw
 from harness.cli import main
-from radarsim.ti_cfg import r79_cfg_path
+from radarsim.ti import r79_cfg_path
 
 CI = str(sw.CI_SWEEP_PATH)
 CFG = str(r79_cfg_path())

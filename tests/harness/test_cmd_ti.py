@@ -11,7 +11,7 @@ import radarsim
 from harness import cmd_ti
 from harness.cli import main
 from radarsim.capture import read_capture, write_capture
-from radarsim.ti_cfg import R79_CFAR, parse_ti_cfg, r79_cfg_path, to_ti_cfg
+from radarsim.ti import R79_CFAR, parse_ti_cfg, r79_cfg_path, to_ti_cfg
 
 
 

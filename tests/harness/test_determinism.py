@@ -24,7 +24,7 @@ import pytest
 from harness import runner
 from harness import sweep as sw
 from radarsim.capture import read_capture
-from radarsim.ti_cfg import parse_ti_cfg, r79_cfg_path
+from radarsim.ti import parse_ti_cfg, r79_cfg_path
 
 ROOT = Path(__file__).resolve().parents[2]
 CASE, SEEDS, DURATION_S = "dense_highway", ("0", "1"), "0.2"

@@ -9,7 +9,7 @@ import pytest
 import radarsim
 from harness.runner import CellSpec, build_configs, cell_association, radar_config, run_cell
 from harness.sweep import load_sweep, run_sweep
-from radarsim.ti_cfg import to_ti_cfg
+from radarsim.ti import to_ti_cfg
 from tests.harness.fakes import FAKE
 
 

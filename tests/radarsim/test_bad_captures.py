@@ -7,7 +7,7 @@ import pytest
 import radarsim
 from harness.cli import main
 from radarsim.capture import capture_n_frames, write_capture
-from radarsim.ti_cfg import r79_cfg_path
+from radarsim.ti import r79_cfg_path
 
 CFG = radarsim.presets.r79("ddma")
 

@@ -19,7 +19,7 @@ import pytest
 
 import radarsim
 from radarsim.capture import CAPTURE_LAYOUTS, layout_of, read_capture, write_capture
-from radarsim.ti_cfg import parse_ti_cfg, to_ti_cfg
+from radarsim.ti import parse_ti_cfg, to_ti_cfg
 from tests.radarsim.profiles import profile_text
 
 # A small xWR18xx-style complex profile (TI Visualizer 3.5 syntax, our own numbers).

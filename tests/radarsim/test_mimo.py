@@ -5,7 +5,7 @@ import pytest
 import radarsim
 from radarsim import RadarConfig
 from radarsim.mimo import MIMO_SCHEMES, TdmaScheme, hadamard, register_scheme, scheme_of
-from radarsim.ti_cfg import from_ti_cfg, to_ti_cfg
+from radarsim.ti import from_ti_cfg, to_ti_cfg
 
 REGISTRY = sorted(MIMO_SCHEMES)
 

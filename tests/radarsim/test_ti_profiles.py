@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 
 from pipeline.kernels import array_layout
-from radarsim.ti_cfg import parse_ti_cfg, to_ti_cfg
+from radarsim.ti import parse_ti_cfg, to_ti_cfg
 from tests.radarsim.profiles import profile_text
 
 C = 299_792_458.0

@@ -1,0 +1,197 @@
+"""`to_ti_cfg`: a `RadarConfig` (or `TiProfile`) as the TI CLI profile of its chip, such that
+``from_ti_cfg(to_ti_cfg(cfg)) == cfg`` exactly; what TI cannot say travels as directives."""
+from __future__ import annotations
+
+import dataclasses
+import json
+from typing import Any, Iterable, Mapping
+
+from ..chips import ADC_MODES
+from ..config import RadarConfig
+from .profile import DEFAULT_FRAME_PERIOD_S, TiCfar, TiProfile
+from .reader import parse_ti_cfg
+from .state import TI_DEFAULT_OVERRIDES, TI_FIELDS
+from .syntax import fmt_decimal
+
+__all__ = ["to_ti_cfg"]
+
+
+def to_channel_bits(line: str, radar: RadarConfig) -> str:
+    """A scheme's TI line over logical Tx 1..n_tx (`MimoScheme.to_ti`) on the config's chip
+    channels: ``chirpCfg`` txEnable masks and the ``ddmPhaseShiftAntOrder`` list (all chip Tx,
+    the active ones first, as TI requires)."""
+    cmd, *args = line.split()
+    chans = radar.tx_channels
+    if cmd == "chirpCfg":
+        mask = int(args[7])
+        args[7] = str(sum(1 << (chans[k] - 1) for k in range(radar.n_tx) if mask >> k & 1))
+    elif cmd == "ddmPhaseShiftAntOrder":
+        order = [chans[int(t)] - 1 for t in args if int(t) < radar.n_tx]
+        order += [t for t in range(radar.chip_spec.n_tx) if t not in order]
+        args = [str(t) for t in order]
+    return " ".join([cmd, *args])
+
+
+def _ti_default(name: str) -> Any:
+    if name in TI_DEFAULT_OVERRIDES:
+        return TI_DEFAULT_OVERRIDES[name]
+    f = next(f for f in dataclasses.fields(RadarConfig) if f.name == name)
+    return f.default
+
+
+def _json_value(value: Any) -> str:
+    return json.dumps(list(value) if isinstance(value, tuple) else value)
+
+
+def _ant_geometry_line(radar: RadarConfig) -> str | None:
+    """``antGeometryCfg`` of the config's array on a lambda/2 x (one height) grid, or None when
+    the positions are not on such a grid (they then travel as directives)."""
+    tx = radar.tx_positions_wl
+    rx = radar.rx_positions_wl
+    heights = sorted({round(z, 9) for _, z in tx + rx} - {0.0})
+    dz = heights[0] if len(heights) == 1 else 0.8 if not heights else None
+    if dz is None:
+        return None
+    pairs = []
+    for ty, tz in tx:
+        for ry, rz in rx:
+            col = (ty + ry) / 0.5
+            row_f = (tz + rz) / dz
+            if abs(col - round(col)) > 1e-9 or round(row_f, 9) not in (0.0, 1.0) or col < 0:
+                return None
+            pairs.append((1 - int(round(row_f)), int(round(col))))
+    return ("antGeometryCfg " + " ".join(f"{r} {c}" for r, c in pairs)
+            + f" 0.5 {fmt_decimal(dz)}")
+
+
+def to_ti_cfg(cfg: RadarConfig | TiProfile, *, frame_period_s: float | None = None,
+              n_frames: int | None = None,
+              cfar: Mapping[str, TiCfar] | Iterable[TiCfar] | None = None,
+              extra_lines: Iterable[str] = (), comments: Iterable[str] = ()) -> str:
+    """Write a TI mmWave SDK CLI configuration for the config's chip running `cfg` (MCU+ SDK
+    syntax for the AWR294x family, mmWave SDK 3.x syntax for xWR16/18/68; the chip is named in
+    TI Visualizer's ``% Platform:`` header).
+
+    Parameters
+    ----------
+    cfg : RadarConfig or TiProfile
+        The radar (a `TiProfile` also supplies frame period, frame count and CFAR).
+    frame_period_s : float, optional
+        ``framePeriodicity``, s; default the profile's, else `DEFAULT_FRAME_PERIOD_S`.
+    n_frames : int, optional
+        ``numFrames`` (0: until stopped); default the profile's, else 0.
+    cfar : mapping or iterable of TiCfar, optional
+        ``cfarCfg`` lines to write (none by default for a bare RadarConfig).
+    extra_lines : iterable of str
+        Further commands appended before ``sensorStart`` (validated by the round trip).
+    comments : iterable of str
+        Extra header comment lines (a leading ``%`` is added when missing).
+
+    Returns
+    -------
+    str
+        The .cfg text; ``from_ti_cfg(text) == cfg`` exactly.
+
+    Raises
+    ------
+    ValueError
+        If the config cannot be programmed on the chip (e.g. more than 255 loops per frame,
+        or a frame period shorter than the chirp burst).
+    """
+    profile = cfg if isinstance(cfg, TiProfile) else None
+    radar = profile.radar if profile else cfg
+    if frame_period_s is None:
+        frame_period_s = profile.frame_period_s if profile else DEFAULT_FRAME_PERIOD_S
+    if n_frames is None:
+        n_frames = profile.n_frames if profile else 0
+    if cfar is None:
+        cfar = profile.cfar if profile else {}
+    cfars = list(cfar.values()) if isinstance(cfar, Mapping) else list(cfar)
+    out = _header_lines(radar, comments)
+    out += _command_lines(radar, frame_period_s, n_frames)
+    out += [c.to_cli() for c in cfars]
+    out += list(extra_lines)
+    text = _with_directives(radar, out)
+    back = parse_ti_cfg(text).radar
+    if back != radar:  # pragma: no cover - guards the exact-round-trip promise
+        raise RuntimeError(f"to_ti_cfg round trip failed: {back} != {radar}")
+    return text
+
+
+def _header_lines(radar: RadarConfig, comments: Iterable[str]) -> list[str]:
+    """Comment header: writer, TI Visualizer's ``% Platform:`` line, a one-line summary."""
+    chip = radar.chip_spec
+    kind = "complex (I/Q)" if radar.is_complex else "real"
+    return [
+        f"% {chip.name} profile written by radarsim.ti.to_ti_cfg "
+        f"({'mmWave MCU+ SDK' if chip.mcu_plus_sdk else 'mmWave SDK 3.x'} CLI).",
+        f"% Platform:{chip.ti_platform}",
+        f"% {radar.mimo.upper()} {radar.n_tx} Tx x {radar.n_rx} Rx, {radar.n_chirps} chirps of "
+        f"{radar.chirp_period_s * 1e6:.6g} us, {radar.n_samples} {kind} samples at "
+        f"{radar.adc_rate_sps / 1e6:g} Msps: range resolution {radar.range_resolution_m:.3f} m, "
+        f"max range {radar.max_range_m:.1f} m, Vmax +/-{radar.max_unambiguous_velocity_mps:.2f}"
+        " m/s.",
+        *(c if c.startswith("%") else f"% {c}" for c in comments),
+    ]
+
+
+def _command_lines(radar: RadarConfig, frame_period_s: float, n_frames: int) -> list[str]:
+    """The CLI commands from sensorStop to the frame (and antGeometryCfg on MCU+ chips)."""
+    chip = radar.chip_spec
+    # The scheme's loop over the logical Tx 1..n_tx (radarsim.mimo), mapped onto the chip
+    # channels `tx_channels` below.
+    ti_frame = radar.scheme.to_ti(radar, radar.n_tx)
+    per_loop = ti_frame.chirps_per_loop
+    loops = radar.n_chirps // per_loop
+    if loops > chip.max_loops:
+        raise ValueError(f"n_chirps={radar.n_chirps}: {loops} loops of {per_loop} chirps "
+                         f"exceed the {chip.name} frame limit of {chip.max_loops} loops")
+    rx_mask = sum(1 << (c - 1) for c in radar.rx_channels)
+    tx_mask = sum(1 << (c - 1) for c in radar.tx_channels)  # logical Tx k -> TI txEnable bit
+    mcu_plus = chip.mcu_plus_sdk
+    idle_us = fmt_decimal(radar.idle_time_s, -6)
+    ramp_us = fmt_decimal(radar.ramp_end_time_s, -6)
+    fmt = ADC_MODES[radar.adc_mode].ti_code
+    words = radar.n_samples * (2 if radar.is_complex else 1)  # rlFrameCfg_t: 16-bit words
+    out = [
+        "sensorStop",
+        "flushCfg",
+        "dfeDataOutputMode 1",
+        f"channelCfg {rx_mask} {tx_mask} 0" + " 0" * (chip.channel_cfg_args - 3),
+        f"adcCfg 2 {fmt}",
+        # adcbufCfg <subFrameIdx> <adcOutputFmt 0 complex / 1 real> <SampleSwap>
+        # <ChanInterleave> <ChirpThreshold>: TI's demo values (SampleSwap 1 for complex).
+        f"adcbufCfg -1 {0 if radar.is_complex else 1} {1 if radar.is_complex else 0} "
+        f"{0 if radar.adcbuf_interleaved else 1} 1",
+        "lowPower 0 0",
+        # txOutPower, txPhaseShifter, txStartTime 0; HPF codes 0 0 and rxGain 42 as in the R79
+        # demo (the front-end model has no HPF or gain setting).
+        f"profileCfg 0 {fmt_decimal(radar.start_freq_hz, 9)} {idle_us} "
+        f"{fmt_decimal(radar.adc_start_time_s, -6)} {ramp_us} 0 0 "
+        f"{fmt_decimal(radar.slope_hz_per_s, 12)} 0 {radar.n_samples} "
+        f"{fmt_decimal(radar.adc_rate_sps, 3)} 0 0 42",
+    ]
+    out += [to_channel_bits(line, radar) for line in ti_frame.chirp_lines]
+    out.append(f"frameCfg 0 {per_loop - 1} {loops} {n_frames} "
+               + (f"{words} " if mcu_plus else "")
+               + f"{fmt_decimal(frame_period_s, -3)} 1 0")
+    out += [to_channel_bits(line, radar) for line in ti_frame.extra_lines]
+    geometry = _ant_geometry_line(radar)
+    if geometry is not None and mcu_plus:
+        out.append(geometry)
+    return out
+
+
+def _with_directives(radar: RadarConfig, out: list[str]) -> str:
+    """The profile text with ``% radarsim:`` directives after the header for every field a
+    plain read of the commands gets wrong (what TI cannot say)."""
+    body = out + ["sensorStart"]
+    plain = parse_ti_cfg("\n".join(body) + "\n").radar
+    directives = []
+    for f in dataclasses.fields(RadarConfig):
+        if f.name in TI_FIELDS:
+            continue
+        if getattr(plain, f.name) != getattr(radar, f.name):
+            directives.append(f"% radarsim: {f.name} = {_json_value(getattr(radar, f.name))}")
+    n_head = next(i for i, line in enumerate(out) if not line.startswith("%"))
+    return "\n".join(out[:n_head] + directives + body[n_head:]) + "\n"
