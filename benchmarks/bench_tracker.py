@@ -69,15 +69,15 @@ def _run(frames, ego: float | None) -> GroupTracker:
 
 def _scenario_frames(n_frames: int = 30):
     """DDMA point clouds, ego speeds and mount of the dense_highway case."""
-    import harness.runner as runner
-    comps = runner.default_components()
+    from harness import cell, cellconfig, cellspec, components, streams
+    comps = components.default_components()
     run = comps.run_scenario("dense_highway", 0, None)
-    radar, procs = runner.build_configs(runner.CellSpec(scenario="dense_highway"), comps)
+    radar, procs = cellconfig.build_configs(cellspec.CellSpec(scenario="dense_highway"), comps)
     ego = run.ego.drop_duplicates("frame").set_index("frame").iloc[:n_frames]
     frames = []
     for f in ego.index:
-        sc = runner.frame_scatterers(comps, run, int(f), 0)
-        adc = comps.simulate_frame(radar["ddma"], sc, runner.frame_rng(0, int(f), "ddma"))
+        sc = cell.frame_scatterers(comps, run, int(f), 0)
+        adc = comps.simulate_frame(radar["ddma"], sc, streams.frame_rng(0, int(f), "ddma"))
         frames.append((float(ego.loc[f, "time_s"]),
                        comps.process_frame(radar["ddma"], adc, procs["ddma"])))
     return frames, ego["ego_speed_mps"].tolist(), run.mount

@@ -33,7 +33,8 @@ from typing import Callable
 import numpy as np
 
 __all__ = ["CELL_STATES", "code_version", "read_meta", "cell_state", "table_files",
-           "write_cell_dir", "retire", "clean_temporaries", "TEMP_PREFIXES"]
+           "write_cell_dir", "retire", "clean_temporaries", "TEMP_PREFIXES", "cell_dir",
+           "cell_states", "completed_cells"]
 
 #: What a cell directory can hold, as seen by a resume.
 CELL_STATES = {
@@ -153,6 +154,22 @@ def cell_state(d: Path, version: str | None = None) -> str:
     return "ok"
 
 
+def cell_dir(out: Path, spec) -> Path:
+    """Directory of a cell (``spec.cell_id``, a `harness.cellspec.CellSpec`) under ``out``."""
+    return Path(out) / "cells" / spec.cell_id
+
+
+def cell_states(out: Path, cells: list) -> dict[str, str]:
+    """`cell_state` of every cell under ``out`` (cell id -> state)."""
+    version = code_version()["hash"]
+    return {c.cell_id: cell_state(cell_dir(out, c), version) for c in cells}
+
+
+def completed_cells(out: Path, cells: list) -> set[str]:
+    """Ids of cells completed under ``out`` by this code version with intact tables."""
+    return {i for i, st in cell_states(out, cells).items() if st == "ok"}
+
+
 def retire(d: Path) -> None:
     """Remove a cell directory (stale, corrupt): renamed aside first, so a kill mid-delete
     leaves an ``.old-*`` directory for `clean_temporaries`, never half a cell."""
@@ -257,7 +274,7 @@ def clean_temporaries(cells_root: Path) -> list[Path]:
 def failed_rows(summary) -> "np.ndarray":
     """(n_rows,) bool: the rows of a sweep summary table that record an errored cell, i.e. a
     non-empty ``error``. A missing value, or a table without the column, counts as completed
-    (`harness.sweep.assemble` writes "" for completed cells). The one rule every reader of
+    (`harness.assemble.assemble` writes "" for completed cells). The one rule every reader of
     sweep results applies."""
     if "error" not in summary.columns:
         return np.zeros(len(summary), dtype=bool)

@@ -74,9 +74,12 @@ def _scheme_kwargs(args: argparse.Namespace) -> dict:
 
 
 def run_run(args: argparse.Namespace) -> int:
-    from .runner import CellSpec, run_cell
-    from .sweep import _resolve_scenarios, _write_atomic, prepare_out
-    _resolve_scenarios([args.case])
+    from .assemble import write_atomic
+    from .cell import run_cell
+    from .cellspec import CellSpec
+    from .schedule import prepare_out
+    from .sweepspec import resolve_scenarios
+    resolve_scenarios([args.case])
     out = prepare_out(args.out) if args.out else None  # fail before the (long) run
     spec = CellSpec(scenario=args.case, seed=args.seed, duration_s=args.duration_s,
                     frame_stride=args.frame_stride, **_scheme_kwargs(args))
@@ -85,7 +88,7 @@ def run_run(args: argparse.Namespace) -> int:
     print(f"({res.elapsed_s:.1f} s)")
     if out is not None:
         for name, df in res.tables.items():
-            _write_atomic(out / f"{name}.parquet",
+            write_atomic(out / f"{name}.parquet",
                           lambda tmp, df=df: df.to_parquet(tmp, index=False))
         print(f"tables written to {out}/")
     return 0
@@ -124,8 +127,8 @@ def add_arguments_sweep(parser: argparse.ArgumentParser) -> None:
 
 
 def run_sweep(args: argparse.Namespace) -> int:
-    from . import sweep as sw
-    spec = sw.load_sweep(args.sweep_file).with_overrides(
+    from . import dask_cluster, schedule, sweepfile
+    spec = sweepfile.load_sweep(args.sweep_file).with_overrides(
         seeds=args.seeds, frame_stride=args.frame_stride, duration_s=args.duration_s,
         scenarios=args.scenarios, schemes=args.schemes)
     if args.baseline_scheme is not None:
@@ -133,15 +136,16 @@ def run_sweep(args: argparse.Namespace) -> int:
         spec = dataclasses.replace(spec, baseline_scheme=args.baseline_scheme)
     out = Path(args.out) if args.out else Path("results") / spec.run_id
     workers = args.workers if args.workers is not None else (os.cpu_count() or 1)
-    security = sw.dask_security(args.security) if args.security else None
-    out = sw.prepare_out(out)
+    security = dask_cluster.dask_security(args.security) if args.security else None
+    out = schedule.prepare_out(out)
     n = len(spec.cells())
     print(f"sweep {spec.name}: {n} cells ({len(spec.scenarios)} scenarios x "
           f"{len(spec.variants)} variants x {len(spec.seeds)} seeds) -> {out}/",
           file=sys.stderr)
-    outcome = sw.run_sweep(spec, out, workers=workers, scheduler=args.scheduler,
-                           progress=args.progress, force=args.force, security=security,
-                           scheduler_timeout_s=args.scheduler_timeout_s)
+    outcome = schedule.run_sweep(spec, out, workers=workers, scheduler=args.scheduler,
+                                 progress=args.progress, force=args.force,
+                                 security=security,
+                                 scheduler_timeout_s=args.scheduler_timeout_s)
     summary = pd.read_parquet(out / "summary.parquet")
     print(format_summary(summary))
     print(f"{outcome.n_ok} cells computed, {outcome.n_skipped} resumed, "

@@ -14,7 +14,7 @@ CSV by the file suffix). The profile's Doppler ``cfarCfg`` becomes the chain's C
 the front end's ADC frames for the profile's radar as a capture in the DCA1000 layout the
 profile implies (`radarsim.capture.layout_of`: real or complex, ADC buffer interleaving), so
 the same data can be replayed here or read by TI's and OpenRadar's readers. Random streams are those of a sweep cell
-(``harness.runner.frame_rng(seed, frame, "rcs" | mimo)``), so a capture of the R79 preset
+(``harness.streams.frame_rng(seed, frame, "rcs" | mimo)``), so a capture of the R79 preset
 holds exactly the ADC frames a sweep of the same scenario and seed processes.
 """
 from __future__ import annotations
@@ -224,7 +224,7 @@ def add_arguments_simulate(parser: argparse.ArgumentParser) -> None:
 
 def _components():
     """The sweep runner's real parts (a seam for tests)."""
-    from harness.runner import default_components
+    from harness.components import default_components
     return default_components()
 
 
@@ -233,10 +233,11 @@ def simulate_frames(cfg, run, seed: int, frames, comps):
 
     Yields (n_chirps, n_rx, n_samples) int16 (real) or complex64 (complex ADC) per frame.
     """
-    from harness import runner
+    from harness.cell import frame_scatterers
+    from harness.streams import frame_rng
     for f in frames:
-        sc = runner.frame_scatterers(comps, run, f, seed)
-        yield comps.simulate_frame(cfg, sc, runner.frame_rng(seed, f, cfg.mimo))
+        sc = frame_scatterers(comps, run, f, seed)
+        yield comps.simulate_frame(cfg, sc, frame_rng(seed, f, cfg.mimo))
 
 
 def run_simulate(args: argparse.Namespace) -> int:

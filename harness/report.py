@@ -150,7 +150,8 @@ def _maps(cell_spec: dict, frame: int, det: pd.DataFrame):
     """Range-Doppler and Doppler-azimuth maps of one re-simulated frame (each MIMO scheme)."""
     import pipeline
 
-    from .runner import CellSpec, simulate_cell_frame
+    from .cell import simulate_cell_frame
+    from .cellspec import CellSpec
     spec = CellSpec(**cell_spec)
     radar, adc, _, _ = simulate_cell_frame(spec, frame)
     # One range bin for all schemes: the strongest TRUE detection of the first scheme in the
@@ -416,7 +417,7 @@ def build_report(results: str | Path, out: str | Path | None = None, *, maps: bo
     truth = _read(res, "truth")
     manifest = json.loads((res / "manifest.json").read_text()) \
         if (res / "manifest.json").exists() else {}
-    from .runner import DEFAULT_BASELINE_SCHEME
+    from .cellspec import DEFAULT_BASELINE_SCHEME
     base = manifest.get("baseline_scheme", DEFAULT_BASELINE_SCHEME)
     parts = [f"<h1>Corner-radar evaluation: {html.escape(str(manifest.get('run_id', res.name)))}"
              "</h1>"]

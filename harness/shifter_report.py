@@ -66,11 +66,11 @@ def angle_sidelobe_db(radar_overrides: dict, scheme: str) -> float:
     radar_overrides : dict
         `RadarConfig` overrides of the variant (as in the sweep file).
     scheme : str
-        Result scheme (`harness.runner.known_schemes`).
+        Result scheme (`harness.cellspec.known_schemes`).
     """
     import pipeline
     import radarsim
-    from harness.runner import result_schemes
+    from harness.cellspec import result_schemes
     rs = result_schemes([scheme])[0]
     cfg = radarsim.presets.r79(rs.mimo, **radar_overrides)
     proc = pipeline.ProcessingConfig()
@@ -106,7 +106,7 @@ def _variant_info(results: Path) -> dict[str, dict]:
 
 def _failure_steps(schemes) -> dict[str, float]:
     import radarsim
-    from harness.runner import result_schemes
+    from harness.cellspec import result_schemes
     out = {}
     for s in schemes:
         rs = result_schemes([s])[0]

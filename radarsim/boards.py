@@ -56,7 +56,7 @@ class Board:
         Cosine power-pattern exponents (one way).
     fov_deg : float
         Azimuth field of view the user guide states, +/- deg (the association's visibility
-        cone, `harness.runner.cell_association`).
+        cone, `harness.cellconfig.cell_association`).
     """
 
     name: str

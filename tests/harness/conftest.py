@@ -3,7 +3,8 @@ from __future__ import annotations
 
 import pytest
 
-from harness.sweep import SweepSpec, run_sweep
+from harness.schedule import run_sweep
+from harness.sweepspec import SweepSpec
 from tests.harness.fakes import FAKE
 
 

@@ -12,11 +12,11 @@ import time
 
 import pytest
 
-from harness import sweep as sw
+from harness import sweepspec
 from harness.cli import main
 from radarsim.ti import r79_cfg_path
 
-CI = str(sw.CI_SWEEP_PATH)
+CI = str(sweepspec.CI_SWEEP_PATH)
 CFG = str(r79_cfg_path())
 
 

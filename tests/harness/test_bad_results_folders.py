@@ -12,7 +12,7 @@ import shutil
 import pandas as pd
 import pytest
 
-from harness import sweep as sw
+from harness import sweepspec
 from harness.cli import main
 
 
@@ -61,11 +61,11 @@ def test_report_on_a_bad_results_folder_exits_2(tmp_path, fake_results, capsys, 
 
 def test_default_out_stays_under_results(tmp_path, monkeypatch):
     """The run id (sweep name + hash) is a single folder name under results/."""
-    spec = sw.SweepSpec(name="ok.name-1", scenarios=("a",))
+    spec = sweepspec.SweepSpec(name="ok.name-1", scenarios=("a",))
     assert "/" not in spec.run_id and not spec.run_id.startswith(".")
     for bad in ("../../x", "/abs", ".hidden", "a/b", ""):
         with pytest.raises(ValueError, match=r"name=.* must be 1-100 letters"):
-            sw.SweepSpec(name=bad, scenarios=("a",))
+            sweepspec.SweepSpec(name=bad, scenarios=("a",))
 
 
 N_KINDS = len(KINDS) + 2 + 5

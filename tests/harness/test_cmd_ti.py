@@ -99,13 +99,13 @@ def test_process_bad_profile_line_exits_2(tmp_path, r79_capture, capsys):
 @pytest.fixture
 def fake_components(monkeypatch):
     """Fast stand-in scenario and RCS model, the real front end."""
-    from harness import runner
+    from harness import components
     from tests.harness import fakes
 
-    comps = runner.Components(run_scenario=fakes.fake_run_scenario,
-                              scene_scatterers=fakes.fake_scene_scatterers,
-                              simulate_frame=runner._real_simulate_frame,
-                              process_frame=None, make_processing=None)
+    comps = components.Components(run_scenario=fakes.fake_run_scenario,
+                                  scene_scatterers=fakes.fake_scene_scatterers,
+                                  simulate_frame=components._real_simulate_frame,
+                                  process_frame=None, make_processing=None)
     monkeypatch.setattr(cmd_ti, "_components", lambda: comps)
     return comps
 
@@ -119,7 +119,7 @@ def small_cfg_file(tmp_path):
 
 
 def test_simulate_writes_the_scenario_frames(tmp_path, fake_components, small_cfg_file, capsys):
-    from harness import runner
+    from harness import streams
     from tests.harness import fakes
 
     cfg_path, cfg = small_cfg_file
@@ -132,8 +132,8 @@ def test_simulate_writes_the_scenario_frames(tmp_path, fake_components, small_cf
     # Frame 2 is exactly what a sweep cell would simulate for this radar.
     run = fakes.fake_run_scenario("straight", 3)
     rows = run.truth[run.truth["frame"] == 2]
-    sc = fakes.fake_scene_scatterers(rows, runner.frame_rng(3, 2, "rcs"))
-    expected = radarsim.simulate_frame(cfg, sc, runner.frame_rng(3, 2, "tdma"))
+    sc = fakes.fake_scene_scatterers(rows, streams.frame_rng(3, 2, "rcs"))
+    expected = radarsim.simulate_frame(cfg, sc, streams.frame_rng(3, 2, "tdma"))
     np.testing.assert_array_equal(frames[2], expected)
     # Same seed, same bytes; another seed, other noise.
     again, other = tmp_path / "again.bin", tmp_path / "other.bin"

@@ -13,7 +13,7 @@ import subprocess
 import pandas as pd
 import pytest
 
-from harness import sweep as sw
+from harness import dask_cluster, schedule, sweepspec
 from tests.harness.fakes import FAKE
 
 pytestmark = pytest.mark.skipif(shutil.which("openssl") is None, reason="needs openssl")
@@ -48,19 +48,19 @@ def _cluster_security(f):
 
 def test_sweep_runs_on_a_tls_cluster(tmp_path, security_file):
     import distributed
-    spec = sw.SweepSpec(name="tls", scenarios=("fast",), seeds=(0, 1), duration_s=0.3)
+    spec = sweepspec.SweepSpec(name="tls", scenarios=("fast",), seeds=(0, 1), duration_s=0.3)
     with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=False,
                                   protocol="tls://", security=_cluster_security(security_file),
                                   dashboard_address=None) as cluster:
         assert cluster.scheduler_address.startswith("tls://")
-        o = sw.run_sweep(spec, tmp_path / "r", scheduler=cluster.scheduler_address,
-                         security=sw.dask_security(security_file), components=FAKE,
-                         progress=False)
+        o = schedule.run_sweep(spec, tmp_path / "r", scheduler=cluster.scheduler_address,
+                               security=dask_cluster.dask_security(security_file),
+                               components=FAKE, progress=False)
         assert o.complete and o.n_ok == 2
         # Without certificates the scheduler is out of reach: refused, bounded in time.
         with pytest.raises(ValueError, match=r"tls:// needs --security FILE"):
-            sw.run_sweep(spec, tmp_path / "r2", scheduler=cluster.scheduler_address,
-                         components=FAKE, progress=False)
+            schedule.run_sweep(spec, tmp_path / "r2", scheduler=cluster.scheduler_address,
+                               components=FAKE, progress=False)
     assert len(pd.read_parquet(tmp_path / "r" / "summary.parquet")) == 2 * 3
 
 
@@ -76,4 +76,4 @@ def test_bad_security_file(tmp_path, security_file, text, match):
     f = security_file.parent / "bad.toml"
     f.write_text(text)
     with pytest.raises(ValueError, match=match):
-        sw.dask_security(f)
+        dask_cluster.dask_security(f)

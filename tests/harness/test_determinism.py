@@ -21,8 +21,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from harness import runner
-from harness import sweep as sw
+from harness import components, schedule, sweepfile, sweepspec, worker
 from radarsim.capture import read_capture
 from radarsim.ti import parse_ti_cfg, r79_cfg_path
 
@@ -48,7 +47,7 @@ def _assert_same(a: dict, b: dict) -> None:
         pd.testing.assert_frame_equal(a[t], b[t], check_exact=True, obj=t)
 
 
-_COMMON = [str(sw.CI_SWEEP_PATH), "--scenarios", CASE, "--duration-s", DURATION_S,
+_COMMON = [str(sweepspec.CI_SWEEP_PATH), "--scenarios", CASE, "--duration-s", DURATION_S,
            "--seeds", *SEEDS]
 
 
@@ -72,12 +71,12 @@ def test_workers_1_and_2_give_the_same_bits(tmp, pool):
 @pytest.mark.slow
 def test_dask_gives_the_same_bits_as_the_pool(tmp, pool):
     import distributed
-    spec = sw.load_sweep(sw.CI_SWEEP_PATH).with_overrides(
+    spec = sweepfile.load_sweep(sweepspec.CI_SWEEP_PATH).with_overrides(
         scenarios=[CASE], duration_s=float(DURATION_S), seeds=[int(s) for s in SEEDS])
     with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=True,
                                   dashboard_address=None) as cluster:
-        o = sw.run_sweep(spec, tmp / "dask", scheduler=cluster.scheduler_address,
-                         progress=False)
+        o = schedule.run_sweep(spec, tmp / "dask", scheduler=cluster.scheduler_address,
+                               progress=False)
     assert o.complete
     for seed in (0, 1):
         _assert_same(_cell_tables(tmp / "dask", seed), _cell_tables(pool, seed))
@@ -100,7 +99,7 @@ def _pool_frames(case: str, seed: int, duration_s: float, n: int) -> np.ndarray:
     """ADC frames of the R79 profile simulated inside a sweep pool worker, the scene sampled at
     the profile's frame period as `simulate` does."""
     from harness.cmd_ti import simulate_frames
-    comps = runner.default_components()
+    comps = components.default_components()
     profile = parse_ti_cfg(r79_cfg_path())
     cfg = profile.radar
     run = comps.run_scenario(case, seed, duration_s, frame_rate_hz=1.0 / profile.frame_period_s)
@@ -114,7 +113,7 @@ def test_simulate_writes_the_bits_a_pool_worker_simulates(tmp_path):
     duration_s = "0.5"  # two frames of the R79 profile's 250 ms period
     _cli("simulate", CASE, "--cfg", str(r79_cfg_path()), "--out", str(out), "--seed", "1",
          "--frames", "2", "--duration-s", duration_s)
-    with cf.ProcessPoolExecutor(1, initializer=sw._init_worker) as ex:
+    with cf.ProcessPoolExecutor(1, initializer=worker.init_worker) as ex:
         ref = ex.submit(_pool_frames, CASE, 1, float(duration_s), 2).result(timeout=300)
     got = read_capture(out, parse_ti_cfg(r79_cfg_path()).radar,
                        interleaved=parse_ti_cfg(r79_cfg_path()).adc_channel_interleaved)

@@ -5,8 +5,9 @@ import math
 
 import pytest
 
-from harness.runner import CellSpec, check_scene, run_cell
-from harness.sweep import load_sweep
+from harness.cell import run_cell
+from harness.cellspec import CellSpec, check_scene
+from harness.sweepfile import load_sweep
 
 
 @pytest.mark.parametrize("scene, match", [
@@ -81,16 +82,16 @@ def test_noise_floor_is_shared_only_by_equal_chirp_level_settings():
     import dataclasses
 
     import pipeline
-    from harness import runner
+    from harness import cell, cellspec, components
     calls = []
-    comps = dataclasses.replace(runner.default_components(),
+    comps = dataclasses.replace(components.default_components(),
                                 noise_floor=lambda cfg, adc, p: calls.append(p) or (0.0, 0.0))
     base = pipeline.ProcessingConfig()
-    schemes = [runner.ResultScheme("tdma", "tdma", {}),
-               runner.ResultScheme("tdma_raw", "tdma", {"tdma_disambiguation": False}),
-               runner.ResultScheme("tdma_c", "tdma", {"compression_ratio": 0.4})]
+    schemes = [cellspec.ResultScheme("tdma", "tdma", {}),
+               cellspec.ResultScheme("tdma_raw", "tdma", {"tdma_disambiguation": False}),
+               cellspec.ResultScheme("tdma_c", "tdma", {"compression_ratio": 0.4})]
     procs = {"tdma": base, "tdma_raw": base.replace(tdma_disambiguation=False),
              "tdma_c": base.replace(compression_ratio=0.4)}
-    rows = runner._noise_floors(comps, {"tdma": None}, {"tdma": None}, procs, schemes, 0, 0.0)
+    rows = cell._noise_floors(comps, {"tdma": None}, {"tdma": None}, procs, schemes, 0, 0.0)
     assert [r["scheme"] for r in rows] == ["tdma", "tdma_raw", "tdma_c"]
     assert [p.compression_ratio for p in calls] == [0.5, 0.4]

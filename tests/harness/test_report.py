@@ -79,7 +79,8 @@ def test_report_panels_follow_the_schemes_in_the_tables(tmp_path):
     """A sweep of other schemes (BPM against a TDMA baseline) gets panels for exactly those:
     no fixed DDMA/TDMA list in the report."""
     from harness.report import _schemes, build_report
-    from harness.sweep import SweepSpec, run_sweep
+    from harness.schedule import run_sweep
+    from harness.sweepspec import SweepSpec
     from tests.harness.fakes import FAKE
 
     spec = SweepSpec(name="bpm", scenarios=("fast",), seeds=(0,), duration_s=0.5,

@@ -7,9 +7,9 @@ import pytest
 
 import radarsim
 from harness.cli import main
-from harness.runner import known_schemes
+from harness.cellspec import known_schemes
 from harness.shifter_report import VELOCITY_GATE_MPS, _psl_db, _velocity_failures
-from harness.sweep import load_sweep
+from harness.sweepfile import load_sweep
 from pathlib import Path
 
 SWEEP = Path(__file__).resolve().parents[2] / "harness" / "shifter_sweep.toml"

@@ -15,8 +15,10 @@ import pandas as pd
 import pytest
 
 import radarsim
-from harness.sweep import (SCHEMES_SWEEP_PATH, SweepSpec, Variant, completed_cells, load_sweep,
-                           run_sweep)
+from harness.cellstore import completed_cells
+from harness.schedule import run_sweep
+from harness.sweepfile import load_sweep
+from harness.sweepspec import SCHEMES_SWEEP_PATH, SweepSpec, Variant
 from tests.harness.fakes import FAKE, assert_same_tables
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -117,7 +119,8 @@ def test_killed_worker_loses_no_completed_cell_and_rerun_resumes(tmp_path):
     script = textwrap.dedent(f"""
         import json, sys
         sys.path.insert(0, {str(ROOT)!r})
-        from harness.sweep import SweepSpec, run_sweep
+        from harness.schedule import run_sweep
+        from harness.sweepspec import SweepSpec
         from tests.harness.fakes import FAKE
         spec = SweepSpec(name="t", scenarios=("fast", "slow", "mid"), seeds=(0, 1),
                          duration_s=0.4)
@@ -186,7 +189,7 @@ def test_variants_reach_the_cells(tmp_path):
 ])
 def test_sweep_file_messages_follow_the_shared_file_policy(tmp_path, text, match):
     """Same message shape as case files and gates: file, key with its position, what is wrong."""
-    from harness.sweep import load_sweep
+    from harness.sweepfile import load_sweep
     p = tmp_path / "s.toml"
     p.write_text(text)
     with pytest.raises(ValueError, match=rf"s\.toml: {match}"):

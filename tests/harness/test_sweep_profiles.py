@@ -7,8 +7,12 @@ import pandas as pd
 import pytest
 
 import radarsim
-from harness.runner import CellSpec, build_configs, cell_association, radar_config, run_cell
-from harness.sweep import load_sweep, run_sweep
+from metrics import detection as mdet
+from harness.cell import run_cell
+from harness.cellconfig import build_configs, cell_association, radar_config
+from harness.cellspec import CellSpec
+from harness.schedule import run_sweep
+from harness.sweepfile import load_sweep
 from radarsim.ti import to_ti_cfg
 from tests.harness.fakes import FAKE
 
@@ -131,15 +135,14 @@ def test_association_section_reaches_the_cells(tmp_path):
 
 
 def test_run_cell_uses_the_cell_association(monkeypatch):
-    import harness.runner as runner
 
     seen = {}
-    real = runner.mdet.summarize_scheme
+    real = mdet.summarize_scheme
 
     def spy(lab, af, n, assoc, **kw):
         seen["assoc"] = assoc
         return real(lab, af, n, assoc, **kw)
 
-    monkeypatch.setattr(runner.mdet, "summarize_scheme", spy)
+    monkeypatch.setattr(mdet, "summarize_scheme", spy)
     run_cell(CellSpec(scenario="fast", duration_s=0.2, association={"max_range_m": 99.0}), FAKE)
     assert seen["assoc"].max_range_m == 99.0 and seen["assoc"].fov_deg == 80.0

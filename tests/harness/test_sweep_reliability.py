@@ -22,9 +22,12 @@ import pandas as pd
 import pytest
 
 from harness import cellstore as store
-from harness import sweep as sw
+from harness import schedule, sweepfile, sweepspec
 from harness.cli import main
-from harness.sweep import SweepSpec, cell_dir, completed_cells, execute_cell, run_sweep
+from harness.cellstore import cell_dir, completed_cells
+from harness.schedule import run_sweep
+from harness.sweepspec import SweepSpec
+from harness.worker import execute_cell
 from tests.harness.fakes import FAILING, FAKE, TABLES, assert_same_tables
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -108,8 +111,8 @@ def test_cli_refuses_a_resume_across_versions_with_exit_2(tmp_path, monkeypatch,
     run_sweep(spec, tmp_path, components=FAKE, progress=False)
     monkeypatch.setattr(store, "code_version", lambda: {"hash": "f" * 16, "commit": None,
                                                         "dirty": None})
-    monkeypatch.setattr(sw, "load_sweep", lambda path: spec)
-    monkeypatch.setattr(sw, "validate_cells", lambda spec, source=None: None)
+    monkeypatch.setattr(sweepfile, "load_sweep", lambda path: spec)
+    monkeypatch.setattr(schedule, "validate_cells", lambda spec, source=None: None)
     assert main(["sweep", "x.toml", "--out", str(tmp_path), "--workers", "1"]) == 2
     last = capsys.readouterr().err.splitlines()[-1]
     assert last.startswith("radar-harness sweep: error: ")
@@ -181,7 +184,7 @@ def _lost_cell(spec, out, comps=None):
 
 
 def test_missing_cells_make_the_sweep_incomplete(tmp_path, monkeypatch):
-    monkeypatch.setattr(sw, "execute_cell", _lost_cell)
+    monkeypatch.setattr(schedule, "execute_cell", _lost_cell)
     o = run_sweep(small_spec(), tmp_path, components=FAKE, progress=False)
     assert (o.n_missing, o.n_ok, o.complete) == (3, 0, False)
     manifest = json.loads((tmp_path / "manifest.json").read_text())
@@ -190,8 +193,8 @@ def test_missing_cells_make_the_sweep_incomplete(tmp_path, monkeypatch):
 
 
 def test_cli_sweep_with_missing_cells_exits_1_and_says_so(tmp_path, monkeypatch, capsys):
-    monkeypatch.setattr(sw, "execute_cell", _lost_cell)
-    rc = main(["sweep", str(sw.CI_SWEEP_PATH), "--scenarios", "head_on_aliasing",
+    monkeypatch.setattr(schedule, "execute_cell", _lost_cell)
+    rc = main(["sweep", str(sweepspec.CI_SWEEP_PATH), "--scenarios", "head_on_aliasing",
                "--workers", "1", "--out", str(tmp_path / "r")])
     out, err = capsys.readouterr()
     assert rc == 1
@@ -203,7 +206,8 @@ def test_cli_sweep_with_missing_cells_exits_1_and_says_so(tmp_path, monkeypatch,
 _KILL_SCRIPT = """
 import sys
 sys.path.insert(0, {root!r})
-from harness.sweep import SweepSpec, run_sweep
+from harness.schedule import run_sweep
+from harness.sweepspec import SweepSpec
 from tests.harness.fakes import FAKE
 spec = SweepSpec(name="k", scenarios={scenarios!r}, seeds=(0, 1, 2), duration_s=0.3)
 run_sweep(spec, {out!r}, workers=2, components=FAKE, progress=False)
@@ -252,7 +256,8 @@ def test_sigkill_at_random_points_many_trials(tmp_path):
 def test_sigint_prints_the_resume_hint_not_a_traceback(tmp_path):
     """Ctrl-C on a real pool sweep: exit 130, one line, cells already written stay valid."""
     out = tmp_path / "r"
-    cmd = [sys.executable, "-m", "harness.cli", "sweep", str(sw.CI_SWEEP_PATH), "--scenarios",
+    cmd = [sys.executable, "-m", "harness.cli", "sweep", str(sweepspec.CI_SWEEP_PATH),
+           "--scenarios",
            "blind_spot_overtaking", "head_on_aliasing", "--duration-s", "2", "--workers", "2",
            "--out", str(out)]
     p = subprocess.Popen(cmd, cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
@@ -269,6 +274,6 @@ def test_sigint_prints_the_resume_hint_not_a_traceback(tmp_path):
     assert p.returncode == 130, err
     assert "Traceback" not in err
     assert err.strip().splitlines()[-1].endswith("interrupted: rerun the same command to resume")
-    for c in sw.load_sweep(sw.CI_SWEEP_PATH).with_overrides(
+    for c in sweepfile.load_sweep(sweepspec.CI_SWEEP_PATH).with_overrides(
             scenarios=["blind_spot_overtaking", "head_on_aliasing"], duration_s=2.0).cells():
         assert store.cell_state(cell_dir(out, c)) in ("ok", "missing")

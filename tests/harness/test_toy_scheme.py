@@ -13,8 +13,9 @@ import pytest
 
 import pipeline
 import radarsim
-from harness import runner
-from harness.runner import CellSpec, run_cell
+from harness import components, streams
+from harness.cell import run_cell
+from harness.cellspec import CellSpec
 from pipeline.mimo import MIMO_CHAINS
 from pipeline.mimo.tdma import TdmaChain
 from radarsim.mimo import MIMO_SCHEMES, TdmaScheme
@@ -40,11 +41,11 @@ def toy_scheme():
 
 
 #: Fake scenario and scatterers, the real front end and chain.
-REAL_CHAIN = runner.Components(run_scenario=fakes.fake_run_scenario,
-                               scene_scatterers=fakes.fake_scene_scatterers,
-                               simulate_frame=runner._real_simulate_frame,
-                               process_frame=runner._real_process_frame,
-                               make_processing=runner._real_make_processing)
+REAL_CHAIN = components.Components(run_scenario=fakes.fake_run_scenario,
+                                   scene_scatterers=fakes.fake_scene_scatterers,
+                                   simulate_frame=components._real_simulate_frame,
+                                   process_frame=components._real_process_frame,
+                                   make_processing=components._real_make_processing)
 
 
 def test_toy_scheme_runs_through_run_cell(toy_scheme):
@@ -65,5 +66,5 @@ def test_toy_scheme_runs_through_run_cell(toy_scheme):
     a = res.tables["detections"]
     pd.testing.assert_frame_equal(a[a.scheme == "tdma"].reset_index(drop=True),
                                   alone.tables["detections"])
-    assert runner.stream_id(toy_scheme) not in runner.SEED_STREAMS.values()
+    assert streams.stream_id(toy_scheme) not in streams.SEED_STREAMS.values()
     assert np.isnan(s.loc["tdma", "snr_gain_median_db"])

@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-import harness.runner as runner
+from harness import cell, cellconfig, cellspec, components, streams
 from metrics.tracks import per_actor_track_metrics, track_metrics
 from pipeline.tracking import TrackerConfig, track_frames
 
@@ -16,15 +16,15 @@ SCENARIO, SEED = "r79_motorcycle_rear", 0
 @pytest.fixture(scope="module")
 def ddma_clouds():
     """Per frame (time_s, DDMA point cloud), the ego speeds, the truth and the mount."""
-    comps = runner.default_components()
+    comps = components.default_components()
     run = comps.run_scenario(SCENARIO, SEED, None)
-    radar, procs = runner.build_configs(runner.CellSpec(scenario=SCENARIO, seed=SEED), comps)
+    radar, procs = cellconfig.build_configs(cellspec.CellSpec(scenario=SCENARIO, seed=SEED), comps)
     ego = run.ego.drop_duplicates("frame").set_index("frame")
     frames = ego.index.to_numpy()
     clouds = []
     for f in frames:
-        sc = runner.frame_scatterers(comps, run, int(f), SEED)
-        adc = comps.simulate_frame(radar["ddma"], sc, runner.frame_rng(SEED, int(f), "ddma"))
+        sc = cell.frame_scatterers(comps, run, int(f), SEED)
+        adc = comps.simulate_frame(radar["ddma"], sc, streams.frame_rng(SEED, int(f), "ddma"))
         clouds.append((float(ego.loc[f, "time_s"]),
                        comps.process_frame(radar["ddma"], adc, procs["ddma"])))
     return clouds, ego["ego_speed_mps"].to_numpy(float), run.truth, run.mount

@@ -1,0 +1,303 @@
+"""One sweep cell: scenario x radar/processing overrides x seed -> result tables.
+
+A cell runs the scenario once, and for every processed frame builds the scatterers of the
+scene, simulates one ADC frame per MIMO scheme of the cell (``CellSpec.schemes``, names of
+``radarsim.MIMO_SCHEMES``; independent noise per `harness.streams`), processes each result
+scheme (a registered scheme, or a chain variant, `harness.cellspec.ResultScheme`), optionally
+tracks each scheme, and scores everything with `metrics` (`harness.scoring`). The SNR gain of
+each scheme is taken over ``CellSpec.baseline_scheme`` on the same actor and frame.
+
+Same spec -> bit-identical tables: all randomness comes from the seed, and no timing or host
+information enters the tables (timings go to ``CellResult.elapsed_s``).
+"""
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+from typing import Any, NamedTuple
+
+import numpy as np
+import pandas as pd
+
+from metrics.association import AssociationConfig, scatterer_table
+
+from .cellconfig import build_configs, cell_association
+from .cellspec import CellSpec, result_schemes
+from .components import Components, default_components, mount_value
+from .runtime import single_thread_blas
+from .scoring import (add_snr_gains, add_track_metrics, concat_clouds, floor_summary,
+                      frame_counts, score_scheme)
+from .streams import frame_rng
+
+__all__ = ["CellResult", "run_cell", "simulate_cell_frame", "frame_scatterers"]
+
+
+@dataclass
+class CellResult:
+    """Tables of one cell plus its wall time (kept out of the tables for determinism)."""
+
+    spec: CellSpec
+    tables: dict[str, pd.DataFrame]
+    elapsed_s: float
+
+
+def _case_info(run) -> dict[str, Any]:
+    """Target actors and pass criteria of the scenario's case (read by attribute)."""
+    case = getattr(run, "case", None)
+    must = tuple(getattr(case, "must_detect", ()) or ())
+    return {"target_ids": list(must) if must else None,
+            "criteria": tuple(getattr(case, "criteria", ()) or ())}
+
+
+def _frames_of(run, stride: int) -> np.ndarray:
+    src = run.ego if getattr(run, "ego", None) is not None and len(run.ego) else run.truth
+    frames = np.unique(src["frame"].to_numpy())
+    return frames[::stride]
+
+
+def _frame_context(run) -> dict[int, dict]:
+    """Per frame: radar velocity over the ground (radar frame, m/s; for ground clutter) and
+    mount height, from the scenario run when it provides them."""
+    ctx: dict[int, dict] = {}
+    ego, mount = getattr(run, "ego", None), getattr(run, "mount", None)
+    if ego is None or not hasattr(run, "radar_velocity_mps"):
+        return ctx
+    vel = np.asarray(run.radar_velocity_mps(), dtype=float)
+    height = mount_value(mount, "z_m") if mount is not None else None
+    for f, v in zip(ego["frame"].to_numpy(), vel):
+        ctx[int(f)] = {"radar_velocity_mps": v,
+                       "mount_height_m": None if height is None else float(height)}
+    return ctx
+
+
+def _scatterers(comps: Components, rows, rng, ctx: dict | None):
+    if not ctx:
+        return comps.scene_scatterers(rows, rng)
+    return comps.scene_scatterers(rows, rng, **ctx)
+
+
+def frame_scatterers(comps: Components, run, frame: int, seed: int):
+    """Scatterers of one frame of a scenario run exactly as `run_cell` builds them."""
+    rows = run.truth[run.truth["frame"] == frame]
+    return _scatterers(comps, rows, frame_rng(seed, frame, "rcs"),
+                       _frame_context(run).get(int(frame)))
+
+
+def simulate_cell_frame(spec: CellSpec, frame: int, comps: Components | None = None, run=None):
+    """Re-simulate one frame of a cell exactly as `run_cell` did (for the report's maps).
+
+    Returns (radar configs by mimo, ADC frames by mimo, Scatterers, run). Runs with one BLAS
+    thread, as every sweep path does, so the report's maps show the sweep's bits.
+    """
+    single_thread_blas()
+    comps = comps or default_components()
+    run = run if run is not None else comps.run_scenario(spec.scenario, spec.seed,
+                                                         spec.duration_s)
+    radar, _ = build_configs(spec, comps)
+    sc = frame_scatterers(comps, run, frame, spec.seed)
+    equipment = comps.equipment(run, spec.seed, dict(spec.scene)) \
+        if comps.equipment is not None else None
+    adc, _ = _simulate_frames(comps, radar, sc, spec.seed, frame,
+                              run.truth[run.truth["frame"] == frame], equipment)
+    return radar, adc, sc, run
+
+
+class _FrameOutputs(NamedTuple):
+    """What the frame loop of a cell leaves for scoring."""
+
+    clouds: dict[str, list[pd.DataFrame]]   # point clouds per result scheme, one per frame
+    saturated: dict[str, list[int]]         # saturated (chirp, Rx) pairs per scheme and frame
+    scatterers: pd.DataFrame                # `metrics.association.scatterer_table`
+    floor_rows: list[dict]                  # `_noise_floors` rows of every frame
+
+
+def run_cell(spec: CellSpec, comps: Components | None = None,
+             assoc: AssociationConfig | None = None) -> CellResult:
+    """Run one sweep cell and score it.
+
+    Returns
+    -------
+    CellResult
+        ``tables``: ``summary`` (one row per scheme; every scheme's row but the baseline's
+        carries its SNR gain over ``spec.baseline_scheme``; chain variants such as
+        ``tdma_raw`` share their scheme's ADC frame and get no gain), ``detections`` (long:
+        every detection with its label and errors), ``frames`` (per scheme and frame: counts
+        per label), ``actors`` (per scheme, actor and frame: visible / detected / peak SNR),
+        ``actor_summary`` (per scheme and actor: detection probability, first-detection
+        range), ``truth`` (processed frames), ``tracks`` (per scheme, frame and track; empty
+        without a tracker). Every table starts with the id columns scenario, variant, seed
+        (and scheme where it applies).
+    """
+    t0 = time.perf_counter()
+    comps = comps or default_components()
+    run = comps.run_scenario(spec.scenario, spec.seed, spec.duration_s)
+    radar, procs = build_configs(spec, comps)
+    assoc = assoc or cell_association(radar, spec.association)
+    schemes = result_schemes(spec.schemes)
+    frames = _frames_of(run, spec.frame_stride)
+    truth = run.truth[run.truth["frame"].isin(frames)].reset_index(drop=True)
+    times = _frame_times(run, truth, frames)
+    out = _process_frames(spec, comps, run, radar, procs, schemes, frames, truth, times)
+
+    info = _case_info(run)
+    ego_speeds = _ego_speeds(run, frames)
+    parts: dict[str, list[pd.DataFrame]] = {t: [] for t in ("detections", "frames", "actors",
+                                                             "actor_summary", "tracks")}
+    rows_out = []
+    for rs in schemes:
+        s, cfg = rs.name, radar[rs.mimo]
+        sc = score_scheme(concat_clouds(out.clouds[s]), truth, out.scatterers, cfg, assoc,
+                          len(frames), info["target_ids"], info["criteria"])
+        row = sc.row
+        parts["actor_summary"].append(sc.per_actor.assign(scheme=s))
+        if comps.track is not None:
+            tr, tm = _track_scheme(spec, comps, run, cfg, out.clouds[s], frames, times,
+                                   ego_speeds, truth)
+            if tr is not None:
+                parts["tracks"].append(tr.assign(scheme=s))
+                add_track_metrics(row, tm)
+        row["n_saturated_frames"] = int(np.count_nonzero(out.saturated[s]))
+        rows_out.append({"scheme": s, **row})
+        parts["detections"].append(sc.labels.assign(scheme=s))
+        fc = frame_counts(sc.labels, frames).assign(
+            n_saturated_chirp_rx=np.asarray(out.saturated[s], dtype=np.int64)
+            if out.saturated[s] else np.zeros(len(frames), dtype=np.int64), scheme=s)
+        if out.floor_rows:
+            fl = pd.DataFrame([r for r in out.floor_rows if r["scheme"] == s]) \
+                .drop(columns="scheme")
+            fc = fc.merge(fl, on="frame", how="left")
+            rows_out[-1].update(floor_summary(fl))
+        parts["frames"].append(fc)
+        parts["actors"].append(sc.actor_frames.assign(scheme=s))
+
+    actors = pd.concat(parts["actors"], ignore_index=True)
+    summary = pd.DataFrame(rows_out)
+    add_snr_gains(summary, actors, schemes, spec.baseline_scheme)
+    ids = {"scenario": spec.scenario, "variant": spec.variant, "seed": int(spec.seed)}
+    tracks = pd.concat(parts["tracks"], ignore_index=True) if parts["tracks"] else \
+        pd.DataFrame({"scheme": pd.Series(dtype=object), "frame": pd.Series(dtype="int64")})
+    tables = {
+        "summary": _with_ids(summary, ids),
+        "detections": _with_ids(pd.concat(parts["detections"], ignore_index=True), ids),
+        "frames": _with_ids(pd.concat(parts["frames"], ignore_index=True), ids),
+        "actors": _with_ids(actors, ids),
+        "actor_summary": _with_ids(pd.concat(parts["actor_summary"], ignore_index=True), ids),
+        "truth": _with_ids(truth.copy(), ids, scheme=False),
+        "tracks": _with_ids(tracks, ids),
+    }
+    return CellResult(spec=spec, tables=tables, elapsed_s=time.perf_counter() - t0)
+
+
+def _frame_times(run, truth: pd.DataFrame, frames: np.ndarray) -> pd.Series:
+    """Time of every processed frame, s (the ego table's when the run has one)."""
+    ego = getattr(run, "ego", None)
+    if ego is not None and "time_s" in ego:
+        times = ego.drop_duplicates("frame").set_index("frame")["time_s"]
+    else:
+        times = truth.groupby("frame")["time_s"].first()
+    return times.reindex(frames).astype(float)
+
+
+def _ego_speeds(run, frames: np.ndarray) -> np.ndarray | None:
+    """Ego speed of every processed frame, m/s (None when the run has none)."""
+    ego = getattr(run, "ego", None)
+    if ego is not None and "ego_speed_mps" in ego:
+        return ego.drop_duplicates("frame").set_index("frame")["ego_speed_mps"] \
+            .reindex(frames).to_numpy(dtype=float)
+    return None
+
+
+def _process_frames(spec: CellSpec, comps: Components, run, radar: dict, procs: dict,
+                    schemes, frames: np.ndarray, truth: pd.DataFrame,
+                    times: pd.Series) -> _FrameOutputs:
+    """Scatterers, ADC frames (one per mimo) and point clouds (one per result scheme) of every
+    processed frame, plus the noise-floor rows."""
+    clouds: dict[str, list[pd.DataFrame]] = {s.name: [] for s in schemes}
+    # Saturated (chirp, Rx) pairs per scheme and frame (pipeline.saturation).
+    saturated: dict[str, list[int]] = {s.name: [] for s in schemes}
+    scat = []
+    ctx = _frame_context(run)
+    equipment = comps.equipment(run, spec.seed, dict(spec.scene)) \
+        if comps.equipment is not None else None
+    floor_rows = []
+    for f in frames:
+        rows = truth[truth["frame"] == f]
+        sc = _scatterers(comps, rows, frame_rng(spec.seed, f, "rcs"), ctx.get(int(f)))
+        scat.append((f, sc))
+        adc, inr = _simulate_frames(comps, radar, sc, spec.seed, f, rows, equipment)
+        floor_rows += _noise_floors(comps, radar, adc, procs, schemes, f, inr)
+        for rs in schemes:
+            pc = comps.process_frame(radar[rs.mimo], adc[rs.mimo], procs[rs.name]) \
+                .reset_index(drop=True)
+            pc.insert(0, "frame", np.int64(f))
+            pc.insert(1, "time_s", float(times.loc[f]))
+            clouds[rs.name].append(pc)
+            saturated[rs.name].append(int(pc.attrs.get("saturation", {})
+                                          .get("n_saturated_chirp_rx", 0)))
+    return _FrameOutputs(clouds, saturated, scatterer_table(scat), floor_rows)
+
+
+def _track_scheme(spec: CellSpec, comps: Components, run, cfg, clouds: list[pd.DataFrame],
+                  frames: np.ndarray, times: pd.Series, ego_speeds, truth: pd.DataFrame):
+    """Tracks of one scheme (frames mapped back to scene frames) and their metrics, or
+    (None, None) when the tracker returns nothing."""
+    tr = comps.track(cfg, clouds, times.to_numpy(), ego_speeds, getattr(run, "mount", None),
+                     dict(spec.tracker), frame_rng(spec.seed, 0, "track"))
+    if tr is None:
+        return None, None
+    tr = tr.copy()
+    # The tracker numbers frames 0.. in sequence order: map back to scene frames.
+    tr["frame"] = np.asarray(frames)[tr["frame"].to_numpy(dtype=np.int64)]
+    tm = comps.track_metrics(tr, truth, getattr(run, "mount", None)) \
+        if comps.track_metrics is not None else None
+    return tr, tm
+
+
+def _simulate_frames(comps: Components, radar: dict, sc, seed: int, frame, rows, equipment):
+    """ADC frame per mimo (with the equipped actors' radars as interferers) and the in-burst
+    interference-to-noise ratio at the victim's ADC, dB (NaN without interferers)."""
+    itf = None
+    inr = float("nan")
+    if equipment is not None and comps.interferers is not None:
+        from radarsim.interference import interference_to_noise_db
+        first = next(iter(radar.values()))
+        itf = comps.interferers(first, rows, equipment)
+        inr = interference_to_noise_db(first, itf) if len(itf) else inr
+    adc = {}
+    for m in radar:
+        rng = frame_rng(seed, frame, m)
+        adc[m] = comps.simulate_frame(radar[m], sc, rng, itf) if itf is not None and len(itf) \
+            else comps.simulate_frame(radar[m], sc, rng)
+    return adc, inr
+
+
+def _noise_floors(comps: Components, radar: dict, adc: dict, procs: dict, schemes, frame,
+                  inr: float) -> list[dict]:
+    """Per scheme: noise-floor rise over thermal after the range and Doppler FFTs (the
+    chirp-level chain of its processing config applied), and the frame's INR."""
+    if comps.noise_floor is None:
+        return []
+    from pipeline.chirp_level import NOISE_FLOOR_FIELDS
+    out, cache = [], {}
+    for rs in schemes:
+        p = procs[rs.name]
+        key = (rs.mimo, *(getattr(p, f) for f in NOISE_FLOOR_FIELDS))
+        if key not in cache:
+            cache[key] = comps.noise_floor(radar[rs.mimo], adc[rs.mimo], p)
+        r_db, d_db = cache[key]
+        out.append({"scheme": rs.name, "frame": np.int64(frame),
+                    "interference_to_noise_db": inr, "noise_floor_rise_range_db": r_db,
+                    "noise_floor_rise_db": d_db})
+    return out
+
+
+def _with_ids(df: pd.DataFrame, ids: dict, scheme: bool = True) -> pd.DataFrame:
+    df = df.copy()
+    for i, (k, v) in enumerate(ids.items()):
+        if k in df.columns:
+            df = df.drop(columns=k)
+        df.insert(i, k, v)
+    if scheme and "scheme" in df.columns:
+        col = df.pop("scheme")
+        df.insert(len(ids), "scheme", col)
+    return df

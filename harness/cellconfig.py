@@ -1,0 +1,64 @@
+"""The configs of one cell: a `RadarConfig` per MIMO scheme, a `ProcessingConfig` per result
+scheme, and the association settings that follow from the radar configs.
+"""
+from __future__ import annotations
+
+from pathlib import Path
+
+from metrics.association import AssociationConfig
+
+from .cellspec import CellSpec, mimos, result_schemes
+from .components import Components
+
+__all__ = ["radar_config", "cell_association", "build_configs"]
+
+
+def radar_config(overrides: dict, mimo: str):
+    """`RadarConfig` of a cell for one MIMO scheme: the R79 preset with `overrides`, or, when
+    they name a ``profile`` (TI .cfg path), that profile's radar run with `mimo` and the other
+    overrides.
+
+    Raises
+    ------
+    ValueError
+        If the profile's chip cannot run `mimo` (e.g. DDMA on a chip without phase shifters),
+        naming the profile and the scheme.
+    """
+    import radarsim
+    ov = dict(overrides)
+    path = ov.pop("profile", None)
+    if path is None:
+        return radarsim.presets.r79(mimo, **ov)
+    from radarsim.ti import from_ti_cfg
+    base = from_ti_cfg(Path(path))
+    try:
+        return base.replace(**{"mimo": mimo, **ov}) if base.mimo != mimo or ov else base
+    except ValueError as exc:
+        raise ValueError(f"radar.profile={str(path)!r} ({base.chip}, {base.mimo}) as scheme "
+                         f"{mimo!r}: {exc}") from exc
+
+
+def cell_association(radar: dict, overrides: dict | None = None) -> AssociationConfig:
+    """Association settings of a cell from its radar configs, then `overrides`.
+
+    The radar-dependent ones follow the configs, not the R79 numbers: the unambiguous-velocity
+    window is the widest the cell's schemes report (max of `max_unambiguous_velocity_mps`,
+    DDMA's lambda / (4 Tc)), the field of view is the board's (`radarsim.boards.Board.fov_deg`)
+    and the maximum range the configs' `max_range_m` (N/2 or N bins x resolution).
+    """
+    from radarsim.boards import get_board
+    cfgs = list(radar.values())
+    kw = {"unambiguity_window_mps": max(c.max_unambiguous_velocity_mps for c in cfgs),
+          "fov_deg": min(get_board(c.board).fov_deg for c in cfgs),
+          "max_range_m": min(c.max_range_m for c in cfgs)}
+    kw.update(overrides or {})
+    return AssociationConfig(**kw)
+
+
+def build_configs(spec: CellSpec, comps: Components):
+    """(radar config per mimo, processing config per result scheme) of a cell."""
+    schemes = result_schemes(spec.schemes)
+    radar = {m: radar_config(spec.radar, m) for m in mimos(schemes)}
+    procs = {s.name: comps.make_processing({**spec.processing, **s.processing})
+             for s in schemes}
+    return radar, procs

@@ -1,0 +1,71 @@
+"""What a worker does with one cell: run it and write it atomically (`harness.cellstore`).
+
+Shared by the local process pool, the in-process path and Dask workers, so every path runs
+with one BLAS thread and writes the same files.
+"""
+from __future__ import annotations
+
+import json
+import time
+import traceback
+from pathlib import Path
+
+from . import cellstore as store
+from .cell import run_cell
+from .cellspec import CellSpec
+from .components import Components
+from .runtime import prepare_process, single_thread_blas
+
+__all__ = ["execute_cell", "init_worker"]
+
+
+def init_worker() -> None:
+    """Pool-worker initializer: one BLAS thread per worker process (bit-identical to every
+    other path; with one worker per core, BLAS's own threads only oversubscribe the cores: the
+    front end's GEMM slows 8x under load with two threads per worker), the allocator tuning of
+    `harness.runtime`, and SIGINT left to the parent (a Ctrl-C lets running cells finish and
+    write, the parent cancels the rest)."""
+    import signal
+
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    prepare_process()
+
+
+def _cell_record(spec: CellSpec, status: str, **extra) -> dict:
+    return {"status": status, "cell_id": spec.cell_id, "spec": spec.to_dict(),
+            "code_version": store.code_version(), **extra}
+
+
+def execute_cell(spec: CellSpec, out: str, comps: Components | None = None) -> dict:
+    """Run one cell in a worker and write it atomically; never raises for a cell error.
+
+    Runs with one BLAS thread (`harness.runtime.single_thread_blas`) on every path. A cell
+    already completed under ``out`` (by a duplicate execution) is never replaced: the result
+    says ``"written": "kept"``.
+    """
+    single_thread_blas()
+    out_p = Path(out)
+    t0 = time.perf_counter()
+    try:
+        res = run_cell(spec, comps)
+
+        def write(tmp: Path) -> None:
+            for name, df in res.tables.items():
+                df.to_parquet(tmp / f"{name}.parquet", index=False)
+            (tmp / "cell.json").write_text(json.dumps(_cell_record(
+                spec, "ok", elapsed_s=res.elapsed_s, files=store.table_files(tmp)),
+                indent=1, default=str))
+        how = store.write_cell_dir(store.cell_dir(out_p, spec), write)
+        return {"cell_id": spec.cell_id, "status": "ok", "elapsed_s": res.elapsed_s,
+                "written": how}
+    except Exception as exc:  # noqa: BLE001 - a failing cell is recorded, the sweep goes on
+        meta = _cell_record(spec, "error", error=f"{type(exc).__name__}: {exc}",
+                            traceback=traceback.format_exc(),
+                            elapsed_s=time.perf_counter() - t0)
+        how = store.write_cell_dir(store.cell_dir(out_p, spec), lambda tmp: (
+            tmp / "cell.json").write_text(json.dumps(meta, indent=1, default=str)))
+        if how == "kept":  # a duplicate failed after the cell was completed: keep the result
+            return {"cell_id": spec.cell_id, "status": "ok", "elapsed_s": meta["elapsed_s"],
+                    "written": how}
+        return {k: meta[k] for k in ("cell_id", "status", "error", "elapsed_s")} | \
+            {"written": how}
