@@ -237,7 +237,7 @@ def _association_key(p: Path, value) -> dict:
 
 
 def _schemes_key(p: Path, value) -> tuple[str, ...]:
-    if value == "all":  # every registered scheme and chain variant (harness.runner)
+    if value == "all":  # every registered scheme and chain variant (harness.cellspec)
         return tuple(known_schemes())
     if not isinstance(value, list):
         raise ValueError(f"{p}: schemes={value!r} must be a list of scheme names")
