@@ -12,17 +12,15 @@ from radarsim.config import RadarConfig
 
 from ..config import WINDOWS, ProcessingConfig
 from ..kernels import window
-from .stage import range_stage
+from .stage import RANGE_STAGE_FIELDS, range_stage
 
 __all__ = ["NoiseFloor", "noise_floor_rise", "NOISE_FLOOR_FIELDS"]
 
 
-#: The `ProcessingConfig` fields `noise_floor_rise` reads (the chirp-level chain's and the
-#: windows): two settings equal on these give the same floor for the same frame.
-NOISE_FLOOR_FIELDS = ("range_window", "doppler_window", "min_range_bin", "dc_removal",
-                      "interference_mitigation", "intf_mag_snr_db", "intf_magdiff_snr_db",
-                      "intf_threshold_mode", "intf_hysteresis_samples", "compression",
-                      "compression_ratio", "compression_range_bins_per_block")
+#: The `ProcessingConfig` fields `noise_floor_rise` reads (the range stage's and the Doppler
+#: window, the first range bin): two settings equal on these give the same floor for the same
+#: frame.
+NOISE_FLOOR_FIELDS = RANGE_STAGE_FIELDS + ("doppler_window", "min_range_bin")
 
 
 class NoiseFloor(NamedTuple):

@@ -2,8 +2,18 @@
 compression/decompression in the order the R79 demo's RangeProc runs them (seed 004 section 2;
 seed 000 section 5.1, table 5). `range_stage` is the hook the chains call instead of a bare
 range FFT.
+
+Work done once: inside `shared_range_stage()` the stage runs once per frame and chirp-level
+setting. A sweep cell frame is processed by several result schemes and measured by the
+noise-floor metric; the schemes of one MIMO scheme (TDMA and its raw variant) and the metric all
+read the same range cube, so the harness wraps each frame in this scope instead of handing
+cubes through every chain's signature.
 """
 from __future__ import annotations
+
+from collections.abc import Iterator
+from contextlib import contextmanager
+from contextvars import ContextVar
 
 import numpy as np
 import scipy.fft
@@ -16,7 +26,33 @@ from .dc import remove_dc, window_spectrum
 from .ege import ege_compress
 from .interference import flagged_rows, zero_flagged
 
-__all__ = ["range_stage"]
+__all__ = ["range_stage", "shared_range_stage", "RANGE_STAGE_FIELDS"]
+
+#: The `ProcessingConfig` fields the range stage reads: two settings equal on these give the
+#: same range cube for the same frame.
+RANGE_STAGE_FIELDS = ("range_window", "dc_removal", "interference_mitigation", "intf_mag_snr_db",
+                      "intf_magdiff_snr_db", "intf_threshold_mode", "intf_hysteresis_samples",
+                      "compression", "compression_ratio", "compression_range_bins_per_block")
+
+#: Range cubes of the current `shared_range_stage` scope by (frame id, n_samples, settings);
+#: each entry keeps its frame alive, so an id cannot be reused while the scope lasts.
+_SHARED: ContextVar[dict | None] = ContextVar("pipeline_shared_range_stage", default=None)
+
+
+@contextmanager
+def shared_range_stage() -> Iterator[None]:
+    """Within the block, `range_stage` computes each (frame, `RANGE_STAGE_FIELDS`) pair once and
+    returns the same read-only cube to every later caller (chains, `noise_floor_rise`).
+
+    A frame is identified by its array object: the caller must not modify a frame in place
+    inside the block (the harness never does: its ADC frames are written once by the front
+    end). Scopes are per thread and per context (`contextvars`); nested scopes start empty.
+    """
+    token = _SHARED.set({})
+    try:
+        yield
+    finally:
+        _SHARED.reset(token)
 
 
 def range_stage(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) -> np.ndarray:
@@ -32,8 +68,24 @@ def range_stage(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) -> np
     Returns
     -------
     (n_chirps, n_rx, n_samples // 2) complex64, or (..., n_samples) for I/Q input
-        With every switch off, exactly `kernels.range_fft(adc, window)`.
+        With every switch off, exactly `kernels.range_fft(adc, window)`. Read-only inside
+        `shared_range_stage`.
     """
+    memo = _SHARED.get()
+    if memo is None:
+        return _range_stage(cfg, adc, proc)
+    key = (id(adc), cfg.n_samples, *(getattr(proc, f) for f in RANGE_STAGE_FIELDS))
+    hit = memo.get(key)
+    if hit is not None and hit[0] is adc:
+        return hit[1]
+    rf = _range_stage(cfg, adc, proc)
+    rf.flags.writeable = False
+    memo[key] = (adc, rf)
+    return rf
+
+
+def _range_stage(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) -> np.ndarray:
+    """`range_stage` without the sharing."""
     cplx = np.iscomplexobj(adc)
     win = window(WINDOWS[proc.range_window], cfg.n_samples)
     if not (proc.dc_removal or proc.interference_mitigation or proc.compression):

@@ -5,6 +5,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+import pandas as pd
 import pytest
 
 import pipeline
@@ -66,3 +67,33 @@ def test_process_frame_still_finds_a_target_with_the_demo_chain(cfg):
     pc = pipeline.process_frame(cfg, adc, pipeline.ProcessingConfig())
     near = pc[np.abs(pc["range_m"] - math.hypot(60, 10)) < 2]
     assert len(near) >= 1
+
+
+def test_shared_range_stage_computes_each_frame_and_setting_once(cfg, monkeypatch):
+    """Inside the scope the chains and the noise-floor metric read one read-only cube per frame
+    and chirp-level setting (a setting that only the detector reads shares it; one the range
+    stage reads does not); the numbers equal the unshared ones; outside, nothing is kept."""
+    from pipeline.chirp_level import stage
+    adc = radarsim.simulate_frame(cfg, empty(), np.random.default_rng(1))
+    base = pipeline.ProcessingConfig()
+    want = cl.range_stage(cfg, adc, base)
+    want_floor = cl.noise_floor_rise(cfg, adc, base)
+    want_pc = pipeline.process_frame(cfg, adc, base)
+    calls = []
+    real = stage._range_stage
+    monkeypatch.setattr(stage, "_range_stage", lambda *a: calls.append(1) or real(*a))
+    with cl.shared_range_stage():
+        floor = cl.noise_floor_rise(cfg, adc, base)
+        pc = pipeline.process_frame(cfg, adc, base.replace(tdma_disambiguation=False))
+        rf = cl.range_stage(cfg, adc, base)
+        assert len(calls) == 1
+        assert not rf.flags.writeable
+        other = cl.range_stage(cfg, adc, base.replace(intf_magdiff_snr_db=20.0))
+        assert len(calls) == 2 and other is not rf
+        copy = cl.range_stage(cfg, adc.copy(), base)  # another frame object
+        assert len(calls) == 3
+    assert rf.tobytes() == want.tobytes() and copy.tobytes() == want.tobytes()
+    assert floor == want_floor
+    pd.testing.assert_frame_equal(pc, want_pc)
+    cl.range_stage(cfg, adc, base)
+    assert len(calls) == 4
