@@ -24,6 +24,7 @@ COMMANDS: dict[str, tuple[str, str]] = {
     "report": ("harness.cmd_report", "write an HTML report of a results directory"),
     "process": ("harness.cmd_ti", "run the pipeline on a DCA1000 capture"),
     "simulate": ("harness.cmd_ti", "write a scenario's ADC frames as a DCA1000 capture"),
+    "rcs": ("harness.cmd_rcs", "a class's RCS aspect pattern against published values"),
     "shifter": ("harness.cmd_shifter", "seed 000 figs 7-8: shifter spurs before/after "
                 "calibration"),
 }

@@ -14,38 +14,44 @@ face normal, patch area A = t^2 Omega / cos(theta)):
 
 the first term the Lambertian diffuse backscatter of a rough painted surface (Ulaby & Long
 2014, sec. 10), the second a specular glint whose lobe width theta_s stands for the curvature of
-real body panels (a flat 4.5 m^2 door would give 10^7 m^2 in a 0.05 deg lobe; measured car
-broadside peaks are 20-25 dBsm over a few degrees). Each class is then scaled by a calibration
-gain so that its aspect-averaged mean RCS (azimuth of the actor's heading uniform over 360 deg,
-seen at 30 m) meets the class target of `CLASS_RCS`:
+real body panels. The facet model decides WHERE on an actor the echo comes from and what an
+occluder takes away; the LEVEL follows a published pattern where one could be sourced
+(`radarsim.rcs_patterns`, docs/rcs.md):
 
-======== ========== ============================================================================
-class    target m^2 source
-======== ========== ============================================================================
-car      10         DESIGN 8 "reference car about 10 m^2"; H. Winner, "Automotive RADAR", in
-                    Handbook of Driver Assistance Systems, Springer 2016 (car 10 dBsm)
-truck    50         "tens of m^2": Winner (op. cit.), trucks 15-25 dBsm
-motorcycle 2        1-3 m^2: Winner (op. cit.); motorcycle with rider 0-5 dBsm
-bicycle  1          cyclist ~1 m^2: Belgiovane & Chen, "Bicycles and human riders backscattering
-                    at 77 GHz for automotive radar", EuCAP 2016 (0 dBsm order of magnitude)
-pedestrian 0.5      ~ -3 dBsm: N. Yamada et al., "Radar cross section for pedestrian in 76 GHz
-                    band", EuMC 2005 (-10..0 dBsm, 0.5 m^2 taken as the design value)
-======== ========== ============================================================================
+- car: 3GPP TR 38.901 Table 7.9.2.1-4 (vehicle, model 2): front 10.8, side 20.1, rear 13.6,
+  diagonals 7.1 dBsm at horizontal incidence, elevation lobes from the table (so the radar's
+  mount height enters through the zenith angle under which it sees the actor);
+- pedestrian: TR 38.901 Table 7.9.2.1-3 (human, model 2): 2.1 dBsm front/back, 0.1 dBsm side.
+
+Each actor's patches and centres are scaled together by pattern(aspect, zenith) / (the facet
+model's unoccluded total at that aspect, computed in closed form from the box faces and centres),
+so an unoccluded actor has the published RCS and a half-hidden one about half of it. Classes
+without a reachable published pattern (truck, motorcycle, bicycle, guard rail) keep the facet
+model scaled by a calibration gain so that their aspect-averaged mean at 30 m meets
+`target_mean_rcs_m2` (car 10, truck 50, motorcycle 2, bicycle 1 m^2: design values of earlier
+rounds, H. Winner, "Automotive RADAR", Handbook of Driver Assistance Systems, 2016; not
+re-checked against a measurement here).
+
+Fluctuation: the coherent sum of an actor's scattering centres fluctuates from frame to frame
+(a fraction of a degree of aspect change reshuffles the phases at 3.9 mm wavelength). Each actor
+draws one log-normal factor per frame with the class's spread (TR 38.901 sigma_S: vehicle 3.41
+dB, human 3.94 dB; the vehicle value is borrowed for trucks, motorcycles and bicycles, for which
+no published spread was reachable), mean-preserving as eq. 7.9.2-1 defines it
+(dB mean = -ln(10)/20 sigma^2); the strong centres keep a small independent spread
+(`centre_fluctuation_db`) so the cells of one actor are not perfectly correlated.
 
 Guard rails (class "guard_rail") are metal W-beams with posts every 4 m: an extended low target
 whose scatterers carry the rail's actor_id (metrics count their detections as clutter). The
-ground is an optional constant-gamma clutter surface (sigma0 = gamma sin(grazing), Ulaby & Long
-2014, sec. 11; gamma = -15 dB for asphalt, consistent with the -25..-40 dB that Sarabandi et al.
-1997 measured at millimetre waves at grazing angles) with actor_id `GROUND_ACTOR_ID`. With
-`multipath=True` every actor scatterer is mirrored in the road-side face of the guard rail
-(radar -> rail -> target -> rail -> radar, the classic ghost behind the rail), actor_id -1.
+ground is an optional clutter surface (`radarsim.road_clutter`) with actor_id
+`GROUND_ACTOR_ID`. With `multipath=True` actor scatterers are mirrored in the road-side face of
+the guard rail where both legs of the bounce are free (`radarsim.multipath`), actor_id -1; with
+`ground_bounce=True` every actor scatterer carries the two-ray lobing factor of the road.
 
 References
 ----------
 .. [1] F. T. Ulaby, D. G. Long, Microwave Radar and Radiometric Remote Sensing, U. Michigan Press,
        2014, ch. 10-11 (Lambertian and constant-gamma surface scattering).
-.. [2] K. Sarabandi, E. S. Li, A. Nashashibi, "Modeling and measurements of scattering from road
-       surfaces at millimeter-wave frequencies", IEEE Trans. AP 45(11), 1997.
+.. [2] 3GPP TR 38.901 V19, clause 7.9.2.1 (RCS of sensing targets).
 .. [3] H. Winner, "Automotive RADAR", Handbook of Driver Assistance Systems, Springer, 2016.
 .. [4] E. F. Knott, J. F. Shaeffer, M. T. Tuley, Radar Cross Section, 2nd ed., 1993 (plates,
        dihedral and trihedral corners).
@@ -53,86 +59,28 @@ References
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from types import SimpleNamespace
 
 import numpy as np
 import pandas as pd
 
 from scenarios.checks import require
 
-from .multipath import MULTIPATH_ACTOR_ID, rail_ghosts
+from .multipath import MULTIPATH_ACTOR_ID, rail_ghosts, two_ray_power_factor
 from .raycast import RayGridConfig, cast_rays
+from .rcs_classes import (CLASS_RCS, POST_SPACING_M, REQUIRED_COLUMNS,  # noqa: F401
+                          ActorBoxes, ClassRcs, actor_boxes, class_param, geometric_total_rcs,
+                          radar_angles, rotate_yaw, strong_centres)
+from .rcs_patterns import lognormal_mu_db
 from .road_clutter import GROUND_ACTOR_ID, ground_clutter
 from .scatterers import Scatterers
 
 __all__ = ["RcsConfig", "ClassRcs", "CLASS_RCS", "GROUND_ACTOR_ID", "MULTIPATH_ACTOR_ID",
-           "scene_scatterers", "actor_boxes", "strong_centres", "REQUIRED_COLUMNS"]
+           "scene_scatterers", "single_actor", "actor_boxes", "strong_centres",
+           "geometric_total_rcs", "radar_angles", "REQUIRED_COLUMNS", "SPEED_OF_LIGHT_MPS"]
 
-
-#: Guard-rail post spacing, m (2 m for high containment levels, 4 m common on motorways).
-POST_SPACING_M = 4.0
-#: Columns of the truth rows `scene_scatterers` reads (radar-frame columns of the truth table).
-REQUIRED_COLUMNS = ("actor_id", "actor_class", "length_m", "width_m", "height_m", "x_radar_m",
-                    "y_radar_m", "z_radar_m", "yaw_radar_deg", "vx_radar_mps", "vy_radar_mps")
-
-
-@dataclass(frozen=True, kw_only=True, slots=True)
-class ClassRcs:
-    """Facet-model parameters of one actor class.
-
-    Parameters
-    ----------
-    target_mean_rcs_m2 : float
-        Calibration target: aspect-averaged mean RCS, m^2 (sources in the module docstring).
-    diffuse_m2_per_m2 : float
-        Lambertian coefficient mu (sigma0 = mu cos^2 theta), m^2/m^2.
-    specular_m2_per_m2 : float
-        Peak specular density S at normal incidence, m^2/m^2.
-    specular_width_deg : float
-        Gaussian lobe width theta_s of the specular term, deg.
-    gain : float
-        Calibration gain applied to the class's patches and centres (fit once, see
-        `tests/radarsim/test_rcs.py::test_class_mean_rcs_within_3db`).
-    wheel_rcs_m2, corner_rcs_m2, plate_rcs_m2 : float
-        Strong centres: each wheel (on the side faces), each vertical corner edge (dihedral
-        between bumper and side), the plate / rear structure (front and rear faces), m^2.
-    """
-
-    target_mean_rcs_m2: float
-    diffuse_m2_per_m2: float
-    specular_m2_per_m2: float
-    specular_width_deg: float
-    gain: float = 1.0
-    wheel_rcs_m2: float = 0.0
-    corner_rcs_m2: float = 0.0
-    plate_rcs_m2: float = 0.0
-
-    def __post_init__(self) -> None:
-        require(self, ("target_mean_rcs_m2", "specular_width_deg", "gain"), gt=0)
-        require(self, ("diffuse_m2_per_m2", "specular_m2_per_m2", "wheel_rcs_m2",
-                       "corner_rcs_m2", "plate_rcs_m2"), ge=0)
-
-
-#: Class registry of the facet model. Gains fitted so the 30 m aspect-averaged means meet
-#: `target_mean_rcs_m2` (the test checks +/-3 dB).
-CLASS_RCS: dict[str, ClassRcs] = {
-    "car": ClassRcs(target_mean_rcs_m2=10.0, diffuse_m2_per_m2=0.3, specular_m2_per_m2=12.0,
-                    specular_width_deg=6.0, wheel_rcs_m2=0.5, corner_rcs_m2=1.0,
-                    plate_rcs_m2=2.0, gain=1.03),
-    "truck": ClassRcs(target_mean_rcs_m2=50.0, diffuse_m2_per_m2=0.3, specular_m2_per_m2=15.0,
-                      specular_width_deg=5.0, wheel_rcs_m2=2.0, corner_rcs_m2=5.0,
-                      plate_rcs_m2=10.0, gain=1.0),
-    "motorcycle": ClassRcs(target_mean_rcs_m2=2.0, diffuse_m2_per_m2=0.2,
-                           specular_m2_per_m2=2.0, specular_width_deg=10.0, wheel_rcs_m2=0.3,
-                           plate_rcs_m2=0.5, gain=1.27),
-    "bicycle": ClassRcs(target_mean_rcs_m2=1.0, diffuse_m2_per_m2=0.15,
-                        specular_m2_per_m2=1.0, specular_width_deg=12.0, wheel_rcs_m2=0.2,
-                        plate_rcs_m2=0.1, gain=0.98),
-    "pedestrian": ClassRcs(target_mean_rcs_m2=0.5, diffuse_m2_per_m2=0.25,
-                           specular_m2_per_m2=0.5, specular_width_deg=20.0, gain=1.22),
-    "guard_rail": ClassRcs(target_mean_rcs_m2=1.0, diffuse_m2_per_m2=0.05,
-                           specular_m2_per_m2=3.0, specular_width_deg=2.0, wheel_rcs_m2=0.3,
-                           gain=1.0),
-}
+#: m/s (the ground-bounce wavelength default).
+SPEED_OF_LIGHT_MPS = 299_792_458.0
 
 
 @dataclass(frozen=True, kw_only=True, slots=True)
@@ -183,6 +131,18 @@ class RcsConfig:
         Guard-rail (clutter) merge cells are this many times larger in range and azimuth
         (>= 1; default 2: one full resolution cell), since only their presence matters to
         the metrics, not their exact shape; it keeps a rail's K near one per range cell.
+    target_fluctuation : bool
+        Draw each actor's per-frame log-normal factor (`ClassRcs.fluctuation_db`). Off: every
+        actor has its class's mean RCS (pattern checks).
+    ground_bounce : bool
+        Multiply every actor scatterer by the two-ray power factor of a flat road
+        (`radarsim.multipath.two_ray_power_factor`): the lobing of a target's echo with range
+        under a low-mounted radar. Off by default.
+    ground_reflection_coefficient : float
+        Field reflection coefficient of the road for `ground_bounce`, in [-1, 1] (-1: smooth
+        road at grazing incidence).
+    wavelength_m : float
+        Carrier wavelength for `ground_bounce`, m (default 77 GHz).
     """
 
     grid: RayGridConfig = field(default_factory=RayGridConfig)
@@ -200,6 +160,10 @@ class RcsConfig:
     guard_rail_reflectivity: float = 0.3
     cull_rcs_at_100m_m2: float = 3e-3
     clutter_merge_factor: float = 2.0
+    target_fluctuation: bool = True
+    ground_bounce: bool = False
+    ground_reflection_coefficient: float = -1.0
+    wavelength_m: float = SPEED_OF_LIGHT_MPS / 77e9
 
     def __post_init__(self) -> None:
         if not isinstance(self.grid, RayGridConfig):
@@ -222,136 +186,47 @@ class RcsConfig:
         if not -40 <= self.ground_gamma_db <= 0:
             raise ValueError(f"ground_gamma_db={self.ground_gamma_db!r} must be within "
                              "[-40, 0] dB")
+        require(self, "ground_reflection_coefficient", ge=-1, le=1)
+        require(self, "wavelength_m", gt=0, le=0.1, unit="m")
 
 
 _DEFAULT_CONFIG = RcsConfig()
+_BOX_FIELDS = ("actor_id", "cls", "centre", "half", "yaw", "velocity")
 
 
-@dataclass(frozen=True, slots=True)
-class _Boxes:
-    """Actor boxes of one frame in the radar frame (B boxes)."""
-
-    actor_id: np.ndarray     # (B,) int
-    cls: np.ndarray          # (B,) object: class names
-    centre: np.ndarray       # (B, 3) m
-    half: np.ndarray         # (B, 3) m
-    yaw: np.ndarray          # (B,) rad
-    velocity: np.ndarray     # (B, 3) m/s, relative to the radar
-
-
-def actor_boxes(truth_frame: pd.DataFrame) -> _Boxes:
-    """Boxes of the truth rows of one frame (radar-frame columns).
-
-    Raises
-    ------
-    ValueError
-        If a column of `REQUIRED_COLUMNS` is missing or a class is unknown.
-    """
-    missing = [c for c in REQUIRED_COLUMNS if c not in truth_frame.columns]
-    if missing:
-        raise ValueError(f"truth_frame lacks columns {missing}")
-    cls = truth_frame["actor_class"].to_numpy(dtype=object)
-    unknown = sorted(set(cls) - set(CLASS_RCS))
-    if unknown:
-        raise ValueError(f"actor_class {unknown} unknown; known: {sorted(CLASS_RCS)}")
-    v = truth_frame
-    centre = np.column_stack([v["x_radar_m"], v["y_radar_m"], v["z_radar_m"]]).astype(float)
-    half = 0.5 * np.column_stack([v["length_m"], v["width_m"], v["height_m"]]).astype(float)
-    vel = np.column_stack([v["vx_radar_mps"], v["vy_radar_mps"],
-                           np.zeros(len(v))]).astype(float)
-    return _Boxes(v["actor_id"].to_numpy(dtype=np.int64), cls, centre.reshape(-1, 3),
-                  half.reshape(-1, 3), np.radians(v["yaw_radar_deg"].to_numpy(dtype=float)),
-                  vel.reshape(-1, 3))
+def _actor_scale(boxes: ActorBoxes, cfg: RcsConfig,
+                 rng: np.random.Generator) -> np.ndarray:
+    """(B,) factor on every patch and centre of each box: pattern level over the facet total
+    (or the class gain) times the actor's log-normal fluctuation of this frame."""
+    n = boxes.centre.shape[0]
+    scale = class_param(boxes.cls, "gain")
+    names = np.asarray(boxes.cls, dtype=str)
+    with_pattern = [name for name in np.unique(names) if CLASS_RCS[name].pattern is not None]
+    if with_pattern:
+        sel = np.flatnonzero(np.isin(names, with_pattern))
+        sub = ActorBoxes(*(getattr(boxes, f)[sel] for f in _BOX_FIELDS))
+        phi, theta = radar_angles(sub)
+        total = geometric_total_rcs(sub)
+        for name in with_pattern:
+            m = names[sel] == name
+            level = 10 ** (CLASS_RCS[name].pattern.rcs_dbsm(phi[m], theta[m]) / 10)
+            scale[sel[m]] = level / np.maximum(total[m], 1e-12)
+    z = rng.standard_normal(n)   # drawn even when unused: the same stream either way
+    if cfg.target_fluctuation:
+        sigma = class_param(boxes.cls, "fluctuation_db")
+        scale = scale * 10 ** ((lognormal_mu_db(sigma) + sigma * z) / 10)
+    return scale
 
 
-def _class_param(cls: np.ndarray, name: str) -> np.ndarray:
-    """(B,) parameter `name` of each box's class (one lookup per distinct class)."""
-    names, inv = np.unique(np.asarray(cls, dtype=str), return_inverse=True)
-    return np.array([getattr(CLASS_RCS[n], name) for n in names], dtype=np.float64)[inv]
-
-
-def strong_centres(boxes: _Boxes):
-    """Candidate strong scattering centres of every box, box-local, before visibility.
-
-    Returns
-    -------
-    box : (C,) int
-        Box of each centre.
-    local_m : (C, 3) float
-        Position in box-local coordinates (origin at the box centre), m.
-    normal_local : (C, 3) float
-        Unit direction the centre radiates around (face normal or corner diagonal).
-    rcs_m2 : (C,) float
-        Peak RCS before the class gain, m^2.
-    lobe_deg : (C,) float
-        Gaussian lobe width around `normal_local`, deg.
-    """
-    parts = []
-    n_box = boxes.centre.shape[0]
-    idx = np.arange(n_box)
-    hx, hy, hz = boxes.half[:, 0], boxes.half[:, 1], boxes.half[:, 2]
-    cls = boxes.cls
-    wheel = _class_param(cls, "wheel_rcs_m2")
-    corner = _class_param(cls, "corner_rcs_m2")
-    plate = _class_param(cls, "plate_rcs_m2")
-    is_rail = cls == "guard_rail"
-    is_truck = cls == "truck"
-    # Wheels on both sides near each axle, 0.35 m up (trucks: three axles).
-    for fx in (-0.64, 0.64, 0.0):
-        for sy in (-1.0, 1.0):
-            keep = (wheel > 0) & ~is_rail & ((fx != 0.0) | is_truck)
-            z = -hz + np.minimum(0.35, hz)
-            parts.append((idx[keep], np.column_stack([fx * hx, sy * hy, z])[keep],
-                          np.tile([0.0, sy, 0.0], (n_box, 1))[keep], wheel[keep],
-                          np.full(n_box, 50.0)[keep]))
-    # Vertical corner edges: dihedral between bumper and side, radiating along the diagonal.
-    for sx in (-1.0, 1.0):
-        for sy in (-1.0, 1.0):
-            keep = corner > 0
-            diag = np.array([sx, sy, 0.0]) / np.sqrt(2)
-            z = -hz + np.minimum(0.5, hz)
-            parts.append((idx[keep], np.column_stack([sx * hx, sy * hy, z])[keep],
-                          np.tile(diag, (n_box, 1))[keep], corner[keep],
-                          np.full(n_box, 35.0)[keep]))
-    # Plate / rear structure on the front and rear faces.
-    for sx in (-1.0, 1.0):
-        keep = plate > 0
-        z = -hz + np.minimum(0.5, hz)
-        parts.append((idx[keep], np.column_stack([sx * hx, np.zeros(n_box), z])[keep],
-                      np.tile([sx, 0.0, 0.0], (n_box, 1))[keep], plate[keep],
-                      np.full(n_box, 12.0)[keep]))
-    # Guard-rail posts every POST_SPACING_M on both long faces (the beam is the box itself).
-    if np.any(is_rail):
-        rb = np.flatnonzero(is_rail)
-        n_posts = np.maximum(np.floor(2 * hx[rb] / POST_SPACING_M).astype(int), 1)
-        pb = np.repeat(rb, n_posts)
-        k = np.arange(n_posts.sum()) - np.repeat(np.cumsum(n_posts) - n_posts, n_posts)
-        px = -hx[pb] + 0.5 * POST_SPACING_M + POST_SPACING_M * k
-        for sy in (-1.0, 1.0):
-            parts.append((pb, np.column_stack([px, sy * hy[pb], np.zeros(pb.size)]),
-                          np.tile([0.0, sy, 0.0], (pb.size, 1)), wheel[pb],
-                          np.full(pb.size, 35.0)))
-    box = np.concatenate([p[0] for p in parts]).astype(np.int64)
-    return (box, np.concatenate([p[1] for p in parts]).reshape(-1, 3),
-            np.concatenate([p[2] for p in parts]).reshape(-1, 3),
-            np.concatenate([p[3] for p in parts]), np.concatenate([p[4] for p in parts]))
-
-
-def _rotate(vec: np.ndarray, yaw: np.ndarray) -> np.ndarray:
-    c, s = np.cos(yaw), np.sin(yaw)
-    return np.column_stack([c * vec[:, 0] - s * vec[:, 1], s * vec[:, 0] + c * vec[:, 1],
-                            vec[:, 2]])
-
-
-def _visible_centres(boxes: _Boxes, cfg: RcsConfig, rng: np.random.Generator, hits,
-                     az_grid: np.ndarray, el_grid: np.ndarray):
+def _visible_centres(boxes: ActorBoxes, cfg: RcsConfig, rng: np.random.Generator, hits,
+                     az_grid: np.ndarray, el_grid: np.ndarray, scale: np.ndarray):
     """Strong centres that face the radar, lie in the grid's field of view and are not occluded.
 
-    Returns (box (C,), position (C, 3), rcs (C,)) in the radar frame, gain applied.
+    Returns (box (C,), position (C, 3), rcs (C,)) in the radar frame, `scale` (B,) applied.
     """
     box, local, n_local, rcs0, lobe = strong_centres(boxes)
-    pos = _rotate(local, boxes.yaw[box]) + boxes.centre[box]
-    normal = _rotate(n_local, boxes.yaw[box])
+    pos = rotate_yaw(local, boxes.yaw[box]) + boxes.centre[box]
+    normal = rotate_yaw(n_local, boxes.yaw[box])
     r = np.linalg.norm(pos, axis=1)
     u = pos / np.maximum(r, 1e-9)[:, None]
     cos_inc = -np.einsum("cd,cd->c", u, normal)
@@ -377,25 +252,36 @@ def _visible_centres(boxes: _Boxes, cfg: RcsConfig, rng: np.random.Generator, hi
     vis = (ray_box[ray] == box) | (ray_t[ray] >= r - 0.3)
     box, pos, r, cos_inc, rcs0, lobe = (a[vis] for a in (box, pos, r, cos_inc, rcs0, lobe))
     theta = np.degrees(np.arccos(np.clip(cos_inc, -1, 1)))
-    rcs = rcs0 * np.exp(-(theta / lobe) ** 2) * _class_param(boxes.cls, "gain")[box]
+    rcs = rcs0 * np.exp(-(theta / lobe) ** 2) * scale[box]
     if cfg.centre_fluctuation_db > 0 and rcs.size:
         s = cfg.centre_fluctuation_db * np.log(10) / 10
         rcs = rcs * np.exp(s * rng.standard_normal(rcs.size) - 0.5 * s * s)
     return box, pos, rcs
 
 
-def _patch_rcs(hits, boxes: _Boxes, cfg: RcsConfig) -> np.ndarray:
-    """(H,) RCS of each hit patch from the facet model, m^2, gain applied."""
+def _patch_rcs(hits, boxes: ActorBoxes, cfg: RcsConfig, scale: np.ndarray) -> np.ndarray:
+    """(H,) RCS of each hit patch from the facet model, m^2, `scale` (B,) applied.
+
+    For a class with a published (far-field) pattern the incidence that sets a patch's density
+    is that of its face seen from the actor's centre direction (a panel's far-field glint
+    depends on its orientation, not on where on it a ray lands), so the patches of a face sum
+    to the closed form of `geometric_total_rcs` at any range and the actor meets its pattern.
+    Classes calibrated by a gain keep each ray's own incidence (a long truck side seen at 30 m
+    spans +/-15 deg of incidence and glints only near its middle), as their gains were fit.
+    """
     cls, b = boxes.cls, hits.box
-    cos_inc = np.clip(-np.einsum("hd,hd->h", hits.direction, hits.normal), 0.0, 1.0)
+    u_c = boxes.centre / np.maximum(np.linalg.norm(boxes.centre, axis=1), 1e-9)[:, None]
+    far = np.array([CLASS_RCS[c].pattern is not None for c in cls], dtype=bool)[b]
+    u = np.where(far[:, None], u_c[b], hits.direction)
+    cos_inc = np.clip(-np.einsum("hd,hd->h", u, hits.normal), 0.0, 1.0)
     theta = np.arccos(cos_inc)
     omega = cfg.grid.solid_angle_sr * np.sqrt(1 - hits.direction[:, 2] ** 2)
-    mu = _class_param(cls, "diffuse_m2_per_m2")[b]
-    s = _class_param(cls, "specular_m2_per_m2")[b]
-    w = np.radians(_class_param(cls, "specular_width_deg"))[b]
+    mu = class_param(cls, "diffuse_m2_per_m2")[b]
+    s = class_param(cls, "specular_m2_per_m2")[b]
+    w = np.radians(class_param(cls, "specular_width_deg"))[b]
     # A = t^2 Omega / cos(theta); sigma = A (mu cos^2 + S lobe), written without dividing by 0.
     density = (mu * cos_inc + s * np.exp(-(theta / w) ** 2) / np.maximum(cos_inc, 0.05))
-    return hits.t_m ** 2 * omega * density * _class_param(cls, "gain")[b]
+    return hits.t_m ** 2 * omega * density * scale[b]
 
 
 def _merge(actor_key: np.ndarray, pos: np.ndarray, rcs: np.ndarray, cfg: RcsConfig,
@@ -460,26 +346,30 @@ def scene_scatterers(truth_frame: pd.DataFrame, rng: np.random.Generator,
     if radar_velocity_mps is None:
         rails = np.flatnonzero(boxes.cls == "guard_rail")
         radar_velocity_mps = -boxes.velocity[rails[0]] if rails.size else None
-    boxes = _Boxes(*(getattr(boxes, f)[near] for f in ("actor_id", "cls", "centre", "half",
-                                                       "yaw", "velocity")))
+    boxes = ActorBoxes(*(getattr(boxes, f)[near] for f in _BOX_FIELDS))
     a_off, e_off = rng.random(2) if cfg.dither else (0.0, 0.0)
+    scale = _actor_scale(boxes, cfg, rng)
     hits = cast_rays(cfg.grid, boxes.centre, boxes.half, boxes.yaw, azimuth_offset=a_off,
                      elevation_offset=e_off, max_range_m=cfg.max_range_m)
     parts = []
     actor_box = np.zeros(0, dtype=np.int64)
     if boxes.centre.shape[0]:
-        p_rcs = _patch_rcs(hits, boxes, cfg)
+        p_rcs = _patch_rcs(hits, boxes, cfg, scale)
         c_box, c_pos, c_rcs = _visible_centres(boxes, cfg, rng, hits,
                                                cfg.grid.azimuths_rad(a_off),
-                                               cfg.grid.elevations_rad(e_off))
+                                               cfg.grid.elevations_rad(e_off), scale)
         box = np.concatenate([hits.box, c_box])
         pos = np.concatenate([hits.point_m, c_pos])
         rcs = np.concatenate([p_rcs, c_rcs])
         if box.size:
-            scale = np.where(boxes.cls[box] == "guard_rail", cfg.clutter_merge_factor, 1.0)
-            first, mpos, mrcs = _merge(box, pos, rcs, cfg, scale)
+            cell_scale = np.where(boxes.cls[box] == "guard_rail", cfg.clutter_merge_factor,
+                                  1.0)
+            first, mpos, mrcs = _merge(box, pos, rcs, cfg, cell_scale)
             mbox = box[first]
             actor_box = mbox
+            if cfg.ground_bounce:
+                mrcs = mrcs * two_ray_power_factor(mpos, mount_height_m, cfg.wavelength_m,
+                                                   cfg.ground_reflection_coefficient)
             parts.append(Scatterers(mpos, boxes.velocity[mbox], mrcs, boxes.actor_id[mbox]))
     actors = Scatterers.concatenate(parts)
     out = [actors]
@@ -502,3 +392,59 @@ def scene_scatterers(truth_frame: pd.DataFrame, rng: np.random.Generator,
             sc = Scatterers(sc.position_m[keep], sc.velocity_mps[keep], sc.rcs_m2[keep],
                             sc.actor_id[keep])
     return sc
+
+
+def single_actor(actor_class: str, aspect_deg: float, *, range_m: float = 30.0,
+                 rng: np.random.Generator, mount_height_m: float = 0.5,
+                 cfg: RcsConfig | None = None) -> Scatterers:
+    """Scatterers of one actor alone on the radar's boresight, exactly as the scene model makes
+    them (`scene_scatterers`, no ground clutter).
+
+    Parameters
+    ----------
+    actor_class : str
+        A road-user class of `scenarios.catalog.ACTOR_CLASSES` (its catalogue size) or
+        ``"guard_rail"``.
+    aspect_deg : float
+        Aspect: 0 its front faces the radar, 90 its left side, 180 its rear, deg.
+    range_m : float
+        Horizontal distance from the radar to the actor's centre, m (> 0).
+    rng : numpy.random.Generator
+        Grid dither and fluctuation.
+    mount_height_m : float
+        Radar height above the road, m (the catalogue's corner mounts: 0.5 m).
+    cfg : RcsConfig, optional
+
+    Returns
+    -------
+    Scatterers
+        Radar frame, actor_id 0.
+
+    Raises
+    ------
+    ValueError
+        Unknown class, aspect not finite, range not a positive finite number.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from radarsim.rcs import single_actor
+    >>> sc = single_actor("car", 90.0, rng=np.random.default_rng(0))
+    >>> bool(sc.rcs_m2.sum() > 10.0)   # broadside car: ~20 dBsm
+    True
+    """
+    from scenarios.catalog import ACTOR_CLASSES, GUARD_RAIL
+    sizes = {**ACTOR_CLASSES, GUARD_RAIL.name: GUARD_RAIL}
+    if not isinstance(actor_class, str) or actor_class not in sizes:
+        raise ValueError(f"actor_class={actor_class!r} unknown; known: {sorted(sizes)}")
+    args = SimpleNamespace(aspect_deg=aspect_deg, range_m=range_m, mount_height_m=mount_height_m)
+    require(args, "aspect_deg", unit="deg")
+    require(args, "range_m", gt=0, unit="m")
+    require(args, "mount_height_m", gt=0, le=3, unit="m")
+    size = sizes[actor_class]
+    row = dict(actor_id=0, actor_class=actor_class, length_m=size.length_m,
+               width_m=size.width_m, height_m=size.height_m, x_radar_m=float(range_m),
+               y_radar_m=0.0, z_radar_m=size.height_m / 2 - mount_height_m,
+               yaw_radar_deg=180.0 - float(aspect_deg), vx_radar_mps=0.0, vy_radar_mps=0.0)
+    truth = pd.DataFrame([row], columns=list(REQUIRED_COLUMNS))
+    return scene_scatterers(truth, rng, cfg, mount_height_m=mount_height_m)

@@ -1,0 +1,271 @@
+"""Actor classes of the RCS model: facet parameters, published patterns, boxes, strong centres.
+
+`CLASS_RCS` is the class registry (`ClassRcs` per class); `actor_boxes` turns one frame's truth
+rows into yawed boxes; `strong_centres` lists each box's candidate scattering centres (wheels,
+corner dihedrals, plates, guard-rail posts); `geometric_total_rcs` is the closed-form facet
+total of an unoccluded box, which `radarsim.rcs` divides out to put each actor on its
+published pattern (`radarsim.rcs_patterns`). Angles and the model itself are described in
+`radarsim.rcs`.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import pandas as pd
+
+from scenarios.checks import require
+
+from .raycast import FACE_NORMALS_LOCAL
+from .rcs_patterns import HUMAN_TR38901, VEHICLE_TR38901, Tr38901Pattern
+
+__all__ = ["ClassRcs", "CLASS_RCS", "REQUIRED_COLUMNS", "POST_SPACING_M", "ActorBoxes",
+           "actor_boxes", "strong_centres", "radar_angles", "geometric_total_rcs",
+           "class_param", "rotate_yaw"]
+
+#: Guard-rail post spacing, m (2 m for high containment levels, 4 m common on motorways).
+POST_SPACING_M = 4.0
+#: Columns of the truth rows `scene_scatterers` reads (radar-frame columns of the truth table).
+REQUIRED_COLUMNS = ("actor_id", "actor_class", "length_m", "width_m", "height_m", "x_radar_m",
+                    "y_radar_m", "z_radar_m", "yaw_radar_deg", "vx_radar_mps", "vy_radar_mps")
+
+
+@dataclass(frozen=True, kw_only=True, slots=True)
+class ClassRcs:
+    """Facet-model parameters of one actor class.
+
+    Parameters
+    ----------
+    target_mean_rcs_m2 : float
+        Calibration target: aspect-averaged mean RCS, m^2 (sources in the module docstring).
+    diffuse_m2_per_m2 : float
+        Lambertian coefficient mu (sigma0 = mu cos^2 theta), m^2/m^2.
+    specular_m2_per_m2 : float
+        Peak specular density S at normal incidence, m^2/m^2.
+    specular_width_deg : float
+        Gaussian lobe width theta_s of the specular term, deg.
+    gain : float
+        Calibration gain applied to the class's patches and centres when it has no `pattern`
+        (fit once, see `tests/radarsim/test_rcs.py::test_class_mean_rcs_within_3db`).
+    wheel_rcs_m2, corner_rcs_m2, plate_rcs_m2 : float
+        Strong centres: each wheel (on the side faces), each vertical corner edge (dihedral
+        between bumper and side), the plate / rear structure (front and rear faces), m^2.
+    pattern : Tr38901Pattern or None
+        Published pattern that sets the actor's level by aspect and zenith (None: `gain`).
+    fluctuation_db : float
+        dB spread of the per-actor, per-frame log-normal factor (mean-preserving), >= 0.
+    """
+
+    target_mean_rcs_m2: float
+    diffuse_m2_per_m2: float
+    specular_m2_per_m2: float
+    specular_width_deg: float
+    gain: float = 1.0
+    wheel_rcs_m2: float = 0.0
+    corner_rcs_m2: float = 0.0
+    plate_rcs_m2: float = 0.0
+    pattern: Tr38901Pattern | None = None
+    fluctuation_db: float = 0.0
+
+    def __post_init__(self) -> None:
+        require(self, ("target_mean_rcs_m2", "specular_width_deg", "gain"), gt=0)
+        require(self, ("diffuse_m2_per_m2", "specular_m2_per_m2", "wheel_rcs_m2",
+                       "corner_rcs_m2", "plate_rcs_m2", "fluctuation_db"), ge=0)
+        if self.pattern is not None and not isinstance(self.pattern, Tr38901Pattern):
+            raise ValueError(f"pattern must be a Tr38901Pattern or None, got {self.pattern!r}")
+
+
+#: Class registry of the facet model. Classes with a `pattern` take their level from it (the
+#: target mean is then the pattern's aspect mean at horizontal incidence); the others' gains are
+#: fitted so the 30 m aspect-averaged means meet `target_mean_rcs_m2` (the test checks +/-3 dB).
+CLASS_RCS: dict[str, ClassRcs] = {
+    "car": ClassRcs(target_mean_rcs_m2=10 ** (VEHICLE_TR38901.aspect_mean_dbsm() / 10),
+                    diffuse_m2_per_m2=0.3, specular_m2_per_m2=12.0,
+                    specular_width_deg=6.0, wheel_rcs_m2=0.5, corner_rcs_m2=1.0,
+                    plate_rcs_m2=2.0, pattern=VEHICLE_TR38901,
+                    fluctuation_db=VEHICLE_TR38901.sigma_s_db),
+    "truck": ClassRcs(target_mean_rcs_m2=50.0, diffuse_m2_per_m2=0.3, specular_m2_per_m2=15.0,
+                      specular_width_deg=5.0, wheel_rcs_m2=2.0, corner_rcs_m2=5.0,
+                      plate_rcs_m2=10.0, gain=1.0, fluctuation_db=VEHICLE_TR38901.sigma_s_db),
+    "motorcycle": ClassRcs(target_mean_rcs_m2=2.0, diffuse_m2_per_m2=0.2,
+                           specular_m2_per_m2=2.0, specular_width_deg=10.0, wheel_rcs_m2=0.3,
+                           plate_rcs_m2=0.5, gain=1.27,
+                           fluctuation_db=VEHICLE_TR38901.sigma_s_db),
+    "bicycle": ClassRcs(target_mean_rcs_m2=1.0, diffuse_m2_per_m2=0.15,
+                        specular_m2_per_m2=1.0, specular_width_deg=12.0, wheel_rcs_m2=0.2,
+                        plate_rcs_m2=0.1, gain=0.98, fluctuation_db=VEHICLE_TR38901.sigma_s_db),
+    "pedestrian": ClassRcs(target_mean_rcs_m2=10 ** (HUMAN_TR38901.aspect_mean_dbsm() / 10),
+                           diffuse_m2_per_m2=0.25, specular_m2_per_m2=0.5,
+                           specular_width_deg=20.0, pattern=HUMAN_TR38901,
+                           fluctuation_db=HUMAN_TR38901.sigma_s_db),
+    "guard_rail": ClassRcs(target_mean_rcs_m2=1.0, diffuse_m2_per_m2=0.05,
+                           specular_m2_per_m2=3.0, specular_width_deg=2.0, wheel_rcs_m2=0.3,
+                           gain=1.0),
+}
+
+
+@dataclass(frozen=True, slots=True)
+class ActorBoxes:
+    """Actor boxes of one frame in the radar frame (B boxes)."""
+
+    actor_id: np.ndarray     # (B,) int
+    cls: np.ndarray          # (B,) object: class names
+    centre: np.ndarray       # (B, 3) m
+    half: np.ndarray         # (B, 3) m
+    yaw: np.ndarray          # (B,) rad
+    velocity: np.ndarray     # (B, 3) m/s, relative to the radar
+
+
+def actor_boxes(truth_frame: pd.DataFrame) -> ActorBoxes:
+    """Boxes of the truth rows of one frame (radar-frame columns).
+
+    Raises
+    ------
+    ValueError
+        If a column of `REQUIRED_COLUMNS` is missing or a class is unknown.
+    """
+    missing = [c for c in REQUIRED_COLUMNS if c not in truth_frame.columns]
+    if missing:
+        raise ValueError(f"truth_frame lacks columns {missing}")
+    cls = truth_frame["actor_class"].to_numpy(dtype=object)
+    unknown = sorted(set(cls) - set(CLASS_RCS))
+    if unknown:
+        raise ValueError(f"actor_class {unknown} unknown; known: {sorted(CLASS_RCS)}")
+    v = truth_frame
+    centre = np.column_stack([v["x_radar_m"], v["y_radar_m"], v["z_radar_m"]]).astype(float)
+    half = 0.5 * np.column_stack([v["length_m"], v["width_m"], v["height_m"]]).astype(float)
+    vel = np.column_stack([v["vx_radar_mps"], v["vy_radar_mps"],
+                           np.zeros(len(v))]).astype(float)
+    return ActorBoxes(v["actor_id"].to_numpy(dtype=np.int64), cls, centre.reshape(-1, 3),
+                  half.reshape(-1, 3), np.radians(v["yaw_radar_deg"].to_numpy(dtype=float)),
+                  vel.reshape(-1, 3))
+
+
+def class_param(cls: np.ndarray, name: str) -> np.ndarray:
+    """(B,) parameter `name` of each box's class (one lookup per distinct class)."""
+    names, inv = np.unique(np.asarray(cls, dtype=str), return_inverse=True)
+    return np.array([getattr(CLASS_RCS[n], name) for n in names], dtype=np.float64)[inv]
+
+
+def strong_centres(boxes: ActorBoxes):
+    """Candidate strong scattering centres of every box, box-local, before visibility.
+
+    Returns
+    -------
+    box : (C,) int
+        Box of each centre.
+    local_m : (C, 3) float
+        Position in box-local coordinates (origin at the box centre), m.
+    normal_local : (C, 3) float
+        Unit direction the centre radiates around (face normal or corner diagonal).
+    rcs_m2 : (C,) float
+        Peak RCS before the class gain, m^2.
+    lobe_deg : (C,) float
+        Gaussian lobe width around `normal_local`, deg.
+    """
+    parts = []
+    n_box = boxes.centre.shape[0]
+    idx = np.arange(n_box)
+    hx, hy, hz = boxes.half[:, 0], boxes.half[:, 1], boxes.half[:, 2]
+    cls = boxes.cls
+    wheel = class_param(cls, "wheel_rcs_m2")
+    corner = class_param(cls, "corner_rcs_m2")
+    plate = class_param(cls, "plate_rcs_m2")
+    is_rail = cls == "guard_rail"
+    is_truck = cls == "truck"
+    # Wheels on both sides near each axle, 0.35 m up (trucks: three axles).
+    for fx in (-0.64, 0.64, 0.0):
+        for sy in (-1.0, 1.0):
+            keep = (wheel > 0) & ~is_rail & ((fx != 0.0) | is_truck)
+            z = -hz + np.minimum(0.35, hz)
+            parts.append((idx[keep], np.column_stack([fx * hx, sy * hy, z])[keep],
+                          np.tile([0.0, sy, 0.0], (n_box, 1))[keep], wheel[keep],
+                          np.full(n_box, 50.0)[keep]))
+    # Vertical corner edges: dihedral between bumper and side, radiating along the diagonal.
+    for sx in (-1.0, 1.0):
+        for sy in (-1.0, 1.0):
+            keep = corner > 0
+            diag = np.array([sx, sy, 0.0]) / np.sqrt(2)
+            z = -hz + np.minimum(0.5, hz)
+            parts.append((idx[keep], np.column_stack([sx * hx, sy * hy, z])[keep],
+                          np.tile(diag, (n_box, 1))[keep], corner[keep],
+                          np.full(n_box, 35.0)[keep]))
+    # Plate / rear structure on the front and rear faces.
+    for sx in (-1.0, 1.0):
+        keep = plate > 0
+        z = -hz + np.minimum(0.5, hz)
+        parts.append((idx[keep], np.column_stack([sx * hx, np.zeros(n_box), z])[keep],
+                      np.tile([sx, 0.0, 0.0], (n_box, 1))[keep], plate[keep],
+                      np.full(n_box, 12.0)[keep]))
+    # Guard-rail posts every POST_SPACING_M on both long faces (the beam is the box itself).
+    if np.any(is_rail):
+        rb = np.flatnonzero(is_rail)
+        n_posts = np.maximum(np.floor(2 * hx[rb] / POST_SPACING_M).astype(int), 1)
+        pb = np.repeat(rb, n_posts)
+        k = np.arange(n_posts.sum()) - np.repeat(np.cumsum(n_posts) - n_posts, n_posts)
+        px = -hx[pb] + 0.5 * POST_SPACING_M + POST_SPACING_M * k
+        for sy in (-1.0, 1.0):
+            parts.append((pb, np.column_stack([px, sy * hy[pb], np.zeros(pb.size)]),
+                          np.tile([0.0, sy, 0.0], (pb.size, 1)), wheel[pb],
+                          np.full(pb.size, 35.0)))
+    box = np.concatenate([p[0] for p in parts]).astype(np.int64)
+    return (box, np.concatenate([p[1] for p in parts]).reshape(-1, 3),
+            np.concatenate([p[2] for p in parts]).reshape(-1, 3),
+            np.concatenate([p[3] for p in parts]), np.concatenate([p[4] for p in parts]))
+
+
+def rotate_yaw(vec: np.ndarray, yaw: np.ndarray) -> np.ndarray:
+    c, s = np.cos(yaw), np.sin(yaw)
+    return np.column_stack([c * vec[:, 0] - s * vec[:, 1], s * vec[:, 0] + c * vec[:, 1],
+                            vec[:, 2]])
+
+
+def radar_angles(boxes: ActorBoxes) -> tuple[np.ndarray, np.ndarray]:
+    """Direction of the radar seen from each box centre, in the box's frame.
+
+    Returns
+    -------
+    phi_deg : (B,) float
+        Azimuth: 0 the radar is ahead (the actor's front faces it), 90 on its left, 180 behind.
+    theta_deg : (B,) float
+        Zenith: 90 horizontal, < 90 the radar is above the actor's centre.
+    """
+    c, s = np.cos(boxes.yaw), np.sin(boxes.yaw)
+    o = -boxes.centre
+    ux, uy = c * o[:, 0] + s * o[:, 1], -s * o[:, 0] + c * o[:, 1]
+    return (np.degrees(np.arctan2(uy, ux)),
+            np.degrees(np.arctan2(np.hypot(ux, uy), o[:, 2])))
+
+
+def geometric_total_rcs(boxes: ActorBoxes) -> np.ndarray:
+    """(B,) facet-model RCS of each box alone (no occluder, no gain, no fluctuation), m^2.
+
+    Closed form of what the ray cast sums for an unoccluded box: a face of area A seen at
+    incidence theta collects rays over its projected area A cos(theta), each patch carrying
+    t^2 Omega (mu cos(theta) + S lobe(theta) / max(cos(theta), 0.05)), so the face totals
+    A cos(theta) (mu cos(theta) + S lobe / max(cos, 0.05)); plus every strong centre facing the
+    radar with its lobe.
+    """
+    o = -boxes.centre
+    c, s = np.cos(boxes.yaw), np.sin(boxes.yaw)
+    u = np.column_stack([c * o[:, 0] + s * o[:, 1], -s * o[:, 0] + c * o[:, 1], o[:, 2]])
+    u /= np.maximum(np.linalg.norm(u, axis=1), 1e-9)[:, None]
+    h = boxes.half
+    area = 4 * np.column_stack([h[:, 1] * h[:, 2], h[:, 1] * h[:, 2], h[:, 0] * h[:, 2],
+                                h[:, 0] * h[:, 2], h[:, 0] * h[:, 1], h[:, 0] * h[:, 1]])
+    cos_f = u @ FACE_NORMALS_LOCAL.T                                  # (B, 6)
+    mu = class_param(boxes.cls, "diffuse_m2_per_m2")[:, None]
+    spec = class_param(boxes.cls, "specular_m2_per_m2")[:, None]
+    w = np.radians(class_param(boxes.cls, "specular_width_deg"))[:, None]
+    cos_c = np.clip(cos_f, 0.0, 1.0)
+    lobe = np.exp(-(np.arccos(cos_c) / w) ** 2)
+    faces = np.where(cos_f > 0, area * cos_c * (mu * cos_c + spec * lobe
+                                                / np.maximum(cos_c, 0.05)), 0.0).sum(axis=1)
+    box, local, n_local, rcs0, lobe_deg = strong_centres(boxes)
+    pos = rotate_yaw(local, boxes.yaw[box]) + boxes.centre[box]
+    normal = rotate_yaw(n_local, boxes.yaw[box])
+    cos_inc = -np.einsum("cd,cd->c", pos / np.maximum(np.linalg.norm(pos, axis=1), 1e-9)[:, None],
+                         normal)
+    theta = np.degrees(np.arccos(np.clip(cos_inc, -1, 1)))
+    centres = np.where(cos_inc > 0, rcs0 * np.exp(-(theta / lobe_deg) ** 2), 0.0)
+    return faces + np.bincount(box, weights=centres, minlength=boxes.centre.shape[0])
