@@ -25,6 +25,7 @@ COMMANDS: dict[str, tuple[str, str]] = {
     "process": ("harness.cmd_ti", "run the pipeline on a DCA1000 capture"),
     "simulate": ("harness.cmd_ti", "write a scenario's ADC frames as a DCA1000 capture"),
     "rcs": ("harness.cmd_rcs", "a class's RCS aspect pattern against published values"),
+    "calibrate": ("harness.cmd_calibrate", "measure range bias and channel phases on a capture"),
     "shifter": ("harness.cmd_shifter", "seed 000 figs 7-8: shifter spurs before/after "
                 "calibration"),
 }

@@ -8,6 +8,7 @@ from typing import Any, NamedTuple
 from scenarios.checks import one_of, require
 
 from .cfar import CFAR_MODES, cfar_scale
+from .compensation import check_channel_comp, check_comp_values
 from .ege_format import ege_min_ratio
 from .saturation import SATURATION_POLICIES
 
@@ -161,6 +162,14 @@ class ProcessingConfig:
         What a frame with saturated ADC samples does to its detections
         (`pipeline.saturation`): "flag" keeps them with ``saturated = True``, "drop" removes
         them.
+    range_bias_m : float
+        ``compRangeBiasAndRxChanPhase`` rangeBias, m: subtracted from every reported range
+        (`pipeline.compensation`; default 0).
+    channel_comp : tuple of (re, im) or None
+        ``compRangeBiasAndRxChanPhase`` coefficients, one per (Tx, Rx) pair of the chip in
+        TI's chip channel order (Tx major), each part in [-1, 1] (Q15 when applied); every
+        chain multiplies its virtual-antenna samples by them before angle estimation
+        (`pipeline.compensation`). None: no correction (default).
     """
 
     cfar: CfarConfig = field(default_factory=CfarConfig)
@@ -182,6 +191,8 @@ class ProcessingConfig:
     compression_ratio: float = 0.5
     compression_range_bins_per_block: int = 8
     saturation_policy: str = "flag"
+    range_bias_m: float = 0.0
+    channel_comp: tuple[tuple[float, float], ...] | None = None
 
     def __post_init__(self) -> None:
         if not isinstance(self.cfar, CfarConfig):
@@ -200,6 +211,8 @@ class ProcessingConfig:
         one_of("intf_threshold_mode", self.intf_threshold_mode, INTF_THRESHOLD_MODES)
         require(self, "intf_hysteresis_samples", "integer", ge=0, le=32)
         require(self, "compression_ratio", ge=0.25, lt=1)
+        object.__setattr__(self, "channel_comp",
+                           check_comp_values(self.range_bias_m, self.channel_comp))
         b = self.compression_range_bins_per_block
         if isinstance(b, bool) or not isinstance(b, int) or b not in (1, 2, 4, 8, 16, 32):
             raise ValueError(f"compression_range_bins_per_block={b!r} must be a power of 2 "
@@ -237,9 +250,11 @@ class ProcessingConfig:
 
     def check_radar(self, cfg) -> None:
         """Raise if these settings cannot process `cfg`'s frames (`check_doppler_axis`,
-        `check_compression`): what a sweep checks for every cell before it starts."""
+        `check_compression`, the ``compRangeBiasAndRxChanPhase`` count of the chip): what a
+        sweep checks for every cell before it starts."""
         self.check_doppler_axis(cfg.n_doppler_bins)
         self.check_compression(cfg.n_rx, cfg.n_range_bins)
+        check_channel_comp(cfg, self.channel_comp)
 
     def replace(self, **changes: Any) -> "ProcessingConfig":
         """Copy with changes; `cfar_<field>` keys change the CFAR sub-config."""

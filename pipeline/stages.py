@@ -77,6 +77,8 @@ def point_cloud(cfg: RadarConfig, proc: ProcessingConfig, range_pos: np.ndarray,
     if proc.correct_range_doppler_coupling:
         # f_beat = 2 S R / c + f_D with f_D = -2 v / lambda: undo the Doppler shift.
         rng_m = rng_m + velocity * C_MPS / (cfg.slope_hz_per_s * cfg.wavelength_m)
+    # compRangeBiasAndRxChanPhase rangeBias (`pipeline.compensation`): an exact shift.
+    rng_m = rng_m - proc.range_bias_m
     order = np.lexsort((bins["azimuth_bin"], bins["doppler_bin"], bins["range_bin"]))
     rng_m, velocity, az, el, snr_db = (x[order] for x in (rng_m, velocity, az, el, snr_db))
     bins = {k: v[order] for k, v in bins.items()}

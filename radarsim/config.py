@@ -59,7 +59,7 @@ _DEPENDENT_FIELDS = {
              "shifter_phase_error_deg", "shifter_gain_error_db", "tx_coupling_db",
              "tx_coupling_deg", "shifter_calibration_deg"),
     "mimo": ("tx_order", "n_subbands"),
-    "n_rx": ("rx_channels",),
+    "n_rx": ("rx_channels", "rx_phase_error_deg", "rx_gain_error_db"),
     "chip": ("board", "phase_shifter_bits", "adcbuf_interleaved", "tx_positions_wl",
              "rx_positions_wl", "pattern_exponent_az", "pattern_exponent_el"),
     "board": ("tx_positions_wl", "rx_positions_wl", "pattern_exponent_az",
@@ -104,7 +104,11 @@ RF_BUDGET_LIMITS = {
 }
 #: Per-Tx static errors: field -> (low, high). A gain error far below 0 dB mutes a Tx (tests
 #: use -300 dB); above +40 dB it is a typo that overflows the received power.
-TX_ERROR_LIMITS = {"tx_gain_error_db": (-400.0, 40.0), "tx_phase_error_deg": (-360.0, 360.0)}
+TX_ERROR_LIMITS = {"tx_gain_error_db": (-400.0, 40.0), "tx_phase_error_deg": (-360.0, 360.0),
+                   "rx_gain_error_db": (-400.0, 40.0), "rx_phase_error_deg": (-360.0, 360.0)}
+#: Largest board range bias, m: feed lines and internal delays of a real board amount to
+#: centimetres; beyond 10 m the value is a typo (TI's measurement searches a few bins).
+MAX_RANGE_BIAS_M = 10.0
 
 
 def _is_number(v) -> bool:
@@ -134,7 +138,7 @@ def _check_rf_budget(cfg) -> None:
         if isinstance(v, (str, bytes)) or not hasattr(v, "__len__") or \
                 not all(_is_number(x) and math.isfinite(x) and lo <= x <= hi for x in v):
             raise ValueError(f"{name}={v!r} must be a list of finite numbers in "
-                             f"[{lo:g}, {hi:g}] (one per Tx)")
+                             f"[{lo:g}, {hi:g}] (one per {name[:2].capitalize()})")
 
 
 @dataclass(frozen=True, kw_only=True, slots=True)
@@ -191,6 +195,14 @@ class RadarConfig:
         How programmed phases map to codes, see `PHASE_QUANTIZATIONS`.
     tx_phase_error_deg, tx_gain_error_db : tuple of float or None
         Static per-Tx phase and gain errors (uncalibrated shifters: > +/-10 deg).
+    rx_phase_error_deg, rx_gain_error_db : tuple of float or None
+        Static per-Rx phase and gain errors of the board (feed lines, LNA and mixer spread),
+        deg and dB; default 0. With the per-Tx errors they give virtual channel (k, r) the
+        complex gain g_k g_r that TI's ``compRangeBiasAndRxChanPhase`` corrects.
+    range_bias_m : float
+        Board range bias, m: every echo is received as if it came from R + range_bias_m (a
+        fixed delay 2 b / c of the feed lines and the synthesiser-to-mixer path, as TI's
+        ``measureRangeBiasAndRxChanPhase`` measures it); default 0.
     phase_noise_deg_rms : float
         Random per-chirp, per-Tx phase error, deg rms (independent Gaussian).
     shifter_phase_error_deg, shifter_gain_error_db : (n_tx, 2**bits) table, mapping or None
@@ -262,6 +274,9 @@ class RadarConfig:
     phase_quantization: str = "floor"
     tx_phase_error_deg: tuple[float, ...] | None = None
     tx_gain_error_db: tuple[float, ...] | None = None
+    rx_phase_error_deg: tuple[float, ...] | None = None
+    rx_gain_error_db: tuple[float, ...] | None = None
+    range_bias_m: float = 0.0
     phase_noise_deg_rms: float = 0.0
     shifter_phase_error_deg: Any = None
     shifter_gain_error_db: Any = None
@@ -419,16 +434,22 @@ class RadarConfig:
         elif not isinstance(self.n_subbands, (int, np.integer)) or self.n_subbands < 1:
             raise ValueError(f"n_subbands={self.n_subbands!r} must be an integer >= 1")
         scheme.validate(self)
-        for name in ("tx_phase_error_deg", "tx_gain_error_db"):
+        for name, n, what in (("tx_phase_error_deg", self.n_tx, "Tx"),
+                              ("tx_gain_error_db", self.n_tx, "Tx"),
+                              ("rx_phase_error_deg", self.n_rx, "Rx"),
+                              ("rx_gain_error_db", self.n_rx, "Rx")):
             val = getattr(self, name)
             if val is None:
-                _set(name, (0.0,) * self.n_tx)
+                _set(name, (0.0,) * n)
                 continue
             val = tuple(float(v) for v in val)
-            if len(val) != self.n_tx or not all(math.isfinite(v) for v in val):
-                raise ValueError(f"{name} must hold {self.n_tx} finite values (one per Tx), "
+            if len(val) != n or not all(math.isfinite(v) for v in val):
+                raise ValueError(f"{name} must hold {n} finite values (one per {what}), "
                                  f"got {val!r}")
             _set(name, val)
+        if not (math.isfinite(self.range_bias_m) and abs(self.range_bias_m) <= MAX_RANGE_BIAS_M):
+            raise ValueError(f"range_bias_m={self.range_bias_m!r} must be finite and within "
+                             f"+/-{MAX_RANGE_BIAS_M:g} m")
         self._resolve_shifter_fields(_set)
 
     def _resolve_shifter_fields(self, _set) -> None:

@@ -10,6 +10,11 @@ f_D = -2 v_r / lambda), path_sc = 2 (R_s + v_r t_c) the two-way path at chirp c,
 vector to the scatterer and phi_kc the transmit phase of Tx k at chirp c (DDMA phase code with
 its quantisation, static and random errors; in TDMA a Tx is silent outside its slot). The
 amplitude follows the radar equation (seed 000 eq. 1) with the element gain pattern.
+Board imperfections: every Tx and Rx channel has a static complex gain (`tx_gain_error_db`,
+`tx_phase_error_deg`, `rx_gain_error_db`, `rx_phase_error_deg`), so virtual channel (k, r)
+carries g_k g_r, and a range bias b delays every echo by 2 b / c (beat frequency
+2 S (R + b) / c): what TI's ``measureRangeBiasAndRxChanPhase`` measures and
+``compRangeBiasAndRxChanPhase`` corrects (`pipeline.compensation`). The default board is ideal.
 A complex (I/Q) ADC mode delivers the analytic tone A_skr exp(j(...)) instead of its real part:
 the I channel is the real receiver's sample, Q its quadrature, each with the real receiver's
 thermal noise; the image band (negative beat frequencies) is rejected, so a beat frequency f_b
@@ -104,9 +109,21 @@ def if_corner_hz(cfg: RadarConfig) -> float:
 
 
 def _beat_frequency_hz(cfg: RadarConfig, scatterers: Scatterers) -> np.ndarray:
-    """(K,) beat frequency 2 S R / c plus the fast-time Doppler shift -2 v_r / lambda, Hz."""
-    return (2 * cfg.slope_hz_per_s * scatterers.range_m / C_MPS
+    """(K,) beat frequency 2 S (R + b) / c plus the fast-time Doppler shift -2 v_r / lambda, Hz,
+    b the board's range bias (`RadarConfig.range_bias_m`, a fixed internal delay 2 b / c)."""
+    return (2 * cfg.slope_hz_per_s * (scatterers.range_m + cfg.range_bias_m) / C_MPS
             - 2 * scatterers.radial_velocity_mps / cfg.wavelength_m)
+
+
+def rx_channel_gain(cfg: RadarConfig) -> np.ndarray | None:
+    """(n_rx,) complex static gain of each Rx channel, 10^(g/20) exp(j phi)
+    (`rx_gain_error_db`, `rx_phase_error_deg`), or None for an ideal board (the frame is then
+    bit-identical to a model without Rx errors)."""
+    g = np.asarray(cfg.rx_gain_error_db, dtype=float)
+    ph = np.asarray(cfg.rx_phase_error_deg, dtype=float)
+    if not (g.any() or ph.any()):
+        return None
+    return 10 ** (g / 20) * np.exp(1j * np.radians(ph))
 
 
 def wanted_phase_deg(cfg: RadarConfig) -> tuple[np.ndarray, np.ndarray]:
@@ -470,7 +487,11 @@ def _signal(cfg: RadarConfig, sc: Scatterers, keep: np.ndarray, power_w: np.ndar
     # Antenna: +(2 pi / lambda)(t_t + r_r).u with the amplitude folded in, (T, R, K).
     ph_t = k_wave * cfg.tx_positions_m @ u.T  # (T, K)
     ph_r = k_wave * cfg.rx_positions_m @ u.T  # (R, K)
-    ant = (amp * np.exp(1j * (ph_t[:, None, :] + ph_r[None, :, :]))).astype(np.complex64)
+    ant = amp * np.exp(1j * (ph_t[:, None, :] + ph_r[None, :, :]))
+    rx_gain = rx_channel_gain(cfg)
+    if rx_gain is not None:  # board imbalance of the Rx channels (Tx: in the weights)
+        ant = ant * rx_gain[None, :, None]
+    ant = ant.astype(np.complex64)
     # Sum over Tx of transmit weight x antenna term: (C, T) @ (T, R K), then x slow time.
     m = (tx_w.T.astype(np.complex64) @ ant.reshape(n_t, n_r * n_k)).reshape(n_c, n_r, n_k)
     m *= slow
@@ -507,4 +528,4 @@ def expected_sample_snr_db(cfg: RadarConfig, scatterers: Scatterers) -> np.ndarr
 
 
 __all__ += ["saturation_fraction", "expected_sample_snr_db", "apply_transmit_errors",
-            "code_weights"]
+            "code_weights", "rx_channel_gain"]

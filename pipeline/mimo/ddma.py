@@ -21,6 +21,7 @@ from radarsim.config import RadarConfig
 
 from ..cfar import CFAR_MODES, noise_mean_factor
 from ..chirp_level.stage import range_stage
+from ..compensation import compensate
 from ..config import WINDOWS, ProcessingConfig
 from ..kernels import (array_layout, candidate_cfar, ddma_metric, doppler_fft, estimate_angles,
                        local_max_mask, parabolic_offset, window)
@@ -90,7 +91,9 @@ def ddma_maps(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) -> Ddma
     virt_h = spec.reshape(-1)[flat.reshape(-1)].reshape(tx_h.size * n_rx, n_range * n_dop)
     # Zero-padded azimuth FFT over the horizontal row as one complex GEMM.
     rows = (tx_h[:, None] * n_rx + np.arange(n_rx)).reshape(-1)
-    az_spec = array_dft(cfg, n_az, "horizontal")[rows].T @ virt_h  # (A, B*D)
+    # compRangeBiasAndRxChanPhase: the channel coefficients folded into the DFT's columns.
+    dft = compensate(cfg, proc, array_dft(cfg, n_az, "horizontal")[rows].T, rows)
+    az_spec = dft @ virt_h  # (A, B*D)
     power = power_of(az_spec, consume=True).reshape(n_az, n_range, n_dop)
     return DdmaMaps(power=power, spec=spec, energy=energy, tx1_band=tx1_band)
 
@@ -180,7 +183,7 @@ class DdmaChain(MimoChain):
         h_idx, h_pos, v_idx, v_pos, v_h = array_layout(cfg.virtual_positions_m,
                                                        cfg.wavelength_m)
         sin_term = interp_azimuth(power[:, r, d].T, a)
-        virt = ddma_virtual(cfg, maps.spec, tx1_band, r, d)
+        virt = compensate(cfg, proc, ddma_virtual(cfg, maps.spec, tx1_band, r, d))
         az, el = estimate_angles(virt, sin_term, h_idx, h_pos, v_idx, v_pos, v_h)
         snr_db = coherent_snr_db(proc, noise, peak)
         return point_cloud(cfg, proc, range_pos, velocity, az, el, snr_db,

@@ -32,6 +32,7 @@ from ..stages import (
     hypothesis_cloud,
     noncoherent_hits,
 )
+from ..compensation import compensate
 from .base import DetectionMap, DopplerAzimuth, MimoChain, register_chain
 from .ddma import doppler_velocity_mps, full_doppler_spectrum
 
@@ -73,7 +74,8 @@ def _band_samples(cfg: RadarConfig, spec: np.ndarray, r: np.ndarray,
     return spec[r[:, None], :, k]  # advanced indices first: (n, N, R)
 
 
-def assignment_scores(cfg: RadarConfig, bands: np.ndarray, n_az: int):
+def assignment_scores(cfg: RadarConfig, bands: np.ndarray, n_az: int,
+                      proc: ProcessingConfig | None = None):
     """Virtual arrays and likelihoods of the N cyclic Tx-to-sub-band assignments.
 
     Parameters
@@ -90,17 +92,20 @@ def assignment_scores(cfg: RadarConfig, bands: np.ndarray, n_az: int):
     score : (n, N) float
         Whole-array likelihood (`stages.array_likelihood`).
     """
-    virt, az_pow = _assignment_arrays(cfg, bands, n_az)
+    virt, az_pow = _assignment_arrays(cfg, bands, n_az, proc)
     _, _, v_idx, _, _ = array_layout(cfg.virtual_positions_m, cfg.wavelength_m)
     return virt, az_pow, array_likelihood(cfg, virt, az_pow, v_idx)
 
 
-def _assignment_arrays(cfg: RadarConfig, bands: np.ndarray,
-                       n_az: int) -> tuple[np.ndarray, np.ndarray]:
-    """`assignment_scores` without the likelihood: (virt, az_pow)."""
+def _assignment_arrays(cfg: RadarConfig, bands: np.ndarray, n_az: int,
+                       proc: ProcessingConfig | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """`assignment_scores` without the likelihood: (virt, az_pow), the virtual channels
+    compensated by ``proc.channel_comp`` (`pipeline.compensation`) when `proc` is given."""
     n_sb = cfg.n_subbands
     idx = (np.arange(n_sb)[:, None] + np.arange(cfg.n_tx)[None, :]) % n_sb  # (H, P)
     virt = bands[:, idx].reshape(bands.shape[0], n_sb, -1)  # (n, H, P*R)
+    if proc is not None:
+        virt = compensate(cfg, proc, virt)
     return virt, np.abs(virt @ array_dft(cfg, n_az, "horizontal")) ** 2
 
 
@@ -126,9 +131,9 @@ class ClassicDdmaChain(MimoChain):
         r, d = hits.range_bin, hits.doppler_bin
 
         bands = _band_samples(cfg, maps.spec, r, d)
-        _, _, score = assignment_scores(cfg, bands, self.score_bins)
+        _, _, score = assignment_scores(cfg, bands, self.score_bins, proc)
         best = np.argmax(score, axis=1)
-        virt, az_pow = _assignment_arrays(cfg, bands, proc.n_azimuth_bins)
+        virt, az_pow = _assignment_arrays(cfg, bands, proc.n_azimuth_bins, proc)
         k_true = d + n_dop * best
         velocity = doppler_velocity_mps(cfg, k_true + hits.doppler_offset)
         return hypothesis_cloud(cfg, proc, hits, virt, az_pow, best, velocity,
@@ -146,8 +151,8 @@ class ClassicDdmaChain(MimoChain):
         d = np.arange(n_dop)
         r = np.full(n_dop, range_bin)
         bands = _band_samples(cfg, maps.spec, r, d)
-        best = np.argmax(assignment_scores(cfg, bands, self.score_bins)[2], axis=1)
-        _, az_pow = _assignment_arrays(cfg, bands, proc.n_azimuth_bins)
+        best = np.argmax(assignment_scores(cfg, bands, self.score_bins, proc)[2], axis=1)
+        _, az_pow = _assignment_arrays(cfg, bands, proc.n_azimuth_bins, proc)
         return DopplerAzimuth(doppler_velocity_mps(cfg, d + n_dop * best),
                               az_pow[np.arange(n_dop), best])
 

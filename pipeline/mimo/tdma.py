@@ -21,6 +21,7 @@ import pandas as pd
 from radarsim.config import RadarConfig
 
 from ..chirp_level.stage import range_stage
+from ..compensation import compensate
 from ..config import WINDOWS, ProcessingConfig
 from ..kernels import array_layout, doppler_fft, window
 from ..stages import (
@@ -115,6 +116,7 @@ class SlotChain(MimoChain):
         comp = np.exp(-2j * np.pi * f_hyp[:, :, None] * np.arange(n_tx) * cfg.chirp_period_s)
         virt_h = self.separate(cfg, virt * comp[:, :, :, None]) \
             .reshape(r.size, v_hyp.shape[1], -1)  # (n, H, 16)
+        virt_h = compensate(cfg, proc, virt_h)  # compRangeBiasAndRxChanPhase, before scoring
         az_pow = np.abs(virt_h @ array_dft(cfg, n_az, "horizontal")) ** 2  # (n, H, A)
         score = array_likelihood(cfg, virt_h, az_pow, v_idx)
         best = np.argmax(np.where(valid, score, -np.inf), axis=1)
@@ -138,7 +140,7 @@ class SlotChain(MimoChain):
         vel = -d_signed / (n_dop * cfg.n_tx * tc) * lam / 2
         comp = np.exp(2j * np.pi * (2 * vel[:, None] / lam) * np.arange(cfg.n_tx) * tc)
         virt = self.separate(cfg, virt.reshape(n_dop, cfg.n_tx, cfg.n_rx) * comp[:, :, None])
-        virt = virt.reshape(n_dop, -1)
+        virt = compensate(cfg, proc, virt.reshape(n_dop, -1))
         power = np.abs(virt @ array_dft(cfg, proc.n_azimuth_bins, "horizontal")) ** 2
         return DopplerAzimuth(vel, power)
 

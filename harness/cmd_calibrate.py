@@ -1,0 +1,115 @@
+"""`radar-harness calibrate`: the SDK's ``measureRangeBiasAndRxChanPhase``, offline.
+
+    radar-harness calibrate CAPTURE --cfg PROFILE --target-range-m R [--search-window-m W]
+                            [--azimuth-deg A] [--frames N] [--write OUT.cfg]
+
+Reads a DCA1000 capture of a static reflector (a corner reflector on boresight, TI's
+procedure) recorded with PROFILE, measures the range bias and the virtual-channel coefficients
+(`pipeline.channel_calibration`) and prints the ``compRangeBiasAndRxChanPhase`` line on stdout
+(the measured range, SNR and Cramer-Rao bounds go to stderr). ``--write`` writes PROFILE with
+that line (replacing the profile's own, or added before ``sensorStart``). Processing the same
+capture with the written profile reports the reflector at R and at azimuth A.
+
+Bad input (exit 2, one line): no peak within R +/- W, a measurement below
+`pipeline.channel_calibration.MIN_CALIBRATION_SNR_DB`, a window outside the radar's range.
+"""
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+import uuid
+from pathlib import Path
+
+from .args import FRAMES, check_output_file, float_in
+
+__all__ = ["add_arguments", "run", "with_comp_line"]
+
+#: How many range bins the default search window spans on each side of R (TI: "at least the
+#: distance equivalent of a few range bins").
+DEFAULT_WINDOW_BINS = 4
+_LAYOUTS: dict[str, bool | None] = {"auto": None, "non-interleaved": False, "interleaved": True}
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("capture", type=Path, help="DCA1000 capture of a static reflector")
+    parser.add_argument("--cfg", type=Path, required=True, help="TI .cfg profile it was recorded with")
+    parser.add_argument("--target-range-m", type=float_in(0.0, 1000.0, " m"), required=True,
+                        help="true range of the reflector, m")
+    parser.add_argument("--search-window-m", type=float_in(0.0, 100.0, " m"), default=None,
+                        help="search the peak within R +/- W, m (default "
+                             f"{DEFAULT_WINDOW_BINS} range bins)")
+    parser.add_argument("--azimuth-deg", type=float_in(-90.0, 90.0, " deg"), default=0.0,
+                        help="azimuth the reflector stands at (TI's procedure: 0, boresight)")
+    parser.add_argument("--frames", type=FRAMES, default=None, help="use at most N frames")
+    parser.add_argument("--layout", choices=list(_LAYOUTS), default="auto",
+                        help="sample order; auto follows the profile's adcbufCfg")
+    parser.add_argument("--write", type=Path, default=None,
+                        help="write the profile with the measured line to this file")
+
+
+def with_comp_line(text: str, line: str) -> str:
+    """Profile text with its ``compRangeBiasAndRxChanPhase`` line(s) replaced by `line` (at
+    the first one's place), or `line` inserted before the first ``sensorStart`` (at the end
+    when there is none). Every other line is kept as it was."""
+    from pipeline.compensation import COMP_COMMAND
+    lines = text.splitlines()
+    is_comp = [ln.split()[:1] == [COMP_COMMAND] for ln in lines]
+    if any(is_comp):
+        at = is_comp.index(True)
+        lines = [ln for ln, c in zip(lines, is_comp) if not c]
+    else:
+        starts = [i for i, ln in enumerate(lines) if ln.split()[:1] == ["sensorStart"]]
+        at = starts[0] if starts else len(lines)
+    lines.insert(at, line)
+    return "\n".join(lines) + "\n"
+
+
+def _write_text(path: Path, text: str) -> None:
+    tmp = path.with_name(f".{path.name}.{os.getpid()}.{uuid.uuid4().hex}")
+    try:
+        tmp.write_text(text)
+        os.replace(tmp, path)
+    except BaseException:
+        tmp.unlink(missing_ok=True)
+        raise
+
+
+def run(args: argparse.Namespace) -> int:
+    import numpy as np
+
+    from pipeline.channel_calibration import measure_channel_calibration
+    from radarsim.capture import capture_n_frames, iter_capture
+
+    from .cmd_ti import _profile, processing_from_profile
+
+    if args.capture.is_dir():
+        raise ValueError(f"capture {str(args.capture)!r} is a directory, not a capture file")
+    if args.write is not None:
+        check_output_file(args.write, "--write")
+    profile = _profile(args.cfg)
+    cfg = profile.radar
+    proc = processing_from_profile(profile).replace(range_bias_m=0.0, channel_comp=None)
+    window = (DEFAULT_WINDOW_BINS * cfg.range_resolution_m if args.search_window_m is None
+              else args.search_window_m)
+    n_frames = capture_n_frames(args.capture, cfg)
+    if args.frames is not None:
+        n_frames = min(n_frames, args.frames)
+    frames = iter_capture(args.capture, cfg, interleaved=_LAYOUTS[args.layout],
+                          max_frames=n_frames)
+    try:
+        cal = measure_channel_calibration(cfg, frames, args.target_range_m, window, proc,
+                                          azimuth_deg=args.azimuth_deg)
+    except ValueError as exc:
+        raise ValueError(f"--target-range-m {args.target_range_m:g} --search-window-m "
+                         f"{window:g}: {exc}") from None
+    print(cal.line)
+    crb_deg = np.degrees(cal.phase_crb_rad())
+    print(f"note: reflector at {cal.measured_range_m:.4f} m (bin {cal.range_bin}), range bias "
+          f"{cal.range_bias_m:+.4f} m (CRB {cal.range_crb_m(cfg.range_resolution_m):.2g} m), "
+          f"{cal.n_frames} frame(s), SNR per channel and frame {cal.snr_db.min():.1f}.."
+          f"{cal.snr_db.max():.1f} dB, phase CRB <= {crb_deg.max():.2g} deg", file=sys.stderr)
+    if args.write is not None:
+        _write_text(args.write, with_comp_line(Path(args.cfg).read_text(), cal.line))
+        print(f"note: profile with the measured line -> {args.write}", file=sys.stderr)
+    return 0

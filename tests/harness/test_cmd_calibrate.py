@@ -1,0 +1,54 @@
+"""`radar-harness calibrate` end to end on a simulated IWR6843 capture with a known board."""
+import numpy as np
+import pytest
+
+import radarsim
+from harness.cli import main
+from harness.cmd_calibrate import with_comp_line
+from radarsim.capture import write_capture
+from tests.pipeline.test_channel_calibration import BIAS_M, _board, _frames
+from tests.radarsim.profiles import PROFILE_DIR
+
+PROFILE = PROFILE_DIR / "xwr68_aop.cfg"
+
+
+@pytest.fixture(scope="module")
+def capture(tmp_path_factory):
+    from radarsim.ti_cfg import parse_ti_cfg
+    cfg = parse_ti_cfg(PROFILE).radar
+    r = 40 * cfg.range_resolution_m - BIAS_M
+    path = tmp_path_factory.mktemp("cal") / "reflector.bin"
+    write_capture(path, _frames(_board(cfg), r, 0.0, 1e-4, 3, 7), cfg=cfg)
+    return path, r
+
+
+def test_prints_the_line_and_writes_the_profile(capture, tmp_path, capsys):
+    path, r = capture
+    out = tmp_path / "calibrated.cfg"
+    assert main(["calibrate", str(path), "--cfg", str(PROFILE), "--target-range-m", f"{r}",
+                 "--write", str(out)]) == 0
+    line = capsys.readouterr().out.splitlines()[0]
+    assert line.startswith("compRangeBiasAndRxChanPhase ")
+    values = [float(v) for v in line.split()[1:]]
+    assert len(values) == 1 + 2 * 12 and abs(values[0] - BIAS_M) < 2e-3
+    text = out.read_text().splitlines()
+    assert line in text
+    assert sum(ln.startswith("compRangeBiasAndRxChanPhase") for ln in text) == 1
+    assert len(text) == len(PROFILE.read_text().splitlines())
+
+
+def test_no_target_in_window_exits_2_with_one_line(capture, capsys):
+    path, r = capture
+    assert main(["calibrate", str(path), "--cfg", str(PROFILE), "--target-range-m", "4.0",
+                 "--search-window-m", "0.2"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1
+    assert err[0].startswith("radar-harness calibrate: error: --target-range-m 4 "
+                             "--search-window-m 0.2: target too weak or absent")
+    assert "below the limit 20 dB" in err[0]
+
+
+def test_comp_line_goes_before_sensor_start_when_absent():
+    text = "flushCfg\nchannelCfg 15 7 0\nsensorStart\n"
+    assert with_comp_line(text, "compRangeBiasAndRxChanPhase 0.0 1 0") == \
+        "flushCfg\nchannelCfg 15 7 0\ncompRangeBiasAndRxChanPhase 0.0 1 0\nsensorStart\n"
