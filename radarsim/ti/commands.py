@@ -7,6 +7,7 @@ from types import MappingProxyType
 from typing import Callable, Mapping
 
 from . import handlers as h
+from .calibration import comp_range_bias_and_rx_chan_phase
 from .state import ParseState
 from .syntax import Line
 
@@ -34,10 +35,6 @@ def _spec(n_args, handler, help_text) -> CommandSpec:
     elif n_args is not None:
         n_args = frozenset(n_args)
     return CommandSpec(n_args, handler, help_text)
-
-
-def _odd_counts(lo: int, hi: int) -> range:
-    return range(lo, hi + 1, 2)
 
 
 #: Registry of the CLI commands the parser knows, by name (case-sensitive, as TI's CLI).
@@ -81,8 +78,8 @@ TI_COMMANDS: dict[str, CommandSpec] = {
     "clutterRemoval": _spec({1, 2}, None, "static clutter removal"),
     "extendedMaxVelocity": _spec({1, 2}, None, "extended velocity"),
     "nearFieldCfg": _spec({4}, None, "near-field correction"),
-    # 1 range bias + (re, im) per virtual antenna, any Tx x Rx size.
-    "compRangeBiasAndRxChanPhase": _spec(_odd_counts(3, 1 + 2 * 16), None,
+    # 1 range bias + (re, im) per chip Tx x Rx pair: the count is the chip's (handler).
+    "compRangeBiasAndRxChanPhase": _spec(None, comp_range_bias_and_rx_chan_phase,
                                          "range bias and channel phase compensation"),
     "measureRangeBiasAndRxChanPhase": _spec({3}, None, "calibration measurement"),
     "antennaCalibParams": _spec(range(2, 33, 2), None, "antenna calibration"),

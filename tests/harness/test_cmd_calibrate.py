@@ -14,7 +14,7 @@ PROFILE = PROFILE_DIR / "xwr68_aop.cfg"
 
 @pytest.fixture(scope="module")
 def capture(tmp_path_factory):
-    from radarsim.ti_cfg import parse_ti_cfg
+    from radarsim.ti import parse_ti_cfg
     cfg = parse_ti_cfg(PROFILE).radar
     r = 40 * cfg.range_resolution_m - BIAS_M
     path = tmp_path_factory.mktemp("cal") / "reflector.bin"
@@ -52,3 +52,35 @@ def test_comp_line_goes_before_sensor_start_when_absent():
     text = "flushCfg\nchannelCfg 15 7 0\nsensorStart\n"
     assert with_comp_line(text, "compRangeBiasAndRxChanPhase 0.0 1 0") == \
         "flushCfg\nchannelCfg 15 7 0\ncompRangeBiasAndRxChanPhase 0.0 1 0\nsensorStart\n"
+
+
+def test_processing_with_the_written_profile_puts_the_reflector_at_r(capture, tmp_path):
+    """The loop a lab runs: calibrate, then process the same capture with the written
+    profile: the static reflector at R (CRB of 3 frames at about 33 dB: 0.2 mm; 1 mm allowed),
+    on boresight within a quarter of the 48-point azimuth grid, and static (extension on)."""
+    import pandas as pd
+    path, r = capture
+    prof = tmp_path / "calibrated.cfg"
+    assert main(["calibrate", str(path), "--cfg", str(PROFILE), "--target-range-m", f"{r}",
+                 "--write", str(prof)]) == 0
+    out = tmp_path / "points.csv"
+    assert main(["process", str(path), "--cfg", str(prof), "--out", str(out), "--no-track"]) == 0
+    pc = pd.read_csv(out)
+    best = pc.loc[pc.groupby("frame").snr_db.idxmax()]
+    assert np.all(np.abs(best.range_m - r) < 1e-3)
+    assert np.all(np.abs(best.azimuth_deg) < np.degrees(np.arcsin(2 / 48)) / 4)
+    assert np.all(np.abs(best.radial_velocity_mps) < 0.1)  # Vmax 1.62 m/s: never 2 Vmax
+
+
+def test_wrong_coefficient_count_exits_2(capture, tmp_path, capsys):
+    path, _ = capture
+    text = PROFILE.read_text().replace(
+        "compRangeBiasAndRxChanPhase 0.0 1 0 -1 0 1 0 -1 0 1 0 -1 0 1 0 -1 0 1 0 -1 0 1 0 -1 0",
+        "compRangeBiasAndRxChanPhase 0.0 1 0 1 0 1 0 1 0 1 0 1 0 1 0 1 0")
+    bad = tmp_path / "bad.cfg"
+    bad.write_text(text)
+    assert main(["process", str(path), "--cfg", str(bad), "--out", str(tmp_path / "p.csv"),
+                 "--no-track"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "compRangeBiasAndRxChanPhase" in err[0]
+    assert "17 values; the IWR6843 needs 25" in err[0]

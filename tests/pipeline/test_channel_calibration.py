@@ -27,7 +27,7 @@ def x68():
     """IWR6843 3-Tx TDM profile (TI Visualizer, SDK 3.5: 48 chirps, 240 complex samples) and
     its processing (the profile's own CFAR, no compression)."""
     from harness.cmd_ti import processing_from_profile
-    from radarsim.ti_cfg import parse_ti_cfg
+    from radarsim.ti import parse_ti_cfg
     prof = parse_ti_cfg(profile_text("xwr68_aop"))
     return prof.radar, processing_from_profile(prof).replace(compression=False)
 

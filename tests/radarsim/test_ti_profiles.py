@@ -179,13 +179,16 @@ def test_hand_values_of_the_xwr18xx_profile_in_numbers():
 
 def test_ignored_commands_and_notes_are_reported():
     prof = parse_ti_cfg(XWR68_PEOPLE_COUNTING)
-    assert {"dynamicRACfarCfg", "trackingCfg", "sensorPosition", "antGeometry0",
-            "compRangeBiasAndRxChanPhase"} <= set(prof.ignored_commands)
+    assert {"dynamicRACfarCfg", "trackingCfg", "sensorPosition", "antGeometry0"} \
+        <= set(prof.ignored_commands)
+    # compRangeBiasAndRxChanPhase is applied (pipeline.compensation), not ignored.
+    assert "compRangeBiasAndRxChanPhase" not in prof.ignored_commands
+    assert prof.chirp_level["channel_comp"][:2] == ((1.0, 0.0), (-1.0, 0.0))
     assert any("chirps [3]" in n for n in prof.notes)
     assert any("profiles [1]" in n for n in prof.notes)
     prof = parse_ti_cfg(XWR18_VISUALIZER)
-    assert {"bpmCfg", "lvdsStreamCfg", "CQRxSatMonitor", "calibDcRangeSig",
-            "compRangeBiasAndRxChanPhase"} <= set(prof.ignored_commands)
+    assert {"bpmCfg", "lvdsStreamCfg", "CQRxSatMonitor", "calibDcRangeSig"} \
+        <= set(prof.ignored_commands)
     assert prof.lvds_stream == (False, 1, False)
 
 
