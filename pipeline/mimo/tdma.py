@@ -7,6 +7,14 @@ separation (`SlotChain.separate`: identity for TDMA, Hadamard decoding for BPM) 
 hypothesis with the largest whole-array likelihood wins (section 4) -> the same angle
 estimation as DDMA.
 
+The hypotheses are scored on the virtual samples after the board's channel correction
+(``compRangeBiasAndRxChanPhase``, `pipeline.compensation`): on a 3-Tx xWR68xx/18xx array the
+raised Tx's slot phase is absorbed by the free elevation phase, and only the phase step between
+the horizontal row's two Tx groups separates hypothesis k (step 120 k deg) from the truth (0),
+so an uncorrected Tx-to-Tx phase error beyond 60 deg makes a wrong hypothesis win and moves
+static returns to +/-2 Vmax (the real IWR6843's symptom; tests/pipeline/
+test_velocity_extension_board.py).
+
 References
 ----------
 .. [1] TI, AWR1642 TDM-MIMO velocity disambiguation (seed 001): eq. 8-12, section 4.

@@ -25,11 +25,13 @@ BIAS_M = 0.07
 @pytest.fixture(scope="module")
 def x68():
     """IWR6843 3-Tx TDM profile (TI Visualizer, SDK 3.5: 48 chirps, 240 complex samples) and
-    its processing (the profile's own CFAR, no compression)."""
+    its processing (the profile's own CFAR, no compression, without the profile's own
+    compRangeBiasAndRxChanPhase: the board here is uncalibrated)."""
     from harness.cmd_ti import processing_from_profile
     from radarsim.ti import parse_ti_cfg
     prof = parse_ti_cfg(profile_text("xwr68_aop"))
-    return prof.radar, processing_from_profile(prof).replace(compression=False)
+    return prof.radar, processing_from_profile(prof).replace(compression=False, range_bias_m=0.0,
+                                                             channel_comp=None)
 
 
 def _board(cfg):
