@@ -115,51 +115,81 @@ def processing_from_profile(profile, notes: list[str] | None = None):
 
 def process_capture(capture, profile, proc=None, *, interleaved: bool | None = None,
                     max_frames: int | None = None) -> pd.DataFrame:
-    """Point cloud of every frame of a capture: `frame`, `time_s`, then the chain's columns.
+    """Point cloud of every frame of a capture: `frame` (and `subframe` for an advanced-frame
+    profile), `time_s`, then the chain's columns.
 
     Parameters
     ----------
     capture : path-like
-        DCA1000 capture (`radarsim.capture` layout).
+        DCA1000 capture (`radarsim.capture` layout; sub-frames back to back,
+        `radarsim.subframe_capture`).
     profile : radarsim.ti.TiProfile
-        The profile it was recorded with (frame time = frame index x frame period).
-    proc : pipeline.ProcessingConfig, optional
-        Default `processing_from_profile(profile)`.
+        The profile it was recorded with (frame time = frame index x frame period + the
+        sub-frame's start).
+    proc : pipeline.ProcessingConfig or sequence of them, optional
+        One per sub-frame (or one for all); default `processing_from_profile` of each.
     """
     import pipeline
-    from radarsim.capture import iter_capture
+    from radarsim.subframe_capture import iter_subframes
 
-    cfg = profile.radar
-    proc = processing_from_profile(profile) if proc is None else proc
+    parts = profile.parts
+    if proc is None:
+        procs = [processing_from_profile(p) for p in parts]
+    elif isinstance(proc, (list, tuple)):
+        procs = list(proc)
+    else:
+        procs = [proc] * len(parts)
     tables = []
-    for f, adc in enumerate(iter_capture(capture, cfg, interleaved=interleaved,
-                                         max_frames=max_frames)):
-        pc = pipeline.process_frame(cfg, adc, proc).reset_index(drop=True)
-        pc.insert(0, "frame", np.full(len(pc), f, dtype=np.int64))
-        pc.insert(1, "time_s", np.full(len(pc), f * profile.frame_period_s))
+    for sf in iter_subframes(capture, profile, interleaved=interleaved, max_frames=max_frames):
+        part = parts[sf.subframe]
+        pc = pipeline.process_frame(part.radar, sf.adc, procs[sf.subframe]).reset_index(drop=True)
+        pc.insert(0, "frame", np.full(len(pc), sf.frame, dtype=np.int64))
+        if profile.is_advanced:
+            pc.insert(1, "subframe", np.full(len(pc), sf.subframe, dtype=np.int64))
+        pc.insert(pc.columns.get_loc("frame") + 1 + profile.is_advanced, "time_s",
+                  np.full(len(pc), sf.frame * profile.frame_period_s + part.subframe_start_s))
         tables.append(pc)
     return pd.concat(tables, ignore_index=True)
 
 
 def _profile(path: Path):
-    """`parse_ti_cfg` with the file's own problems (a directory, binary data) as bad input."""
+    """`parse_ti_cfg` with the file's own problems (a directory) as bad input."""
     from radarsim.ti import parse_ti_cfg
     if Path(path).is_dir():
         raise ValueError(f"--cfg {str(path)!r} is a directory, not a TI .cfg profile")
-    try:
-        profile = parse_ti_cfg(path)
-    except UnicodeDecodeError:
-        raise ValueError(f"--cfg {str(path)!r}: not a text file (a TI .cfg profile is text)") \
-            from None
-    return profile
+    return parse_ti_cfg(path)  # a file that is not UTF-8 text: ValueError naming it
 
 
 def _track(points: pd.DataFrame, profile, n_frames: int) -> pd.DataFrame:
+    """Tracks of the point cloud; an advanced frame's sub-frames are tracked separately (each
+    sees its own range span and waveform) and the table gets a `subframe` column."""
     from pipeline import tracking as trk
-    clouds = [(f * profile.frame_period_s,
-               points[points["frame"] == f].drop(columns=["frame", "time_s"])
-               .reset_index(drop=True)) for f in range(n_frames)]
-    return trk.track_frames(clouds, trk.TrackerConfig(frame_period_s=profile.frame_period_s))
+    tables = []
+    for part in profile.parts:
+        rows = points if not profile.is_advanced else \
+            points[points["subframe"] == part.subframe_index].drop(columns=["subframe"])
+        clouds = [(f * profile.frame_period_s + part.subframe_start_s,
+                   rows[rows["frame"] == f].drop(columns=["frame", "time_s"])
+                   .reset_index(drop=True)) for f in range(n_frames)]
+        tracks = trk.track_frames(clouds, trk.TrackerConfig(frame_period_s=profile.frame_period_s))
+        if profile.is_advanced:
+            tracks.insert(1, "subframe", np.full(len(tracks), part.subframe_index, dtype=np.int64))
+        tables.append(tracks)
+    return pd.concat(tables, ignore_index=True) if len(tables) > 1 else tables[0]
+
+
+def _layout_notes(layout: str, profile) -> list[str]:
+    """A ``--layout`` that contradicts the profile's ``adcbufCfg`` ChanInterleave is obeyed
+    (a recording made with another buffer setting) but said."""
+    forced = _LAYOUTS[layout]
+    own = profile.radar.adcbuf_interleaved
+    if forced is None or forced == own:
+        return []
+    line = profile.command_lines.get("adcbufCfg")
+    said = (f"line {line} (adcbufCfg ChanInterleave={0 if own else 1})" if line else
+            f"the {profile.radar.chip} demo's default (no adcbufCfg)")
+    return [f"--layout {layout} contradicts {said}, which means "
+            f"{'interleaved' if own else 'non-interleaved'}; the capture is read {layout}"]
 
 
 # ---------------------------------------------------------------------------- process
@@ -192,13 +222,21 @@ def run_process(args: argparse.Namespace) -> int:
     check_output_file(out, "--out")
     if args.tracks is not None:
         check_output_file(args.tracks, "--tracks")
-    n_frames = capture_n_frames(args.capture, profile.radar)
+    if profile.is_advanced:
+        from radarsim.subframe_capture import capture_n_advanced_frames
+        n_frames = capture_n_advanced_frames(args.capture, profile)
+    else:
+        n_frames = capture_n_frames(args.capture, profile.radar)
     n_frames = n_frames if args.frames is None else min(n_frames, args.frames)
-    notes: list[str] = []
-    proc = processing_from_profile(profile, notes)
-    for note in notes:
-        print(f"note: {note}", file=sys.stderr)
-    points = process_capture(args.capture, profile, proc,
+    procs = []
+    for part in profile.parts:
+        notes: list[str] = []
+        procs.append(processing_from_profile(part, notes))
+        notes += _layout_notes(args.layout, part)
+        where = f"sub-frame {part.subframe_index}: " if profile.is_advanced else ""
+        for note in notes:
+            print(f"note: {where}{note}", file=sys.stderr)
+    points = process_capture(args.capture, profile, procs,
                              interleaved=_LAYOUTS[args.layout],
                              max_frames=n_frames)
     write_table(points, out)

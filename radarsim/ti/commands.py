@@ -16,25 +16,59 @@ __all__ = ["CommandSpec", "TI_COMMANDS", "MODELLED_COMMANDS"]
 
 @dataclass(frozen=True, slots=True)
 class CommandSpec:
-    """One CLI command: accepted argument counts (None: not checked; a mapping: per chip, with
-    the key None for the others), handler (None: kept and reported as ignored), description."""
+    """One CLI command.
+
+    Attributes
+    ----------
+    n_args : frozenset of int, mapping or None
+        Accepted argument counts (None: not checked; a mapping: per chip, key None for the
+        others).
+    handler : callable or None
+        Models the command (None: kept and reported as ignored).
+    help : str
+    subframe_counts : frozenset of int or mapping
+        Argument counts whose first argument is ``subFrameIdx`` (-1: every sub-frame); a
+        mapping: per chip, as `n_args`.
+    key_args : int or None
+        The command configures one thing: a second line with the same first `key_args`
+        arguments (and sub-frame) is a duplicate, refused (TI's CLI silently keeps the last).
+        None: the command may repeat (chirpCfg, monitors, demo output).
+    """
 
     n_args: frozenset[int] | Mapping[str | None, frozenset[int]] | None
     handler: Callable[[ParseState, Line], None] | None
     help: str
+    subframe_counts: frozenset[int] | Mapping[str | None, frozenset[int]] = frozenset()
+    key_args: int | None = None
 
     def counts(self, chip: str) -> frozenset[int] | None:
         if isinstance(self.n_args, Mapping):
             return self.n_args.get(chip, self.n_args[None])
         return self.n_args
 
+    def has_subframe(self, line: Line, chip: str) -> bool:
+        """Whether the line's first argument is its ``subFrameIdx`` (for that chip's demo)."""
+        counts = self.subframe_counts
+        if isinstance(counts, Mapping):
+            counts = counts.get(chip, counts[None])
+        return len(line.args) in counts
 
-def _spec(n_args, handler, help_text) -> CommandSpec:
+    def instance_key(self, line: Line, chip: str) -> tuple | None:
+        """What the line configures (duplicates share it), or None if it may repeat."""
+        if self.key_args is None:
+            return None
+        n = self.key_args + (1 if self.has_subframe(line, chip) else 0)
+        return (line.cmd, *line.args[:n])
+
+
+def _counts(n_args):
     if isinstance(n_args, Mapping):
-        n_args = MappingProxyType({k: frozenset(v) for k, v in n_args.items()})
-    elif n_args is not None:
-        n_args = frozenset(n_args)
-    return CommandSpec(n_args, handler, help_text)
+        return MappingProxyType({k: frozenset(v) for k, v in n_args.items()})
+    return None if n_args is None else frozenset(n_args)
+
+
+def _spec(n_args, handler, help_text, *, sub=(), key=None) -> CommandSpec:
+    return CommandSpec(_counts(n_args), handler, help_text, _counts(sub), key)
 
 
 #: Registry of the CLI commands the parser knows, by name (case-sensitive, as TI's CLI).
@@ -45,24 +79,28 @@ TI_COMMANDS: dict[str, CommandSpec] = {
     "sensorStop": _spec({0, 1}, h.control, "stop the sensor"),
     "sensorStart": _spec({0, 1, 4}, h.control, "start the sensor"),
     "flushCfg": _spec({0}, h.flush_cfg, "reset the configuration"),
-    "dfeDataOutputMode": _spec({1}, h.dfe_output_mode, "1 frame mode"),
-    "channelCfg": _spec({3, 5}, h.channel_cfg, "Rx/Tx enable masks"),
-    "adcCfg": _spec({2}, h.adc_cfg, "ADC bits and output format"),
-    "adcbufCfg": _spec({4, 5}, h.adcbuf_cfg, "ADC buffer format and interleaving"),
+    "dfeDataOutputMode": _spec({1}, h.dfe_output_mode, "1 frame, 3 advanced frame", key=0),
+    "channelCfg": _spec({3, 5}, h.channel_cfg, "Rx/Tx enable masks", key=0),
+    "adcCfg": _spec({2}, h.adc_cfg, "ADC bits and output format", key=0),
+    "adcbufCfg": _spec({4, 5}, h.adcbuf_cfg, "ADC buffer format and interleaving",
+                       sub={5}, key=0),
     "profileCfg": _spec({14}, h.profile_cfg, "chirp profile"),
     "chirpCfg": _spec({8}, h.chirp_cfg, "chirp table entries"),
-    "frameCfg": _spec({7, 8}, h.frame_cfg, "frame: chirps, loops, period"),
+    "frameCfg": _spec({7, 8}, h.frame_cfg, "frame: chirps, loops, period", key=0),
     "ddmPhaseShiftAntOrder": _spec({"AWR1843": {3}, "IWR6843": {3}, "AWR1642": {2},
-                                    None: {4}}, h.ddm_order, "DDMA Tx order"),
+                                    None: {4}}, h.ddm_order, "DDMA Tx order", key=0),
     "antGeometryCfg": _spec({None: {34}, "AWR1843": {26}, "IWR6843": {26}, "AWR1642": {18}},
-                            h.ant_geometry_cfg, "virtual array geometry"),
-    "cfarCfg": _spec(None, h.cfar_cfg, "CFAR settings (counts: CFAR_ARGS)"),
-    "lvdsStreamCfg": _spec({4}, h.lvds_stream_cfg, "LVDS streaming (raw capture)"),
-    "bpmCfg": _spec({4}, h.bpm_cfg, "BPM MIMO (2 Tx Hadamard)"),
+                            h.ant_geometry_cfg, "virtual array geometry", key=0),
+    "cfarCfg": _spec(None, h.cfar_cfg, "CFAR settings (counts: CFAR_ARGS)",
+                     sub={n: {8, 11} | c for n, c in h.CFAR_ARGS.items()}, key=1),
+    "lvdsStreamCfg": _spec({4}, h.lvds_stream_cfg, "LVDS streaming (raw capture)", sub={4},
+                           key=0),
+    "bpmCfg": _spec({4}, h.bpm_cfg, "BPM MIMO (2 Tx Hadamard)", sub={4}, key=0),
     # --- known but not representable
-    "advFrameCfg": _spec(None, h.unsupported("advanced frames (sub-frames)"), "advanced frame"),
-    "subFrameCfg": _spec(None, h.unsupported("advanced frames (sub-frames)"), "sub-frame"),
-    "subDataFrameCfg": _spec(None, h.unsupported("advanced frames (sub-frames)"), "sub-frame"),
+    # Advanced frames: read by radarsim.ti.advanced before the per-sub-frame passes.
+    "advFrameCfg": _spec({5, 6}, h.control, "advanced frame", key=0),
+    "subFrameCfg": _spec({10}, h.control, "sub-frame chirps, loops, period", key=1),
+    "subDataFrameCfg": _spec({4}, h.control, "sub-frame data (MCU+ SDK)", key=1),
     "advChirpCfg": _spec(None, h.unsupported("advanced chirp LUTs"), "advanced chirp"),
     "LUTDataCfg": _spec(None, h.unsupported("advanced chirp LUTs"), "advanced chirp LUT"),
     "contModeCfg": _spec(None, h.unsupported("continuous-wave mode"), "continuous mode"),
@@ -70,28 +108,32 @@ TI_COMMANDS: dict[str, CommandSpec] = {
     # --- kept and reported as ignored (SDK demo, monitoring, dither, calibration, tracker)
     "version": _spec({0}, None, "print versions"),
     "lowPower": _spec({2}, None, "low-power ADC mode"),
-    "guiMonitor": _spec(None, None, "UART output selection (differs per demo and lab)"),
-    "aoaFovCfg": _spec({4, 5}, None, "angle field of view"),
-    "cfarFovCfg": _spec({3, 4}, None, "CFAR field of view"),
-    "multiObjBeamForming": _spec({2, 3}, None, "multi-object beamforming"),
-    "calibDcRangeSig": _spec({4, 5}, None, "DC range signature calibration"),
-    "clutterRemoval": _spec({1, 2}, None, "static clutter removal"),
-    "extendedMaxVelocity": _spec({1, 2}, None, "extended velocity"),
+    "guiMonitor": _spec(None, None, "UART output selection (differs per demo and lab)",
+                        sub={7}),
+    "aoaFovCfg": _spec({4, 5}, None, "angle field of view", sub={5}, key=0),
+    "cfarFovCfg": _spec({3, 4}, None, "CFAR field of view", sub={4}, key=1),
+    "multiObjBeamForming": _spec({2, 3}, None, "multi-object beamforming", sub={3}, key=0),
+    "calibDcRangeSig": _spec({4, 5}, None, "DC range signature calibration", sub={5},
+                             key=0),
+    "clutterRemoval": _spec({1, 2}, None, "static clutter removal", sub={2}, key=0),
+    "extendedMaxVelocity": _spec({1, 2}, None, "extended velocity", sub={2}, key=0),
     "nearFieldCfg": _spec({4}, None, "near-field correction"),
     # 1 range bias + (re, im) per chip Tx x Rx pair: the count is the chip's (handler).
     "compRangeBiasAndRxChanPhase": _spec(None, comp_range_bias_and_rx_chan_phase,
-                                         "range bias and channel phase compensation"),
-    "measureRangeBiasAndRxChanPhase": _spec({3}, None, "calibration measurement"),
+                                         "range bias and channel phase compensation", key=0),
+    "measureRangeBiasAndRxChanPhase": _spec({3}, None, "calibration measurement", key=0),
     "antennaCalibParams": _spec(range(2, 33, 2), None, "antenna calibration"),
-    "CQRxSatMonitor": _spec({5}, None, "Rx saturation monitor"),
+    "CQRxSatMonitor": _spec({5}, None, "Rx saturation monitor", key=1),
     "CQSigImgMonitor": _spec({3}, None, "signal/image band monitor"),
     "analogMonitor": _spec({None: {2}, "AWR2544": {3}}, None, "analog monitors"),
     "configDataPort": _spec({2}, None, "data UART"),
     "queryDemoStatus": _spec({0}, None, "status query"),
     "calibData": _spec({3}, None, "calibration data save/restore"),
-    "compressionCfg": _spec({5}, h.compression_cfg, "DDM demo compression (EGE)"),
-    "intfMitigCfg": _spec({3}, h.intf_mitig_cfg, "interference mitigation thresholds"),
-    "localMaxCfg": _spec({3}, None, "local-maximum thresholds"),
+    "compressionCfg": _spec({5}, h.compression_cfg, "DDM demo compression (EGE)", sub={5},
+                            key=0),
+    "intfMitigCfg": _spec({3}, h.intf_mitig_cfg, "interference mitigation thresholds",
+                          sub={3}, key=0),
+    "localMaxCfg": _spec({3}, None, "local-maximum thresholds", sub={3}, key=0),
     "rangeProcCfg": _spec(None, None, "range processing"),
     "procChain": _spec(None, None, "processing chain"),
     "procChainCfg": _spec(None, None, "processing chain"),

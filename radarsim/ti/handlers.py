@@ -13,10 +13,17 @@ from .state import ParseState
 from .syntax import Line, LineError, channel_bits
 
 def dfe_output_mode(st: ParseState, ln: Line) -> None:
+    """``dfeDataOutputMode <modeType>``: 1 frame, 3 advanced frame (sub-frames, read by
+    `radarsim.ti.advanced`); 2 continuous and 4/5 advanced chirp have no RadarConfig."""
     mode = ln.int(0, "modeType", 1, 5)
-    if mode != 1:
-        raise ln.fail(f"modeType={mode}: only 1 (frame mode) is supported; advanced frame, "
+    if mode == 3 and not st.advanced:
+        raise ln.fail("modeType=3 (advanced frame) needs an advFrameCfg and a subFrameCfg per "
+                      "sub-frame")
+    if mode not in (1, 3):
+        raise ln.fail(f"modeType={mode}: only 1 (frame) and 3 (advanced frame) are supported; "
                       "continuous and advanced-chirp modes have no RadarConfig equivalent")
+    if mode == 1 and st.advanced:
+        raise ln.fail("modeType=1 (frame mode) contradicts advFrameCfg: use 3")
 
 
 def channel_cfg(st: ParseState, ln: Line) -> None:
@@ -258,7 +265,7 @@ def compression_cfg(st: ParseState, ln: Line) -> None:
 def flush_cfg(st: ParseState, ln: Line) -> None:
     # TI's flushCfg resets the configuration given so far; ignored-command records are kept.
     keep = (st.ignored, st.notes, st.directives, st.directive_lines)
-    fresh = ParseState(chip=st.chip)
+    fresh = ParseState(chip=st.chip, subframe=st.subframe, advanced=st.advanced)
     for f in dataclasses.fields(ParseState):
         setattr(st, f.name, getattr(fresh, f.name))
     st.ignored, st.notes, st.directives, st.directive_lines = keep

@@ -84,13 +84,26 @@ class TiCfar:
                 raise ValueError(f"os_rank={self.os_rank!r}: OS-CFAR needs 1 <= k <= 2 x "
                                  f"window_cells = {2 * self.window_cells}")
 
-    def to_cli(self) -> str:
-        """The ``cfarCfg`` line in the R79 demo's 11-argument syntax."""
+    def to_cli(self, *, sdk3: bool = False) -> str:
+        """The ``cfarCfg`` line: the R79 / MCU+ SDK demo's 11-argument syntax, or with `sdk3`
+        the mmWave SDK 3.x demos' 9 arguments (which have no OS-CFAR).
+
+        Raises
+        ------
+        ValueError
+            If `sdk3` and the mode needs ``osKvalue``.
+        """
         code = cfar_code(self.mode)
         direction = {v: k for k, v in CFAR_DIRECTIONS.items()}[self.direction]
-        return (f"cfarCfg -1 {direction} {code} {self.window_cells} {self.guard_cells} "
+        head = (f"cfarCfg -1 {direction} {code} {self.window_cells} {self.guard_cells} "
                 f"{self.noise_div_shift} {int(self.cyclic)} {fmt_decimal(self.threshold_db)} "
-                f"{int(self.peak_grouping)} {self.os_rank or 0} {int(self.os_edge_k_scale)}")
+                f"{int(self.peak_grouping)}")
+        if sdk3:
+            if self.mode in CFAR_RANKED_MODES:
+                raise ValueError(f"mode={self.mode!r}: the mmWave SDK 3.x cfarCfg (9 arguments) "
+                                 "has no OS-CFAR (osKvalue)")
+            return head
+        return f"{head} {self.os_rank or 0} {int(self.os_edge_k_scale)}"
 
 
 @dataclass(frozen=True, kw_only=True, slots=True)
@@ -134,6 +147,18 @@ class TiProfile:
         How the chip was found, defaults taken, chirps/profiles/Tx defined but unused.
     directives : dict
         Fields set by ``% radarsim:`` comments.
+    subframes : tuple of TiProfile
+        Advanced frames (``dfeDataOutputMode 3``): one profile per sub-frame, each with its
+        own radar, CFAR and processing commands (the top-level fields are sub-frame 0's);
+        empty in frame mode.
+    subframe_index : int or None
+        Which sub-frame this profile is (None: a whole frame).
+    subframe_start_s : float
+        Start of the sub-frame within the frame, s (the earlier sub-frames' periodicities).
+    burst_period_s, subframe_period_s : float or None
+        ``subFrameCfg`` burstPeriodicity and subFramePeriodicity, s (sub-frames only).
+    command_lines : dict of str to int
+        Line number of each modelled command read (the last one), for notes that cite it.
     """
 
     radar: RadarConfig
@@ -151,6 +176,22 @@ class TiProfile:
     ignored: tuple[tuple[int, str], ...] = ()
     notes: tuple[str, ...] = ()
     directives: dict[str, Any] = dataclasses.field(default_factory=dict)
+    subframes: tuple["TiProfile", ...] = ()
+    subframe_index: int | None = None
+    subframe_start_s: float = 0.0
+    command_lines: dict[str, int] = dataclasses.field(default_factory=dict, compare=False)
+    burst_period_s: float | None = None
+    subframe_period_s: float | None = None
+
+    @property
+    def is_advanced(self) -> bool:
+        """True for an advanced-frame profile (several sub-frames, `subframes`)."""
+        return bool(self.subframes)
+
+    @property
+    def parts(self) -> tuple["TiProfile", ...]:
+        """The sub-frame profiles, or (self,) for a frame-mode profile."""
+        return self.subframes or (self,)
 
     @property
     def ignored_commands(self) -> list[str]:

@@ -6,11 +6,14 @@ import difflib
 import json
 import os
 import re
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Mapping
 
-from ..chips import get_chip
+from ..chips import Chip, get_chip
 from ..config import RadarConfig
+from . import advanced
+from .advanced import MAX_SUBFRAMES
 from .chip_inference import infer_chip
 from .commands import MODELLED_COMMANDS, TI_COMMANDS
 from .profile import TiProfile
@@ -18,23 +21,52 @@ from .schedule import frame_masks, schedule
 from .state import TI_DEFAULT_OVERRIDES, TI_FIELDS, ParseState
 from .syntax import DIRECTIVE_RE, Line, LineError, as_tuples
 
-__all__ = ["parse_ti_cfg", "from_ti_cfg"]
+__all__ = ["parse_ti_cfg", "from_ti_cfg", "MAX_PROFILE_BYTES"]
+
+
+#: Largest profile read, bytes. A TI CLI profile is a few kB (the demos' CLI reads lines of
+#: at most 256 characters over a 115200 baud UART); a bigger file is not a profile.
+MAX_PROFILE_BYTES = 4 * 2**20
+#: Distinct unknown command names for which close matches to the modelled commands are sought
+#: (difflib costs ~50 us a name); further unknown names are only counted.
+MAX_SUGGESTIONS = 64
+#: Unknown commands listed by line in the notes; the rest are counted in one note.
+MAX_UNKNOWN_NOTES = 20
 
 
 def _read_source(path_or_text: str | os.PathLike) -> str:
+    """The profile text: a path is read as UTF-8 (a BOM is skipped), any str with a newline is
+    the text itself."""
     if isinstance(path_or_text, os.PathLike):
-        return Path(path_or_text).read_text(encoding="utf-8")
+        return _read_file(Path(path_or_text))
     if not isinstance(path_or_text, str):
         raise TypeError(f"path_or_text must be a path or the .cfg text, got "
                         f"{type(path_or_text).__name__}")
     text = path_or_text
     if "\n" in text:
+        if len(text) > MAX_PROFILE_BYTES:
+            raise ValueError(f"profile text of {len(text)} characters exceeds the "
+                             f"{MAX_PROFILE_BYTES} limit (a TI CLI profile is a few kB)")
         return text
     if Path(text).is_file():
-        return Path(text).read_text(encoding="utf-8")
+        return _read_file(Path(text))
     if text.strip().endswith(".cfg") or not any(c.isspace() for c in text.strip()):
         raise FileNotFoundError(f"TI .cfg file {text!r} not found")
     return text
+
+
+def _read_file(path: Path) -> str:
+    size = path.stat().st_size
+    if size > MAX_PROFILE_BYTES:
+        raise ValueError(f"profile {str(path)!r} is {size} bytes, more than the "
+                         f"{MAX_PROFILE_BYTES}-byte limit (a TI CLI profile is a few kB)")
+    raw = path.read_bytes()
+    try:
+        return raw.decode("utf-8-sig")
+    except UnicodeDecodeError as exc:
+        line = raw[:exc.start].count(b"\n") + 1
+        raise ValueError(f"profile {str(path)!r} is not UTF-8 text: byte 0x{raw[exc.start]:02x} "
+                         f"at offset {exc.start} (line {line}); TI profiles are ASCII") from None
 
 
 def _directive_value(field: dataclasses.Field, raw: str, ln: Line) -> Any:
@@ -45,6 +77,90 @@ def _directive_value(field: dataclasses.Field, raw: str, ln: Line) -> Any:
             return raw
         raise ln.fail(f"value {raw!r} for {field.name} is not JSON") from None
     return as_tuples(value)
+
+
+@dataclass(slots=True)
+class _Tokens:
+    """A profile split into lines: directives, the commands after the last ``flushCfg`` (with
+    whether their first argument is a sub-frame index), ignored records and notes."""
+
+    directives: list[Line] = dataclasses.field(default_factory=list)
+    commands: list[tuple[Line, bool]] = dataclasses.field(default_factory=list)
+    ignored: list[tuple[int, str]] = dataclasses.field(default_factory=list)
+    notes: list[str] = dataclasses.field(default_factory=list)
+
+
+def _tokenize(lines: list[str], chip: Chip, n_subframes: int) -> _Tokens:
+    """Split and check every line once: argument counts, sub-frame indices against
+    `n_subframes`, duplicated commands, unknown commands (near-misspellings of modelled ones
+    refused with a suggestion, for at most `MAX_SUGGESTIONS` distinct names)."""
+    tok = _Tokens()
+    seen: dict[tuple, Line] = {}
+    suggest: dict[str, str | None] = {}
+    n_unknown = 0
+    for no, raw in enumerate(lines, start=1):
+        text = raw.strip()
+        if not text:
+            continue
+        if text[0] in "%#":
+            m = DIRECTIVE_RE.match(text)
+            if m:
+                tok.directives.append(Line(no, "% radarsim", (m.group(1), m.group(2))))
+            continue
+        cmd, *args = text.split()
+        # A trailing "% ..." or "# ..." note after the arguments (seen in users' files).
+        cut = next((i for i, a in enumerate(args) if a[:1] in "%#"), len(args))
+        ln = Line(no, cmd, tuple(args[:cut]))
+        spec = TI_COMMANDS.get(cmd)
+        if spec is None:
+            if cmd not in suggest:
+                suggest[cmd] = (difflib.get_close_matches(cmd, MODELLED_COMMANDS, n=1,
+                                                          cutoff=0.85) or [None])[0] \
+                    if len(suggest) < MAX_SUGGESTIONS else None
+            if suggest[cmd]:
+                raise LineError(f"line {no}: unknown command {cmd!r}; did you mean "
+                                f"{suggest[cmd]!r}?")
+            tok.ignored.append((no, cmd))
+            n_unknown += 1
+            if n_unknown <= MAX_UNKNOWN_NOTES:
+                tok.notes.append(f"line {no}: {cmd!r} is not a command of the SDK demos the "
+                                 "harness knows; kept and ignored")
+            continue
+        counts = spec.counts(chip.name)
+        if counts is not None and len(ln.args) not in counts:
+            want = " or ".join(str(n) for n in sorted(counts))
+            raise ln.fail(f"expects {want} arguments, got {len(ln.args)}")
+        if cmd == "flushCfg":  # TI's flushCfg resets everything given before it
+            tok.ignored += [(c.no, c.cmd) for c, _ in tok.commands]
+            tok.commands.clear()
+            seen.clear()
+        has_sub = spec.has_subframe(ln, chip.name)
+        if has_sub:
+            where = (f"advFrameCfg numOfSubFrames={n_subframes}" if n_subframes > 1 else
+                     "a frame-mode profile has one sub-frame")
+            ln.int(0, "subFrameIdx", -1, n_subframes - 1, where)
+        key = spec.instance_key(ln, chip.name)
+        if key is not None:
+            if key in seen:
+                first = seen[key]
+                raise ln.fail(f"duplicate of line {first.no} ({first.cmd} "
+                              f"{' '.join(first.args)}): TI's CLI would silently keep the later "
+                              "one; remove one of them")
+            seen[key] = ln
+        tok.commands.append((ln, has_sub))
+    if n_unknown > MAX_UNKNOWN_NOTES:
+        tok.notes.append(f"{n_unknown - MAX_UNKNOWN_NOTES} more unknown commands kept and "
+                         "ignored")
+    return tok
+
+
+def _n_subframes(lines: list[str]) -> int:
+    """numOfSubFrames of the profile's advFrameCfg (1 without one; checked later)."""
+    for raw in lines:
+        parts = raw.split()
+        if parts[:1] == ["advFrameCfg"] and len(parts) > 1 and parts[1].isdigit():
+            return max(1, min(int(parts[1]), MAX_SUBFRAMES))
+    return 1
 
 
 def parse_ti_cfg(path_or_text: str | os.PathLike) -> TiProfile:
@@ -58,17 +174,27 @@ def parse_ti_cfg(path_or_text: str | os.PathLike) -> TiProfile:
     Returns
     -------
     TiProfile
-        ``.radar`` is the validated `RadarConfig`.
+        ``.radar`` is the validated `RadarConfig`; an advanced-frame profile has one
+        `TiProfile` per sub-frame in ``.subframes``.
 
     Raises
     ------
     ValueError
         With "line N (command): ..." for every wrong argument count, malformed number, value
-        outside the chip's limits, unsupported feature, near-misspelled modelled command,
-        missing required command (reported at the end of the input) and `RadarConfig`
-        validation error (at the line of the command that set the field).
+        outside the chip's limits, sub-frame index out of range, duplicated command,
+        unsupported feature, near-misspelled modelled command, missing required command
+        (reported at the end of the input) and `RadarConfig` validation error (at the line of
+        the command that set the field); for a file that is not UTF-8 text or is larger than
+        `MAX_PROFILE_BYTES`.
     FileNotFoundError
         If a path was given and does not exist.
+
+    Examples
+    --------
+    >>> from radarsim.ti import parse_ti_cfg, r79_cfg_path
+    >>> prof = parse_ti_cfg(r79_cfg_path())
+    >>> prof.radar.mimo, prof.radar.n_chirps, prof.frame_period_s
+    ('ddma', 768, 0.25)
     """
     lines = _read_source(path_or_text).splitlines()
     chip_name, how = infer_chip(lines)
@@ -76,50 +202,56 @@ def parse_ti_cfg(path_or_text: str | os.PathLike) -> TiProfile:
         chip = get_chip(chip_name)
     except ValueError as exc:
         raise LineError(f"line 1: {exc}") from None
-    st = ParseState(chip=chip)
-    st.notes.append(f"chip {chip.name} from the {how}")
+    tok = _tokenize(lines, chip, _n_subframes(lines))
+    tok.notes.insert(0, f"chip {chip.name} from the {how}")
+    adv = advanced.plan([ln for ln, _ in tok.commands], chip)
+    if adv is None:
+        return _read_pass([ln for ln, _ in tok.commands], tok, chip, len(lines))
+    parts = [_read_pass(advanced.subframe_commands(tok.commands, k), tok, chip, len(lines),
+                        sub=adv.subframes[k])
+             for k in range(adv.n_subframes)]
+    return advanced.combine(parts, adv)
+
+
+def _read_pass(commands: list[Line], tok: _Tokens, chip: Chip, n_lines: int,
+               sub: advanced.SubFrameSpec | None = None) -> TiProfile:
+    """Run the handlers of `commands` (a frame, or sub-frame `sub` of an advanced frame)."""
+    st = ParseState(chip=chip, subframe=None if sub is None else sub.index,
+                    advanced=sub is not None)
+    st.ignored, st.notes = list(tok.ignored), list(tok.notes)
     fields_by_name = {f.name: f for f in dataclasses.fields(RadarConfig)}
-    for no, raw in enumerate(lines, start=1):
-        text = raw.strip()
-        if not text:
-            continue
-        if text.startswith("%") or text.startswith("#"):
-            m = DIRECTIVE_RE.match(text)
-            if m:
-                ln = Line(no, "% radarsim", (m.group(1), m.group(2)))
-                name = m.group(1)
-                if name not in fields_by_name:
-                    raise ln.fail(f"unknown RadarConfig field {name!r}")
-                if name in TI_FIELDS:
-                    raise ln.fail(f"{name} is set by TI commands, not by a directive")
-                st.directives[name] = _directive_value(fields_by_name[name], m.group(2), ln)
-                st.directive_lines[name] = ln
-            continue
-        cmd, *args = text.split()
-        # A trailing "% ..." or "# ..." note after the arguments (seen in users' files).
-        cut = next((i for i, a in enumerate(args) if a[:1] in "%#"), len(args))
-        args = args[:cut]
-        ln = Line(no, cmd, tuple(args))
-        spec = TI_COMMANDS.get(cmd)
-        if spec is None:
-            close = difflib.get_close_matches(cmd, MODELLED_COMMANDS, n=1, cutoff=0.85)
-            if close:
-                raise LineError(f"line {no}: unknown command {cmd!r}; did you mean "
-                                 f"{close[0]!r}?")
-            st.ignored.append((no, cmd))
-            st.notes.append(f"line {no}: {cmd!r} is not a command of the SDK demos the harness "
-                            "knows; kept and ignored")
-            continue
-        counts = spec.counts(chip.name)
-        if counts is not None and len(args) not in counts:
-            want = " or ".join(str(n) for n in sorted(counts))
-            raise ln.fail(f"expects {want} arguments, got {len(args)}")
+    for ln in tok.directives:
+        name = ln.args[0]
+        if name not in fields_by_name:
+            raise ln.fail(f"unknown RadarConfig field {name!r}")
+        if name in TI_FIELDS:
+            raise ln.fail(f"{name} is set by TI commands, not by a directive")
+        st.directives[name] = _directive_value(fields_by_name[name], ln.args[1], ln)
+        st.directive_lines[name] = ln
+    for ln in commands:
+        spec = TI_COMMANDS[ln.cmd]
         if spec.handler is None:
-            st.ignored.append((no, cmd))
-        else:
-            spec.handler(st, ln)
-            st.seen[cmd] = ln
-    return _finish(st, len(lines))
+            st.ignored.append((ln.no, ln.cmd))
+            continue
+        spec.handler(st, ln)
+        st.seen[ln.cmd] = ln
+    if sub is not None:
+        _install_subframe(st, sub)
+    return _finish(st, n_lines)
+
+
+def _install_subframe(st: ParseState, sub: advanced.SubFrameSpec) -> None:
+    """The sub-frame's chirps and loops as the pass's frame: its burst must fit
+    ``burstPeriodicity``."""
+    st.frame = dict(start=sub.chirp_start, end=sub.chirp_start + sub.n_chirps - 1,
+                    loops=sub.n_loops, n_frames=0, samples=sub.samples,
+                    period_s=sub.burst_period_s, trigger=1, line=sub.line,
+                    period_name="burstPeriodicity")
+    st.seen["frameCfg"] = sub.line
+    for idx in range(sub.chirp_start, sub.chirp_start + sub.n_chirps):
+        if idx not in st.chirps:
+            raise sub.line.fail(f"chirp {idx} of sub-frame {sub.index} is not defined by any "
+                                "chirpCfg")
 
 
 def _finish(st: ParseState, n_lines: int) -> TiProfile:
@@ -172,8 +304,9 @@ def _finish(st: ParseState, n_lines: int) -> TiProfile:
         raise _relabel(exc, lines, st) from exc
     burst_s = radar.n_chirps * radar.chirp_period_s
     if fr["period_s"] < burst_s * (1 - 1e-9):
-        raise fln.fail(f"framePeriodicity={fr['period_s'] * 1e3:g} ms is shorter than the "
-                       f"chirp burst n_chirps x chirp period = {burst_s * 1e3:g} ms")
+        name = fr.get("period_name", "framePeriodicity")
+        raise fln.fail(f"{name}={fr['period_s'] * 1e3:g} ms is shorter than the chirp burst "
+                       f"n_chirps x chirp period = {burst_s * 1e3:g} ms")
     return TiProfile(radar=radar, frame_period_s=fr["period_s"], n_frames=fr["n_frames"],
                      trigger_select=fr["trigger"], cfar=dict(st.cfar),
                      ddm_phase_order=st.ddm_order, ant_geometry=st.ant_geometry,
@@ -181,7 +314,8 @@ def _finish(st: ParseState, n_lines: int) -> TiProfile:
                      sample_swap=st.adcbuf.get("sample_swap"), lvds_stream=st.lvds,
                      profile_extras=dict(st.extras), chirp_level=dict(st.chirp_level),
                      ignored=tuple(st.ignored), notes=tuple(st.notes),
-                     directives=dict(st.directives))
+                     directives=dict(st.directives),
+                     command_lines={cmd: ln.no for cmd, ln in st.seen.items()})
 
 
 def _relabel(exc: Exception, lines: Mapping[str, Line], st: ParseState) -> ValueError:

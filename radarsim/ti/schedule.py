@@ -34,6 +34,8 @@ def frame_masks(st: ParseState) -> tuple[list[int], int]:
         raise fln.fail(f"the frame's chirps use profiles {sorted(pids)}: RadarConfig describes "
                        "one chirp profile")
     unused = sorted(set(st.chirps) - set(range(fr["start"], fr["end"] + 1)))
+    if st.advanced:  # the other sub-frames use them
+        return masks, pids.pop()
     if unused:
         st.notes.append(f"chirps {unused} are defined but not used by the frame (ignored)")
     unused_p = sorted(set(st.profiles) - pids)

@@ -23,7 +23,12 @@ TI_DEFAULT_OVERRIDES = {"phase_quantization": "round"}
 
 @dataclass(slots=True)
 class ParseState:
+    """What the commands read so far define. `subframe` is the sub-frame this pass reads (None:
+    a frame-mode profile); `advanced` is True when the profile runs advanced frames."""
+
     chip: Chip
+    subframe: int | None = None
+    advanced: bool = False
     fields: dict[str, Any] = dataclasses.field(default_factory=dict)
     field_lines: dict[str, Line] = dataclasses.field(default_factory=dict)
     seen: dict[str, Line] = dataclasses.field(default_factory=dict)

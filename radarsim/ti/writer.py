@@ -75,7 +75,9 @@ def to_ti_cfg(cfg: RadarConfig | TiProfile, *, frame_period_s: float | None = No
     Parameters
     ----------
     cfg : RadarConfig or TiProfile
-        The radar (a `TiProfile` also supplies frame period, frame count and CFAR).
+        The radar (a `TiProfile` also supplies frame period, frame count and CFAR; an
+        advanced-frame profile is written with ``advFrameCfg`` and a ``subFrameCfg``, profile,
+        chirps and ``cfarCfg`` lines per sub-frame).
     frame_period_s : float, optional
         ``framePeriodicity``, s; default the profile's, else `DEFAULT_FRAME_PERIOD_S`.
     n_frames : int, optional
@@ -99,6 +101,8 @@ def to_ti_cfg(cfg: RadarConfig | TiProfile, *, frame_period_s: float | None = No
         or a frame period shorter than the chirp burst).
     """
     profile = cfg if isinstance(cfg, TiProfile) else None
+    if profile is not None and profile.is_advanced:
+        return _advanced_text(profile, n_frames, extra_lines, comments)
     radar = profile.radar if profile else cfg
     if frame_period_s is None:
         frame_period_s = profile.frame_period_s if profile else DEFAULT_FRAME_PERIOD_S
@@ -109,7 +113,7 @@ def to_ti_cfg(cfg: RadarConfig | TiProfile, *, frame_period_s: float | None = No
     cfars = list(cfar.values()) if isinstance(cfar, Mapping) else list(cfar)
     out = _header_lines(radar, comments)
     out += _command_lines(radar, frame_period_s, n_frames)
-    out += [c.to_cli() for c in cfars]
+    out += [c.to_cli(sdk3=not radar.chip_spec.mcu_plus_sdk) for c in cfars]
     out += list(extra_lines)
     text = _with_directives(radar, out)
     back = parse_ti_cfg(text).radar
@@ -195,3 +199,64 @@ def _with_directives(radar: RadarConfig, out: list[str]) -> str:
             directives.append(f"% radarsim: {f.name} = {_json_value(getattr(radar, f.name))}")
     n_head = next(i for i, line in enumerate(out) if not line.startswith("%"))
     return "\n".join(out[:n_head] + directives + body[n_head:]) + "\n"
+
+
+def _advanced_text(profile: TiProfile, n_frames: int | None, extra_lines: Iterable[str],
+                   comments: Iterable[str]) -> str:
+    """An advanced-frame profile (``dfeDataOutputMode 3``): sub-frame k's chirp profile is
+    profileCfg k, its chirps follow the previous sub-frames' in the chirp table, its
+    ``subFrameCfg`` keeps its burst and sub-frame periods, its CFAR lines carry index k."""
+    parts = profile.parts
+    shared = [f.name for f in dataclasses.fields(RadarConfig)
+              if f.name not in TI_FIELDS | _SUBFRAME_FIELDS]
+    for part in parts[1:]:
+        differ = [n for n in shared + ["tx_channels", "rx_channels", "adc_mode"]
+                  if getattr(part.radar, n) != getattr(parts[0].radar, n)]
+        if differ:
+            raise ValueError(f"sub-frame {part.subframe_index} differs from sub-frame 0 in "
+                             f"{differ}: sub-frames share the chip's channels, ADC format and "
+                             "model settings")
+    n_frames = profile.n_frames if n_frames is None else n_frames
+    head, body, tail = [], [], []
+    next_chirp = 0
+    for k, part in enumerate(parts):
+        lines = _command_lines(part.radar, profile.frame_period_s, 0)
+        i_prof = next(i for i, s in enumerate(lines) if s.startswith("profileCfg"))
+        i_frame = next(i for i, s in enumerate(lines) if s.startswith("frameCfg"))
+        if k == 0:
+            head = [s.replace("dfeDataOutputMode 1", "dfeDataOutputMode 3")
+                    for s in lines[:i_prof] if not s.startswith("adcbufCfg")]
+            tail = lines[i_frame + 1:]
+        adcbuf = next(s for s in lines if s.startswith("adcbufCfg")).split()
+        body.append(" ".join(["adcbufCfg", str(k), *adcbuf[2:]]))
+        prof = lines[i_prof].split()
+        body.append(" ".join(["profileCfg", str(k), *prof[2:]]))
+        chirps = [s.split() for s in lines[i_prof + 1:i_frame]]
+        for c in chirps:
+            a, b = int(c[1]) + next_chirp, int(c[2]) + next_chirp
+            body.append(" ".join(["chirpCfg", str(a), str(b), str(k), *c[4:]]))
+        n_per_loop = int(lines[i_frame].split()[2]) + 1
+        loops = part.radar.n_chirps // n_per_loop
+        burst = part.burst_period_s or part.subframe_period_s
+        body.append(f"subFrameCfg {k} 0 {next_chirp} {n_per_loop} {loops} "
+                    f"{fmt_decimal(burst, -3)} 0 1 1 {fmt_decimal(part.subframe_period_s, -3)}")
+        sdk3 = not part.radar.chip_spec.mcu_plus_sdk
+        body += [c.to_cli(sdk3=sdk3).replace("cfarCfg -1 ", f"cfarCfg {k} ", 1)
+                 for c in part.cfar.values()]
+        next_chirp += n_per_loop
+    adv = f"advFrameCfg {len(parts)} 0 {n_frames} 1 0"
+    if parts[0].radar.chip_spec.mcu_plus_sdk:
+        adv += f" {len(parts)}"
+    out = _header_lines(parts[0].radar, comments) + head
+    out += [s for s in body if not s.startswith("subFrameCfg") and not s.startswith("cfarCfg")]
+    out += [adv] + [s for s in body if s.startswith("subFrameCfg")] + tail
+    out += [s for s in body if s.startswith("cfarCfg")] + list(extra_lines)
+    text = _with_directives(parts[0].radar, out)
+    back = parse_ti_cfg(text)
+    if tuple(p.radar for p in back.parts) != tuple(p.radar for p in parts):  # pragma: no cover
+        raise RuntimeError("to_ti_cfg round trip of the advanced frame failed")
+    return text
+
+
+# RadarConfig fields a sub-frame's own profileCfg / chirps set (they may differ by sub-frame).
+_SUBFRAME_FIELDS = frozenset({"chirp_period_s"})

@@ -172,7 +172,8 @@ def test_simulate_real_scenario_then_process(tmp_path, small_cfg_file):
                  str(tmp_path / "p.parquet"), "--no-track"]) == 0
 
 
-def test_process_layout_override_reads_a_non_interleaved_recording(tmp_path, r79_capture):
+def test_process_layout_override_reads_a_non_interleaved_recording(tmp_path, r79_capture,
+                                                                   capsys):
     import pipeline
 
     _, frames = r79_capture
@@ -181,6 +182,10 @@ def test_process_layout_override_reads_a_non_interleaved_recording(tmp_path, r79
     out = tmp_path / "p.parquet"
     assert main(["process", str(path), "--cfg", str(r79_cfg_path()), "--out", str(out),
                  "--no-track", "--layout", "non-interleaved"]) == 0
+    line = next(k for k, s in enumerate(r79_cfg_path().read_text().splitlines(), 1)
+                if s.startswith("adcbufCfg"))
+    assert (f"note: --layout non-interleaved contradicts line {line} (adcbufCfg "
+            "ChanInterleave=0), which means interleaved") in capsys.readouterr().err
     profile = parse_ti_cfg(r79_cfg_path())
     got = pd.read_parquet(out)
     expected = pipeline.process_frame(profile.radar, frames[0],
@@ -230,3 +235,42 @@ def test_simulate_complex_profile_writes_the_public_layout(tmp_path, fake_compon
                                               frames[0, 0, 0, 0].imag, frames[0, 0, 0, 1].imag])
     assert main(["process", str(out), "--cfg", str(cfg_path), "--out",
                  str(tmp_path / "p.parquet"), "--no-track"]) == 0
+
+
+def test_process_advanced_frame_per_subframe(tmp_path, make_scene, capsys):
+    """Two sub-frames (near 15 m / far 40 m span): a reflector at 6 m is reported in both,
+    each with its own range cell (0.117 / 0.156 m), a `subframe` column and the sub-frame's
+    start time (40 ms into the 100 ms frame)."""
+    from radarsim.subframe_capture import encode_frame
+    from tests.radarsim.profiles import PROFILE_DIR
+
+    cfg_path = PROFILE_DIR / "xwr68_advanced_subframes.cfg"
+    prof = parse_ti_cfg(cfg_path)
+    scene = make_scene([(6.0, 0.0, 0.0, 0.0, 1.0)])
+    rng = np.random.default_rng(3)
+    path = tmp_path / "adc_data.bin"
+    frames = [encode_frame(prof, [radarsim.simulate_frame(p.radar, scene, rng)
+                                  for p in prof.parts]) for _ in range(2)]
+    np.concatenate(frames).tofile(path)
+    out = tmp_path / "points.csv"
+    assert main(["process", str(path), "--cfg", str(cfg_path), "--out", str(out)]) == 0
+    table = pd.read_csv(out)
+    assert list(table.columns[:3]) == ["frame", "subframe", "time_s"]
+    for k, p in enumerate(prof.parts):
+        rows = table[(table["subframe"] == k) & (table["frame"] == 1)]
+        best = rows.loc[rows["snr_db"].idxmax()]
+        assert abs(best["range_m"] - 6.0) < p.radar.range_resolution_m
+        assert best["time_s"] == pytest.approx(0.1 + p.subframe_start_s)
+    tracks = pd.read_csv(tmp_path / "points_tracks.csv")
+    assert set(tracks["subframe"]) <= {0, 1}
+
+
+def test_process_advanced_capture_of_wrong_size_exits_2(tmp_path, capsys):
+    from tests.radarsim.profiles import PROFILE_DIR
+
+    path = tmp_path / "adc_data.bin"
+    np.zeros(1000, dtype="<i2").tofile(path)
+    assert main(["process", str(path), "--cfg", str(PROFILE_DIR / "xwr68_advanced_subframes.cfg"),
+                 "--out", str(tmp_path / "p.csv")]) == 2
+    # 64 chirps x 4 Rx x 128 complex samples x 4 bytes; 32 x 4 x 256 x 4.
+    assert "frames of 262144 bytes (sub-frames 131072 + 131072)" in capsys.readouterr().err

@@ -58,7 +58,8 @@ def test_write_capture_rejects_bad_frames_and_writes_nothing(tmp_path, frame, ma
 
 
 @pytest.mark.parametrize("content, match", [
-    (b"\xff\xfe\x00\x01binary", r"--cfg '.*bad\.cfg': not a text file"),
+    (b"\xff\xfe\x00\x01binary",
+     r"profile '.*bad\.cfg' is not UTF-8 text: byte 0xff at offset 0 \(line 1\)"),
     (None, r"--cfg '.*bad\.cfg' is a directory"),
 ])
 def test_bad_profile_is_exit_2(tmp_path, capsys, content, match):

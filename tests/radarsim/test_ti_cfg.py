@@ -123,7 +123,7 @@ def test_ddm_phase_order_is_tx_order():
 
 
 def test_cfar_syntax_variants():
-    base = _lines()
+    base = [ln for ln in _lines() if not ln.startswith("cfarCfg")]
     extra = ["cfarCfg -1 0 2 8 4 3 0 15 1",                   # mmWave SDK 3.x / TDM demo
              "cfarCfg -1 1 3 16 0 0 1 12.0 0 24 0 1 0"]      # AWR2x44P DDM demo (Doppler)
     prof = parse_ti_cfg("\n".join(base[:-1] + extra + base[-1:]))
@@ -226,7 +226,8 @@ BAD_LINES = {
     "mixed_tx_pattern": ("chirpCfg", "chirpCfg 0 4 0 0 0 0 0 15\nchirpCfg 5 5 0 0 0 0 0 3",
                          r"matches no MIMO scheme", "frameCfg"),
     "bpm_on_a_ddma_loop": ("lowPower", "bpmCfg -1 1 0 1", r"BPM needs a loop of exactly"),
-    "sub_frame": ("lowPower", "subFrameCfg 0 0 0 1 1 1 0 0 0 0", r"not supported: advanced "),
+    "sub_frame_without_advanced_frame": ("lowPower", "subFrameCfg 0 0 0 1 1 1 0 1 1 1",
+                                         r"sub-frame command without advFrameCfg"),
     "ddm_order_not_permutation": ("ddmPhaseShiftAntOrder", "ddmPhaseShiftAntOrder 0 2 2 1",
                                   r"must list each of the AWR2944's Tx 0..3 once"),
     "ant_geometry_not_tx_plus_rx": ("antGeometryCfg",
@@ -239,8 +240,16 @@ BAD_LINES = {
                                r"os_rank=40: OS-CFAR needs 1 <= k <= 2 x window_cells = 32"),
     "cfar_os_without_k": ("cfarCfg", "cfarCfg -1 1 3 16 0 0 1 12 0",
                           r"averageMode=3 \(OS\) needs the osKvalue argument"),
-    "advanced_frame": ("lowPower", "advFrameCfg 1 0 0 1 0 1", r"not supported: advanced frames"),
-    "frame_mode": ("dfeDataOutputMode", "dfeDataOutputMode 3", r"only 1 \(frame mode\)"),
+    "advanced_frame_with_frame_cfg": ("lowPower", "advFrameCfg 1 0 0 1 0 1",
+                                      r"frameCfg in an advanced-frame profile", "frameCfg"),
+    "advanced_mode_without_adv_frame": ("dfeDataOutputMode", "dfeDataOutputMode 3",
+                                        r"modeType=3 \(advanced frame\) needs an advFrameCfg"),
+    "continuous_mode": ("dfeDataOutputMode", "dfeDataOutputMode 2",
+                        r"modeType=2: only 1 \(frame\) and 3 \(advanced frame\)"),
+    "subframe_index_in_frame_mode": ("cfarCfg -1 1", "cfarCfg 1 1 3 16 0 0 1 12.0 0 24 0",
+                                     r"subFrameIdx=1 is outside -1..0 \(a frame-mode profile"),
+    "duplicated_channel_cfg": ("lowPower", "channelCfg 15 3 0",
+                               r"duplicate of line \d+ \(channelCfg 15 15 0\)"),
     "directive_unknown_field": ("lowPower", "% radarsim: noise_figure = 3",
                                 r"unknown RadarConfig field 'noise_figure'"),
     "directive_on_ti_field": ("lowPower", "% radarsim: n_samples = 256",
@@ -342,3 +351,75 @@ def test_chirp_tx_outside_channel_mask():
                      [line.replace("channelCfg 15 15 0", "channelCfg 15 7 0") for line in lines])
     with pytest.raises(ValueError, match=rf"line {no} .*txEnable=15 .* txChannelEn=7"):
         parse_ti_cfg(text)
+
+
+def test_non_utf8_profile_names_file_offset_and_line(tmp_path):
+    path = tmp_path / "latin1.cfg"
+    path.write_bytes(r79_cfg_text().replace("% TI R79", "% T\xe9 R79").encode("latin-1"))
+    line = next(k for k, s in enumerate(r79_cfg_text().splitlines(), 1) if "% TI R79" in s)
+    with pytest.raises(ValueError, match=rf"profile '.*latin1\.cfg' is not UTF-8 text: byte "
+                                         rf"0xe9 at offset \d+ \(line {line}\)"):
+        parse_ti_cfg(path)
+
+
+def test_utf8_bom_is_skipped(tmp_path):
+    path = tmp_path / "bom.cfg"
+    path.write_bytes(b"\xef\xbb\xbf" + r79_cfg_text().encode())
+    assert from_ti_cfg(path) == from_ti_cfg(r79_cfg_text())
+
+
+def test_profile_larger_than_the_limit_is_refused_before_reading(tmp_path, monkeypatch):
+    from radarsim.ti import reader
+
+    path = tmp_path / "big.cfg"
+    path.write_text(r79_cfg_text())
+    monkeypatch.setattr(reader, "MAX_PROFILE_BYTES", 1000)
+    with pytest.raises(ValueError, match=r"big\.cfg' is \d+ bytes, more than the 1000-byte "
+                                         r"limit"):
+        parse_ti_cfg(path)
+
+
+def test_close_match_search_is_bounded_for_many_unknown_commands(monkeypatch):
+    """Suggestions are sought once per distinct name and for at most MAX_SUGGESTIONS names;
+    the notes list MAX_UNKNOWN_NOTES lines and count the rest."""
+    from radarsim.ti import reader
+
+    calls = []
+    real = reader.difflib.get_close_matches
+
+    def counting(word, *args, **kwargs):
+        calls.append(word)
+        return real(word, *args, **kwargs)
+
+    monkeypatch.setattr(reader.difflib, "get_close_matches", counting)
+    junk = [f"vendorCmd{k % 500} 1 2 3" for k in range(5000)]
+    lines = _lines()
+    prof = parse_ti_cfg("\n".join(lines[:-1] + junk + lines[-1:]))
+    assert len(calls) == reader.MAX_SUGGESTIONS
+    assert len(prof.ignored_commands) >= 5000
+    assert sum("not a command of the SDK demos" in n for n in prof.notes) == \
+        reader.MAX_UNKNOWN_NOTES
+    assert any(n.startswith(f"{5000 - reader.MAX_UNKNOWN_NOTES} more unknown commands")
+               for n in prof.notes)
+
+
+@pytest.mark.parametrize("command", ["channelCfg 15 3 0", "frameCfg 0 5 64 0 384 250 1 0",
+                                     "adcCfg 2 0", "cfarCfg -1 1 3 16 0 0 1 10.0 0 24 0",
+                                     "compressionCfg -1 0 0 0.5 8"])
+def test_duplicated_command_is_refused_with_both_lines(command):
+    """A 4-Rx capture must not be read as 2-Rx because a second channelCfg silently won."""
+    lines = _lines()
+    cmd, *args = command.split()
+    key = 2 if cmd == "cfarCfg" else 0  # cfarCfg: one per (sub-frame, direction)
+    first = next(k for k, s in enumerate(lines, 1)
+                 if s.split()[0] == cmd and s.split()[1:1 + key] == args[:key])
+    text = "\n".join(lines[:-1] + [command] + lines[-1:])
+    with pytest.raises(ValueError, match=rf"line {len(lines)} \({cmd}\): "
+                                         rf"duplicate of line {first} "):
+        parse_ti_cfg(text)
+
+
+def test_a_command_repeated_after_flush_cfg_is_no_duplicate():
+    lines = _lines()
+    assert from_ti_cfg("\n".join(lines[:-1] + ["flushCfg"] + lines)) == from_ti_cfg(
+        "\n".join(lines))

@@ -230,8 +230,8 @@ CHIP_REFUSALS = {
                          r"startFreq=77 GHz is outside the IWR6843 band 60..64 GHz"),
     "iwr6843_ramp_beyond_64ghz": (XWR68_TX13, "profileCfg 0 60 ", "profileCfg 0 60.5 ",
                                   r"exceeds the IWR6843 band limit 6.4e\+10 Hz"),
-    "awr1642_third_tx": (XWR16_ROS, "channelCfg 15 3 0", "channelCfg 15 3 0\n% Platform:xWR16xx"
-                         "\nchannelCfg 15 7 0", r"txChannelEn=7 is outside 1..3 \(AWR1642"),
+    "awr1642_third_tx": (XWR16_ROS, "channelCfg 15 3 0", "% Platform:xWR16xx\nchannelCfg 15 7 0",
+                         r"txChannelEn=7 is outside 1..3 \(AWR1642"),
     "awr1843_complex_rate": (XWR18_VISUALIZER, " 256 5209 ", " 256 13000 ",
                              r"adc_rate_sps=1.3e\+07 exceeds the AWR1843 limit .*complex1x"),
     "awr1843_interleaved_buffer": (XWR18_VISUALIZER, "adcbufCfg -1 0 1 1 1",
