@@ -158,6 +158,14 @@ class ProcessingConfig:
         `check_radar` tests.
     compression_range_bins_per_block : int
         Range bins per block (blocks hold all Rx; the demo: 8), a power of 2 in 1..32.
+    fast_slow_threshold_db : float
+        Fast/slow unfolding (`pipeline.mimo.fast_slow`, seed 001 section 3 step 6): a
+        candidate velocity survives if its slow-map peak is within this many dB of the fast
+        peak, in (0, 20] dB (TI's SRR demo: 3 dB). Both sets carry the same energy, so the
+        true candidate's ratio scatters about 0 dB.
+    fast_slow_search_bins : int
+        Half-width of the slow-map window searched around each candidate's aliased bin, 0..16
+        (TI's SRR demo: 2); two candidates' windows must not overlap (`check_radar`).
     saturation_policy : {"flag", "drop"}
         What a frame with saturated ADC samples does to its detections
         (`pipeline.saturation`): "flag" keeps them with ``saturated = True``, "drop" removes
@@ -193,6 +201,8 @@ class ProcessingConfig:
     saturation_policy: str = "flag"
     range_bias_m: float = 0.0
     channel_comp: tuple[tuple[float, float], ...] | None = None
+    fast_slow_threshold_db: float = 3.0
+    fast_slow_search_bins: int = 2
 
     def __post_init__(self) -> None:
         if not isinstance(self.cfar, CfarConfig):
@@ -205,6 +215,8 @@ class ProcessingConfig:
         require(self, ("tdma_disambiguation", "correct_range_doppler_coupling",
                        "range_peak_check"), "bool")
         one_of("saturation_policy", self.saturation_policy, SATURATION_POLICIES)
+        require(self, "fast_slow_threshold_db", gt=0, le=20, unit="dB")
+        require(self, "fast_slow_search_bins", "integer", ge=0, le=16)
 
         require(self, ("dc_removal", "interference_mitigation", "compression"), "bool")
         require(self, ("intf_mag_snr_db", "intf_magdiff_snr_db"), gt=0, le=60, unit="dB")
@@ -250,11 +262,14 @@ class ProcessingConfig:
 
     def check_radar(self, cfg) -> None:
         """Raise if these settings cannot process `cfg`'s frames (`check_doppler_axis`,
-        `check_compression`, the ``compRangeBiasAndRxChanPhase`` count of the chip): what a
-        sweep checks for every cell before it starts."""
+        `check_compression`, the ``compRangeBiasAndRxChanPhase`` count of the chip, the
+        chain's own rules `MimoChain.check_processing`): what a sweep checks for every cell
+        before it starts."""
         self.check_doppler_axis(cfg.n_doppler_bins)
         self.check_compression(cfg.n_rx, cfg.n_range_bins)
         check_channel_comp(cfg, self.channel_comp)
+        from .mimo import chain_of  # the chains import this module
+        chain_of(cfg).check_processing(cfg, self)
 
     def replace(self, **changes: Any) -> "ProcessingConfig":
         """Copy with changes; `cfar_<field>` keys change the CFAR sub-config."""

@@ -3,7 +3,7 @@
     cfg = radarsim.presets.r79_ddma()
     adc = radarsim.simulate_frame(cfg, radarsim.Scatterers(P, V, S), rng=np.random.default_rng(0))
 """
-from . import presets, shifter
+from . import mimo_fast_slow, presets, shifter  # noqa: F401  (mimo_fast_slow registers)
 from .calibration import ShifterCalibration, calibrate_shifters, measure_shifters
 from .config import RadarConfig
 from .mimo import MIMO_SCHEMES, MimoScheme, register_scheme

@@ -593,8 +593,9 @@ class RadarConfig:
         """lambda / (2 N Tc) with N the chirps of one Tx's slow-time sequence, m/s.
 
         DDMA: every Tx fires all 768 chirps at Tc (0.1065 m/s). TDMA: 192 chirps at 4 Tc,
-        which spans the same frame time, so the resolution is the same."""
-        return self.wavelength_m / (2 * self.frame_time_s)
+        which spans the same frame time, so the resolution is the same. From the scheme
+        (`MimoScheme.velocity_resolution_mps`; fast/slow: one chirp set's bin)."""
+        return self.scheme.velocity_resolution_mps(self)
 
     @property
     def max_unambiguous_velocity_mps(self) -> float:

@@ -273,8 +273,11 @@ def apply_transmit_errors(cfg: RadarConfig, weights: np.ndarray, codes: np.ndarr
 
 
 def _chirp_times_s(cfg: RadarConfig, n_chirps: int | None = None) -> np.ndarray:
-    """(n_chirps,) chirp start times relative to the middle of the burst, s."""
+    """(n_chirps,) chirp start times relative to the middle of the burst, s: the scheme's
+    (`MimoScheme.chirp_timing`) for a frame of the config's chirps, else uniform."""
     n_c = cfg.n_chirps if n_chirps is None else n_chirps
+    if n_c == cfg.n_chirps:
+        return cfg.scheme.chirp_timing(cfg).t_c_s
     return (np.arange(n_c) - (n_c - 1) / 2) * cfg.chirp_period_s
 
 

@@ -221,10 +221,7 @@ def interference_to_noise_db(cfg: RadarConfig, itf: Interferers) -> float:
 def _victim_times(cfg: RadarConfig):
     """Victim timing: ramp start of every chirp (first ramp at 0), ADC sample offsets within
     the ramp, chirp time relative to the frame middle (the echoes' t_c)."""
-    c = np.arange(cfg.n_chirps)
-    ramp_start = c * cfg.chirp_period_s
-    t_c = (c - (cfg.n_chirps - 1) / 2) * cfg.chirp_period_s
-    return ramp_start, t_c
+    return tuple(cfg.scheme.chirp_timing(cfg))  # the scheme owns the chirp periods
 
 
 class _Bursts:

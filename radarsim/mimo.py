@@ -24,7 +24,7 @@ import numpy as np
 if TYPE_CHECKING:  # config imports this module; the type is only needed for annotations
     from .config import RadarConfig
 
-__all__ = ["MimoScheme", "TransmitCode", "SlowTimeLayout", "TiFrame", "MIMO_SCHEMES", "register_scheme",
+__all__ = ["MimoScheme", "TransmitCode", "SlowTimeLayout", "TiFrame", "ChirpTiming", "MIMO_SCHEMES", "register_scheme",
            "scheme_of", "DdmaScheme", "TdmaScheme", "BpmScheme", "hadamard"]
 
 
@@ -70,6 +70,22 @@ class SlowTimeLayout(NamedTuple):
     group_of_tx: tuple[int, ...]
     slow_time_period_s: float
     n_doppler_bins: int
+
+
+class ChirpTiming(NamedTuple):
+    """When each chirp of a frame fires.
+
+    Attributes
+    ----------
+    ramp_start_s : (n_chirps,) float
+        Start of each chirp's ramp, s, the first at 0.
+    t_c_s : (n_chirps,) float
+        Each chirp's time relative to the frame's reference time (the middle of the burst), s:
+        the slow time at which the echoes' two-way path is evaluated.
+    """
+
+    ramp_start_s: np.ndarray
+    t_c_s: np.ndarray
 
 
 class TiFrame(NamedTuple):
@@ -140,6 +156,13 @@ class MimoScheme:
                              f"{self.name.upper()}")
 
     # ------------------------------------------------------------------ transmit side
+    def chirp_timing(self, cfg: "RadarConfig") -> ChirpTiming:
+        """Chirp start times of one frame: every chirp one `chirp_period_s` after the last
+        (schemes with several chirp periods override this)."""
+        c = np.arange(cfg.n_chirps)
+        return ChirpTiming(c * cfg.chirp_period_s,
+                           (c - (cfg.n_chirps - 1) / 2) * cfg.chirp_period_s)
+
     def transmit_code(self, cfg: "RadarConfig") -> TransmitCode:
         """(n_tx, n_chirps) ideal transmit gains and phases of one frame."""
         raise NotImplementedError
@@ -160,6 +183,10 @@ class MimoScheme:
     def n_doppler_bins(self, cfg: "RadarConfig") -> int:
         """Doppler bins per transmitter after separation."""
         return cfg.n_chirps // cfg.n_tx
+
+    def velocity_resolution_mps(self, cfg: "RadarConfig") -> float:
+        """lambda / (2 T_frame): one Doppler bin of a sequence spanning the frame, m/s."""
+        return cfg.wavelength_m / (2 * cfg.frame_time_s)
 
     def velocity_failure_step_mps(self, cfg: "RadarConfig") -> float:
         """Step by which a wrong velocity resolution is off, m/s: one sub-band (DDMA) or the

@@ -1,0 +1,373 @@
+"""Fast/slow chirp chain (seed 001 section 3): velocity unfolding by a second chirp period.
+
+The frame holds a fast and a slow TDMA chirp set (`radarsim.mimo_fast_slow`). Range FFT ->
+Doppler FFT per set and slot (n_dop = n_chirps / (2 n_tx) chirps at n_tx T) -> non-coherent
+range-Doppler map of each set summed over the virtual channels -> CFAR on the fast map, then
+the seed's eight steps for every fast peak:
+
+1. CFAR on the fast map: peak bin PeakIdx_fast and value PeakVal_fast.
+2. The fast peak's (aliased) velocity Vel_fast.
+3. Candidates V_hypo = Vel_fast + 2 k Vmax_fast covering +/- unfold_factor x Vmax_fast.
+4. Each candidate's own aliased bin in the slow map, PeakIdx_slow_hypo.
+5. The slow map's largest value within +/- `fast_slow_search_bins` of that bin (same range
+   bin), PeakVal_slow_hypo.
+6. A candidate survives if |PeakVal_slow_hypo / PeakVal_fast| is within
+   `fast_slow_threshold_db` (both sets carry the same energy, so a true match has equal
+   expected power).
+7. Among the survivors, the one with the largest slow peak, Vel_candidate_max.
+8. Its velocity is the detection's. A peak without a survivor keeps its aliased fast-set
+   velocity, as TI's SRR demo does.
+
+A slow peak is given to one fast peak at most (TI's demo consumes it once associated; here
+an optimal assignment where two peaks of a range bin claim the same one).
+
+Association is per peak, so targets in one range cell unfold independently. The angle comes
+from the fast set's virtual array with the TDMA slot phase removed at the unfolded velocity
+(seed 001 eq. 8-10): with the true velocity known, this compensation is exact.
+
+References
+----------
+.. [1] TI, "AWR1642 velocity disambiguation" (seed 001): section 3, figure 5, table 2, the
+   eight-step algorithm; eq. 8-10 (Doppler-phase compensation of TDMA slots).
+.. [2] TI, TIDEP-0092 short-range radar reference design (3 dB association threshold, +/-2
+   bins search).
+"""
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+import pandas as pd
+from scipy.optimize import linear_sum_assignment
+
+from radarsim.config import RadarConfig
+from radarsim.mimo_fast_slow import hypothesis_separation_bins
+
+from ..chirp_level import range_stage
+from ..config import WINDOWS, ProcessingConfig
+from ..kernels import doppler_fft, window
+from ..stages import RangeDopplerHits, array_dft, empty_cloud, hypothesis_cloud, noncoherent_hits
+from .base import DetectionMap, DopplerAzimuth, MimoChain, register_chain
+
+__all__ = ["FastSlowMaps", "FastSlowChain", "fast_slow_maps", "Unfolding", "unfold_peaks",
+           "slow_bin_of"]
+
+
+class FastSlowMaps(NamedTuple):
+    """Intermediate results of the fast/slow chain.
+
+    Attributes
+    ----------
+    fast_power, slow_power : (n_range, n_dop) float32
+        Non-coherent range-Doppler map of each set, summed over the n_tx x n_rx slot channels
+        (n_virtual looks per cell).
+    fast_virt : (n_range, n_dop, n_tx x n_rx) complex64
+        The fast set's per-slot Doppler spectra, slot-major (`tx_order`), before the slot
+        Doppler-phase compensation.
+    """
+
+    fast_power: np.ndarray
+    slow_power: np.ndarray
+    fast_virt: np.ndarray
+
+
+def _set_spectra(rf: np.ndarray, n_tx: int, win: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(C_set, R, B) range spectra of one TDMA set -> per-slot Doppler spectra
+    (B, n_dop, n_tx x R) complex64 and their power summed over the channels (B, n_dop)."""
+    n_c, n_rx, n_range = rf.shape
+    n_dop = n_c // n_tx
+    spec = doppler_fft(rf.reshape(n_dop, n_tx, n_rx, n_range), win)  # (D, S, R, B)
+    virt = np.ascontiguousarray(np.moveaxis(spec, 3, 0).reshape(n_range, n_dop, -1))
+    power = np.square(virt.real) + np.square(virt.imag)
+    return virt, power.sum(axis=-1)
+
+
+def fast_slow_maps(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) -> FastSlowMaps:
+    """Range FFT of the frame, then each set's per-slot Doppler FFT and non-coherent map.
+
+    Parameters
+    ----------
+    cfg : RadarConfig
+        A fast/slow radar (`cfg.scheme.chirp_sets`).
+    adc : (n_chirps, n_rx, n_samples) int16 or complex64
+    proc : ProcessingConfig
+    """
+    sets = cfg.scheme.chirp_sets(cfg)
+    rf = range_stage(cfg, adc, proc)  # (C, R, B): chirp-level chain + range FFT
+    win = window(WINDOWS[proc.doppler_window], sets.n_doppler_bins)
+    fast_virt, fast_power = _set_spectra(rf[sets.fast], cfg.n_tx, win)
+    _, slow_power = _set_spectra(rf[sets.slow], cfg.n_tx, win)
+    return FastSlowMaps(fast_power, slow_power, fast_virt)
+
+
+def slow_bin_of(velocity_mps: np.ndarray, wavelength_m: float, slot_period_s: float,
+                n_dop: int) -> np.ndarray:
+    """Fractional Doppler bin (0 .. n_dop) at which a velocity aliases in a set whose Tx
+    sample slow time every `slot_period_s`: f_D = -2 v / lambda, bin = f_D n_dop T mod n_dop.
+
+    Examples
+    --------
+    >>> float(slow_bin_of(np.array(-1.0), 4e-3, 1e-4, 100))  # f_D 500 Hz: 0.05 cycles/sample
+    5.0
+    """
+    return np.mod(-2 * velocity_mps / wavelength_m * n_dop * slot_period_s, n_dop)
+
+
+class Unfolding(NamedTuple):
+    """Result of the association test for n fast peaks over H candidates.
+
+    Attributes
+    ----------
+    candidates_mps : (n, H) float
+        Vel_fast + 2 k Vmax_fast for k = -(U // 2) - 1 .. U // 2 + 1 (column `native` is
+        k = 0, the fast peak's own velocity).
+    valid : (n, H) bool
+        Candidates inside the unfolded span [-U Vmax_fast, U Vmax_fast).
+    slow_peak : (n, H) float
+        PeakVal_slow_hypo: the slow map's largest value within the search window.
+    slow_bin : (n, H) int
+        Where in the window that largest value sits (the slow peak a candidate claims).
+    passed : (n, H) bool
+        Valid candidates whose slow peak is within the threshold of the fast peak.
+    best : (n,) int
+        The chosen candidate: Vel_candidate_max, or `native` for a peak without one.
+    associated : (n,) bool
+        Whether the peak was unfolded (a passed candidate, its slow peak not claimed by
+        another fast peak of the range bin).
+    native : int
+        Column of k = 0.
+    """
+
+    candidates_mps: np.ndarray
+    valid: np.ndarray
+    slow_peak: np.ndarray
+    slow_bin: np.ndarray
+    passed: np.ndarray
+    best: np.ndarray
+    associated: np.ndarray
+    native: int
+
+    @property
+    def velocity_mps(self) -> np.ndarray:
+        """(n,) the chosen candidate of each peak; the fast set's own (aliased) velocity where
+        no candidate was associated."""
+        return self.candidates_mps[np.arange(self.best.size), self.best]
+
+
+#: Cost of a fast peak left without a slow peak in `_exclusive_choice`: above any
+#: -log10(relative power) a float32 map can produce.
+_UNMATCHED_COST = 1e6
+
+
+def _exclusive_choice(range_bin: np.ndarray, unf_key: np.ndarray, score: np.ndarray,
+                      passed: np.ndarray, best: np.ndarray,
+                      associated: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Give each slow peak to one fast peak at most.
+
+    Where the per-peak choice (`best`) lets two fast peaks of one range bin claim the same slow
+    peak (`unf_key`: range bin x n_dop + slow bin), the peaks of those range bins are matched to
+    slow peaks by an optimal assignment (`scipy.optimize.linear_sum_assignment`): as many
+    peaks as possible associated, then the largest total log power of the claimed slow peaks.
+    Peaks left over fall back to no association. TI's SRR ``disambiguateVel`` reaches the same
+    exclusivity greedily, zeroing a slow peak once a fast peak has taken it.
+
+    Parameters
+    ----------
+    range_bin : (n,) int
+    unf_key : (n, H) int
+        Slow peak each candidate claims.
+    score : (n, H) float
+        log10 of each candidate's slow peak.
+    passed : (n, H) bool
+    best : (n,) int
+    associated : (n,) bool
+
+    Returns
+    -------
+    best, associated : (n,) int, (n,) bool
+    """
+    rows = np.arange(best.size)
+    chosen = unf_key[rows, best]
+    keys, inverse, counts = np.unique(chosen[associated], return_inverse=True,
+                                      return_counts=True)
+    if not np.any(counts > 1):
+        return best, associated
+    clash_bins = np.unique(range_bin[associated][counts[inverse] > 1])
+    involved = np.flatnonzero(associated & np.isin(range_bin, clash_bins))
+    pi, ph = np.nonzero(passed[involved])
+    cols, col_of = np.unique(unf_key[involved][pi, ph], return_inverse=True)
+    cost = np.full((involved.size, cols.size), _UNMATCHED_COST)
+    top = score[involved][pi, ph].max()
+    # Several candidates of one peak may claim one slow peak: keep the cheapest.
+    np.minimum.at(cost, (pi, col_of), top - score[involved][pi, ph])
+    r, c = linear_sum_assignment(cost)
+    best, associated = best.copy(), associated.copy()
+    associated[involved] = False
+    ok = cost[r, c] < _UNMATCHED_COST
+    peak = involved[r[ok]]
+    associated[peak] = True
+    # The candidate of that peak claiming the assigned slow peak (the strongest if several).
+    claim = (unf_key[peak] == cols[c[ok]][:, None]) & passed[peak]
+    best[peak] = np.argmax(np.where(claim, score[peak], -np.inf), axis=1)
+    return best, associated
+
+
+def unfold_peaks(v_fast_mps: np.ndarray, fast_peak: np.ndarray, slow_rows: np.ndarray,
+                 range_bin: np.ndarray, *, native_vmax_mps: float, unfold_factor: int,
+                 wavelength_m: float, slow_slot_period_s: float, threshold_db: float,
+                 search_bins: int) -> Unfolding:
+    """Steps 3-7 of seed 001's fast/slow algorithm for n fast-set peaks at once.
+
+    Each candidate Vel_fast + 2 k Vmax_fast inside the span looks up the slow map's largest
+    value within +/- `search_bins` of its own aliased bin; it survives if that value is within
+    `threshold_db` of the fast peak; the survivor with the largest slow value wins. A slow
+    peak goes to one fast peak at most (`_exclusive_choice`). A fast peak without a surviving
+    candidate keeps its own aliased velocity, as TI's SRR demo does ("always allow the
+    detections to go through even if the disambiguation process fails"), and is flagged
+    not `associated`.
+
+    Parameters
+    ----------
+    v_fast_mps : (n,) float
+        Aliased velocity of each fast peak, in [-Vmax_fast, Vmax_fast), m/s.
+    fast_peak : (n,) float
+        PeakVal_fast, the fast map's power at the peak.
+    slow_rows : (n, n_dop) float
+        The slow map's Doppler row at each peak's range bin.
+    range_bin : (n,) int
+        Each peak's range bin (peaks of one bin compete for its slow peaks).
+    native_vmax_mps : float
+        Vmax_fast = lambda / (4 Nt T_f), m/s.
+    unfold_factor : int
+        Candidates cover +/- unfold_factor x Vmax_fast.
+    wavelength_m, slow_slot_period_s : float
+        Wavelength, m, and one Tx's slow-time period in the slow set (Nt T_s), s.
+    threshold_db : float
+        Largest |10 log10(slow peak / fast peak)| of a surviving candidate, dB.
+    search_bins : int
+        Half-width of the slow-map search window around each candidate's bin.
+
+    Returns
+    -------
+    Unfolding
+
+    References
+    ----------
+    .. [1] TI, seed 001 section 3, steps 3-8; TI mmWave SDK SRR/MRR demo, DSS
+       ``disambiguateVel`` (strongest associated slow peak, consumed once taken).
+    """
+    n, n_dop = slow_rows.shape
+    k = np.arange(-(unfold_factor // 2) - 1, unfold_factor // 2 + 2)
+    native = int(np.flatnonzero(k == 0)[0])
+    cand = v_fast_mps[:, None] + 2 * native_vmax_mps * k[None, :]  # (n, H)
+    span = unfold_factor * native_vmax_mps
+    valid = (cand >= -span) & (cand < span)
+    centre = np.rint(slow_bin_of(cand, wavelength_m, slow_slot_period_s, n_dop)).astype(np.intp)
+    cols = (centre[..., None] + np.arange(-search_bins, search_bins + 1)) % n_dop  # (n, H, W)
+    window = slow_rows[np.arange(n)[:, None, None], cols]
+    at = np.argmax(window, axis=-1)
+    slow_peak = np.take_along_axis(window, at[..., None], axis=-1)[..., 0]
+    slow_bin = np.take_along_axis(cols, at[..., None], axis=-1)[..., 0]
+    score = np.log10(np.maximum(slow_peak, 1e-30))
+    ratio_db = 10 * (score - np.log10(np.maximum(fast_peak, 1e-30))[:, None])
+    passed = valid & (np.abs(ratio_db) <= threshold_db)
+    associated = passed.any(axis=1)
+    best = np.where(associated, np.argmax(np.where(passed, slow_peak, -np.inf), axis=1),
+                    native)
+    if n > 1:
+        best, associated = _exclusive_choice(range_bin, range_bin[:, None] * n_dop + slow_bin,
+                                             score, passed, best, associated)
+        best = np.where(associated, best, native)
+    return Unfolding(cand, valid, slow_peak, slow_bin, passed, best, associated, native)
+
+
+class FastSlowChain(MimoChain):
+    """Receive side of `radarsim.MIMO_SCHEMES["fast_slow"]` (seed 001 section 3)."""
+
+    name = "fast_slow"
+
+    def check_processing(self, cfg: RadarConfig, proc: ProcessingConfig) -> None:
+        """The search windows of two candidates must not overlap: 2 w + 1 bins at most the
+        smallest slow-map distance between candidates (`hypothesis_separation_bins`).
+
+        Raises
+        ------
+        ValueError
+            Naming ``fast_slow_search_bins``, its value and the limit.
+        """
+        sch = cfg.scheme
+        sep = hypothesis_separation_bins(sch.slow_period_ratio, cfg.n_doppler_bins,
+                                         sch.unfold_factor)
+        w = proc.fast_slow_search_bins
+        if 2 * w + 1 > sep:
+            raise ValueError(f"fast_slow_search_bins={w}: the search window (2 x {w} + 1 bins) "
+                             f"exceeds the {sep:.3g} slow Doppler bins between two unfolding "
+                             f"candidates of mimo={cfg.mimo!r} (limit {int((sep - 1) // 2)})")
+
+    def unfold(self, cfg: RadarConfig, maps: FastSlowMaps, hits: RangeDopplerHits,
+               proc: ProcessingConfig) -> Unfolding:
+        """Steps 2-7 for the fast-set CFAR hits of one frame (`unfold_peaks`)."""
+        sch, sets = cfg.scheme, cfg.scheme.chirp_sets(cfg)
+        n_dop = sets.n_doppler_bins
+        r, d = hits.range_bin, hits.doppler_bin
+        d_signed = (d + hits.doppler_offset + n_dop / 2) % n_dop - n_dop / 2
+        v_fast = -d_signed / (n_dop * cfg.n_tx * sets.fast_period_s) * cfg.wavelength_m / 2
+        return unfold_peaks(v_fast, maps.fast_power[r, d], maps.slow_power[r], r,
+                            native_vmax_mps=sch.native_max_velocity_mps(cfg),
+                            unfold_factor=sch.unfold_factor, wavelength_m=cfg.wavelength_m,
+                            slow_slot_period_s=cfg.n_tx * sets.slow_period_s,
+                            threshold_db=proc.fast_slow_threshold_db,
+                            search_bins=proc.fast_slow_search_bins)
+
+    def process(self, cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) -> pd.DataFrame:
+        sets = cfg.scheme.chirp_sets(cfg)
+        maps = fast_slow_maps(cfg, adc, proc)
+        hits = noncoherent_hits(maps.fast_power, cfg.n_virtual, proc)  # step 1
+        if hits.range_bin.size == 0:
+            return empty_cloud()
+        unf = self.unfold(cfg, maps, hits, proc)  # steps 2-7
+        velocity = unf.velocity_mps  # step 8 (unassociated peaks: their aliased velocity)
+        virt = self._compensated(cfg, maps.fast_virt[hits.range_bin, hits.doppler_bin],
+                                 velocity, sets.fast_period_s)[:, None, :]  # (n, 1, 16)
+        az_pow = np.abs(virt @ array_dft(cfg, proc.n_azimuth_bins, "horizontal")) ** 2
+        # Doppler bin in the unfolded span: fast-set bins over unfold_factor native spans.
+        n_span = cfg.scheme.unfold_factor * sets.n_doppler_bins
+        d_true = np.rint(-2 * velocity / cfg.wavelength_m * sets.n_doppler_bins * cfg.n_tx
+                         * sets.fast_period_s).astype(int)
+        return hypothesis_cloud(cfg, proc, hits, virt, az_pow, np.zeros(velocity.size, int),
+                                velocity, d_true % n_span)
+
+    @staticmethod
+    def _compensated(cfg: RadarConfig, virt: np.ndarray, velocity_mps: np.ndarray,
+                     chirp_period_s: float) -> np.ndarray:
+        """(n, n_tx x n_rx) slot-major samples with slot s's Doppler phase 2 pi f_D s T
+        removed (seed 001 eq. 8-10), f_D = -2 v / lambda."""
+        f_d = -2 * velocity_mps / cfg.wavelength_m
+        comp = np.exp(-2j * np.pi * f_d[:, None] * np.arange(cfg.n_tx) * chirp_period_s)
+        n = virt.shape[0]
+        out = virt.reshape(n, cfg.n_tx, cfg.n_rx) * comp[:, :, None].astype(np.complex64)
+        return out.reshape(n, -1)
+
+    def detection_map(self, cfg: RadarConfig, adc: np.ndarray,
+                      proc: ProcessingConfig) -> DetectionMap:
+        return DetectionMap(fast_slow_maps(cfg, adc, proc).fast_power, cfg.n_virtual, 1)
+
+    def doppler_azimuth(self, cfg: RadarConfig, adc: np.ndarray, range_bin: int,
+                        proc: ProcessingConfig) -> DopplerAzimuth:
+        """The fast set's per-slot spectrum, each bin compensated at its own native-span
+        velocity, then the azimuth DFT (as TDMA's)."""
+        sets = cfg.scheme.chirp_sets(cfg)
+        virt = fast_slow_maps(cfg, adc, proc).fast_virt[range_bin]  # (D, S*R)
+        n_dop = virt.shape[0]
+        d_signed = (np.arange(n_dop) + n_dop / 2) % n_dop - n_dop / 2
+        vel = -d_signed / (n_dop * cfg.n_tx * sets.fast_period_s) * cfg.wavelength_m / 2
+        virt = self._compensated(cfg, virt, vel, sets.fast_period_s)
+        power = np.abs(virt @ array_dft(cfg, proc.n_azimuth_bins, "horizontal")) ** 2
+        return DopplerAzimuth(vel, power)
+
+    def range_doppler_power(self, cfg: RadarConfig, adc: np.ndarray,
+                            proc: ProcessingConfig) -> np.ndarray:
+        return fast_slow_maps(cfg, adc, proc).fast_power
+
+
+register_chain(FastSlowChain())
