@@ -262,14 +262,24 @@ class ProcessingConfig:
 
     def check_radar(self, cfg) -> None:
         """Raise if these settings cannot process `cfg`'s frames (`check_doppler_axis`,
-        `check_compression`, the ``compRangeBiasAndRxChanPhase`` count of the chip, the
-        chain's own rules `MimoChain.check_processing`): what a sweep checks for every cell
-        before it starts."""
+        `check_compression`, the ``compRangeBiasAndRxChanPhase`` count of the chip,
+        `check_search_width`): what a sweep checks for every cell before it starts."""
         self.check_doppler_axis(cfg.n_doppler_bins)
         self.check_compression(cfg.n_rx, cfg.n_range_bins)
         check_channel_comp(cfg, self.channel_comp)
-        from .mimo import chain_of  # the chains import this module
-        chain_of(cfg).check_processing(cfg, self)
+        self.check_search_width(cfg.scheme.candidate_separation_bins(cfg))
+
+    def check_search_width(self, separation_bins: float) -> None:
+        """Raise if two velocity candidates' slow-map search windows (2 w + 1 bins each,
+        ``fast_slow_search_bins`` = w) could overlap: a radar's candidates sit
+        `separation_bins` apart (`radarsim.mimo.MimoScheme.candidate_separation_bins`; inf for
+        schemes without a verifying map)."""
+        w = self.fast_slow_search_bins
+        if 2 * w + 1 > separation_bins:
+            raise ValueError(f"fast_slow_search_bins={w}: the search window (2 x {w} + 1 bins) "
+                             f"exceeds the {separation_bins:.3g} slow Doppler bins between two "
+                             f"unfolding candidates of the radar (limit "
+                             f"{int((separation_bins - 1) // 2)})")
 
     def replace(self, **changes: Any) -> "ProcessingConfig":
         """Copy with changes; `cfar_<field>` keys change the CFAR sub-config."""

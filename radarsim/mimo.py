@@ -16,6 +16,7 @@ References
 """
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, ClassVar, NamedTuple
 
@@ -183,6 +184,12 @@ class MimoScheme:
     def n_doppler_bins(self, cfg: "RadarConfig") -> int:
         """Doppler bins per transmitter after separation."""
         return cfg.n_chirps // cfg.n_tx
+
+    def candidate_separation_bins(self, cfg: "RadarConfig") -> float:
+        """Smallest distance, in Doppler bins of a verifying map, between two velocity
+        candidates the receiver checks there (fast/slow: the slow map); inf for schemes
+        without one. Bounds the receiver's search window."""
+        return math.inf
 
     def velocity_resolution_mps(self, cfg: "RadarConfig") -> float:
         """lambda / (2 T_frame): one Doppler bin of a sequence spanning the frame, m/s."""

@@ -179,15 +179,19 @@ class FastSlowScheme(TdmaScheme):
             raise ValueError(f"idle_time_s={cfg.idle_time_s:g} (mean of the two sets): the fast "
                              f"chirp's idle time 2 T / (1 + slow_period_ratio) - ramp_end_time_s "
                              f"= {idle_f:g} s must be > 0")
-        sep = hypothesis_separation_bins(self.slow_period_ratio,
-                                         self.chirp_sets(cfg).n_doppler_bins,
-                                         self.unfold_factor)
+        sep = self.candidate_separation_bins(cfg)
         if sep < 1.0:
             raise ValueError(
                 f"slow_period_ratio={self.slow_period_ratio:g} makes the unfolding ambiguous "
                 f"over unfold_factor={self.unfold_factor} (+/-"
                 f"{self.max_unambiguous_velocity_mps(cfg):.4g} m/s): two candidates land "
                 f"{sep:.3g} slow Doppler bins apart, below the limit of 1 bin")
+
+    def candidate_separation_bins(self, cfg: "RadarConfig") -> float:
+        """Slow-map bins between two unfolding candidates (R79: 19.2)."""
+        return hypothesis_separation_bins(self.slow_period_ratio,
+                                          self.chirp_sets(cfg).n_doppler_bins,
+                                          self.unfold_factor)
 
     # ------------------------------------------------------------------ transmit side
     def transmit_code(self, cfg: "RadarConfig") -> TransmitCode:

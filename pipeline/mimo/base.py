@@ -69,11 +69,6 @@ class MimoChain:
     name: ClassVar[str] = ""
     variants: ClassVar[dict[str, dict[str, Any]]] = {}
 
-    def check_processing(self, cfg: RadarConfig, proc: ProcessingConfig) -> None:
-        """Raise ValueError if `proc` cannot process `cfg`'s frames with this chain (called
-        by `ProcessingConfig.check_radar`, so a sweep refuses the cell before it starts);
-        default: no chain-specific rule."""
-
     def process(self, cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) -> pd.DataFrame:
         """(n_chirps, n_rx, n_samples) int16 (real) or complex64 (I/Q) frame -> point cloud
         (`POINT_CLOUD_COLUMNS`)."""

@@ -41,7 +41,6 @@ import pandas as pd
 from scipy.optimize import linear_sum_assignment
 
 from radarsim.config import RadarConfig
-from radarsim.mimo_fast_slow import hypothesis_separation_bins
 
 from ..chirp_level import range_stage
 from ..config import WINDOWS, ProcessingConfig
@@ -285,24 +284,6 @@ class FastSlowChain(MimoChain):
     """Receive side of `radarsim.MIMO_SCHEMES["fast_slow"]` (seed 001 section 3)."""
 
     name = "fast_slow"
-
-    def check_processing(self, cfg: RadarConfig, proc: ProcessingConfig) -> None:
-        """The search windows of two candidates must not overlap: 2 w + 1 bins at most the
-        smallest slow-map distance between candidates (`hypothesis_separation_bins`).
-
-        Raises
-        ------
-        ValueError
-            Naming ``fast_slow_search_bins``, its value and the limit.
-        """
-        sch = cfg.scheme
-        sep = hypothesis_separation_bins(sch.slow_period_ratio, cfg.n_doppler_bins,
-                                         sch.unfold_factor)
-        w = proc.fast_slow_search_bins
-        if 2 * w + 1 > sep:
-            raise ValueError(f"fast_slow_search_bins={w}: the search window (2 x {w} + 1 bins) "
-                             f"exceeds the {sep:.3g} slow Doppler bins between two unfolding "
-                             f"candidates of mimo={cfg.mimo!r} (limit {int((sep - 1) // 2)})")
 
     def unfold(self, cfg: RadarConfig, maps: FastSlowMaps, hits: RangeDopplerHits,
                proc: ProcessingConfig) -> Unfolding:
