@@ -43,6 +43,7 @@ from scipy.optimize import linear_sum_assignment
 from radarsim.config import RadarConfig
 
 from ..chirp_level import range_stage
+from ..compensation import compensate
 from ..config import WINDOWS, ProcessingConfig
 from ..kernels import doppler_fft, window
 from ..stages import RangeDopplerHits, array_dft, empty_cloud, hypothesis_cloud, noncoherent_hits
@@ -309,7 +310,8 @@ class FastSlowChain(MimoChain):
         unf = self.unfold(cfg, maps, hits, proc)  # steps 2-7
         velocity = unf.velocity_mps  # step 8 (unassociated peaks: their aliased velocity)
         virt = self._compensated(cfg, maps.fast_virt[hits.range_bin, hits.doppler_bin],
-                                 velocity, sets.fast_period_s)[:, None, :]  # (n, 1, 16)
+                                 velocity, sets.fast_period_s)
+        virt = compensate(cfg, proc, virt)[:, None, :]  # compRangeBiasAndRxChanPhase; (n, 1, 16)
         az_pow = np.abs(virt @ array_dft(cfg, proc.n_azimuth_bins, "horizontal")) ** 2
         # Doppler bin in the unfolded span: fast-set bins over unfold_factor native spans.
         n_span = cfg.scheme.unfold_factor * sets.n_doppler_bins
@@ -342,7 +344,7 @@ class FastSlowChain(MimoChain):
         n_dop = virt.shape[0]
         d_signed = (np.arange(n_dop) + n_dop / 2) % n_dop - n_dop / 2
         vel = -d_signed / (n_dop * cfg.n_tx * sets.fast_period_s) * cfg.wavelength_m / 2
-        virt = self._compensated(cfg, virt, vel, sets.fast_period_s)
+        virt = compensate(cfg, proc, self._compensated(cfg, virt, vel, sets.fast_period_s))
         power = np.abs(virt @ array_dft(cfg, proc.n_azimuth_bins, "horizontal")) ** 2
         return DopplerAzimuth(vel, power)
 
