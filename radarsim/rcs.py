@@ -191,40 +191,39 @@ class RcsConfig:
 
 
 _DEFAULT_CONFIG = RcsConfig()
-_BOX_FIELDS = ("actor_id", "cls", "centre", "half", "yaw", "velocity")
+_BOX_FIELDS = ("actor_id", "cls", "centre", "half", "yaw", "velocity", "code")
 
 
-def _actor_scale(boxes: ActorBoxes, cfg: RcsConfig,
-                 rng: np.random.Generator) -> np.ndarray:
+def _actor_scale(boxes: ActorBoxes, cfg: RcsConfig, rng: np.random.Generator,
+                 centres) -> np.ndarray:
     """(B,) factor on every patch and centre of each box: pattern level over the facet total
-    (or the class gain) times the actor's log-normal fluctuation of this frame."""
+    (or the class gain) times the actor's log-normal fluctuation of this frame. `centres`:
+    `strong_centres(boxes)`."""
     n = boxes.centre.shape[0]
-    scale = class_param(boxes.cls, "gain")
-    names = np.asarray(boxes.cls, dtype=str)
-    with_pattern = [name for name in np.unique(names) if CLASS_RCS[name].pattern is not None]
-    if with_pattern:
-        sel = np.flatnonzero(np.isin(names, with_pattern))
-        sub = ActorBoxes(*(getattr(boxes, f)[sel] for f in _BOX_FIELDS))
-        phi, theta = radar_angles(sub)
-        total = geometric_total_rcs(sub)
-        for name in with_pattern:
-            m = names[sel] == name
-            level = 10 ** (CLASS_RCS[name].pattern.rcs_dbsm(phi[m], theta[m]) / 10)
-            scale[sel[m]] = level / np.maximum(total[m], 1e-12)
+    scale = class_param(boxes.code, "gain")
+    patterned = class_param(boxes.code, "has_pattern") > 0
+    if patterned.any():
+        phi, theta = radar_angles(boxes)
+        total = geometric_total_rcs(boxes, centres)
+        for code in np.unique(boxes.code[patterned]):
+            m = boxes.code == code
+            pattern = list(CLASS_RCS.values())[code].pattern
+            scale[m] = 10 ** (pattern.rcs_dbsm(phi[m], theta[m]) / 10) \
+                / np.maximum(total[m], 1e-12)
     z = rng.standard_normal(n)   # drawn even when unused: the same stream either way
     if cfg.target_fluctuation:
-        sigma = class_param(boxes.cls, "fluctuation_db")
+        sigma = class_param(boxes.code, "fluctuation_db")
         scale = scale * 10 ** ((lognormal_mu_db(sigma) + sigma * z) / 10)
     return scale
 
 
 def _visible_centres(boxes: ActorBoxes, cfg: RcsConfig, rng: np.random.Generator, hits,
-                     az_grid: np.ndarray, el_grid: np.ndarray, scale: np.ndarray):
+                     az_grid: np.ndarray, el_grid: np.ndarray, scale: np.ndarray, centres):
     """Strong centres that face the radar, lie in the grid's field of view and are not occluded.
 
     Returns (box (C,), position (C, 3), rcs (C,)) in the radar frame, `scale` (B,) applied.
     """
-    box, local, n_local, rcs0, lobe = strong_centres(boxes)
+    box, local, n_local, rcs0, lobe = centres
     pos = rotate_yaw(local, boxes.yaw[box]) + boxes.centre[box]
     normal = rotate_yaw(n_local, boxes.yaw[box])
     r = np.linalg.norm(pos, axis=1)
@@ -269,16 +268,16 @@ def _patch_rcs(hits, boxes: ActorBoxes, cfg: RcsConfig, scale: np.ndarray) -> np
     Classes calibrated by a gain keep each ray's own incidence (a long truck side seen at 30 m
     spans +/-15 deg of incidence and glints only near its middle), as their gains were fit.
     """
-    cls, b = boxes.cls, hits.box
+    code, b = boxes.code, hits.box
     u_c = boxes.centre / np.maximum(np.linalg.norm(boxes.centre, axis=1), 1e-9)[:, None]
-    far = np.array([CLASS_RCS[c].pattern is not None for c in cls], dtype=bool)[b]
+    far = class_param(code, "has_pattern")[b] > 0
     u = np.where(far[:, None], u_c[b], hits.direction)
     cos_inc = np.clip(-np.einsum("hd,hd->h", u, hits.normal), 0.0, 1.0)
     theta = np.arccos(cos_inc)
     omega = cfg.grid.solid_angle_sr * np.sqrt(1 - hits.direction[:, 2] ** 2)
-    mu = class_param(cls, "diffuse_m2_per_m2")[b]
-    s = class_param(cls, "specular_m2_per_m2")[b]
-    w = np.radians(class_param(cls, "specular_width_deg"))[b]
+    mu = class_param(code, "diffuse_m2_per_m2")[b]
+    s = class_param(code, "specular_m2_per_m2")[b]
+    w = np.radians(class_param(code, "specular_width_deg"))[b]
     # A = t^2 Omega / cos(theta); sigma = A (mu cos^2 + S lobe), written without dividing by 0.
     density = (mu * cos_inc + s * np.exp(-(theta / w) ** 2) / np.maximum(cos_inc, 0.05))
     return hits.t_m ** 2 * omega * density * scale[b]
@@ -348,7 +347,8 @@ def scene_scatterers(truth_frame: pd.DataFrame, rng: np.random.Generator,
         radar_velocity_mps = -boxes.velocity[rails[0]] if rails.size else None
     boxes = ActorBoxes(*(getattr(boxes, f)[near] for f in _BOX_FIELDS))
     a_off, e_off = rng.random(2) if cfg.dither else (0.0, 0.0)
-    scale = _actor_scale(boxes, cfg, rng)
+    centres = strong_centres(boxes)
+    scale = _actor_scale(boxes, cfg, rng, centres)
     hits = cast_rays(cfg.grid, boxes.centre, boxes.half, boxes.yaw, azimuth_offset=a_off,
                      elevation_offset=e_off, max_range_m=cfg.max_range_m)
     parts = []
@@ -357,7 +357,7 @@ def scene_scatterers(truth_frame: pd.DataFrame, rng: np.random.Generator,
         p_rcs = _patch_rcs(hits, boxes, cfg, scale)
         c_box, c_pos, c_rcs = _visible_centres(boxes, cfg, rng, hits,
                                                cfg.grid.azimuths_rad(a_off),
-                                               cfg.grid.elevations_rad(e_off), scale)
+                                               cfg.grid.elevations_rad(e_off), scale, centres)
         box = np.concatenate([hits.box, c_box])
         pos = np.concatenate([hits.point_m, c_pos])
         rcs = np.concatenate([p_rcs, c_rcs])

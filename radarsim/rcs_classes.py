@@ -114,6 +114,7 @@ class ActorBoxes:
     half: np.ndarray         # (B, 3) m
     yaw: np.ndarray          # (B,) rad
     velocity: np.ndarray     # (B, 3) m/s, relative to the radar
+    code: np.ndarray         # (B,) int: index of the class in `CLASS_RCS` (`class_param`)
 
 
 def actor_boxes(truth_frame: pd.DataFrame) -> ActorBoxes:
@@ -132,19 +133,26 @@ def actor_boxes(truth_frame: pd.DataFrame) -> ActorBoxes:
     if unknown:
         raise ValueError(f"actor_class {unknown} unknown; known: {sorted(CLASS_RCS)}")
     v = truth_frame
+    index = {name: i for i, name in enumerate(CLASS_RCS)}
+    code = np.array([index[c] for c in cls], dtype=np.int64)
     centre = np.column_stack([v["x_radar_m"], v["y_radar_m"], v["z_radar_m"]]).astype(float)
     half = 0.5 * np.column_stack([v["length_m"], v["width_m"], v["height_m"]]).astype(float)
     vel = np.column_stack([v["vx_radar_mps"], v["vy_radar_mps"],
                            np.zeros(len(v))]).astype(float)
     return ActorBoxes(v["actor_id"].to_numpy(dtype=np.int64), cls, centre.reshape(-1, 3),
-                  half.reshape(-1, 3), np.radians(v["yaw_radar_deg"].to_numpy(dtype=float)),
-                  vel.reshape(-1, 3))
+                      half.reshape(-1, 3), np.radians(v["yaw_radar_deg"].to_numpy(dtype=float)),
+                      vel.reshape(-1, 3), code)
 
 
-def class_param(cls: np.ndarray, name: str) -> np.ndarray:
-    """(B,) parameter `name` of each box's class (one lookup per distinct class)."""
-    names, inv = np.unique(np.asarray(cls, dtype=str), return_inverse=True)
-    return np.array([getattr(CLASS_RCS[n], name) for n in names], dtype=np.float64)[inv]
+def class_param(code: np.ndarray, name: str) -> np.ndarray:
+    """(B,) parameter `name` of each box's class, from the boxes' class codes
+    (`ActorBoxes.code`); `name` "has_pattern" gives whether the class has a published
+    pattern (1.0) or not (0.0)."""
+    if name == "has_pattern":
+        table = [float(c.pattern is not None) for c in CLASS_RCS.values()]
+    else:
+        table = [getattr(c, name) for c in CLASS_RCS.values()]
+    return np.asarray(table, dtype=np.float64)[code]
 
 
 def strong_centres(boxes: ActorBoxes):
@@ -168,9 +176,9 @@ def strong_centres(boxes: ActorBoxes):
     idx = np.arange(n_box)
     hx, hy, hz = boxes.half[:, 0], boxes.half[:, 1], boxes.half[:, 2]
     cls = boxes.cls
-    wheel = class_param(cls, "wheel_rcs_m2")
-    corner = class_param(cls, "corner_rcs_m2")
-    plate = class_param(cls, "plate_rcs_m2")
+    wheel = class_param(boxes.code, "wheel_rcs_m2")
+    corner = class_param(boxes.code, "corner_rcs_m2")
+    plate = class_param(boxes.code, "plate_rcs_m2")
     is_rail = cls == "guard_rail"
     is_truck = cls == "truck"
     # Wheels on both sides near each axle, 0.35 m up (trucks: three axles).
@@ -237,14 +245,14 @@ def radar_angles(boxes: ActorBoxes) -> tuple[np.ndarray, np.ndarray]:
             np.degrees(np.arctan2(np.hypot(ux, uy), o[:, 2])))
 
 
-def geometric_total_rcs(boxes: ActorBoxes) -> np.ndarray:
+def geometric_total_rcs(boxes: ActorBoxes, centres=None) -> np.ndarray:
     """(B,) facet-model RCS of each box alone (no occluder, no gain, no fluctuation), m^2.
 
     Closed form of what the ray cast sums for an unoccluded box: a face of area A seen at
     incidence theta collects rays over its projected area A cos(theta), each patch carrying
     t^2 Omega (mu cos(theta) + S lobe(theta) / max(cos(theta), 0.05)), so the face totals
     A cos(theta) (mu cos(theta) + S lobe / max(cos, 0.05)); plus every strong centre facing the
-    radar with its lobe.
+    radar with its lobe. `centres`: `strong_centres(boxes)` if already computed.
     """
     o = -boxes.centre
     c, s = np.cos(boxes.yaw), np.sin(boxes.yaw)
@@ -254,14 +262,14 @@ def geometric_total_rcs(boxes: ActorBoxes) -> np.ndarray:
     area = 4 * np.column_stack([h[:, 1] * h[:, 2], h[:, 1] * h[:, 2], h[:, 0] * h[:, 2],
                                 h[:, 0] * h[:, 2], h[:, 0] * h[:, 1], h[:, 0] * h[:, 1]])
     cos_f = u @ FACE_NORMALS_LOCAL.T                                  # (B, 6)
-    mu = class_param(boxes.cls, "diffuse_m2_per_m2")[:, None]
-    spec = class_param(boxes.cls, "specular_m2_per_m2")[:, None]
-    w = np.radians(class_param(boxes.cls, "specular_width_deg"))[:, None]
+    mu = class_param(boxes.code, "diffuse_m2_per_m2")[:, None]
+    spec = class_param(boxes.code, "specular_m2_per_m2")[:, None]
+    w = np.radians(class_param(boxes.code, "specular_width_deg"))[:, None]
     cos_c = np.clip(cos_f, 0.0, 1.0)
     lobe = np.exp(-(np.arccos(cos_c) / w) ** 2)
     faces = np.where(cos_f > 0, area * cos_c * (mu * cos_c + spec * lobe
                                                 / np.maximum(cos_c, 0.05)), 0.0).sum(axis=1)
-    box, local, n_local, rcs0, lobe_deg = strong_centres(boxes)
+    box, local, n_local, rcs0, lobe_deg = strong_centres(boxes) if centres is None else centres
     pos = rotate_yaw(local, boxes.yaw[box]) + boxes.centre[box]
     normal = rotate_yaw(n_local, boxes.yaw[box])
     cos_inc = -np.einsum("cd,cd->c", pos / np.maximum(np.linalg.norm(pos, axis=1), 1e-9)[:, None],
