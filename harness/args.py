@@ -60,22 +60,15 @@ TIMEOUT_S = float_in(0.0, 3600.0, " s")
 
 
 def check_output_file(path, option: str):
-    """An output file path that can be written: not a directory, in an existing writable
-    folder. Checked before a long computation, so it never fails at the end.
+    """An output file path that can be written: not a directory, in an existing folder that
+    takes new files (a probe file is created: a read-only mount is caught even for root),
+    an existing file writable. Checked before a long computation, so it never fails at the
+    end (`scenarios.fileio.check_output_path`).
 
     Raises
     ------
     ValueError
         Naming the option, the path and what is wrong.
     """
-    import os
-    from pathlib import Path
-    p = Path(path)
-    if p.is_dir():
-        raise ValueError(f"{option} {str(path)!r} is a directory; give a file to write")
-    parent = p.parent if str(p.parent) else Path(".")
-    if not parent.is_dir():
-        raise ValueError(f"{option} {str(path)!r}: folder {str(parent)!r} does not exist")
-    if not os.access(parent, os.W_OK | os.X_OK) or (p.exists() and not os.access(p, os.W_OK)):
-        raise ValueError(f"{option} {str(path)!r}: not writable")
-    return p
+    from scenarios.fileio import check_output_path
+    return check_output_path(path, option)

@@ -2,7 +2,10 @@
 
 Each command module exposes `add_arguments(parser)` and `run(args) -> int`. Exit codes: 0 ok,
 1 a gate or check failed (or a sweep ended with missing cells), 2 bad input (one line naming the
-field, the value and the limit), 130 interrupted (Ctrl-C: "rerun the same command to resume").
+field, the value and the limit) or an output that cannot be written (full disk, read-only
+folder: one line naming the path), 130 interrupted (Ctrl-C: "rerun the same command to
+resume"), 143 / 129 stopped by SIGTERM / SIGHUP (handled like Ctrl-C: pool workers stopped,
+cells written so far kept, the same resume hint; `harness.runtime.terminate_on_signals`).
 Every process runs with one BLAS thread (`harness.runtime.prepare_process`), so every path gives
 the same bits.
 """
@@ -11,6 +14,8 @@ from __future__ import annotations
 import argparse
 import importlib
 import sys
+
+from .runtime import Terminated, prepare_process, terminate_on_signals
 
 #: name -> (module implementing it, one-line help). Modules are imported lazily so that
 #: `radar-harness scenarios` does not pay for Dask or matplotlib imports.
@@ -37,9 +42,9 @@ class UsageError(ValueError):
 
 #: Exit codes.
 EXIT_OK, EXIT_FAIL, EXIT_BAD_INPUT, EXIT_INTERRUPTED = 0, 1, 2, 130
-#: Errors that mean bad input (a file that is missing, unreadable, a directory, ...).
-_BAD_INPUT = (UsageError, ValueError, FileNotFoundError, IsADirectoryError, NotADirectoryError,
-              PermissionError, FileExistsError)
+#: Errors that mean bad input (a file that is missing, unreadable, a directory, ...) or an
+#: output the system refuses (OSError: full disk, read-only file system), reported in one line.
+_BAD_INPUT = (UsageError, ValueError, OSError)
 
 
 class _Parser(argparse.ArgumentParser):
@@ -68,16 +73,25 @@ def _one_line(exc: BaseException) -> str:
 
 
 def main(argv: list[str] | None = None) -> int:
-    from .runtime import prepare_process
     prepare_process()
+    with terminate_on_signals():
+        return _main(argv)
+
+
+def _stopped(command: str, exc: KeyboardInterrupt) -> int:
+    why = f"stopped by {exc.args[0]}" if isinstance(exc, Terminated) else "interrupted"
+    print(f"radar-harness{' ' + command if command else ''}: {why}: rerun the same command to resume", file=sys.stderr)
+    return 128 + exc.signum if isinstance(exc, Terminated) else EXIT_INTERRUPTED
+
+
+def _main(argv: list[str] | None) -> int:
     parser = build_parser()
     try:
         args = parser.parse_args(argv)
     except SystemExit as exc:  # --help (0) or a one-line usage error (2)
         return int(exc.code or 0) if not isinstance(exc.code, str) else EXIT_BAD_INPUT
-    except KeyboardInterrupt:
-        print("radar-harness: interrupted", file=sys.stderr)
-        return EXIT_INTERRUPTED
+    except KeyboardInterrupt as exc:
+        return _stopped("", exc)
     mod = importlib.import_module(args._module)
     runner = getattr(mod, f"run_{args.command}", getattr(mod, "run", None))
     try:
@@ -85,10 +99,8 @@ def main(argv: list[str] | None = None) -> int:
     except _BAD_INPUT as exc:
         print(f"radar-harness {args.command}: error: {_one_line(exc)}", file=sys.stderr)
         return EXIT_BAD_INPUT
-    except KeyboardInterrupt:
-        print(f"radar-harness {args.command}: interrupted: rerun the same command to resume",
-              file=sys.stderr)
-        return EXIT_INTERRUPTED
+    except KeyboardInterrupt as exc:
+        return _stopped(args.command, exc)
 
 
 if __name__ == "__main__":

@@ -1,13 +1,16 @@
 """`radar-harness gate RESULTS [--thresholds gates.toml] [--junit FILE] [--markdown FILE]`.
 
 Compares the summary table of a results directory with thresholds, prints a pass/fail table,
-optionally writes JUnit XML and a Markdown summary (default ``RESULTS/gates.md``). Exit code 0
-if every gate passes, 1 if any fails, 2 on bad input (missing results, malformed gates file,
-unknown metric).
+optionally writes JUnit XML and a Markdown summary (default ``RESULTS/gates.md``), each
+atomically. Exit code 0 if every gate passes, 1 if any fails, 2 on bad input (missing results,
+malformed gates file, unknown metric). The exit code is the verdict even when a report file
+cannot be written (a read-only results folder: a warning on stderr). The code version of the
+results is printed, with a warning when it is not today's (`harness.provenance`).
 """
 from __future__ import annotations
 
 import argparse
+import sys
 from pathlib import Path
 
 from .args import check_output_file
@@ -25,7 +28,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> int:
     import pandas as pd
 
+    from scenarios.fileio import OutputError, atomic_write
+
     from . import gates as g
+    from .provenance import version_line
     for opt, val in (("--junit", args.junit), ("--markdown", args.markdown)):
         if val is not None:
             if opt == "--junit":
@@ -34,6 +40,10 @@ def run(args: argparse.Namespace) -> int:
     gates = g.load_gates(args.thresholds)
     summary, manifest = g.load_summary(args.results)
     results = g.evaluate_gates(summary, gates, manifest)
+    line, warning = version_line(manifest)
+    print(line)
+    if warning:
+        print(f"radar-harness gate: {warning}", file=sys.stderr)
     table = g.results_table(results)
     with pd.option_context("display.max_colwidth", 60, "display.width", 200):
         print(table[["status", "gate", "where", "value", "bound"]].to_string(
@@ -41,10 +51,19 @@ def run(args: argparse.Namespace) -> int:
     n_fail = int((table["status"] == "fail").sum())
     print(f"{len(table) - n_fail} of {len(table)} gate checks passed or skipped, "
           f"{n_fail} failed")
-    if args.junit:
-        Path(args.junit).write_text(g.junit_xml(results))
+    verdict = 1 if n_fail else 0
     md = Path(args.markdown) if args.markdown else \
         (Path(args.results) if Path(args.results).is_dir() else Path(args.results).parent) \
         / "gates.md"
-    md.write_text(g.markdown(results))
-    return 1 if n_fail else 0
+    outputs = ([(Path(args.junit), g.junit_xml(results))] if args.junit else []) + \
+        [(md, g.markdown(results))]
+    for path, text in outputs:
+        # The verdict is the exit code even when a report file cannot be written (a
+        # read-only results folder in CI): say so on stderr, never turn a pass into a fail.
+        try:
+            atomic_write(path, lambda tmp, text=text: tmp.write_text(text, encoding="utf-8"))
+        except OutputError as exc:
+            word = "fail" if verdict else "pass"
+            print(f"radar-harness gate: warning: {exc}; the verdict ({word}) stands as the exit "
+                  "code", file=sys.stderr)
+    return verdict

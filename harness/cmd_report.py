@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import argparse
+import sys
 from pathlib import Path
 
 from .args import MAX_CASES, check_output_file
@@ -24,6 +25,11 @@ def run(args: argparse.Namespace) -> int:
         raise ValueError(f"results {args.results!r}: not a results directory (run `radar-harness "
                          "sweep` first)")
     check_output_file(args.out if args.out is not None else res / "report.html", "--out")
+    from .provenance import read_manifest, version_line
+    line, warning = version_line(read_manifest(res))
+    print(line)
+    if warning:  # the maps are re-simulated with today's code
+        print(f"radar-harness report: {warning}", file=sys.stderr)
     path = build_report(args.results, args.out, maps=args.maps, max_cases=args.max_cases)
     print(f"report written to {path}")
     return 0

@@ -7,6 +7,7 @@ the path of a TOML scenario file.
 from __future__ import annotations
 
 import argparse
+import os
 from pathlib import Path
 
 from .args import SEED
@@ -38,7 +39,7 @@ def add_arguments_show(parser: argparse.ArgumentParser) -> None:
 def _resolve(case: str):
     from scenarios import get_case, load_scenario_file
 
-    if case.endswith(".toml") and Path(case).exists():
+    if case.endswith(".toml") or os.sep in case:  # a file (a broken one is named, not a case)
         return load_scenario_file(case)
     return get_case(case)  # ValueError naming the known cases
 
@@ -47,8 +48,10 @@ def run_show(args: argparse.Namespace) -> int:
     from scenarios import run_scenario
     from scenarios.plot import write_views
 
+    from scenarios.fileio import check_output_dir
     if Path(args.out).exists() and not Path(args.out).is_dir():
         raise ValueError(f"--out {args.out!r} is a file; give a folder for the PNG and GIF")
+    check_output_dir(args.out, "--out")  # before the scenario runs
     run = run_scenario(_resolve(args.case), seed=args.seed)
     png, gif = write_views(run, args.out)
     print(f"wrote {png}")

@@ -38,7 +38,7 @@ def dask_security(path: str | Path | None):
         return Security()
     p = Path(path)
     try:
-        data = read_toml(p)
+        data = read_toml(p, "--security")
     except (OSError, ValueError) as exc:
         raise ValueError(f"--security {str(path)!r}: cannot read the file ({exc})") from None
     keys = {"ca_file", "cert", "key"}

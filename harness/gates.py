@@ -19,7 +19,6 @@ Every summary row that names an ``error`` (a sweep cell that raised) fails the b
 from __future__ import annotations
 
 import fnmatch
-import json
 import xml.etree.ElementTree as ET
 from dataclasses import dataclass
 from pathlib import Path
@@ -29,7 +28,10 @@ import pandas as pd
 
 from scenarios.checks import build_from_table, check_keys, one_of, read_toml, require
 
+from scenarios.fileio import MAX_TABLE_FILE_BYTES, check_input_file
+
 from .cellstore import failed_rows
+from .provenance import read_manifest
 
 __all__ = ["Gate", "GateResult", "load_gates", "evaluate_gates", "load_summary",
            "junit_xml", "markdown", "DEFAULT_GATES_PATH", "AGGREGATES"]
@@ -105,7 +107,7 @@ def load_gates(path: str | Path | None = None) -> list[Gate]:
         The file does not exist.
     """
     p = Path(path) if path is not None else DEFAULT_GATES_PATH
-    data = read_toml(p)
+    data = read_toml(p, "gates file")
     try:
         check_keys(data, {"gate"})
         raw = data.get("gate")
@@ -135,6 +137,7 @@ def load_summary(results: str | Path) -> tuple[pd.DataFrame, dict]:
     f = p / "summary.parquet" if p.is_dir() else p
     if not f.exists():
         raise FileNotFoundError(f"no results summary at {f} (run `radar-harness sweep` first)")
+    check_input_file(f, "summary table", max_bytes=MAX_TABLE_FILE_BYTES)
     try:
         summary = pd.read_parquet(f)
     except Exception as exc:  # noqa: BLE001 - pyarrow raises several types
@@ -142,14 +145,7 @@ def load_summary(results: str | Path) -> tuple[pd.DataFrame, dict]:
     missing = [c for c in ("scenario", "scheme") if c not in summary.columns]
     if missing:
         raise ValueError(f"{f}: summary lacks column(s) {missing}")
-    manifest = {}
-    mf = f.parent / "manifest.json"
-    if mf.exists():
-        try:
-            manifest = json.loads(mf.read_text())
-        except json.JSONDecodeError as exc:
-            raise ValueError(f"{mf}: malformed manifest: {exc}") from exc
-    return summary, manifest
+    return summary, read_manifest(f.parent)
 
 
 def _where(row) -> str:

@@ -17,13 +17,15 @@ import base64
 import fnmatch
 import html
 import io
-import json
 from pathlib import Path
 
 import numpy as np
 import pandas as pd
 
-from .cellstore import failed_rows
+from scenarios.fileio import MAX_TABLE_FILE_BYTES, atomic_write, check_input_file
+
+from .cellstore import failed_rows, read_meta
+from .provenance import read_manifest, version_line
 
 __all__ = ["build_report", "doppler_azimuth_map", "choose_frame"]
 
@@ -58,7 +60,10 @@ def _img(fig) -> str:
 
 def _read(results: Path, name: str) -> pd.DataFrame:
     f = results / f"{name}.parquet"
-    return pd.read_parquet(f) if f.exists() else pd.DataFrame()
+    if not f.exists():
+        return pd.DataFrame()
+    check_input_file(f, f"{name} table", max_bytes=MAX_TABLE_FILE_BYTES)
+    return pd.read_parquet(f)
 
 
 def _schemes(df: pd.DataFrame, mimo_only: bool = False) -> list[str]:
@@ -415,13 +420,15 @@ def build_report(results: str | Path, out: str | Path | None = None, *, maps: bo
     actors = _read(res, "actors")
     actor_summary = _read(res, "actor_summary")
     truth = _read(res, "truth")
-    manifest = json.loads((res / "manifest.json").read_text()) \
-        if (res / "manifest.json").exists() else {}
+    manifest = read_manifest(res)
     from .cellspec import DEFAULT_BASELINE_SCHEME
     base = manifest.get("baseline_scheme", DEFAULT_BASELINE_SCHEME)
     parts = [f"<h1>Corner-radar evaluation: {html.escape(str(manifest.get('run_id', res.name)))}"
              "</h1>"]
     git = manifest.get("git", {})
+    line, warning = version_line(manifest)
+    parts.append(f"<p>{html.escape(line)}" + (f"; <b>{html.escape(warning)}</b>" if warning
+                                              else "") + "</p>")
     parts.append(f"<p>git {html.escape(str(git.get('commit')))} (dirty: {git.get('dirty')}), "
                  f"{manifest.get('n_ok', '?')} of {manifest.get('n_cells', '?')} cells ok, "
                  f"{manifest.get('n_error', 0)} failed; written "
@@ -443,8 +450,8 @@ def build_report(results: str | Path, out: str | Path | None = None, *, maps: bo
     specs = {}
     cell_dirs = sorted((res / "cells").glob("*/cell.json")) if (res / "cells").exists() else []
     for f in cell_dirs:
-        meta = json.loads(f.read_text())
-        if meta.get("status") == "ok":
+        meta = read_meta(f.parent) or {}  # a damaged cell.json: no spec for its maps
+        if meta.get("status") == "ok" and isinstance(meta.get("spec"), dict):
             sp = meta["spec"]
             specs.setdefault((sp["scenario"], sp["variant"], sp["seed"]), sp)
     ok_rows = summary[~failed_rows(summary)]
@@ -472,5 +479,4 @@ def build_report(results: str | Path, out: str | Path | None = None, *, maps: bo
             f"</title><style>{style}</style></head><body>" + "\n".join(parts) +
             "</body></html>")
     out_p = Path(out) if out else res / "report.html"
-    out_p.write_text(page)
-    return out_p
+    return atomic_write(out_p, lambda tmp: tmp.write_text(page, encoding="utf-8"))

@@ -14,17 +14,32 @@ a serial sweep, pool and Dask workers) therefore runs with one BLAS thread
 (`single_thread_blas`): same seed, same bits, whatever the worker count or scheduler. It is
 also the fast setting here: with one worker per core, BLAS threads only oversubscribe the cores.
 
+Signals: a supervisor, ``Popen.terminate()`` or a batch system stops a run with SIGTERM (a
+closed terminal sends SIGHUP), to the main process only. `terminate_on_signals` turns both
+into `Terminated`, a KeyboardInterrupt, so they take Ctrl-C's path (pool workers stopped, cells
+written so far kept, exit with the resume hint). Pool workers (`prepare_worker`) also die with
+their parent, even a parent killed by SIGKILL: Linux's PR_SET_PDEATHSIG [2]_, or a watchdog
+thread on ``os.getppid()`` where prctl is missing.
+
 References
 ----------
 .. [1] glibc manual, "Memory Allocation Tunables" (M_MMAP_THRESHOLD, M_TRIM_THRESHOLD,
        M_TOP_PAD); mallopt(3).
+.. [2] prctl(2), PR_SET_PDEATHSIG: "the signal that the calling process will get when its
+       parent dies"; the parent is the thread that created it.
 """
 from __future__ import annotations
 
+import contextlib
 import ctypes
 import ctypes.util
+import os
+import signal
+import sys
+import threading
 
-__all__ = ["tune_allocator", "single_thread_blas", "prepare_process"]
+__all__ = ["tune_allocator", "single_thread_blas", "prepare_process", "exit_with_parent",
+           "prepare_worker", "Terminated", "terminate_on_signals"]
 
 _M_TRIM_THRESHOLD, _M_TOP_PAD, _M_MMAP_THRESHOLD = -1, -2, -3
 _MMAP_THRESHOLD_BYTES = 32 << 20  # glibc's maximum on 64-bit: blocks below come from the heap
@@ -70,3 +85,88 @@ def prepare_process() -> None:
     allocator tuning."""
     single_thread_blas()
     tune_allocator()
+
+
+_PR_SET_PDEATHSIG = 1
+#: How often the fallback watchdog looks at the parent pid, s.
+_WATCHDOG_PERIOD_S = 0.5
+
+
+def exit_with_parent(parent_pid: int) -> str:
+    """Make this process die when its parent `parent_pid` dies.
+
+    Linux: PR_SET_PDEATHSIG with SIGKILL (nothing in a worker needs to run after its parent is
+    gone: an unfinished cell is lost whole and redone on resume). Elsewhere: a daemon thread
+    that exits the process once ``os.getppid()`` is no longer `parent_pid`. Either way, a
+    parent that died before this call is caught by comparing the parent pid once now.
+
+    Returns
+    -------
+    str
+        "prctl" or "watchdog" (which mechanism is armed).
+    """
+    how = "watchdog"
+    if sys.platform.startswith("linux"):
+        try:
+            libc = ctypes.CDLL(ctypes.util.find_library("c"), use_errno=True)
+            if libc.prctl(_PR_SET_PDEATHSIG, int(signal.SIGKILL), 0, 0, 0) == 0:
+                how = "prctl"
+        except (OSError, AttributeError, TypeError):
+            pass
+    if os.getppid() != parent_pid:  # the parent died before the death signal was armed
+        os._exit(1)
+    if how == "watchdog":
+        def watch() -> None:
+            while os.getppid() == parent_pid:
+                threading.Event().wait(_WATCHDOG_PERIOD_S)
+            os._exit(1)
+        threading.Thread(target=watch, name="parent-watchdog", daemon=True).start()
+    return how
+
+
+def prepare_worker(parent_pid: int) -> None:
+    """Set up a pool worker process: die with the parent (`exit_with_parent`), leave SIGINT to
+    the parent (a Ctrl-C lets the parent stop the pool), SIGTERM and SIGHUP at their default
+    (a forked worker inherits the parent's `terminate_on_signals` handlers, which would turn
+    the pool's own ``terminate()`` into an exception the worker survives), then
+    `prepare_process`."""
+    exit_with_parent(parent_pid)
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    for sig in _STOP_SIGNALS:
+        signal.signal(sig, signal.SIG_DFL)
+    prepare_process()
+
+
+class Terminated(KeyboardInterrupt):
+    """SIGTERM or SIGHUP received: handled like Ctrl-C. ``signum`` is the signal."""
+
+    def __init__(self, signum: int) -> None:
+        super().__init__(signal.Signals(signum).name)
+        self.signum = signum
+
+
+_STOP_SIGNALS = tuple(getattr(signal, name) for name in ("SIGTERM", "SIGHUP")
+                      if hasattr(signal, name))
+
+
+@contextlib.contextmanager
+def terminate_on_signals():
+    """Within the block, SIGTERM and SIGHUP raise `Terminated` in the main thread (the
+    previous handlers come back on exit). The first signal also ignores further ones, so a
+    supervisor's repeated SIGTERM cannot interrupt the clean-up it asked for (SIGKILL still
+    can). Outside the main thread this does nothing."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+
+    def handler(signum, frame):
+        for sig in _STOP_SIGNALS:
+            signal.signal(sig, signal.SIG_IGN)
+        raise Terminated(signum)
+
+    previous = {sig: signal.signal(sig, handler) for sig in _STOP_SIGNALS}
+    try:
+        yield
+    finally:
+        for sig, old in previous.items():
+            signal.signal(sig, old)

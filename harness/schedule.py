@@ -202,7 +202,8 @@ def _run_local(pending: list, out: Path, workers: int, components, bar
             results[c.cell_id] = execute_cell(c, str(out), components)
             bar.update(1)
         return results, interrupted
-    ex = cf.ProcessPoolExecutor(max_workers=workers, initializer=init_worker)
+    ex = cf.ProcessPoolExecutor(max_workers=workers, initializer=init_worker,
+                                initargs=(os.getpid(),))
     try:
         futs = {ex.submit(execute_cell, c, str(out), components): c for c in pending}
         for fut in cf.as_completed(futs):
@@ -215,11 +216,17 @@ def _run_local(pending: list, out: Path, workers: int, components, bar
                 interrupted.append(c.cell_id)
             bar.update(1)
     except BaseException:
-        # Ctrl-C (or any escape): stop now. Running cells are lost whole (their
-        # temporary directories are cleaned by the next run), written ones stay.
-        for proc in list(getattr(ex, "_processes", {}).values()):
+        # Ctrl-C, SIGTERM, SIGHUP (or any escape): stop now. Running cells are lost whole
+        # (their temporary directories are cleaned by the next run), written ones stay. The
+        # workers are reaped before the exception goes on, so none outlives this process.
+        procs = list(getattr(ex, "_processes", {}).values())
+        for proc in procs:
             proc.terminate()
         ex.shutdown(wait=False, cancel_futures=True)
+        for proc in procs:
+            proc.join(timeout=5.0)
+            if proc.is_alive():
+                proc.kill()
         raise
     ex.shutdown(wait=True)
     return results, interrupted

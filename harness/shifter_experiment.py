@@ -23,6 +23,7 @@ import pandas as pd
 
 import radarsim
 from radarsim import shifter as sh
+from scenarios.fileio import atomic_write
 
 __all__ = ["PhaseStepResult", "phase_step_experiment", "line_spectrum", "format_lines",
            "plot_phase_step"]
@@ -202,5 +203,7 @@ def plot_phase_step(before: PhaseStepResult, after: PhaseStepResult, path) -> No
     ax.set_title("one Tx stepped 90 deg/chirp, corner reflector 4.5 m (seed 000 figs 7-8)")
     ax.grid(alpha=0.3)
     ax.legend(fontsize=7)
-    fig.savefig(path, dpi=100, bbox_inches="tight")
-    plt.close(fig)
+    try:
+        atomic_write(path, lambda tmp: fig.savefig(tmp, dpi=100, bbox_inches="tight"))
+    finally:
+        plt.close(fig)

@@ -22,13 +22,13 @@ angle sidelobe level at a strong target, against the per-code shifter error and 
 from __future__ import annotations
 
 import html
-import json
 from pathlib import Path
 
 import numpy as np
 import pandas as pd
 
 from .cellstore import failed_rows
+from .provenance import read_manifest
 
 __all__ = ["shifter_table", "html_section", "angle_sidelobe_db", "PROBE",
            "FOOTPRINT_GATE_M", "VELOCITY_GATE_MPS"]
@@ -93,7 +93,7 @@ def angle_sidelobe_db(radar_overrides: dict, scheme: str) -> float:
 
 
 def _variant_info(results: Path) -> dict[str, dict]:
-    man = json.loads((results / "manifest.json").read_text())
+    man = read_manifest(results, required=True)
     info = {}
     for v in man["sweep"]["variants"]:
         radar = v.get("radar", {})

@@ -156,7 +156,7 @@ def load_sweep(path: str | Path | None = None, *, check_scenarios: bool = True) 
     p = Path(path) if path is not None else DEFAULT_SWEEP_PATH
     if p.is_dir():
         raise ValueError(f"sweep file {str(p)!r} is a directory, not a TOML file")
-    data = read_toml(p)
+    data = read_toml(p, "sweep file")
     try:
         check_keys(data, _TOP_KEYS)
     except ValueError as exc:

@@ -5,30 +5,36 @@ with one BLAS thread and writes the same files.
 """
 from __future__ import annotations
 
+import errno
 import json
 import time
 import traceback
 from pathlib import Path
 
+from scenarios.fileio import OutputError
+
 from . import cellstore as store
 from .cell import run_cell
 from .cellspec import CellSpec
 from .components import Components
-from .runtime import prepare_process, single_thread_blas
+from .runtime import prepare_worker, single_thread_blas
 
 __all__ = ["execute_cell", "init_worker"]
 
 
-def init_worker() -> None:
-    """Pool-worker initializer: one BLAS thread per worker process (bit-identical to every
-    other path; with one worker per core, BLAS's own threads only oversubscribe the cores: the
-    front end's GEMM slows 8x under load with two threads per worker), the allocator tuning of
-    `harness.runtime`, and SIGINT left to the parent (a Ctrl-C lets running cells finish and
-    write, the parent cancels the rest)."""
-    import signal
+def init_worker(parent_pid: int) -> None:
+    """Pool-worker initializer (`harness.runtime.prepare_worker`): one BLAS thread per worker
+    process (bit-identical to every other path; with one worker per core, BLAS's own threads
+    only oversubscribe the cores: the front end's GEMM slows 8x under load with two threads per
+    worker), the allocator tuning of `harness.runtime`, SIGINT left to the parent (a Ctrl-C or
+    SIGTERM lets the parent stop the pool; written cells stay), SIGTERM at its default, and
+    death with the parent `parent_pid`."""
+    prepare_worker(parent_pid)
 
-    signal.signal(signal.SIGINT, signal.SIG_IGN)
-    prepare_process()
+
+#: A disk that cannot take the cell: the sweep stops (every later cell would fail the same
+#: way), instead of recording the cell as an error it is not.
+_DISK_ERRNOS = (errno.ENOSPC, errno.EDQUOT, errno.EROFS)
 
 
 def _cell_record(spec: CellSpec, status: str, **extra) -> dict:
@@ -37,7 +43,8 @@ def _cell_record(spec: CellSpec, status: str, **extra) -> dict:
 
 
 def execute_cell(spec: CellSpec, out: str, comps: Components | None = None) -> dict:
-    """Run one cell in a worker and write it atomically; never raises for a cell error.
+    """Run one cell in a worker and write it atomically; never raises for a cell error (a full
+    disk or read-only folder is no cell error: `OutputError`, which stops the sweep).
 
     Runs with one BLAS thread (`harness.runtime.single_thread_blas`) on every path. A cell
     already completed under ``out`` (by a duplicate execution) is never replaced: the result
@@ -59,6 +66,10 @@ def execute_cell(spec: CellSpec, out: str, comps: Components | None = None) -> d
         return {"cell_id": spec.cell_id, "status": "ok", "elapsed_s": res.elapsed_s,
                 "written": how}
     except Exception as exc:  # noqa: BLE001 - a failing cell is recorded, the sweep goes on
+        if isinstance(exc, OSError) and exc.errno in _DISK_ERRNOS:
+            raise OutputError(f"cannot write {exc.filename or store.cell_dir(out_p, spec)!s}: "
+                              f"{exc.strerror or exc} (the sweep stops; cells written so far "
+                              "are kept, rerun to resume)") from None
         meta = _cell_record(spec, "error", error=f"{type(exc).__name__}: {exc}",
                             traceback=traceback.format_exc(),
                             elapsed_s=time.perf_counter() - t0)

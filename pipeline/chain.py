@@ -26,13 +26,17 @@ __all__ = ["process_frame", "frame_spectra", "detection_map", "doppler_azimuth_m
 
 
 def _inputs(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig | None):
+    """Checked inputs: (chain, proc, saturation report). The saturation monitor runs first
+    and also refuses a frame with non-finite samples (complex ADC), so no chain ever sees
+    one."""
     check_frame(cfg, adc)
+    report = saturation.monitor(adc)
     proc = ProcessingConfig() if proc is None else proc
     if not isinstance(proc, ProcessingConfig):
         raise ValueError(f"proc must be a pipeline.ProcessingConfig, got {type(proc).__name__}")
     chain = chain_of(cfg)
     proc.check_radar(cfg)
-    return chain, proc
+    return chain, proc, report
 
 
 def process_frame(cfg: RadarConfig, adc: np.ndarray,
@@ -61,12 +65,13 @@ def process_frame(cfg: RadarConfig, adc: np.ndarray,
     Raises
     ------
     ValueError
-        If `adc` is not an array of the config's dtype and shape, `cfg`/`proc` are of the wrong
-        type, no chain is registered for `cfg.mimo`, or the CFAR window does not fit the
-        Doppler axis.
+        If `adc` is not an array of the config's dtype and shape or holds non-finite samples
+        (complex ADC; the message gives their count and the first one's chirp, Rx and
+        sample), `cfg`/`proc` are of the wrong type, no chain is registered for `cfg.mimo`, or
+        the CFAR window does not fit the Doppler axis.
     """
-    chain, proc = _inputs(cfg, adc, proc)
-    return saturation.apply_policy(chain.process(cfg, adc, proc), saturation.monitor(adc),
+    chain, proc, report = _inputs(cfg, adc, proc)
+    return saturation.apply_policy(chain.process(cfg, adc, proc), report,
                                    proc.saturation_policy)
 
 
@@ -81,7 +86,7 @@ def detection_map(cfg: RadarConfig, adc: np.ndarray,
         demodulation, 1 look; TDMA: (n_range, n_doppler) non-coherent sum over virtual
         antennas, n_virtual looks; the (cyclic) Doppler axis the CFAR runs along.
     """
-    chain, proc = _inputs(cfg, adc, proc)
+    chain, proc, _ = _inputs(cfg, adc, proc)
     return chain.detection_map(cfg, adc, proc)
 
 
@@ -100,7 +105,7 @@ def doppler_azimuth_map(cfg: RadarConfig, adc: np.ndarray, range_bin: int,
     sin_az_cos_el : (n_az,) float, ascending (2 k / n_az, k = -n_az/2 .. n_az/2 - 1)
     power_db : (n_dop, n_az) float
     """
-    chain, proc = _inputs(cfg, adc, proc)
+    chain, proc, _ = _inputs(cfg, adc, proc)
     if not 0 <= range_bin < cfg.n_range_bins:
         raise ValueError(f"range_bin={range_bin} outside 0..{cfg.n_range_bins - 1}")
     n_az = proc.n_azimuth_bins
@@ -122,6 +127,6 @@ def frame_spectra(cfg: RadarConfig, adc: np.ndarray,
         in natural FFT order over the chain's slow-time sequence (DDMA: all chirps, before
         demodulation; TDMA: per-slot Doppler).
     """
-    chain, proc = _inputs(cfg, adc, proc)
+    chain, proc, _ = _inputs(cfg, adc, proc)
     p = chain.range_doppler_power(cfg, adc, proc)
     return {"range_doppler_db": 10 * np.log10(np.maximum(p, 1e-30))}

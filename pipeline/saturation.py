@@ -98,11 +98,17 @@ def monitor(adc: np.ndarray) -> SaturationReport:
     Parameters
     ----------
     adc : (n_chirps, n_rx, n_samples) int16, or complex64 with int16-valued I and Q
-        ADC frame (a complex sample counts once per saturated part).
+        ADC frame (a complex sample counts once per saturated part; a part at or beyond a
+        rail is saturated).
 
     Returns
     -------
     SaturationReport
+
+    Raises
+    ------
+    ValueError
+        A complex frame with NaN or infinite samples (their count and the first position).
 
     Notes
     -----
@@ -115,11 +121,30 @@ def monitor(adc: np.ndarray) -> SaturationReport:
                          f"array, got {adc.dtype} with shape {adc.shape}")
     n_c, n_r, n_s = adc.shape
     if adc.dtype == np.complex64:  # I/Q: a sample saturates when its I or Q part does
-        adc = adc.view(np.float32).reshape(n_c, n_r, 2 * n_s)
-    if adc.max() < ADC_MAX_CODE and adc.min() > ADC_MIN_CODE:
+        parts = adc.view(np.float32).reshape(n_c, n_r, 2 * n_s)
+        hi, lo = parts.max(), parts.min()
+        if not (np.isfinite(hi) and np.isfinite(lo)):  # NaN propagates, inf is the extreme
+            _non_finite(adc)
+        adc = parts
+    else:
+        hi, lo = adc.max(), adc.min()
+    if hi < ADC_MAX_CODE and lo > ADC_MIN_CODE:
         return SaturationReport(np.zeros((n_c, n_r), dtype=np.int64), n_s)
-    counts = np.count_nonzero((adc == ADC_MAX_CODE) | (adc == ADC_MIN_CODE), axis=-1)
+    # I/Q parts beyond the rails (a complex frame is float: nothing clips it to int16) are
+    # saturated like parts at the rails.
+    counts = np.count_nonzero((adc >= ADC_MAX_CODE) | (adc <= ADC_MIN_CODE), axis=-1)
     return SaturationReport(counts.astype(np.int64), n_s)
+
+
+def _non_finite(adc: np.ndarray) -> None:
+    """Raise the ValueError of a frame holding NaN or infinite samples."""
+    bad = ~np.isfinite(adc)
+    c, r, s = (int(i[0]) for i in np.nonzero(bad))
+    n = int(np.count_nonzero(bad))
+    raise ValueError(f"ADC frame {adc.shape} {adc.dtype} has {n} non-finite sample"
+                     f"{'s' if n > 1 else ''} (NaN or inf) of {adc.size}, first at chirp {c}, "
+                     f"Rx {r}, sample {s}: no ADC delivers them (a damaged capture or a bug "
+                     "upstream)")
 
 
 def apply_policy(points: pd.DataFrame, report: SaturationReport, policy: str) -> pd.DataFrame:

@@ -33,7 +33,8 @@ from .config import RadarConfig
 from .scatterers import Scatterers
 from .shifter import coupling_matrix, shifter_factor, wrap_deg
 
-__all__ = ["calibrate_shifters", "measure_shifters", "ShifterCalibration", "ShifterMeasurement"]
+__all__ = ["calibrate_shifters", "measure_shifters", "ShifterCalibration", "ShifterMeasurement",
+           "min_calibration_snr_db", "MAX_CALIBRATION_REPEATS"]
 
 
 class ShifterMeasurement(NamedTuple):
@@ -81,13 +82,63 @@ class ShifterCalibration(NamedTuple):
     snr_db: float
 
 
+#: Most chirps averaged per code: the measurement holds n_tx x n_codes x n_repeats complex
+#: samples (4 x 64 x 4096 x 16 B = 16 MiB); beyond it a typo is likelier than a plan.
+MAX_CALIBRATION_REPEATS = 4096
+#: The per-code phase measurement must be good to a quarter of the shifter's LSB (rms), so the
+#: code chosen for a wanted phase is rarely the neighbour of the right one.
+CALIBRATION_PHASE_FRACTION_OF_LSB = 0.25
+
+
 def _check_args(range_m: float, rcs_m2: float, n_repeats: int) -> None:
-    if not (math.isfinite(range_m) and range_m > 0):
+    if not (isinstance(range_m, (int, float)) and not isinstance(range_m, bool)
+            and math.isfinite(range_m) and range_m > 0):
         raise ValueError(f"range_m={range_m!r} must be a finite distance > 0 m")
-    if not (math.isfinite(rcs_m2) and rcs_m2 > 0):
+    if not (isinstance(rcs_m2, (int, float)) and not isinstance(rcs_m2, bool)
+            and math.isfinite(rcs_m2) and rcs_m2 > 0):
         raise ValueError(f"rcs_m2={rcs_m2!r} must be > 0")
-    if not isinstance(n_repeats, (int, np.integer)) or n_repeats < 1:
-        raise ValueError(f"n_repeats={n_repeats!r} must be an integer >= 1")
+    if not isinstance(n_repeats, (int, np.integer)) or isinstance(n_repeats, bool) or \
+            not 1 <= n_repeats <= MAX_CALIBRATION_REPEATS:
+        raise ValueError(f"n_repeats={n_repeats!r} must be an integer in "
+                         f"1..{MAX_CALIBRATION_REPEATS}")
+
+
+def min_calibration_snr_db(cfg: RadarConfig, n_repeats: int) -> float:
+    """Least per-chirp SNR, dB, at which `measure_shifters` meets its accuracy.
+
+    A code's phase is the mean of `n_repeats` chirps, each with per-chirp SNR rho (signal
+    power over complex noise power), taken relative to code 0: its error is about
+    1 / sqrt(rho n_repeats) rad rms (two independent estimates of variance 1 / (2 rho
+    n_repeats) each, high-SNR approximation). Requiring at most
+    `CALIBRATION_PHASE_FRACTION_OF_LSB` LSB gives rho >= 1 / (n_repeats (f LSB)^2); for the
+    AWR2944's 6-bit shifter (LSB 5.625 deg) and 8 repeats that is 23.2 dB.
+    """
+    sigma_rad = math.radians(CALIBRATION_PHASE_FRACTION_OF_LSB * cfg.phase_lsb_deg)
+    return 10 * math.log10(1.0 / (n_repeats * sigma_rad ** 2))
+
+
+def _measurement_snr(cfg: RadarConfig, range_m: float, rcs_m2: float) -> float:
+    """Per-chirp SNR of the reflector's range bin, summed over Rx (linear)."""
+    from .frontend import received_power_w
+    sc = Scatterers(position_m=[[range_m, 0.0, 0.0]], velocity_mps=[[0.0, 0.0, 0.0]],
+                    rcs_m2=[rcs_m2])
+    a = math.sqrt(2 * received_power_w(cfg, sc)[0]) * cfg.adc_code_per_sqrt_w  # peak, LSB
+    return cfg.n_rx * (a * a / 2) / cfg.noise_rms_lsb ** 2 * cfg.n_samples / 2
+
+
+def _check_snr(cfg: RadarConfig, range_m: float, rcs_m2: float, n_repeats: int) -> None:
+    """Refuse a calibration whose measurement SNR is below `min_calibration_snr_db`."""
+    snr_db = 10 * math.log10(max(_measurement_snr(cfg, range_m, rcs_m2), 1e-300))
+    need = min_calibration_snr_db(cfg, n_repeats)
+    if snr_db < need:
+        raise ValueError(
+            f"shifter calibration: measurement SNR {snr_db:.1f} dB per chirp (reflector "
+            f"range_m={range_m:g} m, rcs_m2={rcs_m2:g}, {n_repeats} repeats) is below the "
+            f"{need:.1f} dB needed for a per-code phase error of "
+            f"{CALIBRATION_PHASE_FRACTION_OF_LSB:g} LSB = "
+            f"{CALIBRATION_PHASE_FRACTION_OF_LSB * cfg.phase_lsb_deg:.2f} deg rms: the table "
+            "would be measured on noise; move the reflector closer, use a larger one or more "
+            "repeats")
 
 
 def measure_shifters(cfg: RadarConfig, *, rng: np.random.Generator, range_m: float = 4.5,
@@ -106,25 +157,27 @@ def measure_shifters(cfg: RadarConfig, *, rng: np.random.Generator, range_m: flo
     rcs_m2 : float
         Reflector RCS, m^2 (a 10 m^2 trihedral of about 7 cm edge at 77 GHz).
     n_repeats : int
-        Chirps averaged per code.
+        Chirps averaged per code, 1..`MAX_CALIBRATION_REPEATS`.
     thermal_noise : bool
         False: a noiseless measurement (the per-chirp phase noise of `cfg` still applies).
 
     Returns
     -------
     ShifterMeasurement
+
+    Raises
+    ------
+    ValueError
+        Bad set-up values (a measurement at any SNR is allowed: `calibrate_shifters` is the
+        one that refuses to use a noisy one).
     """
     if not isinstance(cfg, RadarConfig):
         raise ValueError(f"cfg must be a RadarConfig, got {type(cfg).__name__}")
     if not isinstance(rng, np.random.Generator):
         raise ValueError(f"rng must be a numpy.random.Generator, got {type(rng).__name__}")
     _check_args(range_m, rcs_m2, n_repeats)
-    from .frontend import received_power_w
     n_tx, n_codes = cfg.n_tx, 2 ** cfg.phase_shifter_bits
-    sc = Scatterers(position_m=[[range_m, 0.0, 0.0]], velocity_mps=[[0.0, 0.0, 0.0]],
-                    rcs_m2=[rcs_m2])
-    a = math.sqrt(2 * received_power_w(cfg, sc)[0]) * cfg.adc_code_per_sqrt_w  # peak, LSB
-    snr = cfg.n_rx * (a * a / 2) / cfg.noise_rms_lsb ** 2 * cfg.n_samples / 2
+    snr = _measurement_snr(cfg, range_m, rcs_m2)
     # Chirps: Tx k alone at code q, repeat r -> weights (n_tx, n_codes, n_repeats).
     codes = np.broadcast_to(np.arange(n_codes)[None, :, None], (n_tx, n_codes, n_repeats))
     flat = codes.reshape(n_tx, -1)
@@ -176,8 +229,16 @@ def calibrate_shifters(cfg: RadarConfig, *, rng: np.random.Generator, range_m: f
     Raises
     ------
     ValueError
-        Bad measurement set-up, or `cfg.phase_quantization == "none"` (no codes to choose).
+        Bad measurement set-up; a per-chirp measurement SNR below `min_calibration_snr_db`
+        (the message names the measured and the needed SNR: a table measured on noise makes
+        the shifters worse, e.g. a reflector at 100 km gives -634 dB and a residual of 3.96 ->
+        76.7 deg rms); or `cfg.phase_quantization == "none"` (no codes to choose).
     """
+    if not isinstance(cfg, RadarConfig):
+        raise ValueError(f"cfg must be a RadarConfig, got {type(cfg).__name__}")
+    _check_args(range_m, rcs_m2, n_repeats)
+    if thermal_noise:  # before any measurement: a table measured on noise is never used
+        _check_snr(cfg, range_m, rcs_m2, n_repeats)
     meas = measure_shifters(cfg, rng=rng, range_m=range_m, rcs_m2=rcs_m2, n_repeats=n_repeats,
                             thermal_noise=thermal_noise)
     out = cfg.replace(shifter_calibration_deg=meas.phase_error_deg)

@@ -45,12 +45,16 @@ from typing import Callable, Iterable, Iterator, Mapping, NamedTuple
 
 import numpy as np
 
+from scenarios.fileio import check_input_file
+
 from .config import RadarConfig
 
 __all__ = ["SAMPLE_DTYPE", "CaptureLayout", "CAPTURE_LAYOUTS", "layout_of", "frame_shape",
            "frame_nbytes", "write_capture", "read_capture", "open_capture", "iter_capture",
            "capture_n_frames"]
 
+#: Largest capture accepted, bytes (16 TiB: far beyond any DCA1000 recording).
+MAX_CAPTURE_BYTES = 16 << 40
 #: On-disk word type: int16, little-endian.
 SAMPLE_DTYPE = np.dtype("<i2")
 
@@ -252,9 +256,13 @@ def capture_n_frames(path: str | os.PathLike, cfg) -> int:
     Raises
     ------
     ValueError
-        If the file is empty or its size is not a whole number of frames (truncated capture,
-        or a profile that does not match the recording).
+        If the path is not a regular file (a FIFO, a device, a directory, a symbolic link
+        loop: named), the file is empty or its size is not a whole number of frames (truncated
+        capture, or a profile that does not match the recording).
     """
+    # A FIFO, device or directory is refused by name (a FIFO would block, /dev/zero read as
+    # an "empty" capture); the file is memory-mapped, so the size bound is only a sanity one.
+    check_input_file(path, "capture", max_bytes=MAX_CAPTURE_BYTES)
     size = Path(path).stat().st_size
     per_frame = frame_nbytes(cfg)
     n_frames, rest = divmod(size, per_frame)

@@ -79,10 +79,20 @@ def _positions(value, n: int, name: str) -> tuple[tuple[float, float], ...]:
     return pos
 
 
+def _integers(value, name: str, what: str) -> tuple[int, ...]:
+    """A sequence of integers, refused (not coerced) otherwise: ``(1.7, 3.9)`` must not become
+    (1, 3), nor the string ``'1342'`` the tuple (1, 3, 4, 2)."""
+    if isinstance(value, (str, bytes)) or not hasattr(value, "__iter__") or not all(
+            isinstance(c, (int, np.integer)) and not isinstance(c, (bool, np.bool_))
+            for c in value):
+        raise ValueError(f"{name}={value!r} must be a sequence of integers ({what})")
+    return tuple(int(c) for c in value)
+
+
 def _channels(value, n: int, n_chip: int, name: str, chip: str) -> tuple[int, ...]:
     if value is None:
         return tuple(range(1, n + 1))
-    chans = tuple(int(c) for c in value)
+    chans = _integers(value, name, f"{n} distinct channel numbers in 1..{n_chip}")
     if len(chans) != n or len(set(chans)) != n or not all(1 <= c <= n_chip for c in chans):
         raise ValueError(f"{name}={value!r} must list {n} distinct channel numbers in "
                          f"1..{n_chip} ({chip})")
@@ -425,7 +435,7 @@ class RadarConfig:
                 # The R79 rule (horizontal Tx first, raised last) on this board's geometry.
                 order = self._geometry_tx_order()
         else:
-            order = tuple(int(t) for t in self.tx_order)
+            order = _integers(self.tx_order, "tx_order", f"a permutation of Tx 1..{self.n_tx}")
         if sorted(order) != list(range(1, self.n_tx + 1)):
             raise ValueError(f"tx_order={order!r} must be a permutation of Tx 1..{self.n_tx}")
         _set("tx_order", order)
@@ -488,7 +498,7 @@ class RadarConfig:
             from .calibration import calibrate_shifters
             kw = dict(cal)
             seed = kw.pop("seed", 0)
-            if not isinstance(seed, (int, np.integer)) or seed < 0:
+            if not isinstance(seed, (int, np.integer)) or isinstance(seed, bool) or seed < 0:
                 raise ValueError(f"shifter_calibration_deg: seed={seed!r} must be an "
                                  "integer >= 0")
             raw = {f.name: getattr(self, f.name) for f in dataclasses.fields(self)}

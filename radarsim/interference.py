@@ -60,7 +60,8 @@ from .frontend import IF_LOWPASS_ORDER, if_corner_hz
 from .scatterers import PointGeometry
 
 __all__ = ["Interferers", "received_power_w", "interference_to_noise_db", "synthesize",
-           "burst_windows", "interferers_from_truth", "EQUIPMENT_COLUMNS", "PASSBAND_FACTOR"]
+           "burst_windows", "interferers_from_truth", "EQUIPMENT_COLUMNS", "PASSBAND_FACTOR",
+           "INTERFERER_BOUNDS", "MAX_INTERFERER_RANGE_M"]
 
 #: Bursts are synthesised while |f_d| < PASSBAND_FACTOR x the IF corner: the order-10
 #: Butterworth is 60 dB down at twice its corner, so nothing audible is cut.
@@ -82,12 +83,40 @@ EQUIPMENT_COLUMNS = ["actor_id", "mount_x_m", "mount_y_m", "mount_z_m", "mount_y
                      "pattern_exponent_az", "pattern_exponent_el", "phase_rad"]
 
 
+#: Physical bounds of every interferer parameter, both sides (inclusive), with the reason.
+#: They are checked before anything is synthesised: a period of 1e-15 s would ask for 1e10
+#: bursts per victim chirp, an offset of 1e300 s loses every digit of the burst timing (the
+#: interferer silently vanishes), a power of -1e300 dBm is no radar.
+INTERFERER_BOUNDS: dict[str, tuple[float, float, str]] = {
+    "radial_velocity_mps": (-200.0, 200.0, "m/s (two vehicles at 360 km/h each)"),
+    "tx_gain_dbi": (-300.0, 40.0, "dBi (-300: a pattern null or blocked direction)"),
+    "start_freq_hz": (60e9, 90e9, "Hz (automotive radar bands 76-81 GHz, with margin)"),
+    "slope_hz_per_s": (-1e15, 1e15, "Hz/s (|slope| <= 1000 MHz/us)"),
+    "chirp_period_s": (1e-6, 1e-2, "s (FMCW chirps repeat every 1 us .. 10 ms)"),
+    "ramp_time_s": (1e-7, 1e-2, "s"),
+    "chirp_offset_s": (-1.0, 1.0, "s (ramps repeat every period: an offset beyond a frame "
+                                  "period means nothing more)"),
+    "tx_power_dbm": (-40.0, 30.0, "dBm (a radar transmitter's port power)"),
+    "phase_rad": (-1e3, 1e3, "rad"),
+}
+#: Farthest interferer, m (a one-way path: beyond it the power is far under any noise floor,
+#: and the path delay must stay well inside a chirp period's float64 precision).
+MAX_INTERFERER_RANGE_M = 10_000.0
+
+
 def _vec(name: str, value, n: int | None, dtype=np.float64) -> np.ndarray:
     a = np.asarray(value, dtype=dtype).reshape(-1)
     if n is not None and a.size != n:
         raise ValueError(f"{name} has {a.size} entries, expected {n} (one per interferer)")
     if not np.all(np.isfinite(a)):
         raise ValueError(f"{name} must be finite, got {a!r}")
+    if name in INTERFERER_BOUNDS:
+        lo, hi, unit = INTERFERER_BOUNDS[name]
+        bad = (a < lo) | (a > hi)
+        if bad.any():
+            i = int(np.argmax(bad))
+            raise ValueError(f"{name}={float(a[i])!r} (interferer {i}) is outside [{lo:g}, {hi:g}] "
+                             f"{unit}")
     return a
 
 
@@ -121,8 +150,9 @@ class Interferers(PointGeometry):
     Raises
     ------
     ValueError
-        On wrong shapes, non-finite values, a range < 0.1 m, a non-positive period or ramp
-        time, or a ramp longer than its period.
+        On wrong shapes, non-finite values, a value outside `INTERFERER_BOUNDS` (both sides:
+        periods, offsets, powers, gains, frequencies, slopes, speeds), a range outside
+        [0.1, `MAX_INTERFERER_RANGE_M`] m, or a ramp longer than its period.
     """
 
     position_m: np.ndarray
@@ -158,10 +188,10 @@ class Interferers(PointGeometry):
         if vis.size != n:
             raise ValueError(f"visible has {vis.size} entries, expected {n}")
         set_("visible", vis)
-        if n and np.min(np.linalg.norm(pos, axis=1)) < 0.1:
-            raise ValueError("interferer range must be >= 0.1 m")
-        if np.any(self.chirp_period_s <= 0) or np.any(self.ramp_time_s <= 0):
-            raise ValueError("chirp_period_s and ramp_time_s must be > 0")
+        rng_m = np.linalg.norm(pos, axis=1)
+        if n and not (0.1 <= rng_m.min() and rng_m.max() <= MAX_INTERFERER_RANGE_M):
+            raise ValueError(f"interferer range must be in [0.1, {MAX_INTERFERER_RANGE_M:g}] m "
+                             f"(position_m), got {rng_m.min():g}..{rng_m.max():g} m")
         if np.any(self.ramp_time_s > self.chirp_period_s * (1 + 1e-9)):
             raise ValueError("ramp_time_s must be <= chirp_period_s")
 

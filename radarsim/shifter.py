@@ -146,10 +146,11 @@ class ShifterErrorSpec:
         if self.distribution not in SHIFTER_ERROR_DISTRIBUTIONS:
             raise ValueError(f"distribution={self.distribution!r} is not one of "
                              f"{sorted(SHIFTER_ERROR_DISTRIBUTIONS)}")
-        if not (isinstance(self.rms, (int, float)) and math.isfinite(self.rms)
-                and self.rms >= 0):
+        if not (isinstance(self.rms, (int, float)) and not isinstance(self.rms, bool)
+                and math.isfinite(self.rms) and self.rms >= 0):
             raise ValueError(f"rms={self.rms!r} must be a finite number >= 0")
-        if not isinstance(self.seed, (int, np.integer)) or self.seed < 0:
+        if not isinstance(self.seed, (int, np.integer)) or isinstance(self.seed, bool) or \
+                self.seed < 0:
             raise ValueError(f"seed={self.seed!r} must be an integer >= 0")
         if not (isinstance(self.dnl_fraction, (int, float)) and 0 <= self.dnl_fraction <= 1):
             raise ValueError(f"dnl_fraction={self.dnl_fraction!r} must be in 0..1")

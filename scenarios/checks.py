@@ -23,6 +23,8 @@ import tomllib
 from collections.abc import Iterable, Mapping
 from pathlib import Path
 
+from .fileio import read_input_text
+
 __all__ = ["require", "one_of", "read_toml", "check_keys", "check_types", "build_from_table",
            "UNIT_ALIASES"]
 
@@ -125,24 +127,20 @@ UNIT_ALIASES: dict[str, str] = {
 }
 
 
-def read_toml(path: str | Path) -> dict:
-    """Parse a TOML file.
+def read_toml(path: str | Path, what: str = "TOML file") -> dict:
+    """Parse a TOML file, checked first to be a regular file of bounded size
+    (`scenarios.fileio.read_input_text`).
 
     Raises
     ------
     FileNotFoundError
         The file does not exist.
     ValueError
-        ``{path}: malformed TOML: {parser message}``; a directory or a file that is not UTF-8
-        text.
+        ``{path}: malformed TOML: {parser message}``; ``{what} '{path}': is a FIFO ...`` (or a
+        directory, a device, a symbolic link loop, a file over the size limit, not UTF-8 text).
     """
     p = Path(path)
-    if p.is_dir():
-        raise ValueError(f"{p}: is a directory, not a TOML file")
-    try:
-        text = p.read_text(encoding="utf-8")
-    except UnicodeDecodeError:
-        raise ValueError(f"{p}: not a UTF-8 text file (TOML is text)") from None
+    text = read_input_text(p, what)
     try:
         return tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:

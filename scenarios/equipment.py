@@ -19,6 +19,7 @@ References
 """
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, fields
 
 import numpy as np
@@ -52,13 +53,15 @@ class RadarEquipment:
     chirp_period_s, ramp_time_s : float
         Chirp repetition period and active ramp time (ramp <= period, both in (1, 1000] us).
     chirp_offset_s : float
-        Start of the radar's ramp 0 relative to the victim's first ramp, s (any; ramps repeat).
+        Start of the radar's ramp 0 relative to the victim's first ramp, s, within +/-1 s
+        (ramps repeat every period, so any offset beyond a frame period is one within it; the
+        bound keeps the burst timing exact in float64).
     tx_power_dbm, antenna_gain_dbi : float
-        Power at the antenna port (<= 20 dBm) and boresight gain (<= 35 dBi).
+        Power at the antenna port, [-40, 20] dBm, and boresight gain, [-10, 35] dBi.
     pattern_exponent_az, pattern_exponent_el : float
-        Cosine power-pattern exponents (>= 0).
+        Cosine power-pattern exponents, [0, 1000] (1000: a 3 dB beam of about 3 deg).
     phase_rad : float
-        Fixed carrier phase offset, rad.
+        Fixed carrier phase offset, rad, within +/-2 pi.
     """
 
     mount_x_m: float = 2.3
@@ -93,9 +96,11 @@ class RadarEquipment:
         if min(self.start_freq_hz, end) < 76e9 or max(self.start_freq_hz, end) > 81e9:
             raise ValueError(f"start_freq_hz={self.start_freq_hz:g}: the ramp "
                              f"{self.start_freq_hz:g}..{end:g} Hz leaves the 76-81 GHz band")
-        require(self, "tx_power_dbm", le=20, unit="dBm")
-        require(self, "antenna_gain_dbi", le=35, unit="dBi")
-        require(self, ("pattern_exponent_az", "pattern_exponent_el"), ge=0)
+        require(self, "chirp_offset_s", ge=-1.0, le=1.0, unit="s")
+        require(self, "tx_power_dbm", ge=-40, le=20, unit="dBm")
+        require(self, "antenna_gain_dbi", ge=-10, le=35, unit="dBi")
+        require(self, ("pattern_exponent_az", "pattern_exponent_el"), ge=0, le=1000)
+        require(self, "phase_rad", ge=-2 * math.pi, le=2 * math.pi, unit="rad")
 
 
 @dataclass(frozen=True, kw_only=True, slots=True)

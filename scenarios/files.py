@@ -87,7 +87,7 @@ def load_scenario_file(path) -> Case:
     ValueError
         On a malformed file or any bad key (named).
     """
-    return parse_scenario(read_toml(path), source=str(path))
+    return parse_scenario(read_toml(path, "case file"), source=str(path))
 
 
 def load_case_directory(directory) -> dict[str, Case]:

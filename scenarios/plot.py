@@ -18,6 +18,7 @@ from matplotlib.animation import FuncAnimation, PillowWriter  # noqa: E402
 from matplotlib.collections import PolyCollection  # noqa: E402
 from matplotlib.patches import Wedge  # noqa: E402
 
+from .fileio import atomic_write  # noqa: E402
 from .traffic import ScenarioRun  # noqa: E402
 
 __all__ = ["box_corners", "plot_birdseye", "animate_birdseye", "write_views", "CLASS_COLORS",
@@ -104,7 +105,7 @@ def plot_birdseye(run: ScenarioRun, path, frame: int | None = None) -> FsPath:
     ax.legend(loc="upper right", fontsize=8)
     ax.set_title(f"{run.case.name} (seed {run.seed}), t = {frame / run.frame_rate_hz:.2f} s")
     out = FsPath(path)
-    fig.savefig(out)
+    atomic_write(out, lambda tmp: fig.savefig(tmp, format=out.suffix.lstrip(".") or "png"))
     plt.close(fig)
     return out
 
@@ -131,7 +132,7 @@ def animate_birdseye(run: ScenarioRun, path, max_frames: int = 40, fps: float = 
 
     anim = FuncAnimation(fig, draw, frames=frames, blit=False)
     out = FsPath(path)
-    anim.save(out, writer=PillowWriter(fps=fps))
+    atomic_write(out, lambda tmp: anim.save(tmp, writer=PillowWriter(fps=fps)))
     plt.close(fig)
     return out
 

@@ -35,7 +35,7 @@ def _folder(tmp, fake_results, kind):
     if kind == "malformed_manifest":
         shutil.copy(fake_results / "summary.parquet", d / "summary.parquet")
         (d / "manifest.json").write_text("{ torn")
-        return d, r"manifest\.json: malformed manifest"
+        return d, r"manifest\.json: damaged manifest"
     raise AssertionError(kind)
 
 

@@ -72,16 +72,37 @@ def test_cli_shifter_prints_lines(capsys):
 
 
 @pytest.mark.parametrize("args, message", [
-    (["--step-deg", "70"], "step_deg=70.0"),
-    (["--tx", "5"], "tx=5 must be in 1..4"),
-    (["--n-chirps", "101"], "n_chirps=101 must be a positive multiple of the code period 4"),
-    (["--error-deg-rms", "-1"], "--error-deg-rms=-1.0 must be >= 0"),
-    (["--gain-error-db-rms", "-1"], "shifter_gain_error_db: rms=-1.0"),
-    (["--seed", "-1"], "--seed=-1 must be >= 0"),
-    (["--range-m", "0"], "range_m=0.0 must be a finite distance > 0 m"),
-    (["--quadrature-skew-deg", "nan"], "must be finite"),
+    (["--step-deg", "70"], "--step-deg 70.0: 360 / step_deg must be an integer >= 2"),
+    (["--step-deg", "nan"], "argument --step-deg: nan is outside (0, 180] deg"),
+    (["--tx", "5"], "argument --tx: 5 is outside 1..4"),
+    (["--n-chirps", "101"], "--n-chirps 101 must be a positive multiple of the code period 4"),
+    (["--n-chirps", "1000000000000"], "argument --n-chirps: 1000000000000 is outside 2..16384"),
+    (["--n-chirps", "1e12"], "argument --n-chirps: '1e12' is not an integer"),
+    (["--error-deg-rms", "-1"], "argument --error-deg-rms: -1 is outside [0, 30] deg"),
+    (["--error-deg-rms", "1e9"], "argument --error-deg-rms: 1e9 is outside [0, 30] deg"),
+    (["--gain-error-db-rms", "-1"], "argument --gain-error-db-rms: -1 is outside [0, 6] dB"),
+    (["--seed", "-1"], "argument --seed: -1 is outside 0..4294967295"),
+    (["--range-m", "0"], "argument --range-m: 0 is outside (0, 250] m"),
+    (["--range-m", "200"], "--range-m 200 m, rcs_m2=10"),
+    (["--quadrature-skew-deg", "nan"], "argument --quadrature-skew-deg: nan is outside"),
+    (["--quadrature-skew-deg", "1e9"], "argument --quadrature-skew-deg: 1e9 is outside"),
     (["--distribution", "nope"], "invalid choice: 'nope'"),
 ])
 def test_cli_shifter_bad_input_exits_2(capsys, args, message):
     assert main(["shifter", *args]) == 2
-    assert message in capsys.readouterr().err
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and message in err[0], err
+
+
+def test_cli_shifter_refuses_calibrating_on_noise(capsys):
+    """Issue 25: a reflector far beyond the calibration's SNR was measured on noise and used."""
+    assert main(["shifter", "--range-m", "200", "--n-chirps", "64"]) == 2
+    err = capsys.readouterr().err
+    assert "measurement SNR -15.1 dB per chirp" in err and "below the 23.2 dB" in err
+
+
+def test_cli_shifter_plot_folder_checked_before_the_experiment(tmp_path, capsys, monkeypatch):
+    import harness.shifter_experiment as se
+    monkeypatch.setattr(se, "phase_step_experiment", lambda *a, **k: pytest.fail("ran"))
+    assert main(["shifter", "--plot", str(tmp_path / "no" / "x.png")]) == 2
+    assert "--plot" in capsys.readouterr().err

@@ -172,9 +172,24 @@ def test_dc_offset_and_leakage_terms():
 
 @pytest.mark.parametrize("kw, match", [
     (dict(ramp=50e-6, period=40e-6), "ramp_time_s must be <= chirp_period_s"),
-    (dict(period=0.0), "must be > 0"),
-    (dict(r=0.01), "range must be >= 0.1 m"),
-])
+    (dict(period=0.0), r"chirp_period_s=0\.0 \(interferer 0\) is outside \[1e-06, 0\.01\] s"),
+    (dict(period=1e-15, ramp=1e-16), r"chirp_period_s=1e-15 .* outside \[1e-06, 0\.01\]"),
+    (dict(period=0.1, ramp=30e-6), r"chirp_period_s=0\.1 .* outside \[1e-06, 0\.01\]"),
+    (dict(offset=1e300), r"chirp_offset_s=1e\+300 .* outside \[-1, 1\] s"),
+    (dict(offset=-2.0), r"chirp_offset_s=-2\.0 .* outside \[-1, 1\] s"),
+    (dict(offset=float("nan")), r"chirp_offset_s must be finite"),
+    (dict(power_dbm=-1e300), r"tx_power_dbm=-1e\+300 .* outside \[-40, 30\] dBm"),
+    (dict(power_dbm=1e3), r"tx_power_dbm=1000\.0 .* outside \[-40, 30\] dBm"),
+    (dict(gain_dbi=1e300), r"tx_gain_dbi=1e\+300 .* outside \[-300, 40\] dBi"),
+    (dict(gain_dbi=-1e300), r"tx_gain_dbi=-1e\+300 .* outside"),
+    (dict(slope=1e300), r"slope_hz_per_s=1e\+300 .* outside"),
+    (dict(f0=1e30), r"start_freq_hz=1e\+30 .* outside \[6e\+10, 9e\+10\] Hz"),
+    (dict(v=1e300), r"radial_velocity_mps=1e\+300 .* outside \[-200, 200\]"),
+    (dict(r=0.01), r"range must be in \[0\.1, 10000\] m"),
+    (dict(r=1e300), r"range must be in \[0\.1, 10000\] m"),
+], ids=["ramp_over_period", "period_zero", "period_1e-15", "period_0.1", "offset_1e300",
+        "offset_-2", "offset_nan", "power_-1e300", "power_1e3", "gain_1e300", "gain_-1e300",
+        "slope_1e300", "f0_1e30", "speed_1e300", "range_0.01", "range_1e300"])
 def test_interferers_validation(kw, match):
     with pytest.raises(ValueError, match=match):
         _itf(**kw)

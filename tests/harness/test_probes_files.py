@@ -1,0 +1,24 @@
+"""Probe set (issue 25): Special files as inputs (FIFO, /dev/zero, symbolic link loop, directory, socket) and damaged or outdated results folders.
+
+Each probe is one bad input (`tests.harness.probes`); it must get a clear answer: exit 2 with
+one stderr line (or a ValueError) naming the field or file, the value and the limit, or, for
+a gate whose report cannot be written, its verdict as the exit code and a warning.
+"""
+from __future__ import annotations
+
+import pytest
+
+from tests.harness.probes import classify, probes_of
+
+
+
+@pytest.mark.parametrize("probe", probes_of("special_files"), ids=lambda p: p.name)
+def test_special_files_probe_is_clear(probe, tmp_path):
+    cls, detail = classify(probe, tmp_path, time_limit_s=120.0)
+    assert cls == "clear", detail
+
+
+@pytest.mark.parametrize("probe", probes_of("consistency"), ids=lambda p: p.name)
+def test_consistency_probe_is_clear(probe, tmp_path):
+    cls, detail = classify(probe, tmp_path, time_limit_s=120.0)
+    assert cls == "clear", detail

@@ -1,0 +1,123 @@
+"""Signals (issue 25): SIGTERM and SIGHUP take Ctrl-C's path, and pool workers die with their
+parent. Before: ``kill <main pid>`` of ``sweep --workers 2`` left both workers alive for good."""
+from __future__ import annotations
+
+import os
+import signal
+import subprocess
+import sys
+import textwrap
+import time
+
+import psutil
+import pytest
+
+from harness import runtime
+from harness.cli import main
+
+SWEEP = textwrap.dedent("""\
+    name = "sig"
+    scenarios = ["r79_motorcycle_rear", "blind_spot_overtaking", "head_on_aliasing",
+                 "dense_highway"]
+    seeds = [0, 1]
+    duration_s = 2.0
+    """)
+
+
+def _children_when_running(proc: psutil.Process, n: int, timeout_s: float) -> list:
+    t_end = time.monotonic() + timeout_s
+    while time.monotonic() < t_end:
+        kids = proc.children(recursive=True)
+        if len(kids) >= n:
+            return kids
+        time.sleep(0.1)
+    raise AssertionError(f"the sweep did not start {n} workers within {timeout_s} s")
+
+
+@pytest.mark.parametrize("sig", [signal.SIGTERM,
+                                 pytest.param(signal.SIGHUP, marks=pytest.mark.slow)],
+                         ids=["SIGTERM", "SIGHUP"])
+def test_signal_to_main_pid_of_a_pool_sweep_leaves_no_process(tmp_path, sig):
+    f = tmp_path / "s.toml"
+    f.write_text(SWEEP)
+    out = tmp_path / "r"
+    p = subprocess.Popen([sys.executable, "-m", "harness.cli", "sweep", str(f), "--out",
+                          str(out), "--workers", "2", "--no-progress"],
+                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    try:
+        kids = _children_when_running(psutil.Process(p.pid), 2, 120.0)
+        time.sleep(1.0)  # let the workers start their cells
+        p.send_signal(sig)
+        _, err = p.communicate(timeout=60)
+    finally:
+        if p.poll() is None:
+            p.kill()
+    assert p.returncode == 128 + sig, err
+    assert "rerun the same command to resume" in err.strip().splitlines()[-1]
+    gone, alive = psutil.wait_procs(kids, timeout=10)
+    assert not alive, f"left behind: {[k.pid for k in alive]}"
+
+
+def test_worker_dies_with_its_parent(tmp_path):
+    """A child armed with `exit_with_parent` dies when its parent is SIGKILLed (no handler in
+    the parent can run): PR_SET_PDEATHSIG on Linux, the watchdog elsewhere."""
+    pid_file = tmp_path / "child.pid"
+    code = textwrap.dedent(f"""
+        import os, time
+        from harness.runtime import exit_with_parent
+        parent = os.getpid()
+        if os.fork() == 0:
+            exit_with_parent(parent)
+            open({str(pid_file)!r}, "w").write(str(os.getpid()))
+            time.sleep(60)
+            os._exit(0)
+        time.sleep(60)
+        """)
+    p = subprocess.Popen([sys.executable, "-c", code])
+    try:
+        t_end = time.monotonic() + 20
+        while not (pid_file.exists() and pid_file.read_text()) and time.monotonic() < t_end:
+            time.sleep(0.02)
+        child = psutil.Process(int(pid_file.read_text()))
+        p.kill()
+        p.wait(timeout=10)
+        gone, alive = psutil.wait_procs([child], timeout=5)
+        assert not alive
+    finally:
+        if p.poll() is None:
+            p.kill()
+
+
+def test_exit_with_parent_arms_prctl_on_linux():
+    if not sys.platform.startswith("linux"):
+        pytest.skip("PR_SET_PDEATHSIG is Linux only; elsewhere the watchdog is used")
+    code = ("import os; from harness.runtime import exit_with_parent; "
+            "print(exit_with_parent(os.getppid()))")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         timeout=30)
+    assert out.stdout.strip() == "prctl", out.stderr
+
+
+@pytest.mark.parametrize("sig", [signal.SIGTERM, signal.SIGHUP], ids=["SIGTERM", "SIGHUP"])
+def test_stop_signal_takes_the_ctrl_c_path(monkeypatch, capsys, sig):
+    """In process: the signal becomes `Terminated` (a KeyboardInterrupt) inside the command;
+    main exits 128 + signum with the resume hint and restores the previous handlers."""
+    import harness.cmd_scenarios as cs
+
+    def run(args):
+        os.kill(os.getpid(), sig)
+        time.sleep(5)  # the handler raises before this ends
+        return 0
+
+    before = signal.getsignal(sig)
+    monkeypatch.setattr(cs, "run_scenarios", run)
+    assert main(["scenarios"]) == 128 + sig
+    err = capsys.readouterr().err.strip().splitlines()
+    assert err == [f"radar-harness scenarios: stopped by {signal.Signals(sig).name}: rerun the "
+                   "same command to resume"]
+    assert signal.getsignal(sig) == before
+
+
+def test_terminated_is_a_keyboard_interrupt():
+    exc = runtime.Terminated(signal.SIGTERM)
+    assert isinstance(exc, KeyboardInterrupt) and exc.signum == signal.SIGTERM
