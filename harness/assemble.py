@@ -6,15 +6,14 @@ When all cells are done the per-cell tables are concatenated in cell order and a
 from __future__ import annotations
 
 import json
-import os
 import platform
 import time
-import uuid
 from pathlib import Path
 
 import pandas as pd
 
 from metrics.association import AssociationConfig
+from scenarios.fileio import atomic_write
 
 from . import cellstore as store
 from .cellspec import TABLES, result_schemes
@@ -38,13 +37,9 @@ def _versions() -> dict[str, str]:
 
 
 def write_atomic(path: Path, write) -> None:
-    tmp = path.with_name(f".tmp-{path.name}-{uuid.uuid4().hex[:6]}")
-    try:
-        write(tmp)
-        os.replace(tmp, path)
-    finally:
-        if tmp.exists():
-            tmp.unlink()
+    """`scenarios.fileio.atomic_write`: temporary file, then rename; a full disk or read-only
+    folder raises `OutputError` naming the path and leaves nothing behind."""
+    atomic_write(path, write)
 
 
 def assemble(spec: SweepSpec, out: str | Path, origin: dict[str, str] | None = None,

@@ -64,7 +64,20 @@ def _add_scheme_arguments(parser: argparse.ArgumentParser) -> None:
                         help="scheme the SNR gain is taken over (default tdma)")
 
 
+def _check_baseline(schemes, baseline: str | None, explicit: bool) -> None:
+    """An explicit (or non-default) baseline must be one of the schemes run: otherwise every
+    SNR-gain column would be NaN, silently (issue 25)."""
+    from .cellspec import DEFAULT_BASELINE_SCHEME, DEFAULT_SCHEMES
+    schemes = list(schemes if schemes is not None else DEFAULT_SCHEMES)
+    baseline = baseline if baseline is not None else DEFAULT_BASELINE_SCHEME
+    if (explicit or baseline != DEFAULT_BASELINE_SCHEME) and baseline not in schemes:
+        raise ValueError(f"--baseline-scheme {baseline} is not among the schemes run "
+                         f"{schemes}: the SNR gain of every scheme would be NaN; add it to "
+                         "--schemes or pick one of them")
+
+
 def _scheme_kwargs(args: argparse.Namespace) -> dict:
+    _check_baseline(args.schemes, args.baseline_scheme, args.baseline_scheme is not None)
     kw = {}
     if args.schemes is not None:
         kw["schemes"] = tuple(args.schemes)
@@ -134,6 +147,7 @@ def run_sweep(args: argparse.Namespace) -> int:
     if args.baseline_scheme is not None:
         import dataclasses
         spec = dataclasses.replace(spec, baseline_scheme=args.baseline_scheme)
+    _check_baseline(spec.schemes, spec.baseline_scheme, args.baseline_scheme is not None)
     out = Path(args.out) if args.out else Path("results") / spec.run_id
     workers = args.workers if args.workers is not None else (os.cpu_count() or 1)
     security = dask_cluster.dask_security(args.security) if args.security else None

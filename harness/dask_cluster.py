@@ -8,6 +8,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from scenarios.checks import read_toml
+from scenarios.fileio import check_input_file
 
 from .worker import execute_cell
 
@@ -52,9 +53,29 @@ def dask_security(path: str | Path | None):
         f = (p.parent / v) if isinstance(v, str) else None
         if f is None or not f.is_file():
             raise ValueError(f"--security {str(path)!r}: {k} = {v!r} is not a readable file")
+        check_input_file(f, f"--security {str(path)!r}: {k}")
         files[k] = str(f.resolve())
+    _check_pem(str(path), files)
     return Security(tls_ca_file=files["ca_file"], tls_client_cert=files["cert"],
                     tls_client_key=files["key"], require_encryption=True)
+
+
+def _check_pem(path: str, files: dict[str, str]) -> None:
+    """Load the CA, certificate and key as the TLS client will, so a garbage or mismatched PEM
+    is reported as such (not later as "no Dask scheduler answered")."""
+    import ssl
+    try:
+        ctx = ssl.create_default_context(cafile=files["ca_file"])
+    except (ssl.SSLError, OSError) as exc:
+        raise ValueError(f"--security {path!r}: ca_file = {Path(files['ca_file']).name!r} is "
+                         f"not a PEM CA certificate ({getattr(exc, 'reason', None) or exc})"
+                         ) from None
+    try:
+        ctx.load_cert_chain(files["cert"], files["key"])
+    except (ssl.SSLError, OSError) as exc:
+        raise ValueError(f"--security {path!r}: cert = {Path(files['cert']).name!r} and key = "
+                         f"{Path(files['key']).name!r} are not a PEM certificate and its "
+                         f"private key ({getattr(exc, 'reason', None) or exc})") from None
 
 
 def _connect(scheduler, security, timeout_s: float):

@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import dataclasses
 import itertools
+import math
 from pathlib import Path
 
 from metrics.association import AssociationConfig
@@ -25,7 +26,8 @@ from .cellconfig import build_configs
 from .cellspec import (DEFAULT_BASELINE_SCHEME, DEFAULT_SCHEMES, CellSpec, check_scene,
                        known_schemes)
 from .components import default_components
-from .sweepspec import DEFAULT_SWEEP_PATH, SECTIONS, SweepSpec, Variant, resolve_scenarios
+from .sweepspec import (DEFAULT_SWEEP_PATH, MAX_CELLS, SECTIONS, SweepSpec, Variant,
+                        resolve_scenarios)
 
 __all__ = ["load_sweep", "default_sweep", "validate_cells"]
 
@@ -180,6 +182,13 @@ def load_sweep(path: str | Path | None = None, *, check_scenarios: bool = True) 
         if "." not in k or not isinstance(vary[k], list) or not vary[k]:
             raise ValueError(f"{p}: vary key {k!r} must look like \"radar.field\" and map to "
                              "a non-empty list")
+    # The product is bounded from the value counts, before any variant is built (a 10^12
+    # product would otherwise allocate until MemoryError).
+    counts = [len(vary[k]) for k in keys]
+    if math.prod(counts) > MAX_CELLS:
+        raise ValueError(f"{p}: [vary] gives {math.prod(counts)} variants "
+                         f"({' x '.join(f'{n} {k}' for n, k in zip(counts, keys))}), more than "
+                         f"the limit {MAX_CELLS} cells of a sweep")
     combos = list(itertools.product(*(vary[k] for k in keys))) if keys else [()]
     for combo in combos:
         ov = {s: dict(base.get(s, {})) for s in SECTIONS}
@@ -222,6 +231,10 @@ def load_sweep(path: str | Path | None = None, *, check_scenarios: bool = True) 
     except ValueError as exc:
         msg = str(exc)
         raise ValueError(msg if msg.startswith(f"{p}:") else f"{p}: {msg}") from None
+    if "baseline_scheme" in data and spec.baseline_scheme not in spec.schemes:
+        raise ValueError(f"{p}: baseline_scheme={spec.baseline_scheme!r} is not among the "
+                         f"schemes run {list(spec.schemes)}: the SNR gain of every scheme "
+                         "would be NaN; add it to schemes or pick one of them")
     validate_cells(spec, p)
     return spec
 
