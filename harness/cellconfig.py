@@ -9,6 +9,7 @@ from metrics.association import AssociationConfig
 
 from .cellspec import CellSpec, mimos, result_schemes
 from .components import Components
+from .ti_profile import load_profile, profile_processing
 
 __all__ = ["radar_config", "cell_association", "build_configs"]
 
@@ -29,8 +30,7 @@ def radar_config(overrides: dict, mimo: str):
     path = ov.pop("profile", None)
     if path is None:
         return radarsim.presets.r79(mimo, **ov)
-    from radarsim.ti import from_ti_cfg
-    base = from_ti_cfg(Path(path))
+    base = load_profile(Path(path)).radar
     try:
         return base.replace(**{"mimo": mimo, **ov}) if base.mimo != mimo or ov else base
     except ValueError as exc:
@@ -59,6 +59,11 @@ def build_configs(spec: CellSpec, comps: Components):
     """(radar config per mimo, processing config per result scheme) of a cell."""
     schemes = result_schemes(spec.schemes)
     radar = {m: radar_config(spec.radar, m) for m in mimos(schemes)}
-    procs = {s.name: comps.make_processing({**spec.processing, **s.processing})
+    # A TI profile's processing commands (its CFAR, compression, interference mitigation,
+    # velocity extension, fields of view, calibration) are the cell's processing defaults,
+    # read by the same function as `radar-harness process`; the sweep's settings override.
+    path = spec.radar.get("profile")
+    base = {} if path is None else profile_processing(load_profile(Path(path)))
+    procs = {s.name: comps.make_processing({**base, **spec.processing, **s.processing})
              for s in schemes}
     return radar, procs

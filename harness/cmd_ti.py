@@ -6,8 +6,10 @@
 `process` runs the signal chain (`pipeline.process_frame`) on every frame of a DCA1000 capture
 recorded with the given profile, and the group tracker when it is available, and writes the
 point cloud table (a `frame` and a `time_s` column in front of the chain's columns; Parquet or
-CSV by the file suffix). The profile's Doppler ``cfarCfg`` becomes the chain's CFAR
-(`cfar_config_from_ti`); without one the chain's default CFAR is used.
+CSV by the file suffix). The profile is read and turned into processing settings by
+`harness.ti_profile` (the same function a sweep cell with ``radar.profile`` uses): its
+Doppler ``cfarCfg`` becomes the chain's CFAR, and every processing command takes its demo
+family's meaning (a command left out, that demo's default).
 
 `simulate` runs a scenario at the profile's frame rate (1 / ``framePeriodicity``, the period
 `process` stamps the frames with), builds each frame's scatterers with the RCS model and writes
@@ -30,6 +32,7 @@ import numpy as np
 import pandas as pd
 
 from .args import DURATION_S, FRAMES, SEED, check_output_file
+from .ti_profile import cfar_config_from_ti, load_profile, processing_from_profile
 
 __all__ = ["add_arguments_process", "run_process", "add_arguments_simulate", "run_simulate",
            "cfar_config_from_ti", "processing_from_profile", "process_capture",
@@ -60,57 +63,6 @@ def write_table(df: pd.DataFrame, path: str | os.PathLike) -> Path:
         Path(tmp).unlink(missing_ok=True)
         raise
     return path
-
-
-def cfar_config_from_ti(ti_cfar):
-    """`pipeline.CfarConfig` from a TI ``cfarCfg`` (`radarsim.ti.TiCfar`).
-
-    averageMode -> mode, one-sided winLen/guardLen -> window_cells/guard_cells, osKvalue ->
-    os_rank (OS only), thresholdScale (dB over the noise estimate) -> threshold_db (so the
-    design Pfa is not used). TI's fixed-point noise divisor has no counterpart.
-    """
-    import pipeline
-    return pipeline.CfarConfig(mode=ti_cfar.mode, guard_cells=int(ti_cfar.guard_cells),
-                               window_cells=int(ti_cfar.window_cells),
-                               os_rank=int(ti_cfar.os_rank)
-                               if pipeline.CFAR_MODES[ti_cfar.mode].ranked else None,
-                               pfa=None, threshold_db=float(ti_cfar.threshold_db))
-
-
-def processing_from_profile(profile, notes: list[str] | None = None):
-    """`pipeline.ProcessingConfig` for a TI profile: its Doppler CFAR if it has one.
-
-    Notes on settings the chain cannot follow (range CFAR, non-cyclic Doppler CFAR) are
-    appended to `notes`.
-    """
-    import pipeline
-    notes = [] if notes is None else notes
-    # Chirp-level chain (intfMitigCfg, compressionCfg): the profile's values, demo defaults
-    # otherwise.
-    chirp = dict(getattr(profile, "chirp_level", {}) or {})
-    doppler = profile.cfar.get("doppler")
-    if "range" in profile.cfar:
-        notes.append(f"line {profile.cfar['range'].line_no}: range cfarCfg ignored (the chain "
-                     "has no range CFAR, DESIGN section 5)")
-    if doppler is None:
-        proc = pipeline.ProcessingConfig(**chirp)
-    else:
-        if not doppler.cyclic:
-            notes.append(f"line {doppler.line_no}: cyclicMode 0 ignored (the Doppler CFAR is "
-                         "cyclic)")
-        proc = pipeline.ProcessingConfig(cfar=cfar_config_from_ti(doppler), **chirp)
-    n_dop = profile.radar.n_doppler_bins
-    try:
-        proc.check_doppler_axis(n_dop)
-    except ValueError:
-        # Demo profiles of 16 loops have 16 Doppler bins: train on contiguous cells (TI's
-        # CFAR) when the stride-2 window does not fit; if that does not fit either, the
-        # chain names the window and the axis.
-        proc = proc.replace(cfar_training_stride=1)
-        notes.append(f"CFAR training_stride 1 (contiguous cells, as TI's CFAR): the stride-2 "
-                     f"window does not fit the {n_dop} Doppler bins")
-    proc.check_compression(profile.radar.n_rx, profile.radar.n_range_bins)
-    return proc
 
 
 def process_capture(capture, profile, proc=None, *, interleaved: bool | None = None,
@@ -153,11 +105,8 @@ def process_capture(capture, profile, proc=None, *, interleaved: bool | None = N
 
 
 def _profile(path: Path):
-    """`parse_ti_cfg` with the file's own problems (a directory) as bad input."""
-    from radarsim.ti import parse_ti_cfg
-    if Path(path).is_dir():
-        raise ValueError(f"--cfg {str(path)!r} is a directory, not a TI .cfg profile")
-    return parse_ti_cfg(path)  # a file that is not UTF-8 text: ValueError naming it
+    """The profile behind ``--cfg`` (`harness.ti_profile.load_profile`)."""
+    return load_profile(path)
 
 
 def _track(points: pd.DataFrame, profile, n_frames: int) -> pd.DataFrame:

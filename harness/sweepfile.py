@@ -49,12 +49,12 @@ def _check_section(where: str, section: str, overrides: dict) -> None:
         if bad:
             raise ValueError(f"{where}: unknown radar field(s) {bad}")
         if "profile" in overrides:
-            from radarsim.ti import from_ti_cfg
+            from .ti_profile import load_profile
             prof = overrides["profile"]
             if not isinstance(prof, str) or not Path(prof).is_file():
                 raise ValueError(f"{where}: radar.profile={prof!r} is not a TI .cfg file")
             try:
-                from_ti_cfg(Path(prof))
+                load_profile(Path(prof))
             except ValueError as exc:
                 raise ValueError(f"{where}: radar.profile={prof!r}: {exc}") from None
     if section == "processing" and overrides:

@@ -17,6 +17,7 @@ import pandas as pd
 from radarsim.config import RadarConfig
 
 from . import saturation
+from .fov import apply_fov
 from .config import ProcessingConfig
 from .mimo import MIMO_CHAINS, chain_of
 from .stages import POINT_CLOUD_COLUMNS, check_frame
@@ -60,7 +61,8 @@ def process_frame(cfg: RadarConfig, adc: np.ndarray,
         doppler_bin (0..n_chirps-1 in the full unambiguous Doppler span), azimuth_bin, and
         ``saturated`` with ``attrs["saturation"]``: ADC saturation per chirp and Rx
         (`pipeline.saturation`; ``proc.saturation_policy`` flags or drops the detections of a
-        saturated frame).
+        saturated frame); only detections inside the field of view ``proc`` sets
+        (`pipeline.fov`).
 
     Raises
     ------
@@ -71,8 +73,9 @@ def process_frame(cfg: RadarConfig, adc: np.ndarray,
         the CFAR window does not fit the Doppler axis.
     """
     chain, proc, report = _inputs(cfg, adc, proc)
-    return saturation.apply_policy(chain.process(cfg, adc, proc), report,
-                                   proc.saturation_policy)
+    points = saturation.apply_policy(chain.process(cfg, adc, proc), report,
+                                     proc.saturation_policy)
+    return apply_fov(points, proc)
 
 
 def detection_map(cfg: RadarConfig, adc: np.ndarray,

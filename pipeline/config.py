@@ -9,6 +9,7 @@ from scenarios.checks import one_of, require
 
 from .cfar import CFAR_MODES, cfar_scale
 from .compensation import check_channel_comp, check_comp_values
+from .fov import FOV_FIELDS, check_interval
 from .ege_format import ege_min_ratio
 from .saturation import SATURATION_POLICIES
 
@@ -178,6 +179,10 @@ class ProcessingConfig:
         TI's chip channel order (Tx major), each part in [-1, 1] (Q15 when applied); every
         chain multiplies its virtual-antenna samples by them before angle estimation
         (`pipeline.compensation`). None: no correction (default).
+    range_fov_m, velocity_fov_mps, azimuth_fov_deg, elevation_fov_deg : (min, max) or None
+        Field of view of the reported detections (``cfarFovCfg`` range / Doppler,
+        ``aoaFovCfg``): detections outside are dropped (`pipeline.fov`). None: no limit
+        (default).
     """
 
     cfar: CfarConfig = field(default_factory=CfarConfig)
@@ -203,6 +208,10 @@ class ProcessingConfig:
     channel_comp: tuple[tuple[float, float], ...] | None = None
     fast_slow_threshold_db: float = 3.0
     fast_slow_search_bins: int = 2
+    range_fov_m: tuple[float, float] | None = None
+    velocity_fov_mps: tuple[float, float] | None = None
+    azimuth_fov_deg: tuple[float, float] | None = None
+    elevation_fov_deg: tuple[float, float] | None = None
 
     def __post_init__(self) -> None:
         if not isinstance(self.cfar, CfarConfig):
@@ -225,6 +234,8 @@ class ProcessingConfig:
         require(self, "compression_ratio", ge=0.25, lt=1)
         object.__setattr__(self, "channel_comp",
                            check_comp_values(self.range_bias_m, self.channel_comp))
+        for name in FOV_FIELDS:
+            object.__setattr__(self, name, check_interval(name, getattr(self, name)))
         b = self.compression_range_bins_per_block
         if isinstance(b, bool) or not isinstance(b, int) or b not in (1, 2, 4, 8, 16, 32):
             raise ValueError(f"compression_range_bins_per_block={b!r} must be a power of 2 "

@@ -40,5 +40,5 @@ def comp_range_bias_and_rx_chan_phase(st: ParseState, ln: Line) -> None:
             raise ln.fail(f"value {i + 1} = {v:g} is outside the Q15 range [-1, 1] (the demo "
                           "would saturate it)")
         parts.append(v)
-    st.chirp_level.update(range_bias_m=bias,
-                          channel_comp=tuple(zip(parts[0::2], parts[1::2])))
+    st.processing.update(range_bias_m=bias, channel_comp=tuple(zip(parts[0::2], parts[1::2])))
+    st.processing_commands[ln.cmd] = ln

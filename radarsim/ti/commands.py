@@ -7,6 +7,7 @@ from types import MappingProxyType
 from typing import Callable, Mapping
 
 from . import handlers as h
+from . import processing_handlers as ph
 from .calibration import comp_range_bias_and_rx_chan_phase
 from .state import ParseState
 from .syntax import Line
@@ -110,20 +111,24 @@ TI_COMMANDS: dict[str, CommandSpec] = {
     "lowPower": _spec({2}, None, "low-power ADC mode"),
     "guiMonitor": _spec(None, None, "UART output selection (differs per demo and lab)",
                         sub={7}),
-    "aoaFovCfg": _spec({4, 5}, None, "angle field of view", sub={5}, key=0),
-    "cfarFovCfg": _spec({3, 4}, None, "CFAR field of view", sub={4}, key=1),
-    "multiObjBeamForming": _spec({2, 3}, None, "multi-object beamforming", sub={3}, key=0),
-    "calibDcRangeSig": _spec({4, 5}, None, "DC range signature calibration", sub={5},
+    "aoaFovCfg": _spec({4, 5}, ph.aoa_fov_cfg, "angle field of view", sub={5}, key=0),
+    "cfarFovCfg": _spec({3, 4}, ph.cfar_fov_cfg, "CFAR field of view", sub={4}, key=1),
+    "multiObjBeamForming": _spec({2, 3}, ph.multi_obj_beamforming, "multi-object beamforming",
+                                 sub={3}, key=0),
+    "calibDcRangeSig": _spec({4, 5}, ph.calib_dc_range_sig, "DC range signature calibration",
+                             sub={5},
                              key=0),
-    "clutterRemoval": _spec({1, 2}, None, "static clutter removal", sub={2}, key=0),
-    "extendedMaxVelocity": _spec({1, 2}, None, "extended velocity", sub={2}, key=0),
+    "clutterRemoval": _spec({1, 2}, ph.clutter_removal, "static clutter removal", sub={2}, key=0),
+    "extendedMaxVelocity": _spec({1, 2}, ph.extended_max_velocity, "extended velocity",
+                                 sub={2}, key=0),
     "nearFieldCfg": _spec({4}, None, "near-field correction"),
     # 1 range bias + (re, im) per chip Tx x Rx pair: the count is the chip's (handler).
     "compRangeBiasAndRxChanPhase": _spec(None, comp_range_bias_and_rx_chan_phase,
                                          "range bias and channel phase compensation", key=0),
-    "measureRangeBiasAndRxChanPhase": _spec({3}, None, "calibration measurement", key=0),
+    "measureRangeBiasAndRxChanPhase": _spec({3}, ph.measure_range_bias,
+                                            "calibration measurement", key=0),
     "antennaCalibParams": _spec(range(2, 33, 2), None, "antenna calibration"),
-    "CQRxSatMonitor": _spec({5}, None, "Rx saturation monitor", key=1),
+    "CQRxSatMonitor": _spec({5}, ph.rx_sat_monitor, "Rx saturation monitor", key=1),
     "CQSigImgMonitor": _spec({3}, None, "signal/image band monitor"),
     "analogMonitor": _spec({None: {2}, "AWR2544": {3}}, None, "analog monitors"),
     "configDataPort": _spec({2}, None, "data UART"),
@@ -168,4 +173,4 @@ TI_COMMANDS: dict[str, CommandSpec] = {
         "occStateMach", "intrThresh", "sensorSelection", "radarSelection")},
 }
 #: Commands whose near-misspellings are refused with a suggestion (modelled commands only).
-MODELLED_COMMANDS = tuple(name for name, spec in TI_COMMANDS.items() if spec.handler not in (None,))
+MODELLED_COMMANDS = tuple(name for name, spec in TI_COMMANDS.items() if spec.handler is not None)

@@ -216,6 +216,7 @@ def cfar_cfg(st: ParseState, ln: Line) -> None:
     except ValueError as exc:
         raise ln.fail(str(exc)) from exc
     st.cfar[direction] = cfar
+    st.processing_commands[ln.cmd] = ln
 
 
 def lvds_stream_cfg(st: ParseState, ln: Line) -> None:
@@ -246,8 +247,10 @@ def bpm_cfg(st: ParseState, ln: Line) -> None:
 def intf_mitig_cfg(st: ParseState, ln: Line) -> None:
     """intfMitigCfg <subFrameIdx> <magSNRdB> <magDiffSNRdB> (MCU+ SDK DDM demo, integers)."""
     ln.int(0, "subFrameIdx", -1, 3)
-    st.chirp_level.update(intf_mag_snr_db=float(ln.int(1, "magSNRdB", 1, 60)),
-                          intf_magdiff_snr_db=float(ln.int(2, "magDiffSNRdB", 1, 60)))
+    st.processing.update(interference_mitigation=True,
+                         intf_mag_snr_db=float(ln.int(1, "magSNRdB", 1, 60)),
+                         intf_magdiff_snr_db=float(ln.int(2, "magDiffSNRdB", 1, 60)))
+    st.processing_commands[ln.cmd] = ln
 
 
 def compression_cfg(st: ParseState, ln: Line) -> None:
@@ -257,9 +260,10 @@ def compression_cfg(st: ParseState, ln: Line) -> None:
     enabled = ln.flag(1, "enabled")
     if ln.int(2, "compressionMethod", 0, 1) == 1 and enabled:
         raise ln.fail("compressionMethod=1 (BFP) is not modelled; use 0 (EGE)")
-    st.chirp_level.update(compression=enabled,
-                          compression_ratio=float(ln.dec(3, "compressionRatio")),
-                          compression_range_bins_per_block=ln.int(4, "rangeBinsPerBlock", 1, 32))
+    st.processing.update(compression=enabled,
+                         compression_ratio=float(ln.dec(3, "compressionRatio")),
+                         compression_range_bins_per_block=ln.int(4, "rangeBinsPerBlock", 1, 32))
+    st.processing_commands[ln.cmd] = ln
 
 
 def flush_cfg(st: ParseState, ln: Line) -> None:

@@ -136,10 +136,19 @@ class TiProfile:
     profile_extras : dict
         profileCfg values the front-end model does not use: tx_start_time_s,
         hpf_corner_1_code, hpf_corner_2_code, rx_gain_code.
-    chirp_level : dict
-        The DDM demo's chirp-level settings as `pipeline.ProcessingConfig` field values:
-        ``intfMitigCfg`` -> intf_mag_snr_db, intf_magdiff_snr_db; ``compressionCfg`` ->
-        compression, compression_ratio, compression_range_bins_per_block (EGE only).
+    processing : dict
+        `pipeline.ProcessingConfig` field values the profile's processing commands define
+        (`radarsim.ti.families`): ``cfarCfg`` is in `cfar`; ``extendedMaxVelocity`` ->
+        tdma_disambiguation; ``compressionCfg`` -> compression, compression_ratio,
+        compression_range_bins_per_block; ``intfMitigCfg`` -> interference_mitigation,
+        intf_mag_snr_db, intf_magdiff_snr_db; ``multiObjBeamForming`` -> azimuth_sidelobe_db;
+        ``cfarFovCfg`` -> range_fov_m, velocity_fov_mps; ``aoaFovCfg`` -> azimuth_fov_deg,
+        elevation_fov_deg; ``compRangeBiasAndRxChanPhase`` -> range_bias_m, channel_comp. A
+        command the profile leaves out is at its demo family's default.
+    demo_family : str
+        The TI demo the profile is for (`radarsim.ti.families.DEMO_FAMILIES`).
+    measure_range_bias : tuple or None
+        ``measureRangeBiasAndRxChanPhase`` (enabled, target distance m, search window m).
     ignored : tuple of (int, str)
         (line number, command) of every command kept but not used (demo, monitoring, tracker
         and calibration commands, unknown commands).
@@ -172,7 +181,9 @@ class TiProfile:
     sample_swap: bool | None = None
     lvds_stream: tuple | None = None
     profile_extras: dict[str, Any] = dataclasses.field(default_factory=dict)
-    chirp_level: dict[str, Any] = dataclasses.field(default_factory=dict)
+    processing: dict[str, Any] = dataclasses.field(default_factory=dict)
+    demo_family: str = ""
+    measure_range_bias: tuple | None = None
     ignored: tuple[tuple[int, str], ...] = ()
     notes: tuple[str, ...] = ()
     directives: dict[str, Any] = dataclasses.field(default_factory=dict)

@@ -16,6 +16,7 @@ from . import advanced
 from .advanced import MAX_SUBFRAMES
 from .chip_inference import infer_chip
 from .commands import MODELLED_COMMANDS, TI_COMMANDS
+from .families import PROCESSING_COMMANDS, family_of
 from .profile import TiProfile
 from .schedule import frame_masks, schedule
 from .state import TI_DEFAULT_OVERRIDES, TI_FIELDS, ParseState
@@ -307,15 +308,42 @@ def _finish(st: ParseState, n_lines: int) -> TiProfile:
         name = fr.get("period_name", "framePeriodicity")
         raise fln.fail(f"{name}={fr['period_s'] * 1e3:g} ms is shorter than the chirp burst "
                        f"n_chirps x chirp period = {burst_s * 1e3:g} ms")
+    family = family_of(st.chip, radar.scheme)
+    processing = _family_processing(st, family)
     return TiProfile(radar=radar, frame_period_s=fr["period_s"], n_frames=fr["n_frames"],
                      trigger_select=fr["trigger"], cfar=dict(st.cfar),
                      ddm_phase_order=st.ddm_order, ant_geometry=st.ant_geometry,
                      adc_channel_interleaved=radar.adcbuf_interleaved,
                      sample_swap=st.adcbuf.get("sample_swap"), lvds_stream=st.lvds,
-                     profile_extras=dict(st.extras), chirp_level=dict(st.chirp_level),
+                     profile_extras=dict(st.extras), processing=processing,
+                     demo_family=family.name, measure_range_bias=st.measure,
                      ignored=tuple(st.ignored), notes=tuple(st.notes),
                      directives=dict(st.directives),
                      command_lines={cmd: ln.no for cmd, ln in st.seen.items()})
+
+
+def _family_processing(st: ParseState, family) -> dict[str, Any]:
+    """`ProcessingConfig` field values of the profile: what its processing commands set, a
+    command of another demo family dropped (noted), an absent one at the family's default;
+    the commands read but not modelled are listed in one note."""
+    processing = dict(st.processing)
+    for cmd, ln in st.processing_commands.items():
+        name = cmd.split()[0]
+        if not family.has(name):
+            for f in PROCESSING_COMMANDS[name].fields:
+                processing.pop(f, None)
+            st.cfar.clear() if name == "cfarCfg" else None
+            st.ignored.append((ln.no, name))
+            st.notes.append(f"line {ln.no}: {name} is not a command of the {family.description}"
+                            "; ignored")
+    present = {cmd.split()[0] for cmd in st.processing_commands}
+    for cmd, defaults in family.defaults.items():
+        if cmd not in present:
+            for f, v in defaults.items():
+                processing.setdefault(f, v)
+    if st.unmodelled:
+        st.notes.append("read but not modelled: " + "; ".join(st.unmodelled))
+    return processing
 
 
 def _relabel(exc: Exception, lines: Mapping[str, Line], st: ParseState) -> ValueError:

@@ -45,7 +45,10 @@ class ParseState:
     adcbuf: dict[str, Any] = dataclasses.field(default_factory=dict)
     lvds: tuple | None = None
     extras: dict[str, Any] = dataclasses.field(default_factory=dict)
-    chirp_level: dict[str, Any] = dataclasses.field(default_factory=dict)
+    processing: dict[str, Any] = dataclasses.field(default_factory=dict)
+    processing_commands: dict[str, Line] = dataclasses.field(default_factory=dict)
+    unmodelled: list[str] = dataclasses.field(default_factory=list)
+    measure: tuple | None = None
     ignored: list[tuple[int, str]] = dataclasses.field(default_factory=list)
     notes: list[str] = dataclasses.field(default_factory=list)
     directives: dict[str, Any] = dataclasses.field(default_factory=dict)

@@ -238,15 +238,16 @@ def test_simulate_complex_profile_writes_the_public_layout(tmp_path, fake_compon
 
 
 def test_process_advanced_frame_per_subframe(tmp_path, make_scene, capsys):
-    """Two sub-frames (near 15 m / far 40 m span): a reflector at 6 m is reported in both,
-    each with its own range cell (0.117 / 0.156 m), a `subframe` column and the sub-frame's
-    start time (40 ms into the 100 ms frame)."""
+    """Two sub-frames (near: 0.25..9 m of a 15 m span; far: 9..40 m, cfarFovCfg per
+    sub-frame): reflectors at 6 m and 20 m are each reported by their sub-frame only, in that
+    sub-frame's range cell (0.117 / 0.156 m), with a `subframe` column and the sub-frame's start
+    time (40 ms into the 100 ms frame)."""
     from radarsim.subframe_capture import encode_frame
     from tests.radarsim.profiles import PROFILE_DIR
 
     cfg_path = PROFILE_DIR / "xwr68_advanced_subframes.cfg"
     prof = parse_ti_cfg(cfg_path)
-    scene = make_scene([(6.0, 0.0, 0.0, 0.0, 1.0)])
+    scene = make_scene([(6.0, 0.0, 0.0, 0.0, 1.0), (20.0, 0.0, 0.0, 0.0, 10.0)])
     rng = np.random.default_rng(3)
     path = tmp_path / "adc_data.bin"
     frames = [encode_frame(prof, [radarsim.simulate_frame(p.radar, scene, rng)
@@ -256,10 +257,11 @@ def test_process_advanced_frame_per_subframe(tmp_path, make_scene, capsys):
     assert main(["process", str(path), "--cfg", str(cfg_path), "--out", str(out)]) == 0
     table = pd.read_csv(out)
     assert list(table.columns[:3]) == ["frame", "subframe", "time_s"]
-    for k, p in enumerate(prof.parts):
+    for k, (p, r_m, fov) in enumerate(zip(prof.parts, (6.0, 20.0), ((0.25, 9.0), (9.0, 40.0)))):
         rows = table[(table["subframe"] == k) & (table["frame"] == 1)]
+        assert rows["range_m"].between(*fov).all()
         best = rows.loc[rows["snr_db"].idxmax()]
-        assert abs(best["range_m"] - 6.0) < p.radar.range_resolution_m
+        assert abs(best["range_m"] - r_m) < p.radar.range_resolution_m
         assert best["time_s"] == pytest.approx(0.1 + p.subframe_start_s)
     tracks = pd.read_csv(tmp_path / "points_tracks.csv")
     assert set(tracks["subframe"]) <= {0, 1}

@@ -146,3 +146,34 @@ def test_run_cell_uses_the_cell_association(monkeypatch):
     monkeypatch.setattr(mdet, "summarize_scheme", spy)
     run_cell(CellSpec(scenario="fast", duration_s=0.2, association={"max_range_m": 99.0}), FAKE)
     assert seen["assoc"].max_range_m == 99.0 and seen["assoc"].fov_deg == 80.0
+
+
+def test_sweep_cell_and_process_read_a_profile_into_the_same_configs(tmp_path):
+    """One function (harness.ti_profile) for both: the cell's TDMA radar and processing are
+    exactly what `radar-harness process` runs for the profile (its cfarCfg as the CFAR, no
+    compression / mitigation / extension, its fields of view); the sweep's [processing] still
+    overrides."""
+    from harness.components import default_components
+    from harness.ti_profile import load_profile, processing_from_profile
+    from tests.radarsim.profiles import PROFILE_DIR
+
+    path = PROFILE_DIR / "xwr68_tx13.cfg"
+    f = _sweep_file(tmp_path, f"""
+        name = "p"
+        scenarios = ["fast"]
+        schemes = ["tdma"]
+        [[variants]]
+        name = "mine"
+        radar = {{profile = "{path}"}}
+    """)
+    cell = load_sweep(f, check_scenarios=False).cells()[0]
+    radar, procs = build_configs(cell, default_components())
+    prof = load_profile(path)
+    assert radar["tdma"] == prof.radar
+    assert procs["tdma"] == processing_from_profile(prof)
+    assert procs["tdma"].cfar.threshold_db == 15.0 and not procs["tdma"].compression
+    assert not procs["tdma"].tdma_disambiguation
+    f2 = _sweep_file(tmp_path, f.read_text() + "processing = {tdma_disambiguation = true}\n")
+    cell = load_sweep(f2, check_scenarios=False).cells()[0]
+    _, procs = build_configs(cell, default_components())
+    assert procs["tdma"] == processing_from_profile(prof).replace(tdma_disambiguation=True)

@@ -1,0 +1,113 @@
+"""A TI profile as the harness runs it: the ONE place a profile becomes a `RadarConfig` and
+`ProcessingConfig` settings, for `radar-harness process` and for a sweep cell with
+``radar.profile`` alike (same file, same configs).
+
+`profile_processing` gives the `ProcessingConfig` overrides the profile defines (its demo
+family's meaning of every processing command, `radarsim.ti.families`; its Doppler ``cfarCfg``
+as the chain's CFAR); `processing_from_profile` applies them to the defaults; `load_profile`
+reads a file once (cached by path, size and modification time).
+"""
+from __future__ import annotations
+
+import dataclasses
+import functools
+import os
+from pathlib import Path
+
+__all__ = ["load_profile", "profile_processing", "processing_from_profile",
+           "cfar_config_from_ti"]
+
+
+def cfar_config_from_ti(ti_cfar):
+    """`pipeline.CfarConfig` from a TI ``cfarCfg`` (`radarsim.ti.TiCfar`).
+
+    averageMode -> mode, one-sided winLen/guardLen -> window_cells/guard_cells, osKvalue ->
+    os_rank (OS only), thresholdScale (dB over the noise estimate) -> threshold_db (so the
+    design Pfa is not used). TI's fixed-point noise divisor has no counterpart.
+    """
+    import pipeline
+    return pipeline.CfarConfig(mode=ti_cfar.mode, guard_cells=int(ti_cfar.guard_cells),
+                               window_cells=int(ti_cfar.window_cells),
+                               os_rank=int(ti_cfar.os_rank)
+                               if pipeline.CFAR_MODES[ti_cfar.mode].ranked else None,
+                               pfa=None, threshold_db=float(ti_cfar.threshold_db))
+
+
+def profile_processing(profile, notes: list[str] | None = None) -> dict:
+    """`ProcessingConfig` overrides a TI profile (or one sub-frame of it) defines.
+
+    Parameters
+    ----------
+    profile : radarsim.ti.TiProfile
+    notes : list of str, optional
+        Receives a note for each setting the chain cannot follow (range CFAR, non-cyclic
+        Doppler CFAR, a contiguous CFAR training window on a short Doppler axis).
+
+    Returns
+    -------
+    dict
+        Field values for `pipeline.ProcessingConfig.replace` (``cfar`` a `CfarConfig`).
+    """
+    import pipeline
+    notes = [] if notes is None else notes
+    overrides = dict(profile.processing)
+    doppler = profile.cfar.get("doppler")
+    if "range" in profile.cfar:
+        notes.append(f"line {profile.cfar['range'].line_no}: range cfarCfg ignored (the chain "
+                     "has no range CFAR, DESIGN section 5)")
+    if doppler is not None:
+        if not doppler.cyclic:
+            notes.append(f"line {doppler.line_no}: cyclicMode 0 ignored (the Doppler CFAR is "
+                         "cyclic)")
+        overrides["cfar"] = cfar_config_from_ti(doppler)
+    proc = pipeline.ProcessingConfig().replace(**overrides)
+    n_dop = profile.radar.n_doppler_bins
+    try:
+        proc.check_doppler_axis(n_dop)
+    except ValueError:
+        # Demo profiles of 16 loops have 16 Doppler bins: train on contiguous cells (TI's
+        # CFAR) when the stride-2 window does not fit; if that does not fit either, the
+        # chain names the window and the axis.
+        overrides["cfar"] = dataclasses.replace(proc.cfar, training_stride=1)
+        notes.append(f"CFAR training_stride 1 (contiguous cells, as TI's CFAR): the stride-2 "
+                     f"window does not fit the {n_dop} Doppler bins")
+    return overrides
+
+
+def processing_from_profile(profile, notes: list[str] | None = None):
+    """`pipeline.ProcessingConfig` of a TI profile: the defaults with `profile_processing`.
+
+    Raises
+    ------
+    ValueError
+        If the profile's compression settings cannot run on its radar.
+    """
+    import pipeline
+    proc = pipeline.ProcessingConfig().replace(**profile_processing(profile, notes))
+    proc.check_compression(profile.radar.n_rx, profile.radar.n_range_bins)
+    return proc
+
+
+@functools.lru_cache(maxsize=32)
+def _cached(path: str, size: int, mtime_ns: int):
+    from radarsim.ti import parse_ti_cfg
+    return parse_ti_cfg(Path(path))
+
+
+def load_profile(path: str | os.PathLike):
+    """The `radarsim.ti.TiProfile` of a profile file (read once per file version).
+
+    Raises
+    ------
+    ValueError
+        If the path is a directory or the profile is bad (naming the line).
+    FileNotFoundError
+        If the file does not exist.
+    """
+    p = Path(path)
+    if p.is_dir():
+        raise ValueError(f"--cfg {str(p)!r} is a directory, not a TI .cfg profile")
+    if not p.is_file():
+        raise FileNotFoundError(f"TI .cfg file {str(p)!r} not found")
+    st = p.stat()
+    return _cached(str(p.resolve()), st.st_size, st.st_mtime_ns)

@@ -1,0 +1,67 @@
+"""Field of view of the reported detections: the TI demos' ``cfarFovCfg`` (range, m; radial
+velocity, m/s) and ``aoaFovCfg`` (azimuth, elevation, deg) drop detections outside the given
+intervals after detection and angle estimation (mmWave SDK 3.x user guide, sec. "Configuration
+(.cfg) File Format"). All four limits are `ProcessingConfig` fields; None keeps everything.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pandas as pd
+
+__all__ = ["FOV_FIELDS", "check_interval", "apply_fov"]
+
+#: ProcessingConfig field -> the point-cloud column it bounds.
+FOV_FIELDS = {"range_fov_m": "range_m", "velocity_fov_mps": "radial_velocity_mps",
+              "azimuth_fov_deg": "azimuth_deg", "elevation_fov_deg": "elevation_deg"}
+
+
+def check_interval(name: str, value) -> tuple[float, float] | None:
+    """`value` as a (lo, hi) pair of finite floats with lo <= hi, or None.
+
+    Raises
+    ------
+    ValueError
+        Naming the field, the value and the rule.
+    """
+    if value is None:
+        return None
+    try:
+        lo, hi = (float(v) for v in value)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name}={value!r} must be a (min, max) pair of numbers or None") \
+            from None
+    if not (math.isfinite(lo) and math.isfinite(hi)) or lo > hi:
+        raise ValueError(f"{name}={value!r} must be finite with min <= max")
+    return (lo, hi)
+
+
+def apply_fov(points: pd.DataFrame, proc) -> pd.DataFrame:
+    """The detections of `points` inside every interval `proc` sets (`FOV_FIELDS`).
+
+    Parameters
+    ----------
+    points : pandas.DataFrame
+        Point cloud with the columns of `FOV_FIELDS` (range_m m, radial_velocity_mps m/s,
+        azimuth_deg and elevation_deg deg).
+    proc : ProcessingConfig
+
+    Returns
+    -------
+    pandas.DataFrame
+        The rows inside (the same frame when no limit is set), attrs kept.
+    """
+    keep = np.ones(len(points), dtype=bool)
+    limited = False
+    for field, column in FOV_FIELDS.items():
+        bounds = getattr(proc, field)
+        if bounds is not None:
+            values = points[column].to_numpy()
+            keep &= (values >= bounds[0]) & (values <= bounds[1])
+            limited = True
+    if not limited:
+        return points
+    out = points[keep].reset_index(drop=True)
+    out.attrs = dict(points.attrs)
+    return out

@@ -1,0 +1,48 @@
+"""Field of view (cfarFovCfg / aoaFovCfg): detections outside the limits are dropped."""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import pipeline
+import radarsim
+
+
+@pytest.fixture(scope="module")
+def two_targets():
+    """R79 TDMA frame with reflectors at 30 m / +20 deg / -5 m/s and 80 m / -30 deg / +3 m/s."""
+    cfg = radarsim.presets.r79_tdma()
+    sc = radarsim.Scatterers.from_spherical(np.array([30.0, 80.0]), np.array([20.0, -30.0]),
+                                            np.zeros(2), np.array([-5.0, 3.0]),
+                                            np.array([10.0, 10.0]))
+    adc = radarsim.simulate_frame(cfg, sc, rng=np.random.default_rng(1))
+    return cfg, adc
+
+
+def _near(pc, r_m):
+    return bool((abs(pc["range_m"] - r_m) < 2.0).any())
+
+
+@pytest.mark.parametrize("limits, keeps_30, keeps_80", [
+    ({}, True, True),
+    ({"range_fov_m": (0.0, 50.0)}, True, False),
+    ({"velocity_fov_mps": (0.0, 10.0)}, False, True),
+    ({"azimuth_fov_deg": (0.0, 60.0)}, True, False),
+    ({"elevation_fov_deg": (5.0, 20.0)}, False, False),
+])
+def test_detections_outside_the_field_of_view_are_dropped(two_targets, limits, keeps_30,
+                                                          keeps_80):
+    cfg, adc = two_targets
+    pc = pipeline.process_frame(cfg, adc, pipeline.ProcessingConfig(**limits))
+    assert (_near(pc, 30.0), _near(pc, 80.0)) == (keeps_30, keeps_80)
+    for field, column in pipeline.fov.FOV_FIELDS.items():
+        if field in limits:
+            assert pc[column].between(*limits[field]).all()
+
+
+@pytest.mark.parametrize("value, pattern", [((5.0, 1.0), r"min <= max"),
+                                            ((0.0, float("inf")), r"finite"),
+                                            ("wide", r"\(min, max\) pair")])
+def test_bad_field_of_view_is_refused(value, pattern):
+    with pytest.raises(ValueError, match=rf"range_fov_m=.*{pattern}"):
+        pipeline.ProcessingConfig(range_fov_m=value)
