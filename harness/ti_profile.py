@@ -90,12 +90,13 @@ def processing_from_profile(profile, notes: list[str] | None = None):
 
 @functools.lru_cache(maxsize=32)
 def _cached(path: str, size: int, mtime_ns: int):
-    from radarsim.ti import parse_ti_cfg
-    return parse_ti_cfg(Path(path))
+    from radarsim.ti import parse_setup
+    return parse_setup(Path(path))
 
 
 def load_profile(path: str | os.PathLike):
-    """The `radarsim.ti.TiProfile` of a profile file (read once per file version).
+    """The `radarsim.ti.TiProfile` of a profile file (read once per file version): a TI CLI
+    profile, an mmWave Studio LogFile or setup JSON (`radarsim.ti.parse_setup`).
 
     Raises
     ------

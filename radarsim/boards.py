@@ -27,6 +27,11 @@ Sources
   elevation +/-30 deg (BOOST / ISK user guides, approximate).
 - AWR1642BOOST: Tx1 and Tx2 2 lambda apart, Rx at lambda/2 (8 virtual elements in one row;
   mmWave SDK xwr16xx demo documentation; seed 001). FOV as the AWR1843BOOST.
+- AWR1443BOOST, AWR1243BOOST, AWR2243BOOST: the xWR1443/1243/2243 BOOST boards carry the same
+  3 Tx / 4 Rx layout as the xWR1843BOOST (Tx1, Tx3 2 lambda apart, Tx2 1 lambda over and
+  lambda/2 up; the mmWave SDK xwr14xx demo's 8 azimuth + 4 elevation virtual elements).
+  NOT checked against each board's drawing: give ``antGeometryCfg`` (or a
+  ``% radarsim:`` positions directive) to override.
 """
 from __future__ import annotations
 
@@ -94,6 +99,10 @@ BOARDS: Mapping[str, Board] = MappingProxyType({
                         60.0),
     "AWR1642BOOST": Board("AWR1642BOOST", "AWR1642", ((0.0, 0.0), (2.0, 0.0)), _RX_HALF_WAVE,
                           _BOOST_AZ, _BOOST_EL, "mmWave SDK xwr16xx demo; seed 001", 60.0),
+    **{name: Board(name, chip, _XWR18_TX, _RX_HALF_WAVE, _BOOST_AZ, _BOOST_EL,
+                   "as the xWR18xx BOOST layout (xwr14xx demo geometry); unverified", 60.0)
+       for name, chip in (("AWR1443BOOST", "AWR1443"), ("AWR1243BOOST", "AWR1243"),
+                          ("AWR2243BOOST", "AWR2243"))},
 })
 
 

@@ -14,6 +14,17 @@ Every value carries its source in a comment. Datasheets (ti.com document viewer)
   76-81 GHz; binary phase modulation only (Features), no phase shifter.
 - IWR6843: SWRS219F, receive subsystem ("complex baseband ... up to 10 MHz"), 3 Tx, 4 Rx,
   60-64 GHz, 6-bit phase shifter (Features).
+- AWR1443 (xWR1443): SWRS207, receive subsystem ("complex baseband ... up to 15 MHz"), 3 Tx,
+  4 Rx, 76-81 GHz, binary phase modulation (no shifter); mmWave SDK xwr14xx demo: the ADC
+  buffer is interleaved only (SDK user guide ``adcbufCfg``: "0 - interleaved (only supported
+  for XWR14xx)"), 4 LVDS lanes (DCA1000 lvdsMode 1).
+- AWR1243: SWRS188 (JAJSEW2D) sec. 8 receive subsystem ("complex baseband ... up to 15 MHz"),
+  3 Tx, 4 Rx, 76-81 GHz, a front end without a processor (mmWave Studio / mmWaveLink, no SDK
+  demo), 4 LVDS lanes.
+- AWR2243: SWRS223D sec. 8 receive subsystem ("complex baseband ... up to 20 MHz"), 3 Tx, 4 Rx,
+  76-81 GHz, 6-bit phase shifter (Features), front end only (mmWave Studio, the MMWCAS cascade
+  boards), 4 LVDS lanes / CSI-2; ADC up to 45 Msps real / 22.5 Msps complex 1x (mmWaveLink
+  ``rlProfileCfg_t.digOutSampleRate`` of the AWR2243 DFP).
 
 ADC rates per output mode (``adcCfg <bits> <fmt>``: 0 real, 1 complex 1x, 2 complex 2x) for the
 complex-baseband xWR16/18/68 family follow mmWaveLink ``rlProfileCfg_t.digOutSampleRate`` and the
@@ -168,22 +179,24 @@ def _awr294x(name: str, board: str, datasheet: str, platform: str,
 
 
 def _xwr1x6x(name: str, band: tuple[float, float], n_tx: int, if_bw: float,
-             shifter: int | None, board: str, datasheet: str, platform: str) -> Chip:
+             shifter: int | None, board: str, datasheet: str, platform: str, *,
+             interleaved: bool = False, lanes: int = 2, max_rate_sps: float = 25e6) -> Chip:
     return Chip(
         name=name, band_min_hz=band[0], band_max_hz=band[1], n_tx=n_tx, n_rx=4,
         adc=MappingProxyType({
-            "real": AdcLimits(25e6),        # mmWave SDK / rlProfileCfg_t: real up to 25 Msps
-            "complex1x": AdcLimits(12.5e6),  # complex 1x up to 12.5 Msps
-            "complex2x": AdcLimits(25e6),    # complex 2x up to 25 Msps
+            "real": AdcLimits(max_rate_sps),  # mmWave SDK / rlProfileCfg_t: real up to 25 Msps
+            "complex1x": AdcLimits(max_rate_sps / 2),  # complex 1x up to 12.5 Msps
+            "complex2x": AdcLimits(max_rate_sps),      # complex 2x up to 25 Msps
         }),
         if_bandwidth_hz=if_bw,
         if_lowpass_hz=1.1 * if_bw,
         phase_shifter_bits=shifter,
         max_adc_samples=1024,               # 32 KB ping-pong ADC buffer: 4 Rx x 1024 x 4 B
         max_chirp_defs=512, max_loops=255, max_profiles=4,
-        adcbuf_interleave=frozenset({False}),  # SDK 3.x: only non-interleaved supported
-        adcbuf_interleaved_default=False,
-        lvds_lanes=2,                       # SDK LVDS streaming, DCA1000 lvdsMode 2
+        # SDK 3.x xWR16/18/68: only non-interleaved; xWR14xx: only interleaved.
+        adcbuf_interleave=frozenset({interleaved}),
+        adcbuf_interleaved_default=interleaved,
+        lvds_lanes=lanes,                   # SDK LVDS streaming, DCA1000 lvdsMode 2 (1: 4 lanes)
         default_board=board, datasheet=datasheet,
         ti_platform=platform, mcu_plus_sdk=False, channel_cfg_args=3,
     )
@@ -202,6 +215,13 @@ CHIPS: Mapping[str, Chip] = MappingProxyType({
                         "xWR16xx"),
     "IWR6843": _xwr1x6x("IWR6843", (60e9, 64e9), 3, 10e6, 6, "IWR6843ISK", "SWRS219F",
                         "xWR68xx"),
+    "AWR1443": _xwr1x6x("AWR1443", (76e9, 81e9), 3, 15e6, None, "AWR1443BOOST", "SWRS207",
+                        "xWR14xx", interleaved=True, lanes=4),
+    # Front ends (mmWave Studio setups; no SDK demo of their own).
+    "AWR1243": _xwr1x6x("AWR1243", (76e9, 81e9), 3, 15e6, None, "AWR1243BOOST", "SWRS188",
+                        "AWR1243", lanes=4),
+    "AWR2243": _xwr1x6x("AWR2243", (76e9, 81e9), 3, 20e6, 6, "AWR2243BOOST", "SWRS223D",
+                        "AWR2243", lanes=4, max_rate_sps=45e6),
 })
 
 

@@ -17,6 +17,11 @@ _PLATFORM_ALIASES = {
     "awr16xx": "AWR1642", "iwr16xx": "AWR1642", "xwr1642": "AWR1642", "iwr1642": "AWR1642",
     "iwr68xx": "IWR6843", "xwr64xx": "IWR6843", "awr6843": "IWR6843", "xwr6843": "IWR6843",
     "xwr294x": "AWR2944", "xwr2544": "AWR2544",
+    "awr14xx": "AWR1443", "iwr14xx": "AWR1443", "xwr1443": "AWR1443", "iwr1443": "AWR1443",
+    "xwr1243": "AWR1243", "iwr1243": "AWR1243", "xwr2243": "AWR2243", "iwr2243": "AWR2243",
+    # mmWave Studio select_chip_version names.
+    "ar1243": "AWR1243", "ar1443": "AWR1443", "ar1642": "AWR1642", "ar1843": "AWR1843",
+    "ar6843": "IWR6843", "awr1243p": "AWR1243", "awr2243p": "AWR2243",
 }
 #: TI visualizer ``% Platform:`` names -> chip: each chip's own name and its
 #: `Chip.ti_platform` (the header TI's Visualizer writes), plus the aliases.
@@ -27,9 +32,10 @@ _PLATFORM_RE = re.compile(r"^%\s*platform\s*:\s*(\S+)", re.IGNORECASE)
 
 def infer_chip(lines: list[str]) -> tuple[str, str]:
     """(chip, how it was found) from a ``% radarsim: chip`` directive, TI's ``% Platform:``
-    header, or the commands: 60-64 GHz -> IWR6843; complex ADC -> AWR1843 with Tx3 enabled,
-    else AWR1642; real ADC -> the AWR294x family (AWR2544 with ``procChainCfg``, AWR2944P
-    with the 5-argument ``channelCfg``, else AWR2944)."""
+    header, or the commands: 60-64 GHz -> IWR6843; complex ADC -> AWR1443 with an interleaved
+    ADC buffer (xWR14xx demo), AWR1843 with Tx3 enabled, else AWR1642; real ADC -> the
+    AWR294x family (AWR2544 with ``procChainCfg``, AWR2944P with the 5-argument
+    ``channelCfg``, else AWR2944)."""
     cmds: dict[str, list[str]] = {}
     for raw in lines:
         text = raw.strip()
@@ -62,7 +68,11 @@ def infer_chip(lines: list[str]) -> tuple[str, str]:
         return "IWR6843", "start frequency in the 60-64 GHz band"
     adc = cmds.get("adcCfg", [])
     chan = cmds.get("channelCfg", [])
+    buf = cmds.get("adcbufCfg", [])
     if len(adc) >= 2 and adc[1] in ("1", "2"):
+        # ChanInterleave 0 (interleaved) is the xWR14xx SDK demo's only buffer mode.
+        if len(buf) >= 3 and buf[-2] == "0":
+            return "AWR1443", "complex ADC with an interleaved ADC buffer (xWR14xx demo)"
         tx = int(chan[1]) if len(chan) >= 2 and chan[1].isdigit() else 3
         if tx > 3:
             return "AWR1843", "complex ADC with Tx3 enabled"

@@ -160,6 +160,7 @@ TI_COMMANDS: dict[str, CommandSpec] = {
     "gtrack": _spec({11}, None, "R79 group tracker"),
     "ransac": _spec({3}, None, "R79 RANSAC static/moving split"),
     "rangeCfar": _spec({1}, None, "R79 range-CFAR enable"),
+    "peakGrouping": _spec(None, None, "SDK 1.x/2.x peak grouping (CFAR output)"),
     # mmWave industrial toolbox labs (people counting, tracking, vital signs): demo only.
     **{name: _spec(None, None, "toolbox lab command") for name in (
         "SceneryParam", "GatingParam", "AllocationParam", "StateParam", "FilterParam",

@@ -276,3 +276,15 @@ def test_process_advanced_capture_of_wrong_size_exits_2(tmp_path, capsys):
                  "--out", str(tmp_path / "p.csv")]) == 2
     # 64 chirps x 4 Rx x 128 complex samples x 4 bytes; 32 x 4 x 256 x 4.
     assert "frames of 262144 bytes (sub-frames 131072 + 131072)" in capsys.readouterr().err
+
+
+def test_process_takes_an_mmwave_studio_logfile_as_profile(tmp_path, capsys):
+    """--cfg accepts the LogFile a Studio capture comes with (harness.ti_profile.load_profile):
+    its frame is 256 chirps x 4 Rx x 256 complex samples x 4 bytes = 1048576 bytes."""
+    from tests.radarsim.profiles import PROFILE_DIR
+
+    path = tmp_path / "adc_data.bin"
+    np.zeros(1000, dtype="<i2").tofile(path)
+    assert main(["process", str(path), "--cfg", str(PROFILE_DIR / "awr2243_studio_LogFile.txt"),
+                 "--out", str(tmp_path / "p.csv")]) == 2
+    assert "not a whole number of frames of 1048576 bytes" in capsys.readouterr().err

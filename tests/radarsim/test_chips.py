@@ -105,7 +105,7 @@ def test_each_chip_limit(kind):
 
 
 def test_unknown_chip_is_named():
-    with pytest.raises(ValueError, match=r"chip='AWR9999' is not one of \['AWR1642'"):
+    with pytest.raises(ValueError, match=r"chip='AWR9999' is not one of \['AWR1243'"):
         radarsim.RadarConfig(chip="AWR9999")
 
 

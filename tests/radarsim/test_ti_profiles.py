@@ -29,6 +29,10 @@ XWR16_ROS = profile_text("xwr16_ros")
 # IWR6843ISK, SDK 3.5 demo profile style, Tx1 and Tx3 only (txChannelEn 5), 60 GHz.
 XWR68_TX13 = profile_text("xwr68_tx13")
 
+# xWR14xx, SDK 1.1 Visualizer style (TI ROS driver 1443_3d.cfg): no subFrameIdx, interleaved
+# ADC buffer (the xwr14xx demo's only mode).
+XWR14_SDK1 = profile_text("xwr14_sdk1_visualizer")
+
 # AWR294X MCU+ SDK TDM demo, profile_LVDS.cfg style: real ADC, non-interleaved buffer for the
 # DCA1000, frameCfg with numAdcSamples, the EVM antGeometryCfg, Tx4 disabled.
 AWR2944_TDM_LVDS = profile_text("awr2944_tdm_lvds")
@@ -136,6 +140,13 @@ PROFILES = {
         C / (2 * 3072e6), 2.5e6 * C / (2 * 60e12),
         _lam(77) / (4 * 2 * 97e-6), _lam(77) / (2 * 128 * 97e-6), 0.05,
         (list(range(8)), [], 0.0)),
+    # xWR14xx SDK 1.1 Visualizer (interleaved buffer): B = 68 x 256 / 5.5 = 3165.1 MHz;
+    # Tc = 7 + 58 = 65 us; 3 x 16 = 48 chirps, Tx order Tx1, Tx3, Tx2 (masks 1, 4, 2).
+    "xwr14xx_sdk1_visualizer": (
+        XWR14_SDK1, "AWR1443", "AWR1443BOOST", "complex1x", "tdma", 3, 4, (1, 2, 3), (1, 3, 2),
+        48, C / (2 * 68e12 * 256 / 5.5e6), 5.5e6 * C / (2 * 68e12),
+        _lam(77) / (4 * 3 * 65e-6), _lam(77) / (2 * 48 * 65e-6), 0.033333,
+        (list(range(8)), [2, 3, 4, 5], 0.5)),
     # B = 60 x 256 / 5 = 3072 MHz; Tc = 160 us; 2 x 64 = 128 chirps.
     "xwr16xx_sdk1": (
         XWR16_SDK1, "AWR1642", "AWR1642BOOST", "complex1x", "tdma", 2, 4, (1, 2), (1, 2), 128,

@@ -1,0 +1,88 @@
+"""mmWave Studio setups read as profiles (radarsim.ti.studio): a LogFile's API: calls in
+mmWaveLink units and a setup JSON, converted to CLI commands and read by the one reader.
+
+Hand computations (mmWaveLink units, rl_sensor.h / Radar Interface Control Document):
+LogFile (AWR2243): startFreqConst 1435384036 x 3.6e9 / 2^26 Hz = 77.0000000238 GHz;
+freqSlopeConst 1243 x 3.6e9 x 900 / 2^26 Hz/us = 60.01174 MHz/us; idle 700 + ramp 5800 x 10 ns
+= 65 us; framePeriodicity 8000000 x 5 ns = 40 ms; chirps 0..1 (Tx1, Tx3) x 128 loops = 256;
+256 complex samples at 10 Msps: dR = c / (2 S N / fs).
+JSON (AWR1243): 77 GHz, 29.982 MHz/us, 100 + 60 us, 3 chirps (Tx1, Tx3, Tx2) x 128 = 384,
+100 ms, 8 frames.
+"""
+from __future__ import annotations
+
+import pytest
+
+from radarsim.ti import parse_setup, parse_studio_json, parse_studio_log
+from tests.radarsim.profiles import PROFILE_DIR
+
+C = 299_792_458.0
+LOG = PROFILE_DIR / "awr2243_studio_LogFile.txt"
+JSON = PROFILE_DIR / "awr1243_studio_setup.mmwave.json"
+
+
+def test_logfile_is_read_in_mmwavelink_units():
+    prof = parse_setup(LOG)
+    r = prof.radar
+    assert (r.chip, r.mimo, r.n_tx, r.n_rx, r.tx_order) == ("AWR2243", "tdma", 2, 4, (1, 2))
+    assert r.tx_channels == (1, 3)
+    assert r.start_freq_hz == pytest.approx(1435384036 * 3.6e9 / 2 ** 26, rel=1e-12)
+    slope = 1243 * 3.6e9 * 900 / 2 ** 26 * 1e6
+    assert r.slope_hz_per_s == pytest.approx(slope, rel=1e-12)
+    assert r.chirp_period_s == pytest.approx(65e-6)
+    assert (r.n_chirps, r.n_samples, r.adc_mode) == (256, 256, "complex1x")
+    assert r.range_resolution_m == pytest.approx(C / (2 * slope * 256 / 10e6), rel=1e-9)
+    assert prof.frame_period_s == pytest.approx(0.04) and prof.n_frames == 100
+    assert not r.adcbuf_interleaved            # DataFmtConfig chInterleave 1
+    assert any("mmWave Studio LogFile" in n for n in prof.notes)
+
+
+def test_the_last_configuration_of_a_logfile_wins(tmp_path):
+    """A session log holds every configuration sent; the one before the capture counts."""
+    text = LOG.read_text()
+    first = text.replace("API:ChannelConfig,15,5,0,0,", "API:ChannelConfig,3,1,0,0,")
+    path = tmp_path / "LogFile.txt"
+    path.write_text(first + text)
+    assert parse_studio_log(path).radar == parse_setup(LOG).radar
+
+
+def test_setup_json_is_read_with_the_chip_given():
+    prof = parse_studio_json(JSON, chip="AWR1243")
+    r = prof.radar
+    assert (r.chip, r.board, r.n_tx, r.tx_order, r.n_chirps) == ("AWR1243", "AWR1243BOOST", 3,
+                                                                 (1, 3, 2), 384)
+    assert r.slope_hz_per_s == pytest.approx(29.982e12) and r.chirp_period_s == \
+        pytest.approx(160e-6)
+    assert (prof.frame_period_s, prof.n_frames) == (pytest.approx(0.1), 8)
+    # Without a chip the commands decide (complex, 3 Tx: the AWR1843 family limits).
+    assert parse_setup(JSON).radar.chip == "AWR1843"
+
+
+@pytest.mark.parametrize("old, new, pattern", [
+    ("API:ProfileConfig,0,1435384036,700,600,5800,0,0,1243,0,256,10000,",
+     "API:ProfileConfig,0,1435384036,700,600,5800,0,0,1243,0,256,60000,",
+     r"LogFile line 10 \(API:ProfileConfig\): .*adc_rate_sps=6e\+07 exceeds the AWR2243 limit"),
+    ("API:ChirpConfig,1,1,0,0,0,0,0,4,0,", "API:ChirpConfig,1,1,0,0,0,5,0,4,0,",
+     r"LogFile line 12 \(API:ChirpConfig\): per-chirp variations"),
+    ("API:FrameConfig,0,1,100,128,8000000,", "API:FrameConfig,0,1,100,128,800,",
+     r"LogFile line 13 \(API:FrameConfig\): framePeriodicity=0.004 ms is shorter"),
+    ("API:AdcOutConfig,2,1,0,", "API:AdcOutConfig,2,x,0,",
+     r"LogFile line 5 \(API:AdcOutConfig\): '2,x,0,' is not a list of integers"),
+])
+def test_bad_logfile_value_names_the_logfile_line(tmp_path, old, new, pattern):
+    text = LOG.read_text()
+    assert old in text
+    path = tmp_path / "LogFile.txt"
+    path.write_text(text.replace(old, new))
+    with pytest.raises(ValueError, match=pattern):
+        parse_setup(path)
+
+
+def test_cascade_json_is_refused(tmp_path):
+    import json
+    data = json.loads(JSON.read_text())
+    data["mmWaveDevices"] *= 4
+    path = tmp_path / "cascade.mmwave.json"
+    path.write_text(json.dumps(data, indent=1))
+    with pytest.raises(ValueError, match=r"mmWaveDevices has 4 devices \(a cascade\)"):
+        parse_setup(path)
