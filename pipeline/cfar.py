@@ -30,6 +30,7 @@ from dataclasses import dataclass
 from functools import lru_cache
 from typing import ClassVar
 
+import numba
 import numpy as np
 from scipy import integrate, ndimage, optimize, special, stats
 
@@ -97,6 +98,12 @@ class CfarMode:
         """Cells that can pass the test at all: a cheap necessary condition (bool, `power`'s
         shape). Default: every cell."""
         return np.ones(power.shape, dtype=bool)
+
+    def peaks(self, power: np.ndarray, alpha: float, train_idx: np.ndarray, os_rank: int,
+              neighbours: tuple[bool, bool, bool, bool], first_bin: int):
+        """Compiled detector of `kernels.cfar_peaks` for this mode, or None (the numpy path:
+        `candidate_mask`, local maxima, gathered training cells)."""
+        return None
 
 
 def _half_means(train: np.ndarray, n_lag: int) -> tuple[np.ndarray, np.ndarray]:
@@ -192,6 +199,74 @@ class OrderStatistic(CfarMode):
         is >= the k-th smallest of the whole line, so alpha x that bounds the threshold."""
         col_k = np.take(np.partition(power, os_rank - 1, axis=axis), [os_rank - 1], axis=axis)
         return power > alpha * col_k
+
+    def peaks(self, power, alpha, train_idx, os_rank, neighbours, first_bin):
+        """One compiled pass: local maximum, then the OS test as a count (the k-th smallest
+        training cell y_(k) satisfies alpha y_(k) < x iff at least k cells do, alpha y rounded
+        as the numpy path rounds it), the k-th value itself only for the hits."""
+        return _os_peaks(power, power.dtype.type(alpha), train_idx, os_rank, *neighbours,
+                         first_bin)
+
+
+@numba.njit(cache=True, nogil=True)
+def _os_peaks(p, alpha, train_idx, k, check0, cyclic0, check1, cyclic1, first1):
+    """(a, r, d, noise) of the cells of p (n0, n1, n_cfar) that are local maxima along the
+    last axis (cyclic) and along axis 0 / 1 where checked (cyclic or not; the test of
+    `kernels.local_max_mask`: greater than the previous cell, not less than the next), have
+    index >= first1 on axis 1, and exceed alpha x the k-th smallest of their training cells
+    train_idx[d] (n_cfar, N) along the last axis."""
+    n0, n1, n2 = p.shape
+    n_train = train_idx.shape[1]
+    out = []
+    train = np.empty(n_train, p.dtype)
+    none = np.full(n2, -np.inf, p.dtype)  # a missing neighbour: every cell exceeds it
+    ok = np.empty(n2, np.bool_)
+    for a in range(n0):
+        a_prev = a - 1 if a > 0 else (n0 - 1 if cyclic0 else -1)
+        a_next = a + 1 if a < n0 - 1 else (0 if cyclic0 else -1)
+        for r in range(first1, n1):
+            r_prev = r - 1 if r > 0 else (n1 - 1 if cyclic1 else -1)
+            r_next = r + 1 if r < n1 - 1 else (0 if cyclic1 else -1)
+            row = p[a, r]
+            pa = p[a_prev, r] if check0 and a_prev >= 0 else none
+            na = p[a_next, r] if check0 and a_next >= 0 else none
+            pr = p[a, r_prev] if check1 and r_prev >= 0 else none
+            nr = p[a, r_next] if check1 and r_next >= 0 else none
+            # Branch-free local-maximum test of the whole row (vectorised by LLVM): the cells
+            # are random under noise, so a test per branch mispredicts half the time.
+            for d in range(n2):
+                x = row[d]
+                ok[d] = (x > pa[d]) & ~(na[d] > x) & (x > pr[d]) & ~(nr[d] > x)
+            for d in range(1, n2 - 1):
+                ok[d] &= (row[d] > row[d - 1]) & ~(row[d + 1] > row[d])
+            ok[0] &= (row[0] > row[n2 - 1]) & ~(row[1 % n2] > row[0])
+            ok[n2 - 1] &= (row[n2 - 1] > row[n2 - 2 if n2 > 1 else 0]) & ~(row[0] > row[n2 - 1])
+            for d in range(n2):
+                if not ok[d]:
+                    continue
+                x = row[d]
+                below = 0
+                above = 0
+                for t in range(n_train):
+                    if alpha * row[train_idx[d, t]] < x:
+                        below += 1
+                        if below >= k:
+                            break
+                    else:
+                        above += 1
+                        if above > n_train - k:
+                            break
+                if below < k:
+                    continue
+                for t in range(n_train):
+                    train[t] = row[train_idx[d, t]]
+                out.append((a, r, d, np.sort(train)[k - 1]))
+    m = len(out)
+    idx = np.empty((3, m), np.int64)
+    noise = np.empty(m, p.dtype)
+    for i in range(m):
+        idx[0, i], idx[1, i], idx[2, i], noise[i] = out[i]
+    return idx, noise
 
 
 #: CFAR modes by the name `CfarConfig.mode` holds (TI codes: `radarsim.ti.codes`).

@@ -17,10 +17,11 @@ import numpy as np
 import scipy.fft
 from scipy.signal import get_window
 
-from .cfar import noise_estimate, training_offsets
+from .cfar import CFAR_MODES, noise_estimate, training_offsets
 
 __all__ = ["window", "range_fft", "doppler_fft", "ddma_metric", "ArrayLayout",
-           "array_layout", "local_max_mask", "parabolic_offset", "candidate_cfar",
+           "array_layout", "local_max_mask", "parabolic_offset", "candidate_cfar", "cfar_peaks",
+           "training_table",
            "estimate_angles"]
 
 
@@ -166,6 +167,16 @@ def parabolic_offset(y_minus: np.ndarray, y0: np.ndarray, y_plus: np.ndarray) ->
     return np.clip(off, -0.5, 0.5)
 
 
+@lru_cache(maxsize=32)
+def training_table(size: int, guard_cells: int, window_cells: int, stride: int = 1) -> np.ndarray:
+    """(size, 2 x window_cells) int: the cyclic training positions of every position along a
+    CFAR axis of `size` cells, lagging cells first (read-only, cached per configuration)."""
+    lag, lead = training_offsets(guard_cells, window_cells, stride)
+    table = (np.arange(size)[:, None] + np.concatenate([lag, lead])) % size
+    table.flags.writeable = False
+    return table
+
+
 def candidate_cfar(power: np.ndarray, cand: tuple[np.ndarray, ...], axis: int,
                    guard_cells: int, window_cells: int, mode: str,
                    os_rank: int, stride: int = 1) -> np.ndarray:
@@ -189,15 +200,60 @@ def candidate_cfar(power: np.ndarray, cand: tuple[np.ndarray, ...], axis: int,
     -------
     (n,) float
     """
-    lag, lead = training_offsets(guard_cells, window_cells, stride)
     power = np.ascontiguousarray(power)
     size = power.shape[axis]
     step = int(np.prod(power.shape[axis + 1:], dtype=np.int64))  # flat step along `axis`
-    table = (np.arange(size)[:, None] + np.concatenate([lag, lead])) % size  # (size, 2W)
+    table = training_table(size, guard_cells, window_cells, stride)  # (size, 2W)
     pos = cand[axis]
     row_start = np.ravel_multi_index(cand, power.shape) - pos * step
     train = power.reshape(-1)[row_start[:, None] + table[pos] * step]  # (n, 2W)
     return noise_estimate(train, window_cells, mode, os_rank)
+
+
+def cfar_peaks(power: np.ndarray, mode: str, alpha: float, guard_cells: int,
+               window_cells: int, os_rank: int, stride: int, neighbours: dict[int, bool],
+               first_bin: int = 0) -> tuple[tuple[np.ndarray, ...], np.ndarray, np.ndarray]:
+    """Detections of a cyclic CFAR along the last axis among local maxima.
+
+    A cell is a detection when it is a local maximum (`local_max_mask`) along the last axis
+    (cyclic) and along the other axes listed in `neighbours`, its index on axis 1 is at least
+    `first_bin`, and it exceeds `alpha` x the noise estimate of its training cells
+    (`candidate_cfar`). A mode with a compiled detector (`CfarMode.peaks`) runs it; the others
+    take `candidate_mask`, local maxima and gathered training cells; both give the same cells.
+
+    Parameters
+    ----------
+    power : (n0, n1, n_cfar) float32
+        Square-law map, C-contiguous (DDMA: (azimuth, range, Doppler)).
+    mode : str
+        Key of `cfar.CFAR_MODES`.
+    neighbours : {axis: cyclic}
+        Axes 0 and/or 1 to check for a local maximum too (the last axis always is).
+
+    Returns
+    -------
+    cells : tuple of three (n,) int arrays
+        Indices of the detections, C order.
+    noise, peak : (n,) float32
+        Noise estimate (the mode's statistic) and power of each.
+    """
+    cm = CFAR_MODES[mode]
+    found = cm.peaks(power, alpha, training_table(power.shape[-1], guard_cells, window_cells,
+                                                  stride), os_rank,
+                     (0 in neighbours, neighbours.get(0, False), 1 in neighbours,
+                      neighbours.get(1, False)), first_bin)
+    if found is not None:
+        idx, noise = found
+        cells = tuple(idx)
+        return cells, noise, power[cells]
+    mask = cm.candidate_mask(power, 2, alpha, os_rank)
+    mask[:, :first_bin] = False
+    local_max_mask(power, {**neighbours, 2: True}, mask=mask)
+    cand = np.unravel_index(np.flatnonzero(mask), power.shape)
+    noise = candidate_cfar(power, cand, 2, guard_cells, window_cells, mode, os_rank, stride)
+    peak = power[cand]
+    hit = peak > alpha * noise
+    return tuple(c[hit] for c in cand), noise[hit], peak[hit]
 
 
 def estimate_angles(virt: np.ndarray, sin_az_cos_el: np.ndarray, h_idx: np.ndarray,

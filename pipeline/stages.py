@@ -22,13 +22,7 @@ from radarsim.config import C_MPS, RadarConfig
 
 from .cfar import noise_mean_factor
 from .config import ProcessingConfig
-from .kernels import (
-    array_layout,
-    candidate_cfar,
-    estimate_angles,
-    local_max_mask,
-    parabolic_offset,
-)
+from .kernels import array_layout, cfar_peaks, estimate_angles, parabolic_offset
 
 __all__ = ["POINT_CLOUD_COLUMNS", "check_frame", "power_of", "log_power", "point_cloud",
            "empty_cloud", "interp_azimuth", "interp_range", "array_dft", "row_offsets",
@@ -219,14 +213,10 @@ def noncoherent_hits(rd: np.ndarray, looks: int, proc: ProcessingConfig) -> Rang
     """
     n_range, n_dop = rd.shape
     cf = proc.cfar
-    cand_mask = local_max_mask(rd, {0: False, 1: True} if proc.range_peak_check else {1: True})
-    cand_mask[: proc.min_range_bin] = False
-    cand = np.nonzero(cand_mask)
-    noise = candidate_cfar(rd, cand, 1, cf.guard_cells, cf.window_cells, cf.mode, cf.os_rank,
-                           cf.training_stride)
-    hit = rd[cand] > cf.scale(looks=looks) * noise
-    r, d = (c[hit] for c in cand)
-    noise = noise[hit]
+    (_, r, d), noise, _ = cfar_peaks(rd[None], cf.mode, cf.scale(looks=looks), cf.guard_cells,
+                                     cf.window_cells, cf.os_rank, cf.training_stride,
+                                     {1: False} if proc.range_peak_check else {},
+                                     proc.min_range_bin)
     range_pos = interp_range(rd[np.clip(r[:, None] + np.arange(-1, 2), 0, n_range - 1),
                                 d[:, None]], r, n_range)
     y = log_power(rd[r[:, None], (d[:, None] + np.arange(-1, 2)) % n_dop])

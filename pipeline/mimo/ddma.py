@@ -19,12 +19,12 @@ import pandas as pd
 
 from radarsim.config import RadarConfig
 
-from ..cfar import CFAR_MODES, noise_mean_factor
+from ..cfar import noise_mean_factor
 from ..chirp_level.stage import range_stage
 from ..compensation import compensate
 from ..config import WINDOWS, ProcessingConfig
-from ..kernels import (array_layout, candidate_cfar, ddma_metric, doppler_fft, estimate_angles,
-                       local_max_mask, parabolic_offset, window)
+from ..kernels import (array_layout, cfar_peaks, ddma_metric, doppler_fft, estimate_angles,
+                       parabolic_offset, window)
 from ..stages import (array_dft, empty_cloud, interp_azimuth, interp_range, log_power,
                       point_cloud, power_of, row_offsets)
 from .base import DetectionMap, DopplerAzimuth, MimoChain, register_chain
@@ -125,20 +125,11 @@ def coherent_detections(power: np.ndarray, proc: ProcessingConfig):
     Returns (a, r, d, noise, peak): azimuth, range and Doppler bins of the detections, the
     CFAR noise estimate (order statistic) and the peak power, each (n,)."""
     cf = proc.cfar
-    alpha = cf.scale(looks=1)
-    # A cheap necessary condition of the mode (OS: the whole column's k-th value) skips cells.
-    pre = CFAR_MODES[cf.mode].candidate_mask(power, 2, alpha, cf.os_rank)
-    pre[:, : proc.min_range_bin] = False
     # Figure 19: 4-neighbour maximum in (azimuth, Doppler), optionally also along range.
-    local_max_mask(power, {0: True, 1: False, 2: True} if proc.range_peak_check
-                   else {0: True, 2: True}, mask=pre)
-    cand = np.unravel_index(np.flatnonzero(pre), power.shape)
-    noise = candidate_cfar(power, cand, 2, cf.guard_cells, cf.window_cells, cf.mode,
-                           cf.os_rank, cf.training_stride)
-    peak = power[cand]
-    hit = peak > alpha * noise
-    a, r, d = (c[hit] for c in cand)
-    noise, peak = noise[hit], peak[hit]
+    (a, r, d), noise, peak = cfar_peaks(
+        power, cf.mode, cf.scale(looks=1), cf.guard_cells, cf.window_cells, cf.os_rank,
+        cf.training_stride, {0: True, 1: False} if proc.range_peak_check else {0: True},
+        proc.min_range_bin)
     if proc.azimuth_sidelobe_db is not None:
         strongest = power[:, r, d].max(axis=0)
         keep = peak >= strongest * 10 ** (-proc.azimuth_sidelobe_db / 10)

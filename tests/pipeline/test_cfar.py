@@ -5,7 +5,7 @@ from scipy import ndimage
 
 from pipeline.cfar import (CFAR_MODES, cfar_map, cfar_scale, noise_estimate,
                            noise_mean_factor, pfa_numeric, pfa_of_scale, rohling_os_pfa)
-from pipeline.kernels import candidate_cfar, local_max_mask
+from pipeline.kernels import candidate_cfar, cfar_peaks, local_max_mask
 
 
 def test_rohling_os_reference_values():
@@ -134,3 +134,43 @@ def test_every_ti_average_mode_code_names_a_registered_mode():
     for name, m in CFAR_MODES.items():
         assert m.name == name and m.description
     assert [n for n, m in CFAR_MODES.items() if m.ranked] == ["os"]  # only OS uses os_rank
+
+
+def _reference_peaks(power, mode, alpha, guard, window, k, stride, neighbours, first_bin):
+    """Every local maximum (`local_max_mask`) at or beyond `first_bin` on axis 1 whose power
+    exceeds alpha x the full-map noise estimate (`cfar_map`), C order."""
+    mask = local_max_mask(power, {**neighbours, 2: True})
+    mask[:, :first_bin] = False
+    noise = cfar_map(power, 2, guard, window, mode, k, stride).astype(power.dtype)
+    mask &= power > alpha * noise
+    cells = np.nonzero(mask)
+    return cells, noise[cells]
+
+
+@pytest.mark.parametrize("mode", list(CFAR_MODES))
+@pytest.mark.parametrize("neighbours, first_bin", [({0: True, 1: False}, 1), ({0: True}, 0),
+                                                   ({1: False}, 3), ({0: False, 1: True}, 0)])
+@pytest.mark.parametrize("guard, window, stride, n_dop", [(2, 12, 2, 64), (1, 6, 1, 16),
+                                                          (2, 8, 3, 20)])
+def test_cfar_peaks_equals_the_full_map_reference(mode, neighbours, first_bin, guard, window,
+                                                 stride, n_dop):
+    """The detector the chains run (the OS mode's compiled pass, the numpy path of the others)
+    gives exactly the cells, noise estimates and peaks of the full-map reference, on maps with
+    exact ties (plateaus), targets, and training windows longer than the axis (wrapping more
+    than once)."""
+    rng = np.random.default_rng(n_dop + first_bin)
+    power = rng.exponential(size=(5, 7, n_dop)).astype(np.float32)
+    power[rng.random(power.shape) < 0.1] = 1.0          # plateaus
+    power[2, 3, 5] = power[4, 6, n_dop - 1] = 400.0      # targets, one at the wrap
+    power[0, 0, 0] = 400.0
+    k = max(1, round(1.5 * window))
+    alpha = cfar_scale(1e-2, mode, 2 * window, k)
+    (a, r, d), noise, peak = cfar_peaks(power, mode, alpha, guard, window, k, stride,
+                                        neighbours, first_bin)
+    cells, want = _reference_peaks(power, mode, alpha, guard, window, k, stride, neighbours,
+                                   first_bin)
+    for got, ref in zip((a, r, d), cells):
+        np.testing.assert_array_equal(got, ref)
+    np.testing.assert_allclose(noise, want, rtol=1e-6 if mode != "os" else 0)
+    np.testing.assert_array_equal(peak, power[cells])
+    assert a.size >= 2
