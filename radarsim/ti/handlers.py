@@ -31,12 +31,20 @@ def channel_cfg(st: ParseState, ln: Line) -> None:
     rx = ln.int(0, "rxChannelEn", 1, (1 << chip.n_rx) - 1, chip.name)
     tx = ln.int(1, "txChannelEn", 1, (1 << chip.n_tx) - 1, chip.name)
     ln.int(2, "cascading", 0, 0, chip.name)
-    if len(ln.args) == 5:  # AWR2x44P / AWR2544: <ethOscClkEn> <driveStrength>
-        if chip.channel_cfg_args != 5:
-            raise ln.fail(f"the 5-argument form (ethOscClkEn, driveStrength) is AWR2x44P / "
-                          f"AWR2544 syntax; the {chip.name} demo takes 3 arguments")
+    if len(ln.args) == 5:
+        # <ethOscClkEn> <driveStrength>: the 25 MHz Ethernet clock output of the AWR2x44P /
+        # AWR2544 (MCU+ SDK cli_mmwave.c). The MCU+ SDK 04.07 Visualizer writes this form for
+        # every AWR294X-platform profile (its AWR294X demo covers the AWR2944P EVM): accepted on
+        # the whole MCU+ family, no RF effect. The mmWave SDK 3.x demos take 3 arguments.
+        if not chip.mcu_plus_sdk:
+            raise ln.fail(f"the 5-argument form (ethOscClkEn, driveStrength) is MCU+ SDK "
+                          f"AWR294x-family syntax; the {chip.name} demo takes 3 arguments")
         ln.int(3, "ethOscClkEn", 0, 1)
         ln.int(4, "driveStrength", 0, 15)
+        if chip.channel_cfg_args != 5:
+            st.notes.append(f"line {ln.no}: channelCfg ethOscClkEn/driveStrength (MCU+ SDK "
+                            f"04.07 AWR294X form) read: Ethernet clock output, no effect on "
+                            f"the {chip.name}'s radar")
     st.tx_mask, st.rx_mask = tx, rx
     chans = channel_bits(rx)
     st.set(ln, n_rx=len(chans), rx_channels=chans)

@@ -210,8 +210,8 @@ BAD_LINES = {
     "too_few_subbands": ("frameCfg", "frameCfg 0 2 192 0 384 250 1 0",
                          r"matches no MIMO scheme"),
     "rx_mask_over_chip": ("channelCfg", "channelCfg 31 15 0", r"rxChannelEn=31 is outside 1..15"),
-    "five_arg_channel_cfg": ("channelCfg", "channelCfg 15 15 0 0 0",
-                             r"5-argument form .* AWR2x44P"),
+    "drive_strength_over_limit": ("channelCfg", "channelCfg 15 15 0 0 16",
+                                  r"driveStrength=16 is outside 0..15"),
     "cascading": ("channelCfg", "channelCfg 15 15 1", r"cascading=1 is outside 0..0"),
     "complex_adc": ("adcCfg", "adcCfg 2 1", r"adcOutputFmt=1 \(complex1x\): the AWR2944 "
                     r"supports \['real'\] \(real-only"),

@@ -295,3 +295,23 @@ def test_sdk_bpm_profile_is_the_bpm_scheme():
     assert cfg.max_unambiguous_velocity_mps == pytest.approx(_lam(77) / (4 * 2 * 486.14e-6))
     assert "bpmCfg -1 1 0 1" in to_ti_cfg(prof)
     assert parse_ti_cfg(to_ti_cfg(prof)).radar == cfg
+
+
+def test_mcu_plus_sdk_0407_awr294x_profile_with_five_argument_channel_cfg():
+    """MCU+ SDK 04.07 AWR294X profiles carry channelCfg <rx> <tx> <cascading> <ethOscClkEn>
+    <driveStrength> (cli_mmwave.c, the AWR2x44P form the 04.07 AWR294X demo shares): accepted
+    on the AWR2944 with a note. B = 70 x 656 / 13.349 = 3439.9 MHz; Tc = 186 + 57.14 =
+    243.14 us; 4 Tx x 64 loops = 256 chirps; TDMA Vmax = lambda / (4 x 4 x Tc)."""
+    prof = parse_ti_cfg(profile_text("awr294x_sdk0407_tdm"))
+    cfg = prof.radar
+    assert (cfg.chip, cfg.mimo, cfg.n_tx, cfg.tx_order, cfg.n_chirps) == ("AWR2944", "tdma", 4,
+                                                                          (1, 3, 4, 2), 256)
+    assert cfg.range_resolution_m == pytest.approx(C / (2 * 70e12 * 656 / 13.349e6), rel=1e-9)
+    assert cfg.max_unambiguous_velocity_mps == pytest.approx(_lam(77) / (16 * 243.14e-6),
+                                                             rel=1e-9)
+    assert prof.demo_family == "mcu_plus_tdm" and prof.processing["tdma_disambiguation"]
+    assert any("ethOscClkEn/driveStrength (MCU+ SDK 04.07 AWR294X form)" in n
+               for n in prof.notes)
+    with pytest.raises(ValueError, match=r"line \d+ \(channelCfg\): the 5-argument form .* the "
+                                         r"AWR1843 demo takes 3 arguments"):
+        parse_ti_cfg(XWR18_VISUALIZER.replace("channelCfg 15 7 0", "channelCfg 15 7 0 0 0"))
