@@ -30,7 +30,12 @@ def radar_config(overrides: dict, mimo: str):
     path = ov.pop("profile", None)
     if path is None:
         return radarsim.presets.r79(mimo, **ov)
-    base = load_profile(Path(path)).radar
+    prof = load_profile(Path(path))
+    if prof.is_advanced:
+        raise ValueError(f"radar.profile={str(path)!r}: an advanced-frame profile has one radar "
+                         f"per sub-frame ({len(prof.subframes)}), a sweep cell runs one; use "
+                         "`radar-harness process` for it, or a profile of one sub-frame")
+    base = prof.radar
     try:
         return base.replace(**{"mimo": mimo, **ov}) if base.mimo != mimo or ov else base
     except ValueError as exc:

@@ -85,8 +85,9 @@ class TiCfar:
                                  f"window_cells = {2 * self.window_cells}")
 
     def to_cli(self, *, sdk3: bool = False) -> str:
-        """The ``cfarCfg`` line: the R79 / MCU+ SDK demo's 11-argument syntax, or with `sdk3`
-        the mmWave SDK 3.x demos' 9 arguments (which have no OS-CFAR).
+        """The ``cfarCfg`` line: the R79 / MCU+ SDK demo's 11-argument syntax (12/13 with the
+        AWR2x44P DDM demo's isEnabled / variableThresholdMode when they are set), or with
+        `sdk3` the mmWave SDK 3.x demos' 9 arguments (which have no OS-CFAR).
 
         Raises
         ------
@@ -103,7 +104,12 @@ class TiCfar:
                 raise ValueError(f"mode={self.mode!r}: the mmWave SDK 3.x cfarCfg (9 arguments) "
                                  "has no OS-CFAR (osKvalue)")
             return head
-        return f"{head} {self.os_rank or 0} {int(self.os_edge_k_scale)}"
+        line = f"{head} {self.os_rank or 0} {int(self.os_edge_k_scale)}"
+        if not self.enabled or self.variable_threshold_mode is not None:  # AWR2x44P DDM form
+            line += f" {int(self.enabled)}"
+            if self.variable_threshold_mode is not None:
+                line += f" {self.variable_threshold_mode}"
+        return line
 
 
 @dataclass(frozen=True, kw_only=True, slots=True)

@@ -8,12 +8,13 @@ from typing import Any, Iterable, Mapping
 
 from ..chips import ADC_MODES
 from ..config import RadarConfig
+from .families import DEMO_FAMILIES
 from .profile import DEFAULT_FRAME_PERIOD_S, TiCfar, TiProfile
 from .reader import parse_ti_cfg
 from .state import TI_DEFAULT_OVERRIDES, TI_FIELDS
 from .syntax import fmt_decimal
 
-__all__ = ["to_ti_cfg"]
+__all__ = ["to_ti_cfg", "processing_lines"]
 
 
 def to_channel_bits(line: str, radar: RadarConfig) -> str:
@@ -114,6 +115,8 @@ def to_ti_cfg(cfg: RadarConfig | TiProfile, *, frame_period_s: float | None = No
     out = _header_lines(radar, comments)
     out += _command_lines(radar, frame_period_s, n_frames)
     out += [c.to_cli(sdk3=not radar.chip_spec.mcu_plus_sdk) for c in cfars]
+    if profile is not None:
+        out += processing_lines(profile)
     out += list(extra_lines)
     text = _with_directives(radar, out)
     back = parse_ti_cfg(text).radar
@@ -243,14 +246,16 @@ def _advanced_text(profile: TiProfile, n_frames: int | None, extra_lines: Iterab
         sdk3 = not part.radar.chip_spec.mcu_plus_sdk
         body += [c.to_cli(sdk3=sdk3).replace("cfarCfg -1 ", f"cfarCfg {k} ", 1)
                  for c in part.cfar.values()]
+        body += ["%proc " + s for s in processing_lines(part, k)]
         next_chirp += n_per_loop
     adv = f"advFrameCfg {len(parts)} 0 {n_frames} 1 0"
     if parts[0].radar.chip_spec.mcu_plus_sdk:
         adv += f" {len(parts)}"
     out = _header_lines(parts[0].radar, comments) + head
-    out += [s for s in body if not s.startswith("subFrameCfg") and not s.startswith("cfarCfg")]
+    out += [s for s in body if not s.startswith(("subFrameCfg", "cfarCfg", "%proc "))]
     out += [adv] + [s for s in body if s.startswith("subFrameCfg")] + tail
-    out += [s for s in body if s.startswith("cfarCfg")] + list(extra_lines)
+    out += [s for s in body if s.startswith("cfarCfg")]
+    out += [s[len("%proc "):] for s in body if s.startswith("%proc ")] + list(extra_lines)
     text = _with_directives(parts[0].radar, out)
     back = parse_ti_cfg(text)
     if tuple(p.radar for p in back.parts) != tuple(p.radar for p in parts):  # pragma: no cover
@@ -260,3 +265,43 @@ def _advanced_text(profile: TiProfile, n_frames: int | None, extra_lines: Iterab
 
 # RadarConfig fields a sub-frame's own profileCfg / chirps set (they may differ by sub-frame).
 _SUBFRAME_FIELDS = frozenset({"chirp_period_s"})
+
+
+def processing_lines(profile: TiProfile, subframe: int = -1) -> list[str]:
+    """The processing commands of a profile's demo family that express its `processing`
+    values (`radarsim.ti.families`): what the file said, so a written profile means the same.
+    A value at the family's default when absent is written too (explicit is clearer)."""
+    fam = DEMO_FAMILIES[profile.demo_family] if profile.demo_family else None
+    p = profile.processing
+    if fam is None:
+        return []
+    sf = str(subframe)
+    out = []
+    if fam.has("extendedMaxVelocity") and "tdma_disambiguation" in p:
+        out.append(f"extendedMaxVelocity {sf} {int(bool(p['tdma_disambiguation']))}")
+    if fam.has("compressionCfg") and "compression" in p:
+        out.append(f"compressionCfg {sf} {int(bool(p['compression']))} 0 "
+                   f"{fmt_decimal(p.get('compression_ratio', 0.5))} "
+                   f"{p.get('compression_range_bins_per_block', 8)}")
+    if fam.has("intfMitigCfg") and p.get("interference_mitigation"):
+        out.append(f"intfMitigCfg {sf} {int(p['intf_mag_snr_db'])} "
+                   f"{int(p['intf_magdiff_snr_db'])}")
+    db = p.get("azimuth_sidelobe_db")
+    if fam.has("multiObjBeamForming") and "azimuth_sidelobe_db" in p:
+        # threshold = magnitude ratio, 6 significant digits (TI's profiles give 1-2).
+        out.append(f"multiObjBeamForming {sf} 1 "
+                   f"{'0' if db is None else format(10 ** (-db / 20), '.6g')}")
+    for name, direction in (("range_fov_m", 0), ("velocity_fov_mps", 1)):
+        if fam.has("cfarFovCfg") and p.get(name) is not None:
+            lo, hi = p[name]
+            out.append(f"cfarFovCfg {sf} {direction} {fmt_decimal(lo)} {fmt_decimal(hi)}")
+    if fam.has("aoaFovCfg") and p.get("azimuth_fov_deg") is not None:
+        (a0, a1), (e0, e1) = p["azimuth_fov_deg"], p["elevation_fov_deg"]
+        out.append("aoaFovCfg " + " ".join([sf] + [fmt_decimal(v) for v in (a0, a1, e0, e1)]))
+    comp = p.get("channel_comp")
+    # One line for the whole frame (no subFrameIdx): written with sub-frame 0's commands.
+    if fam.has("compRangeBiasAndRxChanPhase") and comp is not None and subframe in (-1, 0):
+        out.append("compRangeBiasAndRxChanPhase " + " ".join(
+            [fmt_decimal(p.get("range_bias_m", 0.0))]
+            + [fmt_decimal(v) for pair in comp for v in pair]))
+    return out

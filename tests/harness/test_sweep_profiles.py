@@ -177,3 +177,21 @@ def test_sweep_cell_and_process_read_a_profile_into_the_same_configs(tmp_path):
     cell = load_sweep(f2, check_scenarios=False).cells()[0]
     _, procs = build_configs(cell, default_components())
     assert procs["tdma"] == processing_from_profile(prof).replace(tdma_disambiguation=True)
+
+
+def test_advanced_frame_profile_is_refused_by_a_sweep_before_it_starts(tmp_path):
+    from tests.radarsim.profiles import PROFILE_DIR
+
+    path = PROFILE_DIR / "xwr68_advanced_subframes.cfg"
+    f = _sweep_file(tmp_path, f"""
+        name = "p"
+        scenarios = ["fast"]
+        schemes = ["tdma"]
+        [[variants]]
+        name = "adv"
+        radar = {{profile = "{path}"}}
+    """)
+    with pytest.raises(ValueError, match=r"an advanced-frame profile has one radar per "
+                                         r"sub-frame \(2\), a sweep cell runs one"):
+        spec = load_sweep(f, check_scenarios=False)
+        build_configs(spec.cells()[0], FAKE)

@@ -16,7 +16,7 @@ import pytest
 
 from pipeline.kernels import array_layout
 from radarsim.ti import parse_ti_cfg, to_ti_cfg
-from tests.radarsim.profiles import profile_text
+from tests.radarsim.profiles import PROFILE_DIR, profile_text
 
 C = 299_792_458.0
 
@@ -315,3 +315,14 @@ def test_mcu_plus_sdk_0407_awr294x_profile_with_five_argument_channel_cfg():
     with pytest.raises(ValueError, match=r"line \d+ \(channelCfg\): the 5-argument form .* the "
                                          r"AWR1843 demo takes 3 arguments"):
         parse_ti_cfg(XWR18_VISUALIZER.replace("channelCfg 15 7 0", "channelCfg 15 7 0 0 0"))
+
+
+@pytest.mark.parametrize("name", sorted(p.stem for p in PROFILE_DIR.glob("*.cfg")))
+def test_written_profile_means_the_same(name):
+    """to_ti_cfg writes a profile's radar, CFAR and processing commands (its demo family's):
+    reading it back gives the same radar, CFAR and ProcessingConfig values, per sub-frame."""
+    prof = parse_ti_cfg(profile_text(name))
+    back = parse_ti_cfg(to_ti_cfg(prof))
+    for a, b in zip(prof.parts, back.parts, strict=True):
+        assert (a.radar, a.cfar, a.processing, a.demo_family) == \
+            (b.radar, b.cfar, b.processing, b.demo_family)
