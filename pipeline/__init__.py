@@ -3,6 +3,7 @@
     pc = pipeline.process_frame(cfg, adc)          # pandas.DataFrame, one row per detection
 """
 from .cfar import CFAR_MODES, cfar_scale, noise_mean_factor
+from . import cfar_log  # noqa: F401  (registers TI's log-domain CFAR modes)
 from .chain import (MIMO_CHAINS, POINT_CLOUD_COLUMNS, detection_map, doppler_azimuth_map,
                     frame_spectra, process_frame)
 from .config import CfarConfig, ProcessingConfig

@@ -70,6 +70,8 @@ class CfarMode:
     """
 
     ranked: ClassVar[bool] = False
+    #: True when `combine_looks` is the square-law sum (chains may then sum in any order).
+    sums_looks: ClassVar[bool] = True
 
     name: str
     description: str
@@ -92,6 +94,20 @@ class CfarMode:
         """Noise estimate of every cell (cyclic), from lag/lead footprints shaped for
         scipy.ndimage (a size-(2 h + 1) bool line along the CFAR axis)."""
         raise NotImplementedError
+
+    def combine_looks(self, power: np.ndarray, axis) -> np.ndarray:
+        """The map cell of `looks` channel powers along `axis`: their sum (square-law
+        non-coherent integration). A mode on another statistic overrides it."""
+        return power.sum(axis=axis)
+
+    def scale_of_db(self, threshold_db: float) -> float:
+        """Linear threshold scale of a threshold in dB over the noise estimate."""
+        return 10 ** (threshold_db / 10)
+
+    def mean_factor(self, n_cells: int, os_rank: int, looks: int) -> float:
+        """E[Y] / E[cell] in homogeneous noise (`noise_mean_factor`), from `estimate_pdf`."""
+        pdf = self.estimate_pdf(n_cells, os_rank, looks)
+        return _integrate(lambda y: y * pdf(y), looks) / looks
 
     def candidate_mask(self, power: np.ndarray, axis: int, alpha: float,
                        os_rank: int) -> np.ndarray:
@@ -370,8 +386,7 @@ def noise_mean_factor(mode: str, n_cells: int, os_rank: int = 0, looks: int = 1)
     """E[Y] / E[cell] in homogeneous noise: divides a CFAR estimate into a mean-power estimate.
 
     CA: 1; OS on exponential cells: sum_{i=N-k+1}^{N} 1/i (e.g. 1.3 for N=16, k=12)."""
-    pdf = cfar_mode(mode).estimate_pdf(n_cells, os_rank, looks)
-    return _integrate(lambda y: y * pdf(y), looks) / looks
+    return cfar_mode(mode).mean_factor(n_cells, os_rank, looks)
 
 
 def noise_estimate(train: np.ndarray, n_lag: int, mode: str, os_rank: int) -> np.ndarray:

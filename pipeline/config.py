@@ -100,7 +100,7 @@ class CfarConfig:
     def scale(self, looks: int = 1) -> float:
         """Threshold scale alpha (linear) over the noise estimate for L-look cells."""
         if self.threshold_db is not None:
-            return 10 ** (self.threshold_db / 10)
+            return CFAR_MODES[self.mode].scale_of_db(self.threshold_db)
         return cfar_scale(self.pfa, self.mode, self.n_training, self.os_rank, looks)
 
 

@@ -23,16 +23,18 @@ import pandas as pd
 
 from radarsim.config import RadarConfig
 
+from ..cfar import CFAR_MODES
 from ..config import ProcessingConfig
 from ..kernels import array_layout
+from ..compensation import compensate
 from ..stages import (
     array_dft,
     array_likelihood,
     empty_cloud,
     hypothesis_cloud,
     noncoherent_hits,
+    power_of,
 )
-from ..compensation import compensate
 from .base import DetectionMap, DopplerAzimuth, MimoChain, register_chain
 from .ddma import doppler_velocity_mps, full_doppler_spectrum
 
@@ -62,7 +64,12 @@ def classic_ddma_maps(cfg: RadarConfig, adc: np.ndarray,
     """Full Doppler spectrum and the sub-band-summed non-coherent map."""
     spec, energy = full_doppler_spectrum(cfg, adc, proc)
     n_range = energy.shape[0]
-    power = energy.reshape(n_range, cfg.n_subbands, -1).sum(axis=1)
+    mode = CFAR_MODES[proc.cfar.mode]
+    if mode.sums_looks:  # the square-law sum: from the Rx-summed energy
+        power = energy.reshape(n_range, cfg.n_subbands, -1).sum(axis=1)
+    else:  # the mode's statistic over every (Rx, sub-band) channel
+        per = power_of(np.ascontiguousarray(spec)).reshape(n_range, cfg.n_rx, cfg.n_subbands, -1)
+        power = mode.combine_looks(per, axis=(1, 2))
     return ClassicDdmaMaps(power=power, spec=spec, energy=energy)
 
 

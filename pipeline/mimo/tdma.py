@@ -28,6 +28,7 @@ import pandas as pd
 
 from radarsim.config import RadarConfig
 
+from ..cfar import CFAR_MODES
 from ..chirp_level.stage import range_stage
 from ..compensation import compensate
 from ..config import WINDOWS, ProcessingConfig
@@ -68,7 +69,8 @@ def slot_maps(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) -> Slot
     spec = doppler_fft(rf, window(WINDOWS[proc.doppler_window], n_dop))  # (D, S, R, B)
     n_range = spec.shape[-1]
     virt_all = np.moveaxis(spec, 3, 0).reshape(n_range, n_dop, -1)  # (B, D, 16) slot-major
-    rd = (np.abs(virt_all) ** 2).sum(axis=-1)  # (B, D), L = n_virtual looks per cell
+    # (B, D), L = n_virtual looks per cell: their sum, or the CFAR mode's own statistic.
+    rd = CFAR_MODES[proc.cfar.mode].combine_looks(np.abs(virt_all) ** 2, axis=-1)
     return SlotMaps(power=rd, virt=virt_all)
 
 

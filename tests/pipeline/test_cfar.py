@@ -42,12 +42,19 @@ def test_os_noise_mean_factor_is_harmonic_sum():
 @pytest.mark.parametrize("mode", list(CFAR_MODES))
 def test_design_pfa_matches_monte_carlo(mode, looks):
     """Draw homogeneous L-look noise, apply alpha(Pfa=1e-3): the false-alarm fraction is
-    binomial around 1e-3 (3.5 sigma bound)."""
+    binomial around 1e-3 (3.5 sigma bound). A mode on another statistic than the square-law
+    sum (TI's log modes) gets cells of its own `combine_looks` of L exponential looks."""
     rng = np.random.default_rng(7)
     n_trials, n_train, k = 400_000, 16, 12
     pfa = 1e-3
     alpha = cfar_scale(pfa, mode, n_train, k, looks)
-    cells = rng.gamma(looks, size=(n_trials, n_train + 1))
+    m = CFAR_MODES[mode]
+    if m.sums_looks:
+        cells = rng.gamma(looks, size=(n_trials, n_train + 1))
+    else:
+        cells = np.concatenate([m.combine_looks(rng.exponential(
+            size=(n_trials // 8, n_train + 1, looks)).astype(np.float32), axis=-1)
+            for _ in range(8)])
     y = noise_estimate(cells[:, :16].copy(), 8, mode, k)
     rate = np.mean(cells[:, 16] > alpha * y)
     sigma = np.sqrt(pfa * (1 - pfa) / n_trials)
@@ -134,6 +141,10 @@ def test_every_ti_average_mode_code_names_a_registered_mode():
     for name, m in CFAR_MODES.items():
         assert m.name == name and m.description
     assert [n for n, m in CFAR_MODES.items() if m.ranked] == ["os"]  # only OS uses os_rank
+    # TI's demos run the CA family on the log statistic (pipeline.cfar_log), OS as is.
+    from pipeline.cfar_log import ti_log_mode
+    assert {c: ti_log_mode(n) for c, n in CFAR_AVERAGE_MODES.items()} == \
+        {0: "ti_log_ca", 1: "ti_log_cago", 2: "ti_log_caso", 3: "os"}
 
 
 def _reference_peaks(power, mode, alpha, guard, window, k, stride, neighbours, first_bin):
