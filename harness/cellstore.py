@@ -32,6 +32,8 @@ from typing import Callable
 
 import numpy as np
 
+from scenarios.fileio import read_input_text
+
 __all__ = ["CELL_STATES", "code_version", "read_meta", "cell_state", "table_files",
            "write_cell_dir", "retire", "clean_temporaries", "TEMP_PREFIXES", "cell_dir",
            "cell_states", "completed_cells"]
@@ -100,8 +102,8 @@ def _git_state(root: Path) -> dict:
 
 def read_meta(d: Path) -> dict | None:
     """``cell.json`` of a cell directory, or None if absent or unreadable."""
-    try:
-        meta = json.loads((Path(d) / "cell.json").read_text())
+    try:  # a FIFO or device in place of cell.json is damage too, never a blocking read
+        meta = json.loads(read_input_text(Path(d) / "cell.json", "cell.json"))
     except (OSError, ValueError):
         return None
     return meta if isinstance(meta, dict) else None

@@ -44,8 +44,8 @@ def main(argv=None) -> int:
                 cls, detail = "crash", f"{type(exc).__name__}: {exc}"
         rows.append({"probe": p.id, "surface": p.surface, "owner": p.owner, "class": cls,
                      "detail": detail[:300], "elapsed_s": round(time.monotonic() - t0, 2)})
-        if cls != "clear":
-            print(f"{cls:8s} {p.id} [{p.owner}]: {detail[:200]}", flush=True)
+        print(f"{cls:8s} {p.id} [{p.owner}] {rows[-1]['elapsed_s']:.1f} s"
+              + (f": {detail[:200]}" if cls != "clear" else ""), flush=True)
     for owner in sorted({r["owner"] for r in rows}):
         mine = [r for r in rows if r["owner"] == owner]
         c = collections.Counter(r["class"] for r in mine)
