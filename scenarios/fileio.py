@@ -77,8 +77,8 @@ def _open_checked(path: str | os.PathLike, what: str, max_bytes: int) -> tuple[i
         if not stat.S_ISREG(st.st_mode):
             raise BadInputFile(f"{what} {p!r}: is {_kind(st.st_mode)}, not a regular file")
         if st.st_size > max_bytes:
-            raise BadInputFile(f"{what} {p!r}: {st.st_size} bytes, more than the limit "
-                               f"{max_bytes} bytes for this kind of file")
+            raise BadInputFile(f"{what} {p!r} is {st.st_size} bytes, more than the "
+                               f"{max_bytes}-byte limit for this kind of file")
         os.set_blocking(fd, True)
     except BaseException:
         os.close(fd)

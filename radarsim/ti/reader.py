@@ -10,6 +10,8 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Mapping
 
+from scenarios.fileio import read_input_bytes
+
 from ..chips import Chip, get_chip
 from ..config import RadarConfig
 from . import advanced
@@ -57,11 +59,8 @@ def _read_source(path_or_text: str | os.PathLike) -> str:
 
 
 def _read_file(path: Path) -> str:
-    size = path.stat().st_size
-    if size > MAX_PROFILE_BYTES:
-        raise ValueError(f"profile {str(path)!r} is {size} bytes, more than the "
-                         f"{MAX_PROFILE_BYTES}-byte limit (a TI CLI profile is a few kB)")
-    raw = path.read_bytes()
+    # A regular file only (a FIFO would block, /dev/zero never end): the shared input check.
+    raw = read_input_bytes(path, "profile", max_bytes=MAX_PROFILE_BYTES)
     try:
         return raw.decode("utf-8-sig")
     except UnicodeDecodeError as exc:

@@ -275,7 +275,7 @@ def _special_file_probes() -> list[Probe]:
                                      _profile(t), "--out", t / "o.csv"], what),
             Probe("special_files", f"profile_{kind}",
                   lambda t, k=kind: ["process", _capture(t), "--cfg", _special(k, t / "p.cfg"),
-                                     "--out", t / "o.csv"], what, owner="hw-a"),
+                                     "--out", t / "o.csv"], what),
             Probe("special_files", f"security_{kind}",
                   lambda t, k=kind: ["sweep", _write(t, "s.toml", OK_SWEEP), "--out", t / "r",
                                      "--scheduler", "tls://127.0.0.1:1", "--security",
@@ -796,10 +796,52 @@ def _signal_probes() -> list[Probe]:
                   match=r"exit 143, nothing left behind")]
 
 
+def _scheme_probes() -> list[Probe]:
+    """Schemes, scatterers and frames: the first round's surfaces, kept in the set."""
+    def api(name, fn, match):
+        return Probe("schemes", name, cli=False, call=fn, match=match)
+
+    def scatterers(**kw):
+        import radarsim
+        base = dict(position_m=[[10.0, 0.0, 0.0]], velocity_mps=[[0.0, 0.0, 0.0]],
+                    rcs_m2=[1.0])
+        return radarsim.Scatterers(**{**base, **kw})
+
+    def frame(adc):
+        import pipeline
+        import radarsim
+        return pipeline.process_frame(radarsim.presets.r79_ddma(), adc)
+
+    head = 'name = "p"\nscenarios = ["head_on_aliasing"]\nduration_s = 0.2\n'
+
+    def sweep_profile(kind):
+        def call(t):
+            prof = _special(kind, t / "p.cfg")
+            return ["sweep", _write(t, "s.toml", head + f'[vary]\n"radar.profile" = '
+                                                        f'["{prof}"]\n'),
+                    "--out", t / "r", "--workers", "1"]
+        return call
+    return [
+        api("r79_unknown_scheme", lambda t: __import__("radarsim").presets.r79("nope"),
+            r"mimo='nope' is not one of"),
+        api("scatterer_nan", lambda t: scatterers(position_m=[[float("nan"), 0, 0]]),
+            r"position_m.*non-finite"),
+        api("frame_wrong_shape", lambda t: frame(np.zeros((2, 4, 384), np.int16)),
+            r"adc shape \(2, 4, 384\) does not match"),
+        api("frame_list", lambda t: frame([[0]]), r"numpy\.ndarray"),
+        Probe("schemes", "frame_cli_unknown_mimo", lambda t: ["frame", "--mimo", "fdma"],
+              r"invalid choice: 'fdma'"),
+        Probe("schemes", "sweep_profile_fifo", sweep_profile("fifo"), r"radar\.profile"),
+        Probe("schemes", "sweep_profile_directory", sweep_profile("directory"),
+              r"radar\.profile"),
+    ]
+
+
 def all_probes() -> list[Probe]:
     return (_special_file_probes() + _sweep_probes() + _shifter_probes() + _config_probes()
             + _adc_probes() + _interference_probes() + _write_probes()
-            + _consistency_probes() + _profile_probes() + _signal_probes())
+            + _consistency_probes() + _scheme_probes() + _profile_probes()
+            + _signal_probes())
 
 
 def probes_of(surface: str, owner: str = "reliability") -> list[Probe]:

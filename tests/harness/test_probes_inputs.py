@@ -1,4 +1,4 @@
-"""Probe set (issue 25): Sweep files and keys, shifter command and calibration, chip and board configs.
+"""Probe set (issue 25): Sweep files and keys, shifter command and calibration, chip and board configs, schemes, scatterers and frames.
 
 Each probe is one bad input (`tests.harness.probes`); it must get a clear answer: exit 2 with
 one stderr line (or a ValueError) naming the field or file, the value and the limit, or, for
@@ -26,5 +26,11 @@ def test_shifter_probe_is_clear(probe, tmp_path):
 
 @pytest.mark.parametrize("probe", probes_of("chips_boards"), ids=lambda p: p.name)
 def test_chips_boards_probe_is_clear(probe, tmp_path):
+    cls, detail = classify(probe, tmp_path, time_limit_s=120.0)
+    assert cls == "clear", detail
+
+
+@pytest.mark.parametrize("probe", probes_of("schemes"), ids=lambda p: p.name)
+def test_schemes_probe_is_clear(probe, tmp_path):
     cls, detail = classify(probe, tmp_path, time_limit_s=120.0)
     assert cls == "clear", detail
