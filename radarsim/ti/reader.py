@@ -51,7 +51,7 @@ def _read_source(path_or_text: str | os.PathLike) -> str:
             raise ValueError(f"profile text of {len(text)} characters exceeds the "
                              f"{MAX_PROFILE_BYTES} limit (a TI CLI profile is a few kB)")
         return text
-    if Path(text).is_file():
+    if os.path.lexists(text):  # a file, or a special one the input check names
         return _read_file(Path(text))
     if text.strip().endswith(".cfg") or not any(c.isspace() for c in text.strip()):
         raise FileNotFoundError(f"TI .cfg file {text!r} not found")
