@@ -31,7 +31,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from .args import DURATION_S, FRAMES, SEED, check_output_file
+from .args import DURATION_S, FRAMES, MAX_FRAMES, SEED, check_output_file, int_in
 from .ti_profile import cfar_config_from_ti, load_profile, processing_from_profile
 
 __all__ = ["add_arguments_process", "run_process", "add_arguments_simulate", "run_simulate",
@@ -154,6 +154,32 @@ def add_arguments_process(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--tracks", type=Path, default=None,
                         help="track table (default OUT with '_tracks' appended to the stem)")
     parser.add_argument("--no-track", action="store_true", help="do not run the tracker")
+    parser.add_argument("--regroup-frames", type=int_in(2, MAX_FRAMES), default=None,
+                        metavar="N", help="one-chirp-per-frame recordings (vital signs, "
+                        "vibration): read N frames as one frame of N chirps at the frame "
+                        "period (radarsim.frame_regroup)")
+
+
+def _process_profile(args: argparse.Namespace):
+    """(profile, regrouped frame count or None) of ``process``: the profile, or with
+    ``--regroup-frames N`` the profile of N one-chirp frames as one (`radarsim.frame_regroup`);
+    a one-chirp profile without the option is refused with a pointer to it."""
+    from radarsim import frame_regroup as fr
+
+    n = args.regroup_frames
+    if n is None:
+        try:
+            one = Path(args.cfg).is_file() and fr.one_chirp_frames(Path(args.cfg))
+        except (UnicodeDecodeError, OSError):
+            one = False  # load_profile names the problem
+        if one:
+            raise ValueError(f"--cfg {str(args.cfg)!r} has one chirp per frame: give "
+                             "--regroup-frames N to process N frames as one frame of N chirps")
+        return _profile(args.cfg), None
+    if Path(args.cfg).is_dir():
+        raise ValueError(f"--cfg {str(args.cfg)!r} is a directory, not a TI .cfg profile")
+    profile = fr.regroup_profile(Path(args.cfg), n)
+    return profile, fr.check_regroup(args.capture, profile.radar, n)
 
 
 def run_process(args: argparse.Namespace) -> int:
@@ -163,7 +189,7 @@ def run_process(args: argparse.Namespace) -> int:
         raise ValueError(f"--frames={args.frames} must be >= 1")
     if args.capture.is_dir():
         raise ValueError(f"capture {str(args.capture)!r} is a directory, not a capture file")
-    profile = _profile(args.cfg)
+    profile, _ = _process_profile(args)
     out = args.out if args.out is not None else args.capture.with_suffix(".parquet")
     if out.suffix.lower() not in TABLE_WRITERS:  # fail before the (long) processing
         raise ValueError(f"--out {str(out)!r}: suffix {out.suffix!r} is not one of "
@@ -175,6 +201,7 @@ def run_process(args: argparse.Namespace) -> int:
         from radarsim.subframe_capture import capture_n_advanced_frames
         n_frames = capture_n_advanced_frames(args.capture, profile)
     else:
+        # Regrouped: check_regroup has checked that N divides the recorded frames.
         n_frames = capture_n_frames(args.capture, profile.radar)
     n_frames = n_frames if args.frames is None else min(n_frames, args.frames)
     procs = []
