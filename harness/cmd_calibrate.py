@@ -16,10 +16,10 @@ Bad input (exit 2, one line): no peak within R +/- W, a measurement below
 from __future__ import annotations
 
 import argparse
-import os
 import sys
-import uuid
 from pathlib import Path
+
+from scenarios.fileio import atomic_write
 
 from .args import FRAMES, check_output_file, float_in
 
@@ -66,13 +66,8 @@ def with_comp_line(text: str, line: str) -> str:
 
 
 def _write_text(path: Path, text: str) -> None:
-    tmp = path.with_name(f".{path.name}.{os.getpid()}.{uuid.uuid4().hex}")
-    try:
-        tmp.write_text(text)
-        os.replace(tmp, path)
-    except BaseException:
-        tmp.unlink(missing_ok=True)
-        raise
+    """Atomically, a full disk named (`scenarios.fileio.atomic_write`)."""
+    atomic_write(path, lambda tmp: tmp.write_text(text))
 
 
 def run(args: argparse.Namespace) -> int:

@@ -13,6 +13,8 @@ from typing import NamedTuple
 
 import numpy as np
 
+from scenarios.fileio import atomic_write
+
 from .args import SEED, check_output_file, float_in, int_in
 
 #: Aspects of the printed table, deg (0 front, 90 left side, 180 rear).
@@ -128,5 +130,7 @@ def _plot(args, refs, out) -> None:
     ax.grid(alpha=0.3)
     ax.legend(fontsize=7)
     fig.tight_layout()
-    fig.savefig(out, dpi=110)
-    plt.close(fig)
+    try:
+        atomic_write(out, lambda tmp: fig.savefig(tmp, dpi=110))
+    finally:
+        plt.close(fig)

@@ -56,6 +56,7 @@ class Probe(NamedTuple):
     cli: bool = True
     code: int = 2
     owner: str = "reliability"
+    time_factor: float = 1.0  # the survey's time limit is multiplied by it (a subprocess run)
 
     @property
     def id(self) -> str:
@@ -668,6 +669,11 @@ def _write_probes() -> list[Probe]:
               r"cannot write .*(no space left|No space left).*cells written so far are kept"),
         Probe("writes", "show_read_only", show, r"v.*read-only"),
         Probe("writes", "simulate_full_disk", simulate_disk, r"c\.bin.*(no space|No space)"),
+        Probe("writes", "rcs_plot_full_disk",
+              lambda t: (["rcs", "car", "--plot", "--out", t / "o" / "x.png", "--draws", "2"],
+                         _after_probe(failing_writes(errno.ENOSPC, t / "o",
+                                                     writers=("savefig",)), mkdir=t / "o")),
+              r"x\.png.*(no space|No space)"),
         Probe("writes", "run_out_read_only",
               lambda t: (["run", "head_on_aliasing", "--duration-s", "0.2", "--out", t / "ro"],
                          _readonly_dir(t / "ro")), r"(?i)ro.*read-only"),
@@ -793,7 +799,7 @@ def _signal_probes() -> list[Probe]:
             raise _Hang()
         raise ValueError(f"exit {p.returncode}, nothing left behind")
     return [Probe("signals", "sigterm_pool_sweep", cli=False, call=sigterm,
-                  match=r"exit 143, nothing left behind")]
+                  match=r"exit 143, nothing left behind", time_factor=4.0)]
 
 
 def _scheme_probes() -> list[Probe]:

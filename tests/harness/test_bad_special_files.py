@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import errno
 import os
+import shutil
 
 import pytest
 
@@ -23,20 +24,27 @@ def _spec():
     return SweepSpec(name="sf", scenarios=("fast", "slow"), seeds=(0,), duration_s=0.5)
 
 
+@pytest.fixture(scope="module")
+def clean(tmp_path_factory):
+    """A completed stand-in sweep, computed once for the module."""
+    out = tmp_path_factory.mktemp("clean") / "r"
+    run_sweep(_spec(), out, components=FAKE, progress=False)
+    return out
+
+
 @pytest.mark.timeout(60)
 @pytest.mark.parametrize("what", ["cell.json", "detections.parquet"])
 @pytest.mark.parametrize("kind", ["fifo", "dev_zero"])
-def test_special_file_inside_a_cell_is_damage_and_recomputed(tmp_path, what, kind):
+def test_special_file_inside_a_cell_is_damage_and_recomputed(tmp_path, clean, what, kind):
     spec = _spec()
-    run_sweep(spec, tmp_path / "a", components=FAKE, progress=False)
-    run_sweep(spec, tmp_path / "clean", components=FAKE, progress=False)
+    shutil.copytree(clean, tmp_path / "a")
     f = cell_dir(tmp_path / "a", spec.cells()[0]) / what
     f.unlink()
     os.mkfifo(f) if kind == "fifo" else os.symlink("/dev/zero", f)
     assert store.cell_state(f.parent) == "corrupt"
     o = run_sweep(spec, tmp_path / "a", components=FAKE, progress=False)
     assert (o.n_recomputed, o.n_ok, o.n_skipped) == (1, 1, 1)
-    assert_same_tables(tmp_path / "a", tmp_path / "clean")
+    assert_same_tables(tmp_path / "a", clean)
 
 
 def test_full_disk_mid_sweep_stops_it_and_keeps_written_cells(tmp_path, monkeypatch):

@@ -34,9 +34,8 @@ def _children_when_running(proc: psutil.Process, n: int, timeout_s: float) -> li
     raise AssertionError(f"the sweep did not start {n} workers within {timeout_s} s")
 
 
-@pytest.mark.parametrize("sig", [signal.SIGTERM,
-                                 pytest.param(signal.SIGHUP, marks=pytest.mark.slow)],
-                         ids=["SIGTERM", "SIGHUP"])
+@pytest.mark.slow  # a real pool sweep: 10-20 s (the in-process and death-signal tests are fast)
+@pytest.mark.parametrize("sig", [signal.SIGTERM, signal.SIGHUP], ids=["SIGTERM", "SIGHUP"])
 def test_signal_to_main_pid_of_a_pool_sweep_leaves_no_process(tmp_path, sig):
     f = tmp_path / "s.toml"
     f.write_text(SWEEP)
