@@ -9,7 +9,7 @@ from metrics.association import AssociationConfig
 
 from .cellspec import CellSpec, mimos, result_schemes
 from .components import Components
-from .ti_profile import load_profile, profile_processing
+from .ti_profile import load_profile, profile_processing, simulation_radar
 
 __all__ = ["radar_config", "cell_association", "build_configs"]
 
@@ -35,7 +35,7 @@ def radar_config(overrides: dict, mimo: str):
         raise ValueError(f"radar.profile={str(path)!r}: an advanced-frame profile has one radar "
                          f"per sub-frame ({len(prof.subframes)}), a sweep cell runs one; use "
                          "`radar-harness process` for it, or a profile of one sub-frame")
-    base = prof.radar
+    base = simulation_radar(prof)  # on the board its compRangeBiasAndRxChanPhase calibrates
     try:
         return base.replace(**{"mimo": mimo, **ov}) if base.mimo != mimo or ov else base
     except ValueError as exc:

@@ -32,7 +32,8 @@ import numpy as np
 import pandas as pd
 
 from .args import DURATION_S, FRAMES, MAX_FRAMES, SEED, check_output_file, int_in
-from .ti_profile import cfar_config_from_ti, load_profile, processing_from_profile
+from .ti_profile import (cfar_config_from_ti, load_profile, processing_from_profile,
+                         simulation_radar)
 
 __all__ = ["add_arguments_process", "run_process", "add_arguments_simulate", "run_simulate",
            "cfar_config_from_ti", "processing_from_profile", "process_capture",
@@ -279,7 +280,8 @@ def run_simulate(args: argparse.Namespace) -> int:
     with warnings.catch_warnings():
         # Saturation is a property of the scene (a car at 2 m), as in a sweep cell.
         warnings.simplefilter("ignore", category=ADCSaturationWarning)
-        n = write_capture(args.out, simulate_frames(profile.radar, run, args.seed, frames, comps),
+        n = write_capture(args.out, simulate_frames(simulation_radar(profile), run, args.seed,
+                                                    frames, comps),
                           cfg=profile.radar)
     print(f"{n} frame(s) of {args.case} (seed {args.seed}) -> {args.out}")
     return 0

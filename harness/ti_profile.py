@@ -17,7 +17,7 @@ from pathlib import Path
 from scenarios.fileio import check_input_file
 
 __all__ = ["load_profile", "profile_processing", "processing_from_profile",
-           "cfar_config_from_ti"]
+           "cfar_config_from_ti", "simulation_radar"]
 
 
 def cfar_config_from_ti(ti_cfar):
@@ -78,6 +78,18 @@ def profile_processing(profile, notes: list[str] | None = None) -> dict:
         notes.append(f"CFAR training_stride 1 (contiguous cells, as TI's CFAR): the stride-2 "
                      f"window does not fit the {n_dop} Doppler bins")
     return overrides
+
+
+def simulation_radar(profile):
+    """The radar `simulate` and a sweep cell build for a profile: its `RadarConfig` on the board its
+    ``compRangeBiasAndRxChanPhase`` line calibrates (`pipeline.compensation.implied_board`:
+    e.g. the antiphase Rx of antenna-on-package boards, whose demo profiles carry
+    ``1 0 -1 0 ...``), so that `process` with the same profile, which applies the line, sees
+    the targets where they are. A profile without the line: its radar unchanged."""
+    from pipeline.compensation import implied_board
+    proc = profile.processing
+    board = implied_board(profile.radar, proc.get("channel_comp"), proc.get("range_bias_m", 0.0))
+    return profile.radar.replace(**board) if board else profile.radar
 
 
 def processing_from_profile(profile, notes: list[str] | None = None):

@@ -42,7 +42,7 @@ from radarsim.config import RadarConfig
 
 __all__ = ["COMP_COMMAND", "Q15_SCALE", "q15", "n_chip_pairs", "ti_pair_index",
            "virtual_coefficients", "compensate", "check_channel_comp", "comp_line",
-           "chip_order_coefficients", "check_comp_values"]
+           "chip_order_coefficients", "check_comp_values", "implied_board"]
 
 #: The TI CLI command this module applies.
 COMP_COMMAND = "compRangeBiasAndRxChanPhase"
@@ -170,3 +170,42 @@ def comp_line(range_bias_m: float, coefficients: np.ndarray) -> str:
     for c in np.asarray(coefficients, dtype=complex):
         parts += [f"{c.real:.5f}", f"{c.imag:.5f}"]
     return " ".join([COMP_COMMAND, *parts])
+
+
+def implied_board(cfg: RadarConfig, channel_comp, range_bias_m: float = 0.0) -> dict:
+    """The board a ``compRangeBiasAndRxChanPhase`` line calibrates, as `RadarConfig` fields.
+
+    A line's coefficient c_i undoes virtual channel i's complex gain g_i (c_i g_i the same for
+    every channel), so g_i is proportional to 1 / c_i; the front end models g = t_k r_r (one
+    gain per Tx and per Rx), fitted here as the best rank-1 approximation of the (Tx, Rx)
+    matrix of 1 / c (its leading singular pair), referred to the first Tx and Rx. The demos'
+    "1 0 -1 0 ..." lines of antenna-on-package boards (two Rx fed in antiphase) are reproduced
+    exactly; a measured line is approximated where it is not a Tx x Rx product. Phases and
+    gains are rounded to 1e-6 deg / dB, so an identity line gives an ideal board bit for bit.
+
+    Returns
+    -------
+    dict
+        tx_phase_error_deg, tx_gain_error_db (per Tx in `tx_channels` order), rx_phase_error_deg,
+        rx_gain_error_db, range_bias_m; empty when the line is absent.
+    """
+    if channel_comp is None and not range_bias_m:
+        return {}
+    out = {"range_bias_m": float(range_bias_m)}
+    coef = virtual_coefficients(cfg, channel_comp)
+    if coef is None:
+        return out
+    g = (1.0 / coef.astype(complex)).reshape(cfg.n_tx, cfg.n_rx)  # rows in tx_order
+    u, s, vh = np.linalg.svd(g)
+    t, r = u[:, 0] * np.sqrt(s[0]), vh[0] * np.sqrt(s[0])  # g = s u v^H
+    t, r = t / t[0], r / r[0]
+    t = t[np.argsort(np.array(cfg.tx_order))]  # tx_order rows -> Tx1..Txn
+
+    def deg(x):
+        return tuple(float(v) + 0.0 for v in np.round(np.degrees(np.angle(x)), 6))
+
+    def db(x):
+        return tuple(float(v) + 0.0 for v in np.round(20 * np.log10(np.abs(x)), 6))
+    out.update(tx_phase_error_deg=deg(t), tx_gain_error_db=db(t), rx_phase_error_deg=deg(r),
+               rx_gain_error_db=db(r))
+    return out

@@ -118,3 +118,43 @@ def test_channel_correction_undoes_board_imbalance(name, make_config, make_scene
     assert best is not None
     assert abs(best.azimuth_deg - az) <= 1.5
     assert abs(best.radial_velocity_mps - v) <= ideal.velocity_resolution_mps
+
+
+def test_implied_board_inverts_the_line(make_config):
+    """The board a line calibrates: for a board whose channels are a Tx x Rx product, the
+    exact inverse line (`inverse_comp`) gives back its phases and gains (to Q15's
+    resolution: 3e-5 relative, 0.002 deg / 0.0003 dB); an identity line an ideal board."""
+    from pipeline.compensation import implied_board
+    board = make_config("tdma").replace(**IMBALANCE)
+    got = implied_board(board, inverse_comp(board), 0.05)
+    assert got["range_bias_m"] == 0.05
+    for key in ("tx_phase_error_deg", "rx_phase_error_deg"):
+        want = (np.asarray(getattr(board, key)) + 180) % 360 - 180
+        np.testing.assert_allclose((np.asarray(got[key]) + 180) % 360 - 180, want, atol=0.01)
+    for key in ("tx_gain_error_db", "rx_gain_error_db"):
+        np.testing.assert_allclose(got[key], getattr(board, key), atol=0.01)
+    ideal = implied_board(board, ((1.0, 0.0),) * 16)
+    assert ideal["rx_phase_error_deg"] == (0.0,) * 4 and ideal["tx_gain_error_db"] == (0.0,) * 4
+    assert implied_board(board, None) == {}
+
+
+def test_simulated_capture_of_an_aop_profile_reads_back_at_its_angle(tmp_path):
+    """An IWR6843 antenna-on-package demo profile carries ``1 0 -1 0 ...`` (Rx2 and Rx4 fed
+    in antiphase): `simulate` builds that board, `process` applies the line, and a target at
+    20 deg azimuth is reported there (within 1.5 deg), as it would not be on an ideal board."""
+    from harness.ti_profile import simulation_radar
+    from harness.ti_profile import processing_from_profile
+    from radarsim.ti import parse_ti_cfg
+    from tests.radarsim.profiles import profile_text
+    prof = parse_ti_cfg(profile_text("xwr68_aop"))
+    proc = processing_from_profile(prof).replace(tdma_disambiguation=False)
+    assert proc.channel_comp[1] == (-1.0, 0.0)
+    radar = simulation_radar(prof)
+    assert radar.rx_phase_error_deg == (0.0, 180.0, 0.0, 180.0)
+    sc = radarsim.Scatterers.from_spherical(np.array([3.0]), np.array([20.0]), np.zeros(1),
+                                            np.zeros(1), np.array([0.01]))
+    for board, ok in ((radar, True), (prof.radar, False)):
+        adc = radarsim.simulate_frame(board, sc, np.random.default_rng(2))
+        pc = pipeline.process_frame(prof.radar, adc, proc)
+        best = pc.loc[pc.snr_db.idxmax()]
+        assert (abs(best.azimuth_deg - 20.0) <= 1.5) == ok, best.azimuth_deg
