@@ -264,6 +264,10 @@ def run_simulate(args: argparse.Namespace) -> int:
         raise ValueError(f"--frames={args.frames} must be >= 1")
     check_output_file(args.out, "--out")
     profile = _profile(args.cfg)
+    if profile.is_advanced:
+        raise ValueError(f"--cfg {str(args.cfg)!r}: simulate writes frame-mode captures; an "
+                         f"advanced-frame profile ({len(profile.subframes)} sub-frames) is not "
+                         "simulated yet (radarsim.subframe_capture.encode_frame builds one)")
     comps = _components()
     # The scenario advances one profile frame period per frame: process stamps frame f at
     # f x framePeriodicity, so the capture's scene must move by the same step.

@@ -288,3 +288,12 @@ def test_process_takes_an_mmwave_studio_logfile_as_profile(tmp_path, capsys):
     assert main(["process", str(path), "--cfg", str(PROFILE_DIR / "awr2243_studio_LogFile.txt"),
                  "--out", str(tmp_path / "p.csv")]) == 2
     assert "not a whole number of frames of 1048576 bytes" in capsys.readouterr().err
+
+
+def test_simulate_refuses_an_advanced_frame_profile(tmp_path, capsys):
+    from tests.radarsim.profiles import PROFILE_DIR
+
+    assert main(["simulate", "straight", "--cfg",
+                 str(PROFILE_DIR / "xwr68_advanced_subframes.cfg"),
+                 "--out", str(tmp_path / "s.bin")]) == 2
+    assert "advanced-frame profile (2 sub-frames) is not simulated" in capsys.readouterr().err
