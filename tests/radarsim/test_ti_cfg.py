@@ -423,3 +423,19 @@ def test_a_command_repeated_after_flush_cfg_is_no_duplicate():
     lines = _lines()
     assert from_ti_cfg("\n".join(lines[:-1] + ["flushCfg"] + lines)) == from_ti_cfg(
         "\n".join(lines))
+
+
+@pytest.mark.parametrize("special", ["fifo", "/dev/zero"])
+def test_special_file_as_profile_is_refused_without_reading(tmp_path, special):
+    """A FIFO would block the read, /dev/zero never end (issue 25, special files)."""
+    if special == "fifo":
+        path = tmp_path / "p.cfg"
+        os.mkfifo(path)
+    else:
+        path = Path(special)
+        if not path.exists():
+            pytest.skip("no /dev/zero")
+    with pytest.raises(ValueError, match=rf"profile '{path}': is .*, not a regular file"):
+        parse_ti_cfg(path)
+    with pytest.raises(ValueError, match=r"is not a regular file"):
+        parse_ti_cfg(str(path))
