@@ -37,6 +37,9 @@ def _inputs(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig | None):
         raise ValueError(f"proc must be a pipeline.ProcessingConfig, got {type(proc).__name__}")
     chain = chain_of(cfg)
     proc.check_radar(cfg)
+    if proc.clutter_removal and not chain.removes_static_clutter:
+        raise ValueError(f"clutter_removal=True: the {cfg.mimo} chain has no static clutter "
+                         "removal (TI's clutterRemoval belongs to the TDM/BPM demos)")
     return chain, proc, report
 
 

@@ -179,6 +179,10 @@ class ProcessingConfig:
         TI's chip channel order (Tx major), each part in [-1, 1] (Q15 when applied); every
         chain multiplies its virtual-antenna samples by them before angle estimation
         (`pipeline.compensation`). None: no correction (default).
+    clutter_removal : bool
+        TI's static clutter removal (``clutterRemoval``): the slot chains (TDMA, BPM) subtract
+        each virtual channel's mean over the frame's chirps before the Doppler FFT, removing
+        zero-Doppler returns (default off, as the demos).
     range_fov_m, velocity_fov_mps, azimuth_fov_deg, elevation_fov_deg : (min, max) or None
         Field of view of the reported detections (``cfarFovCfg`` range / Doppler,
         ``aoaFovCfg``): detections outside are dropped (`pipeline.fov`). None: no limit
@@ -208,6 +212,7 @@ class ProcessingConfig:
     channel_comp: tuple[tuple[float, float], ...] | None = None
     fast_slow_threshold_db: float = 3.0
     fast_slow_search_bins: int = 2
+    clutter_removal: bool = False
     range_fov_m: tuple[float, float] | None = None
     velocity_fov_mps: tuple[float, float] | None = None
     azimuth_fov_deg: tuple[float, float] | None = None
@@ -227,7 +232,8 @@ class ProcessingConfig:
         require(self, "fast_slow_threshold_db", gt=0, le=20, unit="dB")
         require(self, "fast_slow_search_bins", "integer", ge=0, le=16)
 
-        require(self, ("dc_removal", "interference_mitigation", "compression"), "bool")
+        require(self, ("dc_removal", "interference_mitigation", "compression",
+                       "clutter_removal"), "bool")
         require(self, ("intf_mag_snr_db", "intf_magdiff_snr_db"), gt=0, le=60, unit="dB")
         one_of("intf_threshold_mode", self.intf_threshold_mode, INTF_THRESHOLD_MODES)
         require(self, "intf_hysteresis_samples", "integer", ge=0, le=32)

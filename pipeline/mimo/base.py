@@ -64,10 +64,14 @@ class MimoChain:
     variants : dict
         Extra result schemes derived from this one by `ProcessingConfig` overrides on the same
         ADC frame, e.g. ``{"tdma_raw": {"tdma_disambiguation": False}}``.
+    removes_static_clutter : bool
+        Whether the chain implements `ProcessingConfig.clutter_removal` (TI's
+        ``clutterRemoval``); `pipeline.process_frame` refuses the setting for the others.
     """
 
     name: ClassVar[str] = ""
     variants: ClassVar[dict[str, dict[str, Any]]] = {}
+    removes_static_clutter: ClassVar[bool] = False
 
     def process(self, cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) -> pd.DataFrame:
         """(n_chirps, n_rx, n_samples) int16 (real) or complex64 (I/Q) frame -> point cloud

@@ -66,6 +66,11 @@ def slot_maps(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) -> Slot
     n_dop = cfg.n_chirps // n_tx
     rf = range_stage(cfg, adc, proc)  # (C, R, B): chirp-level chain + range FFT
     rf = rf.reshape(n_dop, n_tx, cfg.n_rx, -1)  # chirp = n_tx c' + slot
+    if proc.clutter_removal:
+        # TI's static clutter removal (clutterRemoval, SDK 3.x DopplerProc): the mean over the
+        # frame's chirps of each slot, Rx and range bin -- the zero-Doppler return -- removed
+        # before the Doppler FFT.
+        rf = rf - rf.mean(axis=0, keepdims=True)
     spec = doppler_fft(rf, window(WINDOWS[proc.doppler_window], n_dop))  # (D, S, R, B)
     n_range = spec.shape[-1]
     virt_all = np.moveaxis(spec, 3, 0).reshape(n_range, n_dop, -1)  # (B, D, 16) slot-major
@@ -79,6 +84,8 @@ class SlotChain(MimoChain):
 
     Subclasses override `separate` (slot samples -> virtual channels) and `noise_gain_of`.
     """
+
+    removes_static_clutter = True
 
     def noise_gain_of(self, cfg: RadarConfig) -> float:
         """Noise power of a separated virtual channel over that of one slot channel."""

@@ -63,7 +63,8 @@ PROCESSING_COMMANDS: Mapping[str, ProcessingCommand] = MappingProxyType({
     "compRangeBiasAndRxChanPhase": ProcessingCommand(("range_bias_m", "channel_comp"),
                                                      "SDK 3.x UG sec. range bias and Rx "
                                                      "channel gain/phase compensation"),
-    "clutterRemoval": ProcessingCommand((), "SDK 3.x UG clutterRemoval"),
+    "clutterRemoval": ProcessingCommand(("clutter_removal",), "SDK 3.x UG clutterRemoval; "
+                                        "DopplerProc static clutter removal"),
     "calibDcRangeSig": ProcessingCommand((), "SDK 3.x UG calibDcRangeSig"),
     "measureRangeBiasAndRxChanPhase": ProcessingCommand((), "SDK 3.x UG measureRangeBias..."),
     "CQRxSatMonitor": ProcessingCommand((), "SDK 3.x UG CQRxSatMonitor"),
@@ -90,7 +91,7 @@ _SDK3 = {
     "cfarFovCfg": {"range_fov_m": None, "velocity_fov_mps": None},
     "aoaFovCfg": {"azimuth_fov_deg": None, "elevation_fov_deg": None},
     "compRangeBiasAndRxChanPhase": {"range_bias_m": 0.0, "channel_comp": None},
-    "clutterRemoval": _OFF, "calibDcRangeSig": _OFF,
+    "clutterRemoval": {"clutter_removal": False}, "calibDcRangeSig": _OFF,
     "measureRangeBiasAndRxChanPhase": _OFF, "CQRxSatMonitor": _OFF,
     # Not commands of these demos: their chains have no EGE compression and no
     # interference mitigation.

@@ -87,11 +87,9 @@ def aoa_fov_cfg(st: ParseState, ln: Line) -> None:
 
 
 def clutter_removal(st: ParseState, ln: Line) -> None:
-    """``clutterRemoval <subFrameIdx> <enabled>``: static clutter removal (mean over the
-    frame's chirps subtracted) is not modelled; enabled is listed in the note."""
-    st.processing_commands[ln.cmd] = ln
-    if ln.flag(_sub(ln), "enabled"):
-        st.unmodelled.append(f"line {ln.no} clutterRemoval enabled")
+    """``clutterRemoval <subFrameIdx> <enabled>``: static clutter removal (each virtual
+    channel's mean over the frame's chirps subtracted), `ProcessingConfig.clutter_removal`."""
+    _record(st, ln, clutter_removal=ln.flag(_sub(ln), "enabled"))
 
 
 def calib_dc_range_sig(st: ParseState, ln: Line) -> None:

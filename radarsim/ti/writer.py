@@ -279,6 +279,8 @@ def processing_lines(profile: TiProfile, subframe: int = -1) -> list[str]:
     out = []
     if fam.has("extendedMaxVelocity") and "tdma_disambiguation" in p:
         out.append(f"extendedMaxVelocity {sf} {int(bool(p['tdma_disambiguation']))}")
+    if fam.has("clutterRemoval") and "clutter_removal" in p:
+        out.append(f"clutterRemoval {sf} {int(bool(p['clutter_removal']))}")
     if fam.has("compressionCfg") and "compression" in p:
         out.append(f"compressionCfg {sf} {int(bool(p['compression']))} 0 "
                    f"{fmt_decimal(p.get('compression_ratio', 0.5))} "

@@ -1,4 +1,5 @@
-"""Field of view (cfarFovCfg / aoaFovCfg): detections outside the limits are dropped."""
+"""The TI demos' detection filters as ProcessingConfig fields: field of view (cfarFovCfg /
+aoaFovCfg: detections outside dropped) and static clutter removal (clutterRemoval)."""
 from __future__ import annotations
 
 import numpy as np
@@ -46,3 +47,22 @@ def test_detections_outside_the_field_of_view_are_dropped(two_targets, limits, k
 def test_bad_field_of_view_is_refused(value, pattern):
     with pytest.raises(ValueError, match=rf"range_fov_m=.*{pattern}"):
         pipeline.ProcessingConfig(range_fov_m=value)
+
+
+def test_static_clutter_removal_drops_zero_doppler_returns():
+    """clutterRemoval (SDK 3.x DopplerProc): each virtual channel's mean over the frame's
+    chirps is subtracted, so a static reflector vanishes and a moving one stays (TDMA, BPM);
+    a chain without it refuses the setting."""
+    cfg = radarsim.presets.r79_tdma()
+    sc = radarsim.Scatterers.from_spherical(np.array([30.0, 60.0]), np.zeros(2), np.zeros(2),
+                                            np.array([0.0, -4.0]), np.array([10.0, 10.0]))
+    adc = radarsim.simulate_frame(cfg, sc, rng=np.random.default_rng(3))
+    plain = pipeline.process_frame(cfg, adc, pipeline.ProcessingConfig())
+    removed = pipeline.process_frame(cfg, adc, pipeline.ProcessingConfig(clutter_removal=True))
+    assert _near(plain, 30.0) and _near(plain, 60.0)
+    assert not _near(removed, 30.0) and _near(removed, 60.0)
+    ddma = radarsim.presets.r79_ddma()
+    with pytest.raises(ValueError, match=r"clutter_removal=True: the ddma chain has no static "
+                                         r"clutter removal"):
+        pipeline.process_frame(ddma, radarsim.simulate_frame(ddma, sc, np.random.default_rng(3)),
+                               pipeline.ProcessingConfig(clutter_removal=True))
