@@ -13,6 +13,7 @@ information enters the tables (timings go to ``CellResult.elapsed_s``).
 from __future__ import annotations
 
 import time
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 from typing import Any, NamedTuple
 
@@ -207,33 +208,53 @@ def _ego_speeds(run, frames: np.ndarray) -> np.ndarray | None:
     return None
 
 
+#: Frames of a cell processed at once (threads): the frame loop is numpy / scipy / numba work
+#: that releases the GIL, so a cell keeps two cores busy even when it is the only cell left
+#: running (issue 20). Results do not depend on it: every frame draws from its own streams.
+FRAME_THREADS = 2
+
+
 def _process_frames(spec: CellSpec, comps: Components, run, radar: dict, procs: dict,
                     schemes, frames: np.ndarray, truth: pd.DataFrame,
                     times: pd.Series) -> _FrameOutputs:
     """Scatterers, ADC frames (one per mimo) and point clouds (one per result scheme) of every
-    processed frame, plus the noise-floor rows."""
-    clouds: dict[str, list[pd.DataFrame]] = {s.name: [] for s in schemes}
-    # Saturated (chirp, Rx) pairs per scheme and frame (pipeline.saturation).
-    saturated: dict[str, list[int]] = {s.name: [] for s in schemes}
-    scat = []
+    processed frame, plus the noise-floor rows; frames run `FRAME_THREADS` at a time and are
+    collected in frame order."""
+    from pipeline.chirp_level import shared_range_stage  # after the caller's BLAS setting
     ctx = _frame_context(run)
     equipment = comps.equipment(run, spec.seed, dict(spec.scene)) \
         if comps.equipment is not None else None
-    floor_rows = []
-    for f in frames:
+
+    def one(f):
         rows = truth[truth["frame"] == f]
         sc = _scatterers(comps, rows, frame_rng(spec.seed, f, "rcs"), ctx.get(int(f)))
-        scat.append((f, sc))
         adc, inr = _simulate_frames(comps, radar, sc, spec.seed, f, rows, equipment)
-        floor_rows += _noise_floors(comps, radar, adc, procs, schemes, f, inr)
-        for rs in schemes:
-            pc = comps.process_frame(radar[rs.mimo], adc[rs.mimo], procs[rs.name]) \
-                .reset_index(drop=True)
-            pc.insert(0, "frame", np.int64(f))
-            pc.insert(1, "time_s", float(times.loc[f]))
-            clouds[rs.name].append(pc)
-            saturated[rs.name].append(int(pc.attrs.get("saturation", {})
-                                          .get("n_saturated_chirp_rx", 0)))
+        # The chains of schemes sharing an ADC frame and the noise-floor metric read one
+        # range cube per frame and chirp-level setting.
+        with shared_range_stage():
+            floor = _noise_floors(comps, radar, adc, procs, schemes, f, inr)
+            pcs = {rs.name: comps.process_frame(radar[rs.mimo], adc[rs.mimo], procs[rs.name])
+                   for rs in schemes}
+        return sc, floor, pcs
+
+    clouds: dict[str, list[pd.DataFrame]] = {s.name: [] for s in schemes}
+    # Saturated (chirp, Rx) pairs per scheme and frame (pipeline.saturation).
+    saturated: dict[str, list[int]] = {s.name: [] for s in schemes}
+    scat, floor_rows = [], []
+    pool = ThreadPoolExecutor(FRAME_THREADS, thread_name_prefix="cell-frame")
+    try:
+        for f, (sc, floor, pcs) in zip(frames, pool.map(one, frames)):
+            scat.append((f, sc))
+            floor_rows += floor
+            for name, pc in pcs.items():
+                pc = pc.reset_index(drop=True)
+                pc.insert(0, "frame", np.int64(f))
+                pc.insert(1, "time_s", float(times.loc[f]))
+                clouds[name].append(pc)
+                saturated[name].append(int(pc.attrs.get("saturation", {})
+                                           .get("n_saturated_chirp_rx", 0)))
+    finally:
+        pool.shutdown(wait=True, cancel_futures=True)  # an error or ^C leaves no frame running
     return _FrameOutputs(clouds, saturated, scatterer_table(scat), floor_rows)
 
 
