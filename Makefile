@@ -14,12 +14,15 @@ $(STAMP): pyproject.toml
 	$(PY) -m pip install --quiet -e ".[dev]"
 	touch $(STAMP)
 
-# Fast suite (slow statistical tests deselected); `make test-all` runs everything.
+# Fast suite (slow statistical tests deselected) on both cores (pytest-xdist; each test keeps
+# its outputs under its own tmp_path); `make test-all` runs everything.
+XDIST := -n 2 --dist worksteal
+
 test: $(STAMP)
-	$(PY) -m pytest -q -m "not slow"
+	$(PY) -m pytest -q -m "not slow" $(XDIST)
 
 test-all: $(STAMP)
-	$(PY) -m pytest -q
+	$(PY) -m pytest -q $(XDIST)
 
 # The default sweep (whole catalogue, DDMA vs TDMA, seed 0): tables in results/default, the
 # summary printed, then the HTML report. Rerunning resumes the completed cells of the same code
