@@ -1,8 +1,9 @@
 """`python -m benchmarks [NAME ...]`: run every benchmark module (or the named ones) and print
 its figures. Times are medians over repeated runs; ratios are against floors measured in the
-same run, never absolute assertions. The process runs with the allocator tuning of
-`harness.runtime` (as `radar-harness` and the sweep workers do); bench_pipeline also reports the
-chain under glibc's defaults, measured in a fresh interpreter."""
+same run, never absolute assertions. The process runs as `radar-harness` and the sweep workers
+do (`harness.runtime.prepare_process`: one BLAS thread, the allocator tuning); bench_pipeline
+also reports the chain under glibc's default allocator, measured in a fresh interpreter.
+`python -m benchmarks floors` prints the README's performance table."""
 from __future__ import annotations
 
 import importlib
@@ -13,8 +14,8 @@ import benchmarks
 
 
 def main(argv: list[str]) -> int:
-    from harness.runtime import tune_allocator
-    tune_allocator()
+    from harness.runtime import prepare_process
+    prepare_process()
     names = sorted(m.name for m in pkgutil.iter_modules(benchmarks.__path__)
                    if m.name.startswith("bench_"))
     if argv:
