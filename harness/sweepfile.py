@@ -94,6 +94,7 @@ def validate_cells(spec: SweepSpec, source: str | Path | None = None) -> None:
         Naming the sweep file, the variant, the key, the value and the config's own message
         (which names the limit).
     """
+    from pipeline.mimo import chain_of
     from pipeline.tracking import TrackerConfig
     comps = default_components()
     where = f"{source}: " if source is not None else ""
@@ -103,6 +104,9 @@ def validate_cells(spec: SweepSpec, source: str | Path | None = None) -> None:
         for proc in procs.values():  # CFAR window and EGE blocks must fit every radar
             for r in radar.values():
                 proc.check_radar(r)
+                if proc.clutter_removal and not chain_of(r).removes_static_clutter:
+                    raise ValueError(f"clutter_removal=True (a profile's clutterRemoval): the "
+                                     f"{r.mimo} chain has no static clutter removal")
 
     schemes = {"schemes": spec.schemes, "baseline_scheme": spec.baseline_scheme}
 

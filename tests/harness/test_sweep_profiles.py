@@ -195,3 +195,23 @@ def test_advanced_frame_profile_is_refused_by_a_sweep_before_it_starts(tmp_path)
                                          r"sub-frame \(2\), a sweep cell runs one"):
         spec = load_sweep(f, check_scenarios=False)
         build_configs(spec.cells()[0], FAKE)
+
+
+def test_profile_clutter_removal_with_a_ddma_scheme_is_refused_before_the_sweep(tmp_path):
+    """clutterRemoval 1 belongs to the TDM demos; the DDMA chain has none: the sweep names it
+    at validation, not at the first frame."""
+    path = tmp_path / "x18.cfg"
+    cfg = radarsim.RadarConfig(chip="AWR1843", adc_mode="complex1x", mimo="tdma", n_tx=3,
+                               n_chirps=384, n_samples=64, adc_rate_sps=10e6)
+    path.write_text(to_ti_cfg(cfg, frame_period_s=0.1, extra_lines=["clutterRemoval -1 1"]))
+    f = _sweep_file(tmp_path, f"""
+        name = "p"
+        scenarios = ["fast"]
+        schemes = ["tdma", "ddma"]
+        [[variants]]
+        name = "mine"
+        radar = {{profile = "{path}"}}
+    """)
+    with pytest.raises(ValueError, match=r"clutter_removal=True .*: the ddma chain has no "
+                                         r"static clutter removal"):
+        load_sweep(f, check_scenarios=False)
