@@ -96,10 +96,14 @@ class RcsConfig:
         R79 preset's 253 m.
     merge_range_m, merge_azimuth_deg, merge_elevation_deg : float
         Merge cell: hits of one actor in one cell become one scatterer (RCS summed, position
-        RCS-weighted), m and deg (> 0). Half the 1.32 m range cell and half the 9.6 deg
-        azimuth resolution; in elevation the single 0.8 lambda Tx2 row resolves nothing finer
-        than tens of degrees. Merging is thus invisible to the radar while K stays at tens
-        per actor (the front end's cost grows linearly with K).
+        RCS-weighted), m and deg (> 0); cells start at the actor's own nearest point (see
+        `_merge`). Default: the R79 preset's 1.32 m range cell and 9.6 deg azimuth
+        resolution; in elevation the single 0.8 lambda Tx2 row resolves nothing finer than
+        tens of degrees. One scatterer per actor and radar cell is what makes the radar's
+        coherent sum in that cell follow the published log-normal (TR 38.901 sigma_S): several
+        comparable points at random relative phases inside one cell would add a Rayleigh-like
+        beat (5.6 dB spread) on top (docs/rcs.md). Radars of finer resolution should use
+        their own cell.
     dither : bool
         Shift the ray grid by a random fraction of a step each frame (from `rng`), so a fixed
         grid does not alias with the actors' motion.
@@ -129,8 +133,8 @@ class RcsConfig:
         while weak distant guard-rail cells stop inflating K.
     clutter_merge_factor : float
         Guard-rail (clutter) merge cells are this many times larger in range and azimuth
-        (>= 1; default 2: one full resolution cell), since only their presence matters to
-        the metrics, not their exact shape; it keeps a rail's K near one per range cell.
+        (>= 1; default 1: the merge cell already is one resolution cell); only a rail's
+        presence matters to the metrics, not its exact shape.
     target_fluctuation : bool
         Draw each actor's per-frame log-normal factor (`ClassRcs.fluctuation_db`). Off: every
         actor has its class's mean RCS (pattern checks).
@@ -147,8 +151,8 @@ class RcsConfig:
 
     grid: RayGridConfig = field(default_factory=RayGridConfig)
     max_range_m: float = 260.0
-    merge_range_m: float = 0.66
-    merge_azimuth_deg: float = 4.8
+    merge_range_m: float = 1.32
+    merge_azimuth_deg: float = 9.6
     merge_elevation_deg: float = 20.0
     dither: bool = True
     centre_fluctuation_db: float = 1.0
@@ -159,7 +163,7 @@ class RcsConfig:
     multipath: bool = False
     guard_rail_reflectivity: float = 0.3
     cull_rcs_at_100m_m2: float = 3e-3
-    clutter_merge_factor: float = 2.0
+    clutter_merge_factor: float = 1.0
     target_fluctuation: bool = True
     ground_bounce: bool = False
     ground_reflection_coefficient: float = -1.0
@@ -287,16 +291,27 @@ def _merge(actor_key: np.ndarray, pos: np.ndarray, rcs: np.ndarray, cfg: RcsConf
            scale: np.ndarray | float = 1.0):
     """Merge points per (key, range, azimuth, elevation) cell: RCS summed, position weighted.
 
+    The cells of each key (actor) start at that actor's own nearest range, smallest azimuth
+    and lowest elevation, not on a grid fixed to the radar: a fixed grid cuts an actor at
+    whatever boundary happens to cross it (every actor straddles elevation 0 for a radar at
+    mid-height), and two halves of one face in adjacent cells then beat against each other in
+    the radar's coherent sum, a fluctuation the published RCS statistics do not contain.
     `scale` (per point) multiplies the range and azimuth cell sizes.
     Returns (first index of each cell (M,), position (M, 3), rcs (M,)).
     """
     r = np.linalg.norm(pos, axis=1)
-    ir = np.floor(r / (cfg.merge_range_m * scale)).astype(np.int64)
-    ia = np.floor(np.degrees(np.arctan2(pos[:, 1], pos[:, 0])) / (cfg.merge_azimuth_deg * scale)
-                  ).astype(np.int64) + 1000
-    ie = np.floor(np.degrees(np.arcsin(np.clip(pos[:, 2] / np.maximum(r, 1e-9), -1, 1)))
-                  / cfg.merge_elevation_deg).astype(np.int64) + 100
-    key = ((actor_key * 4096 + ir) * 2048 + ia) * 256 + ie
+    az = np.degrees(np.arctan2(pos[:, 1], pos[:, 0]))
+    el = np.degrees(np.arcsin(np.clip(pos[:, 2] / np.maximum(r, 1e-9), -1, 1)))
+    _, group = np.unique(actor_key, return_inverse=True)
+    lows = []
+    for v in (r, az, el):
+        low = np.full(group.max(initial=-1) + 1, np.inf)
+        np.minimum.at(low, group, v)
+        lows.append(low[group])
+    ir = np.floor((r - lows[0]) / (cfg.merge_range_m * scale)).astype(np.int64)
+    ia = np.floor((az - lows[1]) / (cfg.merge_azimuth_deg * scale)).astype(np.int64)
+    ie = np.floor((el - lows[2]) / cfg.merge_elevation_deg).astype(np.int64)
+    key = ((group * 4096 + ir) * 2048 + ia) * 256 + ie
     uniq, first, inv = np.unique(key, return_index=True, return_inverse=True)
     w = np.bincount(inv, weights=rcs, minlength=uniq.size)
     wsafe = np.where(w > 0, w, 1.0)

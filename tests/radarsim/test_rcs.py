@@ -48,11 +48,16 @@ def test_aspect_dependence_car():
     assert total[90.0] > 3 * total[0.0] > 6 * total[45.0]
 
 
-def test_car_gives_tens_of_scatterers():
+def test_car_gives_one_scatterer_per_radar_cell_it_covers():
+    """A quartering car at 20 m covers ~4 m of range and ~13 deg of azimuth: 3-4 range cells
+    of 1.32 m by 2 azimuth cells of 9.6 deg at most; head-on at 30 m its front is one cell."""
     sc = scene_scatterers(frame((0, "car", 20.0, 3.0, 60.0, 0, 0)), np.random.default_rng(0),
                           NO_CLUTTER)
-    assert 5 <= len(sc) <= 100
+    assert 2 <= len(sc) <= 8
     assert np.all(sc.actor_id == 0)
+    head_on = scene_scatterers(frame((0, "car", 30.0, 0.0, 180.0, 0, 0)),
+                               np.random.default_rng(0), NO_CLUTTER)
+    assert len(head_on) == 1
 
 
 def test_car_hidden_behind_truck_gets_no_scatterers():
