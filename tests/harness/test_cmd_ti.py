@@ -290,39 +290,18 @@ def test_process_takes_an_mmwave_studio_logfile_as_profile(tmp_path, capsys):
     assert "not a whole number of frames of 1048576 bytes" in capsys.readouterr().err
 
 
-def test_simulate_refuses_an_advanced_frame_profile(tmp_path, capsys):
+def test_simulate_then_process_an_advanced_frame_profile(tmp_path, fake_components, capsys):
+    """simulate writes each frame's sub-frames back to back (a sub-frame's own stream); process
+    reads them back: 2 frames x (131072 + 131072) bytes, every detection with a sub-frame."""
     from tests.radarsim.profiles import PROFILE_DIR
 
-    assert main(["simulate", "straight", "--cfg",
-                 str(PROFILE_DIR / "xwr68_advanced_subframes.cfg"),
-                 "--out", str(tmp_path / "s.bin")]) == 2
-    assert "advanced-frame profile (2 sub-frames) is not simulated" in capsys.readouterr().err
-
-
-@pytest.mark.parametrize("extend, expected_mps", [("0", 1.6 - 2 * 1.00068), ("1", 1.6),
-                                                  (None, 1.6 - 2 * 1.00068)])
-def test_process_velocity_extension_follows_extended_max_velocity(tmp_path, make_scene, extend,
-                                                                   expected_mps):
-    """Contract: a profile without extendedMaxVelocity (or with it off) is not
-    velocity-extended. IWR6843 2-Tx TDM, Vmax = lambda / (4 x 2 x 624.14 us) = 1.0007 m/s: a
-    reflector receding at 1.6 m/s is reported aliased at 1.6 - 2 Vmax = -0.40 m/s, or at
-    1.6 m/s with extendedMaxVelocity 1 (within one Doppler bin, 2 Vmax / 16 = 0.125 m/s)."""
-    from tests.radarsim.profiles import profile_text
-
-    text = profile_text("xwr68_tx13").replace("cfarFovCfg -1 1 -1 1.00\n", "")
-    text = text.replace("extendedMaxVelocity -1 0\n",
-                        "" if extend is None else f"extendedMaxVelocity -1 {extend}\n")
-    cfg_path = tmp_path / "p.cfg"
-    cfg_path.write_text(text)
-    prof = parse_ti_cfg(cfg_path)
-    scene = make_scene([(5.0, 0.0, 0.0, 1.6, 5.0)])
-    rng = np.random.default_rng(2)
-    cap = tmp_path / "adc_data.bin"
-    write_capture(cap, [radarsim.simulate_frame(prof.radar, scene, rng) for _ in range(2)],
-                  cfg=prof.radar)
-    out = tmp_path / "p.csv"
-    assert main(["process", str(cap), "--cfg", str(cfg_path), "--out", str(out),
-                 "--no-track"]) == 0
-    table = pd.read_csv(out)
-    best = table.loc[table["snr_db"].idxmax()]
-    assert abs(best["radial_velocity_mps"] - expected_mps) < 0.125
+    cfg = PROFILE_DIR / "xwr68_advanced_subframes.cfg"
+    out = tmp_path / "s.bin"
+    assert main(["simulate", "straight", "--cfg", str(cfg), "--out", str(out), "--frames",
+                 "2"]) == 0
+    assert "2 frame(s) of straight (seed 0, 2 sub-frames)" in capsys.readouterr().out
+    assert out.stat().st_size == 2 * (131072 + 131072)
+    pts = tmp_path / "p.csv"
+    assert main(["process", str(out), "--cfg", str(cfg), "--out", str(pts), "--no-track"]) == 0
+    table = pd.read_csv(pts)
+    assert set(table["frame"]) <= {0, 1} and set(table["subframe"]) <= {0, 1}
