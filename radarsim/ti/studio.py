@@ -23,7 +23,10 @@ Setup JSON (``*.mmwave.json``, what TI's ``rawDataReader.m`` reads)
     ``rlProfiles[].rlProfileCfg_t`` (``startFreqConst_GHz``, ``idleTimeConst_usec``, ...,
     ``freqSlopeConst_MHz_usec``, ``digOutSampleRate`` ksps), ``rlChirps[].rlChirpCfg_t``,
     ``rlFrameCfg_t`` (``framePeriodicity_msec``), and ``rawDataCaptureConfig``'s
-    ``rlDevDataFmtCfg_t.chInterleave``; ``mmWaveDevices`` with several entries is a cascade.
+    ``rlDevDataFmtCfg_t.chInterleave``; an advanced frame as ``rlAdvFrameCfg_t.frameSeq``
+    (``subFrameCfg[k].rlSubFrameCfg_t``, periods in ms; used when ``rlFrameCfg_t`` is absent
+    or ``waveformType`` names an advanced frame); ``mmWaveDevices`` with several entries is a
+    cascade.
 
 Both are turned into the equivalent CLI commands and read by `parse_ti_cfg` (one reader, one
 set of checks); an error names the LogFile line or the JSON key it came from. The chip comes
@@ -215,9 +218,11 @@ def parse_studio_json(path_or_text: str | os.PathLike, chip: str | None = None) 
         lines.append((f"chirpCfg {num(get(c, 'chirpStartIdx', w))} "
                       f"{num(get(c, 'chirpEndIdx', w))} {num(get(c, 'profileId', w))} 0 0 0 0 "
                       f"{num(get(c, 'txEnable', w))}", w))
-    if "rlAdvFrameCfg_t" in rf and "rlFrameCfg_t" not in rf:
-        raise _fail("setup JSON: rlAdvFrameCfg_t (advanced frame) setups are not read yet; "
-                    "give the equivalent advFrameCfg / subFrameCfg profile")
+    advanced = "rlAdvFrameCfg_t" in rf and (
+        "rlFrameCfg_t" not in rf or "advanced" in str(rf.get("waveformType", "")).lower())
+    if advanced:
+        lines += _json_advanced_frame(get(rf, "rlAdvFrameCfg_t", "rfConfig"), get, num)
+        return _parse_lines(lines, chip, "setup JSON", mode=3)
     f = get(rf, "rlFrameCfg_t", "rfConfig")
     w = "rfConfig.rlFrameCfg_t"
     lines.append((f"frameCfg {num(get(f, 'chirpStartIdx', w))} {num(get(f, 'chirpEndIdx', w))} "
@@ -226,17 +231,43 @@ def parse_studio_json(path_or_text: str | os.PathLike, chip: str | None = None) 
     return _parse_lines(lines, chip, "setup JSON")
 
 
+def _json_advanced_frame(adv: dict, get, num) -> list[tuple[str, str]]:
+    """``rlAdvFrameCfg_t`` (``frameSeq`` with ``subFrameCfg[k].rlSubFrameCfg_t``) as
+    advFrameCfg / subFrameCfg lines (`radarsim.ti.advanced`)."""
+    w = "rlAdvFrameCfg_t.frameSeq"
+    seq = get(adv, "frameSeq", "rlAdvFrameCfg_t")
+    subs = get(seq, "subFrameCfg", w)
+    n_sub = num(seq.get("numOfSubFrames", len(subs)))
+    out = [(f"advFrameCfg {n_sub} {num(seq.get('forceProfile', 0))} "
+            f"{num(get(seq, 'numFrames', w))} 1 0", w)]
+    for k, item in enumerate(subs[:n_sub]):
+        ws = f"{w}.subFrameCfg[{k}].rlSubFrameCfg_t"
+        s = get(item, "rlSubFrameCfg_t", f"{w}.subFrameCfg[{k}]")
+
+        def ms(key: str) -> str:
+            return fmt_decimal(Decimal(str(get(s, key, ws))))
+        out.append((f"subFrameCfg {k} {num(get(s, 'forceProfileIdx', ws))} "
+                    f"{num(get(s, 'chirpStartIdx', ws))} {num(get(s, 'numOfChirps', ws))} "
+                    f"{num(get(s, 'numLoops', ws))} {ms('burstPeriodicity_msec')} "
+                    f"{num(get(s, 'chirpStartIdxOffset', ws))} {num(get(s, 'numOfBurst', ws))} "
+                    f"{num(get(s, 'numOfBurstLoops', ws))} {ms('subFramePeriodicity_msec')}",
+                    ws))
+    return out
+
+
 def _json_chip(dev: dict) -> str | None:
     """A device name some setup writers add to the device entry (not TI's own field)."""
     val = dev.get("mmWaveDevice")
     return val if isinstance(val, str) and val else None
 
 
-def _parse_lines(lines: list[tuple[str, str]], chip: str | None, kind: str) -> TiProfile:
-    """Read the CLI lines made from a setup; an error names the setup line or key."""
+def _parse_lines(lines: list[tuple[str, str]], chip: str | None, kind: str,
+                 mode: int = 1) -> TiProfile:
+    """Read the CLI lines made from a setup (`mode`: dfeDataOutputMode, 3 for advanced
+    frames); an error names the setup line or key."""
     head = _chip_header(chip)
-    cli = head + ["sensorStop", "flushCfg", "dfeDataOutputMode 1"] + [s for s, _ in lines] + \
-        ["sensorStart"]
+    cli = head + ["sensorStop", "flushCfg", f"dfeDataOutputMode {mode}"] + \
+        [s for s, _ in lines] + ["sensorStart"]
     try:
         prof = parse_ti_cfg("\n".join(cli) + "\n")
     except ValueError as exc:

@@ -86,3 +86,32 @@ def test_cascade_json_is_refused(tmp_path):
     path.write_text(json.dumps(data, indent=1))
     with pytest.raises(ValueError, match=r"mmWaveDevices has 4 devices \(a cascade\)"):
         parse_setup(path)
+
+
+def test_setup_json_advanced_frame_gives_one_profile_per_subframe(tmp_path):
+    """rlAdvFrameCfg_t.frameSeq (the key names TI's JSON readers use): two sub-frames of the
+    JSON's chirps 0..1 (Tx1, Tx3) x 64 loops (128 x 160 us = 20.48 ms in a 25 ms burst and
+    sub-frame) and chirp 2 (Tx2) x 32 loops in 30 ms: frame 55 ms, sub-frame 1 at 25 ms."""
+    import json
+    data = json.loads(JSON.read_text())
+    rf = data["mmWaveDevices"][0]["rfConfig"]
+    del rf["rlFrameCfg_t"]
+    sub = {"forceProfileIdx": 0, "chirpStartIdxOffset": 0, "numOfBurst": 1,
+           "numOfBurstLoops": 1}
+    rf["rlAdvFrameCfg_t"] = {"frameSeq": {
+        "numOfSubFrames": 2, "forceProfile": 0, "numFrames": 4, "triggerSelect": 1,
+        "frameTrigDelay_usec": 0,
+        "subFrameCfg": [
+            {"rlSubFrameCfg_t": {**sub, "chirpStartIdx": 0, "numOfChirps": 2, "numLoops": 64,
+                                 "burstPeriodicity_msec": 25.0,
+                                 "subFramePeriodicity_msec": 25.0}},
+            {"rlSubFrameCfg_t": {**sub, "chirpStartIdx": 2, "numOfChirps": 1, "numLoops": 32,
+                                 "burstPeriodicity_msec": 30.0,
+                                 "subFramePeriodicity_msec": 30.0}}]}}
+    path = tmp_path / "adv.mmwave.json"
+    path.write_text(json.dumps(data, indent=1))
+    prof = parse_studio_json(path, chip="AWR1243")
+    assert prof.is_advanced and prof.frame_period_s == pytest.approx(0.055)
+    s0, s1 = prof.subframes
+    assert (s0.radar.n_tx, s0.radar.n_chirps, s1.radar.n_tx, s1.radar.n_chirps) == (2, 128, 1, 32)
+    assert s1.radar.tx_channels == (2,) and s1.subframe_start_s == pytest.approx(0.025)
