@@ -297,12 +297,13 @@ def _merge(actor_key: np.ndarray, pos: np.ndarray, rcs: np.ndarray, cfg: RcsConf
     mid-height), and two halves of one face in adjacent cells then beat against each other in
     the radar's coherent sum, a fluctuation the published RCS statistics do not contain.
     `scale` (per point) multiplies the range and azimuth cell sizes.
+    `actor_key` (P,) holds non-negative integers (box indices).
     Returns (first index of each cell (M,), position (M, 3), rcs (M,)).
     """
     r = np.linalg.norm(pos, axis=1)
     az = np.degrees(np.arctan2(pos[:, 1], pos[:, 0]))
     el = np.degrees(np.arcsin(np.clip(pos[:, 2] / np.maximum(r, 1e-9), -1, 1)))
-    _, group = np.unique(actor_key, return_inverse=True)
+    group = np.asarray(actor_key, dtype=np.int64)   # box indices: 0 <= key < B
     lows = []
     for v in (r, az, el):
         low = np.full(group.max(initial=-1) + 1, np.inf)
