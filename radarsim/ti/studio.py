@@ -72,6 +72,24 @@ def _fail(msg: str) -> ValueError:
     return ValueError(msg)
 
 
+def _get(obj: Any, key: str, where: str) -> Any:
+    """``obj[key]`` of a setup JSON, or a ValueError naming the missing key."""
+    try:
+        return obj[key]
+    except (KeyError, TypeError):
+        raise _fail(f"setup JSON: missing {where}.{key}") from None
+
+
+def _num(x: Any) -> int:
+    """A JSON integer, or a "0x..." hex string as Studio writes masks and codes."""
+    return int(x, 16) if isinstance(x, str) and x.lower().startswith("0x") else int(x)
+
+
+def _dec(obj: Any, key: str, where: str) -> str:
+    """A JSON number as exact decimal text (no float rounding on the way to the reader)."""
+    return fmt_decimal(Decimal(str(_get(obj, key, where))))
+
+
 def _chip_header(chip: str | None) -> list[str]:
     return [f"% Platform:{chip}"] if chip else []
 
@@ -170,89 +188,87 @@ def parse_studio_json(path_or_text: str | os.PathLike, chip: str | None = None) 
         raise _fail(f"setup JSON: mmWaveDevices has {len(devices)} devices (a cascade); a "
                     "cascade of chips has no single-chip RadarConfig")
     chip = chip or _json_chip(dev)
-    lines: list[tuple[str, str]] = []
-
-    def get(obj: Any, key: str, where: str) -> Any:
-        try:
-            return obj[key]
-        except (KeyError, TypeError):
-            raise _fail(f"setup JSON: missing {where}.{key}") from None
-
-    def num(x: Any) -> int:
-        return int(x, 16) if isinstance(x, str) and x.lower().startswith("0x") else int(x)
-
-    ch = get(rf, "rlChanCfg_t", "rfConfig")
-    lines.append((f"channelCfg {num(get(ch, 'rxChannelEn', 'rlChanCfg_t'))} "
-                  f"{num(get(ch, 'txChannelEn', 'rlChanCfg_t'))} 0", "rfConfig.rlChanCfg_t"))
-    fmt = get(get(rf, "rlAdcOutCfg_t", "rfConfig"), "fmt", "rlAdcOutCfg_t")
-    lines.append((f"adcCfg {num(get(fmt, 'b2AdcBits', 'fmt'))} "
-                  f"{num(get(fmt, 'b2AdcOutFmt', 'fmt'))}", "rfConfig.rlAdcOutCfg_t"))
-    data_fmt = (dev.get("rawDataCaptureConfig") or {}).get("rlDevDataFmtCfg_t")
-    if isinstance(data_fmt, dict) and "chInterleave" in data_fmt:
-        real = 1 if num(get(fmt, "b2AdcOutFmt", "fmt")) == 0 else 0
-        lines.append((f"adcbufCfg -1 {real} {num(data_fmt.get('iqSwapSel', 0))} "
-                      f"{num(data_fmt['chInterleave'])} 1", "rlDevDataFmtCfg_t"))
-    for k, item in enumerate(get(rf, "rlProfiles", "rfConfig")):
-        p = get(item, "rlProfileCfg_t", f"rlProfiles[{k}]")
-        w = f"rlProfiles[{k}].rlProfileCfg_t"
-
-        def d(key: str) -> str:
-            return fmt_decimal(Decimal(str(get(p, key, w))))
-        lines.append((f"profileCfg {num(get(p, 'profileId', w))} {d('startFreqConst_GHz')} "
-                      f"{d('idleTimeConst_usec')} {d('adcStartTimeConst_usec')} "
-                      f"{d('rampEndTime_usec')} {num(get(p, 'txOutPowerBackoffCode', w))} "
-                      f"{num(get(p, 'txPhaseShifter', w))} {d('freqSlopeConst_MHz_usec')} "
-                      f"{d('txStartTime_usec')} {num(get(p, 'numAdcSamples', w))} "
-                      f"{int(Decimal(str(get(p, 'digOutSampleRate', w))))} "
-                      f"{num(get(p, 'hpfCornerFreq1', w))} {num(get(p, 'hpfCornerFreq2', w))} "
-                      f"{num(get(p, 'rxGain_dB', w))}", w))
-    for k, item in enumerate(get(rf, "rlChirps", "rfConfig")):
-        c = get(item, "rlChirpCfg_t", f"rlChirps[{k}]")
-        w = f"rlChirps[{k}].rlChirpCfg_t"
-        var = [Decimal(str(c.get(key, 0))) for key in ("startFreqVar_MHz",
-                                                       "freqSlopeVar_KHz_usec",
-                                                       "idleTimeVar_usec",
-                                                       "adcStartTimeVar_usec")]
-        if any(var):
-            raise _fail(f"setup JSON {w}: per-chirp variations are not modelled; use 0")
-        lines.append((f"chirpCfg {num(get(c, 'chirpStartIdx', w))} "
-                      f"{num(get(c, 'chirpEndIdx', w))} {num(get(c, 'profileId', w))} 0 0 0 0 "
-                      f"{num(get(c, 'txEnable', w))}", w))
-    advanced = "rlAdvFrameCfg_t" in rf and (
-        "rlFrameCfg_t" not in rf or "advanced" in str(rf.get("waveformType", "")).lower())
-    if advanced:
-        lines += _json_advanced_frame(get(rf, "rlAdvFrameCfg_t", "rfConfig"), get, num)
+    lines = _json_channels(rf, dev) + _json_chirps(rf)
+    if "rlAdvFrameCfg_t" in rf and ("rlFrameCfg_t" not in rf
+                                    or "advanced" in str(rf.get("waveformType", "")).lower()):
+        lines += _json_advanced_frame(_get(rf, "rlAdvFrameCfg_t", "rfConfig"))
         return _parse_lines(lines, chip, "setup JSON", mode=3)
-    f = get(rf, "rlFrameCfg_t", "rfConfig")
+    f = _get(rf, "rlFrameCfg_t", "rfConfig")
     w = "rfConfig.rlFrameCfg_t"
-    lines.append((f"frameCfg {num(get(f, 'chirpStartIdx', w))} {num(get(f, 'chirpEndIdx', w))} "
-                  f"{num(get(f, 'numLoops', w))} {num(get(f, 'numFrames', w))} "
-                  f"{fmt_decimal(Decimal(str(get(f, 'framePeriodicity_msec', w))))} 1 0", w))
+    counts = " ".join(str(_num(_get(f, key, w)))
+                      for key in ("chirpStartIdx", "chirpEndIdx", "numLoops", "numFrames"))
+    lines.append((f"frameCfg {counts} {_dec(f, 'framePeriodicity_msec', w)} 1 0", w))
     return _parse_lines(lines, chip, "setup JSON")
 
 
-def _json_advanced_frame(adv: dict, get, num) -> list[tuple[str, str]]:
+def _json_channels(rf: dict, dev: dict) -> list[tuple[str, str]]:
+    """channelCfg, adcCfg, adcbufCfg (from ``rawDataCaptureConfig``) and the profiles."""
+    ch = _get(rf, "rlChanCfg_t", "rfConfig")
+    out = [(f"channelCfg {_num(_get(ch, 'rxChannelEn', 'rlChanCfg_t'))} "
+            f"{_num(_get(ch, 'txChannelEn', 'rlChanCfg_t'))} 0", "rfConfig.rlChanCfg_t")]
+    fmt = _get(_get(rf, "rlAdcOutCfg_t", "rfConfig"), "fmt", "rlAdcOutCfg_t")
+    adc_fmt = _num(_get(fmt, "b2AdcOutFmt", "fmt"))
+    out.append((f"adcCfg {_num(_get(fmt, 'b2AdcBits', 'fmt'))} {adc_fmt}",
+                "rfConfig.rlAdcOutCfg_t"))
+    data_fmt = (dev.get("rawDataCaptureConfig") or {}).get("rlDevDataFmtCfg_t")
+    if isinstance(data_fmt, dict) and "chInterleave" in data_fmt:
+        out.append((f"adcbufCfg -1 {1 if adc_fmt == 0 else 0} "
+                    f"{_num(data_fmt.get('iqSwapSel', 0))} {_num(data_fmt['chInterleave'])} 1",
+                    "rlDevDataFmtCfg_t"))
+    for k, item in enumerate(_get(rf, "rlProfiles", "rfConfig")):
+        out.append(_json_profile(_get(item, "rlProfileCfg_t", f"rlProfiles[{k}]"),
+                                 f"rlProfiles[{k}].rlProfileCfg_t"))
+    return out
+
+
+def _json_chirps(rf: dict) -> list[tuple[str, str]]:
+    """One chirpCfg per ``rlChirps[k].rlChirpCfg_t`` (per-chirp variations refused)."""
+    out = []
+    for k, item in enumerate(_get(rf, "rlChirps", "rfConfig")):
+        c = _get(item, "rlChirpCfg_t", f"rlChirps[{k}]")
+        w = f"rlChirps[{k}].rlChirpCfg_t"
+        if any(Decimal(str(c.get(key, 0))) for key in (
+                "startFreqVar_MHz", "freqSlopeVar_KHz_usec", "idleTimeVar_usec",
+                "adcStartTimeVar_usec")):
+            raise _fail(f"setup JSON {w}: per-chirp variations are not modelled; use 0")
+        idx = " ".join(str(_num(_get(c, key, w)))
+                       for key in ("chirpStartIdx", "chirpEndIdx", "profileId"))
+        out.append((f"chirpCfg {idx} 0 0 0 0 {_num(_get(c, 'txEnable', w))}", w))
+    return out
+
+
+def _json_advanced_frame(adv: dict) -> list[tuple[str, str]]:
     """``rlAdvFrameCfg_t`` (``frameSeq`` with ``subFrameCfg[k].rlSubFrameCfg_t``) as
     advFrameCfg / subFrameCfg lines (`radarsim.ti.advanced`)."""
     w = "rlAdvFrameCfg_t.frameSeq"
-    seq = get(adv, "frameSeq", "rlAdvFrameCfg_t")
-    subs = get(seq, "subFrameCfg", w)
-    n_sub = num(seq.get("numOfSubFrames", len(subs)))
-    out = [(f"advFrameCfg {n_sub} {num(seq.get('forceProfile', 0))} "
-            f"{num(get(seq, 'numFrames', w))} 1 0", w)]
+    seq = _get(adv, "frameSeq", "rlAdvFrameCfg_t")
+    subs = _get(seq, "subFrameCfg", w)
+    n_sub = _num(seq.get("numOfSubFrames", len(subs)))
+    out = [(f"advFrameCfg {n_sub} {_num(seq.get('forceProfile', 0))} "
+            f"{_num(_get(seq, 'numFrames', w))} 1 0", w)]
+    keys = ("forceProfileIdx", "chirpStartIdx", "numOfChirps", "numLoops")
     for k, item in enumerate(subs[:n_sub]):
         ws = f"{w}.subFrameCfg[{k}].rlSubFrameCfg_t"
-        s = get(item, "rlSubFrameCfg_t", f"{w}.subFrameCfg[{k}]")
-
-        def ms(key: str) -> str:
-            return fmt_decimal(Decimal(str(get(s, key, ws))))
-        out.append((f"subFrameCfg {k} {num(get(s, 'forceProfileIdx', ws))} "
-                    f"{num(get(s, 'chirpStartIdx', ws))} {num(get(s, 'numOfChirps', ws))} "
-                    f"{num(get(s, 'numLoops', ws))} {ms('burstPeriodicity_msec')} "
-                    f"{num(get(s, 'chirpStartIdxOffset', ws))} {num(get(s, 'numOfBurst', ws))} "
-                    f"{num(get(s, 'numOfBurstLoops', ws))} {ms('subFramePeriodicity_msec')}",
-                    ws))
+        s = _get(item, "rlSubFrameCfg_t", f"{w}.subFrameCfg[{k}]")
+        head = " ".join(str(_num(_get(s, key, ws))) for key in keys)
+        bursts = " ".join(str(_num(_get(s, key, ws)))
+                          for key in ("chirpStartIdxOffset", "numOfBurst", "numOfBurstLoops"))
+        out.append((f"subFrameCfg {k} {head} {_dec(s, 'burstPeriodicity_msec', ws)} {bursts} "
+                    f"{_dec(s, 'subFramePeriodicity_msec', ws)}", ws))
     return out
+
+
+def _json_profile(p: dict, w: str) -> tuple[str, str]:
+    """One ``rlProfileCfg_t`` (times in us, GHz, MHz/us, ksps) as a profileCfg line."""
+    ints = [_num(_get(p, key, w)) for key in ("profileId", "txOutPowerBackoffCode",
+                                               "txPhaseShifter", "numAdcSamples",
+                                               "hpfCornerFreq1", "hpfCornerFreq2", "rxGain_dB")]
+    return (f"profileCfg {ints[0]} {_dec(p, 'startFreqConst_GHz', w)} "
+            f"{_dec(p, 'idleTimeConst_usec', w)} {_dec(p, 'adcStartTimeConst_usec', w)} "
+            f"{_dec(p, 'rampEndTime_usec', w)} {ints[1]} {ints[2]} "
+            f"{_dec(p, 'freqSlopeConst_MHz_usec', w)} {_dec(p, 'txStartTime_usec', w)} "
+            f"{ints[3]} {int(Decimal(str(_get(p, 'digOutSampleRate', w))))} "
+            f"{ints[4]} {ints[5]} {ints[6]}", w)
 
 
 def _json_chip(dev: dict) -> str | None:
