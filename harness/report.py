@@ -173,9 +173,9 @@ def _maps(cell_spec: dict, frame: int, det: pd.DataFrame):
         n_d = rd.shape[1]
         rd = np.fft.fftshift(rd, axes=1)
         ax = axes[0, col]
-        # The chain's own Doppler axis spans the scheme's unambiguous velocity: all chirps at
-        # Tc for DDMA, one slot per code period for TDMA/BPM.
-        vmax = cfg.wavelength_m / (4 * cfg.chirp_period_s * (cfg.n_chirps // n_d))
+        # The chain's own Doppler axis spans one Tx's slow-time sequence: all chirps at Tc for
+        # DDMA, one slot per code period for TDMA/BPM, the fast set's slots for fast/slow.
+        vmax = cfg.wavelength_m / (4 * cfg.scheme.slow_time_period_s(cfg))
         ax.imshow(rd, aspect="auto", origin="lower", cmap="viridis",
                   extent=[vmax, -vmax, 0, cfg.max_range_m],
                   vmin=np.percentile(rd, 50), vmax=rd.max())

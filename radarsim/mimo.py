@@ -123,6 +123,9 @@ class MimoScheme:
     description: str
     #: True if the scheme programs per-chirp Tx phases (chips without shifters cannot run it).
     needs_phase_shifter: ClassVar[bool] = False
+    #: ADC frames the receiver needs before it reports an unfolded velocity (every scheme here
+    #: unfolds within one frame; a frame-alternating fast/slow design, TI's TIDUF76, needs 2).
+    latency_frames: ClassVar[int] = 1
 
     # ------------------------------------------------------------------ configuration
     def default_n_subbands(self, n_tx: int) -> int:

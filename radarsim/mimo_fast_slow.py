@@ -231,11 +231,17 @@ class FastSlowScheme(TdmaScheme):
 
     # ------------------------------------------------------------------ TI CLI
     def to_ti(self, cfg, n_tx_chip):
-        raise ValueError(f"mimo={self.name!r} has no TI mmWave SDK CLI form (two chirp "
-                         "periods need two profiles or an advanced frame)")
+        """No single ``frameCfg`` loop: two chirp periods need two profiles, which
+        `radarsim.ti.to_ti_cfg` writes as an advanced frame of two sub-frames
+        (`radarsim.ti.fast_slow`)."""
+        raise ValueError(f"mimo={self.name!r} has no TI mmWave SDK CLI form as one frameCfg "
+                         "loop (two chirp periods: radarsim.ti.to_ti_cfg writes an advanced "
+                         "frame of two sub-frames)")
 
     def from_ti(self, tx_masks, n_tx, tx_mask, ddm_order):
-        return None  # a one-profile loop is never a fast/slow frame
+        """A one-profile loop is never a fast/slow frame (`radarsim.ti.fast_slow.pair_radar`
+        reads the two-sub-frame form)."""
+        return None
 
 
 register_scheme(FastSlowScheme(

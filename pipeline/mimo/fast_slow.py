@@ -18,8 +18,9 @@ the seed's eight steps for every fast peak:
 8. Its velocity is the detection's. A peak without a survivor keeps its aliased fast-set
    velocity, as TI's SRR demo does.
 
-A slow peak is given to one fast peak at most (TI's demo consumes it once associated; here
-an optimal assignment where two peaks of a range bin claim the same one).
+A slow peak is given to one fast peak at most (TI's demo consumes it once associated; here,
+where two peaks of a range bin claim the same one, an optimal assignment on the spatial
+coherence of the fast and slow array samples, `resolve_claims`).
 
 Association is per peak, so targets in one range cell unfold independently. The angle comes
 from the fast set's virtual array with the TDMA slot phase removed at the unfolded velocity
@@ -50,7 +51,7 @@ from ..stages import RangeDopplerHits, array_dft, empty_cloud, hypothesis_cloud,
 from .base import DetectionMap, DopplerAzimuth, MimoChain, register_chain
 
 __all__ = ["FastSlowMaps", "FastSlowChain", "fast_slow_maps", "Unfolding", "unfold_peaks",
-           "slow_bin_of"]
+           "resolve_claims", "slow_bin_of"]
 
 
 class FastSlowMaps(NamedTuple):
@@ -61,14 +62,15 @@ class FastSlowMaps(NamedTuple):
     fast_power, slow_power : (n_range, n_dop) float32
         Non-coherent range-Doppler map of each set, summed over the n_tx x n_rx slot channels
         (n_virtual looks per cell).
-    fast_virt : (n_range, n_dop, n_tx x n_rx) complex64
-        The fast set's per-slot Doppler spectra, slot-major (`tx_order`), before the slot
+    fast_virt, slow_virt : (n_range, n_dop, n_tx x n_rx) complex64
+        Each set's per-slot Doppler spectra, slot-major (`tx_order`), before the slot
         Doppler-phase compensation.
     """
 
     fast_power: np.ndarray
     slow_power: np.ndarray
     fast_virt: np.ndarray
+    slow_virt: np.ndarray
 
 
 def _set_spectra(rf: np.ndarray, n_tx: int, win: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -96,8 +98,8 @@ def fast_slow_maps(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) ->
     rf = range_stage(cfg, adc, proc)  # (C, R, B): chirp-level chain + range FFT
     win = window(WINDOWS[proc.doppler_window], sets.n_doppler_bins)
     fast_virt, fast_power = _set_spectra(rf[sets.fast], cfg.n_tx, win)
-    _, slow_power = _set_spectra(rf[sets.slow], cfg.n_tx, win)
-    return FastSlowMaps(fast_power, slow_power, fast_virt)
+    slow_virt, slow_power = _set_spectra(rf[sets.slow], cfg.n_tx, win)
+    return FastSlowMaps(fast_power, slow_power, fast_virt, slow_virt)
 
 
 def slow_bin_of(velocity_mps: np.ndarray, wavelength_m: float, slot_period_s: float,
@@ -154,74 +156,79 @@ class Unfolding(NamedTuple):
         return self.candidates_mps[np.arange(self.best.size), self.best]
 
 
-#: Cost of a fast peak left without a slow peak in `_exclusive_choice`: above any
-#: -log10(relative power) a float32 map can produce.
+#: Cost of a fast peak left without a slow peak in `resolve_claims` (costs are 1 - coherence,
+#: in [0, 1]).
 _UNMATCHED_COST = 1e6
 
 
-def _exclusive_choice(range_bin: np.ndarray, unf_key: np.ndarray, score: np.ndarray,
-                      passed: np.ndarray, best: np.ndarray,
-                      associated: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def resolve_claims(unf: "Unfolding", range_bin: np.ndarray,
+                   coherence: np.ndarray) -> "Unfolding":
     """Give each slow peak to one fast peak at most.
 
-    Where the per-peak choice (`best`) lets two fast peaks of one range bin claim the same slow
-    peak (`unf_key`: range bin x n_dop + slow bin), the peaks of those range bins are matched to
-    slow peaks by an optimal assignment (`scipy.optimize.linear_sum_assignment`): as many
-    peaks as possible associated, then the largest total log power of the claimed slow peaks.
-    Peaks left over fall back to no association. TI's SRR ``disambiguateVel`` reaches the same
-    exclusivity greedily, zeroing a slow peak once a fast peak has taken it.
+    Where the per-peak choice lets two fast peaks of one range bin claim the same slow peak
+    (two targets in one range cell, one's candidate landing on the other's slow alias: the
+    swapped pairing then explains both maps equally well, since a candidate k spans away lands
+    on the other's alias exactly when the other's -k candidate lands on its), the peaks of that
+    range bin are matched to slow peaks by an optimal assignment
+    (`scipy.optimize.linear_sum_assignment`): as many peaks as possible associated, then the
+    largest total spatial coherence between each fast peak and the slow peak it takes (the
+    same target has the same array signature in both sets; another target at another azimuth
+    does not). Peaks left over are not associated. TI's SRR ``disambiguateVel`` reaches the
+    exclusivity greedily (a slow peak is zeroed once taken) and cannot undo a swap.
 
     Parameters
     ----------
+    unf : Unfolding
+        The per-peak result of `unfold_peaks`.
     range_bin : (n,) int
-    unf_key : (n, H) int
-        Slow peak each candidate claims.
-    score : (n, H) float
-        log10 of each candidate's slow peak.
-    passed : (n, H) bool
-    best : (n,) int
-    associated : (n,) bool
+        Range bin of each fast peak.
+    coherence : (n, H) float
+        |x_f^H x_s|^2 / (|x_f|^2 |x_s|^2) of each candidate's fast and slow array samples, each
+        with its slot phases removed at the candidate velocity, in [0, 1].
 
     Returns
     -------
-    best, associated : (n,) int, (n,) bool
+    Unfolding
+        With `best` and `associated` updated.
     """
-    rows = np.arange(best.size)
-    chosen = unf_key[rows, best]
-    keys, inverse, counts = np.unique(chosen[associated], return_inverse=True,
-                                      return_counts=True)
+    n_dop = int(unf.slow_bin.max()) + 1 if unf.slow_bin.size else 1
+    key = range_bin[:, None] * n_dop + unf.slow_bin  # the slow peak each candidate claims
+    rows = np.arange(unf.best.size)
+    assoc, best = unf.associated, unf.best
+    chosen = key[rows, best]
+    _, inverse, counts = np.unique(chosen[assoc], return_inverse=True, return_counts=True)
     if not np.any(counts > 1):
-        return best, associated
-    clash_bins = np.unique(range_bin[associated][counts[inverse] > 1])
-    involved = np.flatnonzero(associated & np.isin(range_bin, clash_bins))
-    pi, ph = np.nonzero(passed[involved])
-    cols, col_of = np.unique(unf_key[involved][pi, ph], return_inverse=True)
+        return unf
+    clash_bins = np.unique(range_bin[assoc][counts[inverse] > 1])
+    involved = np.flatnonzero(assoc & np.isin(range_bin, clash_bins))
+    passed = unf.passed[involved]
+    pi, ph = np.nonzero(passed)
+    cols, col_of = np.unique(key[involved][pi, ph], return_inverse=True)
     cost = np.full((involved.size, cols.size), _UNMATCHED_COST)
-    top = score[involved][pi, ph].max()
-    # Several candidates of one peak may claim one slow peak: keep the cheapest.
-    np.minimum.at(cost, (pi, col_of), top - score[involved][pi, ph])
+    # Several candidates of one peak may claim one slow peak: keep the most coherent.
+    np.minimum.at(cost, (pi, col_of), 1.0 - coherence[involved][pi, ph])
     r, c = linear_sum_assignment(cost)
-    best, associated = best.copy(), associated.copy()
-    associated[involved] = False
+    best, assoc = best.copy(), assoc.copy()
+    assoc[involved] = False
     ok = cost[r, c] < _UNMATCHED_COST
     peak = involved[r[ok]]
-    associated[peak] = True
-    # The candidate of that peak claiming the assigned slow peak (the strongest if several).
-    claim = (unf_key[peak] == cols[c[ok]][:, None]) & passed[peak]
-    best[peak] = np.argmax(np.where(claim, score[peak], -np.inf), axis=1)
-    return best, associated
+    assoc[peak] = True
+    claim = (key[peak] == cols[c[ok]][:, None]) & unf.passed[peak]
+    best[peak] = np.argmax(np.where(claim, coherence[peak], -np.inf), axis=1)
+    best = np.where(assoc, best, unf.native)
+    return unf._replace(best=best, associated=assoc)
 
 
-def unfold_peaks(v_fast_mps: np.ndarray, fast_peak: np.ndarray, slow_rows: np.ndarray,
-                 range_bin: np.ndarray, *, native_vmax_mps: float, unfold_factor: int,
+def unfold_peaks(v_fast_mps: np.ndarray, fast_peak: np.ndarray, slow_rows: np.ndarray, *,
+                 native_vmax_mps: float, unfold_factor: int,
                  wavelength_m: float, slow_slot_period_s: float, threshold_db: float,
                  search_bins: int) -> Unfolding:
     """Steps 3-7 of seed 001's fast/slow algorithm for n fast-set peaks at once.
 
     Each candidate Vel_fast + 2 k Vmax_fast inside the span looks up the slow map's largest
     value within +/- `search_bins` of its own aliased bin; it survives if that value is within
-    `threshold_db` of the fast peak; the survivor with the largest slow value wins. A slow
-    peak goes to one fast peak at most (`_exclusive_choice`). A fast peak without a surviving
+    `threshold_db` of the fast peak; the survivor with the largest slow value wins (two
+    fast peaks may still claim one slow peak: `resolve_claims`). A fast peak without a surviving
     candidate keeps its own aliased velocity, as TI's SRR demo does ("always allow the
     detections to go through even if the disambiguation process fails"), and is flagged
     not `associated`.
@@ -234,8 +241,6 @@ def unfold_peaks(v_fast_mps: np.ndarray, fast_peak: np.ndarray, slow_rows: np.nd
         PeakVal_fast, the fast map's power at the peak.
     slow_rows : (n, n_dop) float
         The slow map's Doppler row at each peak's range bin.
-    range_bin : (n,) int
-        Each peak's range bin (peaks of one bin compete for its slow peaks).
     native_vmax_mps : float
         Vmax_fast = lambda / (4 Nt T_f), m/s.
     unfold_factor : int
@@ -268,16 +273,12 @@ def unfold_peaks(v_fast_mps: np.ndarray, fast_peak: np.ndarray, slow_rows: np.nd
     at = np.argmax(window, axis=-1)
     slow_peak = np.take_along_axis(window, at[..., None], axis=-1)[..., 0]
     slow_bin = np.take_along_axis(cols, at[..., None], axis=-1)[..., 0]
-    score = np.log10(np.maximum(slow_peak, 1e-30))
-    ratio_db = 10 * (score - np.log10(np.maximum(fast_peak, 1e-30))[:, None])
+    ratio_db = 10 * np.log10(np.maximum(slow_peak, 1e-30)
+                             / np.maximum(fast_peak, 1e-30)[:, None])
     passed = valid & (np.abs(ratio_db) <= threshold_db)
     associated = passed.any(axis=1)
     best = np.where(associated, np.argmax(np.where(passed, slow_peak, -np.inf), axis=1),
                     native)
-    if n > 1:
-        best, associated = _exclusive_choice(range_bin, range_bin[:, None] * n_dop + slow_bin,
-                                             score, passed, best, associated)
-        best = np.where(associated, best, native)
     return Unfolding(cand, valid, slow_peak, slow_bin, passed, best, associated, native)
 
 
@@ -294,12 +295,29 @@ class FastSlowChain(MimoChain):
         r, d = hits.range_bin, hits.doppler_bin
         d_signed = (d + hits.doppler_offset + n_dop / 2) % n_dop - n_dop / 2
         v_fast = -d_signed / (n_dop * cfg.n_tx * sets.fast_period_s) * cfg.wavelength_m / 2
-        return unfold_peaks(v_fast, maps.fast_power[r, d], maps.slow_power[r], r,
+        unf = unfold_peaks(v_fast, maps.fast_power[r, d], maps.slow_power[r],
                             native_vmax_mps=sch.native_max_velocity_mps(cfg),
                             unfold_factor=sch.unfold_factor, wavelength_m=cfg.wavelength_m,
                             slow_slot_period_s=cfg.n_tx * sets.slow_period_s,
                             threshold_db=proc.fast_slow_threshold_db,
                             search_bins=proc.fast_slow_search_bins)
+        if r.size < 2:
+            return unf
+        return resolve_claims(unf, r, self._coherence(cfg, maps, r, d, unf, sets))
+
+    def _coherence(self, cfg: RadarConfig, maps: FastSlowMaps, r: np.ndarray, d: np.ndarray,
+                   unf: Unfolding, sets) -> np.ndarray:
+        """(n, H) spatial coherence of each candidate: the fast peak's and the claimed slow
+        peak's slot samples, each with its set's slot phases removed at the candidate."""
+        n, n_h = unf.candidates_mps.shape
+        v = unf.candidates_mps.ravel()
+        x_f = self._compensated(cfg, np.repeat(maps.fast_virt[r, d], n_h, axis=0), v,
+                                sets.fast_period_s)
+        x_s = self._compensated(cfg, maps.slow_virt[np.repeat(r, n_h), unf.slow_bin.ravel()],
+                                v, sets.slow_period_s)
+        num = np.abs(np.sum(np.conj(x_f) * x_s, axis=-1)) ** 2
+        den = np.sum(np.abs(x_f) ** 2, axis=-1) * np.sum(np.abs(x_s) ** 2, axis=-1)
+        return (num / np.maximum(den, 1e-30)).reshape(n, n_h)
 
     def process(self, cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) -> pd.DataFrame:
         sets = cfg.scheme.chirp_sets(cfg)

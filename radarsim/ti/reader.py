@@ -14,7 +14,7 @@ from scenarios.fileio import read_input_bytes
 
 from ..chips import Chip, get_chip
 from ..config import RadarConfig
-from . import advanced
+from . import advanced, fast_slow
 from .advanced import MAX_SUBFRAMES
 from .chip_inference import infer_chip
 from .commands import MODELLED_COMMANDS, TI_COMMANDS
@@ -356,5 +356,8 @@ def _relabel(exc: Exception, lines: Mapping[str, Line], st: ParseState) -> Value
 
 
 def from_ti_cfg(path_or_text: str | os.PathLike) -> RadarConfig:
-    """`RadarConfig` of a TI mmWave SDK .cfg (path or text); see `parse_ti_cfg`."""
-    return parse_ti_cfg(path_or_text).radar
+    """`RadarConfig` of a TI mmWave SDK .cfg (path or text); see `parse_ti_cfg`. An advanced
+    frame whose two sub-frames are a fast/slow chirp pair is one fast/slow radar
+    (`radarsim.ti.fast_slow.pair_radar`); any other advanced frame gives sub-frame 0's."""
+    profile = parse_ti_cfg(path_or_text)
+    return fast_slow.pair_radar(profile) or profile.radar

@@ -10,6 +10,7 @@ from ..chips import ADC_MODES
 from ..config import RadarConfig
 from .families import DEMO_FAMILIES
 from .profile import DEFAULT_FRAME_PERIOD_S, TiCfar, TiProfile
+from . import fast_slow
 from .reader import parse_ti_cfg
 from .state import TI_DEFAULT_OVERRIDES, TI_FIELDS
 from .syntax import fmt_decimal
@@ -104,6 +105,13 @@ def to_ti_cfg(cfg: RadarConfig | TiProfile, *, frame_period_s: float | None = No
     profile = cfg if isinstance(cfg, TiProfile) else None
     if profile is not None and profile.is_advanced:
         return _advanced_text(profile, n_frames, extra_lines, comments)
+    pair = None if profile else fast_slow.advanced_profile(cfg, frame_period_s, n_frames or 0)
+    if pair is not None:  # two chirp periods: an advanced frame of two sub-frames
+        text = _advanced_text(pair, n_frames, extra_lines, comments)
+        if fast_slow.pair_radar(parse_ti_cfg(text)) != cfg:
+            raise ValueError(f"mimo={cfg.mimo!r}: idle times {cfg.scheme.idle_times_s(cfg)} s "
+                             "do not survive TI's 10 ns idle-time grid as this scheme's pair")
+        return text
     radar = profile.radar if profile else cfg
     if frame_period_s is None:
         frame_period_s = profile.frame_period_s if profile else DEFAULT_FRAME_PERIOD_S

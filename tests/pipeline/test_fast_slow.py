@@ -57,7 +57,7 @@ def test_noiseless_candidates_unfold_every_velocity_of_the_span(cfg):
     b = slow_bin_of(v, cfg.wavelength_m, cfg.n_tx * sets.slow_period_s, n_dop)
     dist = np.abs((np.arange(n_dop)[None, :] - b[:, None] + n_dop / 2) % n_dop - n_dop / 2)
     rows = np.where(dist < 2, np.cos(np.pi * dist / 4) ** 2, 0.0)  # main lobe only
-    unf = unfold_peaks(v_fast, rows.max(axis=1), rows, np.arange(v.size), native_vmax_mps=v_f,
+    unf = unfold_peaks(v_fast, rows.max(axis=1), rows, native_vmax_mps=v_f,
                        unfold_factor=4, wavelength_m=cfg.wavelength_m,
                        slow_slot_period_s=cfg.n_tx * sets.slow_period_s, threshold_db=3.0,
                        search_bins=2)
@@ -132,23 +132,45 @@ def test_slow_peak_claimed_twice_goes_to_one_fast_peak(cfg, make_scene):
             assert unf.associated[i] and unf.velocity_mps[i] == pytest.approx(v, abs=0.2)
 
 
-def test_exclusive_choice_assigns_each_slow_peak_once():
-    """Hand-made claims in one range bin: A can only take slow peak 10; B prefers 10 (larger)
-    but can take 20; C only 10 too. Greedy would give 10 to all three; the assignment gives
-    10 to A (or C), 20 to B, and leaves the third without one (it falls back). A peak in
-    another range bin claiming the same slow bin number is not a competitor."""
-    from pipeline.mimo.fast_slow import _exclusive_choice
-    range_bin = np.array([5, 5, 5, 6])
-    key = range_bin[:, None] * 96 + np.array([[10, 30], [10, 20], [10, 40], [10, 50]])
-    score = np.log10(np.array([[2.0, 1.0], [3.0, 2.0], [2.5, 1.0], [9.0, 1.0]]))
-    passed = np.array([[True, False], [True, True], [True, False], [True, False]])
-    best, assoc = _exclusive_choice(range_bin, key, score, passed, np.zeros(4, int),
-                                    np.ones(4, bool))
-    assert best[1] == 1 and assoc[1]  # B moves to its second slow peak
-    assert assoc.tolist().count(False) == 1
-    assert assoc[0] != assoc[2] and assoc[3] and best[3] == 0
-    # C's claim is stronger than A's: the largest total log power keeps C.
-    assert assoc[2] and not assoc[0]
+def test_claims_resolved_by_coherence_one_slow_peak_each():
+    """Hand-made claims in range bin 5: A can only take slow peak 10; B prefers 10 (larger)
+    but can take 20; C only 10 too. Per peak, all three claim 10; the assignment gives 10 to
+    the most coherent of A and C, 20 to B, and leaves the third unassociated at its native
+    candidate. D, in range bin 6, claims slow bin 10 of its own range bin: no competitor."""
+    from pipeline.mimo.fast_slow import Unfolding, resolve_claims
+    cand = np.array([[-20.0, 5.0, 30.0]] * 4)
+    slow_bin = np.array([[10, 30, 40], [10, 20, 40], [10, 40, 41], [10, 50, 51]])
+    passed = np.array([[True, False, False], [True, True, False], [True, False, False],
+                       [True, False, False]])
+    unf = Unfolding(cand, np.ones((4, 3), bool), np.ones((4, 3)), slow_bin, passed,
+                    np.zeros(4, int), np.ones(4, bool), native=1)
+    coh = np.array([[0.6, 0, 0], [0.9, 0.8, 0], [0.95, 0, 0], [0.5, 0, 0]])
+    out = resolve_claims(unf, np.array([5, 5, 5, 6]), coh)
+    assert out.associated.tolist() == [False, True, True, True]
+    assert out.best.tolist() == [1, 1, 0, 0]  # A falls back to its native candidate
+    assert out.velocity_mps.tolist() == [5.0, 5.0, -20.0, -20.0]
+    same = resolve_claims(unf._replace(best=np.array([0, 1, 1, 0]),
+                                       associated=np.array([True, True, False, True])),
+                          np.array([5, 5, 5, 6]), coh)
+    assert same.best.tolist() == [0, 1, 1, 0]  # no slow peak claimed twice: unchanged
+
+
+def test_swapped_pairing_resolved_by_array_signature(cfg, make_scene):
+    """Two targets in one range cell at 0.50 and -14.65 m/s, 25 deg apart: -14.65's candidate
+    -37.13 lands on 0.50's slow alias and 0.50's candidate 22.97 on -14.65's (a candidate k
+    spans away hits the other's alias exactly when the other's -k one hits its own), so the
+    swapped pairing explains both maps' peaks at equal power; the array signature tells them
+    apart, over several noise draws."""
+    rows = np.array([[116.43, 3.82, 0.0, 0.50], [116.43, 28.82, 0.0, -14.65]])
+    sc = make_scene(np.column_stack([rows, _rcs_for_channel_snr(cfg, make_scene, rows, 12.0)]))
+    for seed in range(6):
+        pc = pipeline.process_frame(cfg, radarsim.simulate_frame(cfg, sc,
+                                                                 np.random.default_rng(seed)))
+        cell = pc[(pc.range_m - 116.43).abs() < cfg.range_resolution_m]
+        for (_, az, _, v) in rows:
+            hit = cell[(cell.radial_velocity_mps - v).abs() <= cfg.velocity_resolution_mps]
+            assert len(hit) and hit.azimuth_deg.iloc[0] == pytest.approx(az, abs=2.0), \
+                (seed, cell[["azimuth_deg", "radial_velocity_mps"]].round(2).values.tolist())
 
 
 def test_unassociated_peak_keeps_its_aliased_velocity(cfg, make_scene):
