@@ -22,6 +22,7 @@ holds exactly the ADC frames a sweep of the same scenario and seed processes.
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import os
 import sys
 import uuid
@@ -86,6 +87,8 @@ def process_capture(capture, profile, proc=None, *, interleaved: bool | None = N
     import pipeline
     from radarsim.subframe_capture import iter_subframes
 
+    if _joined(profile):
+        return _process_joined(capture, profile, proc, interleaved, max_frames)
     parts = profile.parts
     if proc is None:
         procs = [processing_from_profile(p) for p in parts]
@@ -106,6 +109,36 @@ def process_capture(capture, profile, proc=None, *, interleaved: bool | None = N
     return pd.concat(tables, ignore_index=True)
 
 
+def _joined(profile) -> bool:
+    """True for an advanced frame whose sub-frames are one radar (a fast/slow chirp pair,
+    `radarsim.ti.fast_slow`): its `radar` is none of the sub-frames'."""
+    return profile.is_advanced and all(p.radar != profile.radar for p in profile.parts)
+
+
+def _process_joined(capture, profile, proc, interleaved, max_frames) -> pd.DataFrame:
+    """`process_capture` of a joined profile: each frame's sub-frame blocks, in order, are the
+    chirps of one frame of `profile.radar`."""
+    import pipeline
+    from radarsim.subframe_capture import iter_subframes
+
+    if isinstance(proc, (list, tuple)):
+        proc = proc[0]
+    proc = processing_from_profile(profile) if proc is None else proc
+    n_parts = len(profile.parts)
+    tables, blocks = [], []
+    for sf in iter_subframes(capture, profile, interleaved=interleaved, max_frames=max_frames):
+        blocks.append(sf.adc)
+        if len(blocks) < n_parts:
+            continue
+        pc = pipeline.process_frame(profile.radar, np.concatenate(blocks), proc)
+        pc = pc.reset_index(drop=True)
+        blocks = []
+        pc.insert(0, "frame", np.full(len(pc), sf.frame, dtype=np.int64))
+        pc.insert(1, "time_s", np.full(len(pc), sf.frame * profile.frame_period_s))
+        tables.append(pc)
+    return pd.concat(tables, ignore_index=True)
+
+
 def _profile(path: Path):
     """The profile behind ``--cfg`` (`harness.ti_profile.load_profile`)."""
     return load_profile(path)
@@ -115,6 +148,8 @@ def _track(points: pd.DataFrame, profile, n_frames: int) -> pd.DataFrame:
     """Tracks of the point cloud; an advanced frame's sub-frames are tracked separately (each
     sees its own range span and waveform) and the table gets a `subframe` column."""
     from pipeline import tracking as trk
+    if _joined(profile):  # one radar over its sub-frames: tracked as one frame
+        profile = dataclasses.replace(profile, subframes=())
     tables = []
     for part in profile.parts:
         rows = points if not profile.is_advanced else \
@@ -207,11 +242,11 @@ def run_process(args: argparse.Namespace) -> int:
         n_frames = capture_n_frames(args.capture, profile.radar)
     n_frames = n_frames if args.frames is None else min(n_frames, args.frames)
     procs = []
-    for part in profile.parts:
+    for part in (profile,) if _joined(profile) else profile.parts:
         notes: list[str] = []
         procs.append(processing_from_profile(part, notes))
         notes += _layout_notes(args.layout, part)
-        where = f"sub-frame {part.subframe_index}: " if profile.is_advanced else ""
+        where = f"sub-frame {part.subframe_index}: " if part.subframe_index is not None else ""
         for note in notes:
             print(f"note: {where}{note}", file=sys.stderr)
     points = process_capture(args.capture, profile, procs,

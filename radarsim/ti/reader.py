@@ -175,7 +175,9 @@ def parse_ti_cfg(path_or_text: str | os.PathLike) -> TiProfile:
     -------
     TiProfile
         ``.radar`` is the validated `RadarConfig`; an advanced-frame profile has one
-        `TiProfile` per sub-frame in ``.subframes``.
+        `TiProfile` per sub-frame in ``.subframes`` (its ``.radar`` is sub-frame 0's, or, for
+        two sub-frames that are one TDMA loop at two idle times, the fast/slow radar of both:
+        `radarsim.ti.fast_slow.pair_radar`).
 
     Raises
     ------
@@ -210,7 +212,10 @@ def parse_ti_cfg(path_or_text: str | os.PathLike) -> TiProfile:
     parts = [_read_pass(advanced.subframe_commands(tok.commands, k), tok, chip, len(lines),
                         sub=adv.subframes[k])
              for k in range(adv.n_subframes)]
-    return advanced.combine(parts, adv)
+    profile = advanced.combine(parts, adv)
+    # Two sub-frames that are one TDMA loop at two idle times are one fast/slow radar.
+    pair = fast_slow.pair_radar(profile)
+    return profile if pair is None else dataclasses.replace(profile, radar=pair)
 
 
 def _read_pass(commands: list[Line], tok: _Tokens, chip: Chip, n_lines: int,
@@ -356,8 +361,5 @@ def _relabel(exc: Exception, lines: Mapping[str, Line], st: ParseState) -> Value
 
 
 def from_ti_cfg(path_or_text: str | os.PathLike) -> RadarConfig:
-    """`RadarConfig` of a TI mmWave SDK .cfg (path or text); see `parse_ti_cfg`. An advanced
-    frame whose two sub-frames are a fast/slow chirp pair is one fast/slow radar
-    (`radarsim.ti.fast_slow.pair_radar`); any other advanced frame gives sub-frame 0's."""
-    profile = parse_ti_cfg(path_or_text)
-    return fast_slow.pair_radar(profile) or profile.radar
+    """`RadarConfig` of a TI mmWave SDK .cfg (path or text); see `parse_ti_cfg`."""
+    return parse_ti_cfg(path_or_text).radar

@@ -108,7 +108,7 @@ def to_ti_cfg(cfg: RadarConfig | TiProfile, *, frame_period_s: float | None = No
     pair = None if profile else fast_slow.advanced_profile(cfg, frame_period_s, n_frames or 0)
     if pair is not None:  # two chirp periods: an advanced frame of two sub-frames
         text = _advanced_text(pair, n_frames, extra_lines, comments)
-        if fast_slow.pair_radar(parse_ti_cfg(text)) != cfg:
+        if parse_ti_cfg(text).radar != cfg:
             raise ValueError(f"mimo={cfg.mimo!r}: idle times {cfg.scheme.idle_times_s(cfg)} s "
                              "do not survive TI's 10 ns idle-time grid as this scheme's pair")
         return text
@@ -201,7 +201,7 @@ def _with_directives(radar: RadarConfig, out: list[str]) -> str:
     """The profile text with ``% radarsim:`` directives after the header for every field a
     plain read of the commands gets wrong (what TI cannot say)."""
     body = out + ["sensorStart"]
-    plain = parse_ti_cfg("\n".join(body) + "\n").radar
+    plain = parse_ti_cfg("\n".join(body) + "\n").parts[0].radar  # advanced: sub-frame 0's
     directives = []
     for f in dataclasses.fields(RadarConfig):
         if f.name in TI_FIELDS:
