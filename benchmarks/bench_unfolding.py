@@ -16,7 +16,9 @@ Vmax, lambda / (16 Tc)) and by targets per range cell; Pd by reference SNR (a de
 the range cell but off in azimuth is a miss: TDMA without disambiguation, ``tdma_raw``,
 compensates its slot phases at the aliased velocity and so mislocates fast targets); the median
 detection-SNR difference to TDMA on the targets both detect; and the latency, in frames, before
-the scheme reports an unfolded velocity (`MimoScheme.latency_frames`).
+the scheme reports an unfolded velocity (`MimoScheme.latency_frames`). First line: the
+fast/slow chain's `process_frame` as a ratio to the FFT floor of its frame, measured in the
+same run.
 
     python -m benchmarks unfolding
 """
@@ -160,7 +162,18 @@ def markdown(table: pd.DataFrame) -> list[str]:
     return lines
 
 
+def speed_line(name: str = "fast_slow") -> str:
+    """process_frame of `name` against its FFT floor (range rFFT + Doppler FFTs of its frame),
+    medians of alternating rounds in one run (`bench_schemes.timing`)."""
+    from .bench_schemes import timing
+    t = timing(name)
+    return (f"{name} process_frame {1e3 * t['chain']:.1f} ms, FFT floor {1e3 * t['floor']:.1f} "
+            f"ms: {t['chain'] / t['floor']:.2f}x wall, "
+            f"{t['chain_cpu'] / t['floor_cpu']:.2f}x CPU (target <= 3x)")
+
+
 def run():
+    yield speed_line()
     res = run_schemes()
     n_t = res.groupby("scheme").size().iloc[0]
     yield (f"{n_t} targets per scheme ({N_FRAMES} frames x {CLUSTERS_PER_FRAME} range cells of "

@@ -31,7 +31,7 @@ def radar_config(overrides: dict, mimo: str):
     if path is None:
         return radarsim.presets.r79(mimo, **ov)
     prof = load_profile(Path(path))
-    if prof.is_advanced:
+    if prof.is_advanced and not prof.is_joined:  # a fast/slow pair is one radar
         raise ValueError(f"radar.profile={str(path)!r}: an advanced-frame profile has one radar "
                          f"per sub-frame ({len(prof.subframes)}), a sweep cell runs one; use "
                          "`radar-harness process` for it, or a profile of one sub-frame")

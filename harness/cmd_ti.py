@@ -87,7 +87,7 @@ def process_capture(capture, profile, proc=None, *, interleaved: bool | None = N
     import pipeline
     from radarsim.subframe_capture import iter_subframes
 
-    if _joined(profile):
+    if profile.is_joined:
         return _process_joined(capture, profile, proc, interleaved, max_frames)
     parts = profile.parts
     if proc is None:
@@ -107,12 +107,6 @@ def process_capture(capture, profile, proc=None, *, interleaved: bool | None = N
                   np.full(len(pc), sf.frame * profile.frame_period_s + part.subframe_start_s))
         tables.append(pc)
     return pd.concat(tables, ignore_index=True)
-
-
-def _joined(profile) -> bool:
-    """True for an advanced frame whose sub-frames are one radar (a fast/slow chirp pair,
-    `radarsim.ti.fast_slow`): its `radar` is none of the sub-frames'."""
-    return profile.is_advanced and all(p.radar != profile.radar for p in profile.parts)
 
 
 def _process_joined(capture, profile, proc, interleaved, max_frames) -> pd.DataFrame:
@@ -148,7 +142,7 @@ def _track(points: pd.DataFrame, profile, n_frames: int) -> pd.DataFrame:
     """Tracks of the point cloud; an advanced frame's sub-frames are tracked separately (each
     sees its own range span and waveform) and the table gets a `subframe` column."""
     from pipeline import tracking as trk
-    if _joined(profile):  # one radar over its sub-frames: tracked as one frame
+    if profile.is_joined:  # one radar over its sub-frames: tracked as one frame
         profile = dataclasses.replace(profile, subframes=())
     tables = []
     for part in profile.parts:
@@ -242,7 +236,7 @@ def run_process(args: argparse.Namespace) -> int:
         n_frames = capture_n_frames(args.capture, profile.radar)
     n_frames = n_frames if args.frames is None else min(n_frames, args.frames)
     procs = []
-    for part in (profile,) if _joined(profile) else profile.parts:
+    for part in (profile,) if profile.is_joined else profile.parts:
         notes: list[str] = []
         procs.append(processing_from_profile(part, notes))
         notes += _layout_notes(args.layout, part)

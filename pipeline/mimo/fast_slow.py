@@ -47,7 +47,8 @@ from ..chirp_level import range_stage
 from ..compensation import compensate
 from ..config import WINDOWS, ProcessingConfig
 from ..kernels import doppler_fft, window
-from ..stages import RangeDopplerHits, array_dft, empty_cloud, hypothesis_cloud, noncoherent_hits
+from ..stages import (RangeDopplerHits, array_dft, empty_cloud, hypothesis_cloud,
+                      noncoherent_hits, power_of)
 from .base import DetectionMap, DopplerAzimuth, MimoChain, register_chain
 
 __all__ = ["FastSlowMaps", "FastSlowChain", "fast_slow_maps", "Unfolding", "unfold_peaks",
@@ -75,13 +76,13 @@ class FastSlowMaps(NamedTuple):
 
 def _set_spectra(rf: np.ndarray, n_tx: int, win: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """(C_set, R, B) range spectra of one TDMA set -> per-slot Doppler spectra
-    (B, n_dop, n_tx x R) complex64 and their power summed over the channels (B, n_dop)."""
+    (B, n_dop, n_tx x R) complex64 (a view of the FFT output, slot-major) and their power
+    summed over the channels (B, n_dop) float32."""
     n_c, n_rx, n_range = rf.shape
     n_dop = n_c // n_tx
     spec = doppler_fft(rf.reshape(n_dop, n_tx, n_rx, n_range), win)  # (D, S, R, B)
-    virt = np.ascontiguousarray(np.moveaxis(spec, 3, 0).reshape(n_range, n_dop, -1))
-    power = np.square(virt.real) + np.square(virt.imag)
-    return virt, power.sum(axis=-1)
+    power = np.ascontiguousarray(power_of(spec).sum(axis=(1, 2)).T)
+    return np.moveaxis(spec, 3, 0).reshape(n_range, n_dop, -1), power
 
 
 def fast_slow_maps(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) -> FastSlowMaps:

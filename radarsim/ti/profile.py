@@ -206,6 +206,12 @@ class TiProfile:
         return bool(self.subframes)
 
     @property
+    def is_joined(self) -> bool:
+        """True for an advanced frame whose sub-frames are one radar (a fast/slow chirp pair,
+        `radarsim.ti.fast_slow`): `radar` is none of the sub-frames' radars."""
+        return bool(self.subframes) and all(p.radar != self.radar for p in self.subframes)
+
+    @property
     def parts(self) -> tuple["TiProfile", ...]:
         """The sub-frame profiles, or (self,) for a frame-mode profile."""
         return self.subframes or (self,)
