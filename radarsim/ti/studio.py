@@ -35,6 +35,7 @@ commands (`chip_inference`).
 """
 from __future__ import annotations
 
+import dataclasses
 import json
 import os
 import re
@@ -299,7 +300,6 @@ def _parse_lines(lines: list[tuple[str, str]], chip: str | None, kind: str,
 
 
 def _with_note(prof: TiProfile, note: str) -> TiProfile:
-    import dataclasses
     return dataclasses.replace(prof, notes=prof.notes + (note,),
                                subframes=tuple(dataclasses.replace(p, notes=p.notes + (note,))
                                                for p in prof.subframes))
