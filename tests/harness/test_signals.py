@@ -57,6 +57,25 @@ def test_signal_to_main_pid_of_a_pool_sweep_leaves_no_process(tmp_path, sig):
     assert not alive, f"left behind: {[k.pid for k in alive]}"
 
 
+@pytest.mark.slow
+def test_sigkill_of_the_main_pid_takes_the_pool_workers_along(tmp_path):
+    """No handler runs on SIGKILL: the workers' PR_SET_PDEATHSIG (or watchdog) ends them."""
+    f = tmp_path / "s.toml"
+    f.write_text(SWEEP)
+    p = subprocess.Popen([sys.executable, "-m", "harness.cli", "sweep", str(f), "--out",
+                          str(tmp_path / "r"), "--workers", "2", "--no-progress"],
+                         stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    try:
+        kids = _children_when_running(psutil.Process(p.pid), 2, 120.0)
+        p.kill()
+        p.wait(timeout=30)
+    finally:
+        if p.poll() is None:
+            p.kill()
+    _, alive = psutil.wait_procs(kids, timeout=10)
+    assert not alive, f"left behind: {[k.pid for k in alive]}"
+
+
 def test_worker_dies_with_its_parent(tmp_path):
     """A child armed with `exit_with_parent` dies when its parent is SIGKILLed (no handler in
     the parent can run): PR_SET_PDEATHSIG on Linux, the watchdog elsewhere."""
