@@ -92,6 +92,21 @@ def _cplx_decode(w: np.ndarray, shape: tuple[int, int, int]) -> np.ndarray:
     return out.reshape(-1, c, r, n)
 
 
+def _cplx4_encode(x: np.ndarray) -> np.ndarray:
+    # (F, C, R, N) complex -> (F, C, N, [I, Q], R) int16 words: per sample, the I of the four
+    # lanes (lane k = Rx k), then their Q.
+    return np.stack([x.real, x.imag], axis=-1).transpose(0, 1, 3, 4, 2)
+
+
+def _cplx4_decode(w: np.ndarray, shape: tuple[int, int, int]) -> np.ndarray:
+    c, r, n = shape
+    q = w.reshape(-1, c, n, 2, r).astype(np.float32)
+    out = np.empty((q.shape[0], c, r, n), dtype=np.complex64)
+    out.real = q[..., 0, :].transpose(0, 1, 3, 2)
+    out.imag = q[..., 1, :].transpose(0, 1, 3, 2)
+    return out
+
+
 class CaptureLayout(NamedTuple):
     """One DCA1000 word layout: how a (F, C, R, N) block of samples maps to int16 words."""
 
@@ -116,6 +131,10 @@ CAPTURE_LAYOUTS: Mapping[str, CaptureLayout] = MappingProxyType({
                                             _cplx_decode,
                                             "SWRA581 2-lane complex (I0 I1 Q0 Q1); "
                                             "readDCA1000.m; OpenRadar DCA1000.organize"),
+    "complex_4lane": CaptureLayout("complex_4lane", True, 2, _cplx4_encode, _cplx4_decode,
+                                   "SWRA581 4-lane complex (xWR1243/1443/2243 with mmWave "
+                                   "Studio): per sample I of lanes 0-3 then their Q, lane k = "
+                                   "Rx k; TI's readDCA1000.m 4-lane branch"),
 })
 
 
@@ -127,12 +146,20 @@ def _radar(cfg) -> RadarConfig:
 
 
 def layout_of(cfg, interleaved: bool | None = None) -> CaptureLayout:
-    """The layout the profile implies: complex ADC -> ``complex_noninterleaved`` (the only
-    buffer mode the complex-capable SDK demos stream); real -> interleaved or not as
+    """The layout the profile implies: complex ADC -> ``complex_4lane`` on the 4-LVDS-lane
+    chips (xWR1243/1443/2243), else ``complex_noninterleaved`` (the only buffer mode the
+    complex-capable 2-lane SDK demos stream); real -> interleaved or not as
     ``adcbufCfg`` ChanInterleave (`RadarConfig.adcbuf_interleaved`). `interleaved` overrides the
     profile's buffer mode (real data only)."""
     radar = _radar(cfg)
     il = radar.adcbuf_interleaved if interleaved is None else bool(interleaved)
+    if radar.is_complex and radar.chip_spec.lvds_lanes == 4:
+        # 4-lane front ends (xWR1243/1443/2243): each lane carries one Rx; TI's reader assumes
+        # all four lanes ("unused lanes are populated with 0").
+        if radar.n_rx != 4:
+            raise ValueError(f"n_rx={radar.n_rx}: the 4-lane complex capture layout is modelled "
+                             "for 4 Rx (TI fills unused lanes with zeros)")
+        return CAPTURE_LAYOUTS["complex_4lane"]
     if radar.is_complex:
         if il:
             raise ValueError("interleaved complex captures are not modelled (the xWR16/18/68 "

@@ -161,9 +161,34 @@ def test_complex_xwr18xx_capture_reads_identically_in_the_public_readers(tmp_pat
 
 
 def test_layout_registry_and_refusals():
-    assert set(CAPTURE_LAYOUTS) == set(HAND_MADE)
+    # complex_4lane (4 Rx only): test_four_lane_complex_layout_is_ti_readers_order.
+    assert set(CAPTURE_LAYOUTS) == set(HAND_MADE) | {"complex_4lane"}
     with pytest.raises(ValueError, match="n_samples=5: the 2-lane complex layout"):
         layout_of(radarsim.RadarConfig(chip="AWR1843", adc_mode="complex1x", mimo="tdma",
                                        n_tx=1, n_samples=5, n_chirps=2, adc_rate_sps=10e6))
     with pytest.raises(ValueError, match="interleaved complex captures are not modelled"):
         layout_of(_tiny("AWR1843", "complex1x"), interleaved=True)
+
+
+def test_four_lane_complex_layout_is_ti_readers_order(tmp_path):
+    """xWR1243/1443/2243 captures (4 LVDS lanes, mmWave Studio): TI's readDCA1000.m reshapes the
+    words to (8, -1) and takes rows 1-4 + j rows 5-8, lane k = Rx k, each lane's samples chirp
+    after chirp. A hand-built frame: sample s of chirp c on Rx r = v - j v,
+    v = (100 c + 10 r + s) mod 16000."""
+    from radarsim.ti import parse_setup
+    from tests.radarsim.profiles import PROFILE_DIR
+
+    prof = parse_setup(PROFILE_DIR / "awr2243_studio_LogFile.txt")
+    cfg = prof.radar
+    assert layout_of(cfg).name == "complex_4lane"
+    c, r, n = cfg.n_chirps, cfg.n_rx, cfg.n_samples
+    ci, ri, si = np.meshgrid(np.arange(c), np.arange(r), np.arange(n), indexing="ij")
+    v = (100 * ci + 10 * ri + si) % 16000
+    frame = (v - 1j * v).astype(np.complex64)
+    path = tmp_path / "adc_data_Raw_0.bin"
+    write_capture(path, frame[None], cfg=cfg)
+    words = np.fromfile(path, dtype="<i2").astype(np.int64)
+    lanes = words.reshape(-1, 8).T                       # MATLAB reshape(adcData, 8, []) order
+    rx = lanes[0:4] + 1j * lanes[4:8]                    # (Rx, chirp x sample)
+    np.testing.assert_array_equal(rx.reshape(r, c, n).transpose(1, 0, 2), frame)
+    np.testing.assert_array_equal(read_capture(path, cfg)[0], frame)
