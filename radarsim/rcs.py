@@ -5,7 +5,9 @@ Every actor is a 3D box (class length, width and height from the truth table). T
 included) becomes a surface patch whose RCS follows a facet model, plus a few strong scattering
 centres per class (wheels, vertical corners, licence plate, guard-rail posts) that are kept
 when their face looks at the radar and nothing is in the way. Patches and centres are merged per
-(actor, range, azimuth, elevation) cell, so a car yields tens of scatterers, not thousands.
+actor into cells of the radar's resolution that start at the actor's nearest point, so an
+actor yields one scatterer per radar cell it covers (a head-on car at 30 m: one; a quartering
+car at 20 m: a handful), not thousands, and no radar cell holds two beating points of one actor.
 
 Facet model of one hit patch (ray solid angle Omega, distance t, incidence theta from the
 face normal, patch area A = t^2 Omega / cos(theta)):
