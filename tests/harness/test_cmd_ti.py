@@ -323,3 +323,23 @@ def test_process_an_awr2243_studio_capture_with_its_logfile(tmp_path, make_scene
     assert main(["process", str(cap), "--cfg", str(log), "--out", str(out), "--no-track"]) == 0
     best = pd.read_csv(out).sort_values("snr_db").iloc[-1]
     assert abs(best["range_m"] - 8.0) < prof.radar.range_resolution_m
+
+
+def test_process_prints_the_read_but_not_modelled_line(tmp_path, capsys):
+    """One note line lists what the profile asks for that the chain does not do."""
+    from tests.radarsim.profiles import profile_text
+
+    text = profile_text("xwr68_tx13").replace("calibDcRangeSig -1 0 -5 8 256",
+                                               "calibDcRangeSig -1 1 -5 8 256")
+    cfg = tmp_path / "p.cfg"
+    cfg.write_text(text)
+    prof = parse_ti_cfg(cfg)
+    cap = tmp_path / "adc_data.bin"
+    write_capture(cap, np.zeros((1,) + (prof.radar.n_chirps, prof.radar.n_rx,
+                                        prof.radar.n_samples), dtype=np.complex64),
+                  cfg=prof.radar)
+    assert main(["process", str(cap), "--cfg", str(cfg), "--out", str(tmp_path / "p.csv"),
+                 "--no-track"]) == 0
+    lines = [s for s in capsys.readouterr().err.splitlines()
+             if s.startswith("note: read but not modelled: ")]
+    assert len(lines) == 1 and "calibDcRangeSig enabled" in lines[0]
