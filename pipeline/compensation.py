@@ -168,7 +168,8 @@ def comp_line(range_bias_m: float, coefficients: np.ndarray) -> str:
     each chip-ordered coefficient (5 decimals: finer than a Q15 step, 3.1e-5)."""
     parts = [f"{range_bias_m:.4f}"]
     for c in np.asarray(coefficients, dtype=complex):
-        parts += [f"{c.real:.5f}", f"{c.imag:.5f}"]
+        # round first and add 0.0: -1e-17 would print as "-0.00000"
+        parts += [f"{round(c.real, 5) + 0.0:.5f}", f"{round(c.imag, 5) + 0.0:.5f}"]
     return " ".join([COMP_COMMAND, *parts])
 
 
