@@ -306,8 +306,24 @@ def _with_note(prof: TiProfile, note: str) -> TiProfile:
 
 
 def parse_setup(path_or_text: str | os.PathLike) -> TiProfile:
-    """Any setup a user brings: a TI CLI profile (.cfg), an mmWave Studio LogFile or an
-    mmWave Studio setup JSON, told apart by content."""
+    r"""Any setup a user brings: a TI CLI profile (.cfg), an mmWave Studio LogFile or an
+    mmWave Studio setup JSON, told apart by content.
+
+    Examples
+    --------
+    >>> from radarsim.ti import parse_setup
+    >>> log = "\n".join([
+    ...     "10:00:00:000: API:select_chip_version,AWR2243,0,",
+    ...     "10:00:00:001: API:ChannelConfig,15,1,0,0,",
+    ...     "10:00:00:002: API:AdcOutConfig,2,1,0,",
+    ...     "10:00:00:003: API:ProfileConfig,0,1435384036,700,600,5800,0,0,1243,0,256,10000,"
+    ...     "0,0,30,",
+    ...     "10:00:00:004: API:ChirpConfig,0,0,0,0,0,0,0,1,0,",
+    ...     "10:00:00:005: API:FrameConfig,0,0,10,64,8000000,0,512,1,"])
+    >>> prof = parse_setup(log)
+    >>> prof.radar.chip, prof.radar.n_chirps, round(prof.radar.slope_hz_per_s / 1e12, 3)
+    ('AWR2243', 64, 60.012)
+    """
     text = _read_source(path_or_text)
     if text.lstrip().startswith("{"):
         return parse_studio_json(text)

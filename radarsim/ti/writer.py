@@ -101,6 +101,15 @@ def to_ti_cfg(cfg: RadarConfig | TiProfile, *, frame_period_s: float | None = No
     ValueError
         If the config cannot be programmed on the chip (e.g. more than 255 loops per frame,
         or a frame period shorter than the chirp burst).
+
+    Examples
+    --------
+    >>> import radarsim
+    >>> from radarsim.ti import from_ti_cfg, to_ti_cfg
+    >>> cfg = radarsim.presets.r79_tdma()
+    >>> text = to_ti_cfg(cfg, frame_period_s=0.1)
+    >>> "frameCfg 0 3 192 0 384 100 1 0" in text, from_ti_cfg(text) == cfg
+    (True, True)
     """
     profile = cfg if isinstance(cfg, TiProfile) else None
     if profile is not None and profile.is_advanced:
