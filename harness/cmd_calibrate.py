@@ -83,6 +83,10 @@ def run(args: argparse.Namespace) -> int:
     if args.write is not None:
         check_output_file(args.write, "--write")
     profile = _profile(args.cfg)
+    if profile.is_advanced:
+        raise ValueError(f"--cfg {str(args.cfg)!r} is an advanced-frame profile "
+                         f"({len(profile.subframes)} sub-frames): calibrate on a capture "
+                         "recorded with a one-frame profile (TI's procedure uses one)")
     cfg = profile.radar
     proc = processing_from_profile(profile).replace(range_bias_m=0.0, channel_comp=None)
     window = (DEFAULT_WINDOW_BINS * cfg.range_resolution_m if args.search_window_m is None

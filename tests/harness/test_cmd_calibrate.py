@@ -84,3 +84,11 @@ def test_wrong_coefficient_count_exits_2(capture, tmp_path, capsys):
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "compRangeBiasAndRxChanPhase" in err[0]
     assert "17 values; the IWR6843 needs 25" in err[0]
+
+
+def test_advanced_frame_profile_exits_2(capture, capsys):
+    path, _ = capture
+    prof = PROFILE_DIR / "xwr68_advanced_subframes.cfg"
+    assert main(["calibrate", str(path), "--cfg", str(prof), "--target-range-m", "1.7"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "is an advanced-frame profile" in err[0]
