@@ -3,6 +3,9 @@
     radar-harness calibrate CAPTURE --cfg PROFILE --target-range-m R [--search-window-m W]
                             [--azimuth-deg A] [--frames N] [--write OUT.cfg]
 
+R and W default to the profile's enabled ``measureRangeBiasAndRxChanPhase 1 X D`` (X, D / 2:
+TI searches X +/- D / 2); W otherwise to four range bins.
+
 Reads a DCA1000 capture of a static reflector (a corner reflector on boresight, TI's
 procedure) recorded with PROFILE, measures the range bias and the virtual-channel coefficients
 (`pipeline.channel_calibration`) and prints the ``compRangeBiasAndRxChanPhase`` line on stdout
@@ -34,10 +37,12 @@ _LAYOUTS: dict[str, bool | None] = {"auto": None, "non-interleaved": False, "int
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("capture", type=Path, help="DCA1000 capture of a static reflector")
     parser.add_argument("--cfg", type=Path, required=True, help="TI .cfg profile it was recorded with")
-    parser.add_argument("--target-range-m", type=float_in(0.0, 1000.0, " m"), required=True,
-                        help="true range of the reflector, m")
+    parser.add_argument("--target-range-m", type=float_in(0.0, 1000.0, " m"), default=None,
+                        help="true range of the reflector, m (default: the targetDistance of "
+                             "the profile's enabled measureRangeBiasAndRxChanPhase)")
     parser.add_argument("--search-window-m", type=float_in(0.0, 100.0, " m"), default=None,
-                        help="search the peak within R +/- W, m (default "
+                        help="search the peak within R +/- W, m (default: half the profile's "
+                             "measureRangeBiasAndRxChanPhase searchWin when it measures, else "
                              f"{DEFAULT_WINDOW_BINS} range bins)")
     parser.add_argument("--azimuth-deg", type=float_in(-90.0, 90.0, " deg"), default=0.0,
                         help="azimuth the reflector stands at (TI's procedure: 0, boresight)")
@@ -70,6 +75,25 @@ def _write_text(path: Path, text: str) -> None:
     atomic_write(path, lambda tmp: tmp.write_text(text))
 
 
+def _target_and_window(args: argparse.Namespace, profile) -> tuple[float, float]:
+    """Target range and search half-window: the options, else the profile's enabled
+    ``measureRangeBiasAndRxChanPhase <1> <targetDistance> <searchWin>`` (TI searches
+    targetDistance +/- searchWin / 2), else (window only) `DEFAULT_WINDOW_BINS` range bins."""
+    measure = profile.measure_range_bias
+    on = measure is not None and bool(measure[0])
+    target = args.target_range_m
+    if target is None:
+        if not on:
+            raise ValueError("--target-range-m is required: the profile has no enabled "
+                             "measureRangeBiasAndRxChanPhase line to take it from")
+        target = float(measure[1])
+    if args.search_window_m is not None:
+        return target, args.search_window_m
+    if on and float(measure[2]) > 0:
+        return target, float(measure[2]) / 2
+    return target, DEFAULT_WINDOW_BINS * profile.radar.range_resolution_m
+
+
 def run(args: argparse.Namespace) -> int:
     import numpy as np
 
@@ -89,19 +113,18 @@ def run(args: argparse.Namespace) -> int:
                          "recorded with a one-frame profile (TI's procedure uses one)")
     cfg = profile.radar
     proc = processing_from_profile(profile).replace(range_bias_m=0.0, channel_comp=None)
-    window = (DEFAULT_WINDOW_BINS * cfg.range_resolution_m if args.search_window_m is None
-              else args.search_window_m)
+    target, window = _target_and_window(args, profile)
     n_frames = capture_n_frames(args.capture, cfg)
     if args.frames is not None:
         n_frames = min(n_frames, args.frames)
     frames = iter_capture(args.capture, cfg, interleaved=_LAYOUTS[args.layout],
                           max_frames=n_frames)
     try:
-        cal = measure_channel_calibration(cfg, frames, args.target_range_m, window, proc,
+        cal = measure_channel_calibration(cfg, frames, target, window, proc,
                                           azimuth_deg=args.azimuth_deg)
     except ValueError as exc:
-        raise ValueError(f"--target-range-m {args.target_range_m:g} --search-window-m "
-                         f"{window:g}: {exc}") from None
+        raise ValueError(f"--target-range-m {target:g} --search-window-m {window:g}: "
+                         f"{exc}") from None
     print(cal.line)
     crb_deg = np.degrees(cal.phase_crb_rad())
     print(f"note: reflector at {cal.measured_range_m:.4f} m (bin {cal.range_bin}), range bias "

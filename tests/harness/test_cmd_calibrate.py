@@ -92,3 +92,19 @@ def test_advanced_frame_profile_exits_2(capture, capsys):
     assert main(["calibrate", str(path), "--cfg", str(prof), "--target-range-m", "1.7"]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "is an advanced-frame profile" in err[0]
+
+
+def test_target_and_window_from_the_profiles_measure_line(capture, tmp_path, capsys):
+    """Without --target-range-m the profile's enabled ``measureRangeBiasAndRxChanPhase 1 X D``
+    gives X and the window X +/- D/2 (TI's searchWin spans D); without either, exit 2."""
+    path, r = capture
+    text = PROFILE.read_text() + f"measureRangeBiasAndRxChanPhase 1 {r:.4f} 0.2\n"
+    prof = tmp_path / "measure.cfg"
+    prof.write_text(text)
+    assert main(["calibrate", str(path), "--cfg", str(prof)]) == 0
+    out = capsys.readouterr()
+    assert out.out.startswith("compRangeBiasAndRxChanPhase 0.07")
+    assert main(["calibrate", str(path), "--cfg", str(PROFILE)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert err == ["radar-harness calibrate: error: --target-range-m is required: the profile "
+                   "has no enabled measureRangeBiasAndRxChanPhase line to take it from"]
