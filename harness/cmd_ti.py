@@ -176,7 +176,9 @@ def _layout_notes(layout: str, profile) -> list[str]:
 def add_arguments_process(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("capture", type=Path,
                         help="DCA1000 capture (.bin, int16 words, real or complex ADC)")
-    parser.add_argument("--cfg", type=Path, required=True, help="TI mmWave SDK .cfg profile")
+    parser.add_argument("--cfg", type=Path, required=True,
+                        help="TI .cfg profile, or the mmWave Studio LogFile / setup JSON it "
+                             "was recorded with")
     parser.add_argument("--out", type=Path, default=None,
                         help="point cloud table, .parquet or .csv (default CAPTURE.parquet)")
     parser.add_argument("--frames", type=FRAMES, default=None, help="process at most N frames")
@@ -259,7 +261,8 @@ def run_process(args: argparse.Namespace) -> int:
 # ---------------------------------------------------------------------------- simulate
 def add_arguments_simulate(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("case", help="scenario name (radar-harness scenarios lists them)")
-    parser.add_argument("--cfg", type=Path, required=True, help="TI mmWave SDK .cfg profile")
+    parser.add_argument("--cfg", type=Path, required=True,
+                        help="TI .cfg profile, or an mmWave Studio LogFile / setup JSON")
     parser.add_argument("--out", type=Path, required=True, help="capture file to write (.bin)")
     parser.add_argument("--seed", type=SEED, default=0, help="scenario and noise seed")
     parser.add_argument("--frames", type=FRAMES, default=None, help="write at most N frames")
