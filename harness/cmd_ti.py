@@ -15,9 +15,11 @@ family's meaning (a command left out, that demo's default).
 `process` stamps the frames with), builds each frame's scatterers with the RCS model and writes
 the front end's ADC frames for the profile's radar as a capture in the DCA1000 layout the
 profile implies (`radarsim.capture.layout_of`: real or complex, ADC buffer interleaving), so
-the same data can be replayed here or read by TI's and OpenRadar's readers. Random streams are those of a sweep cell
-(``harness.streams.frame_rng(seed, frame, "rcs" | mimo)``), so a capture of the R79 preset
-holds exactly the ADC frames a sweep of the same scenario and seed processes.
+the same data can be replayed here or read by TI's and OpenRadar's readers. Random streams are
+those of a sweep cell (``harness.streams.frame_rng(seed, frame, "rcs" | mimo)``), so a capture
+of the R79 preset holds exactly the ADC frames a sweep of the same scenario and seed processes.
+An advanced-frame profile's capture holds every sub-frame of each frame
+(`write_subframe_capture`).
 """
 from __future__ import annotations
 

@@ -57,9 +57,9 @@ def adc_cfg(st: ParseState, ln: Line) -> None:
         raise ln.fail(f"numADCBits={bits}: the captures are int16, use 2 (16 bit)")
     mode = next(m for m in ADC_MODES.values() if m.ti_code == fmt)
     if not st.chip.supports(mode.name):
+        why = "real-only receiver " if len(st.chip.adc) == 1 else ""
         raise ln.fail(f"adcOutputFmt={fmt} ({mode.name}): the {st.chip.name} supports "
-                      f"{sorted(st.chip.adc)} ({'real-only receiver' if len(st.chip.adc) == 1 else ''}"
-                      f"{st.chip.datasheet})")
+                      f"{sorted(st.chip.adc)} ({why}{st.chip.datasheet})")
     st.adc_complex = mode.is_complex
     st.set(ln, adc_mode=mode.name)
 
