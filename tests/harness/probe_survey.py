@@ -49,10 +49,13 @@ def main(argv=None) -> int:
     ap.add_argument("--memory-gib", type=float, default=4.0)
     ap.add_argument("--only", nargs="*", default=None, help="surfaces to run")
     ap.add_argument("--json", default=None, help="write every outcome here")
+    ap.add_argument("--ids", nargs="*", default=None, help="only these probe ids")
+    ap.add_argument("--skip-ids", nargs="*", default=(), help="leave these probe ids out")
     args = ap.parse_args(argv)
     lim = int(args.memory_gib * (1 << 30))
     resource.setrlimit(resource.RLIMIT_AS, (lim, resource.getrlimit(resource.RLIMIT_AS)[1]))
-    probes = [p for p in all_probes() if args.only is None or p.surface in args.only]
+    probes = [p for p in all_probes() if (args.only is None or p.surface in args.only)
+              and (args.ids is None or p.id in args.ids) and p.id not in args.skip_ids]
     _warm_up()
     rows = []
     for p in probes:
