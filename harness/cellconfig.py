@@ -3,6 +3,7 @@ scheme, and the association settings that follow from the radar configs.
 """
 from __future__ import annotations
 
+from collections.abc import Mapping
 from pathlib import Path
 
 from metrics.association import AssociationConfig
@@ -17,7 +18,9 @@ __all__ = ["radar_config", "cell_association", "build_configs"]
 def radar_config(overrides: dict, mimo: str):
     """`RadarConfig` of a cell for one MIMO scheme: the R79 preset with `overrides`, or, when
     they name a ``profile`` (TI .cfg path), that profile's radar run with `mimo` and the other
-    overrides.
+    overrides. A calibration request (``shifter_calibration_deg = {seed = 0, ...}``) is
+    resolved here, on the built config (`radarsim.calibration.resolve_calibration`): a config
+    is a value and never measures.
 
     Raises
     ------
@@ -26,10 +29,13 @@ def radar_config(overrides: dict, mimo: str):
         naming the profile and the scheme.
     """
     import radarsim
+    from radarsim.calibration import resolve_calibration
     ov = dict(overrides)
+    request = ov.pop("shifter_calibration_deg") \
+        if isinstance(ov.get("shifter_calibration_deg"), Mapping) else None
     path = ov.pop("profile", None)
     if path is None:
-        return radarsim.presets.r79(mimo, **ov)
+        return resolve_calibration(radarsim.presets.r79(mimo, **ov), request)
     prof = load_profile(Path(path))
     if prof.is_advanced and not prof.is_joined:  # a fast/slow pair is one radar
         raise ValueError(f"radar.profile={str(path)!r}: an advanced-frame profile has one radar "
@@ -37,10 +43,11 @@ def radar_config(overrides: dict, mimo: str):
                          "`radar-harness process` for it, or a profile of one sub-frame")
     base = simulation_radar(prof)  # on the board its compRangeBiasAndRxChanPhase calibrates
     try:
-        return base.replace(**{"mimo": mimo, **ov}) if base.mimo != mimo or ov else base
+        cfg = base.replace(**{"mimo": mimo, **ov}) if base.mimo != mimo or ov else base
     except ValueError as exc:
         raise ValueError(f"radar.profile={str(path)!r} ({base.chip}, {base.mimo}) as scheme "
                          f"{mimo!r}: {exc}") from exc
+    return resolve_calibration(cfg, request)
 
 
 def cell_association(radar: dict, overrides: dict | None = None) -> AssociationConfig:

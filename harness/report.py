@@ -13,10 +13,8 @@ and last, collapsed, the gate table. Panels follow the schemes present in the ta
 """
 from __future__ import annotations
 
-import base64
 import fnmatch
 import html
-import io
 from pathlib import Path
 
 import numpy as np
@@ -25,6 +23,8 @@ import pandas as pd
 from scenarios.fileio import MAX_TABLE_FILE_BYTES, atomic_write, check_input_file
 
 from .cellstore import failed_rows, read_meta
+from .figures import png_img as _img
+from .figures import pyplot as _plt
 from .provenance import read_manifest, version_line
 
 __all__ = ["build_report", "doppler_azimuth_map", "choose_frame"]
@@ -39,23 +39,6 @@ _SUMMARY_COLUMNS = [
     "track_confirm_range_m_max", "gospa_mean_m", "noise_floor_rise_db",
     "interference_to_noise_db", "error",
 ]
-
-
-def _plt():
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    return plt
-
-
-def _img(fig) -> str:
-    """<img> tag with the figure as an embedded PNG; closes the figure."""
-    plt = _plt()
-    buf = io.BytesIO()
-    fig.savefig(buf, format="png", dpi=80, bbox_inches="tight")
-    plt.close(fig)
-    data = base64.b64encode(buf.getvalue()).decode("ascii")
-    return f'<img alt="plot" src="data:image/png;base64,{data}">'
 
 
 def _read(results: Path, name: str) -> pd.DataFrame:

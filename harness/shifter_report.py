@@ -28,6 +28,7 @@ import numpy as np
 import pandas as pd
 
 from .cellstore import failed_rows
+from .figures import png_img, pyplot
 from .provenance import read_manifest
 
 __all__ = ["shifter_table", "html_section", "angle_sidelobe_db", "PROBE",
@@ -192,8 +193,7 @@ def html_section(results: str | Path, *, probe: bool = True) -> str:
                v["radar"].get("shifter_phase_error_deg") is not None for v in info.values()):
         return ""
     tab = shifter_table(results, probe=probe)
-    from harness.report import _img, _plt
-    plt = _plt()
+    plt = pyplot()
     metrics = [("ghost_rate", "ghost rate"),
                ("velocity_resolution_failures_per_frame", "velocity-resolution failures / frame"),
                ("azimuth_rmse_deg", "azimuth RMSE, deg"),
@@ -209,4 +209,4 @@ def html_section(results: str | Path, *, probe: bool = True) -> str:
     axes[0].legend(fontsize=7)
     body = tab.to_html(index=False, float_format=lambda x: f"{x:.3g}", border=0)
     return ("<h2>Phase-shifter error and calibration</h2>"
-            f"<p>{html.escape(__doc__.splitlines()[0])}</p>{_img(fig)}{body}")
+            f"<p>{html.escape(__doc__.splitlines()[0])}</p>{png_img(fig)}{body}")

@@ -34,7 +34,7 @@ import numba
 import numpy as np
 from scipy import integrate, ndimage, optimize, special, stats
 
-from scenarios.checks import one_of
+from scenarios.registries import Registry
 
 __all__ = ["CfarMode", "CellAveraging", "SideSelecting", "OrderStatistic", "CFAR_MODES",
            "cfar_mode", "cfar_scale", "noise_mean_factor", "pfa_of_scale", "pfa_numeric",
@@ -286,7 +286,8 @@ def _os_peaks(p, alpha, train_idx, k, check0, cyclic0, check1, cyclic1, first1):
 
 
 #: CFAR modes by the name `CfarConfig.mode` holds (TI codes: `radarsim.ti.codes`).
-CFAR_MODES: dict[str, CfarMode] = {m.name: m for m in (
+CFAR_MODES: Registry[CfarMode] = Registry("CFAR mode", field="mode", kind=CfarMode)
+CFAR_MODES.register_all((
     CellAveraging(name="ca", description="cell averaging: mean of both windows"),
     SideSelecting(name="cago", greatest=True,
                   description="greatest-of: larger of the two window means"),
@@ -294,7 +295,7 @@ CFAR_MODES: dict[str, CfarMode] = {m.name: m for m in (
                   description="smallest-of: smaller of the two window means"),
     OrderStatistic(name="os",
                    description="ordered statistic: k-th smallest training cell"),
-)}
+))
 
 
 def cfar_mode(name: str) -> CfarMode:
@@ -305,8 +306,7 @@ def cfar_mode(name: str) -> CfarMode:
     ValueError
         ``mode='x' is not one of [...]``.
     """
-    one_of("mode", name, CFAR_MODES)
-    return CFAR_MODES[name]
+    return CFAR_MODES.lookup(name)
 
 
 def _integrate(fn, looks: int) -> float:

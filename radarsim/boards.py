@@ -37,10 +37,13 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from types import MappingProxyType
-from typing import Mapping
+from typing import Any
 
-__all__ = ["Board", "BOARDS", "get_board", "cos_exponent_for_half_power"]
+from scenarios.registries import Registry
+
+from .chips import get_chip
+
+__all__ = ["Board", "BOARDS", "get_board", "register_board", "cos_exponent_for_half_power"]
 
 
 def cos_exponent_for_half_power(theta_deg: float) -> float:
@@ -73,6 +76,69 @@ class Board:
     source: str
     fov_deg: float = 80.0
 
+    def __post_init__(self) -> None:
+        if not isinstance(self.name, str) or not self.name:
+            raise ValueError(f"board name={self.name!r} must be a non-empty string")
+        chip = get_chip(self.chip)
+        object.__setattr__(self, "tx_positions_wl", _positions(
+            self.tx_positions_wl, chip.n_tx, f"board {self.name}: tx_positions_wl"))
+        object.__setattr__(self, "rx_positions_wl", _positions(
+            self.rx_positions_wl, chip.n_rx, f"board {self.name}: rx_positions_wl"))
+        for fld in ("pattern_exponent_az", "pattern_exponent_el"):
+            v = getattr(self, fld)
+            if not (isinstance(v, (int, float)) and 0 <= v < math.inf):
+                raise ValueError(f"board {self.name}: {fld}={v!r} must be a finite number >= 0")
+        if not (isinstance(self.fov_deg, (int, float)) and 0 < self.fov_deg <= 90):
+            raise ValueError(f"board {self.name}: fov_deg={self.fov_deg!r} must be in (0, 90]")
+
+    # ------------------------------------------------------------------ configs
+    def validate(self, cfg) -> None:
+        """Check a `radarsim.RadarConfig` against this board: it carries the config's chip and
+        explicit element positions hold one finite (y, z) pair per chip channel.
+
+        Raises
+        ------
+        ValueError
+            Naming the field, the value and the rule.
+        """
+        if self.chip != cfg.chip:
+            raise ValueError(f"board={self.name!r} carries a {self.chip}, not chip="
+                             f"{cfg.chip!r}")
+        self.defaults(cfg)
+
+    def defaults(self, cfg) -> dict[str, Any]:
+        """The board-derived fields of a config, None resolved: element positions (checked)
+        and pattern exponents."""
+        chip = get_chip(self.chip)
+        out = {}
+        for side, n in (("tx", chip.n_tx), ("rx", chip.n_rx)):
+            name = f"{side}_positions_wl"
+            value = getattr(cfg, name)
+            out[name] = _positions(getattr(self, name) if value is None else value, n, name)
+        for name in ("pattern_exponent_az", "pattern_exponent_el"):
+            value = getattr(cfg, name)
+            out[name] = getattr(self, name) if value is None else value
+        return out
+
+
+def _positions(value, n: int, name: str) -> tuple[tuple[float, float], ...]:
+    """`n` finite (y, z) pairs in wavelengths as a tuple of tuples.
+
+    Raises
+    ------
+    ValueError
+        Not a sequence of `n` finite pairs.
+    """
+    try:
+        pos = tuple((float(y), float(z)) for y, z in value)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name}={value!r} must be a sequence of (y, z) pairs in "
+                         "wavelengths") from None
+    if len(pos) != n or not all(math.isfinite(c) for p in pos for c in p):
+        raise ValueError(f"{name} must hold {n} finite (y, z) pairs (one per chip channel), "
+                         f"got {value!r}")
+    return pos
+
 
 _RX_HALF_WAVE = ((0.0, 0.0), (0.5, 0.0), (1.0, 0.0), (1.5, 0.0))
 _AWR2944_TX = ((0.0, 0.0), (1.0, 0.8), (2.0, 0.0), (4.0, 0.0))
@@ -82,33 +148,44 @@ _XWR18_TX = ((0.0, 0.0), (1.0, 0.5), (2.0, 0.0))
 _EVM_AZ, _EVM_EL = 1.2, 4.0
 _BOOST_AZ, _BOOST_EL = cos_exponent_for_half_power(60.0), cos_exponent_for_half_power(30.0)
 
-#: Boards by name.
-BOARDS: Mapping[str, Board] = MappingProxyType({
-    "AWR2944EVM": Board("AWR2944EVM", "AWR2944", _AWR2944_TX, _RX_HALF_WAVE, _EVM_AZ, _EVM_EL,
-                        "DESIGN 4.2, seed 000 fig. 20, TI antGeometryCfg"),
-    "AWR2944PEVM": Board("AWR2944PEVM", "AWR2944P", _AWR2944_TX, _RX_HALF_WAVE, _EVM_AZ,
-                         _EVM_EL, "AWR2944P visualizer antGeometryCfg (as AWR2944EVM)"),
-    "AWR2544LOPEVM": Board("AWR2544LOPEVM", "AWR2544",
-                           ((0.0, 0.0), (2.0, 0.0), (4.0, 0.0), (6.0, 0.0)), _RX_HALF_WAVE,
-                           _EVM_AZ, _EVM_EL,
-                           "assumed filled azimuth row (DDM demo order 0 1 2 3); unverified"),
-    "AWR1843BOOST": Board("AWR1843BOOST", "AWR1843", _XWR18_TX, _RX_HALF_WAVE, _BOOST_AZ,
-                          _BOOST_EL, "mmWave SDK xwr18xx demo antenna geometry", 60.0),
-    "IWR6843ISK": Board("IWR6843ISK", "IWR6843", _XWR18_TX, _RX_HALF_WAVE, _BOOST_AZ, _BOOST_EL,
-                        "mmWave SDK xwr68xx demo antenna geometry (ISK as xWR18xx BOOST)",
-                        60.0),
-    "AWR1642BOOST": Board("AWR1642BOOST", "AWR1642", ((0.0, 0.0), (2.0, 0.0)), _RX_HALF_WAVE,
-                          _BOOST_AZ, _BOOST_EL, "mmWave SDK xwr16xx demo; seed 001", 60.0),
-    **{name: Board(name, chip, _XWR18_TX, _RX_HALF_WAVE, _BOOST_AZ, _BOOST_EL,
-                   "as the xWR18xx BOOST layout (xwr14xx demo geometry); unverified", 60.0)
-       for name, chip in (("AWR1443BOOST", "AWR1443"), ("AWR1243BOOST", "AWR1243"),
-                          ("AWR2243BOOST", "AWR2243"))},
-})
+#: Boards by name; `register_board` adds a lab's own.
+BOARDS: Registry[Board] = Registry("board", kind=Board)
+BOARDS.register_all((
+    Board("AWR2944EVM", "AWR2944", _AWR2944_TX, _RX_HALF_WAVE, _EVM_AZ, _EVM_EL,
+          "DESIGN 4.2, seed 000 fig. 20, TI antGeometryCfg"),
+    Board("AWR2944PEVM", "AWR2944P", _AWR2944_TX, _RX_HALF_WAVE, _EVM_AZ,
+          _EVM_EL, "AWR2944P visualizer antGeometryCfg (as AWR2944EVM)"),
+    Board("AWR2544LOPEVM", "AWR2544",
+          ((0.0, 0.0), (2.0, 0.0), (4.0, 0.0), (6.0, 0.0)), _RX_HALF_WAVE,
+          _EVM_AZ, _EVM_EL,
+          "assumed filled azimuth row (DDM demo order 0 1 2 3); unverified"),
+    Board("AWR1843BOOST", "AWR1843", _XWR18_TX, _RX_HALF_WAVE, _BOOST_AZ,
+          _BOOST_EL, "mmWave SDK xwr18xx demo antenna geometry", 60.0),
+    Board("IWR6843ISK", "IWR6843", _XWR18_TX, _RX_HALF_WAVE, _BOOST_AZ, _BOOST_EL,
+          "mmWave SDK xwr68xx demo antenna geometry (ISK as xWR18xx BOOST)",
+          60.0),
+    Board("AWR1642BOOST", "AWR1642", ((0.0, 0.0), (2.0, 0.0)), _RX_HALF_WAVE,
+          _BOOST_AZ, _BOOST_EL, "mmWave SDK xwr16xx demo; seed 001", 60.0),
+    *(Board(name, chip, _XWR18_TX, _RX_HALF_WAVE, _BOOST_AZ, _BOOST_EL,
+            "as the xWR18xx BOOST layout (xwr14xx demo geometry); unverified", 60.0)
+      for name, chip in (("AWR1443BOOST", "AWR1443"), ("AWR1243BOOST", "AWR1243"),
+                         ("AWR2243BOOST", "AWR2243"))),
+))
 
 
 def get_board(name: str) -> Board:
     """The board of that name; ValueError naming the known boards otherwise."""
-    try:
-        return BOARDS[name]
-    except (KeyError, TypeError):
-        raise ValueError(f"board={name!r} is not one of {sorted(BOARDS)}") from None
+    return BOARDS.lookup(name)
+
+
+def register_board(board: Board, *, replace: bool = False) -> Board:
+    """Register a lab's own board (a `Board` record: chip, element positions, pattern) under
+    ``board.name`` and return it; a config then names it in ``RadarConfig.board``.
+
+    Raises
+    ------
+    ValueError
+        A name already taken (without ``replace``), or not a `Board` (a `Board` itself checks
+        its chip is registered and its positions fit the chip's channels).
+    """
+    return BOARDS.register(board, replace=replace)

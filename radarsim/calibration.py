@@ -6,7 +6,7 @@ noise and per-chirp phase noise included), estimates every code's phase and gain
 code 0, and returns the config with the measured table in `shifter_calibration_deg`: from then
 on `RadarConfig.phase_codes` programs, for each wanted phase, the code whose MEASURED phase is
 closest. The hardware error tables are unchanged; the residual is set by the code grid and the
-measurement noise (`RadarConfig.shifter_phase_residual_deg`).
+measurement noise (`shifter_phase_residual_deg`).
 
 Measurement model (per Tx k, code q, repeat r): the range-FFT bin of the reflector, summed
 coherently over the Rx (boresight: equal phases), is
@@ -25,16 +25,23 @@ References
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from typing import NamedTuple
 
 import numpy as np
 
 from .config import RadarConfig
+from .frontend import programmed_codes, received_power_w, wanted_phase_deg
 from .scatterers import Scatterers
-from .shifter import coupling_matrix, shifter_factor, wrap_deg
+from .shifter import coupling_matrix, phase_residual_deg, shifter_factor, wrap_deg
 
 __all__ = ["calibrate_shifters", "measure_shifters", "ShifterCalibration", "ShifterMeasurement",
-           "min_calibration_snr_db", "MAX_CALIBRATION_REPEATS"]
+           "min_calibration_snr_db", "MAX_CALIBRATION_REPEATS",
+           "shifter_phase_residual_deg", "resolve_calibration", "CALIBRATION_REQUEST_KEYS"]
+
+#: Keys of a calibration request (a sweep's ``shifter_calibration_deg = {seed = 0, ...}``): the
+#: measurement's generator seed and `calibrate_shifters`' set-up arguments.
+CALIBRATION_REQUEST_KEYS = ("seed", "range_m", "rcs_m2", "n_repeats", "thermal_noise")
 
 
 class ShifterMeasurement(NamedTuple):
@@ -62,7 +69,7 @@ class ShifterCalibration(NamedTuple):
         The estimated per-code table (relative to code 0).
     residual_deg : (n_tx, P) float
         Programmed-minus-wanted phase of the corrected codes over one code period
-        (`RadarConfig.shifter_phase_residual_deg`; NaN where a Tx is silent).
+        (`shifter_phase_residual_deg`; NaN where a Tx is silent).
     residual_rms_deg, residual_max_deg : float
         rms and max |.| of `residual_deg`.
     residual_before_rms_deg, residual_before_max_deg : float
@@ -119,7 +126,6 @@ def min_calibration_snr_db(cfg: RadarConfig, n_repeats: int) -> float:
 
 def _measurement_snr(cfg: RadarConfig, range_m: float, rcs_m2: float) -> float:
     """Per-chirp SNR of the reflector's range bin, summed over Rx (linear)."""
-    from .frontend import received_power_w
     sc = Scatterers(position_m=[[range_m, 0.0, 0.0]], velocity_mps=[[0.0, 0.0, 0.0]],
                     rcs_m2=[rcs_m2])
     a = math.sqrt(2 * received_power_w(cfg, sc)[0]) * cfg.adc_code_per_sqrt_w  # peak, LSB
@@ -224,7 +230,7 @@ def calibrate_shifters(cfg: RadarConfig, *, rng: np.random.Generator, range_m: f
         The config with the SAME hardware error tables and `shifter_calibration_deg` = the
         measured phase table, so `phase_codes()` returns the corrected programmed codes: per
         Tx and chirp of the code period, the code whose measured phase is closest to the wanted
-        phase. Residual rms/max: `config.shifter_phase_residual_deg()`.
+        phase. Residual rms/max: `shifter_phase_residual_deg`.
 
     Raises
     ------
@@ -244,7 +250,7 @@ def calibrate_shifters(cfg: RadarConfig, *, rng: np.random.Generator, range_m: f
     out = cfg.replace(shifter_calibration_deg=meas.phase_error_deg)
     if not full_output:
         return out
-    res, before = out.shifter_phase_residual_deg(), cfg.shifter_phase_residual_deg()
+    res, before = shifter_phase_residual_deg(out), shifter_phase_residual_deg(cfg)
     return ShifterCalibration(
         config=out, measured_phase_error_deg=meas.phase_error_deg,
         measured_gain_error_db=meas.gain_error_db, residual_deg=res,
@@ -252,3 +258,62 @@ def calibrate_shifters(cfg: RadarConfig, *, rng: np.random.Generator, range_m: f
         residual_max_deg=float(np.nanmax(np.abs(res))),
         residual_before_rms_deg=float(np.sqrt(np.nanmean(before ** 2))),
         residual_before_max_deg=float(np.nanmax(np.abs(before))), snr_db=meas.snr_db)
+
+
+def shifter_phase_residual_deg(cfg: RadarConfig) -> np.ndarray:
+    """(n_tx, P) phase the shifters really program over the first code period minus the ideal
+    programmed phase, relative to each Tx's code 0, deg.
+
+    P = ``cfg.scheme.chirps_per_period(cfg)``. Code-grid rounding plus the table error of the
+    chosen code (`radarsim.shifter.phase_residual_deg`); NaN where a Tx is silent. The ideal
+    phase is the scheme's code with an ideal shifter (``phase_quantization="none"``).
+
+    Examples
+    --------
+    >>> import numpy as np, radarsim
+    >>> from radarsim.calibration import shifter_phase_residual_deg
+    >>> res = shifter_phase_residual_deg(radarsim.presets.r79_ddma())   # floor rule, table 4
+    >>> res.shape, float(np.nanmax(np.abs(res)))
+    ((4, 6), 3.75)
+    """
+    p = cfg.scheme.chirps_per_period(cfg)
+    wanted, gain = wanted_phase_deg(cfg)
+    res = phase_residual_deg(wanted[:, :p], programmed_codes(cfg)[:, :p],
+                             np.asarray(cfg.shifter_phase_error_deg), cfg.phase_lsb_deg)
+    gain = gain[:, :p]
+    return np.where(gain != 0, res, np.nan)
+
+
+def resolve_calibration(cfg: RadarConfig, request: Mapping | None) -> RadarConfig:
+    """`cfg` calibrated as `request` asks: ``{seed[, range_m, rcs_m2, n_repeats,
+    thermal_noise]}`` runs `calibrate_shifters` with ``numpy.random.default_rng(seed)``.
+
+    A config is a value and never measures; the harness (a sweep's
+    ``shifter_calibration_deg = {seed = 0}``) and the CLI call this for it. None returns `cfg`.
+
+    Raises
+    ------
+    ValueError
+        A seed that is not an integer >= 0, unknown keys, or a bad measurement set-up; every
+        message starts with ``shifter_calibration_deg:``.
+    """
+    if request is None:
+        return cfg
+    if not isinstance(request, Mapping):
+        raise ValueError(f"shifter_calibration_deg: a calibration request is a table "
+                         f"{{seed, ...}}, got {request!r}")
+    kw = dict(request)
+    seed = kw.pop("seed", 0)
+    if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
+        raise ValueError(f"shifter_calibration_deg: seed={seed!r} must be an integer >= 0")
+    bad = sorted(set(kw) - set(CALIBRATION_REQUEST_KEYS))
+    if bad:
+        raise ValueError(f"shifter_calibration_deg: bad calibration spec {dict(request)!r} "
+                         f"(unknown key(s) {bad}; known: {list(CALIBRATION_REQUEST_KEYS)})")
+    try:
+        return calibrate_shifters(cfg, rng=np.random.default_rng(seed), **kw)
+    except TypeError as exc:
+        raise ValueError(f"shifter_calibration_deg: bad calibration spec {dict(request)!r} "
+                         f"({exc})") from None
+    except ValueError as exc:
+        raise ValueError(f"shifter_calibration_deg: {exc}") from None

@@ -42,11 +42,18 @@ guide SPRUIJ4, "lvdsMode 2"), 4 on the AWR294x (MCU+ SDK ``lvdsStreamCfg``, 4-la
 """
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from types import MappingProxyType
-from typing import Mapping, NamedTuple
+from typing import Any, Mapping, NamedTuple
 
-__all__ = ["AdcMode", "ADC_MODES", "AdcLimits", "Chip", "CHIPS", "get_chip"]
+import numpy as np
+
+from scenarios.registries import Registry
+
+from .config_rules import integers
+
+__all__ = ["AdcMode", "ADC_MODES", "AdcLimits", "Chip", "CHIPS", "get_chip", "register_chip"]
 
 
 class AdcMode(NamedTuple):
@@ -66,13 +73,14 @@ class AdcMode(NamedTuple):
 
 #: ADC output formats by name; complex 2x has the complex 1x signal model (its image band is
 #: passed rather than filtered, which point targets with positive beat frequencies never use).
-ADC_MODES: Mapping[str, AdcMode] = MappingProxyType({
-    "real": AdcMode("real", 0, False, 0.5, "real samples: n_samples/2 range bins"),
-    "complex1x": AdcMode("complex1x", 1, True, 1.0,
-                         "I/Q, image band filtered: n_samples range bins", image_rejected=True),
-    "complex2x": AdcMode("complex2x", 2, True, 1.0,
-                         "I/Q at the real-mode rate, image band kept: n_samples range bins"),
-})
+#: TI's formats, a closed (frozen) vocabulary.
+ADC_MODES: Registry[AdcMode] = Registry("ADC mode", field="adc_mode", kind=AdcMode).register_all((
+    AdcMode("real", 0, False, 0.5, "real samples: n_samples/2 range bins"),
+    AdcMode("complex1x", 1, True, 1.0, "I/Q, image band filtered: n_samples range bins",
+            image_rejected=True),
+    AdcMode("complex2x", 2, True, 1.0,
+            "I/Q at the real-mode rate, image band kept: n_samples range bins"),
+)).freeze()
 
 
 class AdcLimits(NamedTuple):
@@ -142,6 +150,39 @@ class Chip:
     mcu_plus_sdk: bool
     channel_cfg_args: int
 
+    def __post_init__(self) -> None:
+        # A lab's own chip is checked as the shipped ones were written: the limits a config is
+        # validated against must themselves be sane.
+        if not isinstance(self.name, str) or not self.name:
+            raise ValueError(f"chip name={self.name!r} must be a non-empty string")
+        if not 0 < self.band_min_hz < self.band_max_hz < math.inf:
+            raise ValueError(f"chip {self.name}: band_min_hz={self.band_min_hz:g} and "
+                             f"band_max_hz={self.band_max_hz:g} must be finite, > 0, min < max")
+        for fld in ("n_tx", "n_rx", "max_adc_samples", "max_chirp_defs", "max_loops",
+                    "max_profiles", "lvds_lanes"):
+            v = getattr(self, fld)
+            if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or v < 1:
+                raise ValueError(f"chip {self.name}: {fld}={v!r} must be an integer >= 1")
+        bad = sorted(set(self.adc) - set(ADC_MODES))
+        if not self.adc or bad:
+            raise ValueError(f"chip {self.name}: adc modes {sorted(self.adc)} must be a "
+                             f"non-empty subset of {sorted(ADC_MODES)}")
+        for fld in ("if_bandwidth_hz", "if_lowpass_hz"):
+            v = getattr(self, fld)
+            if not (isinstance(v, (int, float)) and 0 < v < math.inf):
+                raise ValueError(f"chip {self.name}: {fld}={v!r} must be a finite number > 0")
+        if self.phase_shifter_bits is not None and (
+                isinstance(self.phase_shifter_bits, bool)
+                or not isinstance(self.phase_shifter_bits, (int, np.integer))
+                or not 1 <= self.phase_shifter_bits <= 16):
+            raise ValueError(f"chip {self.name}: phase_shifter_bits="
+                             f"{self.phase_shifter_bits!r} must be None or an integer in 1..16")
+        if not self.adcbuf_interleave or self.adcbuf_interleaved_default not in \
+                self.adcbuf_interleave:
+            raise ValueError(f"chip {self.name}: adcbuf_interleaved_default="
+                             f"{self.adcbuf_interleaved_default!r} must be one of "
+                             f"adcbuf_interleave={sorted(self.adcbuf_interleave)}")
+
     @property
     def max_chirps(self) -> int:
         """Chirps per frame the chirp RAM and loop counter allow: max_chirp_defs x max_loops."""
@@ -149,6 +190,123 @@ class Chip:
 
     def supports(self, adc_mode: str) -> bool:
         return adc_mode in self.adc
+
+    # ------------------------------------------------------------------ configs
+    def validate(self, cfg) -> None:
+        """Check a `radarsim.RadarConfig` against this chip's limits (DESIGN 4.4 with this
+        chip's values): ADC mode, active channels, ADC samples and chirps, ADC rate, IF band,
+        RF band, phase-shifter bits, ADC-buffer interleaving. Fields left None take the
+        chip's defaults (`defaults`) and are valid by definition.
+
+        Raises
+        ------
+        ValueError
+            Naming the field, the value and this chip's limit.
+        """
+        if not self.supports(cfg.adc_mode):
+            raise ValueError(f"adc_mode={cfg.adc_mode!r}: the {self.name} supports "
+                             f"{sorted(self.adc)} ({self.datasheet}, receive subsystem)")
+        for name, hi in (("n_tx", self.n_tx), ("n_rx", self.n_rx)):
+            val = getattr(cfg, name)
+            if not isinstance(val, (int, np.integer)) or not 1 <= val <= hi:
+                raise ValueError(f"{name}={val!r} must be an integer in 1..{hi} ({self.name})")
+        self.channels(cfg.tx_channels, cfg.n_tx, "tx")
+        self.channels(cfg.rx_channels, cfg.n_rx, "rx")
+        if cfg.n_samples > self.max_adc_samples:
+            raise ValueError(f"n_samples={cfg.n_samples} exceeds the {self.name} limit of "
+                             f"{self.max_adc_samples} ADC samples per chirp")
+        if cfg.n_chirps > self.max_chirps:
+            raise ValueError(f"n_chirps={cfg.n_chirps} exceeds the {self.name} limit of "
+                             f"{self.max_chirps} chirps per frame ({self.max_chirp_defs} chirp "
+                             f"definitions x {self.max_loops} loops)")
+        self._validate_rf(cfg)
+        self.shifter_bits(cfg.phase_shifter_bits)
+        self.adcbuf_interleaved(cfg.adcbuf_interleaved)
+
+    def _validate_rf(self, cfg) -> None:
+        """ADC rate, IF band and RF band of a config (DESIGN 4.4)."""
+        max_rate = self.adc[cfg.adc_mode].max_rate_sps
+        if cfg.adc_rate_sps > max_rate:
+            raise ValueError(f"adc_rate_sps={cfg.adc_rate_sps:g} exceeds the {self.name} "
+                             f"limit {max_rate:g} sps ({cfg.adc_mode} ADC)")
+        if not cfg.is_complex and \
+                cfg.max_beat_frequency_hz > self.if_bandwidth_hz * (1 + 1e-9):
+            raise ValueError(f"adc_rate_sps={cfg.adc_rate_sps:g}: beat (IF) frequency span "
+                             f"{cfg.max_beat_frequency_hz:g} Hz exceeds the {self.name} IF "
+                             f"bandwidth limit {self.if_bandwidth_hz:g} Hz")
+        if cfg.start_freq_hz < self.band_min_hz:
+            raise ValueError(f"start_freq_hz={cfg.start_freq_hz:g} is below the {self.name} "
+                             f"band limit {self.band_min_hz:g} Hz")
+        ramp_top = cfg.start_freq_hz + cfg.slope_hz_per_s * cfg.ramp_end_time_s
+        # TI profiles give the ramp end time to 10 ns (two decimals in us), so a ramp sized to
+        # the band edge may pass it by up to one slope x 10 ns (TI Visualizer's 60 GHz
+        # "profileCfg 0 60 ... 114.29 ... 35 ..." ends 0.15 MHz above 64 GHz).
+        if ramp_top > self.band_max_hz * (1 + 1e-12) + cfg.slope_hz_per_s * 10e-9:
+            raise ValueError(f"start_freq_hz={cfg.start_freq_hz:g} + slope_hz_per_s="
+                             f"{cfg.slope_hz_per_s:g} x ramp_end_time_s="
+                             f"{cfg.ramp_end_time_s:g}: ramp end frequency {ramp_top:g} Hz "
+                             f"exceeds the {self.name} band limit {self.band_max_hz:g} Hz")
+
+    def channels(self, value, n: int, side: str) -> tuple[int, ...]:
+        """Chip channels (1-based) of the `n` active Tx or Rx (`side` "tx" / "rx"): `value`,
+        or 1..n when None.
+
+        Raises
+        ------
+        ValueError
+            Not `n` distinct channel numbers of this chip.
+        """
+        if value is None:
+            return tuple(range(1, n + 1))
+        n_chip = self.n_tx if side == "tx" else self.n_rx
+        chans = integers(value, f"{side}_channels",
+                         f"{n} distinct channel numbers in 1..{n_chip}")
+        if len(chans) != n or len(set(chans)) != n or not all(1 <= c <= n_chip for c in chans):
+            raise ValueError(f"{side}_channels={value!r} must list {n} distinct channel numbers "
+                             f"in 1..{n_chip} ({self.name})")
+        return chans
+
+    def shifter_bits(self, value) -> int:
+        """Phase-shifter bits of a config: the chip's (0 without a shifter: one code, 0 deg;
+        TDMA / BPM signs need none) when `value` is None, else `value` if it is the chip's.
+
+        Raises
+        ------
+        ValueError
+            Any other value.
+        """
+        bits = self.phase_shifter_bits or 0
+        if value is None:
+            return bits
+        if not isinstance(value, (int, np.integer)) or isinstance(value, bool) or value != bits:
+            have = "has no phase shifter" if not bits else f"phase shifter has {bits} bits"
+            raise ValueError(f"phase_shifter_bits={value!r}: the {self.name} {have}")
+        return int(value)
+
+    def adcbuf_interleaved(self, value) -> bool:
+        """ADC-buffer interleaving of a config: the demo's when `value` is None.
+
+        Raises
+        ------
+        ValueError
+            A setting the chip's demo firmware does not accept.
+        """
+        if value is None:
+            return self.adcbuf_interleaved_default
+        if bool(value) not in self.adcbuf_interleave:
+            raise ValueError(f"adcbuf_interleaved={value!r}: the {self.name} "
+                             "demo firmware accepts only a "
+                             f"{'non-' if False in self.adcbuf_interleave else ''}interleaved "
+                             "ADC buffer")
+        return bool(value)
+
+    def defaults(self, cfg) -> dict[str, Any]:
+        """The chip-derived fields of a validated config, None resolved: active channels,
+        phase-shifter bits, ADC-buffer interleaving."""
+        return {"tx_channels": self.channels(cfg.tx_channels, cfg.n_tx, "tx"),
+                "rx_channels": self.channels(cfg.rx_channels, cfg.n_rx, "rx"),
+                "phase_shifter_bits": self.shifter_bits(cfg.phase_shifter_bits),
+                "adcbuf_interleaved": self.adcbuf_interleaved(cfg.adcbuf_interleaved)}
 
 
 def _awr294x(name: str, board: str, datasheet: str, platform: str,
@@ -202,32 +360,41 @@ def _xwr1x6x(name: str, band: tuple[float, float], n_tx: int, if_bw: float,
     )
 
 
-#: Chips by the name users type (TI part number).
-CHIPS: Mapping[str, Chip] = MappingProxyType({
-    "AWR2944": _awr294x("AWR2944", "AWR2944EVM", "SWRS273D", "AWR294X"),
-    "AWR2944P": _awr294x("AWR2944P", "AWR2944PEVM", "SWRS318A", "AWR2X44P", channel_cfg_args=5),
-    "AWR2544": _awr294x("AWR2544", "AWR2544LOPEVM", "SWRS314B", "AWR2544",
-                        interleaved_default=False, channel_cfg_args=5),
+#: Chips by the name users type (TI part number); `register_chip` adds a lab's own.
+CHIPS: Registry[Chip] = Registry("chip", kind=Chip)
+CHIPS.register_all((
+    _awr294x("AWR2944", "AWR2944EVM", "SWRS273D", "AWR294X"),
+    _awr294x("AWR2944P", "AWR2944PEVM", "SWRS318A", "AWR2X44P", channel_cfg_args=5),
+    _awr294x("AWR2544", "AWR2544LOPEVM", "SWRS314B", "AWR2544",
+             interleaved_default=False, channel_cfg_args=5),
     # Complex-baseband family: IF bandwidths from each receive-subsystem section.
-    "AWR1843": _xwr1x6x("AWR1843", (76e9, 81e9), 3, 10e6, 6, "AWR1843BOOST", "SWRS222D",
-                        "xWR18xx"),
-    "AWR1642": _xwr1x6x("AWR1642", (76e9, 81e9), 2, 5e6, None, "AWR1642BOOST", "SWRS203D",
-                        "xWR16xx"),
-    "IWR6843": _xwr1x6x("IWR6843", (60e9, 64e9), 3, 10e6, 6, "IWR6843ISK", "SWRS219F",
-                        "xWR68xx"),
-    "AWR1443": _xwr1x6x("AWR1443", (76e9, 81e9), 3, 15e6, None, "AWR1443BOOST", "SWRS207",
-                        "xWR14xx", interleaved=True, lanes=4),
+    _xwr1x6x("AWR1843", (76e9, 81e9), 3, 10e6, 6, "AWR1843BOOST", "SWRS222D", "xWR18xx"),
+    _xwr1x6x("AWR1642", (76e9, 81e9), 2, 5e6, None, "AWR1642BOOST", "SWRS203D", "xWR16xx"),
+    _xwr1x6x("IWR6843", (60e9, 64e9), 3, 10e6, 6, "IWR6843ISK", "SWRS219F", "xWR68xx"),
+    _xwr1x6x("AWR1443", (76e9, 81e9), 3, 15e6, None, "AWR1443BOOST", "SWRS207", "xWR14xx",
+             interleaved=True, lanes=4),
     # Front ends (mmWave Studio setups; no SDK demo of their own).
-    "AWR1243": _xwr1x6x("AWR1243", (76e9, 81e9), 3, 15e6, None, "AWR1243BOOST", "SWRS188",
-                        "AWR1243", lanes=4),
-    "AWR2243": _xwr1x6x("AWR2243", (76e9, 81e9), 3, 20e6, 6, "AWR2243BOOST", "SWRS223D",
-                        "AWR2243", lanes=4, max_rate_sps=45e6),
-})
+    _xwr1x6x("AWR1243", (76e9, 81e9), 3, 15e6, None, "AWR1243BOOST", "SWRS188", "AWR1243",
+             lanes=4),
+    _xwr1x6x("AWR2243", (76e9, 81e9), 3, 20e6, 6, "AWR2243BOOST", "SWRS223D", "AWR2243",
+             lanes=4, max_rate_sps=45e6),
+))
 
 
 def get_chip(name: str) -> Chip:
     """The chip of that name; ValueError naming the known chips otherwise."""
-    try:
-        return CHIPS[name]
-    except (KeyError, TypeError):
-        raise ValueError(f"chip={name!r} is not one of {sorted(CHIPS)}") from None
+    return CHIPS.lookup(name)
+
+
+def register_chip(chip: Chip, *, replace: bool = False) -> Chip:
+    """Register a lab's own chip (a `Chip` record) under ``chip.name`` and return it.
+
+    A config then names it in ``RadarConfig.chip``; give it a board too (`register_board`,
+    ``default_board`` names it).
+
+    Raises
+    ------
+    ValueError
+        A name already taken (without ``replace``), or not a `Chip`.
+    """
+    return CHIPS.register(chip, replace=replace)

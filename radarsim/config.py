@@ -15,17 +15,18 @@ from __future__ import annotations
 
 import dataclasses
 import math
-from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
-from .boards import get_board
-from .chips import ADC_MODES, CHIPS, get_chip
-from scenarios.checks import require
+from scenarios.checks import one_of
 
 from . import shifter as _shifter
+from .boards import get_board
+from .chips import ADC_MODES, CHIPS, get_chip
+from .config_rules import (ADC_FULL_SCALE_CODE, channel_errors, check_numbers, check_timing,
+                           check_values, integers)
 from .mimo import MIMO_SCHEMES, MimoScheme, scheme_of
 
 __all__ = [
@@ -43,7 +44,6 @@ BAND_MIN_HZ = CHIPS["AWR2944"].band_min_hz
 BAND_MAX_HZ = CHIPS["AWR2944"].band_max_hz
 MAX_N_TX = CHIPS["AWR2944"].n_tx
 MAX_N_RX = CHIPS["AWR2944"].n_rx
-ADC_FULL_SCALE_CODE = 32767
 
 #: How a programmed phase is mapped onto the shifter's codes (`radarsim.shifter`).
 PHASE_QUANTIZATIONS = _shifter.PHASE_QUANTIZATIONS
@@ -65,90 +65,6 @@ _DEPENDENT_FIELDS = {
     "board": ("tx_positions_wl", "rx_positions_wl", "pattern_exponent_az",
               "pattern_exponent_el"),
 }
-
-
-def _positions(value, n: int, name: str) -> tuple[tuple[float, float], ...]:
-    try:
-        pos = tuple((float(y), float(z)) for y, z in value)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name}={value!r} must be a sequence of (y, z) pairs in "
-                         "wavelengths") from None
-    if len(pos) != n or not all(math.isfinite(c) for p in pos for c in p):
-        raise ValueError(f"{name} must hold {n} finite (y, z) pairs (one per chip channel), "
-                         f"got {value!r}")
-    return pos
-
-
-def _integers(value, name: str, what: str) -> tuple[int, ...]:
-    """A sequence of integers, refused (not coerced) otherwise: ``(1.7, 3.9)`` must not become
-    (1, 3), nor the string ``'1342'`` the tuple (1, 3, 4, 2)."""
-    if isinstance(value, (str, bytes)) or not hasattr(value, "__iter__") or not all(
-            isinstance(c, (int, np.integer)) and not isinstance(c, (bool, np.bool_))
-            for c in value):
-        raise ValueError(f"{name}={value!r} must be a sequence of integers ({what})")
-    return tuple(int(c) for c in value)
-
-
-def _channels(value, n: int, n_chip: int, name: str, chip: str) -> tuple[int, ...]:
-    if value is None:
-        return tuple(range(1, n + 1))
-    chans = _integers(value, name, f"{n} distinct channel numbers in 1..{n_chip}")
-    if len(chans) != n or len(set(chans)) != n or not all(1 <= c <= n_chip for c in chans):
-        raise ValueError(f"{name}={value!r} must list {n} distinct channel numbers in "
-                         f"1..{n_chip} ({chip})")
-    return chans
-
-
-#: Plausible RF budget of a radar front end: field -> (low, high). Beyond these the radar
-#: equation overflows (10^(5000/10) W) or the value is a typo; the AWR2944 EVM sits far inside
-#: (12 dBm per Tx, 10 dBi elements, 12 dB noise figure).
-RF_BUDGET_LIMITS = {
-    "tx_power_dbm": (-40.0, 40.0),          # 40 dBm = 10 W per transmitter
-    "tx_antenna_gain_dbi": (-30.0, 50.0),
-    "rx_antenna_gain_dbi": (-30.0, 50.0),
-    "noise_figure_db": (0.0, 60.0),
-    "system_loss_db": (0.0, 100.0),
-    "adc_full_scale_dbm": (-100.0, 30.0),
-    "temperature_k": (1.0, 1000.0),
-    "phase_noise_deg_rms": (0.0, 180.0),
-}
-#: Per-Tx static errors: field -> (low, high). A gain error far below 0 dB mutes a Tx (tests
-#: use -300 dB); above +40 dB it is a typo that overflows the received power.
-TX_ERROR_LIMITS = {"tx_gain_error_db": (-400.0, 40.0), "tx_phase_error_deg": (-360.0, 360.0),
-                   "rx_gain_error_db": (-400.0, 40.0), "rx_phase_error_deg": (-360.0, 360.0)}
-#: Largest board range bias, m: feed lines and internal delays of a real board amount to
-#: centimetres; beyond 10 m the value is a typo (TI's measurement searches a few bins).
-MAX_RANGE_BIAS_M = 10.0
-
-
-def _is_number(v) -> bool:
-    return isinstance(v, (int, float, np.integer, np.floating)) and not isinstance(v, bool)
-
-
-def _check_numbers(cfg) -> None:
-    """Every numeric field holds a number (a string or bool would fail later without the field
-    name)."""
-    for f in dataclasses.fields(cfg):
-        v = getattr(cfg, f.name)
-        if _is_number(f.default) and not _is_number(v):
-            raise ValueError(f"{f.name}={v!r} must be a number")
-
-
-def _check_rf_budget(cfg) -> None:
-    """The RF budget lies within `RF_BUDGET_LIMITS`; per-Tx errors hold numbers within
-    `TX_ERROR_LIMITS`."""
-    for name, (lo, hi) in RF_BUDGET_LIMITS.items():
-        v = getattr(cfg, name)
-        if not (math.isfinite(v) and lo <= v <= hi):
-            raise ValueError(f"{name}={v!r} is outside the plausible range [{lo:g}, {hi:g}]")
-    for name, (lo, hi) in TX_ERROR_LIMITS.items():
-        v = getattr(cfg, name)
-        if v is None:
-            continue
-        if isinstance(v, (str, bytes)) or not hasattr(v, "__len__") or \
-                not all(_is_number(x) and math.isfinite(x) and lo <= x <= hi for x in v):
-            raise ValueError(f"{name}={v!r} must be a list of finite numbers in "
-                             f"[{lo:g}, {hi:g}] (one per {name[:2].capitalize()})")
 
 
 @dataclass(frozen=True, kw_only=True, slots=True)
@@ -229,9 +145,10 @@ class RadarConfig:
     shifter_calibration_deg : (n_tx, 2**bits) table, mapping or None
         The chip's shifter calibration: measured phase error of every code relative to code
         0, deg. When set, `phase_codes` programs the code whose measured phase is closest to
-        the wanted phase instead of the `phase_quantization` rule. A mapping
-        {seed[, range_m, rcs_m2, n_repeats, thermal_noise]} runs `calibrate_shifters` at
-        construction. None: uncalibrated.
+        the wanted phase instead of the `phase_quantization` rule. None: uncalibrated. A
+        config is a value and never measures: a calibration request {seed[, range_m, rcs_m2,
+        n_repeats, thermal_noise]} is resolved by whoever asks for it
+        (`radarsim.calibration.resolve_calibration`; a sweep's radar table per cell).
     tx_power_dbm : float
         Power per transmitter at the antenna port.
     tx_antenna_gain_dbi, rx_antenna_gain_dbi : float
@@ -307,212 +224,48 @@ class RadarConfig:
     tx_leakage_dbfs: float | None = None
 
     def __post_init__(self) -> None:
-        _set = lambda name, value: object.__setattr__(self, name, value)  # noqa: E731
-        _check_numbers(self)
+        check_numbers(self)
         scheme = scheme_of(self.mimo)
         chip = get_chip(self.chip)
         board = get_board(chip.default_board if self.board is None else self.board)
-        if board.chip != chip.name:
-            raise ValueError(f"board={board.name!r} carries a {board.chip}, not chip="
-                             f"{chip.name!r}")
-        _set("board", board.name)
-        if self.adc_mode not in ADC_MODES:
-            raise ValueError(f"adc_mode={self.adc_mode!r} is not one of {sorted(ADC_MODES)}")
-        if not chip.supports(self.adc_mode):
-            raise ValueError(f"adc_mode={self.adc_mode!r}: the {chip.name} supports "
-                             f"{sorted(chip.adc)} ({chip.datasheet}, receive subsystem)")
-        for name, hi in (("n_tx", chip.n_tx), ("n_rx", chip.n_rx)):
-            val = getattr(self, name)
-            if not isinstance(val, (int, np.integer)) or not 1 <= val <= hi:
-                raise ValueError(f"{name}={val!r} must be an integer in 1..{hi} ({chip.name})")
-        _set("tx_channels", _channels(self.tx_channels, self.n_tx, chip.n_tx, "tx_channels",
-                                      chip.name))
-        _set("rx_channels", _channels(self.rx_channels, self.n_rx, chip.n_rx, "rx_channels",
-                                      chip.name))
-        _set("tx_positions_wl", _positions(board.tx_positions_wl if self.tx_positions_wl is None
-                                           else self.tx_positions_wl, chip.n_tx,
-                                           "tx_positions_wl"))
-        _set("rx_positions_wl", _positions(board.rx_positions_wl if self.rx_positions_wl is None
-                                           else self.rx_positions_wl, chip.n_rx,
-                                           "rx_positions_wl"))
-        if self.adcbuf_interleaved is None:
-            _set("adcbuf_interleaved", chip.adcbuf_interleaved_default)
-        elif bool(self.adcbuf_interleaved) not in chip.adcbuf_interleave:
-            raise ValueError(f"adcbuf_interleaved={self.adcbuf_interleaved!r}: the {chip.name} "
-                             "demo firmware accepts only a "
-                             f"{'non-' if False in chip.adcbuf_interleave else ''}interleaved "
-                             "ADC buffer")
-        else:
-            _set("adcbuf_interleaved", bool(self.adcbuf_interleaved))
-        for name, value in (("pattern_exponent_az", board.pattern_exponent_az),
-                            ("pattern_exponent_el", board.pattern_exponent_el)):
-            if getattr(self, name) is None:
-                _set(name, value)
-        require(self, ("n_samples", "n_chirps"), "integer", ge=2)
-        if self.n_samples % 2 and not self.is_complex:
-            raise ValueError(f"n_samples={self.n_samples} must be even (real ADC: "
-                             "n_samples/2 range bins)")
-        if self.n_samples > chip.max_adc_samples:
-            raise ValueError(f"n_samples={self.n_samples} exceeds the {chip.name} limit of "
-                             f"{chip.max_adc_samples} ADC samples per chirp")
-        if self.n_chirps > chip.max_chirps:
-            raise ValueError(f"n_chirps={self.n_chirps} exceeds the {chip.name} limit of "
-                             f"{chip.max_chirps} chirps per frame ({chip.max_chirp_defs} chirp "
-                             f"definitions x {chip.max_loops} loops)")
-        require(self, ("start_freq_hz", "slope_hz_per_s", "idle_time_s", "ramp_end_time_s",
-                       "chirp_period_s", "adc_rate_sps", "temperature_k"), gt=0)
-        if not (math.isfinite(self.adc_start_time_s) and self.adc_start_time_s >= 0):
-            raise ValueError(f"adc_start_time_s={self.adc_start_time_s!r} must be >= 0")
-        require(self, ("tx_power_dbm", "tx_antenna_gain_dbi", "rx_antenna_gain_dbi",
-                       "adc_full_scale_dbm"))
-        require(self, ("noise_figure_db", "system_loss_db", "phase_noise_deg_rms",
-                       "pattern_exponent_az", "pattern_exponent_el"), ge=0)
-        _check_rf_budget(self)
-
-        if not (math.isfinite(self.adc_dc_offset_lsb)
-                and abs(self.adc_dc_offset_lsb) <= ADC_FULL_SCALE_CODE):
-            raise ValueError(f"adc_dc_offset_lsb={self.adc_dc_offset_lsb!r} must be finite and "
-                             f"within +/-{ADC_FULL_SCALE_CODE} LSB")
-        if self.tx_leakage_dbfs is not None and not (math.isfinite(self.tx_leakage_dbfs)
-                                                     and self.tx_leakage_dbfs <= 0):
-            raise ValueError(f"tx_leakage_dbfs={self.tx_leakage_dbfs!r} must be <= 0 dBFS or "
-                             "None")
-
-        # DESIGN 4.4: chip limits, the chip's values.
-        max_rate = chip.adc[self.adc_mode].max_rate_sps
-        if self.adc_rate_sps > max_rate:
-            raise ValueError(f"adc_rate_sps={self.adc_rate_sps:g} exceeds the {chip.name} "
-                             f"limit {max_rate:g} sps ({self.adc_mode} ADC)")
-        if not self.is_complex and \
-                self.max_beat_frequency_hz > chip.if_bandwidth_hz * (1 + 1e-9):
-            raise ValueError(f"adc_rate_sps={self.adc_rate_sps:g}: beat (IF) frequency span "
-                             f"{self.max_beat_frequency_hz:g} Hz exceeds the {chip.name} IF "
-                             f"bandwidth limit {chip.if_bandwidth_hz:g} Hz")
-        if self.start_freq_hz < chip.band_min_hz:
-            raise ValueError(f"start_freq_hz={self.start_freq_hz:g} is below the {chip.name} "
-                             f"band limit {chip.band_min_hz:g} Hz")
-        ramp_top = self.start_freq_hz + self.slope_hz_per_s * self.ramp_end_time_s
-        # TI profiles give the ramp end time to 10 ns (two decimals in us), so a ramp sized to
-        # the band edge may pass it by up to one slope x 10 ns (TI Visualizer's 60 GHz
-        # "profileCfg 0 60 ... 114.29 ... 35 ..." ends 0.15 MHz above 64 GHz).
-        if ramp_top > chip.band_max_hz * (1 + 1e-12) + self.slope_hz_per_s * 10e-9:
-            raise ValueError(f"start_freq_hz={self.start_freq_hz:g} + slope_hz_per_s="
-                             f"{self.slope_hz_per_s:g} x ramp_end_time_s="
-                             f"{self.ramp_end_time_s:g}: ramp end frequency {ramp_top:g} Hz "
-                             f"exceeds the {chip.name} band limit {chip.band_max_hz:g} Hz")
-        adc_end = self.adc_start_time_s + self.n_samples / self.adc_rate_sps
-        if adc_end > self.ramp_end_time_s * (1 + 1e-9):
-            raise ValueError(f"n_samples={self.n_samples}: ADC window ends at "
-                             f"adc_start_time_s + n_samples / adc_rate_sps = {adc_end:g} s, "
-                             f"after ramp_end_time_s={self.ramp_end_time_s:g} s")
-        period = self.idle_time_s + self.ramp_end_time_s
-        if not math.isclose(self.chirp_period_s, period, rel_tol=1e-6):
-            raise ValueError(f"chirp_period_s={self.chirp_period_s:g} must equal idle_time_s + "
-                             f"ramp_end_time_s = {period:g} s")
-        # A chip without shifters has 0 bits: one code, 0 deg (TDMA/BPM signs need none).
-        bits = chip.phase_shifter_bits or 0
-        if self.phase_shifter_bits is None:
-            _set("phase_shifter_bits", bits)
-        elif not isinstance(self.phase_shifter_bits, (int, np.integer)) or \
-                isinstance(self.phase_shifter_bits, bool) or self.phase_shifter_bits != bits:
-            have = "has no phase shifter" if not bits else f"phase shifter has {bits} bits"
-            raise ValueError(f"phase_shifter_bits={self.phase_shifter_bits!r}: the {chip.name} "
-                             f"{have}")
+        board.validate(self)
+        self._set(board=board.name, **board.defaults(self))
+        one_of("adc_mode", self.adc_mode, ADC_MODES)
+        check_values(self)
+        chip.validate(self)
+        self._set(**chip.defaults(self))
+        check_timing(self)
         if scheme.needs_phase_shifter and self.phase_shifter_bits == 0:
             raise ValueError(f"mimo={self.mimo!r} needs per-Tx phase shifters; the {chip.name} "
                              "has none")
-        if self.phase_quantization not in PHASE_QUANTIZATIONS:
-            raise ValueError(f"phase_quantization={self.phase_quantization!r} is not one of "
-                             f"{sorted(PHASE_QUANTIZATIONS)}")
-        if self.antenna_pattern not in ANTENNA_PATTERNS:
-            raise ValueError(f"antenna_pattern={self.antenna_pattern!r} is not one of "
-                             f"{sorted(ANTENNA_PATTERNS)}")
+        one_of("phase_quantization", self.phase_quantization, PHASE_QUANTIZATIONS)
+        one_of("antenna_pattern", self.antenna_pattern, ANTENNA_PATTERNS)
+        self._resolve_schedule(scheme)
+        self._set(**channel_errors(self))
+        self._set(**_shifter.resolve_config_tables(self))
 
-        # MIMO schedule.
+    def _set(self, **fields: Any) -> None:
+        """Set resolved fields while the frozen instance is being built."""
+        for name, value in fields.items():
+            object.__setattr__(self, name, value)
+
+    def _resolve_schedule(self, scheme: MimoScheme) -> None:
+        """Tx order and sub-bands (the scheme's defaults when None), then the scheme's rules."""
         if self.tx_order is None:
             order = scheme.default_tx_order(self.n_tx)
             if order == MimoScheme.default_tx_order(scheme, self.n_tx):
                 # The R79 rule (horizontal Tx first, raised last) on this board's geometry.
                 order = self._geometry_tx_order()
         else:
-            order = _integers(self.tx_order, "tx_order", f"a permutation of Tx 1..{self.n_tx}")
+            order = integers(self.tx_order, "tx_order", f"a permutation of Tx 1..{self.n_tx}")
         if sorted(order) != list(range(1, self.n_tx + 1)):
             raise ValueError(f"tx_order={order!r} must be a permutation of Tx 1..{self.n_tx}")
-        _set("tx_order", order)
+        self._set(tx_order=order)
         if self.n_subbands is None:
-            _set("n_subbands", scheme.default_n_subbands(self.n_tx))
+            self._set(n_subbands=scheme.default_n_subbands(self.n_tx))
         elif not isinstance(self.n_subbands, (int, np.integer)) or self.n_subbands < 1:
             raise ValueError(f"n_subbands={self.n_subbands!r} must be an integer >= 1")
         scheme.validate(self)
-        for name, n, what in (("tx_phase_error_deg", self.n_tx, "Tx"),
-                              ("tx_gain_error_db", self.n_tx, "Tx"),
-                              ("rx_phase_error_deg", self.n_rx, "Rx"),
-                              ("rx_gain_error_db", self.n_rx, "Rx")):
-            val = getattr(self, name)
-            if val is None:
-                _set(name, (0.0,) * n)
-                continue
-            val = tuple(float(v) for v in val)
-            if len(val) != n or not all(math.isfinite(v) for v in val):
-                raise ValueError(f"{name} must hold {n} finite values (one per {what}), "
-                                 f"got {val!r}")
-            _set(name, val)
-        if not (math.isfinite(self.range_bias_m) and abs(self.range_bias_m) <= MAX_RANGE_BIAS_M):
-            raise ValueError(f"range_bias_m={self.range_bias_m!r} must be finite and within "
-                             f"+/-{MAX_RANGE_BIAS_M:g} m")
-        self._resolve_shifter_fields(_set)
-
-    def _resolve_shifter_fields(self, _set) -> None:
-        """Resolve and validate the shifter tables, the coupling and the calibration."""
-        n_codes = 2 ** self.phase_shifter_bits  # 1 (code 0) on a chip without shifters
-        _set("shifter_phase_error_deg", _shifter.resolve_table(
-            "shifter_phase_error_deg", self.shifter_phase_error_deg, self.n_tx, n_codes,
-            _shifter.MAX_SHIFTER_PHASE_ERROR_DEG))
-        _set("shifter_gain_error_db", _shifter.resolve_table(
-            "shifter_gain_error_db", self.shifter_gain_error_db, self.n_tx, n_codes,
-            _shifter.MAX_SHIFTER_GAIN_ERROR_DB))
-        eye = np.eye(self.n_tx, dtype=bool)
-        lvl = np.where(eye, 0.0, -np.inf) if self.tx_coupling_db is None else \
-            _shifter.check_table("tx_coupling_db", self.tx_coupling_db,
-                                 (self.n_tx, self.n_tx), np.inf, allow_neg_inf=True)
-        ph = np.zeros((self.n_tx, self.n_tx)) if self.tx_coupling_deg is None else \
-            _shifter.check_table("tx_coupling_deg", self.tx_coupling_deg,
-                                 (self.n_tx, self.n_tx), 360.0)
-        if np.any(lvl[eye] != 0) or np.any(ph[eye] != 0):
-            raise ValueError(f"tx_coupling_db / tx_coupling_deg diagonal must be 0 dB and "
-                             f"0 deg (channel gains are tx_gain_error_db), got "
-                             f"{lvl[eye].tolist()} dB, {ph[eye].tolist()} deg")
-        if np.any(lvl[~eye] > _shifter.MAX_TX_COUPLING_DB):
-            raise ValueError(f"tx_coupling_db off-diagonal level {lvl[~eye].max():g} dB "
-                             f"exceeds the limit {_shifter.MAX_TX_COUPLING_DB:g} dB")
-        _set("tx_coupling_db", tuple(tuple(float(v) for v in r) for r in lvl))
-        _set("tx_coupling_deg", tuple(tuple(float(v) for v in r) for r in ph))
-        cal = self.shifter_calibration_deg
-        if cal is None:
-            return
-        if PHASE_QUANTIZATIONS[self.phase_quantization].ideal:
-            raise ValueError(f"shifter_calibration_deg is set but phase_quantization="
-                             f"{self.phase_quantization!r}: "
-                             "an ideal shifter has no codes to choose; use 'floor' or 'round'")
-        if isinstance(cal, Mapping):
-            from .calibration import calibrate_shifters
-            kw = dict(cal)
-            seed = kw.pop("seed", 0)
-            if not isinstance(seed, (int, np.integer)) or isinstance(seed, bool) or seed < 0:
-                raise ValueError(f"shifter_calibration_deg: seed={seed!r} must be an "
-                                 "integer >= 0")
-            raw = {f.name: getattr(self, f.name) for f in dataclasses.fields(self)}
-            raw["shifter_calibration_deg"] = None
-            try:
-                res = calibrate_shifters(RadarConfig(**raw), rng=np.random.default_rng(seed),
-                                         full_output=True, **kw)
-            except TypeError as exc:
-                raise ValueError(f"shifter_calibration_deg: bad calibration spec "
-                                 f"{dict(cal)!r} ({exc})") from exc
-            cal = res.measured_phase_error_deg
-        _set("shifter_calibration_deg", _shifter.resolve_table(
-            "shifter_calibration_deg", cal, self.n_tx, n_codes,
-            _shifter.MAX_SHIFTER_PHASE_ERROR_DEG))
 
     def _geometry_tx_order(self) -> tuple[int, ...]:
         # Tx on the lowest row first (in channel order), raised Tx last, as the R79 demo's
@@ -670,21 +423,6 @@ class RadarConfig:
         else:
             prog_deg = self.phase_codes() * self.phase_lsb_deg
         return -np.radians(prog_deg)
-
-    def shifter_phase_residual_deg(self) -> np.ndarray:
-        """(n_tx, P) phase the shifters really program over the first code period
-        (P = `scheme.chirps_per_period`) minus the ideal programmed phase, relative to each
-        Tx's code 0, deg: code-grid rounding plus the table error of the chosen code
-        (`radarsim.shifter.phase_residual_deg`); NaN where a Tx is silent. The ideal phase is
-        the scheme's code with an ideal shifter (`phase_quantization="none"`)."""
-        from .frontend import programmed_codes, wanted_phase_deg
-        p = self.scheme.chirps_per_period(self)
-        wanted, gain = wanted_phase_deg(self)
-        res = _shifter.phase_residual_deg(wanted[:, :p], programmed_codes(self)[:, :p],
-                                          np.asarray(self.shifter_phase_error_deg),
-                                          self.phase_lsb_deg)
-        gain = gain[:, :p]
-        return np.where(gain != 0, res, np.nan)
 
     # ------------------------------------------------------------------ derived: antenna
     @property

@@ -40,6 +40,8 @@ import numpy as np
 
 from .antenna import element_gain_linear
 from .config import ADC_FULL_SCALE_CODE, C_MPS, RadarConfig
+from .interference import synthesize
+from .receiver import IF_LOWPASS_HZ, IF_LOWPASS_ORDER, if_corner_hz, if_filter_gain
 from .scatterers import Scatterers
 from .shifter import apply_coupling, coupling_matrix, select_codes, shifter_factor
 
@@ -47,30 +49,8 @@ __all__ = ["simulate_frame", "simulate_frame_weights", "received_power_w", "if_f
            "transmit_phasors", "programmed_codes",
            "ADCSaturationWarning", "IF_LOWPASS_HZ", "IF_LOWPASS_ORDER", "if_corner_hz"]
 
-#: -3 dB corner of the AWR2944's IF anti-alias low-pass, Hz: just above the 15 MHz usable IF
-#: band, so targets up to ~240 m lose < 0.2 dB and echoes beyond the 253 m Nyquist range are
-#: attenuated (-7.5 dB at 300 m, -31 dB at 400 m) rather than aliasing at full strength. Each
-#: chip's corner is `radarsim.chips.Chip.if_lowpass_hz`.
-IF_LOWPASS_HZ = 16.5e6
-#: Butterworth order of that low-pass.
-IF_LOWPASS_ORDER = 10
-
-
 class ADCSaturationWarning(UserWarning):
     """Some ADC samples were clipped at the int16 full scale."""
-
-
-def if_filter_gain(beat_hz: np.ndarray, corner_hz: float = IF_LOWPASS_HZ) -> np.ndarray:
-    """Power gain of the IF anti-alias low-pass (Butterworth magnitude), linear.
-
-    Parameters
-    ----------
-    beat_hz : (K,) float
-        Beat frequency, Hz.
-    corner_hz : float
-        -3 dB corner, Hz (default the AWR2944's).
-    """
-    return 1.0 / (1.0 + (np.abs(beat_hz) / corner_hz) ** (2 * IF_LOWPASS_ORDER))
 
 
 def received_power_w(cfg: RadarConfig, scatterers: Scatterers) -> np.ndarray:
@@ -96,16 +76,6 @@ def received_power_w(cfg: RadarConfig, scatterers: Scatterers) -> np.ndarray:
     lam = cfg.wavelength_m
     pr = pt * gt * gr * lam ** 2 * scatterers.rcs_m2 / ((4 * np.pi) ** 3 * r ** 4 * loss)
     return pr * if_filter_gain(_beat_frequency_hz(cfg, scatterers), if_corner_hz(cfg))
-
-
-def if_corner_hz(cfg: RadarConfig) -> float:
-    """-3 dB corner of the receive chain's anti-alias low-pass for `cfg`, Hz.
-
-    The analog IF filter's (`radarsim.chips.Chip.if_lowpass_hz`, just above the chip's IF
-    bandwidth) or, when the ADC samples a narrower band, 1.1 x that band (real: f_s / 2,
-    complex: f_s): the chip's decimation filter follows the sampling rate, so an echo beyond
-    the max range is attenuated before it aliases. For the R79 waveform both are 16.5 MHz."""
-    return min(cfg.chip_spec.if_lowpass_hz, 1.1 * cfg.max_beat_frequency_hz)
 
 
 def _beat_frequency_hz(cfg: RadarConfig, scatterers: Scatterers) -> np.ndarray:
@@ -367,7 +337,6 @@ def simulate_frame_weights(cfg: RadarConfig, scatterers: Scatterers, rng: np.ran
         if n_c != cfg.n_chirps:
             raise ValueError(f"interferers need the config's {cfg.n_chirps} chirps, "
                              f"tx_weights has {n_c}")
-        from .interference import synthesize
         synthesize(cfg, interferers, out=out)
     if has_dc:
         dcl = _dc_leakage(cfg)

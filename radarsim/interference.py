@@ -8,7 +8,7 @@ difference frequency
 
 (victim chirp c starting its ramp at T_c, interferer ramp m starting at A_m, one-way delay
 tau = R / c). Whenever |f_d| falls inside the victim's IF passband (B_IF: the receiver's IF
-corner, `frontend.if_corner_hz`) the ADC sees a short chirped burst; its duration is
+corner, `receiver.if_corner_hz`) the ADC sees a short chirped burst; its duration is
 2 B_IF / |S_v - S_i| and it is centred on the crossing time where f_d = 0. An I/Q receiver
 (complex ADC modes) sees the analytic burst, and in complex 1x, whose image band is filtered,
 only its f_d > 0 half (B_IF / |S_v - S_i|, starting at the crossing). With equal slopes f_d is constant: a tone, i.e. a ghost target (at the one-way
@@ -21,7 +21,7 @@ Signal model (per interferer i, victim chirp c, Rx r, sample time t inside the A
 
 with u = t - T_c, w0 = t - A_m, tau_c = (R_i + v_r,i t_c) / c at the chirp's time t_c (frame
 middle = 0, as the echoes), A_i = sqrt(2 P_r,i) x the ADC scale and H the victim's IF low-pass
-power response (`frontend.if_filter_gain`) at the instantaneous frequency (quasi-static: valid
+power response (`receiver.if_filter_gain`) at the instantaneous frequency (quasi-static: valid
 while |S_v - S_i| << B_IF^2, 1e13 Hz/s against 2.7e14 Hz^2 here). Each radar's phase restarts
 with every ramp (the textbook FMCW model) and theta_i is the interferer's fixed phase offset.
 The carrier terms (f0_i tau and the Rx term) carry the same sign convention as the victim's own
@@ -56,7 +56,7 @@ import pandas as pd
 from .antenna import element_gain_linear
 from .chips import ADC_MODES
 from .config import C_MPS, RadarConfig
-from .frontend import IF_LOWPASS_ORDER, if_corner_hz
+from .receiver import IF_LOWPASS_ORDER, if_corner_hz
 from .scatterers import PointGeometry
 
 __all__ = ["Interferers", "received_power_w", "interference_to_noise_db", "synthesize",
@@ -70,7 +70,7 @@ PASSBAND_FACTOR = 2.0
 
 def _passband_hz(cfg: RadarConfig) -> tuple[float, float]:
     """(lowest, highest) difference frequency f_d the victim's receiver passes, Hz: +/-
-    PASSBAND_FACTOR x its IF corner (`frontend.if_corner_hz`, the echoes' low-pass), from 0 Hz
+    PASSBAND_FACTOR x its IF corner (`receiver.if_corner_hz`, the echoes' low-pass), from 0 Hz
     up only when the ADC mode rejects the image band (complex 1x)."""
     hi = PASSBAND_FACTOR * if_corner_hz(cfg)
     return (0.0 if ADC_MODES[cfg.adc_mode].image_rejected else -hi), hi

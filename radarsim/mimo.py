@@ -18,15 +18,18 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, ClassVar, NamedTuple
+from typing import Any, ClassVar, NamedTuple
 
 import numpy as np
 
-if TYPE_CHECKING:  # config imports this module; the type is only needed for annotations
-    from .config import RadarConfig
+from scenarios.registries import Registry
 
 __all__ = ["MimoScheme", "TransmitCode", "SlowTimeLayout", "TiFrame", "ChirpTiming", "MIMO_SCHEMES", "register_scheme",
            "scheme_of", "DdmaScheme", "TdmaScheme", "BpmScheme", "hadamard"]
+
+#: A `radarsim.RadarConfig`: schemes read its fields and properties but do not import the
+#: class (the config imports this module to validate and describe its scheme).
+ConfigLike = Any
 
 
 class TransmitCode(NamedTuple):
@@ -140,7 +143,7 @@ class MimoScheme:
         last)."""
         return tuple(t for t in (1, 3, 4, 2) if t <= n_tx)
 
-    def validate(self, cfg: "RadarConfig") -> None:
+    def validate(self, cfg: ConfigLike) -> None:
         """Scheme rules on a config (called by `RadarConfig.__post_init__`).
 
         Raises
@@ -149,62 +152,62 @@ class MimoScheme:
             Naming the field, its value and the limit.
         """
 
-    def chirps_per_period(self, cfg: "RadarConfig") -> int:
+    def chirps_per_period(self, cfg: ConfigLike) -> int:
         """Chirps of one code period (the TI loop): n_chirps must be a multiple."""
         return cfg.n_tx
 
-    def _check_divisible(self, cfg: "RadarConfig", what: str) -> None:
+    def _check_divisible(self, cfg: ConfigLike, what: str) -> None:
         per = self.chirps_per_period(cfg)
         if cfg.n_chirps % per:
             raise ValueError(f"n_chirps={cfg.n_chirps} must be divisible by {what}={per} for "
                              f"{self.name.upper()}")
 
     # ------------------------------------------------------------------ transmit side
-    def chirp_timing(self, cfg: "RadarConfig") -> ChirpTiming:
+    def chirp_timing(self, cfg: ConfigLike) -> ChirpTiming:
         """Chirp start times of one frame: every chirp one `chirp_period_s` after the last
         (schemes with several chirp periods override this)."""
         c = np.arange(cfg.n_chirps)
         return ChirpTiming(c * cfg.chirp_period_s,
                            (c - (cfg.n_chirps - 1) / 2) * cfg.chirp_period_s)
 
-    def transmit_code(self, cfg: "RadarConfig") -> TransmitCode:
+    def transmit_code(self, cfg: ConfigLike) -> TransmitCode:
         """(n_tx, n_chirps) ideal transmit gains and phases of one frame."""
         raise NotImplementedError
 
-    def layout(self, cfg: "RadarConfig") -> SlowTimeLayout:
+    def layout(self, cfg: ConfigLike) -> SlowTimeLayout:
         """Slot / sub-band layout of the scheme."""
         raise NotImplementedError
 
     # ------------------------------------------------------------------ promises
-    def slow_time_period_s(self, cfg: "RadarConfig") -> float:
+    def slow_time_period_s(self, cfg: ConfigLike) -> float:
         """Sampling period of one Tx's slow-time sequence, s (TDMA, BPM: n_tx Tc)."""
         return cfg.chirp_period_s * cfg.n_tx
 
-    def max_unambiguous_velocity_mps(self, cfg: "RadarConfig") -> float:
+    def max_unambiguous_velocity_mps(self, cfg: ConfigLike) -> float:
         """lambda / (4 T) with T the slow-time period of one transmitter, m/s."""
         return cfg.wavelength_m / (4 * self.slow_time_period_s(cfg))
 
-    def n_doppler_bins(self, cfg: "RadarConfig") -> int:
+    def n_doppler_bins(self, cfg: ConfigLike) -> int:
         """Doppler bins per transmitter after separation."""
         return cfg.n_chirps // cfg.n_tx
 
-    def candidate_separation_bins(self, cfg: "RadarConfig") -> float:
+    def candidate_separation_bins(self, cfg: ConfigLike) -> float:
         """Smallest distance, in Doppler bins of a verifying map, between two velocity
         candidates the receiver checks there (fast/slow: the slow map); inf for schemes
         without one. Bounds the receiver's search window."""
         return math.inf
 
-    def velocity_resolution_mps(self, cfg: "RadarConfig") -> float:
+    def velocity_resolution_mps(self, cfg: ConfigLike) -> float:
         """lambda / (2 T_frame): one Doppler bin of a sequence spanning the frame, m/s."""
         return cfg.wavelength_m / (2 * cfg.frame_time_s)
 
-    def velocity_failure_step_mps(self, cfg: "RadarConfig") -> float:
+    def velocity_failure_step_mps(self, cfg: ConfigLike) -> float:
         """Step by which a wrong velocity resolution is off, m/s: one sub-band (DDMA) or the
         unambiguous span 2 Vmax of one transmitter's sequence (TDMA, BPM)."""
         return 2 * self.max_unambiguous_velocity_mps(cfg)
 
     # ------------------------------------------------------------------ TI CLI
-    def to_ti(self, cfg: "RadarConfig", n_tx_chip: int) -> TiFrame:
+    def to_ti(self, cfg: ConfigLike, n_tx_chip: int) -> TiFrame:
         """The ``chirpCfg``/``frameCfg`` loop and scheme commands of `cfg` (TI mmWave SDK).
 
         Raises
@@ -264,10 +267,10 @@ class DdmaScheme(MimoScheme):
         return super().default_tx_order(n_tx) if self.empty_band else \
             tuple(range(1, n_tx + 1))
 
-    def chirps_per_period(self, cfg: "RadarConfig") -> int:
+    def chirps_per_period(self, cfg: ConfigLike) -> int:
         return cfg.n_subbands
 
-    def validate(self, cfg: "RadarConfig") -> None:
+    def validate(self, cfg: ConfigLike) -> None:
         n_sb = cfg.n_subbands
         if self.empty_band:
             if not isinstance(n_sb, (int, np.integer)) or n_sb <= cfg.n_tx:
@@ -280,26 +283,26 @@ class DdmaScheme(MimoScheme):
             raise ValueError(f"n_chirps={cfg.n_chirps} must be divisible by the number of "
                              f"DDMA sub-bands n_subbands={n_sb}")
 
-    def transmit_code(self, cfg: "RadarConfig") -> TransmitCode:
+    def transmit_code(self, cfg: ConfigLike) -> TransmitCode:
         c = np.arange(cfg.n_chirps)
         phase = cfg.applied_phase_rad()[:, c % cfg.n_subbands]
         return TransmitCode(np.ones((cfg.n_tx, cfg.n_chirps)), phase)
 
-    def layout(self, cfg: "RadarConfig") -> SlowTimeLayout:
+    def layout(self, cfg: ConfigLike) -> SlowTimeLayout:
         return SlowTimeLayout(cfg.n_subbands, tuple(cfg.subband_of_tx[t]
                                                     for t in range(1, cfg.n_tx + 1)),
                               self.slow_time_period_s(cfg), self.n_doppler_bins(cfg))
 
-    def slow_time_period_s(self, cfg: "RadarConfig") -> float:
+    def slow_time_period_s(self, cfg: ConfigLike) -> float:
         return cfg.chirp_period_s * 1  # every Tx fires every chirp
 
-    def n_doppler_bins(self, cfg: "RadarConfig") -> int:
+    def n_doppler_bins(self, cfg: ConfigLike) -> int:
         return cfg.n_chirps // cfg.n_subbands
 
-    def velocity_failure_step_mps(self, cfg: "RadarConfig") -> float:
+    def velocity_failure_step_mps(self, cfg: ConfigLike) -> float:
         return cfg.subband_width_mps
 
-    def to_ti(self, cfg: "RadarConfig", n_tx_chip: int) -> TiFrame:
+    def to_ti(self, cfg: ConfigLike, n_tx_chip: int) -> TiFrame:
         """One ``chirpCfg`` for the whole loop of N chirps with every Tx enabled, and the
         MCU+ SDK DDM demo's ``ddmPhaseShiftAntOrder`` (all chip Tx, active ones first)."""
         tx_mask = (1 << cfg.n_tx) - 1
@@ -329,23 +332,23 @@ class TdmaScheme(MimoScheme):
     """Time-division MIMO: one Tx per chirp, in turn (`tx_order` gives the slots), so each
     Tx samples slow time at n_tx Tc: Vmax = lambda / (4 Nt Tc) (seed 001)."""
 
-    def validate(self, cfg: "RadarConfig") -> None:
+    def validate(self, cfg: ConfigLike) -> None:
         if cfg.n_chirps % cfg.n_tx:
             raise ValueError(f"n_chirps={cfg.n_chirps} must be divisible by n_tx={cfg.n_tx} "
                              "for TDMA")
 
-    def transmit_code(self, cfg: "RadarConfig") -> TransmitCode:
+    def transmit_code(self, cfg: ConfigLike) -> TransmitCode:
         c = np.arange(cfg.n_chirps)
         slot_tx = np.array(cfg.tx_order)[c % cfg.n_tx]  # 1-based Tx firing at chirp c
         on = (slot_tx[None, :] == np.arange(1, cfg.n_tx + 1)[:, None]).astype(float)
         return TransmitCode(on, np.zeros((cfg.n_tx, cfg.n_chirps)))
 
-    def layout(self, cfg: "RadarConfig") -> SlowTimeLayout:
+    def layout(self, cfg: ConfigLike) -> SlowTimeLayout:
         return SlowTimeLayout(cfg.n_tx, tuple(cfg.subband_of_tx[t]
                                               for t in range(1, cfg.n_tx + 1)),
                               self.slow_time_period_s(cfg), self.n_doppler_bins(cfg))
 
-    def to_ti(self, cfg: "RadarConfig", n_tx_chip: int) -> TiFrame:
+    def to_ti(self, cfg: ConfigLike, n_tx_chip: int) -> TiFrame:
         """One ``chirpCfg`` per slot enabling the slot's Tx."""
         return TiFrame(cfg.n_tx, tuple(f"chirpCfg {i} {i} 0 0 0 0 0 {1 << (t - 1)}"
                                        for i, t in enumerate(cfg.tx_order)))
@@ -384,7 +387,7 @@ class BpmScheme(MimoScheme):
     Doppler phase of each chirp of the block, so each Tx keeps the full transmit energy
     (gain 10 log10 Nt over TDMA) and Vmax = lambda / (4 Nt Tc), as TDMA."""
 
-    def validate(self, cfg: "RadarConfig") -> None:
+    def validate(self, cfg: ConfigLike) -> None:
         if cfg.n_tx & (cfg.n_tx - 1):
             raise ValueError(f"n_tx={cfg.n_tx} must be a power of 2 (1, 2, 4) for BPM "
                              "(Hadamard code of Nt chirps)")
@@ -392,11 +395,11 @@ class BpmScheme(MimoScheme):
             raise ValueError(f"n_chirps={cfg.n_chirps} must be divisible by n_tx={cfg.n_tx} "
                              "for BPM (whole Hadamard blocks)")
 
-    def code_matrix(self, cfg: "RadarConfig") -> np.ndarray:
+    def code_matrix(self, cfg: ConfigLike) -> np.ndarray:
         """(n_tx, n_tx) signs: row = chirp of the block, column = position in `tx_order`."""
         return hadamard(cfg.n_tx)
 
-    def to_ti(self, cfg: "RadarConfig", n_tx_chip: int) -> TiFrame:
+    def to_ti(self, cfg: ConfigLike, n_tx_chip: int) -> TiFrame:
         """TI's SDK BPM (xwr16xx/18xx/68xx demos): two chirps enabling both Tx and
         ``bpmCfg -1 1 0 1`` (chirp 0: +,+; chirp 1: +,- on the lower, higher Tx)."""
         if cfg.n_tx != 2 or cfg.tx_order != (1, 2):
@@ -405,21 +408,22 @@ class BpmScheme(MimoScheme):
                              "two Tx in order (1, 2) only)")
         return TiFrame(2, ("chirpCfg 0 1 0 0 0 0 0 3",), ("bpmCfg -1 1 0 1",))
 
-    def transmit_code(self, cfg: "RadarConfig") -> TransmitCode:
+    def transmit_code(self, cfg: ConfigLike) -> TransmitCode:
         h = self.code_matrix(cfg)
         slot = np.arange(cfg.n_chirps) % cfg.n_tx
         gain = np.empty((cfg.n_tx, cfg.n_chirps))
         gain[np.array(cfg.tx_order) - 1] = h[slot].T  # row i of h[slot].T: position i
         return TransmitCode(gain, np.zeros((cfg.n_tx, cfg.n_chirps)))
 
-    def layout(self, cfg: "RadarConfig") -> SlowTimeLayout:
+    def layout(self, cfg: ConfigLike) -> SlowTimeLayout:
         return SlowTimeLayout(cfg.n_tx, tuple(cfg.subband_of_tx[t]
                                               for t in range(1, cfg.n_tx + 1)),
                               self.slow_time_period_s(cfg), self.n_doppler_bins(cfg))
 
 
 #: Registry of MIMO schemes by the name users type (`RadarConfig.mimo`).
-MIMO_SCHEMES: dict[str, MimoScheme] = {}
+MIMO_SCHEMES: Registry[MimoScheme] = Registry("scheme", field="mimo", kind=MimoScheme,
+                                              identifier=True)
 
 
 def register_scheme(scheme: MimoScheme, *, replace: bool = False) -> MimoScheme:
@@ -430,14 +434,7 @@ def register_scheme(scheme: MimoScheme, *, replace: bool = False) -> MimoScheme:
     ValueError
         If the name is taken (and `replace` is False) or not a non-empty identifier.
     """
-    if not isinstance(scheme, MimoScheme):
-        raise ValueError(f"scheme must be a MimoScheme, got {type(scheme).__name__}")
-    if not scheme.name.isidentifier():
-        raise ValueError(f"scheme name={scheme.name!r} must be a non-empty identifier")
-    if scheme.name in MIMO_SCHEMES and not replace:
-        raise ValueError(f"scheme name={scheme.name!r} is already registered")
-    MIMO_SCHEMES[scheme.name] = scheme
-    return scheme
+    return MIMO_SCHEMES.register(scheme, replace=replace)
 
 
 def scheme_of(name: str) -> MimoScheme:
@@ -448,10 +445,7 @@ def scheme_of(name: str) -> MimoScheme:
     ValueError
         Naming the unknown value and the registered names.
     """
-    try:
-        return MIMO_SCHEMES[name]
-    except (KeyError, TypeError):
-        raise ValueError(f"mimo={name!r} is not one of {sorted(MIMO_SCHEMES)}") from None
+    return MIMO_SCHEMES.lookup(name)
 
 
 register_scheme(DdmaScheme("ddma", "Doppler-division: all Tx every chirp, per-Tx phase step, "

@@ -39,7 +39,7 @@ __all__ = ["SHIFTER_ERROR_DISTRIBUTIONS", "ShifterErrorDistribution", "PHASE_QUA
            "MAX_SHIFTER_GAIN_ERROR_DB", "MAX_TX_COUPLING_DB", "shifter_factor",
            "coupling_matrix", "apply_coupling", "select_codes", "program_codes", "wrap_deg",
            "phase_residual_deg", "code_period_lines", "spur_levels_dbc", "resolve_table",
-           "check_table", "vector_modulator_tables"]
+           "check_table", "vector_modulator_tables", "resolve_config_tables"]
 
 #: Largest accepted |phase error| of one code, deg (beyond +/-180 deg the error is ambiguous).
 MAX_SHIFTER_PHASE_ERROR_DEG = 180.0
@@ -373,3 +373,58 @@ def spur_levels_dbc(weights: np.ndarray) -> np.ndarray:
     """(..., P) power of each line of `code_period_lines` over the strongest line, dBc."""
     p = np.abs(code_period_lines(weights)) ** 2
     return 10 * np.log10(np.maximum(p, 1e-300) / p.max(axis=-1, keepdims=True))
+
+
+def resolve_config_tables(cfg) -> dict[str, Any]:
+    """The shifter and coupling fields of a `radarsim.RadarConfig`, resolved and checked.
+
+    `shifter_phase_error_deg` / `shifter_gain_error_db` become (n_tx, 2^bits) tuples (a spec
+    mapping is drawn once, `ShifterErrorSpec`; None: zeros), `tx_coupling_db` /
+    `tx_coupling_deg` (n_tx, n_tx) tuples (None: identity, -inf dB off the diagonal) and
+    `shifter_calibration_deg` a measured (n_tx, 2^bits) table or None. A calibration is a
+    measurement (`radarsim.calibration.resolve_calibration`), never run here.
+
+    Raises
+    ------
+    ValueError
+        Wrong shapes, values beyond the limits, a coupling diagonal other than 0 dB / 0 deg, a
+        calibration table with an ideal shifter, or a calibration request instead of a table.
+    """
+    n_tx, n_codes = cfg.n_tx, 2 ** cfg.phase_shifter_bits  # 1 code on a chip without shifters
+    out = {"shifter_phase_error_deg": resolve_table(
+               "shifter_phase_error_deg", cfg.shifter_phase_error_deg, n_tx, n_codes,
+               MAX_SHIFTER_PHASE_ERROR_DEG),
+           "shifter_gain_error_db": resolve_table(
+               "shifter_gain_error_db", cfg.shifter_gain_error_db, n_tx, n_codes,
+               MAX_SHIFTER_GAIN_ERROR_DB)}
+    eye = np.eye(n_tx, dtype=bool)
+    lvl = np.where(eye, 0.0, -np.inf) if cfg.tx_coupling_db is None else \
+        check_table("tx_coupling_db", cfg.tx_coupling_db, (n_tx, n_tx), np.inf,
+                    allow_neg_inf=True)
+    ph = np.zeros((n_tx, n_tx)) if cfg.tx_coupling_deg is None else \
+        check_table("tx_coupling_deg", cfg.tx_coupling_deg, (n_tx, n_tx), 360.0)
+    if np.any(lvl[eye] != 0) or np.any(ph[eye] != 0):
+        raise ValueError(f"tx_coupling_db / tx_coupling_deg diagonal must be 0 dB and "
+                         f"0 deg (channel gains are tx_gain_error_db), got "
+                         f"{lvl[eye].tolist()} dB, {ph[eye].tolist()} deg")
+    if np.any(lvl[~eye] > MAX_TX_COUPLING_DB):
+        raise ValueError(f"tx_coupling_db off-diagonal level {lvl[~eye].max():g} dB "
+                         f"exceeds the limit {MAX_TX_COUPLING_DB:g} dB")
+    out["tx_coupling_db"] = tuple(tuple(float(v) for v in r) for r in lvl)
+    out["tx_coupling_deg"] = tuple(tuple(float(v) for v in r) for r in ph)
+    cal = cfg.shifter_calibration_deg
+    if cal is None:
+        out["shifter_calibration_deg"] = None
+        return out
+    if PHASE_QUANTIZATIONS[cfg.phase_quantization].ideal:
+        raise ValueError(f"shifter_calibration_deg is set but phase_quantization="
+                         f"{cfg.phase_quantization!r}: "
+                         "an ideal shifter has no codes to choose; use 'floor' or 'round'")
+    if isinstance(cal, Mapping):
+        raise ValueError(f"shifter_calibration_deg={dict(cal)!r} is a calibration request, not "
+                         "a measured table: a config never runs a measurement; resolve it "
+                         "with radarsim.calibration.resolve_calibration(cfg, request) (a "
+                         "sweep's radar table does this per cell)")
+    out["shifter_calibration_deg"] = resolve_table(
+        "shifter_calibration_deg", cal, n_tx, n_codes, MAX_SHIFTER_PHASE_ERROR_DEG)
+    return out

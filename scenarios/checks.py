@@ -24,6 +24,7 @@ from collections.abc import Iterable, Mapping
 from pathlib import Path
 
 from .fileio import read_input_text
+from .registries import unknown_name_message
 
 __all__ = ["require", "one_of", "read_toml", "check_keys", "check_types", "build_from_table",
            "UNIT_ALIASES"]
@@ -114,7 +115,7 @@ def one_of(name: str, value, known: Iterable, what: str = "") -> None:
     `known` (a registry); `what` prefixes the field name (e.g. "cfar ")."""
     known = list(known)  # a list: an unhashable value is simply not found
     if value not in known:
-        raise ValueError(f"{what}{name}={value!r} is not one of {sorted(map(str, known))}")
+        raise ValueError(unknown_name_message(f"{what}{name}", value, known))
 
 
 # ----------------------------------------------------------------------------- TOML files

@@ -10,6 +10,7 @@ from pathlib import Path
 
 from .catalog import Case
 from .files import load_case_directory
+from .registries import Registry
 
 __all__ = ["CASES_DIR", "SCENARIOS", "get_case"]
 
@@ -17,7 +18,9 @@ __all__ = ["CASES_DIR", "SCENARIOS", "get_case"]
 CASES_DIR = Path(__file__).with_name("cases")
 
 #: The catalogue, keyed by case name (file-name order).
-SCENARIOS: dict[str, Case] = load_case_directory(CASES_DIR)
+SCENARIOS: Registry[Case] = Registry("scenario", kind=Case,
+                                     missing="unknown scenario {name}; known: {known}")
+SCENARIOS.register_all(load_case_directory(CASES_DIR).values())
 
 
 def get_case(name_or_case) -> Case:
@@ -30,6 +33,4 @@ def get_case(name_or_case) -> Case:
     """
     if isinstance(name_or_case, Case):
         return name_or_case
-    if name_or_case not in SCENARIOS:
-        raise ValueError(f"unknown scenario {name_or_case!r}; known: {', '.join(SCENARIOS)}")
-    return SCENARIOS[name_or_case]
+    return SCENARIOS.lookup(name_or_case)

@@ -13,6 +13,7 @@ import numpy as np
 import pandas as pd
 
 from radarsim.config import RadarConfig
+from scenarios.registries import Registry
 
 from ..config import ProcessingConfig
 
@@ -95,7 +96,9 @@ class MimoChain:
 
 
 #: Receive chains by `radarsim.MIMO_SCHEMES` name.
-MIMO_CHAINS: dict[str, MimoChain] = {}
+MIMO_CHAINS: Registry[MimoChain] = Registry(
+    "chain", field="mimo", kind=MimoChain,
+    missing="{field}={name} has no receive chain; registered: {known}")
 
 
 def register_chain(chain: MimoChain, *, replace: bool = False) -> MimoChain:
@@ -106,12 +109,7 @@ def register_chain(chain: MimoChain, *, replace: bool = False) -> MimoChain:
     ValueError
         If the name is empty or taken (and `replace` is False).
     """
-    if not isinstance(chain, MimoChain) or not chain.name:
-        raise ValueError(f"chain must be a MimoChain with a name, got {chain!r}")
-    if chain.name in MIMO_CHAINS and not replace:
-        raise ValueError(f"chain name={chain.name!r} is already registered")
-    MIMO_CHAINS[chain.name] = chain
-    return chain
+    return MIMO_CHAINS.register(chain, replace=replace)
 
 
 def chain_of(cfg: RadarConfig) -> MimoChain:
@@ -122,8 +120,4 @@ def chain_of(cfg: RadarConfig) -> MimoChain:
     ValueError
         If no chain is registered for the scheme.
     """
-    try:
-        return MIMO_CHAINS[cfg.mimo]
-    except KeyError:
-        raise ValueError(f"mimo={cfg.mimo!r} has no receive chain; registered: "
-                         f"{sorted(MIMO_CHAINS)}") from None
+    return MIMO_CHAINS.lookup(cfg.mimo)

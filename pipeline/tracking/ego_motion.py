@@ -258,79 +258,112 @@ def estimate_ego_motion(azimuth_deg, radial_velocity_mps, rng: np.random.Generat
     need = max(cfg.min_inliers, math.ceil(cfg.min_inlier_fraction * n))
     if n < need:
         return invalid
-    theta = np.radians(az + mount_yaw_deg)
-    c, s = np.cos(theta), np.sin(theta)
-    sig_az = math.radians(cfg.azimuth_std_deg)
-    # Free parameters: design columns (N, k) and target y = v_r + fixed part, y = -A p.
-    if ego_speed_mps is None:
-        cols = (c, s) if EGO_MODELS[cfg.model].lateral else (c,)
-        y = vr
-    else:
-        cols = (s,) if EGO_MODELS[cfg.model].lateral else ()
-        y = vr + ego_speed_mps * c
-    design = np.column_stack(cols) if cols else np.zeros((n, 0))
-    k = design.shape[1]
-
-    def velocity(p: np.ndarray) -> np.ndarray:
-        # (H, 2) radar velocity (v_x, v_y) of parameter rows p (H, k).
-        out = np.zeros((p.shape[0], 2))
-        if ego_speed_mps is None:
-            out[:, :k] = p
-        else:
-            out[:, 0] = ego_speed_mps
-            out[:, 1:1 + k] = p
-        return out
-
-    def plausible(v: np.ndarray) -> np.ndarray:
-        # (H,) within the speed limit and the lateral-to-forward bound.
-        return ((np.abs(v[:, 0]) <= cfg.max_speed_mps)
-                & (np.abs(v[:, 1]) <= cfg.max_lateral_ratio * np.abs(v[:, 0]) + 1e-9))
-
-    def inliers(v: np.ndarray) -> np.ndarray:
-        # (H, N) |residual| / band for velocity rows v (H, 2).
-        resid = vr[None, :] + v[:, :1] * c[None, :] + v[:, 1:] * s[None, :]
-        band = cfg.inlier_threshold_mps + cfg.n_sigma * sig_az * np.abs(
-            v[:, :1] * s[None, :] - v[:, 1:] * c[None, :])
-        return np.abs(resid) / band
-
-    if k == 0:
-        p = np.zeros((1, 0))
-    else:
-        if k == 1:
-            eligible = np.flatnonzero(np.abs(design[:, 0]) >= cfg.min_abs_cos)
-            if eligible.size == 0:
-                return invalid
-            seeds = (eligible if eligible.size <= cfg.n_hypotheses
-                     else rng.choice(eligible, size=cfg.n_hypotheses, replace=False))
-            p = (-y[seeds] / design[seeds, 0])[:, None]
-        else:
-            pairs = rng.integers(0, n, size=(cfg.n_hypotheses, 2))
-            a, b = design[pairs[:, 0]], design[pairs[:, 1]]
-            det = a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]              # sin(theta_b - theta_a)
-            good = np.abs(det) >= cfg.min_abs_cos
-            a, b, det, pairs = a[good], b[good], det[good], pairs[good]
-            ya, yb = -y[pairs[:, 0]], -y[pairs[:, 1]]
-            p = np.column_stack([(ya * b[:, 1] - yb * a[:, 1]) / det,
-                                 (a[:, 0] * yb - b[:, 0] * ya) / det])   # Cramer's rule
-        p = p[plausible(velocity(p))]
-        if p.shape[0] == 0:
-            return invalid
-        cost = np.minimum(inliers(velocity(p)) ** 2, 1.0).sum(axis=1)
-        p = p[np.argmin(cost)][None, :]
-        for _ in range(2):
-            inl = inliers(velocity(p))[0] <= 1
-            if inl.sum() < k:
-                return invalid
-            refined = np.linalg.lstsq(design[inl], -y[inl], rcond=None)[0][None, :]
-            if not plausible(velocity(refined))[0]:
-                break          # keep the plausible hypothesis rather than leave the bounds
-            p = refined
-    v = velocity(p)[0]
-    inl = inliers(v[None, :])[0] <= 1
+    fit = _EgoFit.build(az, vr, mount_yaw_deg, cfg, ego_speed_mps)
+    p = np.zeros((1, 0)) if fit.k == 0 else _ransac(fit, rng)
+    if p is None:
+        return invalid
+    v = fit.velocity(p)[0]
+    inl = fit.inliers(v[None, :])[0] <= 1
     n_in = int(inl.sum())
     if n_in < need:
         return invalid
     return EgoMotionEstimate(float(v[0]), float(v[1]), inl, n_in, True)
+
+
+class _EgoFit(NamedTuple):
+    """One frame's static-world fit: v_r = -(v_x cos(theta) + v_y sin(theta)) as y = -A p with
+    the free parameters p (the known v_x, if any, moved into y)."""
+
+    vr: np.ndarray            # (N,) measured radial velocity, m/s
+    c: np.ndarray             # (N,) cos(theta), theta the vehicle-frame azimuth
+    s: np.ndarray             # (N,) sin(theta)
+    design: np.ndarray        # (N, k) design matrix A
+    y: np.ndarray             # (N,) target
+    ego_speed_mps: float | None
+    cfg: EgoMotionConfig
+
+    @classmethod
+    def build(cls, az, vr, mount_yaw_deg, cfg, ego_speed_mps) -> "_EgoFit":
+        theta = np.radians(az + mount_yaw_deg)
+        c, s = np.cos(theta), np.sin(theta)
+        if ego_speed_mps is None:
+            cols = (c, s) if EGO_MODELS[cfg.model].lateral else (c,)
+            y = vr
+        else:
+            cols = (s,) if EGO_MODELS[cfg.model].lateral else ()
+            y = vr + ego_speed_mps * c
+        design = np.column_stack(cols) if cols else np.zeros((az.size, 0))
+        return cls(vr, c, s, design, y, ego_speed_mps, cfg)
+
+    @property
+    def k(self) -> int:
+        """Free parameters."""
+        return self.design.shape[1]
+
+    def velocity(self, p: np.ndarray) -> np.ndarray:
+        """(H, 2) radar velocity (v_x, v_y) of parameter rows p (H, k)."""
+        out = np.zeros((p.shape[0], 2))
+        if self.ego_speed_mps is None:
+            out[:, :self.k] = p
+        else:
+            out[:, 0] = self.ego_speed_mps
+            out[:, 1:1 + self.k] = p
+        return out
+
+    def plausible(self, v: np.ndarray) -> np.ndarray:
+        """(H,) within the speed limit and the lateral-to-forward bound."""
+        return ((np.abs(v[:, 0]) <= self.cfg.max_speed_mps)
+                & (np.abs(v[:, 1]) <= self.cfg.max_lateral_ratio * np.abs(v[:, 0]) + 1e-9))
+
+    def inliers(self, v: np.ndarray) -> np.ndarray:
+        """(H, N) |residual| / band for velocity rows v (H, 2)."""
+        cfg, c, s = self.cfg, self.c, self.s
+        resid = self.vr[None, :] + v[:, :1] * c[None, :] + v[:, 1:] * s[None, :]
+        band = cfg.inlier_threshold_mps + cfg.n_sigma * math.radians(cfg.azimuth_std_deg) * \
+            np.abs(v[:, :1] * s[None, :] - v[:, 1:] * c[None, :])
+        return np.abs(resid) / band
+
+
+def _hypotheses(fit: _EgoFit, rng: np.random.Generator) -> np.ndarray | None:
+    """(H, k) parameter rows from minimal samples (one point per parameter), or None."""
+    cfg, design, y = fit.cfg, fit.design, fit.y
+    if fit.k == 1:
+        eligible = np.flatnonzero(np.abs(design[:, 0]) >= cfg.min_abs_cos)
+        if eligible.size == 0:
+            return None
+        seeds = (eligible if eligible.size <= cfg.n_hypotheses
+                 else rng.choice(eligible, size=cfg.n_hypotheses, replace=False))
+        return (-y[seeds] / design[seeds, 0])[:, None]
+    pairs = rng.integers(0, y.size, size=(cfg.n_hypotheses, 2))
+    a, b = design[pairs[:, 0]], design[pairs[:, 1]]
+    det = a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]              # sin(theta_b - theta_a)
+    good = np.abs(det) >= cfg.min_abs_cos
+    a, b, det, pairs = a[good], b[good], det[good], pairs[good]
+    ya, yb = -y[pairs[:, 0]], -y[pairs[:, 1]]
+    return np.column_stack([(ya * b[:, 1] - yb * a[:, 1]) / det,
+                            (a[:, 0] * yb - b[:, 0] * ya) / det])   # Cramer's rule
+
+
+def _ransac(fit: _EgoFit, rng: np.random.Generator) -> np.ndarray | None:
+    """(1, k) best plausible hypothesis by the MSAC cost, refined twice by least squares on
+    its inliers; None when no hypothesis is plausible or too few inliers remain."""
+    p = _hypotheses(fit, rng)
+    if p is None:
+        return None
+    p = p[fit.plausible(fit.velocity(p))]
+    if p.shape[0] == 0:
+        return None
+    cost = np.minimum(fit.inliers(fit.velocity(p)) ** 2, 1.0).sum(axis=1)
+    p = p[np.argmin(cost)][None, :]
+    for _ in range(2):
+        inl = fit.inliers(fit.velocity(p))[0] <= 1
+        if inl.sum() < fit.k:
+            return None
+        refined = np.linalg.lstsq(fit.design[inl], -fit.y[inl], rcond=None)[0][None, :]
+        if not fit.plausible(fit.velocity(refined))[0]:
+            break          # keep the plausible hypothesis rather than leave the bounds
+        p = refined
+    return p
 
 
 class EgoVelocity(NamedTuple):

@@ -7,7 +7,9 @@ import pytest
 
 import radarsim
 from harness.cli import main
+from harness.cellconfig import radar_config
 from harness.cellspec import known_schemes
+from radarsim.calibration import shifter_phase_residual_deg
 from harness.shifter_report import VELOCITY_GATE_MPS, _psl_db, _velocity_failures
 from harness.sweepfile import load_sweep
 from pathlib import Path
@@ -40,8 +42,8 @@ def test_shifter_sweep_file_covers_errors_calibration_and_all_schemes():
     assert sum("shifter_calibration_deg" in v.radar for v in spec.variants) == 5
     worst = [v for v in spec.variants if v.name.startswith("shifter_20deg")]
     for name in radarsim.MIMO_SCHEMES:
-        r = {v.name.endswith("_cal"): radarsim.presets.r79(name, **v.radar)
-             .shifter_phase_residual_deg() for v in worst}
+        r = {v.name.endswith("_cal"): shifter_phase_residual_deg(radar_config(v.radar, name))
+             for v in worst}
         assert np.nanmax(np.abs(r[True])) <= np.nanmax(np.abs(r[False]))
 
 

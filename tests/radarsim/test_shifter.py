@@ -17,6 +17,7 @@ import pytest
 import radarsim
 from harness.shifter_experiment import line_spectrum, phase_step_experiment
 from radarsim import shifter as sh
+from radarsim.calibration import resolve_calibration, shifter_phase_residual_deg
 from radarsim.config import RadarConfig
 
 N_CODES = 64
@@ -190,9 +191,9 @@ def test_calibration_of_ideal_shifter_rounds_to_the_nominal_grid(make_config):
     np.testing.assert_array_equal(out.phase_codes(), make_config(
         phase_quantization="round").phase_codes())
     wanted = cfg.programmed_phase_deg()
-    np.testing.assert_allclose(np.abs(out.shifter_phase_residual_deg()),
+    np.testing.assert_allclose(np.abs(shifter_phase_residual_deg(out)),
                                np.abs(wanted - LSB * np.round(wanted / LSB)), atol=1e-9)
-    assert np.abs(out.shifter_phase_residual_deg()).max() == pytest.approx(1.875)
+    assert np.abs(shifter_phase_residual_deg(out)).max() == pytest.approx(1.875)
 
 
 def test_noisy_calibration_error_follows_measurement_snr(make_config):
@@ -207,14 +208,37 @@ def test_noisy_calibration_error_follows_measurement_snr(make_config):
     assert np.std(err) == pytest.approx(expect, rel=0.15)
 
 
-def test_calibration_spec_in_config_runs_calibrate_shifters(make_config):
+def test_calibration_request_runs_calibrate_shifters(make_config):
     spec = {"distribution": "inl_dnl", "rms": 10.0, "seed": 5}
     cfg = make_config(shifter_phase_error_deg=spec)
-    cal = make_config(shifter_phase_error_deg=spec, shifter_calibration_deg={"seed": 2})
+    cal = resolve_calibration(cfg, {"seed": 2})
     direct = radarsim.calibrate_shifters(cfg, rng=np.random.default_rng(2))
     assert cal == direct
-    assert np.sqrt(np.mean(cal.shifter_phase_residual_deg() ** 2)) < \
-        np.sqrt(np.mean(cfg.shifter_phase_residual_deg() ** 2))
+    assert resolve_calibration(cfg, None) is cfg
+    assert np.sqrt(np.mean(shifter_phase_residual_deg(cal) ** 2)) < \
+        np.sqrt(np.mean(shifter_phase_residual_deg(cfg) ** 2))
+
+
+def test_a_config_never_runs_a_calibration(make_config):
+    """A config is a value: a calibration request in it is refused, not measured."""
+    with pytest.raises(ValueError, match=r"shifter_calibration_deg=\{'seed': 0\} is a "
+                                         r"calibration request, not a measured table"):
+        make_config(shifter_calibration_deg={"seed": 0})
+
+
+_BAD_REQUESTS = [
+    ({"seed": -3}, r"shifter_calibration_deg: seed=-3 must be an integer >= 0"),
+    ({"seed": 0, "range": 4.5}, r"shifter_calibration_deg: bad calibration spec .*unknown "
+                                r"key\(s\) \['range'\]"),
+    ({"seed": 0, "range_m": -1.0}, r"shifter_calibration_deg: range_m=-1.0 must be"),
+    ([0], r"shifter_calibration_deg: a calibration request is a table"),
+]
+
+
+@pytest.mark.parametrize("request_,match", _BAD_REQUESTS, ids=[m for _, m in _BAD_REQUESTS])
+def test_bad_calibration_requests(make_config, request_, match):
+    with pytest.raises(ValueError, match=match):
+        resolve_calibration(make_config(), request_)
 
 
 # ----------------------------------------------------------------------------- validation
@@ -244,9 +268,6 @@ _BAD = [
     ("tx_coupling_db", np.where(np.eye(4), -1.0, -30.0), r"diagonal must be 0 dB and 0 deg"),
     ("tx_coupling_deg", np.full((4, 4), np.nan), r"tx_coupling_deg\[0\]\[0\]=nan must be finite"),
     ("shifter_calibration_deg", np.zeros((4, 63)), r"shifter_calibration_deg has shape \(4, 63\)"),
-    ("shifter_calibration_deg", {"seed": -3}, r"shifter_calibration_deg: seed=-3 must be"),
-    ("shifter_calibration_deg", {"seed": 0, "range": 4.5},
-     r"shifter_calibration_deg: bad calibration spec"),
 ]
 
 
