@@ -70,6 +70,15 @@ def velocity_unambiguity_rate(labelled: pd.DataFrame, window_mps: float) -> floa
     velocity (at the nearest box point) satisfies |v| <= ``window_mps``. NaN if none.
     A wrong velocity that is not a multiple of 2 Vmax is a GHOST and does not enter this rate
     (it enters the ghost rate).
+
+    Examples
+    --------
+    >>> import pandas as pd
+    >>> from metrics.detection import velocity_unambiguity_rate
+    >>> lab = pd.DataFrame({"label": ["TRUE", "TRUE", "TRUE", "VELOCITY_AMBIGUOUS", "GHOST"],
+    ...                     "truth_radial_velocity_mps": [-5.0, 12.0, 30.0, 35.0, 0.0]})
+    >>> velocity_unambiguity_rate(lab, window_mps=40.9)   # 3 of the 4 footprint detections
+    0.75
     """
     lab = labelled[labelled["label"].isin([TRUE, VELOCITY_AMBIGUOUS])]
     lab = lab[np.abs(lab["truth_radial_velocity_mps"]) <= window_mps]
@@ -123,6 +132,14 @@ def ghost_stats(labelled: pd.DataFrame, n_frames: int) -> dict[str, float]:
     ``ghost_rate`` = n_GHOST / n_detections (NaN without detections); ``ghosts_per_frame`` =
     n_GHOST / n_frames processed; ``clutter_per_frame`` = n_CLUTTER / n_frames;
     ``detections_per_frame`` = n_detections / n_frames.
+
+    Examples
+    --------
+    >>> import pandas as pd
+    >>> from metrics.detection import ghost_stats
+    >>> lab = pd.DataFrame({"label": ["TRUE", "TRUE", "GHOST", "CLUTTER"]})
+    >>> ghost_stats(lab, n_frames=2)
+    {'ghost_rate': 0.25, 'ghosts_per_frame': 0.5, 'clutter_per_frame': 0.5, 'detections_per_frame': 2.0}
     """
     n = len(labelled)
     n_g = int((labelled["label"] == GHOST).sum())

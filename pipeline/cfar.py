@@ -305,6 +305,16 @@ def cfar_mode(name: str) -> CfarMode:
     ------
     ValueError
         ``mode='x' is not one of [...]``.
+
+    Examples
+    --------
+    >>> from pipeline.cfar import cfar_mode
+    >>> cfar_mode("os").name, cfar_mode("ca").description
+    ('os', 'cell averaging: mean of both windows')
+    >>> cfar_mode("median")
+    Traceback (most recent call last):
+    ...
+    ValueError: mode='median' is not one of [...]
     """
     return CFAR_MODES.lookup(name)
 

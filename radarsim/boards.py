@@ -174,7 +174,14 @@ BOARDS.register_all((
 
 
 def get_board(name: str) -> Board:
-    """The board of that name; ValueError naming the known boards otherwise."""
+    """The board of that name; ValueError naming the known boards otherwise.
+
+    Examples
+    --------
+    >>> from radarsim.boards import get_board
+    >>> get_board("AWR2944EVM").tx_positions_wl[1]    # Tx2: 1 lambda over, 0.8 lambda up
+    (1.0, 0.8)
+    """
     return BOARDS.lookup(name)
 
 
@@ -187,5 +194,17 @@ def register_board(board: Board, *, replace: bool = False) -> Board:
     ValueError
         A name already taken (without ``replace``), or not a `Board` (a `Board` itself checks
         its chip is registered and its positions fit the chip's channels).
+
+    Examples
+    --------
+    >>> import radarsim
+    >>> board = radarsim.Board("LAB_LOWRISE", "AWR2944",
+    ...                        ((0, 0), (1, 0.5), (2, 0), (4, 0)),
+    ...                        ((0, 0), (0.5, 0), (1, 0), (1.5, 0)), 1.2, 4.0, "a lab's board")
+    >>> _ = radarsim.register_board(board)
+    >>> cfg = radarsim.presets.r79_ddma(board="LAB_LOWRISE")
+    >>> round(float(cfg.tx_positions_m[1, 2] / cfg.wavelength_m), 2)
+    0.5
+    >>> _ = radarsim.BOARDS.unregister("LAB_LOWRISE")
     """
     return BOARDS.register(board, replace=replace)

@@ -296,6 +296,20 @@ def resolve_calibration(cfg: RadarConfig, request: Mapping | None) -> RadarConfi
     ValueError
         A seed that is not an integer >= 0, unknown keys, or a bad measurement set-up; every
         message starts with ``shifter_calibration_deg:``.
+
+    Examples
+    --------
+    >>> import radarsim
+    >>> from radarsim.calibration import resolve_calibration
+    >>> cfg = radarsim.presets.r79_ddma(
+    ...     shifter_phase_error_deg={"distribution": "inl_dnl", "rms": 10.0, "seed": 5})
+    >>> cal = resolve_calibration(cfg, {"seed": 0})
+    >>> cal.shifter_calibration_deg is not None and cfg.shifter_calibration_deg is None
+    True
+    >>> radarsim.presets.r79_ddma(shifter_calibration_deg={"seed": 0})
+    Traceback (most recent call last):
+    ...
+    ValueError: shifter_calibration_deg={'seed': 0} is a calibration request, not a measured ...
     """
     if request is None:
         return cfg

@@ -382,7 +382,15 @@ CHIPS.register_all((
 
 
 def get_chip(name: str) -> Chip:
-    """The chip of that name; ValueError naming the known chips otherwise."""
+    """The chip of that name; ValueError naming the known chips otherwise.
+
+    Examples
+    --------
+    >>> from radarsim.chips import get_chip
+    >>> chip = get_chip("AWR1843")
+    >>> chip.n_tx, chip.if_bandwidth_hz, sorted(chip.adc)
+    (3, 10000000.0, ['complex1x', 'complex2x', 'real'])
+    """
     return CHIPS.lookup(name)
 
 
@@ -396,5 +404,17 @@ def register_chip(chip: Chip, *, replace: bool = False) -> Chip:
     ------
     ValueError
         A name already taken (without ``replace``), or not a `Chip`.
+
+    Examples
+    --------
+    >>> import dataclasses, radarsim
+    >>> lab = dataclasses.replace(radarsim.CHIPS["AWR2944"], name="LAB2944",
+    ...                           default_board="AWR2944EVM_LAB")
+    >>> _ = radarsim.register_chip(lab)
+    >>> _ = radarsim.register_board(dataclasses.replace(radarsim.BOARDS["AWR2944EVM"],
+    ...                                                 name="AWR2944EVM_LAB", chip="LAB2944"))
+    >>> radarsim.presets.r79_ddma(chip="LAB2944").board
+    'AWR2944EVM_LAB'
+    >>> _ = radarsim.BOARDS.unregister("AWR2944EVM_LAB"), radarsim.CHIPS.unregister("LAB2944")
     """
     return CHIPS.register(chip, replace=replace)

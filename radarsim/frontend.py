@@ -286,6 +286,17 @@ def simulate_frame(cfg: RadarConfig, scatterers: Scatterers,
     ------
     ValueError
         If `scatterers` is not a `Scatterers` or `rng` is not a `numpy.random.Generator`.
+
+    Examples
+    --------
+    >>> import numpy as np, radarsim
+    >>> cfg = radarsim.presets.r79_ddma()
+    >>> car = radarsim.Scatterers.from_spherical([30.0], [10.0], [0.0], [-5.0], [10.0])
+    >>> adc = radarsim.simulate_frame(cfg, car, rng=np.random.default_rng(0))
+    >>> adc.shape, adc.dtype                  # (n_chirps, n_rx, n_samples), real ADC
+    ((768, 4, 384), dtype('int16'))
+    >>> bool(np.array_equal(adc, radarsim.simulate_frame(cfg, car, np.random.default_rng(0))))
+    True
     """
     if not isinstance(cfg, RadarConfig):
         raise ValueError(f"cfg must be a RadarConfig, got {type(cfg).__name__}")

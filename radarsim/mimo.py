@@ -433,6 +433,19 @@ def register_scheme(scheme: MimoScheme, *, replace: bool = False) -> MimoScheme:
     ------
     ValueError
         If the name is taken (and `replace` is False) or not a non-empty identifier.
+
+    Examples
+    --------
+    >>> import radarsim
+    >>> from radarsim.mimo import MIMO_SCHEMES, TdmaScheme
+    >>> class ReversedTdma(TdmaScheme):
+    ...     def default_tx_order(self, n_tx):
+    ...         return tuple(range(n_tx, 0, -1))
+    >>> radarsim.register_scheme(ReversedTdma("tdma_reversed", "TDMA, last Tx first")).name
+    'tdma_reversed'
+    >>> radarsim.presets.r79("tdma_reversed").tx_order
+    (4, 3, 2, 1)
+    >>> _ = MIMO_SCHEMES.unregister("tdma_reversed")
     """
     return MIMO_SCHEMES.register(scheme, replace=replace)
 
@@ -444,6 +457,16 @@ def scheme_of(name: str) -> MimoScheme:
     ------
     ValueError
         Naming the unknown value and the registered names.
+
+    Examples
+    --------
+    >>> from radarsim.mimo import scheme_of
+    >>> scheme_of("ddma").needs_phase_shifter
+    True
+    >>> scheme_of("fdma")
+    Traceback (most recent call last):
+    ...
+    ValueError: mimo='fdma' is not one of [...]
     """
     return MIMO_SCHEMES.lookup(name)
 

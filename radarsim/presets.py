@@ -16,6 +16,14 @@ def r79(name: str, **overrides) -> RadarConfig:
     ------
     ValueError
         If `name` is not a registered scheme, or an override is invalid.
+
+    Examples
+    --------
+    >>> import radarsim
+    >>> [round(radarsim.presets.r79(s).max_unambiguous_velocity_mps, 2) for s in ("ddma", "tdma")]
+    [40.88, 10.22]
+    >>> radarsim.presets.r79("tdma", n_rx=2).n_virtual
+    8
     """
     scheme_of(name)
     base = RadarConfig(mimo=name)
@@ -28,13 +36,30 @@ def r79_ddma(**overrides) -> RadarConfig:
     4 Tx / 4 Rx, 768 chirps of 23.81 us (6 empty-band DDMA sub-bands x 128 Doppler bins),
     384 real samples at 30 Msps, slope 8.883 MHz/us, start 77 GHz; Tx order Tx1, Tx3, Tx4, Tx2
     and floor-quantised 6-bit shifter codes (table 4). Keyword arguments override fields.
+
+    Examples
+    --------
+    >>> import radarsim
+    >>> cfg = radarsim.presets.r79_ddma()
+    >>> round(cfg.range_resolution_m, 3), round(cfg.max_range_m), round(cfg.frame_time_s * 1e3, 2)
+    (1.318, 253, 18.29)
+    >>> cfg.phase_codes()[1].tolist()         # Tx2: 0, 180 deg (seed 000 table 4)
+    [0, 32, 0, 32, 0, 32]
     """
     return r79("ddma", **overrides)
 
 
 def r79_tdma(**overrides) -> RadarConfig:
     """TDMA baseline on the R79 waveform: same 768 chirps and frame time, one Tx per chirp in
-    turn (Tx1, Tx3, Tx4, Tx2), so 192 chirps per Tx at 4 Tc (Vmax 10.22 m/s, seed 001)."""
+    turn (Tx1, Tx3, Tx4, Tx2), so 192 chirps per Tx at 4 Tc (Vmax 10.22 m/s, seed 001).
+
+    Examples
+    --------
+    >>> import radarsim
+    >>> cfg = radarsim.presets.r79_tdma()
+    >>> cfg.n_doppler_bins, round(cfg.max_unambiguous_velocity_mps, 2)
+    (192, 10.22)
+    """
     return r79("tdma", **overrides)
 
 

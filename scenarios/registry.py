@@ -30,6 +30,16 @@ def get_case(name_or_case) -> Case:
     ------
     ValueError
         Naming the unknown case and the known names.
+
+    Examples
+    --------
+    >>> from scenarios import get_case
+    >>> get_case("r79_motorcycle_rear").name
+    'r79_motorcycle_rear'
+    >>> get_case("nope")
+    Traceback (most recent call last):
+    ...
+    ValueError: unknown scenario 'nope'; known: [...]
     """
     if isinstance(name_or_case, Case):
         return name_or_case

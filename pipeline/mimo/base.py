@@ -108,6 +108,18 @@ def register_chain(chain: MimoChain, *, replace: bool = False) -> MimoChain:
     ------
     ValueError
         If the name is empty or taken (and `replace` is False).
+
+    Examples
+    --------
+    >>> import pipeline
+    >>> from pipeline.mimo.base import MIMO_CHAINS
+    >>> from pipeline.mimo.tdma import TdmaChain
+    >>> class ReversedTdmaChain(TdmaChain):
+    ...     name = "tdma_reversed"
+    ...     variants = {}
+    >>> pipeline.register_chain(ReversedTdmaChain()).name
+    'tdma_reversed'
+    >>> _ = MIMO_CHAINS.unregister("tdma_reversed")
     """
     return MIMO_CHAINS.register(chain, replace=replace)
 
@@ -119,5 +131,12 @@ def chain_of(cfg: RadarConfig) -> MimoChain:
     ------
     ValueError
         If no chain is registered for the scheme.
+
+    Examples
+    --------
+    >>> import radarsim
+    >>> from pipeline.mimo.base import chain_of
+    >>> type(chain_of(radarsim.presets.r79_tdma())).__name__
+    'TdmaChain'
     """
     return MIMO_CHAINS.lookup(cfg.mimo)

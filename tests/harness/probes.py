@@ -447,8 +447,7 @@ def _shifter_probes() -> list[Probe]:
               call=lambda t: _calibrate(range_m=1e5),
               match=r"SNR -\d+\.\d dB .*below the \d+\.\d dB"),
         Probe("shifter", "config_calibration_on_noise", cli=False,
-              call=lambda t: _radar(phase_quantization="round",
-                                    shifter_calibration_deg={"seed": 0, "range_m": 1e5}),
+              call=lambda t: _calibration_request({"seed": 0, "range_m": 1e5}),
               match=r"SNR.*below"),
         Probe("shifter", "table_rms_true", cli=False,
               call=lambda t: _radar(shifter_phase_error_deg={"distribution": "inl_dnl",
@@ -459,9 +458,12 @@ def _shifter_probes() -> list[Probe]:
                                                              "rms": 2.0, "seed": True}),
               match=r"seed=True"),
         Probe("shifter", "calibration_seed_true", cli=False,
-              call=lambda t: _radar(phase_quantization="round",
-                                    shifter_calibration_deg={"seed": True}),
+              call=lambda t: _calibration_request({"seed": True}),
               match=r"seed=True"),
+        Probe("shifter", "calibration_request_in_config", cli=False,
+              call=lambda t: _radar(phase_quantization="round",
+                                    shifter_calibration_deg={"seed": 0}),
+              match=r"is a calibration request, not a measured table"),
     ]
 
 
@@ -479,6 +481,14 @@ def _readonly_dir(d: Path):
 def _radar(**kw):
     import radarsim
     return radarsim.RadarConfig(**kw)
+
+
+def _calibration_request(request):
+    """A sweep's calibration request, resolved as the harness resolves it (a config itself
+    never measures)."""
+    import radarsim
+    cfg = radarsim.presets.r79_ddma(phase_quantization="round")
+    return radarsim.resolve_calibration(cfg, request)
 
 
 def _calibrate(**kw):
