@@ -167,6 +167,14 @@ class ProcessingConfig:
     fast_slow_search_bins : int
         Half-width of the slow-map window searched around each candidate's aliased bin, 0..16
         (TI's SRR demo: 2); two candidates' windows must not overlap (`check_radar`).
+    fast_slow_min_coherence : float
+        Fast/slow unfolding: a candidate also needs this spatial coherence between the fast
+        peak's and its slow peak's array samples (`pipeline.mimo.fast_slow.gate_coherence`), in
+        [0, 1); 0 is the seed's power-only test.
+    fast_slow_keep_unassociated : bool
+        Fast/slow unfolding: report a fast peak without an associated candidate at its aliased
+        fast-set velocity (TI's SRR demo, "always allow the detections to go through"); False
+        drops it (seed 001 step 8 gives no velocity for it).
     saturation_policy : {"flag", "drop"}
         What a frame with saturated ADC samples does to its detections
         (`pipeline.saturation`): "flag" keeps them with ``saturated = True``, "drop" removes
@@ -212,6 +220,8 @@ class ProcessingConfig:
     channel_comp: tuple[tuple[float, float], ...] | None = None
     fast_slow_threshold_db: float = 3.0
     fast_slow_search_bins: int = 2
+    fast_slow_min_coherence: float = 0.5
+    fast_slow_keep_unassociated: bool = True
     clutter_removal: bool = False
     range_fov_m: tuple[float, float] | None = None
     velocity_fov_mps: tuple[float, float] | None = None
@@ -231,6 +241,8 @@ class ProcessingConfig:
         one_of("saturation_policy", self.saturation_policy, SATURATION_POLICIES)
         require(self, "fast_slow_threshold_db", gt=0, le=20, unit="dB")
         require(self, "fast_slow_search_bins", "integer", ge=0, le=16)
+        require(self, "fast_slow_min_coherence", ge=0, lt=1)
+        require(self, "fast_slow_keep_unassociated", "bool")
 
         require(self, ("dc_removal", "interference_mitigation", "compression",
                        "clutter_removal"), "bool")

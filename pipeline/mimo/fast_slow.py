@@ -18,7 +18,9 @@ the seed's eight steps for every fast peak:
 8. Its velocity is the detection's. A peak without a survivor keeps its aliased fast-set
    velocity, as TI's SRR demo does.
 
-A slow peak is given to one fast peak at most (TI's demo consumes it once associated; here,
+Beyond the seed: a candidate must also agree in array signature (`gate_coherence`,
+``fast_slow_min_coherence``; 0 gives the seed's power-only test), and a slow peak is given to
+one fast peak at most (TI's demo consumes it once associated; here,
 where two peaks of a range bin claim the same one, an optimal assignment on the spatial
 coherence of the fast and slow array samples, `resolve_claims`).
 
@@ -52,7 +54,7 @@ from ..stages import (RangeDopplerHits, array_dft, empty_cloud, hypothesis_cloud
 from .base import DetectionMap, DopplerAzimuth, MimoChain, register_chain
 
 __all__ = ["FastSlowMaps", "FastSlowChain", "fast_slow_maps", "Unfolding", "unfold_peaks",
-           "resolve_claims", "slow_bin_of"]
+           "gate_coherence", "resolve_claims", "slow_bin_of"]
 
 
 class FastSlowMaps(NamedTuple):
@@ -155,6 +157,38 @@ class Unfolding(NamedTuple):
         """(n,) the chosen candidate of each peak; the fast set's own (aliased) velocity where
         no candidate was associated."""
         return self.candidates_mps[np.arange(self.best.size), self.best]
+
+
+def gate_coherence(unf: "Unfolding", coherence: np.ndarray, min_coherence: float) -> "Unfolding":
+    """Keep only candidates whose fast and slow array samples agree: spatial coherence
+    |x_f^H x_s|^2 / (|x_f|^2 |x_s|^2) >= `min_coherence`, then the seed's choice (largest slow
+    peak) among the rest.
+
+    The seed's test compares powers only, so a candidate landing on another echo's slow peak
+    of similar power passes (two targets in one range cell, or the many returns of a guard
+    rail, whose Doppler spreads with azimuth). The same echo has the same array signature in
+    both sets once each set's slot phases are removed at the candidate velocity; another echo
+    at another azimuth does not (two independent 16-element vectors: coherence 1/16 on
+    average). For one echo at per-channel SNR s the true candidate's coherence is about
+    1 - 1 / (N s) with N = 16 channels, so a gate of 0.5 costs it nothing above 0 dB.
+
+    Parameters
+    ----------
+    unf : Unfolding
+    coherence : (n, H) float
+    min_coherence : float
+        In (0, 1).
+
+    Returns
+    -------
+    Unfolding
+        `passed`, `best`, `associated` updated (unassociated peaks at `native`).
+    """
+    passed = unf.passed & (coherence >= min_coherence)
+    assoc = passed.any(axis=1)
+    best = np.where(assoc, np.argmax(np.where(passed, unf.slow_peak, -np.inf), axis=1),
+                    unf.native)
+    return unf._replace(passed=passed, best=best, associated=assoc)
 
 
 #: Cost of a fast peak left without a slow peak in `resolve_claims` (costs are 1 - coherence,
@@ -290,7 +324,8 @@ class FastSlowChain(MimoChain):
 
     def unfold(self, cfg: RadarConfig, maps: FastSlowMaps, hits: RangeDopplerHits,
                proc: ProcessingConfig) -> Unfolding:
-        """Steps 2-7 for the fast-set CFAR hits of one frame (`unfold_peaks`)."""
+        """Steps 2-7 for the fast-set CFAR hits of one frame (`unfold_peaks`, then
+        `gate_coherence` and `resolve_claims`)."""
         sch, sets = cfg.scheme, cfg.scheme.chirp_sets(cfg)
         n_dop = sets.n_doppler_bins
         r, d = hits.range_bin, hits.doppler_bin
@@ -302,9 +337,12 @@ class FastSlowChain(MimoChain):
                             slow_slot_period_s=cfg.n_tx * sets.slow_period_s,
                             threshold_db=proc.fast_slow_threshold_db,
                             search_bins=proc.fast_slow_search_bins)
-        if r.size < 2:
+        if r.size == 0:
             return unf
-        return resolve_claims(unf, r, self._coherence(cfg, maps, r, d, unf, sets))
+        coherence = self._coherence(cfg, maps, r, d, unf, sets)
+        if proc.fast_slow_min_coherence > 0:
+            unf = gate_coherence(unf, coherence, proc.fast_slow_min_coherence)
+        return resolve_claims(unf, r, coherence) if r.size > 1 else unf
 
     def _coherence(self, cfg: RadarConfig, maps: FastSlowMaps, r: np.ndarray, d: np.ndarray,
                    unf: Unfolding, sets) -> np.ndarray:
@@ -327,6 +365,14 @@ class FastSlowChain(MimoChain):
         if hits.range_bin.size == 0:
             return empty_cloud()
         unf = self.unfold(cfg, maps, hits, proc)  # steps 2-7
+        if not proc.fast_slow_keep_unassociated:
+            keep = unf.associated
+            if not keep.any():
+                return empty_cloud()
+            hits = hits._replace(**{f: getattr(hits, f)[keep] for f in hits._fields
+                                    if f != "looks"})
+            unf = unf._replace(**{f: getattr(unf, f)[keep] for f in unf._fields
+                                  if f != "native"})
         velocity = unf.velocity_mps  # step 8 (unassociated peaks: their aliased velocity)
         virt = self._compensated(cfg, maps.fast_virt[hits.range_bin, hits.doppler_bin],
                                  velocity, sets.fast_period_s)

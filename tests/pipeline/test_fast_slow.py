@@ -11,8 +11,10 @@ from pipeline.stages import noncoherent_hits
 from radarsim.config import C_MPS
 
 #: Chirp-level steps off: thermal noise is then the only disturbance of the maps, as the model
-#: of the association test assumes (EGE compression adds its own quantisation noise).
-CLEAN = dict(dc_removal=False, interference_mitigation=False, compression=False)
+#: of the association test assumes (EGE compression adds its own quantisation noise); no
+#: coherence gate: the model is the seed's power test.
+CLEAN = dict(dc_removal=False, interference_mitigation=False, compression=False,
+             fast_slow_min_coherence=0.0)  # the seed's power-only test, as the model
 
 
 @pytest.fixture
@@ -111,8 +113,9 @@ def test_slow_peak_claimed_twice_goes_to_one_fast_peak(cfg, make_scene):
     target's slow alias (93.3), so at equal power both it and the true candidate pass the
     3 dB test, and the strongest-slow-peak rule alone could pick it. A slow peak goes to one
     fast peak (TI's demo consumes it once taken; here an optimal assignment), so the 38 m/s
-    peak keeps it and the 4 m/s peak takes its own."""
-    proc = pipeline.ProcessingConfig()
+    peak keeps it and the 4 m/s peak takes its own. (Seed's power-only test here; the default
+    coherence gate already rejects the clashing candidate, checked last.)"""
+    proc = pipeline.ProcessingConfig(fast_slow_min_coherence=0.0)
     rows = np.array([[60.0, -30.0, 0.0, -12.0], [60.0, 0.0, 0.0, 38.0], [60.0, 30.0, 0.0, 4.0]])
     sc = make_scene(np.column_stack([rows, _rcs_for_channel_snr(cfg, make_scene, rows, 25.0)]))
     v_f = cfg.scheme.native_max_velocity_mps(cfg)
@@ -130,6 +133,8 @@ def test_slow_peak_claimed_twice_goes_to_one_fast_peak(cfg, make_scene):
         np.testing.assert_allclose(survivors, [4.0 - 2 * v_f, 4.0], atol=0.2)
         for v, i in strongest.items():
             assert unf.associated[i] and unf.velocity_mps[i] == pytest.approx(v, abs=0.2)
+        gated = FastSlowChain().unfold(cfg, maps, hits, pipeline.ProcessingConfig())
+        np.testing.assert_allclose(gated.candidates_mps[i4][gated.passed[i4]], [4.0], atol=0.2)
 
 
 def test_claims_resolved_by_coherence_one_slow_peak_each():
@@ -308,6 +313,44 @@ def test_search_wider_than_the_candidate_spacing_refused(cfg):
     adc = np.zeros((cfg.n_chirps, cfg.n_rx, cfg.n_samples), np.int16)
     with pytest.raises(ValueError, match="fast_slow_search_bins=10"):
         pipeline.process_frame(cfg, adc, proc)
+
+
+@pytest.mark.parametrize("value", [-0.1, 1.0, float("nan"), "0.5"])
+def test_min_coherence_out_of_range_refused(value):
+    with pytest.raises(ValueError, match=r"fast_slow_min_coherence=.* must be in \[0, 1\)"):
+        pipeline.ProcessingConfig(fast_slow_min_coherence=value)
+
+
+def test_keep_unassociated_must_be_bool():
+    with pytest.raises(ValueError, match=r"fast_slow_keep_unassociated=1 must be true or false"):
+        pipeline.ProcessingConfig(fast_slow_keep_unassociated=1)
+
+
+def test_coherence_gate_keeps_only_matching_array_signatures():
+    """Two passed candidates: the larger slow peak has coherence 0.1 (another echo), the
+    smaller 0.9: the gate leaves the second; a peak whose candidates all fail falls back."""
+    from pipeline.mimo.fast_slow import Unfolding, gate_coherence
+    unf = Unfolding(np.array([[-10.0, 2.0, 14.0]] * 2), np.ones((2, 3), bool),
+                    np.array([[5.0, 1.0, 2.0], [1.0, 1.0, 1.0]]), np.zeros((2, 3), int),
+                    np.array([[True, False, True], [True, True, False]]), np.array([0, 0]),
+                    np.ones(2, bool), native=1)
+    out = gate_coherence(unf, np.array([[0.1, 0.9, 0.9], [0.2, 0.3, 0.9]]), 0.5)
+    assert out.best.tolist() == [2, 1] and out.associated.tolist() == [True, False]
+    assert out.velocity_mps.tolist() == [14.0, 2.0]
+
+
+def test_dropping_unassociated_peaks(cfg, make_scene):
+    """fast_slow_keep_unassociated=False: the -50 m/s target beyond the span (no candidate
+    matches) is not reported; the 20 m/s one is."""
+    rows = np.array([[80.0, 10.0, 0.0, -50.0], [40.0, -20.0, 0.0, 20.0]])
+    sc = make_scene(np.column_stack([rows, _rcs_for_channel_snr(cfg, make_scene, rows, 25.0)]))
+    adc = radarsim.simulate_frame(cfg, sc, np.random.default_rng(2))
+    keep = pipeline.process_frame(cfg, adc)
+    drop = pipeline.process_frame(cfg, adc, pipeline.ProcessingConfig(
+        fast_slow_keep_unassociated=False))
+    assert ((keep.range_m - 80).abs() < 1.5).any() and not ((drop.range_m - 80).abs() < 1.5).any()
+    near = drop[(drop.range_m - 40).abs() < 1.5]
+    assert near.loc[near.snr_db.idxmax()].radial_velocity_mps == pytest.approx(20.0, abs=0.25)
 
 
 def test_other_chains_ignore_the_fast_slow_settings():
