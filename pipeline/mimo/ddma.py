@@ -16,6 +16,7 @@ from typing import NamedTuple
 
 import numpy as np
 import pandas as pd
+import scipy.fft
 
 from radarsim.config import RadarConfig
 
@@ -23,8 +24,8 @@ from ..cfar import noise_mean_factor
 from ..chirp_level.stage import range_stage
 from ..compensation import compensate
 from ..config import WINDOWS, ProcessingConfig
-from ..kernels import (array_layout, cfar_peaks, ddma_metric, doppler_fft, estimate_angles,
-                       parabolic_offset, window)
+from ..kernels import (array_layout, cfar_peaks, ddma_metric, estimate_angles, parabolic_offset,
+                       window)
 from ..stages import (array_dft, empty_cloud, interp_azimuth, interp_range, log_power,
                       point_cloud, power_of, row_offsets)
 from .base import DetectionMap, DopplerAzimuth, MimoChain, register_chain
@@ -66,8 +67,11 @@ def full_doppler_spectrum(cfg: RadarConfig, adc: np.ndarray,
         Summed over Rx.
     """
     rf = range_stage(cfg, adc, proc)  # (C, R, B): chirp-level chain + range FFT
-    spec = doppler_fft(np.ascontiguousarray(rf.transpose(2, 1, 0)),
-                       window(WINDOWS[proc.doppler_window], cfg.n_chirps), axis=-1)  # (B, R, C)
+    # Transpose and window in one pass into the contiguous (B, R, C) buffer the FFT
+    # overwrites (the products `kernels.doppler_fft` forms, without its two copies).
+    x = np.empty(rf.shape[::-1], dtype=np.complex64)
+    np.multiply(rf.transpose(2, 1, 0), window(WINDOWS[proc.doppler_window], cfg.n_chirps), out=x)
+    spec = scipy.fft.fft(x, axis=-1, workers=-1, overwrite_x=True)  # (B, R, C)
     return spec, power_of(spec).sum(axis=1)
 
 
