@@ -10,7 +10,9 @@ call instead of a bare range FFT.
 
 One step per module: `dc` (DC estimation and removal), `interference` (statistics, flags and
 zeroing), `ege` (EGE compression model; its block format in `pipeline.ege_format`),
-`stage` (the steps in the demo's order) and `noise_floor` (the floor-rise metric).
+`stage` (the steps in the demo's order; `shared_range_stage` runs them once per frame and
+setting for every chain and metric that reads the frame) and `noise_floor` (the floor-rise
+metric).
 
 References
 ----------
