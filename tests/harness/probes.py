@@ -113,8 +113,8 @@ def classify(probe: Probe, tmp: Path, time_limit_s: float = 60.0) -> tuple[str, 
     if rc != probe.code:
         return ("silent" if rc in (0, 1) else "crash" if rc != 2 else "unclear"), \
             f"exit {rc}: {text[-300:]}"
-    if not re.search(probe.match, text):
-        return "unclear", f"exit {rc}: {text[-300:]}"
+    if not re.search(probe.match, text):  # refused without saying it, or accepted unwarned
+        return ("unclear" if rc == 2 else "silent"), f"exit {rc}: {text[-300:]}"
     errors = [ln for ln in lines if ": error: " in ln]
     if rc == 2 and len(errors) != 1:  # progress lines (a sweep's header) may precede it
         return "unclear", f"{len(errors)} error lines: {text[-300:]}"
@@ -793,7 +793,7 @@ def _signal_probes() -> list[Probe]:
                                 '"head_on_aliasing"]\nseeds = [0, 1]\nduration_s = 2.0\n')
         p = subprocess.Popen([sys.executable, "-m", "harness.cli", "sweep", str(f), "--out",
                               str(t / "r"), "--workers", "2", "--no-progress"],
-                             stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+                             stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
         kids: list = []
         t_end = time.monotonic() + 60
         while len(kids) < 2 and time.monotonic() < t_end:
@@ -801,7 +801,7 @@ def _signal_probes() -> list[Probe]:
             time.sleep(0.1)
         time.sleep(1.0)
         p.terminate()
-        p.communicate(timeout=30)
+        p.wait(timeout=30)  # not communicate(): orphaned workers would hold its pipes
         _, alive = psutil.wait_procs(kids, timeout=10)
         for k in alive:
             k.kill()
