@@ -113,7 +113,8 @@ def test_simulate_writes_the_bits_a_pool_worker_simulates(tmp_path):
     duration_s = "0.5"  # two frames of the R79 profile's 250 ms period
     _cli("simulate", CASE, "--cfg", str(r79_cfg_path()), "--out", str(out), "--seed", "1",
          "--frames", "2", "--duration-s", duration_s)
-    with cf.ProcessPoolExecutor(1, initializer=worker.init_worker) as ex:
+    with cf.ProcessPoolExecutor(1, initializer=worker.init_worker,
+                               initargs=(os.getpid(),)) as ex:
         ref = ex.submit(_pool_frames, CASE, 1, float(duration_s), 2).result(timeout=300)
     got = read_capture(out, parse_ti_cfg(r79_cfg_path()).radar,
                        interleaved=parse_ti_cfg(r79_cfg_path()).adc_channel_interleaved)
