@@ -17,10 +17,10 @@ Here, on a capture:
   Hadamard decoding), which is the SDK's zero-Doppler sample for every scheme with the whole
   frame's coherent gain (TI reads the first chirp of the 1D-FFT cube);
 - range: the strongest bin of sum_i |x_i|^2 (summed over frames) with |range - R| <= W,
-  interpolated as the chain interpolates a detection's range (Gaussian: parabola on the log
-  power, `pipeline.stages.interp_range`), so that subtracting the bias puts the reflector at R
-  exactly in expectation; the harness's window is R +/- W (TI's ``searchWin`` D spans
-  X +/- D/2);
+  interpolated as the chain interpolates a detection's range (parabola on the log power with
+  the range window's bias undone, `pipeline.stages.interp_range`), so the measured bias is the
+  board's and subtracting it puts the reflector at R; the harness's window is R +/- W (TI's
+  ``searchWin`` D spans X +/- D/2);
 - channels: the samples are averaged over frames (coherently: the reflector is static), then
   c_i = x_min a_i conj(x_i) / |x_i|^2 with a_i the steering phase of a target at the chosen
   azimuth (0: TI's boresight) and elevation 0, and the whole vector is rotated so channel 0's
@@ -53,7 +53,7 @@ from radarsim.config import RadarConfig
 
 from .chirp_level.stage import range_stage
 from .compensation import chip_order_coefficients, comp_line
-from .config import ProcessingConfig
+from .config import WINDOWS, ProcessingConfig
 from .stages import interp_range
 
 __all__ = ["ChannelCalibration", "measure_channel_calibration", "static_virtual_samples",
@@ -222,7 +222,8 @@ def measure_channel_calibration(cfg: RadarConfig, frames: Iterable[np.ndarray],
                          f"{target_range_m:g} +/- {search_window_m:g} m is at the window's "
                          f"{edge} edge ({b * dr:.3f} m) and rises beyond it: no peak "
                          f"in {lo * dr:.3f}..{hi * dr:.3f} m")
-    pos = float(interp_range(p_sum[None, b - 1: b + 2], np.array([b]), cfg.n_range_bins)[0])
+    pos = float(interp_range(p_sum[None, b - 1: b + 2], np.array([b]), cfg.n_range_bins,
+                             WINDOWS[proc.range_window])[0])
     measured = pos * dr
     xs = x_sum[:, :, b].reshape(-1) / n  # (n_virtual,) virtual-array order
     # Noise variance of one frame's demodulated sample: chirp-sample noise x (W* W^T)^-1_kk.

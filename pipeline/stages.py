@@ -21,7 +21,7 @@ import pandas as pd
 from radarsim.config import C_MPS, RadarConfig
 
 from .cfar import noise_mean_factor
-from .config import ProcessingConfig
+from .config import WINDOWS, ProcessingConfig
 from .kernels import array_layout, cfar_peaks, estimate_angles, parabolic_offset
 
 __all__ = ["POINT_CLOUD_COLUMNS", "check_frame", "power_of", "log_power", "point_cloud",
@@ -104,12 +104,40 @@ def interp_azimuth(power_az: np.ndarray, a: np.ndarray) -> np.ndarray:
     return 2.0 * k / n_fft
 
 
-def interp_range(power_r: np.ndarray, r: np.ndarray, n_range: int) -> np.ndarray:
+@lru_cache(maxsize=8)
+def _offset_table(window_name: str) -> tuple[np.ndarray, np.ndarray]:
+    """(g, d): the log-parabola offset g a tone at fractional bin offset d gives through a
+    `window_name` (scipy name) range FFT, on a 401-point grid of d in [-0.5, 0.5]; g is
+    monotone for every registered window, so np.interp(g_measured, g, d) undoes the
+    interpolator's bias (Hann/Hamming up to 0.016 bin, Blackman 0.007, rectangular 0.167).
+    The kernel is the 512-point periodic window's (the bias changes by < 1e-4 bin from 64
+    points up)."""
+    from scipy.signal import get_window
+    n = 512
+    w = get_window(window_name, n, fftbins=True)
+    d = np.linspace(-0.5, 0.5, 401)
+    k = np.arange(-1, 2)
+    x = (w * np.exp(2j * np.pi * (d[:, None, None] - k[None, :, None])
+                    * np.arange(n) / n)).sum(axis=-1)
+    y = np.log(np.abs(x) ** 2)
+    g = parabolic_offset(y[:, 0], y[:, 1], y[:, 2])
+    g.setflags(write=False)
+    d.setflags(write=False)
+    return g, d
+
+
+def interp_range(power_r: np.ndarray, r: np.ndarray, n_range: int,
+                 window: str | None = None) -> np.ndarray:
     """Fractional range bin from the log power at r-1, r, r+1 (edges not interpolated).
 
-    power_r : (n, 3) float for bins r-1, r, r+1."""
+    power_r : (n, 3) float for bins r-1, r, r+1. window : scipy name of the range window the
+    spectrum was made with: the log-parabola's bias for that window is undone
+    (`_offset_table`); None keeps the raw log-parabola offset."""
     y = log_power(power_r)
     off = parabolic_offset(y[:, 0], y[:, 1], y[:, 2])
+    if window is not None:
+        g, d = _offset_table(window)
+        off = np.interp(off, g, d)
     off = np.where((r <= 0) | (r >= n_range - 1), 0.0, off)
     return r + off
 
@@ -218,7 +246,7 @@ def noncoherent_hits(rd: np.ndarray, looks: int, proc: ProcessingConfig) -> Rang
                                      {1: False} if proc.range_peak_check else {},
                                      proc.min_range_bin)
     range_pos = interp_range(rd[np.clip(r[:, None] + np.arange(-1, 2), 0, n_range - 1),
-                                d[:, None]], r, n_range)
+                                d[:, None]], r, n_range, WINDOWS[proc.range_window])
     y = log_power(rd[r[:, None], (d[:, None] + np.arange(-1, 2)) % n_dop])
     return RangeDopplerHits(r, d, noise, range_pos, parabolic_offset(y[:, 0], y[:, 1], y[:, 2]),
                             looks)

@@ -165,7 +165,7 @@ class DdmaChain(MimoChain):
         # Range: interpolate on the coherent map at the same (Doppler, azimuth) cell.
         pr = power[a[:, None], np.clip(r[:, None] + np.arange(-1, 2), 0, n_range - 1),
                    d[:, None]]
-        range_pos = interp_range(pr, r, n_range)
+        range_pos = interp_range(pr, r, n_range, WINDOWS[proc.range_window])
         # Doppler: true bin d + n_dop x (Tx1 band); interpolate on the Rx-summed energy of all
         # Tx.
         k_true = d + n_dop * tx1_band[d, r]
