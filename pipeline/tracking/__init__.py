@@ -8,26 +8,37 @@ Where to add what:
 |---|---|---|
 | `config` | `TrackerConfig` | a tracker setting |
 | `models` | `MOTION_MODELS` (CV, CA: F, Q), `RangeAzimuthDoppler` (h, H) | a motion model |
-| `association` | gating + `GatedMaximumLikelihood` associator | an associator |
+| `hypothesis` | `GroupGateHypothesiser`: predictions, innovations, Jacobians, gates | a hypothesiser |
+| `association` | `GatedMaximumLikelihood`, `GatedNearestNeighbour`: choose only | an associator |
 | `update` | `KalmanPredictor`, `GroupEkfUpdater` | a predictor or updater |
 | `clustering` | `leader_clusters`, `LeaderClusterAllocator` | an allocator |
+| `parts` | registries of the parts by name (`TrackerConfig.associator = "nearest"`) | its entry |
 | `ego_motion` | RANSAC ego velocity, static labels (`RansacEgoMotion`) | an ego-motion source |
 | `tracker` | `GroupTracker` (wires the parts, maintenance), `track_frames` | nothing per part |
 | `state` | typed data between parts: `Points`, `Tracks`, `Association`, `NewTracks` | |
 
-A part is passed to `GroupTracker(cfg, associator=..., allocator=..., predictor=...,
-updater=..., ego_motion=...)`; the tracker itself is not edited.
+A part is passed to `GroupTracker(cfg, hypothesiser=..., associator=..., allocator=...,
+predictor=..., updater=..., ego_motion=...)` or registered in `parts` and named in
+`TrackerConfig` (so a sweep can vary it); the tracker itself is not edited. Each part declares
+the few settings it reads as its own frozen dataclass (`GateConfig`, `AssociationRules`,
+`GroupUpdateConfig`, `AllocationConfig`, `MergeConfig`), built from a `TrackerConfig`'s
+same-named fields when given one.
 """
-from .association import Associator, GatedMaximumLikelihood
-from .clustering import Allocator, LeaderClusterAllocator, leader_clusters, same_group
+from .association import (AssociationRules, Associator, GatedMaximumLikelihood,
+                          GatedNearestNeighbour)
+from .clustering import (AllocationConfig, Allocator, LeaderClusterAllocator, MergeConfig,
+                         leader_clusters, same_group)
 from .config import TrackerConfig
+from .hypothesis import GateConfig, GroupGateHypothesiser, Hypotheses, Hypothesiser
+from .parts import (ALLOCATORS, ASSOCIATORS, HYPOTHESISERS, PART_REGISTRIES, PREDICTORS,
+                    UPDATERS, TrackerPart)
 from .ego_motion import (EGO_MODELS, EgoFrame, EgoMotionConfig, EgoMotionEstimate,
                          EgoVelocity, RansacEgoMotion, estimate_ego_motion,
                          ground_radial_velocity, static_mask)
 from .models import MOTION_MODELS, MotionModel, RangeAzimuthDoppler, measurement_model
 from .state import Association, NewTracks, Points, Tracks
 from .tracker import TRACK_COLUMNS, TRACK_STATES, GroupTracker, track_frames
-from .update import GroupEkfUpdater, KalmanPredictor, UpdateResult
+from .update import GroupEkfUpdater, GroupUpdateConfig, KalmanPredictor, UpdateResult
 
 __all__ = ["TrackerConfig", "GroupTracker", "track_frames", "TRACK_COLUMNS", "TRACK_STATES",
            "MOTION_MODELS", "MotionModel", "RangeAzimuthDoppler", "measurement_model",
@@ -35,4 +46,8 @@ __all__ = ["TrackerConfig", "GroupTracker", "track_frames", "TRACK_COLUMNS", "TR
            "leader_clusters", "same_group", "KalmanPredictor", "GroupEkfUpdater",
            "UpdateResult", "Points", "Tracks", "Association", "NewTracks", "EGO_MODELS",
            "EgoMotionConfig", "EgoMotionEstimate", "EgoVelocity", "EgoFrame",
-           "RansacEgoMotion", "estimate_ego_motion", "ground_radial_velocity", "static_mask"]
+           "RansacEgoMotion", "estimate_ego_motion", "ground_radial_velocity", "static_mask",
+           "AssociationRules", "GatedNearestNeighbour", "AllocationConfig", "MergeConfig",
+           "GateConfig", "GroupGateHypothesiser", "Hypotheses", "Hypothesiser",
+           "GroupUpdateConfig", "TrackerPart", "HYPOTHESISERS", "ASSOCIATORS", "UPDATERS",
+           "PREDICTORS", "ALLOCATORS", "PART_REGISTRIES"]

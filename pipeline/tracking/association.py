@@ -1,91 +1,95 @@
-"""Gating and association of points to tracks (an injected tracker part).
+"""Association: each point of a frame to at most one track, chosen among the hypotheses (an
+injected tracker part).
 
-An associator maps each point of a frame to at most one track. `GatedMaximumLikelihood` is
-TI's gtrack rule: a point is a candidate of a track when it passes the group gate (squared
-Mahalanobis distance under the group residual covariance H P H' + Rm + D) and hard limits in
-depth, width and radial velocity; among its candidates it joins the most likely one (smallest
-d^2 + ln det S). Any object with the same `associate` method can replace it
-(``GroupTracker(cfg, associator=...)``).
+An associator only chooses (Stone Soup's split): the hypothesiser
+(`pipeline.tracking.hypothesis`) has already predicted, linearised and gated every track-point
+pair. `GatedMaximumLikelihood` is TI's gtrack rule: among its gated tracks a point joins the
+most likely one (smallest d^2 + ln det S); `GatedNearestNeighbour` joins the nearest (smallest
+d^2). Both keep static points off DETECT tracks unless ``allow_static_tracks``. Any object with
+the same `associate` method can replace them (``GroupTracker(cfg, associator=...)``), or a
+registered one can be picked by name (``TrackerConfig(associator="nearest")``,
+`pipeline.tracking.parts`).
 
 References
 ----------
 .. [1] TI mmWave SDK, "Group tracker" (gtrack) design: gating with group dispersion.
-.. [2] Y. Bar-Shalom, X. R. Li, T. Kirubarajan, "Estimation with Applications to Tracking and
-       Navigation", Wiley 2001, section 2.5 (gating).
+.. [2] Stone Soup: ``stonesoup.dataassociator.neighbour.NearestNeighbour``.
 """
 from __future__ import annotations
 
-import math
+from dataclasses import dataclass
 from typing import Protocol
 
 import numpy as np
 
-from .config import TrackerConfig
-from .models import RangeAzimuthDoppler, wrap_pi
-from .state import Association, Points, Tracks
+from scenarios.checks import require
 
-__all__ = ["Associator", "GatedMaximumLikelihood"]
+from .hypothesis import Hypotheses, part_config
+from .state import Association, Tracks
+
+__all__ = ["AssociationRules", "Associator", "GatedMaximumLikelihood", "GatedNearestNeighbour"]
+
+
+@dataclass(frozen=True, kw_only=True, slots=True)
+class AssociationRules:
+    """What an associator reads (the same-named `TrackerConfig` field).
+
+    Parameters
+    ----------
+    allow_static_tracks : bool
+        Static points may update DETECT tracks too (otherwise only ACTIVE ones: a track started
+        by a false alarm next to a guard rail is not confirmed by the rail).
+    """
+
+    allow_static_tracks: bool = False
+
+    def __post_init__(self) -> None:
+        require(self, "allow_static_tracks", "bool")
 
 
 class Associator(Protocol):
     """What the tracker asks of an associator."""
 
-    def associate(self, tracks: Tracks, points: Points, static: np.ndarray) -> Association:
-        """Track index per point (-1: none), innovations, and the tracks' Jacobians."""
+    def associate(self, hypotheses: Hypotheses, tracks: Tracks,
+                  static: np.ndarray) -> Association:
+        """Track index per point (-1: none), its innovation, and the tracks' Jacobians."""
         ...
 
 
 class GatedMaximumLikelihood:
-    """Group gate + maximum-likelihood choice (TI gtrack).
-
-    Static points may update ACTIVE tracks (a vehicle that stops) but, unless
-    `allow_static_tracks`, not DETECT ones: otherwise a track started by a false alarm next
-    to a guard rail is confirmed by the rail.
+    """Among the gated tracks, the most likely: smallest d^2 + ln det S (TI gtrack).
 
     Parameters
     ----------
-    cfg : TrackerConfig
-        Gate sizes (gate_mahalanobis, gate_depth_m, gate_width_m, gate_velocity_mps), point
-        noise, allow_static_tracks.
-    sensor : RangeAzimuthDoppler
-        Measurement model (mount pose and Rm).
+    cfg : AssociationRules or TrackerConfig
     """
 
-    def __init__(self, cfg: TrackerConfig, sensor: RangeAzimuthDoppler) -> None:
-        self.cfg = cfg
-        self.sensor = sensor
+    def __init__(self, cfg=None) -> None:
+        self.cfg = part_config(AssociationRules, AssociationRules() if cfg is None else cfg)
 
-    def associate(self, tracks: Tracks, points: Points, static: np.ndarray) -> Association:
-        cfg = self.cfg
-        r, az, vr = points.range_m, points.azimuth_rad, points.radial_velocity_mps
-        n, t = points.size, tracks.size
+    def _score(self, hyp: Hypotheses) -> np.ndarray:
+        return hyp.distance2 + hyp.log_det[:, None]
+
+    def associate(self, hypotheses: Hypotheses, tracks: Tracks,
+                  static: np.ndarray) -> Association:
+        hyp = hypotheses
+        t, n = hyp.distance2.shape
         if n == 0 or t == 0:
             return Association(np.full(n, -1, dtype=np.int64), np.zeros((n, 3)),
                                np.zeros((t, 3, tracks.x.shape[1])))
-        h, jac = self.sensor.predict(tracks.x)
-        s_grp = (jac @ tracks.p @ jac.transpose(0, 2, 1) + self.sensor.noise_cov
-                 + tracks.dispersion)                                            # (T, 3, 3)
-        s_inv = np.linalg.inv(s_grp)
-        _, logdet = np.linalg.slogdet(s_grp)
-        y = np.stack([r[None, :] - h[:, 0:1], wrap_pi(az[None, :] - h[:, 1:2]),
-                      vr[None, :] - h[:, 2:3]], axis=-1)                       # (T, N, 3)
-        d2 = np.sum((y @ s_inv) * y, axis=-1)                                      # (T, N)
-        # Hard limits in depth (along the line of sight to the predicted centroid) and width,
-        # widened by 3 sigma of the point noise so far groups are not cut by the azimuth error.
-        theta_t = h[:, 1] + self.sensor.mount_yaw_rad
-        los = np.stack([np.cos(theta_t), np.sin(theta_t)], axis=-1)              # (T, 2)
-        pts = self.sensor.position(r, az)
-        delta = pts[None, :, :] - tracks.x[:, None, :2]                          # (T, N, 2)
-        depth = delta[..., 0] * los[:, None, 0] + delta[..., 1] * los[:, None, 1]
-        width = delta[..., 1] * los[:, None, 0] - delta[..., 0] * los[:, None, 1]
-        width_lim = cfg.gate_width_m + 3 * h[:, 0:1] * math.radians(cfg.azimuth_std_deg)
-        gated = ((d2 <= cfg.gate_mahalanobis)
-                 & (np.abs(depth) <= cfg.gate_depth_m + 3 * cfg.range_std_m)
-                 & (np.abs(width) <= width_lim)
-                 & (np.abs(y[..., 2]) <= cfg.gate_velocity_mps))
-        if not cfg.allow_static_tracks:
-            gated &= ~(static[None, :] & ~tracks.active[:, None])
-        score = np.where(gated, d2 + logdet[:, None], np.inf)
+        gated = hyp.gated
+        if not self.cfg.allow_static_tracks:
+            gated = gated & ~(static[None, :] & ~tracks.active[:, None])
+        score = np.where(gated, self._score(hyp), np.inf)
         best = np.argmin(score, axis=0)
         ok = np.isfinite(score[best, np.arange(n)])
-        return Association(np.where(ok, best, -1), y[best, np.arange(n)], jac)
+        return Association(np.where(ok, best, -1), hyp.innovation[best, np.arange(n)],
+                           hyp.jacobian)
+
+
+class GatedNearestNeighbour(GatedMaximumLikelihood):
+    """Among the gated tracks, the nearest: smallest d^2 (no ln det S term, so a track with a
+    large covariance is not penalised)."""
+
+    def _score(self, hyp: Hypotheses) -> np.ndarray:
+        return hyp.distance2

@@ -13,17 +13,73 @@ References
 """
 from __future__ import annotations
 
+import dataclasses
 import math
+from dataclasses import dataclass
 from typing import Protocol
 
 import numpy as np
 
-from .config import TrackerConfig
+from scenarios.checks import one_of, require
+
 from .ego_motion import EgoVelocity
+from .hypothesis import part_config
 from .models import MOTION_MODELS, RangeAzimuthDoppler, wrap_pi
 from .state import NewTracks, Points, Tracks
 
-__all__ = ["leader_clusters", "same_group", "Allocator", "LeaderClusterAllocator"]
+__all__ = ["leader_clusters", "same_group", "Allocator", "LeaderClusterAllocator",
+           "MergeConfig", "AllocationConfig"]
+
+
+@dataclass(frozen=True, kw_only=True, slots=True)
+class MergeConfig:
+    """What the same-group test reads (the same-named `TrackerConfig` fields): centroids
+    within merge_depth_m along and merge_width_m (+ 2 R sigma_az) across the line of sight,
+    radial velocities within merge_velocity_mps."""
+
+    merge_depth_m: float = 5.0
+    merge_width_m: float = 2.0
+    merge_velocity_mps: float = 1.0
+    azimuth_std_deg: float = 1.5
+
+    def __post_init__(self) -> None:
+        require(self, [f.name for f in dataclasses.fields(self)], gt=0)
+
+
+@dataclass(frozen=True, kw_only=True, slots=True)
+class AllocationConfig:
+    """What the leader-cluster allocator reads (the same-named `TrackerConfig` fields; see
+    `TrackerConfig` for each)."""
+
+    motion_model: str = "cv"
+    alloc_min_points: int = 1
+    alloc_min_snr_db: float = 15.0
+    alloc_min_speed_mps: float = 0.5
+    alloc_range_m: float = 5.0
+    alloc_azimuth_deg: float = 4.0
+    alloc_radial_velocity_mps: float = 1.0
+    group_depth_m: float = 4.0
+    group_width_m: float = 1.8
+    group_velocity_spread_mps: float = 1.0
+    init_velocity_std_mps: float = 10.0
+    init_accel_std_mps2: float = 3.0
+    allow_static_tracks: bool = False
+    merge_tracks: bool = True
+    merge_depth_m: float = 5.0
+    merge_width_m: float = 2.0
+    merge_velocity_mps: float = 1.0
+    azimuth_std_deg: float = 1.5
+
+    def __post_init__(self) -> None:
+        one_of("motion_model", self.motion_model, MOTION_MODELS)
+        require(self, "alloc_min_snr_db")
+        require(self, "alloc_min_speed_mps", ge=0)
+        require(self, ("alloc_range_m", "alloc_azimuth_deg", "alloc_radial_velocity_mps",
+                       "group_depth_m", "group_width_m", "group_velocity_spread_mps",
+                       "init_velocity_std_mps", "init_accel_std_mps2", "merge_depth_m",
+                       "merge_width_m", "merge_velocity_mps", "azimuth_std_deg"), gt=0)
+        require(self, "alloc_min_points", "integer", ge=1)
+        require(self, ("allow_static_tracks", "merge_tracks"), "bool")
 
 
 def leader_clusters(range_m: np.ndarray, azimuth_rad: np.ndarray, radial_velocity_mps: np.ndarray,
@@ -74,13 +130,14 @@ def leader_clusters(range_m: np.ndarray, azimuth_rad: np.ndarray, radial_velocit
     return clusters
 
 
-def same_group(cfg: TrackerConfig, mount_xy_m: np.ndarray, xy_a: np.ndarray, vr_a: np.ndarray,
+def same_group(cfg: MergeConfig, mount_xy_m: np.ndarray, xy_a: np.ndarray, vr_a: np.ndarray,
                xy_b: np.ndarray, vr_b: np.ndarray) -> np.ndarray:
     """(A, B) bool: b lies within merge_depth_m along and merge_width_m across the line of
     sight to a, with radial velocity within merge_velocity_mps.
 
     Parameters
     ----------
+    cfg : MergeConfig (or any config with its fields: `AllocationConfig`, `TrackerConfig`)
     xy_a : (A, 2), xy_b : (B, 2) float
         Vehicle-frame positions, m.
     vr_a : (A,), vr_b : (B,) float
@@ -114,13 +171,14 @@ class LeaderClusterAllocator:
 
     Parameters
     ----------
-    cfg : TrackerConfig
+    cfg : AllocationConfig or TrackerConfig
         alloc_* thresholds, group extent, init_* standard deviations, merge_tracks.
     sensor : RangeAzimuthDoppler
         Mount pose and point noise Rm.
     """
 
-    def __init__(self, cfg: TrackerConfig, sensor: RangeAzimuthDoppler) -> None:
+    def __init__(self, cfg, sensor: RangeAzimuthDoppler) -> None:
+        cfg = part_config(AllocationConfig, cfg)
         self.cfg = cfg
         self.sensor = sensor
         self.n_state = MOTION_MODELS[cfg.motion_model].n_state

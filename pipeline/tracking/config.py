@@ -10,6 +10,7 @@ from scenarios.checks import one_of, require
 
 from .ego_motion import EgoMotionConfig
 from .models import MOTION_MODELS
+from .parts import PART_REGISTRIES
 
 __all__ = ["TrackerConfig"]
 
@@ -86,6 +87,10 @@ class TrackerConfig:
     ego_motion : EgoMotionConfig
         RANSAC settings: the whole ego velocity when `step` gets no ego speed, the lateral
         part only (planar model) when it does.
+    hypothesiser, associator, updater, predictor, allocator : str
+        The parts `GroupTracker` builds, by their names in `pipeline.tracking.parts`
+        (default TI's gtrack: "group_gate", "max_likelihood", "group_ekf", "kalman",
+        "leader_cluster"); each part reads its own few fields of this config.
 
     Raises
     ------
@@ -131,6 +136,11 @@ class TrackerConfig:
     allow_static_tracks: bool = False
     static_threshold_mps: float = 0.3
     ego_motion: EgoMotionConfig = field(default_factory=EgoMotionConfig)
+    hypothesiser: str = "group_gate"
+    associator: str = "max_likelihood"
+    updater: str = "group_ekf"
+    predictor: str = "kalman"
+    allocator: str = "leader_cluster"
 
     def __post_init__(self) -> None:
         one_of("motion_model", self.motion_model, MOTION_MODELS)
@@ -148,6 +158,8 @@ class TrackerConfig:
         require(self, ("alloc_min_points", "hits_to_confirm", "misses_to_free_detect",
                        "misses_to_free_active", "max_tracks"), "integer", ge=1)
         require(self, ("allow_static_tracks", "merge_tracks"), "bool")
+        for name, registry in PART_REGISTRIES.items():
+            registry.lookup(getattr(self, name))
         if not isinstance(self.ego_motion, EgoMotionConfig):
             raise ValueError(f"ego_motion={self.ego_motion!r} must be an EgoMotionConfig")
 

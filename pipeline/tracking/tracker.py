@@ -43,13 +43,15 @@ from collections.abc import Iterable, Sequence
 import numpy as np
 import pandas as pd
 
-from .association import Associator, GatedMaximumLikelihood
-from .clustering import Allocator, LeaderClusterAllocator, same_group
+from .association import Associator
+from .clustering import Allocator, MergeConfig, same_group
 from .config import TrackerConfig
 from .ego_motion import EgoVelocity, RansacEgoMotion
+from .hypothesis import Hypothesiser, part_config
 from .models import MOTION_MODELS, RangeAzimuthDoppler
+from .parts import ALLOCATORS, ASSOCIATORS, HYPOTHESISERS, PREDICTORS, UPDATERS
 from .state import POINT_COLUMNS, Points, Tracks
-from .update import GroupEkfUpdater, KalmanPredictor, Predictor, Updater
+from .update import Predictor, Updater
 
 __all__ = ["GroupTracker", "track_frames", "TRACK_COLUMNS", "TRACK_STATES"]
 
@@ -74,9 +76,10 @@ class GroupTracker:
     rng : numpy.random.Generator, optional
         Source of the RANSAC samples of the ego-motion estimate. Default:
         `numpy.random.default_rng(0)`, so a run is reproducible.
-    ego_motion, predictor, associator, updater, allocator : optional
-        Replacement parts (see the module docstring); each defaults to the TI-style part built
-        from `cfg`. E.g. ``GroupTracker(cfg, associator=MyAssociator(...))``.
+    ego_motion, predictor, hypothesiser, associator, updater, allocator : optional
+        Replacement parts (see the module docstring); each defaults to the part `cfg` names
+        (`pipeline.tracking.parts`; TI's gtrack parts by default), built from its own few
+        fields of `cfg`. E.g. ``GroupTracker(cfg, associator=MyAssociator(...))``.
 
     Notes
     -----
@@ -88,8 +91,8 @@ class GroupTracker:
     def __init__(self, cfg: TrackerConfig | None = None,
                  rng: np.random.Generator | None = None, *,
                  ego_motion: RansacEgoMotion | None = None, predictor: Predictor | None = None,
-                 associator: Associator | None = None, updater: Updater | None = None,
-                 allocator: Allocator | None = None) -> None:
+                 hypothesiser: Hypothesiser | None = None, associator: Associator | None = None,
+                 updater: Updater | None = None, allocator: Allocator | None = None) -> None:
         self.cfg = TrackerConfig() if cfg is None else cfg
         if not isinstance(self.cfg, TrackerConfig):
             raise ValueError(f"cfg must be a TrackerConfig, got {type(self.cfg).__name__}")
@@ -102,11 +105,14 @@ class GroupTracker:
         self.ego_motion = ego_motion or RansacEgoMotion(
             config=cfg.ego_motion, mount_yaw_deg=cfg.mount_yaw_deg,
             static_threshold_mps=cfg.static_threshold_mps, azimuth_std_deg=cfg.azimuth_std_deg)
-        self.predictor = predictor or KalmanPredictor(MOTION_MODELS[cfg.motion_model],
-                                                      cfg.process_noise_sigma)
-        self.associator = associator or GatedMaximumLikelihood(cfg, self.sensor)
-        self.updater = updater or GroupEkfUpdater(cfg, self.sensor.noise_cov)
-        self.allocator = allocator or LeaderClusterAllocator(cfg, self.sensor)
+        self.predictor = predictor or PREDICTORS.lookup(cfg.predictor).build(cfg, self.sensor)
+        self.hypothesiser = hypothesiser or HYPOTHESISERS.lookup(cfg.hypothesiser).build(
+            cfg, self.sensor)
+        self.associator = associator or ASSOCIATORS.lookup(cfg.associator).build(
+            cfg, self.sensor)
+        self.updater = updater or UPDATERS.lookup(cfg.updater).build(cfg, self.sensor)
+        self.allocator = allocator or ALLOCATORS.lookup(cfg.allocator).build(cfg, self.sensor)
+        self._merge = part_config(MergeConfig, cfg)
         self.reset()
 
     def reset(self) -> None:
@@ -160,13 +166,24 @@ class GroupTracker:
         ValueError
             On a missing column, non-finite values, or a time that does not increase.
         """
-        return self.step_with_points(points, time_s, ego_speed_mps)[0]
+        return self._advance(points, time_s, ego_speed_mps)[0]
 
     def step_with_points(self, points: pd.DataFrame, time_s: float,
                          ego_speed_mps: float | None = None
                          ) -> tuple[pd.DataFrame, pd.DataFrame]:
         """As `step`, also returning the points labelled with `track_id` (-1: none; the id of
         a track started from them counts) and `is_static`."""
+        table, assoc_id, static = self._advance(points, time_s, ego_speed_mps)
+        labelled = points.copy() if len(points) else pd.DataFrame(
+            {c: np.zeros(0) for c in POINT_COLUMNS})
+        labelled["track_id"] = assoc_id
+        labelled["is_static"] = static
+        return table, labelled
+
+    def _advance(self, points: pd.DataFrame, time_s: float, ego_speed_mps: float | None
+                 ) -> tuple[pd.DataFrame, np.ndarray, np.ndarray]:
+        """One frame: the track table, the track id of every point (-1: none) and its static
+        label (`step` skips building the labelled point table)."""
         cfg = self.cfg
         pts = Points.from_frame(points)
         dt = self._time_step(time_s)
@@ -177,7 +194,8 @@ class GroupTracker:
             self._last_ego = ego
 
         tracks = self.predictor.predict(self._tracks, dt)
-        association = self.associator.associate(tracks, pts, static)
+        association = self.associator.associate(self.hypothesiser.hypothesise(tracks, pts),
+                                                tracks, static)
         tracks, n_pts = self.updater.update(tracks, association)
         tracks = _maintain(tracks, n_pts > 0, cfg.hits_to_confirm)
         keep = tracks.misses < np.where(tracks.active, cfg.misses_to_free_active,
@@ -214,12 +232,7 @@ class GroupTracker:
 
         self._tracks = tracks
         self._last_time_s = float(time_s)
-        table = _table(tracks, n_pts, float(time_s), ego)
-        labelled = points.copy() if len(points) else pd.DataFrame(
-            {c: np.zeros(0) for c in POINT_COLUMNS})
-        labelled["track_id"] = assoc_id
-        labelled["is_static"] = static
-        return table, labelled
+        return _table(tracks, n_pts, float(time_s), ego), assoc_id, static
 
     # -- stages ----------------------------------------------------------------------------------
 
@@ -245,7 +258,7 @@ class GroupTracker:
         if t < 2:
             return np.zeros(t, dtype=bool)
         h, _ = self.sensor.predict(tracks.x)
-        close = same_group(self.cfg, self.sensor.mount_xy_m, tracks.x[:, :2], h[:, 2],
+        close = same_group(self._merge, self.sensor.mount_xy_m, tracks.x[:, :2], h[:, 2],
                            tracks.x[:, :2], h[:, 2])
         # Priority rank: lexicographic (active, age, hits, -id), larger is better.
         rank = np.empty(t, dtype=np.int64)

@@ -16,15 +16,39 @@ References
 """
 from __future__ import annotations
 
+from dataclasses import dataclass
 from typing import NamedTuple, Protocol
 
 import numpy as np
 
-from .config import TrackerConfig
+from scenarios.checks import require
+
+from .hypothesis import part_config
 from .models import MotionModel
 from .state import Association, Tracks
 
-__all__ = ["Predictor", "Updater", "KalmanPredictor", "GroupEkfUpdater", "UpdateResult"]
+__all__ = ["Predictor", "Updater", "KalmanPredictor", "GroupEkfUpdater", "UpdateResult",
+           "GroupUpdateConfig"]
+
+
+@dataclass(frozen=True, kw_only=True, slots=True)
+class GroupUpdateConfig:
+    """What the group EKF update reads (the same-named `TrackerConfig` fields).
+
+    Parameters
+    ----------
+    centroid_jitter_weight : float
+        w of the centroid noise Rc = Rm / n + (alpha + w / n) D, >= 0.
+    dispersion_update_weight : float
+        Weight of a frame's sample dispersion in the running estimate, (0, 1].
+    """
+
+    centroid_jitter_weight: float = 1.0
+    dispersion_update_weight: float = 0.2
+
+    def __post_init__(self) -> None:
+        require(self, "centroid_jitter_weight", ge=0)
+        require(self, "dispersion_update_weight", gt=0, le=1)
 
 
 class Predictor(Protocol):
@@ -71,14 +95,14 @@ class GroupEkfUpdater:
 
     Parameters
     ----------
-    cfg : TrackerConfig
+    cfg : GroupUpdateConfig or TrackerConfig
         centroid_jitter_weight (w) and dispersion_update_weight.
     noise_cov : (3, 3) float
         Per-point measurement covariance Rm.
     """
 
-    def __init__(self, cfg: TrackerConfig, noise_cov: np.ndarray) -> None:
-        self.cfg = cfg
+    def __init__(self, cfg, noise_cov: np.ndarray) -> None:
+        self.cfg = part_config(GroupUpdateConfig, cfg)
         self.rm = noise_cov
 
     def update(self, tracks: Tracks, association: Association) -> UpdateResult:

@@ -81,7 +81,8 @@ def test_one_step_equals_filterpy_ekf():
     np.testing.assert_allclose(tracks.x[0], ekf.x_prior, rtol=1e-12)
     np.testing.assert_allclose(tracks.p[0], ekf.P_prior, rtol=1e-12)
     points = Points(np.array([z[0]]), np.array([z[1]]), np.array([z[2]]), np.array([20.0]))
-    assoc = trk.associator.associate(tracks, points, np.zeros(1, bool))
+    assoc = trk.associator.associate(trk.hypothesiser.hypothesise(tracks, points), tracks,
+                                     np.zeros(1, bool))
     assert assoc.track_index.tolist() == [0]
     updated, n_points = trk.updater.update(tracks, assoc)
     assert n_points.tolist() == [1]

@@ -8,9 +8,11 @@ import dataclasses
 import numpy as np
 import pytest
 
-from pipeline.tracking import (MOTION_MODELS, Association, GatedMaximumLikelihood,
-                               GroupTracker, KalmanPredictor, LeaderClusterAllocator, Points,
-                               Tracks, TrackerConfig)
+from pipeline.tracking import (ASSOCIATORS, MOTION_MODELS, AllocationConfig, Association,
+                               AssociationRules, GatedMaximumLikelihood, GatedNearestNeighbour,
+                               GateConfig, GroupGateHypothesiser, GroupTracker,
+                               GroupUpdateConfig, Hypotheses, KalmanPredictor,
+                               LeaderClusterAllocator, Points, Tracks, TrackerConfig)
 
 from .test_tracker import _cfg, synth_points
 
@@ -23,9 +25,10 @@ class NoAssociation:
     def __init__(self):
         self.calls = 0
 
-    def associate(self, tracks: Tracks, points: Points, static: np.ndarray) -> Association:
+    def associate(self, hypotheses: Hypotheses, tracks: Tracks,
+                  static: np.ndarray) -> Association:
         self.calls += 1
-        n = points.size
+        n = hypotheses.distance2.shape[1]
         return Association(np.full(n, -1), np.zeros((n, 3)),
                            np.zeros((tracks.size, 3, tracks.x.shape[1])))
 
@@ -63,7 +66,8 @@ def test_default_parts_do_not_edit_their_inputs(rng, part):
     static = np.zeros(pts.size, bool)
     before = copy.deepcopy((tracks, pts, static))
     if part == "associator":
-        GatedMaximumLikelihood(cfg, tracker.sensor).associate(tracks, pts, static)
+        hyp = GroupGateHypothesiser(cfg, tracker.sensor).hypothesise(tracks, pts)
+        GatedMaximumLikelihood(cfg).associate(hyp, tracks, static)
     else:
         new = LeaderClusterAllocator(cfg, tracker.sensor).allocate(pts, ~static, None, tracks,
                                                                    10)
@@ -74,3 +78,66 @@ def test_default_parts_do_not_edit_their_inputs(rng, part):
 
 def _arrays(tracks: Tracks, pts: Points, static: np.ndarray) -> list[np.ndarray]:
     return [*(getattr(tracks, f.name) for f in dataclasses.fields(tracks)), *pts, static]
+
+
+# ----------------------------------------------------------------------------- per-part configs
+@pytest.mark.parametrize("part_cfg", [GateConfig, AssociationRules, GroupUpdateConfig,
+                                      AllocationConfig], ids=lambda c: c.__name__)
+def test_each_part_reads_its_own_few_fields(part_cfg):
+    """A part's config is built from the TrackerConfig's same-named fields, and holds only
+    what the part reads (far fewer than the tracker's)."""
+    cfg = TrackerConfig(gate_width_m=2.5, centroid_jitter_weight=0.5, alloc_min_points=2,
+                        allow_static_tracks=True)
+    names = [f.name for f in dataclasses.fields(part_cfg)]
+    assert set(names) <= {f.name for f in dataclasses.fields(TrackerConfig)}
+    assert len(names) < len(dataclasses.fields(TrackerConfig)) // 2
+    built = GroupTracker(cfg)
+    parts = {GateConfig: built.hypothesiser, AssociationRules: built.associator,
+             GroupUpdateConfig: built.updater, AllocationConfig: built.allocator}
+    assert isinstance(parts[part_cfg].cfg, part_cfg)
+    assert all(getattr(parts[part_cfg].cfg, n) == getattr(cfg, n) for n in names)
+
+
+@pytest.mark.parametrize("part_cfg,kw,match", [
+    (GateConfig, dict(gate_mahalanobis=0.0), r"gate_mahalanobis=0.0 must be"),
+    (AssociationRules, dict(allow_static_tracks=1), r"allow_static_tracks=1 must be"),
+    (GroupUpdateConfig, dict(dispersion_update_weight=1.5), r"dispersion_update_weight=1.5"),
+    (AllocationConfig, dict(alloc_min_points=0), r"alloc_min_points=0 must be")],
+    ids=["gate", "rules", "update", "allocation"])
+def test_part_configs_validate(part_cfg, kw, match):
+    with pytest.raises(ValueError, match=match):
+        part_cfg(**kw)
+
+
+def test_a_sweep_picks_the_associator_by_name(rng):
+    """TrackerConfig(associator=...) (a sweep's tracker section) builds the registered part;
+    an unknown name is refused naming the known ones."""
+    assert sorted(ASSOCIATORS) == ["max_likelihood", "nearest"]
+    near = GroupTracker(_cfg(associator="nearest"))
+    assert isinstance(near.associator, GatedNearestNeighbour)
+    tab = None
+    for i in range(5):
+        tab = near.step(synth_points(rng, [CAR]), 0.05 * i, 0.0)
+    assert (tab.state == "ACTIVE").sum() == 1
+    with pytest.raises(ValueError, match=r"associator='gnn' is not one of \['max_likelihood', "
+                                         r"'nearest'\]"):
+        TrackerConfig(associator="gnn")
+
+
+def test_the_hypothesiser_gates_and_the_associator_only_chooses(rng):
+    """The hypothesiser's innovations and gates drive the choice: with every pair ungated no
+    point is associated, whatever the distances."""
+    cfg = TrackerConfig()
+    tracker = GroupTracker(cfg)
+    for i in range(3):
+        tracker.step(synth_points(rng, [CAR]), 0.05 * i, 0.0)
+    pts = Points.from_frame(synth_points(rng, [CAR]))
+    hyp = tracker.hypothesiser.hypothesise(tracker.tracks, pts)
+    assert hyp.innovation.shape == (tracker.n_tracks, pts.size, 3) and hyp.gated.any()
+    static = np.zeros(pts.size, bool)
+    chosen = GatedMaximumLikelihood(cfg).associate(hyp, tracker.tracks, static)
+    np.testing.assert_array_equal(
+        chosen.innovation, hyp.innovation[chosen.track_index.clip(0), np.arange(pts.size)])
+    closed = GatedMaximumLikelihood(cfg).associate(hyp._replace(gated=np.zeros_like(hyp.gated)),
+                                                   tracker.tracks, static)
+    assert (closed.track_index == -1).all()

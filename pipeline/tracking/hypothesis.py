@@ -1,0 +1,147 @@
+"""The hypothesiser: predicted measurements, innovations, Jacobians and gates of every
+track-point pair (an injected tracker part).
+
+Stone Soup's split [1]: the hypothesiser predicts and linearises (h(x), H, the group residual
+covariance S = H P H' + Rm + D, the innovation of every point, its squared Mahalanobis distance
+and whether it passes the gate); an associator (`pipeline.tracking.association`) only chooses
+among the hypotheses. `GroupGateHypothesiser` is TI's gtrack gate [2]: the Mahalanobis gate
+under the group covariance plus hard limits in depth (along the line of sight to the predicted
+centroid), width (across it, widened by 3 sigma of the azimuth noise at that range) and radial
+velocity.
+
+References
+----------
+.. [1] Stone Soup: ``stonesoup.hypothesiser.distance.DistanceHypothesiser`` and
+       ``stonesoup.dataassociator.neighbour`` (hypothesiser / associator separation).
+.. [2] TI mmWave SDK, "Group tracker" (gtrack) design: gating with group dispersion.
+.. [3] Y. Bar-Shalom, X. R. Li, T. Kirubarajan, "Estimation with Applications to Tracking and
+       Navigation", Wiley 2001, section 2.5 (gating).
+"""
+from __future__ import annotations
+
+import dataclasses
+import math
+from dataclasses import dataclass
+from typing import NamedTuple, Protocol
+
+import numpy as np
+
+from scenarios.checks import require
+
+from .models import RangeAzimuthDoppler, wrap_pi
+from .state import Points, Tracks
+
+__all__ = ["GateConfig", "Hypotheses", "Hypothesiser", "GroupGateHypothesiser", "part_config"]
+
+
+def part_config(cls, cfg):
+    """`cfg` itself when it is a `cls`, else a `cls` built from the same-named fields of a
+    `TrackerConfig` (each part declares the few settings it reads)."""
+    if isinstance(cfg, cls):
+        return cfg
+    return cls(**{f.name: getattr(cfg, f.name) for f in dataclasses.fields(cls)})
+
+
+@dataclass(frozen=True, kw_only=True, slots=True)
+class GateConfig:
+    """What the gate reads (the same-named `TrackerConfig` fields).
+
+    Parameters
+    ----------
+    gate_mahalanobis : float
+        Gate on the squared Mahalanobis distance (chi-square 99.9 % for 3 dof: 16.27).
+    gate_depth_m, gate_width_m, gate_velocity_mps : float
+        Hard limits along and across the line of sight and in radial velocity.
+    range_std_m, azimuth_std_deg : float
+        Point noise: widen the depth limit by 3 sigma_R and the width limit by 3 R sigma_az.
+    """
+
+    gate_mahalanobis: float = 16.27
+    gate_depth_m: float = 5.0
+    gate_width_m: float = 3.0
+    gate_velocity_mps: float = 3.0
+    range_std_m: float = 0.25
+    azimuth_std_deg: float = 1.5
+
+    def __post_init__(self) -> None:
+        require(self, [f.name for f in dataclasses.fields(self)], gt=0)
+
+
+class Hypotheses(NamedTuple):
+    """Every track-point pair of a frame, T tracks x N points.
+
+    innovation : (T, N, 3) float
+        Point minus predicted measurement (range m, azimuth rad wrapped, radial velocity m/s).
+    distance2 : (T, N) float
+        Squared Mahalanobis distance under the group residual covariance S.
+    log_det : (T,) float
+        ln det S of each track (the likelihood's normalisation).
+    gated : (T, N) bool
+        The pair passes the gate.
+    jacobian : (T, 3, n_state) float
+        dh/dx of each track (the updater linearises with it).
+    """
+
+    innovation: np.ndarray
+    distance2: np.ndarray
+    log_det: np.ndarray
+    gated: np.ndarray
+    jacobian: np.ndarray
+
+    @classmethod
+    def none(cls, n_tracks: int, n_points: int, n_state: int) -> "Hypotheses":
+        """No pair (no track or no point)."""
+        return cls(np.zeros((n_tracks, n_points, 3)), np.zeros((n_tracks, n_points)),
+                   np.zeros(n_tracks), np.zeros((n_tracks, n_points), dtype=bool),
+                   np.zeros((n_tracks, 3, n_state)))
+
+
+class Hypothesiser(Protocol):
+    """What the tracker asks of a hypothesiser."""
+
+    def hypothesise(self, tracks: Tracks, points: Points) -> Hypotheses:
+        ...
+
+
+class GroupGateHypothesiser:
+    """Group gate of TI's gtrack (see the module docstring).
+
+    Parameters
+    ----------
+    cfg : GateConfig or TrackerConfig
+    sensor : RangeAzimuthDoppler
+        Measurement model (mount pose and point noise Rm).
+    """
+
+    def __init__(self, cfg, sensor: RangeAzimuthDoppler) -> None:
+        self.cfg = part_config(GateConfig, cfg)
+        self.sensor = sensor
+
+    def hypothesise(self, tracks: Tracks, points: Points) -> Hypotheses:
+        cfg = self.cfg
+        r, az, vr = points.range_m, points.azimuth_rad, points.radial_velocity_mps
+        n, t = points.size, tracks.size
+        if n == 0 or t == 0:
+            return Hypotheses.none(t, n, tracks.x.shape[1])
+        h, jac = self.sensor.predict(tracks.x)
+        s_grp = (jac @ tracks.p @ jac.transpose(0, 2, 1) + self.sensor.noise_cov
+                 + tracks.dispersion)                                            # (T, 3, 3)
+        s_inv = np.linalg.inv(s_grp)
+        _, logdet = np.linalg.slogdet(s_grp)
+        y = np.stack([r[None, :] - h[:, 0:1], wrap_pi(az[None, :] - h[:, 1:2]),
+                      vr[None, :] - h[:, 2:3]], axis=-1)                       # (T, N, 3)
+        d2 = np.sum((y @ s_inv) * y, axis=-1)                                      # (T, N)
+        # Hard limits in depth (along the line of sight to the predicted centroid) and width,
+        # widened by 3 sigma of the point noise so far groups are not cut by the azimuth error.
+        theta_t = h[:, 1] + self.sensor.mount_yaw_rad
+        los = np.stack([np.cos(theta_t), np.sin(theta_t)], axis=-1)              # (T, 2)
+        pts = self.sensor.position(r, az)
+        delta = pts[None, :, :] - tracks.x[:, None, :2]                          # (T, N, 2)
+        depth = delta[..., 0] * los[:, None, 0] + delta[..., 1] * los[:, None, 1]
+        width = delta[..., 1] * los[:, None, 0] - delta[..., 0] * los[:, None, 1]
+        width_lim = cfg.gate_width_m + 3 * h[:, 0:1] * math.radians(cfg.azimuth_std_deg)
+        gated = ((d2 <= cfg.gate_mahalanobis)
+                 & (np.abs(depth) <= cfg.gate_depth_m + 3 * cfg.range_std_m)
+                 & (np.abs(width) <= width_lim)
+                 & (np.abs(y[..., 2]) <= cfg.gate_velocity_mps))
+        return Hypotheses(y, d2, logdet, gated, jac)
