@@ -22,7 +22,9 @@ import dataclasses
 import os
 from pathlib import Path
 
-from .capture import frame_nbytes
+from scenarios.fileio import check_input_file, read_input_bytes
+
+from .capture import MAX_CAPTURE_BYTES, frame_nbytes
 
 __all__ = ["chirps_per_frame", "regroup_profile", "check_regroup", "one_chirp_frames"]
 
@@ -30,7 +32,9 @@ __all__ = ["chirps_per_frame", "regroup_profile", "check_regroup", "one_chirp_fr
 def _text(path_or_text: str | os.PathLike) -> str:
     if isinstance(path_or_text, os.PathLike) or (isinstance(path_or_text, str)
                                                  and "\n" not in path_or_text):
-        return Path(path_or_text).read_text()
+        # A FIFO or device is named, not read; bad UTF-8 stays a UnicodeDecodeError for the
+        # caller that leaves it to the profile reader.
+        return read_input_bytes(path_or_text, "profile").decode()
     return path_or_text
 
 
@@ -120,6 +124,7 @@ def check_regroup(path: str | os.PathLike, regrouped_radar, n_frames: int) -> in
         If the capture is not a whole number of one-chirp frames, or N does not divide its
         frame count (naming both).
     """
+    check_input_file(path, "capture", max_bytes=MAX_CAPTURE_BYTES)  # FIFO, device: named
     size = Path(path).stat().st_size
     per_chirp = frame_nbytes(regrouped_radar) // n_frames
     n_recorded, rest = divmod(size, per_chirp)

@@ -16,7 +16,10 @@ from typing import Iterator, NamedTuple
 
 import numpy as np
 
-from .capture import SAMPLE_DTYPE, frame_nbytes, frame_shape, layout_of
+from scenarios.fileio import check_input_file
+
+from .capture import (MAX_CAPTURE_BYTES, SAMPLE_DTYPE, frame_nbytes, frame_shape,
+                      layout_of)
 
 __all__ = ["SubFrameData", "advanced_frame_nbytes", "capture_n_advanced_frames",
            "iter_subframes", "encode_frame"]
@@ -51,6 +54,7 @@ def capture_n_advanced_frames(path: str | os.PathLike, profile) -> int:
     ValueError
         If the file is empty or not a whole number of frames (naming both sizes).
     """
+    check_input_file(path, "capture", max_bytes=MAX_CAPTURE_BYTES)  # FIFO, device: named
     size = Path(path).stat().st_size
     per_frame = advanced_frame_nbytes(profile)
     n_frames, rest = divmod(size, per_frame)

@@ -277,6 +277,12 @@ def _special_file_probes() -> list[Probe]:
             Probe("special_files", f"profile_{kind}",
                   lambda t, k=kind: ["process", _capture(t), "--cfg", _special(k, t / "p.cfg"),
                                      "--out", t / "o.csv"], what),
+            Probe("special_files", f"regroup_profile_{kind}",
+                  lambda t, k=kind: ["process", _capture(t), "--cfg", _special(k, t / "p.cfg"),
+                                     "--regroup-frames", "2", "--out", t / "o.csv"], what),
+            Probe("special_files", f"advanced_capture_{kind}",
+                  lambda t, k=kind: ["process", _special(k, t / "a.bin"), "--cfg",
+                                     _advanced_profile(t), "--out", t / "o.csv"], what),
             Probe("special_files", f"security_{kind}",
                   lambda t, k=kind: ["sweep", _write(t, "s.toml", OK_SWEEP), "--out", t / "r",
                                      "--scheduler", "tls://127.0.0.1:1", "--security",
@@ -304,6 +310,14 @@ def _profile(tmp: Path) -> Path:
     if not p.exists():
         repo = Path(__file__).resolve().parents[1] / "radarsim" / "profiles"
         p.write_text((repo / "xwr18_small.cfg").read_text())
+    return p
+
+
+def _advanced_profile(tmp: Path) -> Path:
+    """A shipped test profile with advanced (sub-)frames."""
+    p = tmp / "adv.cfg"
+    p.write_text((Path(__file__).resolve().parents[1] / "radarsim" / "profiles"
+                  / "xwr68_advanced_subframes.cfg").read_text())
     return p
 
 

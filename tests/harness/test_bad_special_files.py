@@ -70,3 +70,15 @@ def test_full_disk_mid_sweep_stops_it_and_keeps_written_cells(tmp_path, monkeypa
     assert not [p for p in (tmp_path / "a" / "cells").iterdir() if p.name.startswith(".")]
     o = run_sweep(spec, tmp_path / "a", components=FAKE, progress=False)
     assert (o.n_ok, o.n_skipped, o.n_error) == (1, 1, 0)
+
+
+@pytest.mark.timeout(30)
+@pytest.mark.parametrize("kind", ["fifo", "dev_zero"])
+def test_regrouped_capture_that_is_a_special_file_is_named(tmp_path, kind):
+    """`--regroup-frames` sizes the capture itself (radarsim.frame_regroup.check_regroup)."""
+    import radarsim
+    from radarsim.frame_regroup import check_regroup
+    f = tmp_path / "a.bin"
+    os.mkfifo(f) if kind == "fifo" else os.symlink("/dev/zero", f)
+    with pytest.raises(ValueError, match=r"capture '.*a\.bin': is a (FIFO|character device)"):
+        check_regroup(f, radarsim.presets.r79_ddma(), 2)
