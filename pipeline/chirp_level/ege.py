@@ -36,8 +36,6 @@ References
 """
 from __future__ import annotations
 
-import math
-
 import numba
 import numpy as np
 
@@ -71,13 +69,8 @@ def _dither(index: int) -> np.float32:
 
 
 @numba.njit(cache=True, nogil=True)
-def _exp2_floor(x: float) -> int:
-    """floor(log2(x)) + 1 of x > 0 (the frexp exponent), 0 for x = 0."""
-    return math.frexp(x)[1]
-
-
-@numba.njit(cache=True, nogil=True)
-def _block_shift(v: np.ndarray, budget: int, kk: np.ndarray) -> int:
+def _block_shift(v: np.ndarray, budget: int, kk: np.ndarray, m: np.ndarray, hist: np.ndarray,
+                 fsum: np.ndarray) -> int:
     """Scale factor s of one block (pass 1 of the encoder): the smallest s for which the
     exact EG code length with the best order of `kk` fits `budget` bits.
 
@@ -89,13 +82,18 @@ def _block_shift(v: np.ndarray, budget: int, kk: np.ndarray) -> int:
     both read off the block's histogram of L. Per s, an order whose lower bound exceeds the
     budget is skipped (it cannot fit), one whose upper bound fits is taken without the exact
     length, the others get the exact length sum_j (2 + k + 2 floor(log2(|q_j| + 2^k)) - 2 k).
+    Logarithms are read off the IEEE exponent field of float32 values (biased exponent - 127;
+    exact for the integers |q| + 2^k < 2^24). m (n_val,) float32, hist, fsum (33,) int64 are
+    scratch buffers.
     """
     n_val = v.size
-    hist = np.zeros(33, np.int64)
+    mi = m.view(np.int32)
+    hist[:] = 0
     for j in range(n_val):
-        hist[min(max(_exp2_floor(abs(v[j])), 0), 31)] += 1
+        m[j] = abs(v[j])
+    for j in range(n_val):  # L = biased exponent - 126 (|v| < 2^L), 0 for 0 and |v| < 1
+        hist[min(max((mi[j] >> 23) - 126, 0), 31)] += 1
     # fsum[t] = sum_j f(L_j - t) = sum_j max(L_j - t, 0) + #(L_j = t)
-    fsum = np.zeros(33, np.int64)
     above = 0   # #(L_j > t)
     excess = 0  # sum_j max(L_j - t, 0)
     for t in range(31, -1, -1):
@@ -111,11 +109,13 @@ def _block_shift(v: np.ndarray, budget: int, kk: np.ndarray) -> int:
                 continue
             if not unbounded and base + 2 * fsum[s + k] <= budget:
                 return s
-            bits = base
             two_k = np.float32(2.0 ** k)
             for j in range(n_val):
-                bits += 2 * (_exp2_floor(abs(np.rint(v[j] * step)) + two_k) - 1 - k)
-            if bits <= budget:
+                m[j] = abs(np.rint(v[j] * step)) + two_k
+            lead = 0
+            for j in range(n_val):
+                lead += (mi[j] >> 23) - 127 - k  # floor(log2(|q| + 2^k)) - k
+            if base + 2 * lead <= budget:
                 return s
     return _MAX_SHIFT
 
@@ -133,6 +133,9 @@ def _ege_blocks(vv: np.ndarray, bins2: int, scale: np.float32, budget: int, kk: 
     nb = n_b2 // bins2
     n_val = n_r * bins2
     v = np.empty(n_val, np.float32)
+    m = np.empty(n_val, np.float32)
+    hist = np.empty(33, np.int64)
+    fsum = np.zeros(33, np.int64)
     for c in range(n_c):
         for b in range(nb):
             lo = b * bins2
@@ -145,7 +148,7 @@ def _ege_blocks(vv: np.ndarray, bins2: int, scale: np.float32, budget: int, kk: 
             for r in range(n_r):
                 for t in range(bins2):
                     v[r * bins2 + t] = vv[c, r, lo + t] * scale
-            s = _block_shift(v, budget, kk)
+            s = _block_shift(v, budget, kk, m, hist, fsum)
             shift[c, b] = s
             if s == 0:  # s = 0: only the (unmodelled) 16-bit rounding
                 continue
