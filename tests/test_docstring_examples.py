@@ -15,8 +15,8 @@ import pytest
 MODULES = (
     "scenarios.registries", "scenarios.registry", "radarsim.frontend", "radarsim.presets",
     "radarsim.mimo", "radarsim.chips", "radarsim.boards", "radarsim.calibration",
-    "pipeline.chain", "pipeline.cfar", "pipeline.mimo.base", "metrics.detection",
-    "radarsim.mimo_fast_slow", "pipeline.mimo.fast_slow",
+    "pipeline.chain", "pipeline.cfar", "pipeline.mimo.base", "pipeline.tracking.parts",
+    "metrics.detection", "radarsim.mimo_fast_slow", "pipeline.mimo.fast_slow",
 )
 
 #: Public entry points that must show a runnable example: "module:qualified name".

@@ -41,7 +41,7 @@ class AssociationRules:
         by a false alarm next to a guard rail is not confirmed by the rail).
     """
 
-    allow_static_tracks: bool = False
+    allow_static_tracks: bool
 
     def __post_init__(self) -> None:
         require(self, "allow_static_tracks", "bool")
@@ -64,8 +64,8 @@ class GatedMaximumLikelihood:
     cfg : AssociationRules or TrackerConfig
     """
 
-    def __init__(self, cfg=None) -> None:
-        self.cfg = part_config(AssociationRules, AssociationRules() if cfg is None else cfg)
+    def __init__(self, cfg) -> None:
+        self.cfg = part_config(AssociationRules, cfg)
 
     def _score(self, hyp: Hypotheses) -> np.ndarray:
         return hyp.distance2 + hyp.log_det[:, None]

@@ -37,10 +37,10 @@ class MergeConfig:
     within merge_depth_m along and merge_width_m (+ 2 R sigma_az) across the line of sight,
     radial velocities within merge_velocity_mps."""
 
-    merge_depth_m: float = 5.0
-    merge_width_m: float = 2.0
-    merge_velocity_mps: float = 1.0
-    azimuth_std_deg: float = 1.5
+    merge_depth_m: float
+    merge_width_m: float
+    merge_velocity_mps: float
+    azimuth_std_deg: float
 
     def __post_init__(self) -> None:
         require(self, [f.name for f in dataclasses.fields(self)], gt=0)
@@ -51,24 +51,24 @@ class AllocationConfig:
     """What the leader-cluster allocator reads (the same-named `TrackerConfig` fields; see
     `TrackerConfig` for each)."""
 
-    motion_model: str = "cv"
-    alloc_min_points: int = 1
-    alloc_min_snr_db: float = 15.0
-    alloc_min_speed_mps: float = 0.5
-    alloc_range_m: float = 5.0
-    alloc_azimuth_deg: float = 4.0
-    alloc_radial_velocity_mps: float = 1.0
-    group_depth_m: float = 4.0
-    group_width_m: float = 1.8
-    group_velocity_spread_mps: float = 1.0
-    init_velocity_std_mps: float = 10.0
-    init_accel_std_mps2: float = 3.0
-    allow_static_tracks: bool = False
-    merge_tracks: bool = True
-    merge_depth_m: float = 5.0
-    merge_width_m: float = 2.0
-    merge_velocity_mps: float = 1.0
-    azimuth_std_deg: float = 1.5
+    motion_model: str
+    alloc_min_points: int
+    alloc_min_snr_db: float
+    alloc_min_speed_mps: float
+    alloc_range_m: float
+    alloc_azimuth_deg: float
+    alloc_radial_velocity_mps: float
+    group_depth_m: float
+    group_width_m: float
+    group_velocity_spread_mps: float
+    init_velocity_std_mps: float
+    init_accel_std_mps2: float
+    allow_static_tracks: bool
+    merge_tracks: bool
+    merge_depth_m: float
+    merge_width_m: float
+    merge_velocity_mps: float
+    azimuth_std_deg: float
 
     def __post_init__(self) -> None:
         one_of("motion_model", self.motion_model, MOTION_MODELS)

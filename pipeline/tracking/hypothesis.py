@@ -36,7 +36,8 @@ __all__ = ["GateConfig", "Hypotheses", "Hypothesiser", "GroupGateHypothesiser", 
 
 def part_config(cls, cfg):
     """`cfg` itself when it is a `cls`, else a `cls` built from the same-named fields of a
-    `TrackerConfig` (each part declares the few settings it reads)."""
+    `TrackerConfig` (each part declares the few settings it reads; their defaults live in one
+    place, `TrackerConfig`: ``part_config(GateConfig, TrackerConfig())``)."""
     if isinstance(cfg, cls):
         return cfg
     return cls(**{f.name: getattr(cfg, f.name) for f in dataclasses.fields(cls)})
@@ -56,12 +57,12 @@ class GateConfig:
         Point noise: widen the depth limit by 3 sigma_R and the width limit by 3 R sigma_az.
     """
 
-    gate_mahalanobis: float = 16.27
-    gate_depth_m: float = 5.0
-    gate_width_m: float = 3.0
-    gate_velocity_mps: float = 3.0
-    range_std_m: float = 0.25
-    azimuth_std_deg: float = 1.5
+    gate_mahalanobis: float
+    gate_depth_m: float
+    gate_width_m: float
+    gate_velocity_mps: float
+    range_std_m: float
+    azimuth_std_deg: float
 
     def __post_init__(self) -> None:
         require(self, [f.name for f in dataclasses.fields(self)], gt=0)

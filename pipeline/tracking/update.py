@@ -43,8 +43,8 @@ class GroupUpdateConfig:
         Weight of a frame's sample dispersion in the running estimate, (0, 1].
     """
 
-    centroid_jitter_weight: float = 1.0
-    dispersion_update_weight: float = 0.2
+    centroid_jitter_weight: float
+    dispersion_update_weight: float
 
     def __post_init__(self) -> None:
         require(self, "centroid_jitter_weight", ge=0)

@@ -13,6 +13,7 @@ from pipeline.tracking import (ASSOCIATORS, MOTION_MODELS, AllocationConfig, Ass
                                GateConfig, GroupGateHypothesiser, GroupTracker,
                                GroupUpdateConfig, Hypotheses, KalmanPredictor,
                                LeaderClusterAllocator, Points, Tracks, TrackerConfig)
+from pipeline.tracking.hypothesis import part_config
 
 from .test_tracker import _cfg, synth_points
 
@@ -105,8 +106,9 @@ def test_each_part_reads_its_own_few_fields(part_cfg):
     (AllocationConfig, dict(alloc_min_points=0), r"alloc_min_points=0 must be")],
     ids=["gate", "rules", "update", "allocation"])
 def test_part_configs_validate(part_cfg, kw, match):
+    good = part_config(part_cfg, TrackerConfig())
     with pytest.raises(ValueError, match=match):
-        part_cfg(**kw)
+        dataclasses.replace(good, **kw)
 
 
 def test_a_sweep_picks_the_associator_by_name(rng):
