@@ -68,23 +68,31 @@ class GatedMaximumLikelihood:
         self.cfg = part_config(AssociationRules, cfg)
 
     def _score(self, hyp: Hypotheses) -> np.ndarray:
-        return hyp.distance2 + hyp.log_det[:, None]
+        """(K,) score of each candidate pair: smallest wins."""
+        return hyp.distance2 + hyp.log_det[hyp.track]
 
     def associate(self, hypotheses: Hypotheses, tracks: Tracks,
                   static: np.ndarray) -> Association:
         hyp = hypotheses
-        t, n = hyp.distance2.shape
+        t, n = hyp.n_tracks, hyp.n_points
+        index = np.full(n, -1, dtype=np.int64)
+        innovation = np.zeros((n, 3))
         if n == 0 or t == 0:
-            return Association(np.full(n, -1, dtype=np.int64), np.zeros((n, 3)),
-                               np.zeros((t, 3, tracks.x.shape[1])))
+            return Association(index, innovation, np.zeros((t, 3, tracks.x.shape[1])))
         gated = hyp.gated
         if not self.cfg.allow_static_tracks:
-            gated = gated & ~(static[None, :] & ~tracks.active[:, None])
-        score = np.where(gated, self._score(hyp), np.inf)
+            gated = gated & ~(static[hyp.point] & ~tracks.active[hyp.track])
+        score = np.full((t, n), np.inf)
+        score[hyp.track, hyp.point] = np.where(gated, self._score(hyp), np.inf)
         best = np.argmin(score, axis=0)
         ok = np.isfinite(score[best, np.arange(n)])
-        return Association(np.where(ok, best, -1), hyp.innovation[best, np.arange(n)],
-                           hyp.jacobian)
+        # The chosen pair's innovation (a finite score is a candidate pair).
+        pair = np.full((t, n), -1, dtype=np.int64)
+        pair[hyp.track, hyp.point] = np.arange(hyp.track.size)
+        chosen = pair[best[ok], np.flatnonzero(ok)]
+        index[ok] = best[ok]
+        innovation[ok] = hyp.innovation[chosen]
+        return Association(index, innovation, hyp.jacobian)
 
 
 class GatedNearestNeighbour(GatedMaximumLikelihood):

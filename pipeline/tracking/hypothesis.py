@@ -69,32 +69,46 @@ class GateConfig:
 
 
 class Hypotheses(NamedTuple):
-    """Every track-point pair of a frame, T tracks x N points.
+    """The candidate track-point pairs of a frame (T tracks, N points, K pairs).
 
-    innovation : (T, N, 3) float
+    A pair is a candidate when it passes the cheapest gate, the radial-velocity limit; every
+    other pair fails the gate whatever its distance, so it is not computed.
+
+    track, point : (K,) int
+        Track and point index of each candidate pair.
+    innovation : (K, 3) float
         Point minus predicted measurement (range m, azimuth rad wrapped, radial velocity m/s).
-    distance2 : (T, N) float
+    distance2 : (K,) float
         Squared Mahalanobis distance under the group residual covariance S.
+    gated : (K,) bool
+        The pair passes the whole gate.
     log_det : (T,) float
         ln det S of each track (the likelihood's normalisation).
-    gated : (T, N) bool
-        The pair passes the gate.
     jacobian : (T, 3, n_state) float
         dh/dx of each track (the updater linearises with it).
+    n_points : int
+        N.
     """
 
+    track: np.ndarray
+    point: np.ndarray
     innovation: np.ndarray
     distance2: np.ndarray
-    log_det: np.ndarray
     gated: np.ndarray
+    log_det: np.ndarray
     jacobian: np.ndarray
+    n_points: int
+
+    @property
+    def n_tracks(self) -> int:
+        return self.log_det.size
 
     @classmethod
     def none(cls, n_tracks: int, n_points: int, n_state: int) -> "Hypotheses":
         """No pair (no track or no point)."""
-        return cls(np.zeros((n_tracks, n_points, 3)), np.zeros((n_tracks, n_points)),
-                   np.zeros(n_tracks), np.zeros((n_tracks, n_points), dtype=bool),
-                   np.zeros((n_tracks, 3, n_state)))
+        empty = np.zeros(0, dtype=np.int64)
+        return cls(empty, empty, np.zeros((0, 3)), np.zeros(0), np.zeros(0, dtype=bool),
+                   np.zeros(n_tracks), np.zeros((n_tracks, 3, n_state)), n_points)
 
 
 class Hypothesiser(Protocol):
@@ -129,20 +143,21 @@ class GroupGateHypothesiser:
                  + tracks.dispersion)                                            # (T, 3, 3)
         s_inv = np.linalg.inv(s_grp)
         _, logdet = np.linalg.slogdet(s_grp)
-        y = np.stack([r[None, :] - h[:, 0:1], wrap_pi(az[None, :] - h[:, 1:2]),
-                      vr[None, :] - h[:, 2:3]], axis=-1)                       # (T, N, 3)
-        d2 = np.sum((y @ s_inv) * y, axis=-1)                                      # (T, N)
+        y_vel = vr[None, :] - h[:, 2:3]                                          # (T, N)
+        ti, ni = np.nonzero(np.abs(y_vel) <= cfg.gate_velocity_mps)              # (K,) pairs
+        y = np.stack([r[ni] - h[ti, 0], wrap_pi(az[ni] - h[ti, 1]), y_vel[ti, ni]],
+                     axis=-1)                                                    # (K, 3)
+        d2 = np.sum((y[:, None, :] @ s_inv[ti])[:, 0, :] * y, axis=-1)           # (K,)
         # Hard limits in depth (along the line of sight to the predicted centroid) and width,
         # widened by 3 sigma of the point noise so far groups are not cut by the azimuth error.
-        theta_t = h[:, 1] + self.sensor.mount_yaw_rad
-        los = np.stack([np.cos(theta_t), np.sin(theta_t)], axis=-1)              # (T, 2)
+        theta_t = h[ti, 1] + self.sensor.mount_yaw_rad
+        los_x, los_y = np.cos(theta_t), np.sin(theta_t)                          # (K,)
         pts = self.sensor.position(r, az)
-        delta = pts[None, :, :] - tracks.x[:, None, :2]                          # (T, N, 2)
-        depth = delta[..., 0] * los[:, None, 0] + delta[..., 1] * los[:, None, 1]
-        width = delta[..., 1] * los[:, None, 0] - delta[..., 0] * los[:, None, 1]
-        width_lim = cfg.gate_width_m + 3 * h[:, 0:1] * math.radians(cfg.azimuth_std_deg)
+        delta = pts[ni] - tracks.x[ti, :2]                                       # (K, 2)
+        depth = delta[:, 0] * los_x + delta[:, 1] * los_y
+        width = delta[:, 1] * los_x - delta[:, 0] * los_y
+        width_lim = cfg.gate_width_m + 3 * h[ti, 0] * math.radians(cfg.azimuth_std_deg)
         gated = ((d2 <= cfg.gate_mahalanobis)
                  & (np.abs(depth) <= cfg.gate_depth_m + 3 * cfg.range_std_m)
-                 & (np.abs(width) <= width_lim)
-                 & (np.abs(y[..., 2]) <= cfg.gate_velocity_mps))
-        return Hypotheses(y, d2, logdet, gated, jac)
+                 & (np.abs(width) <= width_lim))
+        return Hypotheses(ti, ni, y, d2, gated, logdet, jac, n)

@@ -29,7 +29,7 @@ class NoAssociation:
     def associate(self, hypotheses: Hypotheses, tracks: Tracks,
                   static: np.ndarray) -> Association:
         self.calls += 1
-        n = hypotheses.distance2.shape[1]
+        n = hypotheses.n_points
         return Association(np.full(n, -1), np.zeros((n, 3)),
                            np.zeros((tracks.size, 3, tracks.x.shape[1])))
 
@@ -135,11 +135,23 @@ def test_the_hypothesiser_gates_and_the_associator_only_chooses(rng):
         tracker.step(synth_points(rng, [CAR]), 0.05 * i, 0.0)
     pts = Points.from_frame(synth_points(rng, [CAR]))
     hyp = tracker.hypothesiser.hypothesise(tracker.tracks, pts)
-    assert hyp.innovation.shape == (tracker.n_tracks, pts.size, 3) and hyp.gated.any()
+    k = hyp.track.size
+    assert hyp.innovation.shape == (k, 3) and hyp.distance2.shape == hyp.gated.shape == (k,)
+    assert hyp.gated.any() and hyp.n_points == pts.size and hyp.n_tracks == tracker.n_tracks
+    # Candidates are the pairs within the velocity limit; the innovation is point minus h(x).
+    h, _ = tracker.sensor.predict(tracker.tracks.x)
+    np.testing.assert_array_equal(hyp.innovation[:, 2],
+                                  pts.radial_velocity_mps[hyp.point] - h[hyp.track, 2])
+    assert (np.abs(hyp.innovation[:, 2]) <= cfg.gate_velocity_mps).all()
     static = np.zeros(pts.size, bool)
     chosen = GatedMaximumLikelihood(cfg).associate(hyp, tracker.tracks, static)
-    np.testing.assert_array_equal(
-        chosen.innovation, hyp.innovation[chosen.track_index.clip(0), np.arange(pts.size)])
+    hit = chosen.track_index >= 0
+    assert hit.any()
+    pair = {(int(a), int(b)): i for i, (a, b) in enumerate(zip(hyp.track, hyp.point))}
+    for p in np.flatnonzero(hit):
+        i = pair[(int(chosen.track_index[p]), int(p))]
+        assert hyp.gated[i]
+        np.testing.assert_array_equal(chosen.innovation[p], hyp.innovation[i])
     closed = GatedMaximumLikelihood(cfg).associate(hyp._replace(gated=np.zeros_like(hyp.gated)),
                                                    tracker.tracks, static)
     assert (closed.track_index == -1).all()
