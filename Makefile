@@ -25,11 +25,13 @@ test-all: $(STAMP)
 	$(PY) -m pytest -q $(XDIST)
 
 # The default sweep (whole catalogue, DDMA vs TDMA, seed 0): tables in results/default, the
-# summary printed, then the HTML report. Rerunning resumes the completed cells of the same code
-# version; --force recomputes cells an older code version left (a bare sweep refuses to mix them).
+# summary printed, the HTML report, then the shipped gates with the verdict table (scheme x
+# case). Rerunning resumes the completed cells of the same code version; --force recomputes
+# cells an older code version left (a bare sweep refuses to mix them).
 run: $(STAMP)
 	$(VENV)/bin/radar-harness sweep --workers 2 --force --out results/default
 	$(VENV)/bin/radar-harness report results/default
+	$(VENV)/bin/radar-harness gate results/default
 
 bench: $(STAMP)
 	$(PY) -m benchmarks

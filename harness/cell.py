@@ -4,8 +4,11 @@ A cell runs the scenario once, and for every processed frame builds the scattere
 scene, simulates one ADC frame per MIMO scheme of the cell (``CellSpec.schemes``, names of
 ``radarsim.MIMO_SCHEMES``; independent noise per `harness.streams`), processes each result
 scheme (a registered scheme, or a chain variant, `harness.cellspec.ResultScheme`), optionally
-tracks each scheme, and scores everything with `metrics` (`harness.scoring`). The SNR gain of
-each scheme is taken over ``CellSpec.baseline_scheme`` on the same actor and frame.
+tracks each scheme, and scores everything with `metrics` (`metrics.scoring`: labels, velocity
+check, summary row, case criteria and the case class's verdict). The SNR gain of each scheme
+is taken over ``CellSpec.baseline_scheme`` on the same actor and frame. A case whose class asks
+for it (``metrics.scoring.CASE_VERDICTS``: the interference cases) is also processed with
+interference mitigation off, for the floor the mitigation recovers and the ghosts it adds.
 
 Same spec -> bit-identical tables: all randomness comes from the seed, and no timing or host
 information enters the tables (timings go to ``CellResult.elapsed_s``).
@@ -15,19 +18,20 @@ from __future__ import annotations
 import time
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
-from typing import Any, NamedTuple
+from typing import NamedTuple
 
 import numpy as np
 import pandas as pd
 
+from metrics import scoring as msc
 from metrics.association import AssociationConfig, scatterer_table
+from metrics.detection import ghost_stats
+from metrics.interference import floor_summary, mitigation_stats
 
 from .cellconfig import build_configs, cell_association
 from .cellspec import CellSpec, result_schemes
 from .components import Components, default_components, mount_value
 from .runtime import single_thread_blas
-from .scoring import (add_snr_gains, add_track_metrics, concat_clouds, floor_summary,
-                      frame_counts, score_scheme)
 from .streams import frame_rng
 
 __all__ = ["CellResult", "run_cell", "simulate_cell_frame", "frame_scatterers"]
@@ -42,12 +46,36 @@ class CellResult:
     elapsed_s: float
 
 
-def _case_info(run) -> dict[str, Any]:
-    """Target actors and pass criteria of the scenario's case (read by attribute)."""
-    case = getattr(run, "case", None)
-    must = tuple(getattr(case, "must_detect", ()) or ())
-    return {"target_ids": list(must) if must else None,
-            "criteria": tuple(getattr(case, "criteria", ()) or ())}
+#: Columns of an empty point cloud (a scheme that detected nothing in any frame).
+_CLOUD_COLUMNS = ("frame", "time_s", "range_m", "azimuth_deg", "elevation_deg",
+                  "radial_velocity_mps", "snr_db", "x_m", "y_m", "z_m")
+
+
+def concat_clouds(clouds: list[pd.DataFrame]) -> pd.DataFrame:
+    """One scheme's point clouds of every frame as one table (typed columns when empty)."""
+    pcs = pd.concat(clouds, ignore_index=True) if clouds else pd.DataFrame()
+    if pcs.empty:
+        pcs = pd.DataFrame({c: pd.Series(dtype=float) for c in _CLOUD_COLUMNS})
+        pcs["frame"] = pcs["frame"].astype(np.int64)
+    return pcs
+
+
+def _reference_procs(procs: dict, case: msc.CaseInfo) -> dict:
+    """Processing with interference mitigation off, per result scheme whose processing has
+    it on, when the case's class asks for that reference (interference cases)."""
+    if not msc.CASE_VERDICTS[case.case_class].mitigation_reference:
+        return {}
+    return {s: p.replace(interference_mitigation=False) for s, p in procs.items()
+            if getattr(p, "interference_mitigation", False)}
+
+
+def _label(points: pd.DataFrame, truth: pd.DataFrame, scat: pd.DataFrame, cfg,
+           assoc: AssociationConfig) -> pd.DataFrame:
+    """`metrics.scoring.label_detections` with the scheme's span and failure step."""
+    return msc.label_detections(points, truth, scat,
+                                velocity_span_mps=2 * cfg.max_unambiguous_velocity_mps,
+                                failure_step_mps=cfg.scheme.velocity_failure_step_mps(cfg),
+                                config=assoc)
 
 
 def _frames_of(run, stride: int) -> np.ndarray:
@@ -110,6 +138,7 @@ class _FrameOutputs(NamedTuple):
     saturated: dict[str, list[int]]         # saturated (chirp, Rx) pairs per scheme and frame
     scatterers: pd.DataFrame                # `metrics.association.scatterer_table`
     floor_rows: list[dict]                  # `_noise_floors` rows of every frame
+    reference: dict[str, list[pd.DataFrame]]  # clouds with mitigation off (`_reference_procs`)
 
 
 def run_cell(spec: CellSpec, comps: Components | None = None,
@@ -138,29 +167,34 @@ def run_cell(spec: CellSpec, comps: Components | None = None,
     frames = _frames_of(run, spec.frame_stride)
     truth = run.truth[run.truth["frame"].isin(frames)].reset_index(drop=True)
     times = _frame_times(run, truth, frames)
-    out = _process_frames(spec, comps, run, radar, procs, schemes, frames, truth, times)
+    case = msc.case_info(getattr(run, "case", None))
+    refs = _reference_procs(procs, case)
+    out = _process_frames(spec, comps, run, radar, procs, schemes, frames, truth, times, refs)
 
-    info = _case_info(run)
     ego_speeds = _ego_speeds(run, frames)
     parts: dict[str, list[pd.DataFrame]] = {t: [] for t in ("detections", "frames", "actors",
                                                              "actor_summary", "tracks")}
     rows_out = []
     for rs in schemes:
         s, cfg = rs.name, radar[rs.mimo]
-        sc = score_scheme(concat_clouds(out.clouds[s]), truth, out.scatterers, cfg, assoc,
-                          len(frames), info["target_ids"], info["criteria"])
+        lab = _label(concat_clouds(out.clouds[s]), truth, out.scatterers, cfg, assoc)
+        sc = msc.score_scheme(lab, truth, out.scatterers, len(frames), assoc, case)
         row = sc.row
-        parts["actor_summary"].append(sc.per_actor.assign(scheme=s))
+        if s in out.reference:
+            ref = _label(concat_clouds(out.reference[s]), truth, out.scatterers, cfg, assoc)
+            row.update(mitigation_stats(row["ghost_rate"],
+                                        ghost_stats(ref, len(frames))["ghost_rate"]))
+        parts["actor_summary"].append(sc.actors.assign(scheme=s))
         if comps.track is not None:
             tr, tm = _track_scheme(spec, comps, run, cfg, out.clouds[s], frames, times,
                                    ego_speeds, truth)
             if tr is not None:
                 parts["tracks"].append(tr.assign(scheme=s))
-                add_track_metrics(row, tm)
+                msc.add_track_metrics(row, tm)
         row["n_saturated_frames"] = int(np.count_nonzero(out.saturated[s]))
         rows_out.append({"scheme": s, **row})
-        parts["detections"].append(sc.labels.assign(scheme=s))
-        fc = frame_counts(sc.labels, frames).assign(
+        parts["detections"].append(lab.assign(scheme=s))
+        fc = msc.frame_counts(lab, frames).assign(
             n_saturated_chirp_rx=np.asarray(out.saturated[s], dtype=np.int64)
             if out.saturated[s] else np.zeros(len(frames), dtype=np.int64), scheme=s)
         if out.floor_rows:
@@ -173,7 +207,10 @@ def run_cell(spec: CellSpec, comps: Components | None = None,
 
     actors = pd.concat(parts["actors"], ignore_index=True)
     summary = pd.DataFrame(rows_out)
-    add_snr_gains(summary, actors, schemes, spec.baseline_scheme)
+    names = [rs.name for rs in schemes]
+    base = spec.baseline_scheme
+    msc.add_snr_gains(summary, actors, [rs.name for rs in schemes if not rs.is_variant
+                                        and rs.name != base and base in names], base)
     ids = {"scenario": spec.scenario, "variant": spec.variant, "seed": int(spec.seed)}
     tracks = pd.concat(parts["tracks"], ignore_index=True) if parts["tracks"] else \
         pd.DataFrame({"scheme": pd.Series(dtype=object), "frame": pd.Series(dtype="int64")})
@@ -216,11 +253,13 @@ FRAME_THREADS = 2
 
 def _process_frames(spec: CellSpec, comps: Components, run, radar: dict, procs: dict,
                     schemes, frames: np.ndarray, truth: pd.DataFrame,
-                    times: pd.Series) -> _FrameOutputs:
+                    times: pd.Series, refs: dict | None = None) -> _FrameOutputs:
     """Scatterers, ADC frames (one per mimo) and point clouds (one per result scheme) of every
-    processed frame, plus the noise-floor rows; frames run `FRAME_THREADS` at a time and are
-    collected in frame order."""
+    processed frame, plus the noise-floor rows; with `refs` (processing per scheme) also the
+    reference point clouds of the same ADC frames. Frames run `FRAME_THREADS` at a time and
+    are collected in frame order."""
     from pipeline.chirp_level import shared_range_stage  # after the caller's BLAS setting
+    refs = refs or {}
     ctx = _frame_context(run)
     equipment = comps.equipment(run, spec.seed, dict(spec.scene)) \
         if comps.equipment is not None else None
@@ -232,18 +271,22 @@ def _process_frames(spec: CellSpec, comps: Components, run, radar: dict, procs: 
         # The chains of schemes sharing an ADC frame and the noise-floor metric read one
         # range cube per frame and chirp-level setting.
         with shared_range_stage():
-            floor = _noise_floors(comps, radar, adc, procs, schemes, f, inr)
+            floor = _noise_floors(comps, radar, adc, procs, schemes, f, inr, refs)
             pcs = {rs.name: comps.process_frame(radar[rs.mimo], adc[rs.mimo], procs[rs.name])
                    for rs in schemes}
-        return sc, floor, pcs
+            ref = {name: comps.process_frame(radar[mimo_of[name]], adc[mimo_of[name]], p)
+                   for name, p in refs.items()}
+        return sc, floor, pcs, ref
 
+    mimo_of = {rs.name: rs.mimo for rs in schemes}
     clouds: dict[str, list[pd.DataFrame]] = {s.name: [] for s in schemes}
+    reference: dict[str, list[pd.DataFrame]] = {s: [] for s in refs}
     # Saturated (chirp, Rx) pairs per scheme and frame (pipeline.saturation).
     saturated: dict[str, list[int]] = {s.name: [] for s in schemes}
     scat, floor_rows = [], []
     pool = ThreadPoolExecutor(FRAME_THREADS, thread_name_prefix="cell-frame")
     try:
-        for f, (sc, floor, pcs) in zip(frames, pool.map(one, frames)):
+        for f, (sc, floor, pcs, ref) in zip(frames, pool.map(one, frames)):
             scat.append((f, sc))
             floor_rows += floor
             for name, pc in pcs.items():
@@ -253,9 +296,11 @@ def _process_frames(spec: CellSpec, comps: Components, run, radar: dict, procs: 
                 clouds[name].append(pc)
                 saturated[name].append(int(pc.attrs.get("saturation", {})
                                            .get("n_saturated_chirp_rx", 0)))
+            for name, pc in ref.items():
+                reference[name].append(pc.reset_index(drop=True).assign(frame=np.int64(f)))
     finally:
         pool.shutdown(wait=True, cancel_futures=True)  # an error or ^C leaves no frame running
-    return _FrameOutputs(clouds, saturated, scatterer_table(scat), floor_rows)
+    return _FrameOutputs(clouds, saturated, scatterer_table(scat), floor_rows, reference)
 
 
 def _track_scheme(spec: CellSpec, comps: Components, run, cfg, clouds: list[pd.DataFrame],
@@ -293,22 +338,27 @@ def _simulate_frames(comps: Components, radar: dict, sc, seed: int, frame, rows,
 
 
 def _noise_floors(comps: Components, radar: dict, adc: dict, procs: dict, schemes, frame,
-                  inr: float) -> list[dict]:
+                  inr: float, refs: dict | None = None) -> list[dict]:
     """Per scheme: noise-floor rise over thermal after the range and Doppler FFTs (the
-    chirp-level chain of its processing config applied), and the frame's INR."""
+    chirp-level chain of its processing config applied), and the frame's INR; for the schemes
+    of `refs` also the Doppler floor with their reference (mitigation-off) processing."""
     if comps.noise_floor is None:
         return []
     from pipeline.chirp_level import NOISE_FLOOR_FIELDS
     out, cache = [], {}
-    for rs in schemes:
-        p = procs[rs.name]
-        key = (rs.mimo, *(getattr(p, f) for f in NOISE_FLOOR_FIELDS))
+
+    def floor(mimo, p):
+        key = (mimo, *(getattr(p, f) for f in NOISE_FLOOR_FIELDS))
         if key not in cache:
-            cache[key] = comps.noise_floor(radar[rs.mimo], adc[rs.mimo], p)
-        r_db, d_db = cache[key]
-        out.append({"scheme": rs.name, "frame": np.int64(frame),
-                    "interference_to_noise_db": inr, "noise_floor_rise_range_db": r_db,
-                    "noise_floor_rise_db": d_db})
+            cache[key] = comps.noise_floor(radar[mimo], adc[mimo], p)
+        return cache[key]
+    for rs in schemes:
+        r_db, d_db = floor(rs.mimo, procs[rs.name])
+        row = {"scheme": rs.name, "frame": np.int64(frame), "interference_to_noise_db": inr,
+               "noise_floor_rise_range_db": r_db, "noise_floor_rise_db": d_db}
+        if refs and rs.name in refs:
+            row["noise_floor_rise_unmitigated_db"] = floor(rs.mimo, refs[rs.name])[1]
+        out.append(row)
     return out
 
 

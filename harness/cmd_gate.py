@@ -1,11 +1,13 @@
 """`radar-harness gate RESULTS [--thresholds gates.toml] [--junit FILE] [--markdown FILE]`.
 
-Compares the summary table of a results directory with thresholds, prints a pass/fail table,
-optionally writes JUnit XML and a Markdown summary (default ``RESULTS/gates.md``), each
-atomically. Exit code 0 if every gate passes, 1 if any fails, 2 on bad input (missing results,
-malformed gates file, unknown metric). The exit code is the verdict even when a report file
-cannot be written (a read-only results folder: a warning on stderr). The code version of the
-results is printed, with a warning when it is not today's (`harness.provenance`).
+Compares the summary table of a results directory with thresholds, prints a pass/fail table
+and the verdict table (case x scheme: pass/fail with the deciding numbers), optionally writes
+JUnit XML and a Markdown summary (default ``RESULTS/gates.md``), each atomically. Exit code 0
+if every gate passes, 1 if any fails, 2 on bad input (missing results, malformed gates file, a
+metric not in `metrics.METRICS` or one that cannot be gated, an unknown case class). The exit
+code is the verdict even when a report file cannot be written (a read-only results folder: a
+warning on stderr). The code version of the results is printed, with a warning when it is not
+today's (`harness.provenance`).
 """
 from __future__ import annotations
 
@@ -49,6 +51,13 @@ def run(args: argparse.Namespace) -> int:
         print(table[["status", "gate", "where", "value", "bound"]].to_string(
             index=False, float_format=lambda v: f"{v:.4g}"))
     n_fail = int((table["status"] == "fail").sum())
+    verdicts = g.verdict_table(results)
+    if len(verdicts):
+        with pd.option_context("display.max_colwidth", 70, "display.width", 250,
+                               "display.max_columns", None):
+            print("\nVerdicts (case x scheme; pass: first deciding gate's value, FAIL: the "
+                  "failing metrics):")
+            print(verdicts.to_string())
     print(f"{len(table) - n_fail} of {len(table)} gate checks passed or skipped, "
           f"{n_fail} failed")
     verdict = 1 if n_fail else 0

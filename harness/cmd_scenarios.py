@@ -37,10 +37,17 @@ def add_arguments_show(parser: argparse.ArgumentParser) -> None:
 
 
 def _resolve(case: str):
+    from metrics.registry import check_criterion
     from scenarios import get_case, load_scenario_file
 
     if case.endswith(".toml") or os.sep in case:  # a file (a broken one is named, not a case)
-        return load_scenario_file(case)
+        c = load_scenario_file(case)
+        for i, crit in enumerate(c.criteria):  # the metrics downstream define the names
+            try:
+                check_criterion(crit.metric, crit.actor_id)
+            except ValueError as exc:
+                raise ValueError(f"{case}: criteria[{i}].metric: {exc}") from None
+        return c
     return get_case(case)  # ValueError naming the known cases
 
 

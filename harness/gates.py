@@ -4,17 +4,22 @@ A gates file is TOML with one ``[[gate]]`` table per rule::
 
     [[gate]]
     name = "ddma_snr_gain"              # unique, used in reports and JUnit
-    metric = "snr_gain_median_db"       # a column of summary.parquet
+    metric = "snr_gain_median_db"       # a key of metrics.METRICS that may be gated
     min = 5.0                           # and/or max = ...
     scheme = "ddma"                     # optional filters (fnmatch patterns): scheme,
     scenario = "*"                      #   scenario, variant
+    case_class = "*"                    # or one of scenarios.CASE_CLASSES (ordinary,
+                                        #   interference, r79)
     aggregate = "each"                  # each (every matching row must pass) | mean |
                                         #   median | min | max (one value over the rows)
     allow_missing = false               # NaN values / no matching rows: skip instead of fail
     description = "DDMA promise: ..."
 
 Every summary row that names an ``error`` (a sweep cell that raised) fails the built-in gate
-``sweep_cells_ok``; so do cells the manifest lists as missing.
+``sweep_cells_ok``; so do cells the manifest lists as missing. Every scheme the run computed
+must be addressed by at least one gate (built-in gate ``schemes_gated``): a regression of an
+ungated scheme would go unseen. `verdict_table` condenses the evaluations into one pass/fail
+per scheme and case with the deciding numbers.
 """
 from __future__ import annotations
 
@@ -26,6 +31,9 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+import scenarios
+from metrics.registry import METRICS, get_metric
+from scenarios.catalog import CASE_CLASSES
 from scenarios.checks import build_from_table, check_keys, one_of, read_toml, require
 
 from scenarios.fileio import MAX_TABLE_FILE_BYTES, check_input_file
@@ -34,7 +42,7 @@ from .cellstore import failed_rows
 from .provenance import read_manifest
 
 __all__ = ["Gate", "GateResult", "load_gates", "evaluate_gates", "load_summary",
-           "junit_xml", "markdown", "DEFAULT_GATES_PATH", "AGGREGATES"]
+           "junit_xml", "markdown", "verdict_table", "DEFAULT_GATES_PATH", "AGGREGATES"]
 
 DEFAULT_GATES_PATH = Path(__file__).with_name("gates.toml")
 #: How the matching rows are reduced before the comparison.
@@ -54,13 +62,21 @@ class Gate:
     scheme: str = "*"
     scenario: str = "*"
     variant: str = "*"
+    case_class: str = "*"
     aggregate: str = "each"
     allow_missing: bool = False
     description: str = ""
 
     def __post_init__(self) -> None:
-        require(self, ("name", "metric", "scheme", "scenario", "variant", "description"), "str")
+        require(self, ("name", "metric", "scheme", "scenario", "variant", "case_class",
+                       "description"), "str")
         require(self, "allow_missing", "bool")
+        if not get_metric(self.metric).gate:
+            raise ValueError(f"metric={self.metric!r} cannot be gated (per actor, not a "
+                             "summary column): "
+                             f"{get_metric(self.metric).description}")
+        if self.case_class != "*":
+            one_of("case_class", self.case_class, CASE_CLASSES)
         if self.min is None and self.max is None:
             raise ValueError(f"min/max: gate {self.name!r} needs min and/or max")
         require(self, ("min", "max"), none_ok=True)
@@ -94,6 +110,18 @@ class GateResult:
     bound: str
     status: str  # "pass" | "fail" | "skip"
     message: str = ""
+
+
+def case_classes_of(summary: pd.DataFrame) -> pd.Series:
+    """The ``case_class`` of every summary row: its column, or (tables written before it
+    existed) the catalogue case's class; "ordinary" for a case not in the catalogue."""
+    if "case_class" in summary and summary["case_class"].notna().all():
+        return summary["case_class"].astype(str)
+    known = {n: c.case_class for n, c in scenarios.SCENARIOS.items()}
+    derived = summary["scenario"].map(lambda s: known.get(s, "ordinary"))
+    if "case_class" in summary:
+        return summary["case_class"].fillna(derived).astype(str)
+    return derived.astype(str)
 
 
 def load_gates(path: str | Path | None = None) -> list[Gate]:
@@ -162,9 +190,11 @@ def evaluate_gates(summary: pd.DataFrame, gates: list[Gate],
         A gate names a metric that is not a summary column (bad input, not a failure).
     """
     unknown = sorted({g.metric for g in gates} - set(summary.columns))
-    if unknown:
-        raise ValueError(f"unknown metric(s) {unknown}: not columns of the summary table; "
-                         f"available: {sorted(summary.columns)}")
+    bad = [m for m in unknown if m not in METRICS]
+    if bad:
+        raise ValueError(f"unknown metric(s) {bad}; known: {', '.join(sorted(METRICS))}")
+    summary = summary.assign(**{m: np.nan for m in unknown})  # defined, not in this run
+    summary = summary.assign(case_class=case_classes_of(summary))
     for g in gates:
         col = summary[g.metric]
         if not (pd.api.types.is_numeric_dtype(col) or col.isna().all()):
@@ -181,9 +211,14 @@ def evaluate_gates(summary: pd.DataFrame, gates: list[Gate],
     out.append(GateResult("sweep_cells_ok", "error", "all cells", float(len(bad) + len(missing)),
                           "== 0", "pass" if ok else "fail", msg))
     good = summary[~failed]
+    schemes = [x for x in dict.fromkeys(good["scheme"]) if x] if "scheme" in good else []
+    ungated = [x for x in schemes if not any(fnmatch.fnmatchcase(x, g.scheme) for g in gates)]
+    out.append(GateResult("schemes_gated", "scheme", "all schemes", float(len(ungated)), "== 0",
+                          "fail" if ungated else "pass",
+                          f"no gate addresses scheme(s) {ungated}" if ungated else ""))
     for g in gates:
         sel = good
-        for col in ("scheme", "scenario", "variant"):
+        for col in ("scheme", "scenario", "variant", "case_class"):
             pat = getattr(g, col)
             if col in sel.columns and pat != "*":
                 sel = sel[[fnmatch.fnmatchcase(str(v), pat) for v in sel[col]]]
@@ -203,7 +238,8 @@ def evaluate_gates(summary: pd.DataFrame, gates: list[Gate],
 
 
 def _pattern(g: Gate) -> str:
-    return f"scenario={g.scenario} scheme={g.scheme} variant={g.variant}"
+    cls = f" case_class={g.case_class}" if g.case_class != "*" else ""
+    return f"scenario={g.scenario} scheme={g.scheme} variant={g.variant}{cls}"
 
 
 def _judge(g: Gate, where: str, v: float) -> GateResult:
@@ -253,3 +289,44 @@ def markdown(results: list[GateResult]) -> str:
     rows = [f"| {r.status.upper()} | {r.gate} | {r.where} | {r.metric} | {r.value:.4g} | "
             f"{r.bound} |" for r in sorted(results, key=lambda r: order[r.status])]
     return head + "\n".join(rows) + "\n"
+
+
+#: Metrics a passing verdict shows first (the case's own verdicts before accuracy budgets).
+_DECIDING = ["r79_pass", "case_pass", "mitigation_floor_recovery_fraction",
+             "mitigation_ghost_rate_added", "ghost_rate", "velocity_unambiguity_rate_in_span",
+             "velocity_unambiguity_rate"]
+
+
+def verdict_table(results: list[GateResult]) -> pd.DataFrame:
+    """One verdict per case (rows) and scheme (columns) from the per-row gate evaluations.
+
+    A cell reads "pass" when every gate evaluated on that row passed (skips do not count),
+    otherwise "FAIL" followed by the failing gates' metrics and values; a passing cell shows
+    the values of its two most deciding gates (the case's own verdicts first: `_DECIDING`),
+    so the table says both the verdict and the numbers behind it. Aggregated gates (over several rows)
+    and the built-in ones are not per case and stay in the full table.
+    """
+    rows: dict[tuple[str, str], list[GateResult]] = {}
+    for r in results:
+        parts = r.where.split("/")
+        if len(parts) != 4:
+            continue
+        scenario, variant, _seed, scheme = parts
+        rows.setdefault((scenario if variant == "baseline" else f"{scenario}/{variant}",
+                         scheme), []).append(r)
+    cells: dict[str, dict[str, str]] = {}
+    for (case, scheme), rs in rows.items():
+        fails = [r for r in rs if r.status == "fail"]
+        done = [r for r in rs if r.status == "pass"]
+        if fails:
+            text = "FAIL " + "; ".join(f"{r.metric}={r.value:.3g} ({r.bound})" for r in fails)
+        elif done:
+            first = sorted(done, key=lambda r: _DECIDING.index(r.metric)
+                           if r.metric in _DECIDING else len(_DECIDING))[:2]
+            text = "pass " + ", ".join(f"{r.metric}={r.value:.3g}" for r in first)
+        else:
+            text = "skip"
+        cells.setdefault(case, {})[scheme] = text
+    table = pd.DataFrame.from_dict(cells, orient="index")
+    table.index.name = "case"
+    return table.sort_index()

@@ -25,6 +25,7 @@ from scenarios.fileio import MAX_TABLE_FILE_BYTES, atomic_write, check_input_fil
 from .cellstore import failed_rows, read_meta
 from .figures import png_img as _img
 from .figures import pyplot as _plt
+from .mitigation_report import html_section as mitigation_section
 from .provenance import read_manifest, version_line
 
 __all__ = ["build_report", "doppler_azimuth_map", "choose_frame"]
@@ -32,13 +33,26 @@ __all__ = ["build_report", "doppler_azimuth_map", "choose_frame"]
 _LABEL_COLOURS = {"TRUE": "tab:green", "VELOCITY_AMBIGUOUS": "tab:orange", "GHOST": "tab:red",
                   "CLUTTER": "0.6"}
 _SUMMARY_COLUMNS = [
-    "scenario", "variant", "seed", "scheme", "n_frames", "detections_per_frame", "ghost_rate",
-    "ghosts_per_frame", "velocity_unambiguity_rate", "range_error_rmse_m",
-    "radial_velocity_error_rmse_mps", "detection_probability_mean",
-    "target_first_detection_range_m", "case_pass", "snr_gain_median_db",
-    "track_confirm_range_m_max", "gospa_mean_m", "noise_floor_rise_db",
-    "interference_to_noise_db", "error",
+    "scenario", "variant", "seed", "scheme", "case_class", "n_frames", "detections_per_frame",
+    "ghost_rate", "ghosts_per_frame", "velocity_unambiguity_rate",
+    "velocity_unambiguity_rate_in_span", "range_error_rmse_m",
+    "radial_velocity_error_rmse_mps", "azimuth_error_rmse_deg", "detection_probability_mean",
+    "target_first_detection_range_m", "case_pass", "s_critical_m", "r79_pass",
+    "snr_gain_median_db", "track_confirm_range_m_max", "gospa_mean_m", "noise_floor_rise_db",
+    "mitigation_floor_recovery_db", "mitigation_ghost_rate_added", "interference_to_noise_db",
+    "error",
 ]
+
+
+def _legend(columns) -> str:
+    """Collapsed table saying what each column means: unit, better direction and the
+    definition of `metrics.METRICS`."""
+    from metrics.registry import describe
+    t = describe(columns)
+    if t.empty:
+        return ""
+    return ("<details><summary>What the columns mean (metrics.METRICS)</summary>"
+            + t.to_html(index=False, border=0, classes="tbl") + "</details>")
 
 
 def _read(results: Path, name: str) -> pd.DataFrame:
@@ -265,9 +279,9 @@ def _headline_label(column: str) -> str:
     return column
 
 
-def _gate_verdicts(summary: pd.DataFrame, manifest: dict) -> tuple[dict[str, str], str]:
-    """Verdict per scheme (the shipped gates whose scheme pattern matches it, on its rows) and
-    the gate table as HTML."""
+def _gate_verdicts(summary: pd.DataFrame, manifest: dict):
+    """Verdict per scheme (the shipped gates whose scheme pattern matches it, on its rows), the
+    gate table as HTML and the case x scheme verdict table (`gates.verdict_table`)."""
     from . import gates as gt
     shipped = gt.load_gates()
     usable = [x for x in shipped if x.metric in summary.columns]
@@ -278,7 +292,8 @@ def _gate_verdicts(summary: pd.DataFrame, manifest: dict) -> tuple[dict[str, str
         failed = sorted({r.gate for r in res if r.status == "fail"})
         verdicts[s] = (f"FAIL: {', '.join(failed)}" if failed else
                        f"PASS ({len(mine)} gates)" if mine else "no gates")
-    gres = gt.results_table(gt.evaluate_gates(summary, usable, manifest))
+    evaluated = gt.evaluate_gates(summary, usable, manifest)
+    gres = gt.results_table(evaluated)
     n_fail = int((gres["status"] == "fail").sum())
     body = ""
     if len(usable) < len(shipped):
@@ -289,7 +304,7 @@ def _gate_verdicts(summary: pd.DataFrame, manifest: dict) -> tuple[dict[str, str
     table = (f"<details><summary><h2>Gates (shipped thresholds): "
              f"{'FAIL' if n_fail else 'PASS'} <small>({len(gres)} evaluations, "
              f"{n_fail} failed; click to open)</small></h2></summary>{body}</details>")
-    return verdicts, table
+    return verdicts, table, gt.verdict_table(evaluated)
 
 
 def _case_section(summary, det, truth, specs, key, maps: bool) -> list[str]:
@@ -416,7 +431,7 @@ def build_report(results: str | Path, out: str | Path | None = None, *, maps: bo
                  f"{manifest.get('n_ok', '?')} of {manifest.get('n_cells', '?')} cells ok, "
                  f"{manifest.get('n_error', 0)} failed; written "
                  f"{html.escape(str(manifest.get('written_utc', '')))}.</p>")
-    verdicts, gate_table = _gate_verdicts(summary, manifest)
+    verdicts, gate_table, gate_verdicts = _gate_verdicts(summary, manifest)
     head = headline_table(summary, actor_summary, actors if len(actors) else None,
                           baseline=base, verdicts=verdicts)
     parts.append("<h2>Headline: every scheme over the whole suite</h2>")
@@ -426,6 +441,12 @@ def build_report(results: str | Path, out: str | Path | None = None, *, maps: bo
                  " on the same actor and frame; gates: the shipped thresholds on that scheme's "
                  "rows.</p>")
     parts.append(_table_html(head.rename(columns=_headline_label)))
+    parts.append(_legend(["velocity_unambiguity_rate", "ghost_rate", "range_error_rmse_m",
+                          "radial_velocity_error_rmse_mps", "first_detection_range_m",
+                          "detection_probability", "snr_gain_noise_limited_median_db"]))
+    if len(gate_verdicts):
+        parts.append("<h2>Verdicts: every case and scheme against the shipped gates</h2>"
+                     + gate_verdicts.to_html(border=0, classes="tbl"))
     if len(actors):
         parts.append("<h2>Detection probability versus range</h2>" + _img(_pd_vs_range(actors)))
         parts.append(f"<h2>SNR gain over {html.escape(base)}</h2>"
@@ -450,8 +471,10 @@ def build_report(results: str | Path, out: str | Path | None = None, *, maps: bo
     parts.append(interference_section(summary, actors))
     from .shifter_report import html_section as _shifter_section  # "" unless a shifter sweep
     parts.append(_shifter_section(res))
+    parts.append(mitigation_section(res))
     parts.append("<details><summary><h2>Summary: every run</h2></summary>"
-                 + _table_html(summary, _SUMMARY_COLUMNS) + "</details>")
+                 + _table_html(summary, _SUMMARY_COLUMNS) + _legend(_SUMMARY_COLUMNS)
+                 + "</details>")
     parts.append(gate_table)
     style = ("body{font-family:sans-serif;margin:2em;max-width:1400px}"
              ".tbl{border-collapse:collapse;font-size:12px}"

@@ -7,13 +7,11 @@ angle sidelobe level at a strong target, against the per-code shifter error and 
 (variant, scheme). `html_section(results)` renders it for the report.
 
 - ghost rate: ghosts / detections over the variant's cells (summary counts);
-- velocity-resolution failures per frame: VELOCITY_AMBIGUOUS detections plus GHOST detections
-  inside an actor's footprint (grown by `FOOTPRINT_GATE_M`) whose radial velocity is off the
-  actor's by a non-zero multiple of the scheme's failure step (one DDMA sub-band, or the
-  unambiguous span of a TDMA/BPM slot sequence, `MimoScheme.velocity_failure_step_mps`)
-  within `VELOCITY_GATE_MPS` (fallback for results written before the runner counted them);
-  the summary column ``n_velocity_resolution_failures`` (`metrics.detection`) when present;
-- azimuth RMSE of TRUE detections against their nearest scatterer (``azimuth_error_deg``);
+- velocity-resolution failures per frame: the summary column ``n_velocity_resolution_failures``
+  (`metrics.velocity`: detections at a road user's range whose velocity is off by whole
+  resolution steps, one DDMA sub-band or a TDMA/BPM slot span) over the frames;
+- azimuth RMSE of TRUE detections against their nearest scatterer: the summary column
+  ``azimuth_error_rmse_deg`` (`metrics.detection.error_stats`) pooled over the cells;
 - angle sidelobe level: a strong point target (`PROBE`) simulated with the variant's radar and
   processed by the scheme's chain; the highest azimuth sidelobe outside the main lobe of its
   Doppler-azimuth cut (`pipeline.doppler_azimuth_map`) relative to the peak, median over
@@ -31,14 +29,11 @@ from .cellstore import failed_rows
 from .figures import png_img, pyplot
 from .provenance import read_manifest
 
-__all__ = ["shifter_table", "html_section", "angle_sidelobe_db", "PROBE",
-           "FOOTPRINT_GATE_M", "VELOCITY_GATE_MPS"]
+__all__ = ["shifter_table", "html_section", "angle_sidelobe_db", "PROBE"]
 
 #: Strong probe target: range m, azimuth deg, elevation deg, radial velocity m/s, RCS m^2.
 PROBE = (30.0, 15.0, 0.0, -7.0, 10.0)
 PROBE_SEEDS = (0, 1, 2)
-FOOTPRINT_GATE_M = 1.5
-VELOCITY_GATE_MPS = 1.0
 
 
 def _psl_db(row_db: np.ndarray) -> float:
@@ -105,38 +100,6 @@ def _variant_info(results: Path) -> dict[str, dict]:
     return info
 
 
-def _failure_steps(schemes) -> dict[str, float]:
-    import radarsim
-    from harness.cellspec import result_schemes
-    out = {}
-    for s in schemes:
-        rs = result_schemes([s])[0]
-        cfg = radarsim.presets.r79(rs.mimo)
-        out[s] = cfg.scheme.velocity_failure_step_mps(cfg)
-    return out
-
-
-def _velocity_failures(det: pd.DataFrame, truth: pd.DataFrame, steps: dict) -> pd.Series:
-    """Per (variant, scheme): velocity-resolution failures (see module docstring)."""
-    keys = ["scenario", "variant", "seed", "frame"]
-    amb = det[det["label"] == "VELOCITY_AMBIGUOUS"].groupby(["variant", "scheme"]).size()
-    g = det[det["label"] == "GHOST"][keys + ["scheme", "x_m", "y_m", "radial_velocity_mps"]]
-    g = g.reset_index(names="det")
-    t = truth[keys + ["x_radar_m", "y_radar_m", "length_m", "width_m", "radial_velocity_mps"]]
-    m = g.merge(t, on=keys, suffixes=("", "_truth"))
-    if len(m):
-        d = np.hypot(m["x_m"] - m["x_radar_m"], m["y_m"] - m["y_radar_m"])
-        inside = d <= 0.5 * np.hypot(m["length_m"], m["width_m"]) + FOOTPRINT_GATE_M
-        step = m["scheme"].map(steps).to_numpy(dtype=float)
-        dv = (m["radial_velocity_mps"] - m["radial_velocity_mps_truth"]).to_numpy()
-        k = np.round(dv / step)
-        fail = inside.to_numpy() & (k != 0) & (np.abs(dv - k * step) <= VELOCITY_GATE_MPS)
-        ghost_fail = m[fail].drop_duplicates("det").groupby(["variant", "scheme"]).size()
-    else:
-        ghost_fail = pd.Series(dtype=float)
-    return amb.add(ghost_fail, fill_value=0)
-
-
 def shifter_table(results: str | Path, *, probe: bool = True) -> pd.DataFrame:
     """One row per (variant, scheme) of a shifter sweep.
 
@@ -149,25 +112,23 @@ def shifter_table(results: str | Path, *, probe: bool = True) -> pd.DataFrame:
     """
     results = Path(results)
     summ = pd.read_parquet(results / "summary.parquet")
-    det = pd.read_parquet(results / "detections.parquet")
-    truth = pd.read_parquet(results / "truth.parquet")
     info = _variant_info(results)
     summ = summ[~failed_rows(summ)]
     grp = summ.groupby(["variant", "scheme"])
     out = grp[["n_frames", "n_ghost", "n_detections"]].sum()
     out["ghost_rate"] = out["n_ghost"] / out["n_detections"].where(out["n_detections"] > 0)
-    if "n_velocity_resolution_failures" in summ:  # the runner's own count (metrics.detection)
-        fails = grp["n_velocity_resolution_failures"].sum()
-    else:
-        fails = _velocity_failures(det, truth, _failure_steps(summ["scheme"].unique()))
+    for col in ("n_velocity_resolution_failures", "azimuth_error_rmse_deg"):
+        if col not in summ:
+            raise ValueError(f"{results}: summary lacks {col!r} (written before issue 21: "
+                             "re-run the sweep)")
     out["velocity_resolution_failures_per_frame"] = \
-        fails.reindex(out.index).fillna(0) / out["n_frames"]
-    if "azimuth_error_deg" in det:
-        tr = det[det["label"] == "TRUE"]
-        out["azimuth_rmse_deg"] = tr.groupby(["variant", "scheme"])["azimuth_error_deg"].apply(
-            lambda x: float(np.sqrt(np.nanmean(np.square(x)))) if x.notna().any() else np.nan)
-    else:
-        out["azimuth_rmse_deg"] = np.nan
+        grp["n_velocity_resolution_failures"].sum() / out["n_frames"]
+    # pooled over the variant's cells: sqrt of the sample-weighted mean square
+    w = summ["n_error_samples"].where(np.isfinite(summ["azimuth_error_rmse_deg"]), 0)
+    ms = (summ["azimuth_error_rmse_deg"].fillna(0) ** 2 * w).groupby(
+        [summ["variant"], summ["scheme"]]).sum()
+    n = w.groupby([summ["variant"], summ["scheme"]]).sum()
+    out["azimuth_rmse_deg"] = np.sqrt(ms / n.where(n > 0))
     out = out.reset_index()
     out["shifter_error_deg_rms"] = out["variant"].map(
         lambda v: info.get(v, {}).get("shifter_error_deg_rms", np.nan))

@@ -20,6 +20,7 @@ import math
 from pathlib import Path
 
 from metrics.association import AssociationConfig
+from metrics.registry import check_criterion
 from scenarios.checks import check_keys, read_toml
 
 from .cellconfig import build_configs
@@ -86,18 +87,28 @@ def _culprit(v: Variant, build) -> str:
 
 def validate_cells(spec: SweepSpec, source: str | Path | None = None) -> None:
     """Build every variant's configs (both radar presets, the processing configs of every
-    scheme, the tracker config) before any worker starts.
+    scheme, the tracker config) and check every case's criteria against `metrics.METRICS`
+    before any worker starts.
 
     Raises
     ------
     ValueError
         Naming the sweep file, the variant, the key, the value and the config's own message
-        (which names the limit).
+        (which names the limit); or the case and its criterion's metric (unknown, with the
+        known ones, or one that cannot be a criterion).
     """
     from pipeline.mimo import chain_of
+    import scenarios
     from pipeline.tracking import TrackerConfig
     comps = default_components()
     where = f"{source}: " if source is not None else ""
+    for name in spec.scenarios:
+        case = scenarios.SCENARIOS.get(name)
+        for i, c in enumerate(getattr(case, "criteria", ()) or ()):
+            try:
+                check_criterion(c.metric, c.actor_id)
+            except ValueError as exc:
+                raise ValueError(f"{where}case {name!r} criteria[{i}]: {exc}") from None
 
     def check(cell: CellSpec) -> None:
         radar, procs = build_configs(cell, comps)

@@ -15,13 +15,12 @@ import numpy as np
 import pandas as pd
 
 from .association import CLUTTER, GHOST, TRUE, VELOCITY_AMBIGUOUS, AssociationConfig
+from .velocity import FAILURE, RIGHT
 
 __all__ = [
-    "error_stats", "velocity_unambiguity_rate", "ghost_stats", "actor_detection",
+    "error_stats", "velocity_stats", "ghost_stats", "actor_detection",
     "pd_vs_range", "max_range_pd90", "snr_gain_pairs", "snr_gain_stats", "summarize_scheme",
-    "target_first_detection_range_m", "case_criteria", "CRITERION_MEASURES",
-    "NOISE_LIMITED_SNR_DB", "NOISE_LIMITED_MIN_PAIRS", "velocity_resolution_failures",
-    "velocity_failure_stats",
+    "target_first_detection_range_m", "NOISE_LIMITED_SNR_DB", "NOISE_LIMITED_MIN_PAIRS",
 ]
 
 
@@ -48,82 +47,60 @@ def error_stats(labelled: pd.DataFrame) -> dict[str, float]:
     scatterer of its actor (`association.detection_errors`); the same for the radial velocity
     (``radial_velocity_error_rmse_mps``, ``radial_velocity_error_p95_mps``). The medians of
     |e| (``range_error_median_m``, ``radial_velocity_error_median_mps``) are robust to the odd
-    outlier that dominates an RMSE. NaN when there is no TRUE detection. ``n_error_samples``
-    counts the detections used.
+    outlier that dominates an RMSE. ``azimuth_error_rmse_deg`` = sqrt(mean(e_az^2)) of the
+    azimuth error against the same scatterer (TRUE detections with a scatterer reference).
+    NaN when there is no TRUE detection. ``n_error_samples`` counts the detections used.
     """
     tru = labelled[labelled["label"] == TRUE]
     er = tru["range_error_m"].to_numpy(dtype=float) if "range_error_m" in tru else np.array([])
     ev = tru["radial_velocity_error_mps"].to_numpy(dtype=float) \
         if "radial_velocity_error_mps" in tru else np.array([])
+    ea = tru["azimuth_error_deg"].to_numpy(dtype=float) if "azimuth_error_deg" in tru \
+        else np.array([])
     return {"range_error_rmse_m": _rmse(er), "range_error_median_m": _median_abs(er),
             "range_error_p95_m": _p95_abs(er),
             "radial_velocity_error_rmse_mps": _rmse(ev),
             "radial_velocity_error_median_mps": _median_abs(ev),
             "radial_velocity_error_p95_mps": _p95_abs(ev),
+            "azimuth_error_rmse_deg": _rmse(ea),
             "n_error_samples": int(np.isfinite(er).sum())}
 
 
-def velocity_unambiguity_rate(labelled: pd.DataFrame, window_mps: float) -> float:
-    """Fraction of footprint-associated detections whose velocity is not aliased.
+def velocity_stats(labelled: pd.DataFrame, window_mps: float) -> dict[str, float]:
+    """Velocity resolution of the run's detections (`metrics.velocity`).
 
-    n_TRUE / (n_TRUE + n_VELOCITY_AMBIGUOUS), counting only detections whose truth radial
-    velocity (at the nearest box point) satisfies |v| <= ``window_mps``. NaN if none.
-    A wrong velocity that is not a multiple of 2 Vmax is a GHOST and does not enter this rate
-    (it enters the ghost rate).
+    From the columns ``velocity_check`` (`velocity.RIGHT` / `velocity.FAILURE` / "") and
+    ``velocity_truth_mps`` (radial velocity of the matching scatterer) that
+    `metrics.scoring.label_detections` adds: ``velocity_unambiguity_rate`` = n_right /
+    (n_right + n_failures) over every detection at a road user's range, whatever its 2D label;
+    ``velocity_unambiguity_rate_in_span`` the same over detections whose truth |radial
+    velocity| <= ``window_mps`` (what a scheme promises to report unaliased);
+    ``n_velocity_right`` = n_right and ``n_velocity_resolution_failures`` = n_failures (the
+    weights that pool the rate over runs). Rates are NaN without either kind.
 
     Examples
     --------
     >>> import pandas as pd
-    >>> from metrics.detection import velocity_unambiguity_rate
-    >>> lab = pd.DataFrame({"label": ["TRUE", "TRUE", "TRUE", "VELOCITY_AMBIGUOUS", "GHOST"],
-    ...                     "truth_radial_velocity_mps": [-5.0, 12.0, 30.0, 35.0, 0.0]})
-    >>> velocity_unambiguity_rate(lab, window_mps=40.9)   # 3 of the 4 footprint detections
-    0.75
+    >>> lab = pd.DataFrame({"velocity_check": ["right", "right", "failure", ""],
+    ...                     "velocity_truth_mps": [-5.0, 12.0, 50.0, float("nan")]})
+    >>> s = velocity_stats(lab, window_mps=40.9)
+    >>> round(s["velocity_unambiguity_rate"], 3), s["velocity_unambiguity_rate_in_span"]
+    (0.667, 1.0)
     """
-    lab = labelled[labelled["label"].isin([TRUE, VELOCITY_AMBIGUOUS])]
-    lab = lab[np.abs(lab["truth_radial_velocity_mps"]) <= window_mps]
-    if lab.empty:
-        return float("nan")
-    return float((lab["label"] == TRUE).mean())
+    chk = labelled["velocity_check"].to_numpy() if "velocity_check" in labelled \
+        else np.zeros(0, dtype=object)
+    vt = labelled["velocity_truth_mps"].to_numpy(dtype=float) if "velocity_truth_mps" in \
+        labelled else np.zeros(0)
 
+    def rate(sel: np.ndarray) -> float:
+        n_r, n_f = int(np.sum(sel & (chk == RIGHT))), int(np.sum(sel & (chk == FAILURE)))
+        return n_r / (n_r + n_f) if n_r + n_f else float("nan")
 
-def velocity_resolution_failures(detections: pd.DataFrame, truth: pd.DataFrame,
-                                 step_mps: float, *, config: AssociationConfig | None = None,
-                                 scatterers: pd.DataFrame | None = None) -> np.ndarray:
-    """Detections whose velocity resolution failed: inside an actor's footprint gate with the
-    radial velocity off by a non-zero multiple of ``step_mps`` (within the velocity gate).
-
-    ``step_mps`` is the scheme's own failure step (`radarsim.mimo.MimoScheme.
-    velocity_failure_step_mps`): one sub-band for DDMA (a demodulation or assignment error
-    moves the velocity by whole sub-bands), the unambiguous span 2 Vmax of one Tx's slow time
-    for TDMA and BPM (a wrong disambiguation hypothesis), so DDMA demodulation errors,
-    classic-DDMA assignment errors and TDMA/BPM disambiguation errors count on one scale. It is
-    `association.associate` with ``velocity_span_mps = step_mps``: its VELOCITY_AMBIGUOUS
-    detections.
-
-    Returns
-    -------
-    (n,) bool, in the row order of ``detections``.
-    """
-    from .association import associate
-    if len(detections) == 0:
-        return np.zeros(0, dtype=bool)
-    lab = associate(detections, truth, velocity_span_mps=step_mps, config=config,
-                    scatterers=scatterers)
-    return (lab["label"] == VELOCITY_AMBIGUOUS).to_numpy()
-
-
-def velocity_failure_stats(labelled: pd.DataFrame) -> dict[str, float]:
-    """``n_velocity_resolution_failures`` (column ``velocity_resolution_failure`` of the
-    detections) and ``velocity_resolution_failure_rate`` = failures / (TRUE + failures), NaN
-    without either."""
-    fail = labelled["velocity_resolution_failure"].to_numpy(dtype=bool) \
-        if "velocity_resolution_failure" in labelled else np.zeros(len(labelled), dtype=bool)
-    n_fail = int(fail.sum())
-    n_true = int((labelled["label"] == TRUE).sum()) if len(labelled) else 0
-    return {"n_velocity_resolution_failures": n_fail,
-            "velocity_resolution_failure_rate": n_fail / (n_true + n_fail)
-            if n_true + n_fail else float("nan")}
+    every = np.ones(len(chk), dtype=bool)
+    return {"velocity_unambiguity_rate": rate(every),
+            "velocity_unambiguity_rate_in_span": rate(np.abs(vt) <= window_mps),
+            "n_velocity_right": int(np.sum(chk == RIGHT)),
+            "n_velocity_resolution_failures": int(np.sum(chk == FAILURE))}
 
 
 def ghost_stats(labelled: pd.DataFrame, n_frames: int) -> dict[str, float]:
@@ -156,9 +133,9 @@ def actor_detection(af: pd.DataFrame) -> pd.DataFrame:
     actor-frames, ``n_detected_frames`` = visible and detected, ``detection_probability`` =
     their ratio (NaN if never visible); ``first_detection_range_m`` / ``first_detection_time_s``
     = truth centre range / time at the first frame (lowest frame number) in which the actor is
-    detected (NaN if never); ``max_visible_range_m`` = largest visible range;
-    ``first_association_range_m`` = range at the first frame with a TRUE or a
-    VELOCITY_AMBIGUOUS detection of the actor (seen at its position, velocity possibly aliased).
+    detected (NaN if never); ``max_visible_range_m`` = largest visible range. "Detected"
+    means a TRUE detection (footprint and velocity right) assigned to the actor: the first
+    detection range has this one definition in criteria, columns, headline and gates.
     """
     cols = ["actor_id", "actor_class", "n_visible_frames", "n_detected_frames",
             "detection_probability", "first_detection_range_m", "first_detection_time_s",
@@ -183,12 +160,7 @@ def actor_detection(af: pd.DataFrame) -> pd.DataFrame:
     out["first_detection_time_s"] = (first["time_s"].reindex(out.index)
                                      if "time_s" in first else np.nan)
     out["max_visible_range_m"] = vis.groupby("actor_id")["range_m"].max().reindex(out.index)
-    seen = af["detected"].to_numpy(dtype=bool)
-    if "n_ambiguous" in af:
-        seen = seen | (af["n_ambiguous"].to_numpy() > 0)
-    first_a = af[seen].sort_values("frame").drop_duplicates("actor_id").set_index("actor_id")
-    out["first_association_range_m"] = first_a["range_m"].reindex(out.index)
-    return out.reset_index()[cols + ["first_association_range_m"]]
+    return out.reset_index()[cols]
 
 
 def pd_vs_range(af: pd.DataFrame, bin_m: float = 10.0) -> pd.DataFrame:
@@ -319,8 +291,8 @@ def summarize_scheme(labelled: pd.DataFrame, af: pd.DataFrame, n_frames: int,
     """All detection scores of one scheme of one run as one summary row (dict).
 
     Counts ``n_frames``, ``n_detections``, ``n_true``, ``n_velocity_ambiguous``, ``n_ghost``,
-    ``n_clutter``; `error_stats`; ``velocity_unambiguity_rate`` (window
-    ``config.unambiguity_window_mps``); `ghost_stats`; ``detection_probability_mean`` /
+    ``n_clutter``; `error_stats`; `velocity_stats` (window ``config.unambiguity_window_mps``);
+    `ghost_stats`; ``detection_probability_mean`` /
     ``detection_probability_min`` = mean / min of the per-actor Pd of actors visible in at
     least ``config.pd_min_count`` frames; ``target_first_detection_range_m``; and
     ``pd90_max_range_<class>_m`` (`max_range_pd90`) for each class in ``classes``.
@@ -332,8 +304,7 @@ def summarize_scheme(labelled: pd.DataFrame, af: pd.DataFrame, n_frames: int,
                       ("n_ghost", GHOST), ("n_clutter", CLUTTER)):
         row[name] = int(counts.get(lab, 0))
     row.update(error_stats(labelled))
-    row["velocity_unambiguity_rate"] = velocity_unambiguity_rate(labelled,
-                                                                 cfg.unambiguity_window_mps)
+    row.update(velocity_stats(labelled, cfg.unambiguity_window_mps))
     row.update(ghost_stats(labelled, n_frames))
     actors = actor_detection(af)
     good = actors[actors["n_visible_frames"] >= cfg.pd_min_count]
@@ -346,73 +317,3 @@ def summarize_scheme(labelled: pd.DataFrame, af: pd.DataFrame, n_frames: int,
     for c in classes:
         row[f"pd90_max_range_{c}_m"] = pr.get(c, float("nan"))
     return row
-
-
-#: Criterion metric name -> how `case_criteria` measures it.
-CRITERION_MEASURES = {
-    "first_detection_range_m": "actor_detection first_association_range_m of the actor: the "
-                               "first frame with a detection in its footprint gate whose "
-                               "velocity is right or off by k 2 Vmax (the object is seen in "
-                               "time; velocity correctness is velocity_unambiguous_rate)",
-    "detection_probability": "actor_detection detection_probability of the actor",
-    "velocity_unambiguous_rate": "TRUE / (TRUE + VELOCITY_AMBIGUOUS) detections of the actor "
-                                 "(no velocity window)",
-    "ghost_rate": "ghost_stats ghost_rate (whole run)",
-    "range_rmse_m": "error_stats range_error_rmse_m (whole run)",
-}
-
-_OPS = {">=": np.greater_equal, "<=": np.less_equal, ">": np.greater, "<": np.less}
-
-
-def case_criteria(criteria, labelled: pd.DataFrame, actors: pd.DataFrame,
-                  row: dict) -> dict[str, object]:
-    """Evaluate a case's pass criteria (``metric op value`` for an actor or the whole run).
-
-    ``criteria`` are objects with ``metric``, ``op``, ``value`` and ``actor_id`` (the
-    catalogue's ``scenarios.Criterion``; read by attribute, so this package does not import
-    the scenarios). Metrics are measured as `CRITERION_MEASURES` says; a NaN measurement
-    fails (an actor never detected has no first-detection range).
-
-    Returns
-    -------
-    dict
-        ``case_pass`` (1.0 all criteria met, 0.0 otherwise, NaN without criteria),
-        ``case_criteria_n``, ``case_criteria_failed`` (";"-joined descriptions, "" if none)
-        and ``case_<metric>`` (the measured value of the first criterion on each metric).
-    """
-    out: dict[str, object] = {"case_pass": float("nan"), "case_criteria_n": 0,
-                              "case_criteria_failed": ""}
-    crits = list(criteria or ())
-    if not crits:
-        return out
-    a = actors.set_index("actor_id") if len(actors) else actors
-    failed = []
-    for c in crits:
-        aid = getattr(c, "actor_id", None)
-        m = c.metric
-        if m in ("first_detection_range_m", "detection_probability"):
-            col = "first_association_range_m" if m == "first_detection_range_m" else m
-            v = float(a.loc[aid, col]) if aid is not None and aid in a.index else float("nan")
-        elif m == "velocity_unambiguous_rate":
-            lab = labelled[labelled["label"].isin([TRUE, VELOCITY_AMBIGUOUS])]
-            if aid is not None:
-                lab = lab[lab["actor_id"] == aid]
-            v = float((lab["label"] == TRUE).mean()) if len(lab) else float("nan")
-        elif m == "ghost_rate":
-            v = float(row.get("ghost_rate", float("nan")))
-        elif m == "range_rmse_m":
-            v = float(row.get("range_error_rmse_m", float("nan")))
-        else:
-            raise ValueError(f"criterion metric {m!r} is not one of "
-                             f"{sorted(CRITERION_MEASURES)}")
-        if c.op not in _OPS:
-            raise ValueError(f"criterion op {c.op!r} is not one of {sorted(_OPS)}")
-        ok = bool(np.isfinite(v) and _OPS[c.op](v, c.value))
-        out.setdefault(f"case_{m}", v)
-        if not ok:
-            who = f" actor {aid}" if aid is not None else ""
-            failed.append(f"{m}{who} = {v:.4g} not {c.op} {c.value:g}")
-    out["case_pass"] = float(not failed)
-    out["case_criteria_n"] = len(crits)
-    out["case_criteria_failed"] = "; ".join(failed)
-    return out

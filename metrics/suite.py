@@ -3,7 +3,8 @@
 Per-run scores (one summary row per scenario, variant, seed and scheme) are pooled over the
 whole suite with their own weights: detection probability by actor-frames, RMSE by error
 samples (sqrt of the sample-weighted mean square), velocity-unambiguity and ghost rates by
-detection counts (the velocity-unambiguity rate keeps each run's velocity window), the SNR gain as the median of every noise-limited pair. Nothing here
+detection counts (right and failed velocities, ghosts and detections), the SNR gain as the
+median of every noise-limited pair. Nothing here
 re-associates detections: it only reads the tables the sweep wrote.
 """
 from __future__ import annotations
@@ -29,12 +30,6 @@ def _pooled_rmse(rmse: pd.Series, n: pd.Series) -> float:
     w = n.to_numpy(float)[ok]
     return float(np.sqrt(np.sum(w * rmse.to_numpy(float)[ok] ** 2) / w.sum())) if w.sum() else \
         float("nan")
-
-
-def _weighted_mean(values: pd.Series, weights: pd.Series) -> float:
-    v, w = values.to_numpy(float), weights.to_numpy(float)
-    ok = np.isfinite(v) & (w > 0)
-    return float(np.sum(w[ok] * v[ok]) / w[ok].sum()) if ok.any() else float("nan")
 
 
 def suite_snr_gain_db(actors: pd.DataFrame, scheme: str, baseline: str,
@@ -76,8 +71,8 @@ def headline_table(summary: pd.DataFrame, actor_summary: pd.DataFrame,
         Columns scheme; ``pd_<class>`` (detected / visible actor-frames) and
         ``first_detection_range_<class>_m`` (median over the actors detected at all) per actor
         class present; range_rmse_m, radial_velocity_rmse_mps (pooled by error samples);
-        velocity_unambiguity_rate (the runs' rates weighted by their TRUE + VELOCITY_AMBIGUOUS
-        counts); ghost_rate (ghosts / detections); snr_gain_over_<baseline>_db (median of noise-limited pairs) and
+        velocity_unambiguity_rate (right / (right + failures) velocities over every run,
+        `metrics.velocity`); ghost_rate (ghosts / detections); snr_gain_over_<baseline>_db (median of noise-limited pairs) and
         snr_gain_pairs; gates.
     """
     ok = summary[summary["error"].fillna("") == ""] if "error" in summary else summary
@@ -97,8 +92,8 @@ def headline_table(summary: pd.DataFrame, actor_summary: pd.DataFrame,
         row["range_rmse_m"] = _pooled_rmse(sm["range_error_rmse_m"], sm["n_error_samples"])
         row["radial_velocity_rmse_mps"] = _pooled_rmse(sm["radial_velocity_error_rmse_mps"],
                                                        sm["n_error_samples"])
-        row["velocity_unambiguity_rate"] = _weighted_mean(
-            sm["velocity_unambiguity_rate"], sm["n_true"] + sm["n_velocity_ambiguous"])
+        row["velocity_unambiguity_rate"] = _ratio(
+            sm["n_velocity_right"], sm["n_velocity_right"] + sm["n_velocity_resolution_failures"])
         row["ghost_rate"] = _ratio(sm["n_ghost"], sm["n_detections"])
         if actors is not None and len(actors):
             gains = (suite_snr_gain_db(actors, s, baseline) if s != baseline

@@ -11,6 +11,7 @@ from .cfar import CFAR_MODES, cfar_scale
 from .compensation import check_channel_comp, check_comp_values
 from .fov import FOV_FIELDS, check_interval
 from .ege_format import ege_min_ratio
+from .interference_repair import MITIGATIONS
 from .saturation import SATURATION_POLICIES
 
 __all__ = ["CfarConfig", "ProcessingConfig", "WINDOWS", "INTF_THRESHOLD_MODES", "IntfThresholdMode",
@@ -151,6 +152,11 @@ class ProcessingConfig:
         Which statistic flags a sample, see `INTF_THRESHOLD_MODES` (the demo: "magdiff").
     intf_hysteresis_samples : int
         Samples zeroed on each side of a flagged run (the demo's hysteresis order 3), 0..32.
+    intf_mitigation : str
+        How the flagged samples are repaired: a key of
+        `pipeline.interference_repair.MITIGATIONS`. Default "ar" (tone cancellation and
+        autoregressive reconstruction), chosen by the benchmark of issue 21 over the chip's
+        "zero", whose slow-time modulation of every echo manufactures ghosts.
     compression : bool
         EGE compression/decompression of the range-FFT cube (``compressionCfg``; default on).
     compression_ratio : float
@@ -213,6 +219,7 @@ class ProcessingConfig:
     intf_magdiff_snr_db: float = 18.0
     intf_threshold_mode: str = "magdiff"
     intf_hysteresis_samples: int = 3
+    intf_mitigation: str = "ar"
     compression: bool = True
     compression_ratio: float = 0.5
     compression_range_bins_per_block: int = 8
@@ -249,6 +256,7 @@ class ProcessingConfig:
                        "clutter_removal"), "bool")
         require(self, ("intf_mag_snr_db", "intf_magdiff_snr_db"), gt=0, le=60, unit="dB")
         one_of("intf_threshold_mode", self.intf_threshold_mode, INTF_THRESHOLD_MODES)
+        one_of("intf_mitigation", self.intf_mitigation, MITIGATIONS)
         require(self, "intf_hysteresis_samples", "integer", ge=0, le=32)
         require(self, "compression_ratio", ge=0.25, lt=1)
         object.__setattr__(self, "channel_comp",

@@ -23,9 +23,8 @@ import importlib
 #: Public name -> submodule that defines it.
 _EXPORTS = {
     "SCENARIOS": "registry", "get_case": "registry",
-    "ACTOR_CLASSES": "catalog", "CRITERION_METRICS": "catalog", "MOUNTS": "catalog",
+    "ACTOR_CLASSES": "catalog", "CASE_CLASSES": "catalog", "MOUNTS": "catalog",
     "ActorSpec": "catalog", "Case": "catalog", "Criterion": "catalog", "Mount": "catalog",
-    "s_crit_m": "catalog",
     "ROAD_LAYOUTS": "roads", "TRAFFIC_ENVS": "roads",
     "load_scenario_file": "files", "parse_scenario": "files",
     "FrameTruth": "traffic", "ScenarioRun": "traffic", "run_scenario": "traffic",

@@ -26,8 +26,8 @@ from .equipment import RadarSpec
 from .roads import ROAD_LAYOUTS, TRAFFIC_ENVS
 
 __all__ = ["ActorClass", "ACTOR_CLASSES", "GUARD_RAIL", "Mount", "MOUNTS", "ActorSpec",
-           "Criterion", "CRITERION_METRICS", "CRITERION_OPS", "Case", "ROAD_LAYOUTS",
-           "TRAFFIC_ENVS", "path_names", "s_crit_m", "KMH"]
+           "Criterion", "CRITERION_OPS", "CaseClass", "CASE_CLASSES", "Case", "ROAD_LAYOUTS",
+           "TRAFFIC_ENVS", "path_names", "KMH"]
 
 KMH = 1 / 3.6  # m/s per km/h
 
@@ -209,14 +209,6 @@ class ActorSpec:
                              "m/s^2")
 
 
-#: Metrics a criterion may name (computed per actor, scenario, scheme and seed by `metrics`).
-CRITERION_METRICS: dict[str, str] = {
-    "first_detection_range_m": "range of the actor at its first TRUE detection, m",
-    "detection_probability": "fraction of frames (actor in the FOV) with a TRUE detection",
-    "velocity_unambiguous_rate": "TRUE / (TRUE + VELOCITY-AMBIGUOUS) detections of the actor",
-    "ghost_rate": "ghost detections / all detections (scenario-wide)",
-    "range_rmse_m": "RMS range error of TRUE detections, m",
-}
 #: Comparison operators of a criterion.
 CRITERION_OPS: dict[str, str] = {">=": "at least", "<=": "at most", ">": "above",
                                  "<": "below"}
@@ -229,7 +221,9 @@ class Criterion:
     Parameters
     ----------
     metric : str
-        Key of `CRITERION_METRICS`.
+        Name of a criterion metric of ``metrics.METRICS`` (checked there: this package knows
+        nothing of the metrics downstream of it; a sweep checks every case's criteria before
+        it starts).
     op : str
         Key of `CRITERION_OPS`.
     value : float
@@ -248,7 +242,9 @@ class Criterion:
     note: str = ""
 
     def __post_init__(self) -> None:
-        one_of("metric", self.metric, CRITERION_METRICS)
+        require(self, "metric", "str")
+        if not self.metric:
+            raise ValueError("metric='' must name a metric")
         one_of("op", self.op, CRITERION_OPS)
         require(self, "value")
         require(self, "actor_id", "integer", ge=0, none_ok=True)
@@ -264,6 +260,36 @@ class Criterion:
             return False
         return {">=": measured >= self.value, "<=": measured <= self.value,
                 ">": measured > self.value, "<": measured < self.value}[self.op]
+
+
+@dataclass(frozen=True, kw_only=True, slots=True)
+class CaseClass:
+    """What a kind of case exists to show.
+
+    Parameters
+    ----------
+    name : str
+    description : str
+    needs_approaching_target : bool
+        The verdict compares an approaching target with the ego (scripted speeds, a first
+        ``must_detect`` actor faster than the ego): UN R79's critical distance.
+    """
+
+    name: str
+    description: str
+    needs_approaching_target: bool = False
+
+
+#: Case classes; gates address cases by them, and ``metrics`` adds each class's verdict
+#: (``metrics.scoring.CASE_VERDICTS``, same keys).
+CASE_CLASSES: dict[str, CaseClass] = {c.name: c for c in (
+    CaseClass(name="ordinary", description="detection range, accuracy, ghosts and velocity "
+              "resolution of a corner case"),
+    CaseClass(name="interference", description="other radars in the band: floor rise, "
+              "recovery by mitigation, no ghosts added by it"),
+    CaseClass(name="r79", description="UN R79 ACSF category C: the approaching vehicle seen "
+              "at the critical distance", needs_approaching_target=True),
+)}
 
 
 @dataclass(frozen=True, kw_only=True, slots=True)
@@ -311,6 +337,10 @@ class Case:
     radars : tuple of equipment.RadarSpec
         Radars on given actors (``[[radars]]`` tables: actor_id, optional family, and
         `equipment.RadarEquipment` fields).
+    case_class : str
+        Key of `CASE_CLASSES` (default "ordinary"). An "r79" case is judged on UN R79's
+        critical distance from its ego speed and its first target's speed, so it needs
+        scripted speeds and a target (``must_detect``) approaching faster than the ego.
     """
 
     name: str
@@ -332,6 +362,7 @@ class Case:
     references: str = ""
     equipped_share: float = 0.0
     radars: tuple[RadarSpec, ...] = ()
+    case_class: str = "ordinary"
 
     def __post_init__(self) -> None:
         if not self.name or not all(ch.islower() or ch.isdigit() or ch == "_"
@@ -371,6 +402,12 @@ class Case:
         for i in self.must_detect:
             if not isinstance(i, int) or not 0 <= i < n:
                 raise ValueError(f"must_detect id {i!r} is not a scripted actor (0..{n - 1})")
+        one_of("case_class", self.case_class, CASE_CLASSES)
+        if CASE_CLASSES[self.case_class].needs_approaching_target and (
+                self.traffic is not None or not self.must_detect or
+                self.actors[self.must_detect[0]].speed_mps <= self.ego.speed_mps):
+            raise ValueError(f"case_class={self.case_class!r} needs scripted actors and a "
+                             "first must_detect actor approaching faster than the ego")
         for c in self.criteria:
             if not isinstance(c, Criterion):
                 raise ValueError(f"criteria must hold Criterion objects, got {c!r}")
@@ -382,13 +419,3 @@ class Case:
         """One catalogue line: name, mount, duration, description."""
         return f"{self.name:<28s} {self.mount.name:<11s} {self.duration_s:4.1f} s  " \
                f"{self.description}"
-
-
-def s_crit_m(ego_speed_mps: float, v_app_mps: float = 130 * KMH, a_mps2: float = 3.0,
-             t_b_s: float = 0.4, t_g_s: float = 1.0) -> float:
-    """UN R79 critical distance S_crit = (v_app - v) t_B + (v_app - v)^2 / (2 a) + v t_G, m.
-
-    87.5 m at 60 km/h, 59.9 m at 80 km/h, 42.7 m at 100 km/h (DESIGN 6).
-    """
-    dv = v_app_mps - ego_speed_mps
-    return dv * t_b_s + dv * dv / (2 * a_mps2) + ego_speed_mps * t_g_s

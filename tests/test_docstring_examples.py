@@ -17,6 +17,7 @@ MODULES = (
     "radarsim.mimo", "radarsim.chips", "radarsim.boards", "radarsim.calibration",
     "pipeline.chain", "pipeline.cfar", "pipeline.mimo.base", "pipeline.tracking.parts",
     "metrics.detection", "radarsim.mimo_fast_slow", "pipeline.mimo.fast_slow",
+    "metrics.registry", "metrics.velocity", "metrics.r79", "metrics.interference",
 )
 
 #: Public entry points that must show a runnable example: "module:qualified name".
@@ -30,7 +31,8 @@ PUBLIC_API = (
     "radarsim.calibration:shifter_phase_residual_deg",
     "pipeline.mimo.base:register_chain", "pipeline.mimo.base:chain_of",
     "pipeline.cfar:cfar_mode", "scenarios.registry:get_case", "scenarios.registries",
-    "metrics.detection:ghost_stats", "metrics.detection:velocity_unambiguity_rate",
+    "metrics.detection:ghost_stats", "metrics.detection:velocity_stats",
+    "metrics.r79:critical_distance_m", "metrics.registry:check_criterion",
 )
 
 FLAGS = doctest.ELLIPSIS | doctest.NORMALIZE_WHITESPACE

@@ -24,7 +24,8 @@ from ..config import WINDOWS, ProcessingConfig
 from ..kernels import range_fft, window
 from .dc import remove_dc, window_spectrum
 from .ege import ege_compress
-from .interference import flagged_rows, zero_flagged
+from ..interference_repair import get_mitigation, repair
+from .interference import flagged_rows
 
 __all__ = ["range_stage", "shared_range_stage", "RANGE_STAGE_FIELDS"]
 
@@ -32,7 +33,8 @@ __all__ = ["range_stage", "shared_range_stage", "RANGE_STAGE_FIELDS"]
 #: same range cube for the same frame.
 RANGE_STAGE_FIELDS = ("range_window", "dc_removal", "interference_mitigation", "intf_mag_snr_db",
                       "intf_magdiff_snr_db", "intf_threshold_mode", "intf_hysteresis_samples",
-                      "compression", "compression_ratio", "compression_range_bins_per_block")
+                      "intf_mitigation", "compression", "compression_ratio",
+                      "compression_range_bins_per_block")
 
 #: Range cubes of the current `shared_range_stage` scope by (frame id, n_samples, settings);
 #: each entry keeps its frame alive, so an id cannot be reused while the scope lasts.
@@ -97,12 +99,14 @@ def _range_stage(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) -> n
     if rows.size == 0:
         rf = range_fft(adc, win)
     else:
-        # One FFT of the whole frame, the flagged chirps (DC removed, zeroed) swapped in first.
+        # One FFT of the whole frame, the flagged chirps (DC removed, repaired by the
+        # `proc.intf_mitigation` method; the chip zeroes) swapped in first.
         work = np.complex64 if cplx else np.float32
         x = np.multiply(adc, win, dtype=work)
         y = adc.reshape(-1, cfg.n_samples)[rows]
         y = y.astype(work) if dc is None else np.subtract(y, dc.reshape(-1, 1)[rows], dtype=work)
-        zero_flagged(y, flags, proc.intf_hysteresis_samples)
+        repair(y, flags, win, proc.intf_hysteresis_samples, get_mitigation(proc.intf_mitigation),
+               groups=rows % cfg.n_rx)
         y *= win
         x.reshape(-1, cfg.n_samples)[rows] = y
         if cplx:

@@ -130,10 +130,15 @@ def test_bad_gate_file_is_bad_input(tmp_path, fake_results, capsys, text, match)
 
 
 def test_non_numeric_metric_is_bad_input_even_with_allow_missing(tmp_path):
-    summary = pd.DataFrame({"scenario": ["a"], "scheme": ["ddma"], "note": ["fine"]})
-    gate = g.Gate(name="n", metric="note", max=1.0, allow_missing=True)
-    with pytest.raises(ValueError, match=r"gate 'n': metric 'note' is not numeric"):
+    summary = pd.DataFrame({"scenario": ["a"], "scheme": ["ddma"], "ghost_rate": ["fine"]})
+    gate = g.Gate(name="n", metric="ghost_rate", max=1.0, allow_missing=True)
+    with pytest.raises(ValueError, match=r"gate 'n': metric 'ghost_rate' is not numeric"):
         g.evaluate_gates(summary, [gate])
+
+
+def test_gate_on_a_column_that_is_no_metric_is_bad_input():
+    with pytest.raises(ValueError, match=r"unknown metric 'note'; known: .*ghost_rate"):
+        g.Gate(name="n", metric="note", max=1.0)
 
 
 def test_gates_directory_is_bad_input(tmp_path, fake_results, capsys):

@@ -10,7 +10,7 @@ from harness.cli import main
 from harness.cellconfig import radar_config
 from harness.cellspec import known_schemes
 from radarsim.calibration import shifter_phase_residual_deg
-from harness.shifter_report import VELOCITY_GATE_MPS, _psl_db, _velocity_failures
+from harness.shifter_report import _psl_db, shifter_table
 from harness.sweepfile import load_sweep
 from pathlib import Path
 
@@ -47,24 +47,21 @@ def test_shifter_sweep_file_covers_errors_calibration_and_all_schemes():
         assert np.nanmax(np.abs(r[True])) <= np.nanmax(np.abs(r[False]))
 
 
-def test_velocity_failures_count_multiples_of_the_scheme_step():
-    """A ghost inside the actor's footprint off by one step (within the gate) counts; one off
-    by half a step does not; VELOCITY_AMBIGUOUS detections count."""
-    step = 13.63
-    ids = {"scenario": "s", "variant": "v", "seed": 0, "frame": 0, "scheme": "ddma"}
-    det = pd.DataFrame([
-        {**ids, "label": "GHOST", "x_m": 20.5, "y_m": 0.0, "radial_velocity_mps": -5 + step + 0.5},
-        {**ids, "label": "GHOST", "x_m": 20.5, "y_m": 0.0, "radial_velocity_mps": -5 + step / 2},
-        {**ids, "label": "GHOST", "x_m": 60.0, "y_m": 0.0, "radial_velocity_mps": -5 + step},
-        {**ids, "label": "VELOCITY_AMBIGUOUS", "x_m": 20.0, "y_m": 0.0,
-         "radial_velocity_mps": 76.0},
-    ])
-    truth = pd.DataFrame([{k: ids[k] for k in ("scenario", "variant", "seed", "frame")}
-                          | {"x_radar_m": 20.0, "y_radar_m": 0.0, "length_m": 5.0,
-                             "width_m": 2.0, "radial_velocity_mps": -5.0}])
-    assert 0.5 < VELOCITY_GATE_MPS
-    n = _velocity_failures(det, truth, {"ddma": step})
-    assert n.loc[("v", "ddma")] == 2
+def test_shifter_table_reads_the_metrics_columns(tmp_path):
+    """Failures and azimuth RMSE come from the summary (metrics.velocity, metrics.detection),
+    pooled over cells: failures per frame, RMSE weighted by the error samples."""
+    import json
+    rows = [{"scenario": sc, "variant": "v", "seed": 0, "scheme": "ddma", "n_frames": 10,
+             "n_ghost": g, "n_detections": 100, "n_velocity_resolution_failures": f,
+             "azimuth_error_rmse_deg": az, "n_error_samples": n, "error": ""}
+            for sc, g, f, az, n in (("a", 5, 3, 1.0, 10), ("b", 15, 1, 2.0, 30))]
+    pd.DataFrame(rows).to_parquet(tmp_path / "summary.parquet", index=False)
+    (tmp_path / "manifest.json").write_text(json.dumps({"sweep": {"variants": [
+        {"name": "v", "radar": {"shifter_phase_error_deg": {"rms": 5.0}}}]}}))
+    t = shifter_table(tmp_path, probe=False).iloc[0]
+    assert t["ghost_rate"] == pytest.approx(0.1)
+    assert t["velocity_resolution_failures_per_frame"] == pytest.approx(4 / 20)
+    assert t["azimuth_rmse_deg"] == pytest.approx(np.sqrt((10 * 1 + 30 * 4) / 40))
 
 
 def test_cli_shifter_prints_lines(capsys):

@@ -8,7 +8,7 @@ import pytest
 from metrics.association import CLUTTER, GHOST, TRUE, VELOCITY_AMBIGUOUS, AssociationConfig
 from metrics.detection import (actor_detection, error_stats, ghost_stats, max_range_pd90,
                                pd_vs_range, snr_gain_pairs, snr_gain_stats, summarize_scheme,
-                               target_first_detection_range_m, velocity_unambiguity_rate)
+                               target_first_detection_range_m, velocity_stats)
 
 
 def labelled(labels, range_err=None, vel_err=None, v_true=None):
@@ -32,13 +32,19 @@ def test_error_stats_rmse_and_p95():
     assert np.isnan(error_stats(labelled([GHOST]))["range_error_rmse_m"])
 
 
-def test_velocity_unambiguity_rate_counts_window_only():
+def test_velocity_stats_count_every_checked_detection_and_the_window():
     v = np.r_[np.full(99, 30.0), 35.0, 60.0]
-    lab = labelled([TRUE] * 99 + [VELOCITY_AMBIGUOUS, VELOCITY_AMBIGUOUS], v_true=v)
-    # The 60 m/s ambiguous detection lies outside the +/-40.8 m/s window.
-    assert velocity_unambiguity_rate(lab, 40.8) == pytest.approx(0.99)
-    assert velocity_unambiguity_rate(lab, 100.0) == pytest.approx(99 / 101)
-    assert np.isnan(velocity_unambiguity_rate(labelled([GHOST]), 40.8))
+    lab = labelled([TRUE] * 99 + [GHOST, GHOST], v_true=v)
+    # The velocity check, not the 2D label, decides: the two ghosts are aliased echoes.
+    lab["velocity_check"] = ["right"] * 99 + ["failure", "failure"]
+    lab["velocity_truth_mps"] = v
+    s = velocity_stats(lab, 40.8)
+    assert s["velocity_unambiguity_rate"] == pytest.approx(99 / 101)
+    # The 60 m/s failure lies outside the +/-40.8 m/s window of the in-span rate.
+    assert s["velocity_unambiguity_rate_in_span"] == pytest.approx(0.99)
+    assert s["n_velocity_resolution_failures"] == 2
+    none = labelled([GHOST]).assign(velocity_check="", velocity_truth_mps=np.nan)
+    assert np.isnan(velocity_stats(none, 40.8)["velocity_unambiguity_rate"])
 
 
 def test_ghost_stats():
@@ -74,12 +80,12 @@ def test_actor_detection_pd_and_first_range():
     assert np.isnan(target_first_detection_range_m(a.reset_index()))
 
 
-def test_first_association_counts_aliased_detections():
+def test_first_detection_range_needs_a_true_detection():
     af = actor_frames_table().assign(n_ambiguous=[1, 0, 0, 0, 0, 0])
     a = actor_detection(af).set_index("actor_id")
-    # Frame 0 has only a velocity-aliased detection: seen at 100 m, TRUE from 98 m.
-    assert a.loc[1, "first_association_range_m"] == 100.0
+    # Frame 0 has only a velocity-aliased detection: the first detection is at 98 m.
     assert a.loc[1, "first_detection_range_m"] == 98.0
+    assert "first_association_range_m" not in a
 
 
 def test_pd_vs_range_and_max_range_pd90():
@@ -117,37 +123,17 @@ def test_snr_gain_pairs_same_actor_and_frame():
 def test_summarize_scheme_columns_have_units():
     lab = labelled([TRUE, GHOST], np.array([0.1, np.nan]), np.array([0.02, np.nan]))
     lab["actor_id"] = [1, -1]
+    lab["velocity_check"] = ["right", ""]
+    lab["velocity_truth_mps"] = [5.0, np.nan]
     row = summarize_scheme(lab, actor_frames_table(), 4, AssociationConfig(pd_min_count=1),
                            target_classes=["motorcycle"])
     assert row["n_true"] == 1 and row["n_ghost"] == 1
     assert row["target_first_detection_range_m"] == 98.0
     assert row["detection_probability_min"] == 0.0
-    unitless = {"velocity_unambiguity_rate", "ghost_rate", "ghosts_per_frame",
+    unitless = {"velocity_unambiguity_rate", "velocity_unambiguity_rate_in_span", "ghost_rate",
+                "ghosts_per_frame",
                 "clutter_per_frame", "detections_per_frame", "detection_probability_mean",
                 "detection_probability_min"}
     for k in row:
-        assert k.startswith("n_") or k in unitless or k.endswith(("_m", "_mps", "_db")), k
-
-
-def test_case_criteria():
-    from types import SimpleNamespace as C
-
-    from metrics.detection import case_criteria
-    actors = actor_detection(actor_frames_table())
-    lab = labelled([TRUE, TRUE, VELOCITY_AMBIGUOUS, GHOST])
-    lab["actor_id"] = [1, 1, 1, -1]
-    row = {"ghost_rate": 0.25, "range_error_rmse_m": 0.3}
-    ok = case_criteria([C(metric="first_detection_range_m", op=">=", value=55.0, actor_id=1),
-                        C(metric="ghost_rate", op="<=", value=0.3, actor_id=None)],
-                       lab, actors, row)
-    assert ok["case_pass"] == 1.0 and ok["case_criteria_n"] == 2
-    assert ok["case_first_detection_range_m"] == 98.0
-    bad = case_criteria([C(metric="velocity_unambiguous_rate", op=">=", value=0.9, actor_id=1),
-                         C(metric="detection_probability", op=">=", value=0.5, actor_id=2)],
-                        lab, actors, row)
-    assert bad["case_pass"] == 0.0
-    assert bad["case_velocity_unambiguous_rate"] == pytest.approx(2 / 3)
-    assert "detection_probability actor 2 = 0 not >= 0.5" in bad["case_criteria_failed"]
-    assert np.isnan(case_criteria((), lab, actors, row)["case_pass"])
-    with pytest.raises(ValueError, match="criterion metric"):
-        case_criteria([C(metric="speed", op=">=", value=1, actor_id=None)], lab, actors, row)
+        assert k.startswith("n_") or k in unitless or k.endswith(("_m", "_mps", "_db",
+                                                                 "_deg")), k

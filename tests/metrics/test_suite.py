@@ -17,6 +17,8 @@ def _summary():
         "n_detections": [100, 80, 50, 40, 7], "n_ghost": [10, 4, 0, 4, 7],
         "n_true": [80, 60, 40, 30, 0], "n_velocity_ambiguous": [0, 20, 10, 0, 0],
         "velocity_unambiguity_rate": [1.0, 0.75, 0.8, 1.0, np.nan],
+        "n_velocity_right": [80, 60, 40, 30, 0],
+        "n_velocity_resolution_failures": [0, 20, 10, 0, 0],
         "range_error_rmse_m": [0.3, 0.4, 0.6, 0.2, np.nan],
         "radial_velocity_error_rmse_mps": [0.1, 0.1, 0.2, 0.2, np.nan],
         "n_error_samples": [80, 60, 40, 30, 0], "error": ["", "", "", "", "boom"]})
@@ -42,7 +44,8 @@ def test_pooling_weights():
     # RMSE pooled by error samples; the failed run (error) is left out
     assert t.loc["ddma", "range_rmse_m"] == pytest.approx(math.sqrt((80 * 0.09 + 40 * 0.36) / 120))
     assert t.loc["ddma", "ghost_rate"] == pytest.approx(10 / 150)
-    assert t.loc["tdma", "velocity_unambiguity_rate"] == pytest.approx((80 * 0.75 + 30) / 110)
+    # right / (right + failures) velocities over every run
+    assert t.loc["tdma", "velocity_unambiguity_rate"] == pytest.approx((60 + 30) / 110)
     assert t.loc["ddma", "gates"] == "PASS" and t.loc["tdma", "gates"] == "-"
 
 

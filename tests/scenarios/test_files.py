@@ -72,7 +72,7 @@ def test_mount_table(tmp_path):
     ('path = "lane_0"', 'path = "lane_7"', r"actors\[0\]\.path='lane_7' unknown"),
     ('mount = "rear_left"', 'mount = "roof"', "mount: unknown mount 'roof'"),
     ('lanes = 3', 'lanes = 0', "lanes=0 must be"),
-    ('metric = "first_detection_range_m"', 'metric = "joy"', r"criteria\[0\]\.metric='joy'"),
+    ('metric = "first_detection_range_m"', 'metric = ""', r"criteria\[0\]\.metric='' must name"),
     ('guard_rails = true', 'guard_rails = "yes"', "guard_rails: must be true or false"),
     ('name = "my_r79"', '', "name: required key missing"),
 ])

@@ -1,0 +1,95 @@
+"""metrics.scoring: aliased echoes relabelled, the R79 verdict from the case's speeds."""
+from __future__ import annotations
+
+from types import SimpleNamespace as NS
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from metrics.association import AssociationConfig, GHOST, TRUE, VELOCITY_AMBIGUOUS
+from metrics.r79 import KMH
+from metrics.scoring import CaseInfo, case_info, label_detections, score_scheme
+
+
+def truth_row(frame, range_m=60.0, v_mps=-14.0):
+    # a motorcycle straight ahead, approaching at 14 m/s relative
+    return {"frame": frame, "time_s": frame * 0.05, "actor_id": 0, "actor_class": "motorcycle",
+            "length_m": 2.2, "width_m": 0.8, "x_radar_m": range_m, "y_radar_m": 0.0,
+            "yaw_radar_deg": 180.0, "vx_radar_mps": v_mps, "vy_radar_mps": 0.0,
+            "range_m": range_m, "azimuth_deg": 0.0, "radial_velocity_mps": v_mps}
+
+
+def tables(aliased: bool):
+    truth = pd.DataFrame([truth_row(f, 60.0 - f) for f in range(4)])
+    sc = pd.DataFrame({"frame": range(4), "actor_id": 0, "x_m": truth["x_radar_m"] - 1.1,
+                       "y_m": 0.0, "z_m": 0.5, "range_m": truth["range_m"] - 1.1,
+                       "radial_velocity_mps": -14.0, "rcs_m2": 1.0})
+    # TDMA without disambiguation reports -14 + 20.44 and, with the wrong Doppler-phase
+    # compensation, an azimuth 30 deg off: outside the 2D footprint gate
+    v = -14.0 + (20.44 if aliased else 0.0)
+    az = np.radians(30.0 if aliased else 0.0)
+    r = sc["range_m"].to_numpy()
+    det = pd.DataFrame({"frame": range(4), "range_m": r, "azimuth_deg": np.degrees(az),
+                        "x_m": r * np.cos(az), "y_m": r * np.sin(az), "radial_velocity_mps": v,
+                        "snr_db": 20.0})
+    return det, truth, sc
+
+
+def test_aliased_echoes_are_velocity_failures_not_ghosts():
+    det, truth, sc = tables(aliased=True)
+    cfg = AssociationConfig()
+    lab = label_detections(det, truth, sc, velocity_span_mps=20.44, failure_step_mps=20.44,
+                           config=cfg)
+    assert (lab["label"] == VELOCITY_AMBIGUOUS).all() and (lab["actor_id"] == 0).all()
+    assert lab["velocity_resolution_failure"].all()
+    s = score_scheme(lab, truth, sc, 4, cfg, CaseInfo(target_ids=[0]))
+    assert s.row["n_ghost"] == 0 and s.row["ghost_rate"] == 0.0
+    assert s.row["velocity_unambiguity_rate"] == 0.0
+    assert np.isnan(s.row["target_first_detection_range_m"])
+
+
+def test_r79_verdict_from_the_case_speeds():
+    det, truth, sc = tables(aliased=False)
+    cfg = AssociationConfig()
+    lab = label_detections(det, truth, sc, velocity_span_mps=81.8, failure_step_mps=13.63,
+                           config=cfg)
+    assert (lab["label"] == TRUE).all()
+    case = NS(must_detect=(0,), criteria=(), case_class="r79", ego=NS(speed_mps=80 * KMH),
+              actors=(NS(speed_mps=130 * KMH),))
+    s = score_scheme(lab, truth, sc, 4, cfg, case_info(case))
+    assert s.row["s_critical_m"] == pytest.approx(59.9, abs=0.05)
+    assert s.row["target_first_detection_range_m"] == 60.0
+    assert s.row["r79_pass"] == 1.0 and s.row["case_class"] == "r79"
+    far = case_info(NS(must_detect=(0,), criteria=(), case_class="r79",
+                       ego=NS(speed_mps=60 * KMH), actors=(NS(speed_mps=130 * KMH),)))
+    assert score_scheme(lab, truth, sc, 4, cfg, far).row["r79_pass"] == 0.0  # needs 87.5 m
+    ordinary = score_scheme(lab, truth, sc, 4, cfg, case_info(None)).row
+    assert "r79_pass" not in ordinary and ordinary["case_class"] == "ordinary"
+
+
+def test_aliased_static_clutter_is_clutter_and_a_velocity_failure():
+    """Raw TDMA on a moving ego: a guard rail at -20 m/s comes out at +0.44 m/s and, through
+    the wrong Doppler-phase compensation, at a wrong angle. It is modelled infrastructure
+    aliased by one span 2 Vmax: clutter, and a velocity-resolution failure."""
+    det, truth, sc = tables(aliased=False)
+    rail = {**truth_row(0, 30.0, -20.0), "actor_id": 5, "actor_class": "guard_rail",
+            "length_m": 16.0, "width_m": 0.3, "y_radar_m": 5.0}
+    truth = pd.concat([truth, pd.DataFrame([rail])], ignore_index=True)
+    sc = pd.concat([sc, pd.DataFrame({"frame": [0], "actor_id": [5], "x_m": [29.6],
+                                      "y_m": [5.0], "z_m": [0.5], "range_m": [30.0],
+                                      "radial_velocity_mps": [-20.0], "rcs_m2": [1.0]})],
+                   ignore_index=True)
+    ghost = pd.DataFrame({"frame": [0], "range_m": [30.3], "azimuth_deg": [-40.0],
+                          "x_m": [23.2], "y_m": [-19.5], "radial_velocity_mps": [0.44],
+                          "snr_db": [15.0]})
+    cfg = AssociationConfig()
+    lab = label_detections(pd.concat([det, ghost], ignore_index=True), truth, sc,
+                           velocity_span_mps=20.44, failure_step_mps=20.44, config=cfg)
+    last = lab.iloc[-1]
+    assert last["label"] == "CLUTTER" and last["actor_id"] == 5
+    assert last["velocity_check"] == "failure" and last["velocity_step_k"] == 1
+    assert (lab["label"].iloc[:-1] == TRUE).all()
+    s = score_scheme(lab, truth, sc, 4, cfg, CaseInfo(target_ids=[0]))
+    assert s.row["n_ghost"] == 0 and s.row["n_velocity_resolution_failures"] == 1
+    assert s.row["velocity_unambiguity_rate"] == pytest.approx(4 / 5)
