@@ -137,15 +137,8 @@ def _actor_velocity_rate(ctx: CriterionContext, actor_id) -> float:
 
 
 # ----------------------------------------------------------------------------- the registry
-def _metrics() -> dict[str, Metric]:
-    out: dict[str, Metric] = {}
-
-    def add(name, unit, better, table, source, description, **kw):
-        if name in out:
-            raise ValueError(f"metric {name!r} defined twice")
-        out[name] = Metric(name=name, unit=unit, better=better, table=table, source=source,
-                           description=description, **kw)
-
+def _cloud_metrics(add) -> None:
+    """Counts and rates of the point cloud."""
     cnt = det.summarize_scheme
     # counts and rates of the point cloud
     add("n_frames", "", "none", "detections", cnt, "frames processed")
@@ -169,6 +162,10 @@ def _metrics() -> dict[str, Metric]:
         "clutter detections per frame")
     add("detections_per_frame", "", "none", "detections", det.ghost_stats,
         "detections per frame")
+
+
+def _accuracy_metrics(add) -> None:
+    """Accuracy of TRUE detections and velocity resolution."""
     # accuracy of TRUE detections
     es = det.error_stats
     for q, what in (("rmse", "RMS"), ("median", "median |.|"), ("p95", "95th percentile |.|")):
@@ -200,7 +197,12 @@ def _metrics() -> dict[str, Metric]:
         "detections at a road user's range whose radial velocity is off by a non-zero "
         "multiple of the scheme's resolution step (demodulation, assignment, "
         "disambiguation failures, aliasing)")
+
+
+def _actor_and_case_metrics(add) -> None:
+    """Detection of actors, case criteria and R79 verdicts."""
     # detection of actors
+    cnt = det.summarize_scheme
     ad = det.actor_detection
     add("detection_probability", "", "higher", "actors", ad,
         "detected / visible frames of one actor (one-to-one assignment of TRUE detections); "
@@ -238,6 +240,10 @@ def _metrics() -> dict[str, Metric]:
     add("r79_pass", "", "higher", "case", r79.r79_verdict,
         "1 if the approaching vehicle's first detection range >= r79_required_range_m "
         "(UN R79 category C; R79 cases only)")
+
+
+def _snr_and_front_end_metrics(add) -> None:
+    """SNR gain over the baseline scheme, front end and interference."""
     # SNR gain over the baseline scheme
     sg = det.snr_gain_stats
     for name, text in (("median", "median"), ("p25", "25th percentile"),
@@ -275,6 +281,10 @@ def _metrics() -> dict[str, Metric]:
         "ghost_rate of the same frames processed with interference mitigation off")
     add("mitigation_ghost_rate_added", "", "lower", "detections", itf.mitigation_stats,
         "ghost_rate - ghost_rate_unmitigated: ghosts the mitigation added (negative: removed)")
+
+
+def _track_metrics(add) -> None:
+    """The tracker's metrics (`metrics.tracks.track_metrics`)."""
     # tracks (metrics.tracks.track_metrics; its n_frames is stored as track_n_frames)
     tm = trk.track_metrics
     track = {
@@ -302,14 +312,27 @@ def _metrics() -> dict[str, Metric]:
     }
     for name, (unit, better, text) in track.items():
         add(name, unit, better, "tracks", tm, text)
+
+
+def _metrics() -> dict[str, Metric]:
+    out: dict[str, Metric] = {}
+
+    def add(name, unit, better, table, source, description, **kw):
+        if name in out:
+            raise ValueError(f"metric {name!r} defined twice")
+        out[name] = Metric(name=name, unit=unit, better=better, table=table, source=source,
+                           description=description, **kw)
+
+    for section in (_cloud_metrics, _accuracy_metrics, _actor_and_case_metrics,
+                    _snr_and_front_end_metrics, _track_metrics):
+        section(add)
+    cc = case_criteria
     # the measured value of each criterion metric (case_<metric>)
     for name in [n for n, m in out.items() if m.criterion is not None]:
         m = out[name]
         add(f"case_{name}", m.unit, m.better, "case", cc,
             f"{name} as the case's first criterion on it measures it")
     return out
-
-
 
 
 def get_metric(name: str) -> Metric:

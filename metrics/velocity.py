@@ -132,8 +132,21 @@ def velocity_check(detections: pd.DataFrame, scatterers: pd.DataFrame, truth: pd
         det_frame = np.where(np.asarray(candidates, dtype=bool), det_frame, -(2 ** 62))
     det_r = detections["range_m"].to_numpy(dtype=float)
     det_v = detections["radial_velocity_mps"].to_numpy(dtype=float)
-    # Rank of a (detection, scatterer) pair: right 0 before failure 1; then the smallest
-    # velocity residual. Pairs come from a range-only ball query per frame.
+    best_rank = _best_matches(sc, det_frame, det_r, det_v, step_mps, cfg, actor, alias, v_true)
+    verdict[best_rank == 0] = RIGHT
+    verdict[best_rank == 1] = FAILURE
+    return VelocityCheck(verdict, actor, alias, v_true)
+
+
+def _best_matches(sc: pd.DataFrame, det_frame: np.ndarray, det_r: np.ndarray,
+                  det_v: np.ndarray, step_mps: float, cfg: AssociationConfig,
+                  actor: np.ndarray, alias: np.ndarray, v_true: np.ndarray) -> np.ndarray:
+    """(n,) rank of each detection's best scatterer match (0 right, 1 failure, 9 none);
+    fills `actor`, `alias` and `v_true` of the matched detections in place.
+
+    Rank of a (detection, scatterer) pair: right 0 before failure 1; then the smallest
+    velocity residual. Pairs come from a range-only ball query per frame."""
+    n = det_frame.size
     best_rank = np.full(n, 9)
     best_cost = np.full(n, np.inf)
     for frame, g in sc.groupby("frame", sort=False):
@@ -168,6 +181,4 @@ def velocity_check(detections: pd.DataFrame, scatterers: pd.DataFrame, truth: pd
         actor[di] = g["actor_id"].to_numpy()[s_idx[pick]]
         alias[di] = k[pick]
         v_true[di] = vs[pick]
-    verdict[best_rank == 0] = RIGHT
-    verdict[best_rank == 1] = FAILURE
-    return VelocityCheck(verdict, actor, alias, v_true)
+    return best_rank
