@@ -292,7 +292,7 @@ def markdown(results: list[GateResult]) -> str:
 
 
 #: Metrics a passing verdict shows first (the case's own verdicts before accuracy budgets).
-_DECIDING = ["r79_pass", "case_pass", "mitigation_floor_recovery_fraction",
+_DECIDING = ["r79_margin_m", "r79_pass", "case_pass", "mitigation_floor_recovery_fraction",
              "mitigation_ghost_rate_added", "ghost_rate", "velocity_unambiguity_rate_in_span",
              "velocity_unambiguity_rate"]
 

@@ -37,7 +37,7 @@ _SUMMARY_COLUMNS = [
     "ghost_rate", "ghosts_per_frame", "velocity_unambiguity_rate",
     "velocity_unambiguity_rate_in_span", "range_error_rmse_m",
     "radial_velocity_error_rmse_mps", "azimuth_error_rmse_deg", "detection_probability_mean",
-    "target_first_detection_range_m", "case_pass", "s_critical_m", "r79_pass",
+    "target_first_detection_range_m", "case_pass", "s_critical_m", "r79_margin_m", "r79_pass",
     "snr_gain_median_db", "track_confirm_range_m_max", "gospa_mean_m", "noise_floor_rise_db",
     "mitigation_floor_recovery_db", "mitigation_ghost_rate_added", "interference_to_noise_db",
     "error",

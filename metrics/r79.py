@@ -114,19 +114,20 @@ def r79_verdict(first_detection_range_m: float, ego_speed_mps: float,
     -------
     dict
         ``s_critical_m`` (`critical_distance_m` of the case's speeds), ``r79_required_range_m``
-        = max(S_crit, S_rear) and ``r79_pass`` (1.0 if the first detection range reaches it,
-        0.0 otherwise: never detected fails).
+        = max(S_crit, S_rear), ``r79_margin_m`` = first detection range minus it (NaN if never
+        detected) and ``r79_pass`` (1.0 if the first detection range reaches it, 0.0
+        otherwise: never detected fails).
 
     Examples
     --------
     >>> v = r79_verdict(117.0, 80 * KMH, 130 * KMH)
-    >>> round(v["s_critical_m"], 1), v["r79_required_range_m"] > 55, v["r79_pass"]
-    (59.9, True, 1.0)
+    >>> round(v["s_critical_m"], 1), round(v["r79_margin_m"], 1), v["r79_pass"]
+    (59.9, 57.1, 1.0)
     >>> r79_verdict(50.0, 100 * KMH, 130 * KMH)["r79_pass"]  # S_crit 42.7 m, S_rear 55 m
     0.0
     """
     s = critical_distance_m(ego_speed_mps, approach_speed_mps, constants)
     need = max(s, constants.min_rear_range_m)
     r = float(first_detection_range_m)
-    return {"s_critical_m": s, "r79_required_range_m": need,
+    return {"s_critical_m": s, "r79_required_range_m": need, "r79_margin_m": r - need,
             "r79_pass": float(math.isfinite(r) and r >= need)}

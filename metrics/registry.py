@@ -237,6 +237,9 @@ def _actor_and_case_metrics(add) -> None:
     add("r79_required_range_m", "m", "none", "case", r79.r79_verdict,
         "max(S_crit, S_rear = 55 m): the range at which the approaching vehicle must first "
         "be detected (R79 cases only)")
+    add("r79_margin_m", "m", "higher", "case", r79.r79_verdict,
+        "the approaching vehicle's first detection range minus r79_required_range_m (NaN if "
+        "never detected; R79 cases only)")
     add("r79_pass", "", "higher", "case", r79.r79_verdict,
         "1 if the approaching vehicle's first detection range >= r79_required_range_m "
         "(UN R79 category C; R79 cases only)")
