@@ -291,10 +291,12 @@ def _tone_frequencies(x: np.ndarray, mask: np.ndarray, groups: np.ndarray, k: in
                       n_fft: int = 8) -> np.ndarray:
     """(G, k) beat frequencies, cycles per sample, of the k strongest echoes per group: peaks
     of the mean power spectrum of the groups' rows (masked samples zeroed, Hann window,
-    zero-padded n_fft times), refined by a parabola through the log powers."""
+    zero-padded n_fft times; the full spectrum for I/Q rows), refined by a parabola through
+    the log powers."""
     n = x.shape[-1]
     w = np.hanning(n)
-    spec = np.abs(np.fft.rfft(np.where(mask, 0, x) * w, n * n_fft, axis=-1)) ** 2
+    transform = np.fft.fft if np.iscomplexobj(x) else np.fft.rfft  # I/Q rows: both sides
+    spec = np.abs(transform(np.where(mask, 0, x) * w, n * n_fft, axis=-1)) ** 2
     n_g = int(groups.max()) + 1
     p = np.zeros((n_g, spec.shape[-1]))
     np.add.at(p, groups, spec)
