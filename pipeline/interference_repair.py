@@ -199,13 +199,18 @@ def _ar_coefficients(x: np.ndarray, mask: np.ndarray, groups: np.ndarray,
     bk = f.copy()
     valid = ~mask[fit]
     a = np.zeros((n_g, order), dtype=f.dtype)
+    cplx = np.iscomplexobj(f)
     for m in range(order):  # model order, not samples
         ff, bb = f[:, 1:], bk[:, :-1]
         v = valid[:, 1:] & valid[:, :-1]
-        num = np.where(v, ff * bb.conj(), 0).sum(-1)
-        den = np.where(v, np.abs(ff) ** 2 + np.abs(bb) ** 2, 0).sum(-1)
+        if cplx:
+            num = np.where(v, ff * bb.conj(), 0).sum(-1)
+            den = np.where(v, np.abs(ff) ** 2 + np.abs(bb) ** 2, 0).sum(-1)
+        else:  # the same numbers without the copies: conj is the identity, |x|**2 is x * x
+            num = np.where(v, ff * bb, 0).sum(-1)
+            den = np.where(v, ff * ff + bb * bb, 0).sum(-1)
         k = -2 * np.bincount(g, num.real, n_g)
-        if np.iscomplexobj(f):
+        if cplx:
             k = k - 2j * np.bincount(g, num.imag, n_g)
         d = np.bincount(g, den, n_g)
         k = np.where(d > 0, k / np.where(d > 0, d, 1) * (1 - 1e-9), 0)
@@ -227,23 +232,23 @@ def _runs(mask: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     return r0, s, e
 
 
-def _predict(x: np.ndarray, a: np.ndarray, rows: np.ndarray, starts: np.ndarray,
-             length: int) -> np.ndarray:
-    """(G, length) forward predictions of rows `rows` from position `starts` on, with the
-    predictor a (G, p) of each gap: the AR recursion y[t] = -sum_k a_k y[t-k] is an all-pole
-    filter (b = [1]) run on zeros from the state the p samples before the gap leave. In the
-    DF-II transposed form scipy.signal.lfilter uses, that state is z_k = -sum_{j=k+1}^{p} a_j
-    y[k-j] (y[-1] the sample just before the gap). One lfilter call per distinct predictor."""
+def _predict(x: np.ndarray, a: np.ndarray, model: np.ndarray, rows: np.ndarray,
+             starts: np.ndarray, length: int) -> np.ndarray:
+    """(N, length) forward predictions of rows `rows` (N,) from position `starts` on, gap i
+    with the predictor a[model[i]] (a (G, p), one per group): the AR recursion
+    y[t] = -sum_k a_k y[t-k] is an all-pole filter (b = [1]) run on zeros from the state the
+    p samples before the gap leave. In the DF-II transposed form scipy.signal.lfilter uses,
+    that state is z_k = -sum_{j=k+1}^{p} a_j y[k-j] (y[-1] the sample just before the gap).
+    One lfilter call per predictor used."""
     p = a.shape[-1]
     past = x[rows[:, None], starts[:, None] - np.arange(1, p + 1)]  # y[-1] .. y[-p]
     hank = np.arange(p)[:, None] + np.arange(p)[None, :]  # coefficient index j - 1 = k + m
-    coef = np.where(hank < p, a[:, np.minimum(hank, p - 1)], 0)  # (G, p, p)
+    coef = np.where(hank < p, a[:, np.minimum(hank, p - 1)], 0)[model]  # (N, p, p)
     zi = -np.einsum("gkm,gm->gk", coef, past)
     out = np.zeros((len(rows), length), dtype=np.result_type(x.dtype, a.dtype))
-    uniq, inv = np.unique(a, axis=0, return_inverse=True)
-    for u in range(len(uniq)):  # one per Rx model
-        sel = np.flatnonzero(inv.ravel() == u)
-        out[sel] = scipy.signal.lfilter([1.0], np.r_[1.0, uniq[u]], out[sel], axis=-1,
+    for u in np.unique(model):  # one per Rx model
+        sel = np.flatnonzero(model == u)
+        out[sel] = scipy.signal.lfilter([1.0], np.r_[1.0, a[u]], out[sel], axis=-1,
                                         zi=zi[sel])[0]
     return out
 
@@ -260,14 +265,15 @@ def _ar_fill(x: np.ndarray, mask: np.ndarray, groups: np.ndarray, order: int) ->
         return x
     length = int((e - s).max())
     fwd_ok, bwd_ok = s >= order, e + order <= n
-    ga = a[groups[rows]]
+    model = groups[rows]
     fwd = np.zeros((len(rows), length), dtype=np.result_type(x.dtype, a.dtype))
     bwd = np.zeros_like(fwd)
     if fwd_ok.any():
-        fwd[fwd_ok] = _predict(x, ga[fwd_ok], rows[fwd_ok], s[fwd_ok], length)
+        fwd[fwd_ok] = _predict(x, a, model[fwd_ok], rows[fwd_ok], s[fwd_ok], length)
     if bwd_ok.any():
         xr = x[:, ::-1]
-        bwd[bwd_ok] = _predict(xr, ga[bwd_ok].conj(), rows[bwd_ok], n - e[bwd_ok], length)
+        bwd[bwd_ok] = _predict(xr, a.conj(), model[bwd_ok], rows[bwd_ok], n - e[bwd_ok],
+                               length)
     i = np.arange(length)[None, :]
     ln = (e - s)[:, None]
     t = (i + 1) / (ln + 1)  # weight of the backward prediction
@@ -298,8 +304,10 @@ def _tone_frequencies(x: np.ndarray, mask: np.ndarray, groups: np.ndarray, k: in
     transform = np.fft.fft if np.iscomplexobj(x) else np.fft.rfft  # I/Q rows: both sides
     spec = np.abs(transform(np.where(mask, 0, x) * w, n * n_fft, axis=-1)) ** 2
     n_g = int(groups.max()) + 1
-    p = np.zeros((n_g, spec.shape[-1]))
-    np.add.at(p, groups, spec)
+    n_f = spec.shape[-1]
+    # sum of each group's rows in row order from 0, as np.add.at does, in one pass
+    p = np.bincount((groups[:, None] * n_f + np.arange(n_f)).ravel(), spec.ravel(),
+                    n_g * n_f).reshape(n_g, n_f)
     lp = np.log(p + 1e-30)
     peak = np.zeros_like(lp, dtype=bool)
     peak[:, 1:-1] = (lp[:, 1:-1] > lp[:, :-2]) & (lp[:, 1:-1] >= lp[:, 2:])
@@ -311,20 +319,22 @@ def _tone_frequencies(x: np.ndarray, mask: np.ndarray, groups: np.ndarray, k: in
     return (idx + np.clip(off, -0.5, 0.5)) / (n * n_fft)
 
 
-def _cancel(x: np.ndarray, mask: np.ndarray, freqs: np.ndarray) -> np.ndarray:
-    """(R, n) per-row least-squares fit, on the kept samples, of the tones of each row's
-    frequencies (R, k) (cosine and sine, real rows; complex exponentials, I/Q rows),
-    evaluated over the whole row."""
+def _cancel(x: np.ndarray, mask: np.ndarray, freqs: np.ndarray,
+            groups: np.ndarray) -> np.ndarray:
+    """(R, n) per-row least-squares fit, on the kept samples, of the tones of the row's
+    group's frequencies (G, k) (cosine and sine, real rows; complex exponentials, I/Q rows;
+    `groups` (R,) the row's group), evaluated over the whole row."""
     n = x.shape[-1]
     t = np.arange(n)
-    ph = 2 * np.pi * freqs[:, :, None] * t  # (R, k, n)
+    ph = 2 * np.pi * freqs[:, :, None] * t  # (G, k, n): the bases, once per group
     if np.iscomplexobj(x):
-        basis = np.exp(1j * ph)
+        basis = np.exp(1j * ph)[groups]
+        bkc = (basis * (~mask)[:, None, :]).conj()
     else:
-        basis = np.concatenate([np.cos(ph), np.sin(ph)], axis=1)  # (R, 2k, n)
-    bk = basis * (~mask)[:, None, :]
-    gram = np.einsum("rin,rjn->rij", bk.conj(), basis)
-    rhs = np.einsum("rin,rn->ri", bk.conj(), x.astype(basis.dtype))
+        basis = np.concatenate([np.cos(ph), np.sin(ph)], axis=1)[groups]  # (R, 2k, n)
+        bkc = basis * (~mask)[:, None, :]  # real: its own conjugate
+    gram = np.einsum("rin,rjn->rij", bkc, basis)
+    rhs = np.einsum("rin,rn->ri", bkc, x.astype(basis.dtype))
     load = 1e-9 * np.abs(np.trace(gram, axis1=1, axis2=2))[:, None, None] + 1e-30
     coef = np.linalg.solve(gram + load * np.eye(gram.shape[-1]), rhs[..., None])[..., 0]
     model = np.einsum("ri,rin->rn", coef, basis)
@@ -361,8 +371,8 @@ def repair(x: np.ndarray, flags: np.ndarray, window_: np.ndarray, hysteresis: in
     tones = None
     if method.cancel_tones:
         g = np.zeros(len(x), dtype=np.intp) if groups is None else np.asarray(groups)
-        freqs = _tone_frequencies(x, mask, g, method.cancel_tones)[g]
-        tones = _cancel(x, mask, freqs)
+        freqs = _tone_frequencies(x, mask, g, method.cancel_tones)
+        tones = _cancel(x, mask, freqs, g)
         x -= tones
     if method.fill == "zero":
         x[mask] = 0
