@@ -8,7 +8,7 @@ from .boards import BOARDS, Board, register_board
 from .calibration import (ShifterCalibration, calibrate_shifters, measure_shifters,
                           resolve_calibration)
 from .chips import CHIPS, Chip, register_chip
-from .config import RadarConfig
+from .radar_config import RadarConfig
 from .mimo import MIMO_SCHEMES, MimoScheme, register_scheme
 from .frontend import (ADCSaturationWarning, expected_sample_snr_db, received_power_w,
                        saturation_fraction, simulate_frame, simulate_frame_weights,

@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .config import RadarConfig
+from .radar_config import RadarConfig
 
 __all__ = ["element_gain_linear"]
 

@@ -30,7 +30,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .config import RadarConfig
+from .radar_config import RadarConfig
 from .frontend import programmed_codes, received_power_w, wanted_phase_deg
 from .scatterers import Scatterers
 from .shifter import coupling_matrix, phase_residual_deg, shifter_factor, wrap_deg

@@ -47,7 +47,7 @@ import numpy as np
 
 from scenarios.fileio import check_input_file
 
-from .config import RadarConfig
+from .radar_config import RadarConfig
 
 __all__ = ["SAMPLE_DTYPE", "CaptureLayout", "CAPTURE_LAYOUTS", "layout_of", "frame_shape",
            "frame_nbytes", "write_capture", "read_capture", "open_capture", "iter_capture",

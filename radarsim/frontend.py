@@ -39,7 +39,7 @@ from functools import lru_cache
 import numpy as np
 
 from .antenna import element_gain_linear
-from .config import ADC_FULL_SCALE_CODE, C_MPS, RadarConfig
+from .radar_config import ADC_FULL_SCALE_CODE, C_MPS, RadarConfig
 from .interference import synthesize
 from .receiver import IF_LOWPASS_HZ, IF_LOWPASS_ORDER, if_corner_hz, if_filter_gain
 from .scatterers import Scatterers

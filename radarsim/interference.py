@@ -55,7 +55,7 @@ import pandas as pd
 
 from .antenna import element_gain_linear
 from .chips import ADC_MODES
-from .config import C_MPS, RadarConfig
+from .radar_config import C_MPS, RadarConfig
 from .receiver import IF_LOWPASS_ORDER, if_corner_hz
 from .scatterers import PointGeometry
 

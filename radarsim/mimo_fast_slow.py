@@ -38,7 +38,7 @@ import numpy as np
 from .mimo import ChirpTiming, SlowTimeLayout, TdmaScheme, TransmitCode, register_scheme
 
 if TYPE_CHECKING:
-    from .config import RadarConfig
+    from .radar_config import RadarConfig
 
 __all__ = ["FastSlowScheme", "ChirpSets", "hypothesis_separation_bins"]
 

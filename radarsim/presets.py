@@ -2,7 +2,7 @@
 timing for every registered MIMO scheme (`r79`)."""
 from __future__ import annotations
 
-from .config import RadarConfig
+from .radar_config import RadarConfig
 from .mimo import scheme_of
 
 __all__ = ["r79", "r79_ddma", "r79_tdma", "PRESETS"]

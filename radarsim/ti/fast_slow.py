@@ -28,7 +28,7 @@ from __future__ import annotations
 import dataclasses
 from decimal import Decimal
 
-from ..config import RadarConfig
+from ..radar_config import RadarConfig
 from ..mimo import MIMO_SCHEMES, TdmaScheme
 from ..mimo_fast_slow import FastSlowScheme
 from .profile import DEFAULT_FRAME_PERIOD_S, TiProfile

@@ -7,7 +7,7 @@ import dataclasses
 from dataclasses import dataclass
 from typing import Any
 
-from ..config import RadarConfig
+from ..radar_config import RadarConfig
 from .codes import (CFAR_AVERAGE_MODES, CFAR_DIRECTIONS, CFAR_RANKED_MODES,
                     MAX_CFAR_THRESHOLD_DB, cfar_code)
 from .syntax import fmt_decimal

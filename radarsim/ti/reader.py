@@ -13,7 +13,7 @@ from typing import Any, Mapping
 from scenarios.fileio import read_input_bytes
 
 from ..chips import Chip, get_chip
-from ..config import RadarConfig
+from ..radar_config import RadarConfig
 from . import advanced, fast_slow
 from .advanced import MAX_SUBFRAMES
 from .chip_inference import infer_chip

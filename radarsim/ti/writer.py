@@ -7,7 +7,7 @@ import json
 from typing import Any, Iterable, Mapping
 
 from ..chips import ADC_MODES
-from ..config import RadarConfig
+from ..radar_config import RadarConfig
 from .families import DEMO_FAMILIES
 from .profile import DEFAULT_FRAME_PERIOD_S, TiCfar, TiProfile
 from . import fast_slow
