@@ -26,6 +26,8 @@ from typing import Callable, NamedTuple
 import numpy as np
 import pandas as pd
 
+from scenarios.registries import Registry
+
 from . import detection as det
 from . import interference as itf
 from . import r79
@@ -317,14 +319,22 @@ def _track_metrics(add) -> None:
         add(name, unit, better, "tracks", tm, text)
 
 
-def _metrics() -> dict[str, Metric]:
-    out: dict[str, Metric] = {}
+class _MetricRegistry(Registry[Metric]):
+    """`Registry` of metrics whose lookup error lists the known names comma-separated (the
+    message gate files and case criteria have always given)."""
+
+    def missing_message(self, name) -> str:  # noqa: D102 - Registry API
+        return f"unknown metric {name!r}; known: {', '.join(sorted(self))}"
+
+
+def _metrics() -> Registry[Metric]:
+    out = _MetricRegistry("metric", kind=Metric, identifier=True)
 
     def add(name, unit, better, table, source, description, **kw):
         if name in out:
             raise ValueError(f"metric {name!r} defined twice")
-        out[name] = Metric(name=name, unit=unit, better=better, table=table, source=source,
-                           description=description, **kw)
+        out.register(Metric(name=name, unit=unit, better=better, table=table, source=source,
+                            description=description, **kw))
 
     for section in (_cloud_metrics, _accuracy_metrics, _actor_and_case_metrics,
                     _snr_and_front_end_metrics, _track_metrics):
@@ -335,7 +345,7 @@ def _metrics() -> dict[str, Metric]:
         m = out[name]
         add(f"case_{name}", m.unit, m.better, "case", cc,
             f"{name} as the case's first criterion on it measures it")
-    return out
+    return out.freeze()
 
 
 def get_metric(name: str) -> Metric:
@@ -346,9 +356,7 @@ def get_metric(name: str) -> Metric:
     ValueError
         Unknown name, with the known ones.
     """
-    if name not in METRICS:
-        raise ValueError(f"unknown metric {name!r}; known: {', '.join(sorted(METRICS))}")
-    return METRICS[name]
+    return METRICS.lookup(name)
 
 
 def criterion_metrics() -> list[str]:
@@ -443,4 +451,4 @@ def case_criteria(criteria, labelled: pd.DataFrame, actors: pd.DataFrame,
 
 
 #: Every reported metric, by name.
-METRICS: dict[str, Metric] = _metrics()
+METRICS: Registry[Metric] = _metrics()

@@ -51,6 +51,8 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.signal
 
+from scenarios.registries import Registry
+
 __all__ = ["Mitigation", "MITIGATIONS", "get_mitigation", "widen", "close_gaps", "repair",
            "CLOSE_GAP_SAMPLES", "EXTEND_SAMPLES"]
 
@@ -404,7 +406,8 @@ CLOSE_GAP_SAMPLES = 48
 EXTEND_SAMPLES = 12
 
 #: Repair methods by name (``ProcessingConfig.intf_mitigation``).
-MITIGATIONS: dict[str, Mitigation] = {m.name: m for m in (
+MITIGATIONS: Registry[Mitigation] = Registry(
+    "interference mitigation", field="intf_mitigation", kind=Mitigation).register_all((
     Mitigation(name="zero", description="the chip: flagged samples and the hysteresis "
                "zeroed (SWRA725 3.3)"),
     Mitigation(name="zero_compensated", description="zeroed, the chirp's gain restored by "
@@ -421,7 +424,7 @@ MITIGATIONS: dict[str, Mitigation] = {m.name: m for m in (
                "forward and backward, cross-faded", fill="ar", ar_order=64, cancel_tones=4,
                close_gap_samples=CLOSE_GAP_SAMPLES,
                extend_samples=EXTEND_SAMPLES, recentre=True),
-)}
+))
 
 
 def get_mitigation(name: str) -> Mitigation:
@@ -432,6 +435,4 @@ def get_mitigation(name: str) -> Mitigation:
     ValueError
         Unknown name, with the known ones.
     """
-    if name not in MITIGATIONS:
-        raise ValueError(f"intf_mitigation={name!r} is not one of {sorted(MITIGATIONS)}")
-    return MITIGATIONS[name]
+    return MITIGATIONS.lookup(name)
