@@ -28,11 +28,10 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from scenarios.catalog import KMH  # m/s per km/h, the catalogue's one constant
 from scenarios.checks import require
 
 __all__ = ["R79Constants", "R79", "critical_distance_m", "r79_verdict", "KMH"]
-
-KMH = 1 / 3.6  # m/s per km/h
 
 
 @dataclass(frozen=True, kw_only=True, slots=True)
