@@ -78,11 +78,11 @@ def angle_sidelobe_db(radar_overrides: dict, scheme: str) -> float:
         rbin = max(0, min(cfg.n_range_bins - 1, rbin))
         # The probe's range bin is the strongest of its neighbourhood.
         _, _, p = pipeline.doppler_azimuth_map(cfg, adc, rbin, proc)
-        best, best_bin = p.max(), rbin
+        best = p.max()
         for r in (rbin - 1, rbin + 1):
             _, _, q = pipeline.doppler_azimuth_map(cfg, adc, r, proc)
             if q.max() > best:
-                best, best_bin, p = q.max(), r, q
+                best, p = q.max(), q
         row = p[int(np.argmax(p.max(axis=1)))]
         out.append(_psl_db(row))
     return float(np.median(out))

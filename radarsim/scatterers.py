@@ -23,6 +23,10 @@ MAX_SPEED_MPS = 1000.0
 
 
 def _as_float_array(name: str, value, shape_tail: tuple[int, ...]) -> np.ndarray:
+    # A boolean is a number to numpy (True -> 1.0), never to a user: `rcs_m2=[True]` is a bug
+    # upstream, not 1 m^2.
+    if np.asarray(value).dtype == np.bool_:
+        raise ValueError(f"{name} must hold real numbers, got booleans")
     try:
         arr = np.asarray(value, dtype=np.float64)
     except (TypeError, ValueError) as exc:

@@ -23,6 +23,8 @@ CASES = {
                  r"rcs_m2=1e\+300 exceeds the limit 1e\+09 m\^2"),
     "string_rcs": (dict(position_m=P, velocity_mps=V, rcs_m2=["big"]),
                    r"rcs_m2 must hold real numbers: .*'big'"),
+    "boolean_rcs": (dict(position_m=P, velocity_mps=V, rcs_m2=[True]),
+                    r"rcs_m2 must hold real numbers, got booleans"),
     "complex_position": (dict(position_m=[[10, 0, 1j]], velocity_mps=V, rcs_m2=[1.0]),
                          r"position_m must hold real numbers"),
     "faster_than_1000_mps": (dict(position_m=P, velocity_mps=[[1e9, 0, 0]], rcs_m2=[1.0]),
