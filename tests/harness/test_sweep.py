@@ -132,9 +132,12 @@ def test_killed_worker_loses_no_completed_cell_and_rerun_resumes(tmp_path):
                             text=True)
     spec = SweepSpec(name="t", scenarios=("fast", "slow", "mid"), seeds=(0, 1), duration_s=0.4)
     cells = spec.cells()
-    deadline = time.monotonic() + 30
+    # Kill a worker once a first cell is on disk. The deadline only guards against a hang: on a
+    # loaded machine the pool may take well over 30 s to start (the test failed that way).
+    deadline = time.monotonic() + 300
     while not completed_cells(out, cells) and time.monotonic() < deadline:
         time.sleep(0.05)
+    assert completed_cells(out, cells), "no cell completed within 300 s"
     workers = _children(proc.pid)
     assert workers, "no worker process found"
     os.kill(workers[0], signal.SIGKILL)
