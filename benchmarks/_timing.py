@@ -21,10 +21,11 @@ def median_time_s(fn: Callable[[], object], repeats: int = 9, warmup: int = 2) -
     return float(np.median(times))
 
 
-def fft_floor_once(cfg, x32: np.ndarray) -> None:
+def fft_floor_once(cfg, x32: np.ndarray, workers: int = -1) -> None:
     """The floor of a receive chain: the range rFFT of the float32 frame `x32` (n_chirps,
     n_rx, n_samples) plus the Doppler FFT over one Tx's slow-time sequence (the scheme's: all
-    chirps for DDMA, one slot per code period for TDMA), scipy.fft with all cores."""
+    chirps for DDMA, one slot per code period for TDMA), scipy.fft with `workers` threads (-1:
+    all cores)."""
     per = int(round(cfg.scheme.slow_time_period_s(cfg) / cfg.chirp_period_s))
-    rf = scipy.fft.rfft(x32, axis=-1, workers=-1)[..., : cfg.n_samples // 2]
-    scipy.fft.fft(rf.reshape(-1, per, cfg.n_rx, rf.shape[-1]), axis=0, workers=-1)
+    rf = scipy.fft.rfft(x32, axis=-1, workers=workers)[..., : cfg.n_samples // 2]
+    scipy.fft.fft(rf.reshape(-1, per, cfg.n_rx, rf.shape[-1]), axis=0, workers=workers)
