@@ -13,6 +13,11 @@ procedure) recorded with PROFILE, measures the range bias and the virtual-channe
 that line (replacing the profile's own, or added before ``sensorStart``). Processing the same
 capture with the written profile reports the reflector at R and at azimuth A.
 
+A profile of the MCU+ SDK DDM demo corrects its channels with ``antennaCalibParams`` (no range
+bias; `radarsim.ti.calibration`): a second stdout line gives the coefficients in that form, and
+``--write`` sets the profile's own ``antennaCalibParams`` to the identity, since the written
+``compRangeBiasAndRxChanPhase`` now carries them (one correction per board).
+
 Bad input (exit 2, one line): no peak within R +/- W, a measurement below
 `pipeline.channel_calibration.MIN_CALIBRATION_SNR_DB`, a window outside the radar's range.
 """
@@ -26,7 +31,7 @@ from scenarios.fileio import atomic_write
 
 from .args import FRAMES, check_output_file, float_in
 
-__all__ = ["add_arguments", "run", "with_comp_line"]
+__all__ = ["add_arguments", "run", "with_comp_line", "antenna_calib_line", "with_identity_antenna_calib"]
 
 #: How many range bins the default search window spans on each side of R (TI: "at least the
 #: distance equivalent of a few range bins").
@@ -67,6 +72,25 @@ def with_comp_line(text: str, line: str) -> str:
         starts = [i for i, ln in enumerate(lines) if ln.split()[:1] == ["sensorStart"]]
         at = starts[0] if starts else len(lines)
     lines.insert(at, line)
+    return "\n".join(lines) + "\n"
+
+
+def antenna_calib_line(chip_coefficients) -> str:
+    """The DDM demo's ``antennaCalibParams`` line of chip-ordered coefficients: Im, Re of each
+    (5 decimals, as `pipeline.compensation.comp_line`)."""
+    import numpy as np
+    parts = []
+    for c in np.asarray(chip_coefficients, dtype=complex):
+        parts += [f"{round(c.imag, 5) + 0.0:.5f}", f"{round(c.real, 5) + 0.0:.5f}"]
+    return " ".join(["antennaCalibParams", *parts])
+
+
+def with_identity_antenna_calib(text: str, n_pairs: int) -> str:
+    """Profile text with every ``antennaCalibParams`` line replaced by the identity
+    (``0 1`` per virtual antenna); other lines kept as they were."""
+    ident = "antennaCalibParams " + " ".join(["0 1"] * n_pairs)
+    lines = [ident if ln.split()[:1] == ["antennaCalibParams"] else ln
+             for ln in text.splitlines()]
     return "\n".join(lines) + "\n"
 
 
@@ -126,12 +150,20 @@ def run(args: argparse.Namespace) -> int:
         raise ValueError(f"--target-range-m {target:g} --search-window-m {window:g}: "
                          f"{exc}") from None
     print(cal.line)
+    from radarsim.ti.families import DEMO_FAMILIES
+    ddm = bool(profile.demo_family) and \
+        DEMO_FAMILIES[profile.demo_family].has("antennaCalibParams")
+    if ddm:
+        print(antenna_calib_line(cal.chip_coefficients))
     crb_deg = np.degrees(cal.phase_crb_rad())
     print(f"note: reflector at {cal.measured_range_m:.4f} m (bin {cal.range_bin}), range bias "
           f"{cal.range_bias_m:+.4f} m (CRB {cal.range_crb_m(cfg.range_resolution_m):.2g} m), "
           f"{cal.n_frames} frame(s), SNR per channel and frame {cal.snr_db.min():.1f}.."
           f"{cal.snr_db.max():.1f} dB, phase CRB <= {crb_deg.max():.2g} deg", file=sys.stderr)
     if args.write is not None:
-        _write_text(args.write, with_comp_line(Path(args.cfg).read_text(), cal.line))
+        text = with_comp_line(Path(args.cfg).read_text(), cal.line)
+        if ddm:
+            text = with_identity_antenna_calib(text, len(cal.chip_coefficients))
+        _write_text(args.write, text)
         print(f"note: profile with the measured line -> {args.write}", file=sys.stderr)
     return 0

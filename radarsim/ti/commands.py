@@ -8,7 +8,7 @@ from typing import Callable, Mapping
 
 from . import handlers as h
 from . import processing_handlers as ph
-from .calibration import comp_range_bias_and_rx_chan_phase
+from .calibration import antenna_calib_params, comp_range_bias_and_rx_chan_phase
 from .state import ParseState
 from .syntax import Line
 
@@ -127,7 +127,9 @@ TI_COMMANDS: dict[str, CommandSpec] = {
                                          "range bias and channel phase compensation", key=0),
     "measureRangeBiasAndRxChanPhase": _spec({3}, ph.measure_range_bias,
                                             "calibration measurement", key=0),
-    "antennaCalibParams": _spec(range(2, 33, 2), None, "antenna calibration"),
+    # One (Im, Re) pair per chip virtual antenna: the count is the chip's (reader).
+    "antennaCalibParams": _spec(range(2, 33, 2), antenna_calib_params,
+                                "DDM demo virtual-antenna calibration", key=0),
     "CQRxSatMonitor": _spec({5}, ph.rx_sat_monitor, "Rx saturation monitor", key=1),
     "CQSigImgMonitor": _spec({3}, None, "signal/image band monitor"),
     "analogMonitor": _spec({None: {2}, "AWR2544": {3}}, None, "analog monitors"),

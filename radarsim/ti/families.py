@@ -63,6 +63,9 @@ PROCESSING_COMMANDS: Mapping[str, ProcessingCommand] = MappingProxyType({
     "compRangeBiasAndRxChanPhase": ProcessingCommand(("range_bias_m", "channel_comp"),
                                                      "SDK 3.x UG sec. range bias and Rx "
                                                      "channel gain/phase compensation"),
+    "antennaCalibParams": ProcessingCommand(("channel_comp",),
+                                            "MCU+ SDK DDM demo mmw_cli.c "
+                                            "MmwDemo_CLIAntennaCalibParams; DPU_DopplerProcHWA"),
     "clutterRemoval": ProcessingCommand(("clutter_removal",), "SDK 3.x UG clutterRemoval; "
                                         "DopplerProc static clutter removal"),
     "calibDcRangeSig": ProcessingCommand((), "SDK 3.x UG calibDcRangeSig"),
@@ -102,6 +105,7 @@ _DDM = {
     "compressionCfg": {"compression": False},
     "intfMitigCfg": {"interference_mitigation": False},
     "compRangeBiasAndRxChanPhase": {"range_bias_m": 0.0, "channel_comp": None},
+    "antennaCalibParams": {"channel_comp": None},
     "cfarFovCfg": {"range_fov_m": None, "velocity_fov_mps": None},
     "aoaFovCfg": {"azimuth_fov_deg": None, "elevation_fov_deg": None},
     "CQRxSatMonitor": _OFF, "measureRangeBiasAndRxChanPhase": _OFF,

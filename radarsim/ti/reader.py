@@ -16,6 +16,7 @@ from ..chips import Chip, get_chip
 from ..radar_config import RadarConfig
 from . import advanced, fast_slow
 from .advanced import MAX_SUBFRAMES
+from .calibration import antenna_calib_pairs, is_identity
 from .chip_inference import infer_chip
 from .commands import MODELLED_COMMANDS, TI_COMMANDS
 from .families import PROCESSING_COMMANDS, family_of
@@ -335,11 +336,13 @@ def _family_processing(st: ParseState, family) -> dict[str, Any]:
         name = cmd.split()[0]
         if not family.has(name):
             for f in PROCESSING_COMMANDS[name].fields:
-                processing.pop(f, None)
+                if st.processing_origin.get(f, name) == name:
+                    processing.pop(f, None)
             st.cfar.clear() if name == "cfarCfg" else None
             st.ignored.append((ln.no, name))
             st.notes.append(f"line {ln.no}: {name} is not a command of the {family.description}"
                             "; ignored")
+    _apply_antenna_calib(st, family, processing)
     present = {cmd.split()[0] for cmd in st.processing_commands}
     for cmd, defaults in family.defaults.items():
         if cmd not in present:
@@ -348,6 +351,24 @@ def _family_processing(st: ParseState, family) -> dict[str, Any]:
     if st.unmodelled:
         st.notes.append("read but not modelled: " + "; ".join(st.unmodelled))
     return processing
+
+
+def _apply_antenna_calib(st: ParseState, family, processing: dict[str, Any]) -> None:
+    """The DDM demo's ``antennaCalibParams`` as ``channel_comp`` (`radarsim.ti.calibration`).
+    A ``compRangeBiasAndRxChanPhase`` of the same profile that also corrects the channels (not
+    the identity) is refused naming both lines: one board, one correction."""
+    ln = st.antenna_calib
+    if ln is None or not family.has(ln.cmd):
+        return
+    pairs = antenna_calib_pairs(ln, st.chip)
+    if pairs is None:
+        return
+    other = st.processing_commands.get("compRangeBiasAndRxChanPhase")
+    if other is not None and family.has(other.cmd) and not is_identity(
+            processing.get("channel_comp") or ()):
+        raise ln.fail(f"line {other.no} compRangeBiasAndRxChanPhase already corrects the "
+                      "channels; keep one of the two (or make the other the identity)")
+    processing["channel_comp"] = pairs
 
 
 def _relabel(exc: Exception, lines: Mapping[str, Line], st: ParseState) -> ValueError:

@@ -47,6 +47,9 @@ class ParseState:
     extras: dict[str, Any] = dataclasses.field(default_factory=dict)
     processing: dict[str, Any] = dataclasses.field(default_factory=dict)
     processing_commands: dict[str, Line] = dataclasses.field(default_factory=dict)
+    #: Which command wrote a `processing` field (when two commands can write the same one).
+    processing_origin: dict[str, str] = dataclasses.field(default_factory=dict)
+    antenna_calib: Line | None = None
     unmodelled: list[str] = dataclasses.field(default_factory=list)
     measure: tuple | None = None
     ignored: list[tuple[int, str]] = dataclasses.field(default_factory=list)

@@ -317,10 +317,27 @@ def processing_lines(profile: TiProfile, subframe: int = -1) -> list[str]:
     if fam.has("aoaFovCfg") and p.get("azimuth_fov_deg") is not None:
         (a0, a1), (e0, e1) = p["azimuth_fov_deg"], p["elevation_fov_deg"]
         out.append("aoaFovCfg " + " ".join([sf] + [fmt_decimal(v) for v in (a0, a1, e0, e1)]))
-    comp = p.get("channel_comp")
-    # One line for the whole frame (no subFrameIdx): written with sub-frame 0's commands.
-    if fam.has("compRangeBiasAndRxChanPhase") and comp is not None and subframe in (-1, 0):
+    if subframe in (-1, 0):  # one line for the whole frame, written with sub-frame 0's
+        out += _calibration_lines(fam, p)
+    return out
+
+
+def _calibration_lines(fam, p) -> list[str]:
+    """The channel correction as the family's demo takes it (`radarsim.ti.calibration`): the
+    DDM demo's ``antennaCalibParams`` (Im, Re per virtual antenna), a range bias then in a
+    ``compRangeBiasAndRxChanPhase`` with identity coefficients; the TDM demos'
+    ``compRangeBiasAndRxChanPhase`` for both. Nothing without coefficients (as before)."""
+    comp, bias = p.get("channel_comp"), p.get("range_bias_m", 0.0)
+    if comp is None:
+        return []
+    out = []
+    if fam.has("antennaCalibParams"):
+        out.append("antennaCalibParams " + " ".join(
+            fmt_decimal(v) for re, im in comp for v in (im, re)))
+        if not bias:
+            return out
+        comp = tuple((1.0, 0.0) for _ in comp)
+    if fam.has("compRangeBiasAndRxChanPhase"):
         out.append("compRangeBiasAndRxChanPhase " + " ".join(
-            [fmt_decimal(p.get("range_bias_m", 0.0))]
-            + [fmt_decimal(v) for pair in comp for v in pair]))
+            [fmt_decimal(bias)] + [fmt_decimal(v) for pair in comp for v in pair]))
     return out

@@ -108,3 +108,34 @@ def test_target_and_window_from_the_profiles_measure_line(capture, tmp_path, cap
     err = capsys.readouterr().err.strip().splitlines()
     assert err == ["radar-harness calibrate: error: --target-range-m is required: the profile "
                    "has no enabled measureRangeBiasAndRxChanPhase line to take it from"]
+
+
+def test_ddm_profile_gets_the_antenna_calib_form_and_one_correction(tmp_path, capsys):
+    """A DDM demo profile (AWR2944P) whose antennaCalibParams already corrects: calibrate
+    prints the antennaCalibParams form of the measurement too (Im, Re per chip virtual
+    antenna) and --write resets the profile's own to the identity, so the written profile
+    reads (one correction) and carries the measured coefficients."""
+    from radarsim.ti import parse_ti_cfg
+    from tests.radarsim.profiles import profile_text
+    ident = "antennaCalibParams " + " ".join(["0 1"] * 16)
+    text = profile_text("awr2944p_ddm").replace(ident, "antennaCalibParams " + " ".join(
+        ["0.1 0.9"] * 16))
+    prof_path = tmp_path / "ddm.cfg"
+    prof_path.write_text(text)
+    cfg = parse_ti_cfg(text).radar
+    r = 12 * cfg.range_resolution_m
+    cap = tmp_path / "ddm.bin"
+    write_capture(cap, _frames(_board(cfg), r, 0.0, 1.0, 2, 3), cfg=cfg)
+    out = tmp_path / "cal.cfg"
+    assert main(["calibrate", str(cap), "--cfg", str(prof_path), "--target-range-m", f"{r}",
+                 "--write", str(out)]) == 0
+    comp, calib = capsys.readouterr().out.splitlines()[:2]
+    assert comp.startswith("compRangeBiasAndRxChanPhase ")
+    assert calib.startswith("antennaCalibParams ") and len(calib.split()) == 1 + 32
+    re_im = [float(v) for v in comp.split()[2:]]
+    im_re = [float(v) for v in calib.split()[1:]]
+    assert re_im[0::2] == im_re[1::2] and re_im[1::2] == im_re[0::2]
+    written = parse_ti_cfg(out)
+    np.testing.assert_allclose(written.processing["channel_comp"],
+                               np.reshape(re_im, (-1, 2)), atol=1e-12)
+    assert ident in out.read_text()
