@@ -27,6 +27,12 @@ new peaks (issue 21: ghost rate 0.003 -> 0.107 on the head-on interference case)
     gap forward from its left and backward from its right; the two are cross-faded. A sum of
     fewer than ar_order / 2 real tones is reconstructed exactly; noise is not (the gap is
     filled with the echoes only).
+``lowrank``
+    The masked samples predicted from the chirp's kept samples by the frame's fast-time
+    signal subspace (the strongest components of the chirps no burst hit: every echo is the
+    same tone in every chirp), linear MMSE, the Rx of a chirp sharing one mask that grows
+    where the fit's residual shows the burst (`pipeline.interference_lowrank`). Exact for any
+    echo the subspace holds, off-grid tones and range-extended ones (a guard rail) alike.
 
 Every method but the chip's first closes the gaps of up to `close_gap_samples` between the
 flagged samples of a chirp: an interfering chirp sweeps through the IF band, so its burst is
@@ -47,14 +53,17 @@ References
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 import scipy.signal
 
 from scenarios.registries import Registry
 
+from .interference_lowrank import fast_time_basis, lowrank_fill
+
 __all__ = ["Mitigation", "MITIGATIONS", "get_mitigation", "widen", "close_gaps", "repair",
-           "CLOSE_GAP_SAMPLES", "EXTEND_SAMPLES"]
+           "FrameRows", "CLOSE_GAP_SAMPLES", "EXTEND_SAMPLES", "REFERENCE_ROWS"]
 
 
 def widen(flags: np.ndarray, hysteresis: int) -> np.ndarray:
@@ -81,6 +90,36 @@ def close_gaps(mask: np.ndarray, max_gap: int) -> np.ndarray:
     return mask | ((nxt - last - 1 <= max_gap) & (last >= 0) & (nxt < n))
 
 
+#: What a method can put into the masked samples (`Mitigation.fill`).
+FILLS = ("zero", "taper", "linear", "ar", "lowrank")
+
+
+class FrameRows(NamedTuple):
+    """Where the repaired rows sit in their frame (for the methods that learn from the frame)."""
+
+    samples: np.ndarray   # (N, n) every chirp x Rx row of the frame, as sampled (any offset)
+    rows: np.ndarray      # (R,) increasing indices of the repaired rows in `samples`
+    n_rx: int             # rows per chirp: row i is chirp i // n_rx, Rx i % n_rx
+
+
+#: Unflagged rows of the frame (evenly spread) the "lowrank" subspace is estimated from.
+REFERENCE_ROWS = 256
+
+
+def _reference(x: np.ndarray, frame: FrameRows | None, mask) -> np.ndarray:
+    """(N, n) rows without interference: up to REFERENCE_ROWS unflagged rows of the frame,
+    evenly spread; without a frame (or with too few clean rows), the repaired rows with their
+    masked samples (`mask()`, (R, n) bool) zeroed."""
+    if frame is not None:
+        clean = np.ones(len(frame.samples), dtype=bool)
+        clean[frame.rows] = False
+        idx = np.flatnonzero(clean)
+        if len(idx) >= 64:
+            idx = idx[np.linspace(0, len(idx) - 1, min(REFERENCE_ROWS, len(idx))).astype(np.intp)]
+            return frame.samples[idx].astype(x.dtype, copy=False)
+    return np.where(mask(), 0, x)
+
+
 @dataclass(frozen=True, kw_only=True, slots=True)
 class Mitigation:
     """One repair method (see the module docstring).
@@ -90,7 +129,7 @@ class Mitigation:
     name : str
     description : str
     fill : str
-        "zero", "taper", "linear" or "ar": what goes into the masked samples.
+        "zero", "taper", "linear", "ar" or "lowrank": what goes into the masked samples.
     compensate : bool
         Scale each repaired chirp by sum(w) / sum(w x kept fraction).
     close_gap_samples : int
@@ -113,6 +152,15 @@ class Mitigation:
         estimate is the mean of the whole chirp, burst included, and the offset it leaves in
         the repaired chirps only is a slow-time modulation at range bin 0-1 (ghosts at a few
         metres over every Doppler bin).
+    rank_max : int
+        "lowrank": at most this many fast-time components (besides the constant).
+    rank_snr_gate_db : float
+        "lowrank": a component is kept if its energy per row exceeds the noise's by this much.
+    grow_sigma : float
+        "lowrank": kept samples near the mask whose residual from the fit exceeds this many
+        noise standard deviations are masked too (0: never).
+    grow_reach_samples : int
+        "lowrank": how far from the mask a sample may be grown.
     """
 
     name: str
@@ -125,15 +173,24 @@ class Mitigation:
     taper_samples: int = 5
     recentre: bool = False
     cancel_tones: int = 0
+    rank_max: int = 24
+    rank_snr_gate_db: float = 10.0
+    grow_sigma: float = 0.0
+    grow_reach_samples: int = 32
 
     def __post_init__(self) -> None:
-        if self.fill not in ("zero", "taper", "linear", "ar"):
-            raise ValueError(f"fill={self.fill!r} is not one of zero, taper, linear, ar")
+        if self.fill not in FILLS:
+            raise ValueError(f"fill={self.fill!r} is not one of {', '.join(FILLS)}")
+        for f in ("rank_snr_gate_db", "grow_sigma"):
+            v = getattr(self, f)
+            if isinstance(v, bool) or not isinstance(v, (int, float)) or not np.isfinite(v) \
+                    or v < 0:
+                raise ValueError(f"{f}={v!r} must be a finite number >= 0")
         if not isinstance(self.recentre, bool) or not isinstance(self.compensate, bool):
             raise ValueError(f"recentre={self.recentre!r} and compensate="
                              f"{self.compensate!r} must be true or false")
         for f in ("close_gap_samples", "extend_samples", "ar_order", "taper_samples",
-                  "cancel_tones"):
+                  "cancel_tones", "rank_max", "grow_reach_samples"):
             v = getattr(self, f)
             if isinstance(v, bool) or not isinstance(v, int) or v < 0:
                 raise ValueError(f"{f}={v!r} must be an integer >= 0")
@@ -344,7 +401,8 @@ def _cancel(x: np.ndarray, mask: np.ndarray, freqs: np.ndarray,
 
 
 def repair(x: np.ndarray, flags: np.ndarray, window_: np.ndarray, hysteresis: int,
-           method: Mitigation, groups: np.ndarray | None = None) -> np.ndarray:
+           method: Mitigation, groups: np.ndarray | None = None,
+           frame: FrameRows | None = None) -> np.ndarray:
     """Repair flagged rows of DC-removed samples in place and return them.
 
     Parameters
@@ -359,13 +417,22 @@ def repair(x: np.ndarray, flags: np.ndarray, window_: np.ndarray, hysteresis: in
         The chip's hysteresis order, samples.
     method : Mitigation
     groups : (R,) int, optional
-        Row group (the Rx) whose rows share one AR model (default: one group).
+        Row group (the Rx) whose rows share one AR model (default: the Rx of `frame`'s rows,
+        else one group).
+    frame : FrameRows, optional
+        The frame the rows come from: "lowrank" learns the echoes from its unflagged rows and
+        unites the masks of the rows of one chirp (without it: from the repaired rows, each
+        row its own mask).
 
     Returns
     -------
     (R, n) same dtype as x
     """
+    if method.fill == "lowrank":
+        return _lowrank(x, flags, hysteresis, method, frame)
     mask = method.mask(flags, hysteresis)
+    if groups is None and frame is not None:
+        groups = frame.rows % frame.n_rx
     if method.recentre:
         kept = ~mask
         n_kept = np.maximum(kept.sum(-1, keepdims=True), 1)
@@ -393,6 +460,19 @@ def repair(x: np.ndarray, flags: np.ndarray, window_: np.ndarray, hysteresis: in
             (_taper_gain(mask, method.taper_samples) @ w if method.fill == "taper" else w.sum())
         x *= (w.sum() / np.maximum(kept, 1e-3 * w.sum())).astype(np.float32)[:, None]
     return x
+
+
+def _lowrank(x: np.ndarray, flags: np.ndarray, hysteresis: int, method: Mitigation,
+             frame: FrameRows | None) -> np.ndarray:
+    """`repair` with the "lowrank" fill (`pipeline.interference_lowrank`)."""
+    if not len(x):
+        return x
+    ref = _reference(x, frame, lambda: method.mask(flags, hysteresis))
+    basis = fast_time_basis(ref, method.rank_max, 10 ** (method.rank_snr_gate_db / 10))
+    bursts = np.arange(len(x)) if frame is None else frame.rows // frame.n_rx
+    return lowrank_fill(x, flags, bursts, basis, method.close_gap_samples,
+                        hysteresis + method.extend_samples, method.grow_sigma,
+                        method.grow_reach_samples)[0]
 
 
 #: Gaps closed between flagged samples by the methods that improve on the chip, samples: an
@@ -424,6 +504,11 @@ MITIGATIONS: Registry[Mitigation] = Registry(
                "forward and backward, cross-faded", fill="ar", ar_order=64, cancel_tones=4,
                close_gap_samples=CLOSE_GAP_SAMPLES,
                extend_samples=EXTEND_SAMPLES, recentre=True),
+    Mitigation(name="lowrank", description="the masked samples of each chirp predicted from "
+               "its kept ones by the frame's fast-time signal subspace (up to 24 components "
+               "of the unhit chirps, LMMSE), the Rx of a chirp sharing one mask, grown where "
+               "the fit's residual shows the burst", fill="lowrank",
+               close_gap_samples=CLOSE_GAP_SAMPLES, extend_samples=0, grow_sigma=5.0),
 ))
 
 

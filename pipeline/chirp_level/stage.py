@@ -24,7 +24,7 @@ from ..config import WINDOWS, ProcessingConfig
 from ..kernels import range_fft, window
 from .dc import remove_dc, window_spectrum
 from .ege import ege_compress
-from ..interference_repair import get_mitigation, repair
+from ..interference_repair import FrameRows, get_mitigation, repair
 from .interference import flagged_rows
 
 __all__ = ["range_stage", "shared_range_stage", "RANGE_STAGE_FIELDS"]
@@ -106,7 +106,7 @@ def _range_stage(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) -> n
         y = adc.reshape(-1, cfg.n_samples)[rows]
         y = y.astype(work) if dc is None else np.subtract(y, dc.reshape(-1, 1)[rows], dtype=work)
         repair(y, flags, win, proc.intf_hysteresis_samples, get_mitigation(proc.intf_mitigation),
-               groups=rows % cfg.n_rx)
+               frame=FrameRows(adc.reshape(-1, cfg.n_samples), rows, cfg.n_rx))
         y *= win
         x.reshape(-1, cfg.n_samples)[rows] = y
         if cplx:
