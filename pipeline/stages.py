@@ -25,7 +25,7 @@ from .config import WINDOWS, ProcessingConfig
 from .kernels import array_layout, cfar_peaks, estimate_angles, parabolic_offset
 
 __all__ = ["POINT_CLOUD_COLUMNS", "check_frame", "power_of", "log_power", "point_cloud",
-           "empty_cloud", "interp_azimuth", "interp_range", "array_dft", "row_offsets",
+           "empty_cloud", "interp_azimuth", "interp_range", "interp_doppler", "array_dft", "row_offsets",
            "array_likelihood", "hypothesis_cloud"]
 
 #: Columns of every point cloud, in order.
@@ -104,22 +104,21 @@ def interp_azimuth(power_az: np.ndarray, a: np.ndarray) -> np.ndarray:
     return 2.0 * k / n_fft
 
 
-@lru_cache(maxsize=8)
-def _offset_table(window_name: str) -> tuple[np.ndarray, np.ndarray]:
+@lru_cache(maxsize=32)
+def _offset_table(window_name: str, n: int = 512) -> tuple[np.ndarray, np.ndarray]:
     """(g, d): the log-parabola offset g a tone at fractional bin offset d gives through a
-    `window_name` (scipy name) range FFT, on a 401-point grid of d in [-0.5, 0.5]; g is
-    monotone for every registered window, so np.interp(g_measured, g, d) undoes the
+    `window_name` (scipy name) FFT of `n` points, on a 401-point grid of d in [-0.5, 0.5]; g
+    is monotone for every registered window, so np.interp(g_measured, g, d) undoes the
     interpolator's bias (Hann/Hamming up to 0.016 bin, Blackman 0.007, rectangular 0.167).
-    The kernel is the 512-point periodic window's (the bias changes by < 1e-4 bin from 64
-    points up)."""
+    Range uses the 512-point periodic window's kernel (the bias changes by < 1e-4 bin from 64
+    points up); Doppler the FFT's own length (slow time is often shorter)."""
     from scipy.signal import get_window
-    n = 512
     w = get_window(window_name, n, fftbins=True)
     d = np.linspace(-0.5, 0.5, 401)
     k = np.arange(-1, 2)
     x = (w * np.exp(2j * np.pi * (d[:, None, None] - k[None, :, None])
                     * np.arange(n) / n)).sum(axis=-1)
-    y = np.log(np.abs(x) ** 2)
+    y = np.log(np.maximum(np.abs(x) ** 2, np.finfo(float).tiny))  # rect at d = 0: exact zeros
     g = parabolic_offset(y[:, 0], y[:, 1], y[:, 2])
     g.setflags(write=False)
     d.setflags(write=False)
@@ -140,6 +139,31 @@ def interp_range(power_r: np.ndarray, r: np.ndarray, n_range: int,
         off = np.interp(off, g, d)
     off = np.where((r <= 0) | (r >= n_range - 1), 0.0, off)
     return r + off
+
+
+def interp_doppler(power_d: np.ndarray, window: str, n_fft: int) -> np.ndarray:
+    """Fractional Doppler offset (bins, in [-0.5, 0.5]) of peaks from their power at d-1, d,
+    d+1 (cyclic: every bin is interpolated), the log-parabola's bias for the Doppler window
+    undone as for range (`interp_range`, `_offset_table`).
+
+    Parameters
+    ----------
+    power_d : (n, 3) float
+        Power at d-1, d, d+1, or a sum of powers with one kernel (over Rx, or over the DDMA
+        Tx sub-bands: each term has the same shape, so the sum's log-parabola offset is one
+        term's).
+    window : str
+        scipy name of the Doppler window.
+    n_fft : int
+        Length of the Doppler FFT the window spans (no zero padding).
+
+    Returns
+    -------
+    (n,) float64
+    """
+    y = log_power(power_d)
+    g, d = _offset_table(window, int(n_fft))
+    return np.interp(parabolic_offset(y[:, 0], y[:, 1], y[:, 2]), g, d)
 
 
 @lru_cache(maxsize=16)
@@ -247,9 +271,9 @@ def noncoherent_hits(rd: np.ndarray, looks: int, proc: ProcessingConfig) -> Rang
                                      proc.min_range_bin)
     range_pos = interp_range(rd[np.clip(r[:, None] + np.arange(-1, 2), 0, n_range - 1),
                                 d[:, None]], r, n_range, WINDOWS[proc.range_window])
-    y = log_power(rd[r[:, None], (d[:, None] + np.arange(-1, 2)) % n_dop])
-    return RangeDopplerHits(r, d, noise, range_pos, parabolic_offset(y[:, 0], y[:, 1], y[:, 2]),
-                            looks)
+    doppler_off = interp_doppler(rd[r[:, None], (d[:, None] + np.arange(-1, 2)) % n_dop],
+                                 WINDOWS[proc.doppler_window], n_dop)
+    return RangeDopplerHits(r, d, noise, range_pos, doppler_off, looks)
 
 
 def hits_snr_db(hits: RangeDopplerHits, peak: np.ndarray, proc: ProcessingConfig,

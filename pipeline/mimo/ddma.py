@@ -24,9 +24,8 @@ from ..cfar import noise_mean_factor
 from ..chirp_level.stage import range_stage
 from ..compensation import compensate
 from ..config import WINDOWS, ProcessingConfig
-from ..kernels import (array_layout, cfar_peaks, ddma_metric, estimate_angles, parabolic_offset,
-                       window)
-from ..stages import (array_dft, empty_cloud, interp_azimuth, interp_range, log_power,
+from ..kernels import array_layout, cfar_peaks, ddma_metric, estimate_angles, window
+from ..stages import (array_dft, empty_cloud, interp_azimuth, interp_doppler, interp_range,
                       point_cloud, power_of, row_offsets)
 from .base import DetectionMap, DopplerAzimuth, MimoChain, register_chain
 
@@ -171,8 +170,8 @@ class DdmaChain(MimoChain):
         k_true = d + n_dop * tx1_band[d, r]
         offs = (k_true[:, None, None] + np.arange(-1, 2)[None, :, None]
                 + n_dop * np.arange(n_tx)[None, None, :]) % cfg.n_chirps
-        y = log_power(energy[r[:, None, None], offs].sum(axis=-1))  # (n, 3)
-        k_frac = k_true + parabolic_offset(y[:, 0], y[:, 1], y[:, 2])
+        k_frac = k_true + interp_doppler(energy[r[:, None, None], offs].sum(axis=-1),
+                                         WINDOWS[proc.doppler_window], cfg.n_chirps)
         velocity = doppler_velocity_mps(cfg, k_frac)
         # Angles.
         h_idx, h_pos, v_idx, v_pos, v_h = array_layout(cfg.virtual_positions_m,
