@@ -28,6 +28,7 @@ from ..kernels import array_layout, cfar_peaks, ddma_metric, estimate_angles, wi
 from ..stages import (array_dft, empty_cloud, interp_azimuth, interp_doppler, interp_range,
                       point_cloud, power_of, row_offsets)
 from .base import DetectionMap, DopplerAzimuth, MimoChain, register_chain
+from .ddma_order import DdmaDetections, ddma_virtual, resolve_tx_order
 
 __all__ = ["DdmaMaps", "DdmaChain", "full_doppler_spectrum", "ddma_maps", "ddma_virtual"]
 
@@ -101,20 +102,6 @@ def ddma_maps(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) -> Ddma
     return DdmaMaps(power=power, spec=spec, energy=energy, tx1_band=tx1_band)
 
 
-def ddma_virtual(cfg: RadarConfig, spec: np.ndarray, tx1_band: np.ndarray, r: np.ndarray,
-                 d: np.ndarray) -> np.ndarray:
-    """(n, n_virtual) demodulated virtual-antenna samples at range bins r, Doppler bins d, in
-    the order Tx1Rx1..Rx4, Tx3.., Tx4.., Tx2.. (seed 000 section 5.4).
-
-    tx1_band : (n_dop, n_range) int, or (n,) int already taken at (d, r)."""
-    n_dop = cfg.n_chirps // cfg.n_subbands
-    b = tx1_band[d, r] if tx1_band.ndim == 2 else tx1_band
-    band = (b[:, None] + np.arange(cfg.n_tx)) % cfg.n_subbands  # (n, P)
-    chirp_bin = band * n_dop + d[:, None]
-    return spec[r[:, None, None], np.arange(cfg.n_rx)[None, None, :],
-                chirp_bin[:, :, None]].reshape(r.size, -1)
-
-
 def doppler_velocity_mps(cfg: RadarConfig, k: np.ndarray) -> np.ndarray:
     """Radial velocity of (fractional) bins k of the full n_chirps-point Doppler FFT at Tc,
     wrapped to +/- lambda / (4 Tc), m/s (receding = negative Doppler frequency, DESIGN 3)."""
@@ -160,14 +147,23 @@ class DdmaChain(MimoChain):
         a, r, d, noise, peak = coherent_detections(power, proc)
         if r.size == 0:
             return empty_cloud()
-
-        # Range: interpolate on the coherent map at the same (Doppler, azimuth) cell.
         pr = power[a[:, None], np.clip(r[:, None] + np.arange(-1, 2), 0, n_range - 1),
                    d[:, None]]
-        range_pos = interp_range(pr, r, n_range, WINDOWS[proc.range_window])
+        # The Tx order of each detection, decided again on the Rx beam at its own azimuth
+        # (`ddma_order`): a weaker return one sub-band off in the same range bin is otherwise
+        # read in the stronger one's order and reported at its velocity.
+        det = resolve_tx_order(cfg, proc, maps.spec, energy,
+                               DdmaDetections(a, r, d, tx1_band[d, r], noise, peak,
+                                              power[:, r, d].T, pr))
+        a, r, d, band, noise, peak = det.a, det.r, det.d, det.band, det.noise, det.peak
+        if r.size == 0:
+            return empty_cloud()
+
+        # Range: interpolate on the coherent map at the same (Doppler, azimuth) cell.
+        range_pos = interp_range(det.power_range, r, n_range, WINDOWS[proc.range_window])
         # Doppler: true bin d + n_dop x (Tx1 band); interpolate on the Rx-summed energy of all
         # Tx.
-        k_true = d + n_dop * tx1_band[d, r]
+        k_true = d + n_dop * band
         offs = (k_true[:, None, None] + np.arange(-1, 2)[None, :, None]
                 + n_dop * np.arange(n_tx)[None, None, :]) % cfg.n_chirps
         k_frac = k_true + interp_doppler(energy[r[:, None, None], offs].sum(axis=-1),
@@ -176,8 +172,8 @@ class DdmaChain(MimoChain):
         # Angles.
         h_idx, h_pos, v_idx, v_pos, v_h = array_layout(cfg.virtual_positions_m,
                                                        cfg.wavelength_m)
-        sin_term = interp_azimuth(power[:, r, d].T, a)
-        virt = compensate(cfg, proc, ddma_virtual(cfg, maps.spec, tx1_band, r, d))
+        sin_term = interp_azimuth(det.power_az, a)
+        virt = compensate(cfg, proc, ddma_virtual(cfg, maps.spec, band, r, d))
         az, el = estimate_angles(virt, sin_term, h_idx, h_pos, v_idx, v_pos, v_h)
         snr_db = coherent_snr_db(proc, noise, peak)
         return point_cloud(cfg, proc, range_pos, velocity, az, el, snr_db,
