@@ -287,57 +287,123 @@ def cast_rays(grid: RayGridConfig, centres_m, half_sizes_m, yaws_rad, *,
                     np.zeros(0, int), np.zeros(0, int), np.zeros((0, 3)))
     if c.shape[0] == 0:
         return empty
+    ia0, n_a, ie0, n_e = _window_indices(grid, az, el, c, h, yaw)
+    pairs = _window_pairs(ia0, n_a, ie0, n_e)
+    if pairs is None:
+        return empty
+    box, ie, col, n_per_box, n_per_col = pairs
+    # Trigonometry once per grid line, then gathered per (ray, box) pair.
+    cos_e, sin_e, cos_a, sin_a = np.cos(el), np.sin(el), np.cos(az), np.sin(az)
+    ce = cos_e[ie]
+    dx = ce * np.repeat(cos_a[col], n_per_col)
+    dy = ce * np.repeat(sin_a[col], n_per_col)
+    dz = sin_e[ie]
+    # Box-local frames once per box; per pair only the rotation of the ray direction.
+    cy, sy = (np.repeat(v, n_per_box) for v in (np.cos(yaw), np.sin(yaw)))
+    d_local = (cy * dx + sy * dy, -sy * dx + cy * dy, dz)
+    with np.errstate(divide="ignore"):
+        inv_z = 1.0 / sin_e      # per grid row: the same quotient as 1 / dz per pair
+    t_in, t_out, near = _slab_pairs(d_local, inv_z[ie], _cols(_to_local(-c, yaw)), _cols(h),
+                                    n_per_box)
+    hit = (t_in <= t_out) & (t_in > 0)
+    hit &= t_in <= max_range_m
+    ia = np.repeat(col, n_per_col)
+    keep = np.flatnonzero(hit)[_nearest_per_ray((ie * na + ia)[hit], t_in[hit], na * ne)]
+    dirs = np.stack([dx[keep], dy[keep], dz[keep]], axis=-1)
+    b = box[keep]
+    f = _entry_face(tuple(n[keep] for n in near), tuple(d[keep] for d in d_local))
+    n_local = FACE_NORMALS_LOCAL[f]
+    cb, sb = np.cos(yaw)[b], np.sin(yaw)[b]
+    normal = np.stack([cb * n_local[:, 0] - sb * n_local[:, 1],
+                       sb * n_local[:, 0] + cb * n_local[:, 1], n_local[:, 2]], axis=-1)
+    return RayHits(ia[keep], ie[keep], dirs, t_in[keep], b, f, normal)
+
+
+def _nearest_per_ray(ray: np.ndarray, t: np.ndarray, n_rays: int) -> np.ndarray:
+    """Index of the nearest of the hits of each ray (ray (H,) int in [0, n_rays), t (H,) m),
+    in increasing ray order.
+
+    The order key is ray + t scaled into [0, 0.5) (float64 keeps ~1e-8 m of t resolution for
+    grids of up to 1e6 rays); of equal keys the earliest hit wins: exactly the first of each ray
+    after a stable sort on the key, found with two scatter-minimums instead of a sort.
+    """
+    if ray.size == 0:
+        return np.zeros(0, dtype=np.int64)
+    key = ray + t * (0.5 / (float(t.max()) + 1.0))
+    best = np.full(n_rays, np.inf)
+    np.minimum.at(best, ray, key)
+    cand = np.flatnonzero(key == best[ray])
+    first = np.full(n_rays, ray.size, dtype=np.int64)
+    np.minimum.at(first, ray[cand], cand)
+    return first[first < ray.size]
+
+
+def _window_indices(grid: RayGridConfig, az, el, c, h, yaw):
+    """First grid column / row and number of columns / rows of each box's window (B,) each."""
     az_lo, az_hi, el_lo, el_hi = box_windows(c, h, yaw)
+    na, ne = az.size, el.size
     a_step = np.radians(grid.azimuth_step_deg)
     e_step = np.radians(grid.elevation_step_deg)
     ia0 = np.clip(np.ceil((az_lo - az[0]) / a_step - 1e-9), 0, na).astype(np.int64)
     ia1 = np.clip(np.floor((az_hi - az[0]) / a_step + 1e-9) + 1, 0, na).astype(np.int64)
     ie0 = np.clip(np.ceil((el_lo - el[0]) / e_step - 1e-9), 0, ne).astype(np.int64)
     ie1 = np.clip(np.floor((el_hi - el[0]) / e_step + 1e-9) + 1, 0, ne).astype(np.int64)
-    n_a = np.maximum(ia1 - ia0, 0)
-    n_e = np.maximum(ie1 - ie0, 0)
-    counts = n_a * n_e
-    total = int(counts.sum())
+    return ia0, np.maximum(ia1 - ia0, 0), ie0, np.maximum(ie1 - ie0, 0)
+
+
+def _window_pairs(ia0, n_a, ie0, n_e):
+    """Every (ray, box) pair of every window, box by box, column-major inside a window.
+
+    Returns None when no window holds a ray; else box (P,) and grid row (P,) of each pair, grid
+    column (W,) of each of the W window columns, pairs per box (B,) and per window column (W,):
+    the pairs are enumerated column by column, so per-column values spread with `np.repeat`.
+    """
+    n_per_box = n_a * n_e
+    total = int(n_per_box.sum())
     if total == 0:
-        return empty
-    # All (ray, box) pairs of all windows at once: box index repeated by window size, and the
-    # position inside the window from a running index.
-    box = np.repeat(np.arange(c.shape[0]), counts)
-    starts = np.cumsum(counts) - counts
-    local = np.arange(total) - starts[box]
-    ja, je = np.divmod(local, n_e[box])
-    ia = ia0[box] + ja
-    ie = ie0[box] + je
-    # Trigonometry once per grid line, then gathered per (ray, box) pair.
-    cos_e, sin_e, cos_a, sin_a = np.cos(el), np.sin(el), np.cos(az), np.sin(az)
-    ce = cos_e[ie]
-    dx, dy, dz = ce * cos_a[ia], ce * sin_a[ia], sin_e[ie]
-    # Box-local frames once per box; per pair only the rotation of the ray direction.
-    cy, sy = np.cos(yaw)[box], np.sin(yaw)[box]
-    o_box = _to_local(-c, yaw)
-    t_in, hit, face = _local_intersect((cy * dx + sy * dy, -sy * dx + cy * dy, dz),
-                                       tuple(o[box] for o in _cols(o_box)),
-                                       tuple(x[box] for x in _cols(h)))
-    hit &= t_in <= max_range_m
-    ray = (ie * na + ia)[hit]
-    t_h = t_in[hit]
-    # Nearest hit per ray: sort by (ray, t) and keep the first of each ray.
-    # One float sort on ray + t scaled into [0, 0.5) instead of a two-key lexsort (float64
-    # keeps ~1e-8 m of t resolution for grids of up to 1e6 rays).
-    scale = 0.5 / (float(t_h.max(initial=0.0)) + 1.0)
-    order = np.argsort(ray + t_h * scale, kind="stable")
-    ray_s = ray[order]
-    first = np.ones(ray_s.size, dtype=bool)
-    first[1:] = ray_s[1:] != ray_s[:-1]
-    keep = np.flatnonzero(hit)[order[first]]
-    dirs = np.stack([dx[keep], dy[keep], dz[keep]], axis=-1)
-    b = box[keep]
-    f = face[keep]
-    n_local = FACE_NORMALS_LOCAL[f]
-    cb, sb = np.cos(yaw[b]), np.sin(yaw[b])
-    normal = np.stack([cb * n_local[:, 0] - sb * n_local[:, 1],
-                       sb * n_local[:, 0] + cb * n_local[:, 1], n_local[:, 2]], axis=-1)
-    return RayHits(ia[keep], ie[keep], dirs, t_in[keep], b, f, normal)
+        return None
+    box = np.repeat(np.arange(n_a.size), n_per_box)
+    col_box = np.repeat(np.arange(n_a.size), n_a)
+    col = ia0[col_box] + (np.arange(col_box.size) - np.repeat(np.cumsum(n_a) - n_a, n_a))
+    n_per_col = n_e[col_box]
+    row0 = np.repeat(ie0[col_box] - (np.cumsum(n_per_col) - n_per_col), n_per_col)
+    return box, row0 + np.arange(total), col, n_per_box, n_per_col
+
+
+def _slab_pairs(d_local, inv_z, o_box, half_box, n_per_box):
+    """Slab test of P (ray, box) pairs, box constants spread per pair with `np.repeat`.
+
+    The same arithmetic as `_slab` (t = (+-h - o) / d per axis, NaN of 0 * inf read as inside
+    the slab), with the per-box offsets (-h - o, h - o) formed once per box and the z
+    reciprocal once per grid row. Returns t_in, t_out and the per-axis entry distances.
+    """
+    near, far = [], []
+    for axis, (o, h) in enumerate(zip(o_box, half_box)):
+        lo, hi = -h - o, h - o
+        if axis < 2:
+            with np.errstate(divide="ignore"):
+                inv = 1.0 / d_local[axis]
+        else:
+            inv = inv_z
+        with np.errstate(invalid="ignore"):
+            t1 = np.repeat(lo, n_per_box) * inv
+            t2 = np.repeat(hi, n_per_box) * inv
+        if not (np.all(lo != 0) and np.all(hi != 0)):   # 0 * inf: origin on a slab plane
+            t1 = np.where(np.isnan(t1), -np.inf, t1)
+            t2 = np.where(np.isnan(t2), np.inf, t2)
+        near.append(np.minimum(t1, t2))
+        far.append(np.maximum(t1, t2))
+    t_in = np.maximum(np.maximum(near[0], near[1]), near[2])
+    t_out = np.minimum(np.minimum(far[0], far[1]), far[2])
+    return t_in, t_out, tuple(near)
+
+
+def _entry_face(near, d_local):
+    """Entry face id of hits from their per-axis entry distances and local directions."""
+    nx, ny, nz = near
+    axis = np.where((nx >= ny) & (nx >= nz), 0, np.where(ny >= nz, 1, 2))  # first maximum
+    d_axis = np.where(axis == 0, d_local[0], np.where(axis == 1, d_local[1], d_local[2]))
+    return 2 * axis + (d_axis > 0)
 
 
 def segments_blocked(starts_m, ends_m, centres_m, half_sizes_m, yaws_rad, *, ignore=None,

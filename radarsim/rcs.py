@@ -197,6 +197,15 @@ class RcsConfig:
 
 
 _DEFAULT_CONFIG = RcsConfig()
+
+
+def _row_norm(a: np.ndarray) -> np.ndarray:
+    """(N,) Euclidean norm of the rows of (N, 3) `a`: the same sum (x^2 + y^2) + z^2 as
+    `np.linalg.norm(a, axis=1)`, without its strided reduction (several times faster)."""
+    x, y, z = a[:, 0], a[:, 1], a[:, 2]
+    return np.sqrt(x * x + y * y + z * z)
+
+
 _BOX_FIELDS = ("actor_id", "cls", "centre", "half", "yaw", "velocity", "code")
 
 
@@ -232,7 +241,7 @@ def _visible_centres(boxes: ActorBoxes, cfg: RcsConfig, rng: np.random.Generator
     box, local, n_local, rcs0, lobe = centres
     pos = rotate_yaw(local, boxes.yaw[box]) + boxes.centre[box]
     normal = rotate_yaw(n_local, boxes.yaw[box])
-    r = np.linalg.norm(pos, axis=1)
+    r = _row_norm(pos)
     u = pos / np.maximum(r, 1e-9)[:, None]
     cos_inc = -np.einsum("cd,cd->c", u, normal)
     ray_box = np.full(az_grid.size * el_grid.size, -1, dtype=np.int64)
@@ -302,7 +311,7 @@ def _merge(actor_key: np.ndarray, pos: np.ndarray, rcs: np.ndarray, cfg: RcsConf
     `actor_key` (P,) holds non-negative integers (box indices).
     Returns (first index of each cell (M,), position (M, 3), rcs (M,)).
     """
-    r = np.linalg.norm(pos, axis=1)
+    r = _row_norm(pos)
     az = np.degrees(np.arctan2(pos[:, 1], pos[:, 0]))
     el = np.degrees(np.arcsin(np.clip(pos[:, 2] / np.maximum(r, 1e-9), -1, 1)))
     group = np.asarray(actor_key, dtype=np.int64)   # box indices: 0 <= key < B
@@ -405,7 +414,7 @@ def scene_scatterers(truth_frame: pd.DataFrame, rng: np.random.Generator,
                                   rng=rng))
     sc = Scatterers.concatenate(out)
     if cfg.cull_rcs_at_100m_m2 > 0 and len(sc):
-        keep = sc.rcs_m2 * (100.0 / sc.range_m) ** 4 >= cfg.cull_rcs_at_100m_m2
+        keep = sc.rcs_m2 * (100.0 / _row_norm(sc.position_m)) ** 4 >= cfg.cull_rcs_at_100m_m2
         if not keep.all():
             sc = Scatterers(sc.position_m[keep], sc.velocity_mps[keep], sc.rcs_m2[keep],
                             sc.actor_id[keep])
