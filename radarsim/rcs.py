@@ -71,8 +71,8 @@ from scenarios.checks import require
 from .multipath import MULTIPATH_ACTOR_ID, rail_ghosts, two_ray_power_factor
 from .raycast import RayGridConfig, cast_rays
 from .rcs_classes import (CLASS_RCS, POST_SPACING_M, REQUIRED_COLUMNS,  # noqa: F401
-                          ActorBoxes, ClassRcs, actor_boxes, class_param, geometric_total_rcs,
-                          radar_angles, rotate_yaw, strong_centres)
+                          ActorBoxes, CentreIncidence, ClassRcs, actor_boxes, centre_incidence,
+                          class_param, geometric_total_rcs, radar_angles, strong_centres)
 from .rcs_patterns import lognormal_mu_db
 from .road_clutter import GROUND_ACTOR_ID, ground_clutter
 from .scatterers import Scatterers
@@ -210,16 +210,16 @@ _BOX_FIELDS = ("actor_id", "cls", "centre", "half", "yaw", "velocity", "code")
 
 
 def _actor_scale(boxes: ActorBoxes, cfg: RcsConfig, rng: np.random.Generator,
-                 centres) -> np.ndarray:
+                 centres, incidence: CentreIncidence) -> np.ndarray:
     """(B,) factor on every patch and centre of each box: pattern level over the facet total
     (or the class gain) times the actor's log-normal fluctuation of this frame. `centres`:
-    `strong_centres(boxes)`."""
+    `strong_centres(boxes)`, `incidence`: `centre_incidence(boxes, centres)`."""
     n = boxes.centre.shape[0]
     scale = class_param(boxes.code, "gain")
     patterned = class_param(boxes.code, "has_pattern") > 0
     if patterned.any():
         phi, theta = radar_angles(boxes)
-        total = geometric_total_rcs(boxes, centres)
+        total = geometric_total_rcs(boxes, centres, incidence=incidence, only=patterned)
         for code in np.unique(boxes.code[patterned]):
             m = boxes.code == code
             pattern = list(CLASS_RCS.values())[code].pattern
@@ -233,24 +233,21 @@ def _actor_scale(boxes: ActorBoxes, cfg: RcsConfig, rng: np.random.Generator,
 
 
 def _visible_centres(boxes: ActorBoxes, cfg: RcsConfig, rng: np.random.Generator, hits,
-                     az_grid: np.ndarray, el_grid: np.ndarray, scale: np.ndarray, centres):
+                     az_grid: np.ndarray, el_grid: np.ndarray, scale: np.ndarray, centres,
+                     incidence: CentreIncidence):
     """Strong centres that face the radar, lie in the grid's field of view and are not occluded.
 
     Returns (box (C,), position (C, 3), rcs (C,)) in the radar frame, `scale` (B,) applied.
     """
-    box, local, n_local, rcs0, lobe = centres
-    pos = rotate_yaw(local, boxes.yaw[box]) + boxes.centre[box]
-    normal = rotate_yaw(n_local, boxes.yaw[box])
-    r = _row_norm(pos)
-    u = pos / np.maximum(r, 1e-9)[:, None]
-    cos_inc = -np.einsum("cd,cd->c", u, normal)
+    box, rcs0, lobe = centres[0], centres[3], centres[4]
+    pos, r, cos_inc = incidence.position_m, incidence.range_m, incidence.cos_inc
     ray_box = np.full(az_grid.size * el_grid.size, -1, dtype=np.int64)
     ray_t = np.full(az_grid.size * el_grid.size, np.inf)
     hit_ray = hits.elevation_index * az_grid.size + hits.azimuth_index
     ray_box[hit_ray] = hits.box
     ray_t[hit_ray] = hits.t_m
     az = np.degrees(np.arctan2(pos[:, 1], pos[:, 0]))
-    el = np.degrees(np.arcsin(np.clip(u[:, 2], -1, 1)))
+    el = np.degrees(np.arcsin(np.clip(pos[:, 2] / np.maximum(r, 1e-9), -1, 1)))
     g = cfg.grid
     ok = ((cos_inc > 0) & (r > 0.1) & (r < cfg.max_range_m) & (np.abs(az) <= g.azimuth_limit_deg)
           & (el >= g.elevation_min_deg) & (el <= g.elevation_max_deg))
@@ -283,16 +280,17 @@ def _patch_rcs(hits, boxes: ActorBoxes, cfg: RcsConfig, scale: np.ndarray) -> np
     Classes calibrated by a gain keep each ray's own incidence (a long truck side seen at 30 m
     spans +/-15 deg of incidence and glints only near its middle), as their gains were fit.
     """
-    code, b = boxes.code, hits.box
+    b = hits.box
+    code = boxes.code[b]
     u_c = boxes.centre / np.maximum(np.linalg.norm(boxes.centre, axis=1), 1e-9)[:, None]
-    far = class_param(code, "has_pattern")[b] > 0
+    far = class_param(code, "has_pattern") > 0
     u = np.where(far[:, None], u_c[b], hits.direction)
     cos_inc = np.clip(-np.einsum("hd,hd->h", u, hits.normal), 0.0, 1.0)
     theta = np.arccos(cos_inc)
     omega = cfg.grid.solid_angle_sr * np.sqrt(1 - hits.direction[:, 2] ** 2)
-    mu = class_param(code, "diffuse_m2_per_m2")[b]
-    s = class_param(code, "specular_m2_per_m2")[b]
-    w = np.radians(class_param(code, "specular_width_deg"))[b]
+    mu = class_param(code, "diffuse_m2_per_m2")
+    s = class_param(code, "specular_m2_per_m2")
+    w = np.radians(class_param(code, "specular_width_deg"))
     # A = t^2 Omega / cos(theta); sigma = A (mu cos^2 + S lobe), written without dividing by 0.
     density = (mu * cos_inc + s * np.exp(-(theta / w) ** 2) / np.maximum(cos_inc, 0.05))
     return hits.t_m ** 2 * omega * density * scale[b]
@@ -375,7 +373,8 @@ def scene_scatterers(truth_frame: pd.DataFrame, rng: np.random.Generator,
     boxes = ActorBoxes(*(getattr(boxes, f)[near] for f in _BOX_FIELDS))
     a_off, e_off = rng.random(2) if cfg.dither else (0.0, 0.0)
     centres = strong_centres(boxes)
-    scale = _actor_scale(boxes, cfg, rng, centres)
+    incidence = centre_incidence(boxes, centres)
+    scale = _actor_scale(boxes, cfg, rng, centres, incidence)
     hits = cast_rays(cfg.grid, boxes.centre, boxes.half, boxes.yaw, azimuth_offset=a_off,
                      elevation_offset=e_off, max_range_m=cfg.max_range_m)
     parts = []
@@ -384,7 +383,8 @@ def scene_scatterers(truth_frame: pd.DataFrame, rng: np.random.Generator,
         p_rcs = _patch_rcs(hits, boxes, cfg, scale)
         c_box, c_pos, c_rcs = _visible_centres(boxes, cfg, rng, hits,
                                                cfg.grid.azimuths_rad(a_off),
-                                               cfg.grid.elevations_rad(e_off), scale, centres)
+                                               cfg.grid.elevations_rad(e_off), scale, centres,
+                                               incidence)
         box = np.concatenate([hits.box, c_box])
         pos = np.concatenate([hits.point_m, c_pos])
         rcs = np.concatenate([p_rcs, c_rcs])

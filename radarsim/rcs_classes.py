@@ -10,6 +10,7 @@ published pattern (`radarsim.rcs_patterns`). Angles and the model itself are des
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 import pandas as pd
@@ -21,7 +22,7 @@ from .rcs_patterns import HUMAN_TR38901, VEHICLE_TR38901, Tr38901Pattern
 
 __all__ = ["ClassRcs", "CLASS_RCS", "REQUIRED_COLUMNS", "POST_SPACING_M", "ActorBoxes",
            "actor_boxes", "strong_centres", "radar_angles", "geometric_total_rcs",
-           "class_param", "rotate_yaw"]
+           "class_param", "rotate_yaw", "CentreIncidence", "centre_incidence"]
 
 #: Guard-rail post spacing, m (2 m for high containment levels, 4 m common on motorways).
 POST_SPACING_M = 4.0
@@ -132,27 +133,48 @@ def actor_boxes(truth_frame: pd.DataFrame) -> ActorBoxes:
     unknown = sorted(set(cls) - set(CLASS_RCS))
     if unknown:
         raise ValueError(f"actor_class {unknown} unknown; known: {sorted(CLASS_RCS)}")
-    v = truth_frame
     index = {name: i for i, name in enumerate(CLASS_RCS)}
     code = np.array([index[c] for c in cls], dtype=np.int64)
-    centre = np.column_stack([v["x_radar_m"], v["y_radar_m"], v["z_radar_m"]]).astype(float)
-    half = 0.5 * np.column_stack([v["length_m"], v["width_m"], v["height_m"]]).astype(float)
-    vel = np.column_stack([v["vx_radar_mps"], v["vy_radar_mps"],
-                           np.zeros(len(v))]).astype(float)
-    return ActorBoxes(v["actor_id"].to_numpy(dtype=np.int64), cls, centre.reshape(-1, 3),
-                      half.reshape(-1, 3), np.radians(v["yaw_radar_deg"].to_numpy(dtype=float)),
-                      vel.reshape(-1, 3), code)
+    # One block read of the numeric columns (the per-column Series access dominated).
+    num = truth_frame[list(_NUMERIC_COLUMNS)].to_numpy(dtype=np.float64)
+    centre = np.ascontiguousarray(num[:, 0:3])
+    half = 0.5 * num[:, 3:6]
+    vel = np.column_stack([num[:, 6:8], np.zeros(len(num))])
+    return ActorBoxes(truth_frame["actor_id"].to_numpy(dtype=np.int64), cls, centre, half,
+                      np.radians(num[:, 8]), vel, code)
+
+
+#: Numeric truth columns `actor_boxes` reads, in the order it slices them.
+_NUMERIC_COLUMNS = ("x_radar_m", "y_radar_m", "z_radar_m", "length_m", "width_m", "height_m",
+                    "vx_radar_mps", "vy_radar_mps", "yaw_radar_deg")
+
+
+_TABLES: dict = {"classes": (), "tables": {}}
+
+
+def _class_table(name: str) -> np.ndarray:
+    """(n_classes,) parameter `name` of every registered class, rebuilt whenever the registry's
+    entries change (a registry edit in a test or a plugin is seen at the next call)."""
+    classes = tuple(CLASS_RCS.values())
+    if len(classes) != len(_TABLES["classes"]) \
+            or any(a is not b for a, b in zip(classes, _TABLES["classes"])):
+        _TABLES["classes"], _TABLES["tables"] = classes, {}
+    table = _TABLES["tables"].get(name)
+    if table is None:
+        if name == "has_pattern":
+            values = [float(c.pattern is not None) for c in classes]
+        else:
+            values = [getattr(c, name) for c in classes]
+        table = _TABLES["tables"][name] = np.asarray(values, dtype=np.float64)
+        table.setflags(write=False)
+    return table
 
 
 def class_param(code: np.ndarray, name: str) -> np.ndarray:
     """(B,) parameter `name` of each box's class, from the boxes' class codes
     (`ActorBoxes.code`); `name` "has_pattern" gives whether the class has a published
     pattern (1.0) or not (0.0)."""
-    if name == "has_pattern":
-        table = [float(c.pattern is not None) for c in CLASS_RCS.values()]
-    else:
-        table = [getattr(c, name) for c in CLASS_RCS.values()]
-    return np.asarray(table, dtype=np.float64)[code]
+    return _class_table(name)[code]
 
 
 def strong_centres(boxes: ActorBoxes):
@@ -172,8 +194,6 @@ def strong_centres(boxes: ActorBoxes):
         Gaussian lobe width around `normal_local`, deg.
     """
     parts = []
-    n_box = boxes.centre.shape[0]
-    idx = np.arange(n_box)
     hx, hy, hz = boxes.half[:, 0], boxes.half[:, 1], boxes.half[:, 2]
     cls = boxes.cls
     wheel = class_param(boxes.code, "wheel_rcs_m2")
@@ -181,30 +201,29 @@ def strong_centres(boxes: ActorBoxes):
     plate = class_param(boxes.code, "plate_rcs_m2")
     is_rail = cls == "guard_rail"
     is_truck = cls == "truck"
+
+    def add(rows, x, y, z, normal, rcs, lobe_deg):
+        parts.append((rows, np.column_stack([x, y, z]), np.broadcast_to(normal, (rows.size, 3)),
+                      rcs, np.full(rows.size, lobe_deg)))
+
     # Wheels on both sides near each axle, 0.35 m up (trucks: three axles).
     for fx in (-0.64, 0.64, 0.0):
+        rows = np.flatnonzero((wheel > 0) & ~is_rail & ((fx != 0.0) | is_truck))
+        z = -hz[rows] + np.minimum(0.35, hz[rows])
         for sy in (-1.0, 1.0):
-            keep = (wheel > 0) & ~is_rail & ((fx != 0.0) | is_truck)
-            z = -hz + np.minimum(0.35, hz)
-            parts.append((idx[keep], np.column_stack([fx * hx, sy * hy, z])[keep],
-                          np.tile([0.0, sy, 0.0], (n_box, 1))[keep], wheel[keep],
-                          np.full(n_box, 50.0)[keep]))
+            add(rows, fx * hx[rows], sy * hy[rows], z, (0.0, sy, 0.0), wheel[rows], 50.0)
     # Vertical corner edges: dihedral between bumper and side, radiating along the diagonal.
+    rows = np.flatnonzero(corner > 0)
+    z = -hz[rows] + np.minimum(0.5, hz[rows])
     for sx in (-1.0, 1.0):
         for sy in (-1.0, 1.0):
-            keep = corner > 0
-            diag = np.array([sx, sy, 0.0]) / np.sqrt(2)
-            z = -hz + np.minimum(0.5, hz)
-            parts.append((idx[keep], np.column_stack([sx * hx, sy * hy, z])[keep],
-                          np.tile(diag, (n_box, 1))[keep], corner[keep],
-                          np.full(n_box, 35.0)[keep]))
+            add(rows, sx * hx[rows], sy * hy[rows], z, np.array([sx, sy, 0.0]) / np.sqrt(2),
+                corner[rows], 35.0)
     # Plate / rear structure on the front and rear faces.
+    rows = np.flatnonzero(plate > 0)
+    z = -hz[rows] + np.minimum(0.5, hz[rows])
     for sx in (-1.0, 1.0):
-        keep = plate > 0
-        z = -hz + np.minimum(0.5, hz)
-        parts.append((idx[keep], np.column_stack([sx * hx, np.zeros(n_box), z])[keep],
-                      np.tile([sx, 0.0, 0.0], (n_box, 1))[keep], plate[keep],
-                      np.full(n_box, 12.0)[keep]))
+        add(rows, sx * hx[rows], np.zeros(rows.size), z, (sx, 0.0, 0.0), plate[rows], 12.0)
     # Guard-rail posts every POST_SPACING_M on both long faces (the beam is the box itself).
     if np.any(is_rail):
         rb = np.flatnonzero(is_rail)
@@ -213,9 +232,7 @@ def strong_centres(boxes: ActorBoxes):
         k = np.arange(n_posts.sum()) - np.repeat(np.cumsum(n_posts) - n_posts, n_posts)
         px = -hx[pb] + 0.5 * POST_SPACING_M + POST_SPACING_M * k
         for sy in (-1.0, 1.0):
-            parts.append((pb, np.column_stack([px, sy * hy[pb], np.zeros(pb.size)]),
-                          np.tile([0.0, sy, 0.0], (pb.size, 1)), wheel[pb],
-                          np.full(pb.size, 35.0)))
+            add(pb, px, sy * hy[pb], np.zeros(pb.size), (0.0, sy, 0.0), wheel[pb], 35.0)
     box = np.concatenate([p[0] for p in parts]).astype(np.int64)
     return (box, np.concatenate([p[1] for p in parts]).reshape(-1, 3),
             np.concatenate([p[2] for p in parts]).reshape(-1, 3),
@@ -245,35 +262,65 @@ def radar_angles(boxes: ActorBoxes) -> tuple[np.ndarray, np.ndarray]:
             np.degrees(np.arctan2(np.hypot(ux, uy), o[:, 2])))
 
 
-def geometric_total_rcs(boxes: ActorBoxes, centres=None) -> np.ndarray:
+class CentreIncidence(NamedTuple):
+    """Strong centres placed in the radar frame (C centres of `strong_centres`)."""
+
+    position_m: np.ndarray   # (C, 3) radar frame, m
+    normal: np.ndarray       # (C, 3) unit direction the centre radiates around, radar frame
+    range_m: np.ndarray      # (C,) distance from the radar, m
+    cos_inc: np.ndarray      # (C,) cosine between the normal and the direction to the radar
+
+
+def centre_incidence(boxes: ActorBoxes, centres) -> CentreIncidence:
+    """Radar-frame position, normal, range and incidence cosine of every strong centre
+    (`centres`: `strong_centres(boxes)`), shared by the facet total and the visibility test."""
+    box, local, n_local = centres[0], centres[1], centres[2]
+    pos = rotate_yaw(local, boxes.yaw[box]) + boxes.centre[box]
+    normal = rotate_yaw(n_local, boxes.yaw[box])
+    x, y, z = pos[:, 0], pos[:, 1], pos[:, 2]
+    r = np.sqrt(x * x + y * y + z * z)     # the sum np.linalg.norm(pos, axis=1) forms
+    cos_inc = -np.einsum("cd,cd->c", pos / np.maximum(r, 1e-9)[:, None], normal)
+    return CentreIncidence(pos, normal, r, cos_inc)
+
+
+def geometric_total_rcs(boxes: ActorBoxes, centres=None, *, incidence=None,
+                        only=None) -> np.ndarray:
     """(B,) facet-model RCS of each box alone (no occluder, no gain, no fluctuation), m^2.
 
     Closed form of what the ray cast sums for an unoccluded box: a face of area A seen at
     incidence theta collects rays over its projected area A cos(theta), each patch carrying
     t^2 Omega (mu cos(theta) + S lobe(theta) / max(cos(theta), 0.05)), so the face totals
     A cos(theta) (mu cos(theta) + S lobe / max(cos, 0.05)); plus every strong centre facing the
-    radar with its lobe. `centres`: `strong_centres(boxes)` if already computed.
+    radar with its lobe. `centres`: `strong_centres(boxes)` and `incidence`:
+    `centre_incidence(boxes, centres)` if already computed; `only` (B,) bool: the boxes wanted
+    (the others get 0; each wanted box's value is the same as without `only`).
     """
-    o = -boxes.centre
-    c, s = np.cos(boxes.yaw), np.sin(boxes.yaw)
+    n_box = boxes.centre.shape[0]
+    sel = np.arange(n_box) if only is None else np.flatnonzero(only)
+    o = -boxes.centre[sel]
+    yaw = boxes.yaw[sel]
+    c, s = np.cos(yaw), np.sin(yaw)
     u = np.column_stack([c * o[:, 0] + s * o[:, 1], -s * o[:, 0] + c * o[:, 1], o[:, 2]])
     u /= np.maximum(np.linalg.norm(u, axis=1), 1e-9)[:, None]
-    h = boxes.half
+    h = boxes.half[sel]
     area = 4 * np.column_stack([h[:, 1] * h[:, 2], h[:, 1] * h[:, 2], h[:, 0] * h[:, 2],
                                 h[:, 0] * h[:, 2], h[:, 0] * h[:, 1], h[:, 0] * h[:, 1]])
     cos_f = u @ FACE_NORMALS_LOCAL.T                                  # (B, 6)
-    mu = class_param(boxes.code, "diffuse_m2_per_m2")[:, None]
-    spec = class_param(boxes.code, "specular_m2_per_m2")[:, None]
-    w = np.radians(class_param(boxes.code, "specular_width_deg"))[:, None]
+    code = boxes.code[sel]
+    mu = class_param(code, "diffuse_m2_per_m2")[:, None]
+    spec = class_param(code, "specular_m2_per_m2")[:, None]
+    w = np.radians(class_param(code, "specular_width_deg"))[:, None]
     cos_c = np.clip(cos_f, 0.0, 1.0)
     lobe = np.exp(-(np.arccos(cos_c) / w) ** 2)
-    faces = np.where(cos_f > 0, area * cos_c * (mu * cos_c + spec * lobe
-                                                / np.maximum(cos_c, 0.05)), 0.0).sum(axis=1)
-    box, local, n_local, rcs0, lobe_deg = strong_centres(boxes) if centres is None else centres
-    pos = rotate_yaw(local, boxes.yaw[box]) + boxes.centre[box]
-    normal = rotate_yaw(n_local, boxes.yaw[box])
-    cos_inc = -np.einsum("cd,cd->c", pos / np.maximum(np.linalg.norm(pos, axis=1), 1e-9)[:, None],
-                         normal)
+    faces = np.zeros(n_box)
+    faces[sel] = np.where(cos_f > 0, area * cos_c * (mu * cos_c + spec * lobe
+                                                     / np.maximum(cos_c, 0.05)), 0.0).sum(axis=1)
+    centres = strong_centres(boxes) if centres is None else centres
+    incidence = centre_incidence(boxes, centres) if incidence is None else incidence
+    box, rcs0, lobe_deg, cos_inc = centres[0], centres[3], centres[4], incidence.cos_inc
+    if only is not None:   # a box's centres keep their order: the same per-box sums
+        keep = np.asarray(only, dtype=bool)[box]
+        box, rcs0, lobe_deg, cos_inc = box[keep], rcs0[keep], lobe_deg[keep], cos_inc[keep]
     theta = np.degrees(np.arccos(np.clip(cos_inc, -1, 1)))
-    centres = np.where(cos_inc > 0, rcs0 * np.exp(-(theta / lobe_deg) ** 2), 0.0)
-    return faces + np.bincount(box, weights=centres, minlength=boxes.centre.shape[0])
+    centre_rcs = np.where(cos_inc > 0, rcs0 * np.exp(-(theta / lobe_deg) ** 2), 0.0)
+    return faces + np.bincount(box, weights=centre_rcs, minlength=n_box)
