@@ -154,6 +154,29 @@ def _gate_cost(det_x, det_y, ref_x, ref_y, cfg: AssociationConfig) -> np.ndarray
     return np.hypot((ox * ux + oy * uy) / cfg.range_gate_m, (-ox * uy + oy * ux) / gate_t)
 
 
+#: `_pairs` of no pair: its columns and dtypes.
+_EMPTY_PAIRS = pd.DataFrame({c: pd.Series(dtype=t) for c, t in (
+    ("det_index", "int64"), ("frame", "int64"), ("actor_id", "int64"), ("actor_class", "str"),
+    ("is_static", bool), ("pos_cost", float), ("dv_mps", float), ("alias_k", "int64"),
+    ("resid_mps", float), ("truth_radial_velocity_mps", float), ("near_x_m", float),
+    ("near_y_m", float), ("near_range_m", float), ("box_distance_m", float))})
+
+
+def _same_frame_pairs(det_frame: np.ndarray, truth_frame: np.ndarray
+                      ) -> tuple[np.ndarray, np.ndarray]:
+    """(P,) detection and truth row positions of every pair in the same frame: detections in
+    order, each with its frame's truth rows in table order (an inner join on the frame, in
+    the row order pandas' merge gives, without building the joined table)."""
+    order = np.argsort(truth_frame, kind="stable")
+    sorted_frame = truth_frame[order]
+    lo = np.searchsorted(sorted_frame, det_frame, side="left")
+    n = np.searchsorted(sorted_frame, det_frame, side="right") - lo
+    d_i = np.repeat(np.arange(det_frame.size), n)
+    # Position inside each detection's run of truth rows: 0, 1, ... n_d - 1.
+    within = np.arange(d_i.size) - np.repeat(np.cumsum(n) - n, n)
+    return d_i, order[np.repeat(lo, n) + within]
+
+
 def _pairs(detections: pd.DataFrame, truth: pd.DataFrame, cfg: AssociationConfig,
            velocity_span_mps: float) -> pd.DataFrame:
     """All (detection, actor) pairs of the same frame with gate distances.
@@ -162,37 +185,36 @@ def _pairs(detections: pd.DataFrame, truth: pd.DataFrame, cfg: AssociationConfig
     units, <= 1 inside the gate), dv_mps (detection minus truth), alias_k, resid_mps,
     truth_radial_velocity_mps, near_x_m, near_y_m (nearest box point), box_distance_m.
     """
-    det = detections[list(_DET_COLUMNS)].copy()
-    det["det_index"] = np.arange(len(det))
-    tr = truth[list(_TRUTH_COLUMNS)].rename(columns={"range_m": "actor_range_m",
-                                                     "azimuth_deg": "actor_azimuth_deg"})
-    p = det.merge(tr, on="frame", how="inner")
-    if p.empty:
-        return p
-    yaw = np.radians(p["yaw_radar_deg"].to_numpy())
+    d_i, t_i = _same_frame_pairs(detections["frame"].to_numpy(), truth["frame"].to_numpy())
+    if not d_i.size:
+        return _EMPTY_PAIRS.copy()
+    # The joined columns (detection's, then its actor's), gathered by position.
+    p = {c: detections[c].to_numpy()[d_i] for c in _DET_COLUMNS}
+    p.update((c, truth[c].to_numpy()[t_i]) for c in _TRUTH_COLUMNS[1:])
+    yaw = np.radians(p["yaw_radar_deg"])
     c, s = np.cos(yaw), np.sin(yaw)
-    dx = p["x_m"].to_numpy() - p["x_radar_m"].to_numpy()
-    dy = p["y_m"].to_numpy() - p["y_radar_m"].to_numpy()
+    dx = p["x_m"] - p["x_radar_m"]
+    dy = p["y_m"] - p["y_radar_m"]
     # Box-local coordinates, clamped onto the box: nearest point of the (filled) footprint.
     lx, ly = c * dx + s * dy, -s * dx + c * dy
-    hl, hw = 0.5 * p["length_m"].to_numpy(), 0.5 * p["width_m"].to_numpy()
+    hl, hw = 0.5 * p["length_m"], 0.5 * p["width_m"]
     qx, qy = np.clip(lx, -hl, hl), np.clip(ly, -hw, hw)
-    near_x = p["x_radar_m"].to_numpy() + c * qx - s * qy
-    near_y = p["y_radar_m"].to_numpy() + s * qx + c * qy
-    ox, oy = p["x_m"].to_numpy() - near_x, p["y_m"].to_numpy() - near_y
+    near_x = p["x_radar_m"] + c * qx - s * qy
+    near_y = p["y_radar_m"] + s * qx + c * qy
+    ox, oy = p["x_m"] - near_x, p["y_m"] - near_y
     # The miss distance along / across the detection's line of sight, in gate units.
-    pos_cost = _gate_cost(p["x_m"].to_numpy(), p["y_m"].to_numpy(), near_x, near_y, cfg)
+    pos_cost = _gate_cost(p["x_m"], p["y_m"], near_x, near_y, cfg)
     # Truth radial velocity at the nearest box point (rigid translation).
     r_near = np.maximum(np.hypot(near_x, near_y), 1e-9)
-    v_true = (p["vx_radar_mps"].to_numpy() * near_x + p["vy_radar_mps"].to_numpy() * near_y) \
-        / r_near
-    dv = p["radial_velocity_mps"].to_numpy() - v_true
+    v_true = (p["vx_radar_mps"] * near_x + p["vy_radar_mps"] * near_y) / r_near
+    dv = p["radial_velocity_mps"] - v_true
     k = np.rint(dv / velocity_span_mps) if np.isfinite(velocity_span_mps) else np.zeros_like(dv)
     resid = dv - k * (velocity_span_mps if np.isfinite(velocity_span_mps) else 0.0)
+    classes = truth["actor_class"]
     return pd.DataFrame({
-        "det_index": p["det_index"].to_numpy(), "frame": p["frame"].to_numpy(),
-        "actor_id": p["actor_id"].to_numpy(), "actor_class": p["actor_class"].to_numpy(),
-        "is_static": p["actor_class"].isin(STATIC_CLASSES).to_numpy(),
+        "det_index": d_i, "frame": p["frame"],
+        "actor_id": p["actor_id"], "actor_class": classes.array.take(t_i),
+        "is_static": classes.isin(STATIC_CLASSES).to_numpy()[t_i],
         "pos_cost": pos_cost, "dv_mps": dv, "alias_k": k.astype(np.int64), "resid_mps": resid,
         "truth_radial_velocity_mps": v_true, "near_x_m": near_x, "near_y_m": near_y,
         "near_range_m": r_near, "box_distance_m": np.hypot(ox, oy),

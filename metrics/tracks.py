@@ -28,6 +28,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 import pandas as pd
@@ -212,15 +213,41 @@ def _matched_rows(truth: pd.DataFrame, matches: pd.DataFrame) -> np.ndarray:
 
 def _footprint_distance(trk_xy: np.ndarray, tru: pd.DataFrame) -> np.ndarray:
     """(n_tracks, n_actors) distance of each track position to each actor's box, m."""
-    dx = trk_xy[:, None, 0] - tru["x_m"].to_numpy()[None, :]
-    dy = trk_xy[:, None, 1] - tru["y_m"].to_numpy()[None, :]
-    if "length_m" not in tru.columns or "width_m" not in tru.columns:
+    return _box_distance(trk_xy, _Boxes.of(tru))
+
+
+class _Boxes(NamedTuple):
+    """Actors' boxes as arrays (length, width and yaw None when the table lacks them)."""
+
+    x: np.ndarray
+    y: np.ndarray
+    yaw_deg: np.ndarray | None
+    length: np.ndarray | None
+    width: np.ndarray | None
+
+    @classmethod
+    def of(cls, tru: pd.DataFrame) -> "_Boxes":
+        has_box = "length_m" in tru.columns and "width_m" in tru.columns
+        return cls(tru["x_m"].to_numpy(), tru["y_m"].to_numpy(),
+                   tru["yaw_deg"].to_numpy() if "yaw_deg" in tru.columns else None,
+                   tru["length_m"].to_numpy() if has_box else None,
+                   tru["width_m"].to_numpy() if has_box else None)
+
+    def rows(self, a: int, b: int) -> "_Boxes":
+        return _Boxes(*(None if v is None else v[a:b] for v in self))
+
+
+def _box_distance(trk_xy: np.ndarray, box: _Boxes) -> np.ndarray:
+    """`_footprint_distance` on `_Boxes`."""
+    dx = trk_xy[:, None, 0] - box.x[None, :]
+    dy = trk_xy[:, None, 1] - box.y[None, :]
+    if box.length is None:
         return np.hypot(dx, dy)
-    yaw = np.radians(tru["yaw_deg"].to_numpy()) if "yaw_deg" in tru.columns else 0.0
+    yaw = np.radians(box.yaw_deg) if box.yaw_deg is not None else 0.0
     c, s = np.cos(yaw), np.sin(yaw)
     along, across = c * dx + s * dy, -s * dx + c * dy
-    ex = np.maximum(np.abs(along) - tru["length_m"].to_numpy() / 2, 0)
-    ey = np.maximum(np.abs(across) - tru["width_m"].to_numpy() / 2, 0)
+    ex = np.maximum(np.abs(along) - box.length / 2, 0)
+    ey = np.maximum(np.abs(across) - box.width / 2, 0)
     return np.hypot(ex, ey)
 
 
@@ -268,10 +295,11 @@ def match_tracks(tracks: pd.DataFrame, truth: pd.DataFrame,
     u_lo, u_hi = _frame_slices(u_fr, common)
     t_xy = trk[["x_m", "y_m"]].to_numpy(float)
     u_xy = tru[["x_m", "y_m"]].to_numpy(float)
+    boxes = _Boxes.of(tru)
     ti_all, ui_all = [], []
     # One small assignment problem per frame (frames are independent).
     for a, b, c, d in zip(t_lo, t_hi, u_lo, u_hi):
-        gate = _footprint_distance(t_xy[a:b], tru.iloc[c:d])
+        gate = _box_distance(t_xy[a:b], boxes.rows(c, d))
         cost = np.hypot(t_xy[a:b, None, 0] - u_xy[None, c:d, 0],
                         t_xy[a:b, None, 1] - u_xy[None, c:d, 1])
         allowed = gate <= cfg.match_gate_m

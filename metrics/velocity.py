@@ -138,6 +138,14 @@ def velocity_check(detections: pd.DataFrame, scatterers: pd.DataFrame, truth: pd
     return VelocityCheck(verdict, actor, alias, v_true)
 
 
+def _rows_by_frame(frame: np.ndarray) -> dict:
+    """Frame -> (m,) rows of `frame` holding it, ascending (one stable sort, not one scan of
+    every row per frame)."""
+    order = np.argsort(frame, kind="stable")
+    keys, starts = np.unique(frame[order], return_index=True)
+    return dict(zip(keys.tolist(), np.split(order, starts[1:])))
+
+
 def _best_matches(sc: pd.DataFrame, det_frame: np.ndarray, det_r: np.ndarray,
                   det_v: np.ndarray, step_mps: float, cfg: AssociationConfig,
                   actor: np.ndarray, alias: np.ndarray, v_true: np.ndarray) -> np.ndarray:
@@ -149,18 +157,22 @@ def _best_matches(sc: pd.DataFrame, det_frame: np.ndarray, det_r: np.ndarray,
     n = det_frame.size
     best_rank = np.full(n, 9)
     best_cost = np.full(n, np.inf)
-    for frame, g in sc.groupby("frame", sort=False):
-        rows = np.flatnonzero(det_frame == frame)
-        if not rows.size:
+    # Columns once; per frame only index arrays (groupby's row positions, in table order).
+    sc_r = sc["range_m"].to_numpy(dtype=float)
+    sc_v = sc["radial_velocity_mps"].to_numpy(dtype=float)
+    sc_actor = sc["actor_id"].to_numpy()
+    det_rows = _rows_by_frame(det_frame)
+    for frame, at in sc.groupby("frame", sort=False).indices.items():
+        rows = det_rows.get(frame)
+        if rows is None:
             continue
         pairs = cKDTree(det_r[rows, None]).sparse_distance_matrix(
-            cKDTree(g["range_m"].to_numpy(dtype=float)[:, None]), cfg.range_gate_m,
-            output_type="ndarray")
+            cKDTree(sc_r[at][:, None]), cfg.range_gate_m, output_type="ndarray")
         if not pairs.size:
             continue
         d_idx = rows[pairs["i"]]
-        s_idx = pairs["j"].astype(np.int64)
-        vs = g["radial_velocity_mps"].to_numpy(dtype=float)[s_idx]
+        s_idx = at[pairs["j"].astype(np.int64)]
+        vs = sc_v[s_idx]
         dv = det_v[d_idx] - vs
         k = np.rint(dv / step_mps).astype(np.int64)
         resid = np.abs(dv - k * step_mps)
@@ -178,7 +190,7 @@ def _best_matches(sc: pd.DataFrame, det_frame: np.ndarray, det_r: np.ndarray,
         di, pick = di[better], pick[better]
         best_cost[di] = cost[pick]
         best_rank[di] = rank[pick]
-        actor[di] = g["actor_id"].to_numpy()[s_idx[pick]]
+        actor[di] = sc_actor[s_idx[pick]]
         alias[di] = k[pick]
         v_true[di] = vs[pick]
     return best_rank

@@ -166,14 +166,15 @@ class GroupTracker:
         ValueError
             On a missing column, non-finite values, or a time that does not increase.
         """
-        return self._advance(points, time_s, ego_speed_mps)[0]
+        return _table(self._advance(points, time_s, ego_speed_mps)[0])
 
     def step_with_points(self, points: pd.DataFrame, time_s: float,
                          ego_speed_mps: float | None = None
                          ) -> tuple[pd.DataFrame, pd.DataFrame]:
         """As `step`, also returning the points labelled with `track_id` (-1: none; the id of
         a track started from them counts) and `is_static`."""
-        table, assoc_id, static = self._advance(points, time_s, ego_speed_mps)
+        cols, assoc_id, static = self._advance(points, time_s, ego_speed_mps)
+        table = _table(cols)
         labelled = points.copy() if len(points) else pd.DataFrame(
             {c: np.zeros(0) for c in POINT_COLUMNS})
         labelled["track_id"] = assoc_id
@@ -181,9 +182,9 @@ class GroupTracker:
         return table, labelled
 
     def _advance(self, points: pd.DataFrame, time_s: float, ego_speed_mps: float | None
-                 ) -> tuple[pd.DataFrame, np.ndarray, np.ndarray]:
-        """One frame: the track table, the track id of every point (-1: none) and its static
-        label (`step` skips building the labelled point table)."""
+                 ) -> tuple[dict, np.ndarray, np.ndarray]:
+        """One frame: the track table's columns (`_columns`), the track id of every point
+        (-1: none) and its static label (`step` skips building the labelled point table)."""
         cfg = self.cfg
         pts = Points.from_frame(points)
         dt = self._time_step(time_s)
@@ -232,7 +233,7 @@ class GroupTracker:
 
         self._tracks = tracks
         self._last_time_s = float(time_s)
-        return _table(tracks, n_pts, float(time_s), ego), assoc_id, static
+        return _columns(tracks, n_pts, float(time_s), ego), assoc_id, static
 
     # -- stages ----------------------------------------------------------------------------------
 
@@ -277,13 +278,14 @@ def _maintain(tracks: Tracks, hit: np.ndarray, hits_to_confirm: int) -> Tracks:
                           active=tracks.active | (hits >= hits_to_confirm))
 
 
-def _table(tracks: Tracks, n_pts: np.ndarray, time_s: float, ego: EgoVelocity | None
-           ) -> pd.DataFrame:
+def _columns(tracks: Tracks, n_pts: np.ndarray, time_s: float, ego: EgoVelocity | None
+             ) -> dict[str, np.ndarray]:
+    """The live tracks as the columns of `TRACK_COLUMNS` (arrays of T rows, in order)."""
     x, p = tracks.x, tracks.p
     t = tracks.size
     acc = x[:, 4:6] if x.shape[1] == 6 else np.full((t, 2), np.nan)
     ego_vx, ego_vy = (np.nan, np.nan) if ego is None else ego
-    return pd.DataFrame({
+    return {
         "track_id": tracks.track_id.copy(),
         "state": np.where(tracks.active, "ACTIVE", "DETECT").astype(object),
         "x_m": x[:, 0], "y_m": x[:, 1], "vx_mps": x[:, 2], "vy_mps": x[:, 3],
@@ -294,7 +296,12 @@ def _table(tracks: Tracks, n_pts: np.ndarray, time_s: float, ego: EgoVelocity | 
         "vx_ground_mps": x[:, 2] + ego_vx, "vy_ground_mps": x[:, 3] + ego_vy,
         "n_points": n_pts.astype(np.int64), "age_frames": tracks.age.copy(),
         "time_s": np.full(t, time_s),
-    }, columns=list(TRACK_COLUMNS))
+    }
+
+
+def _table(columns: dict[str, np.ndarray]) -> pd.DataFrame:
+    """One frame's track table from `_columns`."""
+    return pd.DataFrame(columns, columns=list(TRACK_COLUMNS))
 
 
 def track_frames(point_clouds: Iterable[tuple[float, pd.DataFrame]],
@@ -320,12 +327,20 @@ def track_frames(point_clouds: Iterable[tuple[float, pd.DataFrame]],
         one row per live track and frame.
     """
     tracker = GroupTracker(cfg, rng)
-    tables = []
+    # Columns of every frame, joined into one table at the end (one DataFrame, not one per
+    # frame: the per-frame tables cost more than the tracking of a sparse frame).
+    frames, parts = [], []
     for frame, (time_s, pc) in enumerate(point_clouds):
         ego = None if ego_speeds_mps is None else ego_speeds_mps[frame]
-        tab = tracker.step(pc, time_s, ego)
-        tab.insert(0, "frame", np.full(len(tab), frame, dtype=np.int64))
-        tables.append(tab)
-    if not tables:
+        cols = tracker._advance(pc, time_s, ego)[0]
+        frames.append(np.full(len(cols["track_id"]), frame, dtype=np.int64))
+        parts.append(cols)
+    if not parts:
         return pd.DataFrame({c: [] for c in ("frame",) + TRACK_COLUMNS})
-    return pd.concat(tables, ignore_index=True)
+    table = {"frame": np.concatenate(frames)}
+    table.update((c, np.concatenate([p[c] for p in parts])) for c in TRACK_COLUMNS)
+    # The dtype the per-frame tables' concatenation gives: a frame without tracks has an
+    # object-dtype state column, which keeps the joined column object; else pandas' str.
+    empty = any(len(f) == 0 for f in frames)
+    table["state"] = pd.Series(table["state"], dtype=object) if empty else table["state"]
+    return pd.DataFrame(table)
