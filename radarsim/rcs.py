@@ -23,22 +23,26 @@ occluder takes away; the LEVEL follows a published pattern where one could be so
 - car: 3GPP TR 38.901 Table 7.9.2.1-4 (vehicle, model 2): front 10.8, side 20.1, rear 13.6,
   diagonals 7.1 dBsm at horizontal incidence, elevation lobes from the table (so the radar's
   mount height enters through the zenith angle under which it sees the actor);
-- pedestrian: TR 38.901 Table 7.9.2.1-3 (human, model 2): 2.1 dBsm front/back, 0.1 dBsm side.
+- pedestrian: TR 38.901 Table 7.9.2.1-3 (human, model 2): 2.1 dBsm front/back, 0.1 dBsm side;
+- bicycle (a cyclist: bicycle and rider): the rider as the TR 38.901 human plus Belgiovane &
+  Chen's 77 GHz bicycle sector means (-11.57 front/rear, -13.24 oblique, -8.1 dBsm side, as
+  MathWorks' backscatterBicyclist encodes them), added in power: 2.3 / 1.8 / 0.7 dBsm at
+  0 / 45 / 90 deg.
 
 Each actor's patches and centres are scaled together by pattern(aspect, zenith) / (the facet
 model's unoccluded total at that aspect, computed in closed form from the box faces and centres),
 so an unoccluded actor has the published RCS and a half-hidden one about half of it. Classes
-without a reachable published pattern (truck, motorcycle, bicycle, guard rail) keep the facet
+without a reachable published pattern (truck, motorcycle, guard rail) keep the facet
 model scaled by a calibration gain so that their aspect-averaged mean at 30 m meets
-`target_mean_rcs_m2` (car 10, truck 50, motorcycle 2, bicycle 1 m^2: design values of earlier
+`target_mean_rcs_m2` (truck 50, motorcycle 2 m^2: design values of earlier
 rounds, H. Winner, "Automotive RADAR", Handbook of Driver Assistance Systems, 2016; not
 re-checked against a measurement here).
 
 Fluctuation: the coherent sum of an actor's scattering centres fluctuates from frame to frame
 (a fraction of a degree of aspect change reshuffles the phases at 3.9 mm wavelength). Each actor
 draws one log-normal factor per frame with the class's spread (TR 38.901 sigma_S: vehicle 3.41
-dB, human 3.94 dB; the vehicle value is borrowed for trucks, motorcycles and bicycles, for which
-no published spread was reachable), mean-preserving as eq. 7.9.2-1 defines it
+dB, human 3.94 dB, a cyclist the rider's 3.94 dB; the vehicle value is borrowed for trucks and
+motorcycles, for which no published spread was reachable), mean-preserving as eq. 7.9.2-1 defines it
 (dB mean = -ln(10)/20 sigma^2); the strong centres keep a small independent spread
 (`centre_fluctuation_db`) so the cells of one actor are not perfectly correlated.
 

@@ -18,7 +18,7 @@ import pandas as pd
 from scenarios.checks import require
 
 from .raycast import FACE_NORMALS_LOCAL
-from .rcs_patterns import HUMAN_TR38901, VEHICLE_TR38901, Tr38901Pattern
+from .rcs_patterns import CYCLIST_PATTERN, HUMAN_TR38901, PATTERN_TYPES, VEHICLE_TR38901
 
 __all__ = ["ClassRcs", "CLASS_RCS", "REQUIRED_COLUMNS", "POST_SPACING_M", "ActorBoxes",
            "actor_boxes", "strong_centres", "radar_angles", "geometric_total_rcs",
@@ -51,7 +51,7 @@ class ClassRcs:
     wheel_rcs_m2, corner_rcs_m2, plate_rcs_m2 : float
         Strong centres: each wheel (on the side faces), each vertical corner edge (dihedral
         between bumper and side), the plate / rear structure (front and rear faces), m^2.
-    pattern : Tr38901Pattern or None
+    pattern : Tr38901Pattern, SectorPattern, IncoherentSum or None
         Published pattern that sets the actor's level by aspect and zenith (None: `gain`).
     fluctuation_db : float
         dB spread of the per-actor, per-frame log-normal factor (mean-preserving), >= 0.
@@ -65,15 +65,16 @@ class ClassRcs:
     wheel_rcs_m2: float = 0.0
     corner_rcs_m2: float = 0.0
     plate_rcs_m2: float = 0.0
-    pattern: Tr38901Pattern | None = None
+    pattern: object = None
     fluctuation_db: float = 0.0
 
     def __post_init__(self) -> None:
         require(self, ("target_mean_rcs_m2", "specular_width_deg", "gain"), gt=0)
         require(self, ("diffuse_m2_per_m2", "specular_m2_per_m2", "wheel_rcs_m2",
                        "corner_rcs_m2", "plate_rcs_m2", "fluctuation_db"), ge=0)
-        if self.pattern is not None and not isinstance(self.pattern, Tr38901Pattern):
-            raise ValueError(f"pattern must be a Tr38901Pattern or None, got {self.pattern!r}")
+        if self.pattern is not None and not isinstance(self.pattern, PATTERN_TYPES):
+            raise ValueError(f"pattern must be one of {[t.__name__ for t in PATTERN_TYPES]} or "
+                             f"None, got {self.pattern!r}")
 
 
 #: Class registry of the facet model. Classes with a `pattern` take their level from it (the
@@ -92,9 +93,10 @@ CLASS_RCS: dict[str, ClassRcs] = {
                            specular_m2_per_m2=2.0, specular_width_deg=10.0, wheel_rcs_m2=0.3,
                            plate_rcs_m2=0.5, gain=1.27,
                            fluctuation_db=VEHICLE_TR38901.sigma_s_db),
-    "bicycle": ClassRcs(target_mean_rcs_m2=1.0, diffuse_m2_per_m2=0.15,
-                        specular_m2_per_m2=1.0, specular_width_deg=12.0, wheel_rcs_m2=0.2,
-                        plate_rcs_m2=0.1, gain=0.98, fluctuation_db=VEHICLE_TR38901.sigma_s_db),
+    "bicycle": ClassRcs(target_mean_rcs_m2=10 ** (CYCLIST_PATTERN.aspect_mean_dbsm() / 10),
+                        diffuse_m2_per_m2=0.15, specular_m2_per_m2=1.0,
+                        specular_width_deg=12.0, wheel_rcs_m2=0.2, plate_rcs_m2=0.1,
+                        pattern=CYCLIST_PATTERN, fluctuation_db=CYCLIST_PATTERN.sigma_s_db),
     "pedestrian": ClassRcs(target_mean_rcs_m2=10 ** (HUMAN_TR38901.aspect_mean_dbsm() / 10),
                            diffuse_m2_per_m2=0.25, specular_m2_per_m2=0.5,
                            specular_width_deg=20.0, pattern=HUMAN_TR38901,

@@ -19,8 +19,17 @@ def test_rcs_prints_model_and_reference(capsys, tmp_path):
 
 
 def test_rcs_class_without_source_says_so(capsys):
-    assert main(["rcs", "bicycle", "--draws", "1"]) == 0
+    assert main(["rcs", "truck", "--draws", "1"]) == 0
     assert "no published pattern could be sourced" in capsys.readouterr().out
+
+
+def test_rcs_bicycle_lists_both_sources(capsys):
+    """The cyclist's pattern (rider + bicycle) and the bicycle's own sector means."""
+    assert main(["rcs", "bicycle", "--draws", "1"]) == 0
+    text = capsys.readouterr().out
+    assert "Belgiovane" in text and "TR 38.901" in text
+    row90 = next(line for line in text.splitlines() if line.split()[:1] == ["90"])
+    assert [float(v) for v in row90.split()[-2:]] == pytest.approx([0.7, -8.1], abs=0.05)
 
 
 @pytest.mark.parametrize("argv, match", [

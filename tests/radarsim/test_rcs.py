@@ -30,7 +30,8 @@ def frame(*actors) -> pd.DataFrame:
 @pytest.mark.parametrize("cls", ["car", "truck", "motorcycle", "bicycle", "pedestrian"])
 def test_class_mean_rcs_within_3db(cls):
     """Aspect-averaged mean RCS at 30 m (24 headings) within +/-3 dB of the class target
-    (car 10, truck 50, motorcycle 2, bicycle 1, pedestrian 0.5 m^2; sources in radarsim.rcs)."""
+    (car, pedestrian, bicycle: their published patterns' azimuth means; truck 50, motorcycle
+    2 m^2 design values; sources in radarsim.rcs)."""
     rng = np.random.default_rng(0)
     totals = [scene_scatterers(frame((0, cls, 30.0, 0.0, yaw, 0.0, 0.0)), rng,
                                NO_CLUTTER).rcs_m2.sum() for yaw in np.arange(0, 360, 15)]

@@ -7,7 +7,9 @@ import pytest
 from scipy import stats
 
 from radarsim.rcs import CLASS_RCS, RcsConfig, single_actor
-from radarsim.rcs_patterns import (HUMAN_TR38901, REFERENCES, VEHICLE_TR38901,
+from radarsim.rcs_classes import ClassRcs
+from radarsim.rcs_patterns import (BICYCLE_BELGIOVANE, CYCLIST_PATTERN, HUMAN_TR38901,
+                                   REFERENCES, VEHICLE_TR38901, IncoherentSum, SectorPattern,
                                    lognormal_mu_db)
 
 NO_FLUCT = RcsConfig(target_fluctuation=False)
@@ -34,6 +36,54 @@ def test_tr38901_human_values():
     """Table 7.9.2.1-3: 2.14 dBsm front/back; side 2.14 - 12 (90 / 216.65)^2 = 0.07 dBsm."""
     np.testing.assert_allclose(HUMAN_TR38901.rcs_dbsm([0.0, 90.0, 180.0]), [2.14, 0.07, 2.14],
                                atol=0.01)
+
+
+def test_bicycle_sector_means_are_the_source_values():
+    """bicyclistrcs.m (Belgiovane & Chen sector means): -11.57 front/rear, -13.24 oblique,
+    -8.1 dBsm side, at the knots exactly; mirror-symmetric about the bicycle's axis."""
+    np.testing.assert_allclose(BICYCLE_BELGIOVANE.rcs_dbsm([0.0, 45.0, 90.0, 135.0, 180.0,
+                                                            225.0, 270.0, 315.0]),
+                               [-11.57, -13.24, -8.1, -13.24, -11.57, -13.24, -8.1, -13.24],
+                               atol=1e-9)
+    a = np.array([10.0, 30.0, 60.0, 100.0, 170.0])
+    np.testing.assert_allclose(BICYCLE_BELGIOVANE.rcs_dbsm(a), BICYCLE_BELGIOVANE.rcs_dbsm(-a))
+    np.testing.assert_allclose(BICYCLE_BELGIOVANE.rcs_dbsm(a), BICYCLE_BELGIOVANE.rcs_dbsm(360 - a))
+    # pchip is shape-preserving: between knots it stays within the knot values.
+    fine = BICYCLE_BELGIOVANE.rcs_dbsm(np.linspace(0.0, 180.0, 721))
+    assert fine.min() >= -13.24 - 1e-9 and fine.max() <= -8.1 + 1e-9
+
+
+def test_cyclist_is_rider_plus_bicycle_in_power():
+    """Hand values: front 10 lg(10^0.214 + 10^-1.157) = 2.32, diagonal 10 lg(10^0.162 +
+    10^-1.324) = 1.76, side 10 lg(10^0.007 + 10^-0.81) = 0.69 dBsm."""
+    np.testing.assert_allclose(CYCLIST_PATTERN.rcs_dbsm([0.0, 45.0, 90.0, 135.0, 180.0]),
+                               [2.32, 1.76, 0.69, 1.76, 2.32], atol=0.01)
+    assert CYCLIST_PATTERN.sigma_s_db == HUMAN_TR38901.sigma_s_db
+
+
+@pytest.mark.parametrize("kwargs, match", [
+    ({"aspects_deg": (0.0, 90.0), "values_dbsm": (1.0, 2.0)}, "aspects_deg=.*180"),
+    ({"aspects_deg": (0.0, 90.0, 90.0, 180.0)}, "aspects_deg=.*rise strictly"),
+    ({"values_dbsm": (1.0, 2.0)}, "one value each"),
+    ({"values_dbsm": (1.0, float("nan"), 3.0)}, "values_dbsm=.*finite"),
+    ({"sigma_s_db": -1.0}, "sigma_s_db=-1.0"),
+])
+def test_sector_pattern_bad_input(kwargs, match):
+    args = {"aspects_deg": (0.0, 90.0, 180.0), "values_dbsm": (1.0, 2.0, 3.0),
+            "sigma_s_db": 1.0, "source": "test", **kwargs}
+    with pytest.raises(ValueError, match=match):
+        SectorPattern(**args)
+
+
+def test_incoherent_sum_bad_parts():
+    with pytest.raises(ValueError, match="parts=.*Tr38901Pattern"):
+        IncoherentSum(parts=(1.0,), sigma_s_db=1.0, source="test")
+
+
+def test_class_pattern_of_wrong_type():
+    with pytest.raises(ValueError, match="pattern must be one of"):
+        ClassRcs(target_mean_rcs_m2=1.0, diffuse_m2_per_m2=0.1, specular_m2_per_m2=1.0,
+                 specular_width_deg=5.0, pattern="car")
 
 
 def test_lognormal_mean_is_unity():
@@ -73,7 +123,7 @@ def test_elevation_follows_the_mount_height():
     np.testing.assert_allclose(np.subtract(high, low), expect, atol=0.7)
 
 
-@pytest.mark.parametrize("cls", ["car", "pedestrian"])
+@pytest.mark.parametrize("cls", ["car", "pedestrian", "bicycle"])
 def test_coherent_cell_sum_is_lognormal_with_the_source_spread(cls):
     """What the radar sees in the actor's resolution cell, the coherent sum
     |sum sqrt(sigma_i) exp(-j 2 k r_i)|^2 of its scatterers (rear view at 30 m: one cell),
