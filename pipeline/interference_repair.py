@@ -102,22 +102,26 @@ class FrameRows(NamedTuple):
     n_rx: int             # rows per chirp: row i is chirp i // n_rx, Rx i % n_rx
 
 
-#: Unflagged rows of the frame (evenly spread) the "lowrank" subspace is estimated from.
+#: Unflagged rows of the frame (evenly spread) the "lowrank" subspace is estimated from...
 REFERENCE_ROWS = 256
+#: ... if the frame has at least this many (else the repaired rows, their gaps zeroed).
+MIN_REFERENCE_ROWS = 64
 
 
 def _reference(x: np.ndarray, frame: FrameRows | None, mask) -> np.ndarray:
     """(N, n) rows without interference: up to REFERENCE_ROWS unflagged rows of the frame,
     evenly spread; without a frame (or with too few clean rows), the repaired rows with their
     masked samples (`mask()`, (R, n) bool) zeroed."""
+    def spread(idx):
+        return idx[np.linspace(0, len(idx) - 1, min(REFERENCE_ROWS, len(idx))).astype(np.intp)]
     if frame is not None:
         clean = np.ones(len(frame.samples), dtype=bool)
         clean[frame.rows] = False
         idx = np.flatnonzero(clean)
-        if len(idx) >= 64:
-            idx = idx[np.linspace(0, len(idx) - 1, min(REFERENCE_ROWS, len(idx))).astype(np.intp)]
-            return frame.samples[idx].astype(x.dtype, copy=False)
-    return np.where(mask(), 0, x)
+        if len(idx) >= MIN_REFERENCE_ROWS:
+            return frame.samples[spread(idx)].astype(x.dtype, copy=False)
+    idx = spread(np.arange(len(x)))
+    return np.where(mask()[idx], 0, x[idx])
 
 
 @dataclass(frozen=True, kw_only=True, slots=True)
