@@ -25,9 +25,10 @@ prior variance lambda_i - sigma^2 per coefficient and white noise sigma^2,
 so the Gram matrix is one small masked sum per burst (a difference of running sums of the
 basis' outer products per masked run), one k x k Cholesky factorisation per burst. The prior
 keeps the directions the kept samples barely see (a smooth function concentrated in the gap)
-at their prior mean 0 instead of amplifying noise into them. A constant column with an unbounded prior takes the
-chirp's offset (the chip's DC estimate includes the burst). The rows of one chirp share a
-burst: their masks are united, so one Gram matrix serves the n_rx rows.
+at their prior mean 0 instead of amplifying noise into them. A constant column with an
+unbounded prior takes the chirp's offset (the chip's DC estimate includes the burst). The
+rows of one chirp share a burst: their masks are united, so one Gram matrix serves the n_rx
+rows.
 
 The flags of the difference statistic sit where the interfering sweep is fastest; its slow
 middle and its edges under the IF filter pass unflagged. With the echoes modelled, what is
@@ -170,60 +171,144 @@ def runs_mask(runs: Runs, n_bursts: int, n: int) -> np.ndarray:
 
 
 @numba.njit(cache=True, nogil=True)
-def _solve_bursts(gap: np.ndarray, shrink: np.ndarray, rhs: np.ndarray,
-                  row_start: np.ndarray) -> np.ndarray:
-    """(R, k) solutions of (I - gap[b] + diag(shrink)) c = rhs[r] for the rows r of every
-    burst b (rows row_start[b] .. row_start[b + 1] - 1): one Cholesky factorisation per burst
-    (the matrix is Hermitian positive definite: I minus a Gram matrix of part of an
-    orthonormal basis, plus a non-negative diagonal), two triangular solves per row."""
-    n_b, k = gap.shape[0], gap.shape[1]
-    out = np.empty_like(rhs)
-    low = np.zeros((k, k), dtype=gap.dtype)
-    y = np.zeros(k, dtype=gap.dtype)
-    for bi in range(n_b):  # bursts, not samples: k^3 / 3 per burst
+def _cholesky(prefix, shrink, run_s, run_e, n_runs, low):
+    """low (k, k) <- the lower Cholesky factor of I - sum over the runs of (prefix[e] -
+    prefix[s]) + diag(shrink) (Hermitian positive definite: I minus the Gram matrix of part
+    of an orthonormal basis, plus a positive diagonal). Only the lower triangle is written."""
+    k = low.shape[0]
+    for i in range(k):
+        for j in range(i + 1):
+            acc = prefix[0, i, j]  # 0, in the prefix' type
+            for q in range(n_runs):
+                acc -= prefix[run_e[q], i, j] - prefix[run_s[q], i, j]
+            if i == j:
+                acc += 1.0 + shrink[i]
+            for m in range(j):
+                acc -= low[i, m] * np.conj(low[j, m])
+            if i == j:
+                low[i, i] = np.sqrt(acc.real)
+            else:
+                low[i, j] = acc / low[j, j]
+
+
+@numba.njit(cache=True, nogil=True)
+def _fit_rows(x, rhs, vec_c, low, run_s, run_e, n_runs, r0, r1, c, y):
+    """c[r - r0] (k,) <- LMMSE coefficients of rows r0 .. r1 - 1 from their kept samples:
+    rhs[r] (the full row's projection on the basis) minus the masked runs' share (`vec_c`
+    (n, k) the conjugate basis), then the two triangular solves with `low`. Inner loops run
+    over contiguous, independent elements (vectorised by the compiler)."""
+    k = low.shape[0]
+    for r in range(r0, r1):
+        y[:] = rhs[r]
+        for q in range(n_runs):
+            for t in range(run_s[q], run_e[q]):
+                xt = x[r, t]
+                for i in range(k):
+                    y[i] -= xt * vec_c[t, i]
         for i in range(k):
-            for j in range(i + 1):
-                acc = -gap[bi, i, j]
-                if i == j:
-                    acc += 1.0 + shrink[i]
-                for m in range(j):
-                    acc -= low[i, m] * np.conj(low[j, m])
-                if i == j:
-                    low[i, i] = np.sqrt(acc.real)
-                else:
-                    low[i, j] = acc / low[j, j]
-        for r in range(row_start[bi], row_start[bi + 1]):
-            for i in range(k):
-                acc = rhs[r, i]
-                for m in range(i):
-                    acc -= low[i, m] * y[m]
-                y[i] = acc / low[i, i]
-            for i in range(k - 1, -1, -1):
-                acc = y[i]
-                for m in range(i + 1, k):
-                    acc -= np.conj(low[m, i]) * out[r, m]
-                out[r, i] = acc / low[i, i]
+            acc = y[i]
+            for m in range(i):
+                acc -= low[i, m] * y[m]
+            y[i] = acc / low[i, i]
+        for i in range(k - 1, -1, -1):
+            acc = y[i]
+            for m in range(i + 1, k):
+                acc -= np.conj(low[m, i]) * c[r - r0, m]
+            c[r - r0, i] = acc / low[i, i]
+
+
+@numba.njit(cache=True, nogil=True)
+def _evaluate(vec_t, c, t0, t1, buf):
+    """buf[t0:t1] <- the model with coefficients c (k,) at samples t0 .. t1 - 1 (`vec_t`
+    (k, n) the basis, transposed: the inner loop runs over contiguous samples)."""
+    buf[t0:t1] = 0
+    for i in range(vec_t.shape[0]):
+        ci = c[i]
+        for t in range(t0, t1):
+            buf[t] += ci * vec_t[i, t]
+
+
+@numba.njit(cache=True, nogil=True)
+def _to_runs(mask, close, margin, run_s, run_e):
+    """Runs of `mask` (n,) bool, closed over gaps of up to `close` samples, widened by
+    `margin` and merged where they then touch; their count."""
+    n = mask.shape[0]
+    n_runs = 0
+    last = -n - close - 2
+    for t in range(n):
+        if not mask[t]:
+            continue
+        if n_runs and t - last - 1 <= close:
+            run_e[n_runs - 1] = t + 1
+        else:
+            run_s[n_runs] = t
+            run_e[n_runs] = t + 1
+            n_runs += 1
+        last = t
+    out = 0
+    for q in range(n_runs):
+        s0, e0 = max(run_s[q] - margin, 0), min(run_e[q] + margin, n)
+        if out and s0 <= run_e[out - 1]:
+            run_e[out - 1] = e0
+        else:
+            run_s[out] = s0
+            run_e[out] = e0
+            out += 1
     return out
 
 
-def _coefficients(x: np.ndarray, mask: np.ndarray, row_start: np.ndarray, runs: Runs,
-                  basis: FastTimeBasis, prefix: np.ndarray) -> np.ndarray:
-    """(R, k) LMMSE coefficients of the rows from their kept samples (`mask` (R, n) the
-    masked ones; the rows of burst b are row_start[b] .. row_start[b + 1] - 1, its masked
-    samples `runs`; module docstring). `prefix` (n + 1, k, k): running sums of the basis'
-    outer products, so a run's Gram matrix is one difference."""
-    b = basis.vectors
-    k = b.shape[1]
+@numba.njit(cache=True, nogil=True)
+def _repair_bursts(x, rhs, vec_c, vec_t, prefix, shrink, row_start, run_start, runs_s, runs_e,
+                   thr, reach, close, margin, mask_out):
+    """Every burst's rows (row_start[b] .. row_start[b + 1] - 1 of x (R, n), modified in
+    place) filled over its runs (runs_s/e[run_start[b] .. run_start[b + 1] - 1]) with their
+    LMMSE model; kept samples within `reach` of a run whose residual exceeds `thr` grow the
+    mask (closed over `close`, widened by `margin`) and the burst is fitted again (thr <= 0:
+    never). mask_out (B, n) <- each burst's final mask."""
     n_b = len(row_start) - 1
-    wide = np.complex128 if np.iscomplexobj(b) else np.float64
-    # runs come sorted by burst; a burst without a run (no flag) has no gap
-    per_run = np.concatenate([prefix[runs.end] - prefix[runs.start],
-                              np.zeros((1, k, k), prefix.dtype)])
-    gap = np.add.reduceat(per_run, np.searchsorted(runs.burst, np.arange(n_b)), axis=0)
-    gap[np.bincount(runs.burst, minlength=n_b) == 0] = 0
-    rhs = np.where(mask, 0, x) @ (b.conj() if np.iscomplexobj(b) else b)
-    return _solve_bursts(gap.astype(wide), basis.shrink, rhs.astype(wide),
-                         row_start).astype(b.dtype)
+    n, k = vec_c.shape
+    low = np.zeros((k, k), dtype=prefix.dtype)
+    buf = np.zeros(n, dtype=prefix.dtype)
+    y = np.zeros(k, dtype=prefix.dtype)
+    rows_max = np.max(row_start[1:] - row_start[:-1])
+    c = np.zeros((rows_max, k), dtype=prefix.dtype)
+    s_buf = np.zeros(n + 1, dtype=np.int64)
+    e_buf = np.zeros(n + 1, dtype=np.int64)
+    grow = np.zeros(n, dtype=np.bool_)
+    for b in range(n_b):  # bursts (chirps), not samples: the work per burst is k^3 / 3
+        n_runs = run_start[b + 1] - run_start[b]
+        s_buf[:n_runs] = runs_s[run_start[b]:run_start[b + 1]]
+        e_buf[:n_runs] = runs_e[run_start[b]:run_start[b + 1]]
+        r0, r1 = row_start[b], row_start[b + 1]
+        _cholesky(prefix, shrink, s_buf, e_buf, n_runs, low)
+        _fit_rows(x, rhs, vec_c, low, s_buf, e_buf, n_runs, r0, r1, c, y)
+        mask = mask_out[b]
+        for q in range(n_runs):
+            mask[s_buf[q]:e_buf[q]] = True
+        if thr > 0:
+            grow[:] = mask
+            grown = False
+            for q in range(2 * n_runs):  # the flanks of each run
+                t0 = max(s_buf[q // 2] - reach, 0) if q % 2 == 0 else e_buf[q // 2]
+                t1 = s_buf[q // 2] if q % 2 == 0 else min(e_buf[q // 2] + reach, n)
+                for r in range(r0, r1):
+                    _evaluate(vec_t, c[r - r0], t0, t1, buf)
+                    for t in range(t0, t1):
+                        if not mask[t] and abs(x[r, t] - buf[t]) > thr:
+                            grow[t] = True
+                            grown = True
+            if grown:
+                n_runs = _to_runs(grow, close, margin, s_buf, e_buf)
+                _cholesky(prefix, shrink, s_buf, e_buf, n_runs, low)
+                _fit_rows(x, rhs, vec_c, low, s_buf, e_buf, n_runs, r0, r1, c, y)
+                mask[:] = False
+                for q in range(n_runs):
+                    mask[s_buf[q]:e_buf[q]] = True
+        for r in range(r0, r1):
+            for q in range(n_runs):
+                _evaluate(vec_t, c[r - r0], s_buf[q], e_buf[q], buf)
+                for t in range(s_buf[q], e_buf[q]):
+                    x[r, t] = buf[t]
 
 
 def lowrank_fill(x: np.ndarray, flags: np.ndarray, bursts: np.ndarray, basis: FastTimeBasis,
@@ -255,33 +340,24 @@ def lowrank_fill(x: np.ndarray, flags: np.ndarray, bursts: np.ndarray, basis: Fa
     (x, mask) : the repaired rows and the (R, n) mask finally used.
     """
     n = x.shape[-1]
+    if not len(x):
+        return x, np.zeros(x.shape, dtype=bool)
     bursts = np.asarray(bursts)
     new = np.r_[True, bursts[1:] != bursts[:-1]]
-    burst = np.cumsum(new) - 1  # 0 .. B - 1 per row
     starts = np.flatnonzero(new)
-    n_b = len(starts)
-    row_start = np.r_[starts, len(x)]
     b = basis.vectors
     k = b.shape[1]
-    prefix = np.zeros((n + 1, k, k), dtype=b.dtype)
-    np.cumsum(b.conj()[:, :, None] * b[:, None, :], axis=0, out=prefix[1:])
+    wide = np.complex128 if np.iscomplexobj(b) else np.float64
+    prefix = np.zeros((n + 1, k, k), dtype=wide)
+    np.cumsum(b.conj()[:, :, None].astype(wide) * b[:, None, :], axis=0, out=prefix[1:])
     runs = burst_runs(_united(flags, starts), close, halfwidth)
-    mask_b = runs_mask(runs, n_b, n)
-    c = _coefficients(x, mask_b[burst], row_start, runs, basis, prefix)
-    if grow_sigma > 0:
-        near = runs_mask(_runs_of(runs.burst, runs.start - grow_reach, runs.end + grow_reach,
-                                  n), n_b, n) & ~mask_b
-        res = np.abs(x - c @ b.T) > grow_sigma * np.sqrt(basis.noise_var)
-        out = _united(near[burst] & res, starts)
-        hit = np.flatnonzero(out.any(axis=-1))
-        if hit.size:
-            grown = burst_runs(mask_b[hit] | out[hit], GROW_CLOSE_SAMPLES, GROW_MARGIN_SAMPLES)
-            mask_b[hit] = runs_mask(grown, hit.size, n)
-            rows = np.flatnonzero(np.isin(burst, hit))
-            counts = row_start[hit + 1] - row_start[hit]
-            c[rows] = _coefficients(x[rows], mask_b[burst[rows]], np.r_[0, np.cumsum(counts)],
-                                    grown, basis, prefix)
-    m = mask_b[burst]
-    np.copyto(x, c @ b.T, where=m, casting="same_kind")
+    mask_b = np.zeros((len(starts), n), dtype=bool)
+    vec_c = np.ascontiguousarray(b.conj(), dtype=wide)
+    rhs = (x @ vec_c.astype(b.dtype)).astype(wide)
+    thr = grow_sigma * np.sqrt(basis.noise_var) if grow_sigma > 0 else 0.0
+    _repair_bursts(x, rhs, vec_c, np.ascontiguousarray(b.T, dtype=wide), prefix,
+                   basis.shrink.astype(np.float64), np.r_[starts, len(x)],
+                   np.searchsorted(runs.burst, np.arange(len(starts) + 1)), runs.start,
+                   runs.end, thr, grow_reach, GROW_CLOSE_SAMPLES, GROW_MARGIN_SAMPLES, mask_b)
     x -= x.mean(axis=-1, keepdims=True)
-    return x, m
+    return x, mask_b[np.cumsum(new) - 1]

@@ -266,20 +266,28 @@ def test_burst_runs_are_the_closed_and_widened_flags():
 
 
 @pytest.mark.parametrize("dtype", [np.float64, np.complex128])
-def test_solve_bursts_is_the_linear_solve(dtype):
-    """The per-burst Cholesky solve equals numpy's solve of I - G + diag(d) for each row (G
-    the Gram matrix of some rows of an orthonormal basis)."""
+def test_compiled_fit_is_the_masked_least_squares_solve(dtype):
+    """The compiled per-burst Cholesky and triangular solves give numpy's solution of
+    (I - B_G^H B_G + diag(d)) c = B_K^H y_K for each row of a burst (B orthonormal, G the
+    masked runs, K the kept samples)."""
     rng = np.random.default_rng(2)
-    k, n_b = 6, 3
+    n, k = 40, 6
     cplx = 1j if dtype is np.complex128 else 0
-    q = np.linalg.qr(rng.standard_normal((40, k)) + cplx * rng.standard_normal((40, k)))[0]
-    v = np.stack([q[rng.choice(40, 12, replace=False)] for _ in range(n_b)])
-    gap = np.einsum("bti,btj->bij", v.conj(), v).astype(dtype)
-    shrink = np.r_[0.0, rng.uniform(0, 1, k - 1)]
-    rhs = (rng.standard_normal((5, k)) + cplx * rng.standard_normal((5, k))).astype(dtype)
-    row_start = np.array([0, 2, 3, 5])
-    c = lr._solve_bursts(gap, shrink, rhs, row_start)
-    for bi in range(n_b):
-        a = np.eye(k) - gap[bi] + np.diag(shrink)
-        for r in range(row_start[bi], row_start[bi + 1]):
-            assert c[r] == pytest.approx(np.linalg.solve(a, rhs[r]), rel=1e-10, abs=1e-12)
+    b = np.linalg.qr(rng.standard_normal((n, k)) + cplx * rng.standard_normal((n, k)))[0]
+    prefix = np.zeros((n + 1, k, k), dtype)
+    np.cumsum(b.conj()[:, :, None] * b[:, None, :], axis=0, out=prefix[1:])
+    shrink = np.r_[lr.SHRINK_FLOOR, rng.uniform(0, 1, k - 1)]
+    run_s, run_e = np.array([3, 20]), np.array([9, 31])
+    low = np.zeros((k, k), dtype)
+    lr._cholesky(prefix, shrink, run_s, run_e, 2, low)
+    x = (rng.standard_normal((3, n)) + cplx * rng.standard_normal((3, n))).astype(dtype)
+    c = np.zeros((3, k), dtype)
+    lr._fit_rows(x, x @ b.conj(), np.ascontiguousarray(b.conj()), low, run_s, run_e, 2, 0, 3,
+                 c, np.zeros(k, dtype))
+    kept = np.ones(n, bool)
+    kept[3:9] = kept[20:31] = False
+    a = b[kept].conj().T @ b[kept] + np.diag(shrink)
+    assert np.tril(low) @ np.tril(low).conj().T == pytest.approx(a, abs=1e-12)
+    for r in range(3):
+        assert c[r] == pytest.approx(np.linalg.solve(a, b[kept].conj().T @ x[r, kept]),
+                                     rel=1e-10, abs=1e-12)
