@@ -326,7 +326,11 @@ def _merge(actor_key: np.ndarray, pos: np.ndarray, rcs: np.ndarray, cfg: RcsConf
     ia = np.floor((az - lows[1]) / (cfg.merge_azimuth_deg * scale)).astype(np.int64)
     ie = np.floor((el - lows[2]) / cfg.merge_elevation_deg).astype(np.int64)
     key = ((group * 4096 + ir) * 2048 + ia) * 256 + ie
-    uniq, first, inv = np.unique(key, return_index=True, return_inverse=True)
+    # What np.unique(key, return_index=True, return_inverse=True) gives (cells in increasing
+    # key order, each cell's first point), by hashing instead of sorting all P keys.
+    inv, uniq = pd.factorize(key, sort=True)
+    first = np.full(uniq.size, key.size, dtype=np.int64)
+    np.minimum.at(first, inv, np.arange(key.size))
     w = np.bincount(inv, weights=rcs, minlength=uniq.size)
     wsafe = np.where(w > 0, w, 1.0)
     merged = np.column_stack([np.bincount(inv, weights=rcs * pos[:, d], minlength=uniq.size)

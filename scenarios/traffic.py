@@ -37,7 +37,7 @@ from highway_env.vehicle.kinematics import Vehicle
 
 from .catalog import ACTOR_CLASSES, GUARD_RAIL, Case, Mount
 from .registry import get_case
-from .roads import LANE_WIDTH_M, ROAD_LAYOUTS, TRAFFIC_ENVS, Path
+from .roads import LANE_WIDTH_M, ROAD_LAYOUTS, TRAFFIC_ENVS, Path, memoise_lanes
 from .truth import (RAW_ACTOR_COLUMNS, RAW_EGO_COLUMNS, build_tables, ego_yaw_rate_rps,
                     iso_lateral_to_highway, radar_velocity_mps)
 
@@ -271,6 +271,7 @@ def _random_traffic(case: Case, seed: int, frame_rate_hz: float, substeps: int):
     env = traffic.env_class()(config=config, render_mode=None)
     env.reset(seed=seed)
     road = env.road
+    memoise_lanes(road.network)   # bit-identical, ~6x cheaper neighbour projections
     old_ego = env.vehicle
     ego = IDM_CLASSES["car"].create_from(old_ego)
     road.vehicles[road.vehicles.index(old_ego)] = ego
