@@ -13,7 +13,10 @@ raised Tx's slot phase is absorbed by the free elevation phase, and only the pha
 the horizontal row's two Tx groups separates hypothesis k (step 120 k deg) from the truth (0),
 so an uncorrected Tx-to-Tx phase error beyond 60 deg makes a wrong hypothesis win and moves
 static returns to +/-2 Vmax (the real IWR6843's symptom; tests/pipeline/
-test_velocity_extension_board.py).
+test_velocity_extension_board.py). Returns of the radar's own hardware and mount (Tx-to-Rx
+leakage, DC residue, near-field returns) fit no hypothesis and sit at zero Doppler: a
+zero-Doppler detection is moved beyond +/-Vmax only if its winning hypothesis fits one
+far-field echo as well as a real echo at its SNR does (`pipeline.mimo.extension`).
 
 References
 ----------
@@ -28,7 +31,7 @@ import pandas as pd
 
 from radarsim.config import RadarConfig
 
-from ..cfar import CFAR_MODES
+from ..cfar import CFAR_MODES, noise_mean_factor
 from ..chirp_level.stage import range_stage
 from ..compensation import compensate
 from ..config import WINDOWS, ProcessingConfig
@@ -41,8 +44,14 @@ from ..stages import (
     noncoherent_hits,
 )
 from .base import DetectionMap, DopplerAzimuth, MimoChain, register_chain
+from .extension import may_extend
 
-__all__ = ["SlotMaps", "SlotChain", "TdmaChain", "slot_maps"]
+__all__ = ["SlotMaps", "SlotChain", "TdmaChain", "slot_maps", "ZERO_DOPPLER_BINS"]
+
+#: Half-width of the zero-Doppler region whose detections must pass the far-field fit test to
+#: be extended, bins (the Doppler mainlobe of a static return: a Hann window's is +/-2 bins,
+#: its -6 dB points +/-1).
+ZERO_DOPPLER_BINS = 1.0
 
 
 class SlotMaps(NamedTuple):
@@ -137,6 +146,20 @@ class SlotChain(MimoChain):
         az_pow = np.abs(virt_h @ array_dft(cfg, n_az, "horizontal")) ** 2  # (n, H, A)
         score = array_likelihood(cfg, virt_h, az_pow, v_idx)
         best = np.argmax(np.where(valid, score, -np.inf), axis=1)
+        if self.disambiguate(proc):
+            # A return of the radar's own hardware and mount (Tx-to-Rx leakage, DC residue,
+            # near-field stand/bumper returns) sits at zero Doppler and is no far-field echo
+            # through the array: move a zero-Doppler detection beyond +/-Vmax only if its
+            # winning hypothesis fits one far-field echo as a real one at its SNR would
+            # (`extension`); otherwise it keeps its measured velocity, 0.
+            unextended = int(np.flatnonzero(k == 0)[0])
+            moved = np.flatnonzero((best != unextended)
+                                   & (np.abs(d_signed) <= ZERO_DOPPLER_BINS))
+            cf = proc.cfar
+            sigma2 = hits.noise[moved] * self.noise_gain_of(cfg) / (
+                noise_mean_factor(cf.mode, cf.n_training, cf.os_rank, hits.looks) * hits.looks)
+            keep = may_extend(cfg, virt_h[moved, best[moved]], sigma2)
+            best[moved[~keep]] = unextended
         velocity = v_hyp[np.arange(r.size), best]
         d_true = np.rint(-2 * velocity / cfg.wavelength_m * n_dop * t_slot).astype(int)
         return hypothesis_cloud(cfg, proc, hits, virt_h, az_pow, best, velocity,
