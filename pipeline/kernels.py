@@ -1,6 +1,11 @@
-"""Pure numpy kernels of the signal chain: FFT stages, DDMA demodulation, peak interpolation,
-local maxima, candidate CFAR and angle estimation. Axis order: chirp/Doppler first, then Rx,
-then fast time / range (DESIGN 3), unless a docstring says otherwise.
+"""Kernels of the signal chain: FFT stages, DDMA demodulation, peak interpolation, local
+maxima, candidate CFAR and angle estimation. Axis order: chirp/Doppler first, then Rx, then
+fast time / range (DESIGN 3), unless a docstring says otherwise.
+
+Mostly numpy; a pass that numpy can only express through full-size temporaries or index arrays
+(the Rx energy, the DDMA demodulation gather) is a numba kernel (``cache=True``, compiled once
+per machine) that repeats numpy's float32 operations in numpy's order, so outputs are
+bit-identical to the numpy formulation it replaced.
 
 References
 ----------
@@ -10,16 +15,17 @@ References
 from __future__ import annotations
 
 from functools import lru_cache
-
 from typing import NamedTuple
 
+import numba
 import numpy as np
 import scipy.fft
 from scipy.signal import get_window
 
 from .cfar import CFAR_MODES, noise_estimate, training_offsets
 
-__all__ = ["window", "range_fft", "doppler_fft", "ddma_metric", "ArrayLayout",
+__all__ = ["window", "range_fft", "doppler_fft", "rx_energy", "ddma_metric", "ddma_gather",
+           "ArrayLayout",
            "array_layout", "local_max_mask", "parabolic_offset", "candidate_cfar", "cfar_peaks",
            "training_table",
            "estimate_angles"]
@@ -58,10 +64,89 @@ def range_fft(adc: np.ndarray, win: np.ndarray) -> np.ndarray:
 
 
 def doppler_fft(x: np.ndarray, win: np.ndarray, axis: int = 0) -> np.ndarray:
-    """Windowed complex FFT over slow time along `axis` (in natural bin order 0..N-1)."""
+    """Windowed complex FFT over slow time along `axis` (in natural bin order 0..N-1), into the
+    windowed copy (pocketfft gathers strided columns itself: the same transforms, bit for bit,
+    as over a transposed contiguous copy)."""
     shape = [1] * x.ndim
     shape[axis] = -1
-    return scipy.fft.fft(x * win.reshape(shape), axis=axis, workers=-1)
+    return scipy.fft.fft(x * win.reshape(shape), axis=axis, workers=-1, overwrite_x=True)
+
+
+def rx_energy(spec: np.ndarray) -> np.ndarray:
+    """Energy summed over Rx, |x|^2 = re^2 + im^2 in float32, Rx added in order.
+
+    Parameters
+    ----------
+    spec : (n_chirps, n_rx, n_range) complex64, C-contiguous
+
+    Returns
+    -------
+    (n_chirps, n_range) float32
+        Bit for bit ``stages.power_of(spec).sum(axis=1)``, without its full-size temporary.
+    """
+    out = np.empty((spec.shape[0], spec.shape[2]), np.float32)
+    _rx_energy(spec.view(np.float32), out)
+    return out
+
+
+@numba.njit(cache=True, nogil=True)
+def _rx_energy(v: np.ndarray, out: np.ndarray) -> None:
+    """out[c, b] = sum over r (in order) of v[c, r, 2b]^2 + v[c, r, 2b + 1]^2, float32."""
+    n_c, n_r, _ = v.shape
+    n_b = out.shape[1]
+    for c in range(n_c):
+        for b in range(n_b):
+            re = v[c, 0, 2 * b]
+            im = v[c, 0, 2 * b + 1]
+            out[c, b] = re * re + im * im
+        for r in range(1, n_r):
+            for b in range(n_b):
+                re = v[c, r, 2 * b]
+                im = v[c, r, 2 * b + 1]
+                out[c, b] += re * re + im * im
+
+
+def ddma_gather(spec: np.ndarray, tx1_band: np.ndarray, tx_pos: np.ndarray,
+                n_subbands: int) -> np.ndarray:
+    """Demodulated DDMA samples of the transmitters at sub-band positions `tx_pos`, for every
+    range and Doppler bin (seed 000 table 11): Tx p of Doppler bin d at range bin b sits at
+    chirp-bin d + n_dop ((tx1_band[d, b] + p) mod N).
+
+    Parameters
+    ----------
+    spec : (n_chirps, n_rx, n_range) complex64
+        Doppler spectra over all chirps.
+    tx1_band : (n_dop, n_range) int
+        Sub-band of the first Tx per Doppler bin of a sub-band and range bin.
+    tx_pos : (P,) int
+        Sub-band positions of the wanted transmitters (0 = the first Tx).
+    n_subbands : int
+        N (n_dop = n_chirps / N).
+
+    Returns
+    -------
+    (P x n_rx, n_range x n_dop) complex64
+        Row p n_rx + rx, column b n_dop + d (one flat gather, no index arrays).
+    """
+    n_c, n_rx, n_b = spec.shape
+    n_dop = n_c // n_subbands
+    out = np.empty((tx_pos.size * n_rx, n_b * n_dop), np.complex64)
+    _ddma_gather(spec, tx1_band, tx_pos.astype(np.int64), n_subbands, out)
+    return out
+
+
+@numba.njit(cache=True, nogil=True)
+def _ddma_gather(spec, tx1_band, tx_pos, n_sb, out):
+    """`ddma_gather`'s loop: Doppler bins outer, range bins inner (reads run along range)."""
+    n_rx, n_b = spec.shape[1], spec.shape[2]
+    n_dop = tx1_band.shape[0]
+    for d in range(n_dop):
+        for b in range(n_b):
+            band = tx1_band[d, b]
+            for i in range(tx_pos.size):
+                c = ((band + tx_pos[i]) % n_sb) * n_dop + d
+                for rx in range(n_rx):
+                    out[i * n_rx + rx, b * n_dop + d] = spec[c, rx, b]
 
 
 def ddma_metric(power: np.ndarray, n_subbands: int, n_tx: int) -> np.ndarray:

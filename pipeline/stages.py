@@ -25,7 +25,7 @@ from .config import WINDOWS, ProcessingConfig
 from .kernels import array_layout, cfar_peaks, estimate_angles, parabolic_offset
 
 __all__ = ["POINT_CLOUD_COLUMNS", "check_frame", "power_of", "log_power", "point_cloud",
-           "empty_cloud", "interp_azimuth", "interp_range", "interp_doppler", "array_dft", "row_offsets",
+           "empty_cloud", "interp_azimuth", "interp_range", "interp_doppler", "array_dft",
            "array_likelihood", "hypothesis_cloud"]
 
 #: Columns of every point cloud, in order.
@@ -178,14 +178,6 @@ def array_dft(cfg: RadarConfig, n_fft: int, row: str) -> np.ndarray:
     w[idx] = np.exp(-2j * np.pi * np.outer(pos, np.arange(n_fft)) / n_fft)
     w.setflags(write=False)
     return w
-
-
-@lru_cache(maxsize=8)
-def row_offsets(n_rx: int, n_range: int, n_chirps: int) -> np.ndarray:
-    """(n_rx, n_range, 1) int32 flat offset of each (Rx, range) row of a (B, R, C) spectrum."""
-    rows = np.arange(n_range, dtype=np.int32)[None, :, None] * n_rx + \
-        np.arange(n_rx, dtype=np.int32)[:, None, None]
-    return rows * np.int32(n_chirps)
 
 
 def empty_cloud() -> pd.DataFrame:

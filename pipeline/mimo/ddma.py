@@ -16,7 +16,6 @@ from typing import NamedTuple
 
 import numpy as np
 import pandas as pd
-import scipy.fft
 
 from radarsim.config import RadarConfig
 
@@ -24,9 +23,10 @@ from ..cfar import noise_mean_factor
 from ..chirp_level.stage import range_stage
 from ..compensation import compensate
 from ..config import WINDOWS, ProcessingConfig
-from ..kernels import array_layout, cfar_peaks, ddma_metric, estimate_angles, window
+from ..kernels import (array_layout, cfar_peaks, ddma_gather, ddma_metric, doppler_fft,
+                       estimate_angles, rx_energy, window)
 from ..stages import (array_dft, empty_cloud, interp_azimuth, interp_doppler, interp_range,
-                      point_cloud, power_of, row_offsets)
+                      point_cloud, power_of)
 from .base import DetectionMap, DopplerAzimuth, MimoChain, register_chain
 from .ddma_order import DdmaDetections, ddma_virtual, resolve_tx_order
 
@@ -41,9 +41,9 @@ class DdmaMaps(NamedTuple):
     power : (n_az, n_range, n_dop) float32
         Coherent Doppler-azimuth maps after demodulation (Doppler last, so the CFAR runs along
         contiguous memory).
-    spec : (n_range, n_rx, n_chirps) complex64
+    spec : (n_chirps, n_rx, n_range) complex64
         Doppler spectra over all chirps, before demodulation.
-    energy : (n_range, n_chirps) float32
+    energy : (n_chirps, n_range) float32
         `spec`'s energy summed over Rx.
     tx1_band : (n_dop, n_range) int
         Sub-band of the first Tx of `tx_order` per Doppler bin (seed 000 table 11).
@@ -61,18 +61,14 @@ def full_doppler_spectrum(cfg: RadarConfig, adc: np.ndarray,
 
     Returns
     -------
-    spec : (n_range, n_rx, n_chirps) complex64
-        Slow time last and contiguous for the demodulation gathers.
-    energy : (n_range, n_chirps) float32
+    spec : (n_chirps, n_rx, n_range) complex64
+        Doppler bins (natural order) first, in the range cube's layout.
+    energy : (n_chirps, n_range) float32
         Summed over Rx.
     """
     rf = range_stage(cfg, adc, proc)  # (C, R, B): chirp-level chain + range FFT
-    # Transpose and window in one pass into the contiguous (B, R, C) buffer the FFT
-    # overwrites (the products `kernels.doppler_fft` forms, without its two copies).
-    x = np.empty(rf.shape[::-1], dtype=np.complex64)
-    np.multiply(rf.transpose(2, 1, 0), window(WINDOWS[proc.doppler_window], cfg.n_chirps), out=x)
-    spec = scipy.fft.fft(x, axis=-1, workers=-1, overwrite_x=True)  # (B, R, C)
-    return spec, power_of(spec).sum(axis=1)
+    spec = doppler_fft(rf, window(WINDOWS[proc.doppler_window], cfg.n_chirps))  # (C, R, B)
+    return spec, rx_energy(spec)
 
 
 def ddma_maps(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) -> DdmaMaps:
@@ -82,17 +78,14 @@ def ddma_maps(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) -> Ddma
     n_dop = n_chirps // n_sb
     n_az = proc.n_azimuth_bins
     spec, energy = full_doppler_spectrum(cfg, adc, proc)
-    n_range = spec.shape[0]
-    tx1_band = np.argmax(ddma_metric(energy.T, n_sb, n_tx), axis=0)  # (D, B)
+    n_range = spec.shape[2]
+    tx1_band = np.argmax(ddma_metric(energy, n_sb, n_tx), axis=0)  # (D, B)
     # Demodulation: Tx p of Doppler bin d sits at chirp-bin d + n_dop (band + p) mod N. Only
-    # the transmitters of the horizontal row enter the azimuth map; one flat take gathers them
-    # straight into the (p, rx, range, Doppler) layout of the GEMM below.
+    # the transmitters of the horizontal row enter the azimuth map, gathered straight into the
+    # (p, rx, range, Doppler) layout of the GEMM below.
     h_idx, *_ = array_layout(cfg.virtual_positions_m, cfg.wavelength_m)
     tx_h = np.unique(h_idx // n_rx).astype(np.int32)  # sub-band positions p of the row
-    band = (tx1_band.T[None] + tx_h[:, None, None]) % n_sb  # (P_h, B, D)
-    col = band * n_dop + np.arange(n_dop, dtype=np.int32)
-    flat = row_offsets(n_rx, n_range, n_chirps)[None] + col[:, None]  # (P_h, R, B, D)
-    virt_h = spec.reshape(-1)[flat.reshape(-1)].reshape(tx_h.size * n_rx, n_range * n_dop)
+    virt_h = ddma_gather(spec, tx1_band, tx_h, n_sb)  # (P_h x R, B x D)
     # Zero-padded azimuth FFT over the horizontal row as one complex GEMM.
     rows = (tx_h[:, None] * n_rx + np.arange(n_rx)).reshape(-1)
     # compRangeBiasAndRxChanPhase: the channel coefficients folded into the DFT's columns.
@@ -166,7 +159,7 @@ class DdmaChain(MimoChain):
         k_true = d + n_dop * band
         offs = (k_true[:, None, None] + np.arange(-1, 2)[None, :, None]
                 + n_dop * np.arange(n_tx)[None, None, :]) % cfg.n_chirps
-        k_frac = k_true + interp_doppler(energy[r[:, None, None], offs].sum(axis=-1),
+        k_frac = k_true + interp_doppler(energy[offs, r[:, None, None]].sum(axis=-1),
                                          WINDOWS[proc.doppler_window], cfg.n_chirps)
         velocity = doppler_velocity_mps(cfg, k_frac)
         # Angles.
@@ -194,7 +187,7 @@ class DdmaChain(MimoChain):
 
     def range_doppler_power(self, cfg: RadarConfig, adc: np.ndarray,
                             proc: ProcessingConfig) -> np.ndarray:
-        return full_doppler_spectrum(cfg, adc, proc)[1]
+        return full_doppler_spectrum(cfg, adc, proc)[1].T
 
 
 register_chain(DdmaChain())

@@ -48,9 +48,9 @@ class ClassicDdmaMaps(NamedTuple):
     ----------
     power : (n_range, n_dop) float32
         Energy summed over Rx and the N sub-bands per Doppler bin of a sub-band.
-    spec : (n_range, n_rx, n_chirps) complex64
+    spec : (n_chirps, n_rx, n_range) complex64
         Doppler spectra over all chirps.
-    energy : (n_range, n_chirps) float32
+    energy : (n_chirps, n_range) float32
         `spec`'s energy summed over Rx.
     """
 
@@ -63,12 +63,13 @@ def classic_ddma_maps(cfg: RadarConfig, adc: np.ndarray,
                       proc: ProcessingConfig) -> ClassicDdmaMaps:
     """Full Doppler spectrum and the sub-band-summed non-coherent map."""
     spec, energy = full_doppler_spectrum(cfg, adc, proc)
-    n_range = energy.shape[0]
+    n_range = energy.shape[1]
     mode = CFAR_MODES[proc.cfar.mode]
-    if mode.sums_looks:  # the square-law sum: from the Rx-summed energy
-        power = energy.reshape(n_range, cfg.n_subbands, -1).sum(axis=1)
-    else:  # the mode's statistic over every (Rx, sub-band) channel
-        per = power_of(np.ascontiguousarray(spec)).reshape(n_range, cfg.n_rx, cfg.n_subbands, -1)
+    if mode.sums_looks:  # the square-law sum: from the Rx-summed energy, sub-bands in order
+        power = energy.reshape(cfg.n_subbands, -1, n_range).sum(axis=0).T
+    else:  # the mode's statistic over every (Rx, sub-band) channel, (range, Rx, band, Doppler)
+        per = power_of(np.ascontiguousarray(spec.transpose(2, 1, 0))) \
+            .reshape(n_range, cfg.n_rx, cfg.n_subbands, -1)
         power = mode.combine_looks(per, axis=(1, 2))
     return ClassicDdmaMaps(power=power, spec=spec, energy=energy)
 
@@ -78,7 +79,7 @@ def _band_samples(cfg: RadarConfig, spec: np.ndarray, r: np.ndarray,
     """(n, N, n_rx) samples of Doppler bin d of every sub-band at range bins r."""
     n_dop = cfg.n_chirps // cfg.n_subbands
     k = d[:, None] + n_dop * np.arange(cfg.n_subbands)  # (n, N)
-    return spec[r[:, None], :, k]  # advanced indices first: (n, N, R)
+    return spec[k, :, r[:, None]]  # advanced indices first: (n, N, R)
 
 
 def assignment_scores(cfg: RadarConfig, bands: np.ndarray, n_az: int,
@@ -165,7 +166,7 @@ class ClassicDdmaChain(MimoChain):
 
     def range_doppler_power(self, cfg: RadarConfig, adc: np.ndarray,
                             proc: ProcessingConfig) -> np.ndarray:
-        return full_doppler_spectrum(cfg, adc, proc)[1]
+        return full_doppler_spectrum(cfg, adc, proc)[1].T
 
 
 register_chain(ClassicDdmaChain())

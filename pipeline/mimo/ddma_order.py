@@ -97,8 +97,8 @@ def ddma_virtual(cfg: RadarConfig, spec: np.ndarray, tx1_band: np.ndarray, r: np
     b = tx1_band[d, r] if tx1_band.ndim == 2 else tx1_band
     band = (b[:, None] + np.arange(cfg.n_tx)) % cfg.n_subbands  # (n, P)
     chirp_bin = band * n_dop + d[:, None]
-    return spec[r[:, None, None], np.arange(cfg.n_rx)[None, None, :],
-                chirp_bin[:, :, None]].reshape(r.size, -1)
+    return spec[chirp_bin[:, :, None], np.arange(cfg.n_rx)[None, None, :],
+                r[:, None, None]].reshape(r.size, -1)
 
 
 def band_beams(cfg: RadarConfig, proc: ProcessingConfig, spec: np.ndarray, r: np.ndarray,
@@ -107,7 +107,7 @@ def band_beams(cfg: RadarConfig, proc: ProcessingConfig, spec: np.ndarray, r: np
 
     Parameters
     ----------
-    spec : (n_range, n_rx, n_chirps) complex64
+    spec : (n_chirps, n_rx, n_range) complex64
         Doppler spectra over all chirps, before demodulation.
     r, d : (n,) int
         Range bin and intra-sub-band Doppler bin of each detection.
@@ -124,7 +124,7 @@ def band_beams(cfg: RadarConfig, proc: ProcessingConfig, spec: np.ndarray, r: np
     n_sb, n_tx, n_rx = cfg.n_subbands, cfg.n_tx, cfg.n_rx
     n_dop = cfg.n_chirps // n_sb
     chirp_bin = np.arange(n_sb) * n_dop + d[:, None]  # (n, N)
-    x = spec[r[:, None, None], np.arange(n_rx)[None, :, None], chirp_bin[:, None, :]]
+    x = spec[chirp_bin[:, None, :], np.arange(n_rx)[None, :, None], r[:, None, None]]
     y_rx = cfg.rx_positions_m[:, 1] / (cfg.wavelength_m / 2)  # (Rx,) lambda/2 units
     steer = np.exp(-1j * np.pi * sin_az_cos_el[:, None] * y_rx[None, :])  # (n, Rx)
     coef = virtual_coefficients(cfg, proc.channel_comp)
@@ -194,9 +194,9 @@ def resolve_tx_order(cfg: RadarConfig, proc: ProcessingConfig, spec: np.ndarray,
 
     Parameters
     ----------
-    spec : (n_range, n_rx, n_chirps) complex64
+    spec : (n_chirps, n_rx, n_range) complex64
         Doppler spectra over all chirps, before demodulation.
-    energy : (n_range, n_chirps) float
+    energy : (n_chirps, n_range) float
         `spec`'s energy summed over Rx.
     det : DdmaDetections
         Detections of the coherent map, `band` the cell's (Rx-summed) empty-band decision.
@@ -230,7 +230,7 @@ def resolve_tx_order(cfg: RadarConfig, proc: ProcessingConfig, spec: np.ndarray,
         sin_term = interp_azimuth(det.power_az, det.a)
         beams = band_beams(cfg, proc, spec, det.r, det.d, sin_term)
     n_dop = cfg.n_chirps // cfg.n_subbands
-    band_energy = energy[det.r[:, None], np.arange(cfg.n_subbands) * n_dop + det.d[:, None]]
+    band_energy = energy[np.arange(cfg.n_subbands) * n_dop + det.d[:, None], det.r[:, None]]
     return det.take(_single_echo(cfg, proc, det, beams, band_energy, sin_term))
 
 
@@ -238,7 +238,7 @@ def _reread(cfg: RadarConfig, proc: ProcessingConfig, spec: np.ndarray, det: Ddm
             moved: np.ndarray, band: np.ndarray) -> DdmaDetections:
     """`det` with detections `moved` read in Tx order `band`: the nearest azimuth peak of the
     re-read array, its power, azimuth spectrum and range neighbours."""
-    n_az, n_range = det.power_az.shape[-1], spec.shape[0]
+    n_az, n_range = det.power_az.shape[-1], spec.shape[2]
     r, d = det.r[moved], det.d[moved]
     # Azimuth spectra of the re-read array at r-1, r, r+1 (range interpolation) -> (m, 3, A).
     rr = np.clip(r[:, None] + np.arange(-1, 2), 0, n_range - 1)

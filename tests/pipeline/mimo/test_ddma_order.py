@@ -21,17 +21,17 @@ from tests.pipeline.test_chain import scene_at_snr
 
 
 def _cell_spectrum(cfg, echoes, d=40):
-    """Noise-free (1, n_rx, n_chirps) Doppler spectrum of one range bin holding far-field
+    """Noise-free (n_chirps, n_rx, 1) Doppler spectrum of one range bin holding far-field
     echoes (amplitude, azimuth_deg, tx1_band) at intra-sub-band Doppler bin d: Tx p of an echo
     sits in sub-band (tx1_band + p) mod N with the virtual element's phase (DESIGN 3)."""
     n_dop = cfg.n_chirps // cfg.n_subbands
     pos = cfg.virtual_positions_m.reshape(cfg.n_tx, cfg.n_rx, 3)
-    spec = np.zeros((1, cfg.n_rx, cfg.n_chirps), complex)
+    spec = np.zeros((cfg.n_chirps, cfg.n_rx, 1), complex)
     for amp, az_deg, band in echoes:
         u = np.array([np.cos(np.radians(az_deg)), np.sin(np.radians(az_deg)), 0.0])
         phase = 2 * np.pi / cfg.wavelength_m * pos @ u  # (P, Rx): +(t_k + r_r) . u
         for p in range(cfg.n_tx):
-            spec[0, :, ((band + p) % cfg.n_subbands) * n_dop + d] += amp * np.exp(1j * phase[p])
+            spec[((band + p) % cfg.n_subbands) * n_dop + d, :, 0] += amp * np.exp(1j * phase[p])
     return spec
 
 
@@ -50,7 +50,7 @@ def test_rx_beam_takes_the_decision_the_rx_sum_cannot(r79):
     cfg, proc = r79
     amp_b = 10 ** (-1.5 / 20)
     spec = _cell_spectrum(cfg, [(1.0, -45.0, 0), (amp_b, -10.0, 5)])
-    energy = (np.abs(spec[0]) ** 2).sum(axis=0)  # (n_chirps,)
+    energy = (np.abs(spec[..., 0]) ** 2).sum(axis=1)  # (n_chirps,)
     z_sum = ddma_metric(energy, cfg.n_subbands, cfg.n_tx)[:, 40]
     assert np.argmax(z_sum) == 0
     assert z_sum[0] - z_sum[5] == pytest.approx(cfg.n_rx * (1 - amp_b ** 2), rel=1e-9)
