@@ -135,22 +135,11 @@ def _slab(o_local, d_local, half):
     """Slab test in box-local coordinates. Inputs: (x, y, z) tuples of (...) arrays (column
     by column: interleaved (..., 3) temporaries cost twice the memory traffic). Returns t_in,
     t_out, axis."""
-    near, far = [], []
-    for o, d, h in zip(o_local, d_local, half):
-        with np.errstate(divide="ignore", invalid="ignore"):
-            inv = 1.0 / d
-            t1 = (-h - o) * inv
-            t2 = (h - o) * inv
-        # A ray parallel to a slab and inside it gives (-inf, inf); outside it (+-inf, +-inf)
-        # or NaN when the origin is exactly on the plane: treat NaN as "inside the slab".
-        t1 = np.where(np.isnan(t1), -np.inf, t1)
-        t2 = np.where(np.isnan(t2), np.inf, t2)
-        near.append(np.minimum(t1, t2))
-        far.append(np.maximum(t1, t2))
-    nx, ny, nz = near
+    (nx, fx), (ny, fy), (nz, fz) = (_slab_axis(o, h, d, None)
+                                    for o, d, h in zip(o_local, d_local, half))
     t_in = np.maximum(np.maximum(nx, ny), nz)
     axis = np.where((nx >= ny) & (nx >= nz), 0, np.where(ny >= nz, 1, 2))  # first maximum
-    t_out = np.minimum(np.minimum(far[0], far[1]), far[2])
+    t_out = np.minimum(np.minimum(fx, fy), fz)
     return t_in, t_out, axis
 
 
@@ -291,27 +280,30 @@ def cast_rays(grid: RayGridConfig, centres_m, half_sizes_m, yaws_rad, *,
     pairs = _window_pairs(ia0, n_a, ie0, n_e)
     if pairs is None:
         return empty
-    box, ie, col, n_per_box, n_per_col = pairs
+    box, ie, col, n_per_box, n_per_col, box_row = pairs
     # Trigonometry once per grid line, then gathered per (ray, box) pair.
     cos_e, sin_e, cos_a, sin_a = np.cos(el), np.sin(el), np.cos(az), np.sin(az)
     ce = cos_e[ie]
     dx = ce * np.repeat(cos_a[col], n_per_col)
     dy = ce * np.repeat(sin_a[col], n_per_col)
-    dz = sin_e[ie]
-    # Box-local frames once per box; per pair only the rotation of the ray direction.
+    # Box-local frames once per box; per pair only the rotation of the ray direction. The z
+    # slab depends on the box and the grid row only: it is formed per (box, row) and gathered.
     cy, sy = (np.repeat(v, n_per_box) for v in (np.cos(yaw), np.sin(yaw)))
-    d_local = (cy * dx + sy * dy, -sy * dx + cy * dy, dz)
-    with np.errstate(divide="ignore"):
-        inv_z = 1.0 / sin_e      # per grid row: the same quotient as 1 / dz per pair
-    t_in, t_out, near = _slab_pairs(d_local, inv_z[ie], _cols(_to_local(-c, yaw)), _cols(h),
+    d_xy = (cy * dx + sy * dy, -sy * dx + cy * dy)
+    o_box, h_box = _cols(_to_local(-c, yaw)), _cols(h)
+    rows = ie0[box_row[0]] + box_row[1]
+    near_z, far_z = _slab_axis(np.repeat(o_box[2], n_e), np.repeat(h_box[2], n_e),
+                               sin_e[rows], n=None)
+    t_in, t_out, near = _slab_pairs(d_xy, (near_z, far_z), box_row[2], o_box, h_box,
                                     n_per_box)
     hit = (t_in <= t_out) & (t_in > 0)
     hit &= t_in <= max_range_m
     ia = np.repeat(col, n_per_col)
     keep = np.flatnonzero(hit)[_nearest_per_ray((ie * na + ia)[hit], t_in[hit], na * ne)]
-    dirs = np.stack([dx[keep], dy[keep], dz[keep]], axis=-1)
+    dz = sin_e[ie[keep]]
+    dirs = np.stack([dx[keep], dy[keep], dz], axis=-1)
     b = box[keep]
-    f = _entry_face(tuple(n[keep] for n in near), tuple(d[keep] for d in d_local))
+    f = _entry_face(tuple(n[keep] for n in near), (d_xy[0][keep], d_xy[1][keep], dz))
     n_local = FACE_NORMALS_LOCAL[f]
     cb, sb = np.cos(yaw)[b], np.sin(yaw)[b]
     normal = np.stack([cb * n_local[:, 0] - sb * n_local[:, 1],
@@ -334,7 +326,10 @@ def _nearest_per_ray(ray: np.ndarray, t: np.ndarray, n_rays: int) -> np.ndarray:
     np.minimum.at(best, ray, key)
     cand = np.flatnonzero(key == best[ray])
     first = np.full(n_rays, ray.size, dtype=np.int64)
-    np.minimum.at(first, ray[cand], cand)
+    if cand.size == np.count_nonzero(best < np.inf):   # one candidate per ray: no tie
+        first[ray[cand]] = cand
+    else:
+        np.minimum.at(first, ray[cand], cand)
     return first[first < ray.size]
 
 
@@ -355,8 +350,10 @@ def _window_pairs(ia0, n_a, ie0, n_e):
     """Every (ray, box) pair of every window, box by box, column-major inside a window.
 
     Returns None when no window holds a ray; else box (P,) and grid row (P,) of each pair, grid
-    column (W,) of each of the W window columns, pairs per box (B,) and per window column (W,):
-    the pairs are enumerated column by column, so per-column values spread with `np.repeat`.
+    column (W,) of each of the W window columns, pairs per box (B,) and per window column (W,),
+    the pairs being enumerated column by column (per-column values spread with `np.repeat`),
+    and the (box, row) combinations: box (R,), row offset in its window (R,) and, per pair, its
+    combination's index (P,).
     """
     n_per_box = n_a * n_e
     total = int(n_per_box.sum())
@@ -366,36 +363,47 @@ def _window_pairs(ia0, n_a, ie0, n_e):
     col_box = np.repeat(np.arange(n_a.size), n_a)
     col = ia0[col_box] + (np.arange(col_box.size) - np.repeat(np.cumsum(n_a) - n_a, n_a))
     n_per_col = n_e[col_box]
-    row0 = np.repeat(ie0[col_box] - (np.cumsum(n_per_col) - n_per_col), n_per_col)
-    return box, row0 + np.arange(total), col, n_per_box, n_per_col
+    col_start = np.cumsum(n_per_col) - n_per_col
+    local = np.arange(total)
+    row = np.repeat(ie0[col_box] - col_start, n_per_col) + local
+    br_start = np.cumsum(n_e) - n_e
+    br_box = np.repeat(np.arange(n_e.size), n_e)
+    br_local = np.arange(br_box.size) - br_start[br_box]
+    pair_br = np.repeat(br_start[col_box] - col_start, n_per_col) + local
+    return box, row, col, n_per_box, n_per_col, (br_box, br_local, pair_br)
 
 
-def _slab_pairs(d_local, inv_z, o_box, half_box, n_per_box):
-    """Slab test of P (ray, box) pairs, box constants spread per pair with `np.repeat`.
+def _slab_axis(o, h, d, n):
+    """Entry and exit distances of one slab axis: t = (+-h - o) / d, with the NaN of 0 * inf
+    (origin on a slab plane, ray parallel to it) read as inside the slab. `o`, `h`: offsets and
+    half sizes (spread to the pairs with ``np.repeat(., n)`` unless `n` is None), `d`: the
+    direction component of each pair."""
+    lo, hi = -h - o, h - o
+    with np.errstate(divide="ignore"):
+        inv = 1.0 / d
+    if n is not None:
+        lo_p, hi_p = np.repeat(lo, n), np.repeat(hi, n)
+    else:
+        lo_p, hi_p = lo, hi
+    with np.errstate(invalid="ignore"):
+        t1 = lo_p * inv
+        t2 = hi_p * inv
+    if not (np.all(lo != 0) and np.all(hi != 0)):   # 0 * inf possible
+        t1 = np.where(np.isnan(t1), -np.inf, t1)
+        t2 = np.where(np.isnan(t2), np.inf, t2)
+    return np.minimum(t1, t2), np.maximum(t1, t2)
 
-    The same arithmetic as `_slab` (t = (+-h - o) / d per axis, NaN of 0 * inf read as inside
-    the slab), with the per-box offsets (-h - o, h - o) formed once per box and the z
-    reciprocal once per grid row. Returns t_in, t_out and the per-axis entry distances.
-    """
-    near, far = [], []
-    for axis, (o, h) in enumerate(zip(o_box, half_box)):
-        lo, hi = -h - o, h - o
-        if axis < 2:
-            with np.errstate(divide="ignore"):
-                inv = 1.0 / d_local[axis]
-        else:
-            inv = inv_z
-        with np.errstate(invalid="ignore"):
-            t1 = np.repeat(lo, n_per_box) * inv
-            t2 = np.repeat(hi, n_per_box) * inv
-        if not (np.all(lo != 0) and np.all(hi != 0)):   # 0 * inf: origin on a slab plane
-            t1 = np.where(np.isnan(t1), -np.inf, t1)
-            t2 = np.where(np.isnan(t2), np.inf, t2)
-        near.append(np.minimum(t1, t2))
-        far.append(np.maximum(t1, t2))
-    t_in = np.maximum(np.maximum(near[0], near[1]), near[2])
-    t_out = np.minimum(np.minimum(far[0], far[1]), far[2])
-    return t_in, t_out, tuple(near)
+
+def _slab_pairs(d_xy, slab_z, pair_z, o_box, half_box, n_per_box):
+    """Slab test of P (ray, box) pairs: the same arithmetic as `_slab`, with the x and y
+    offsets formed once per box and the z slab (near, far per (box, row) combination) gathered
+    by `pair_z`. Returns t_in, t_out and the per-axis entry distances."""
+    nx, fx = _slab_axis(o_box[0], half_box[0], d_xy[0], n_per_box)
+    ny, fy = _slab_axis(o_box[1], half_box[1], d_xy[1], n_per_box)
+    nz, fz = slab_z[0][pair_z], slab_z[1][pair_z]
+    t_in = np.maximum(np.maximum(nx, ny), nz)
+    t_out = np.minimum(np.minimum(fx, fy), fz)
+    return t_in, t_out, (nx, ny, nz)
 
 
 def _entry_face(near, d_local):

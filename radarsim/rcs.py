@@ -327,10 +327,16 @@ def _merge(actor_key: np.ndarray, pos: np.ndarray, rcs: np.ndarray, cfg: RcsConf
     ie = np.floor((el - lows[2]) / cfg.merge_elevation_deg).astype(np.int64)
     key = ((group * 4096 + ir) * 2048 + ia) * 256 + ie
     # What np.unique(key, return_index=True, return_inverse=True) gives (cells in increasing
-    # key order, each cell's first point), by hashing instead of sorting all P keys.
-    inv, uniq = pd.factorize(key, sort=True)
-    first = np.full(uniq.size, key.size, dtype=np.int64)
-    np.minimum.at(first, inv, np.arange(key.size))
+    # key order, each cell's first point), by hashing instead of sorting all P keys: unsorted
+    # factorize numbers the cells in order of first appearance, so a cell's first point is
+    # where the running maximum of the codes steps up; then the few cells are sorted.
+    codes, uniq = pd.factorize(key, sort=False)
+    seen = np.maximum.accumulate(codes)
+    first_seen = np.flatnonzero(np.r_[True, seen[1:] > seen[:-1]])
+    order = np.argsort(uniq, kind="stable")
+    rank = np.empty_like(order)
+    rank[order] = np.arange(order.size)
+    inv, first, uniq = rank[codes], first_seen[order], uniq[order]
     w = np.bincount(inv, weights=rcs, minlength=uniq.size)
     wsafe = np.where(w > 0, w, 1.0)
     merged = np.column_stack([np.bincount(inv, weights=rcs * pos[:, d], minlength=uniq.size)

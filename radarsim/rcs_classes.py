@@ -137,16 +137,16 @@ def actor_boxes(truth_frame: pd.DataFrame) -> ActorBoxes:
         raise ValueError(f"actor_class {unknown} unknown; known: {sorted(CLASS_RCS)}")
     index = {name: i for i, name in enumerate(CLASS_RCS)}
     code = np.array([index[c] for c in cls], dtype=np.int64)
-    # One block read of the numeric columns (the per-column Series access dominated).
-    num = truth_frame[list(_NUMERIC_COLUMNS)].to_numpy(dtype=np.float64)
-    centre = np.ascontiguousarray(num[:, 0:3])
-    half = 0.5 * num[:, 3:6]
-    vel = np.column_stack([num[:, 6:8], np.zeros(len(num))])
-    return ActorBoxes(truth_frame["actor_id"].to_numpy(dtype=np.int64), cls, centre, half,
-                      np.radians(num[:, 8]), vel, code)
+    col = {c: truth_frame[c].to_numpy(dtype=np.float64) for c in _NUMERIC_COLUMNS}
+    centre = np.column_stack([col["x_radar_m"], col["y_radar_m"], col["z_radar_m"]])
+    half = 0.5 * np.column_stack([col["length_m"], col["width_m"], col["height_m"]])
+    vel = np.column_stack([col["vx_radar_mps"], col["vy_radar_mps"], np.zeros(len(cls))])
+    return ActorBoxes(truth_frame["actor_id"].to_numpy(dtype=np.int64), cls,
+                      centre.reshape(-1, 3), half.reshape(-1, 3),
+                      np.radians(col["yaw_radar_deg"]), vel.reshape(-1, 3), code)
 
 
-#: Numeric truth columns `actor_boxes` reads, in the order it slices them.
+#: Numeric truth columns `actor_boxes` reads.
 _NUMERIC_COLUMNS = ("x_radar_m", "y_radar_m", "z_radar_m", "length_m", "width_m", "height_m",
                     "vx_radar_mps", "vy_radar_mps", "yaw_radar_deg")
 

@@ -128,6 +128,8 @@ class Tr38901Pattern:
             if lobe.theta_range_deg[1] < 180.0:  # half-open upper end, as the tables write it
                 in_theta &= theta < lobe.theta_range_deg[1]
             sel = in_phi & in_theta & np.isnan(out)
+            if not sel.any():      # e.g. the roof lobe for a radar near the horizon
+                continue
             cap = lobe.sigma_max_db
             s_v = -np.minimum(12 * ((theta - lobe.theta_center_deg) / lobe.theta_3db_deg) ** 2,
                               cap)
