@@ -51,9 +51,18 @@ _CLOUD_COLUMNS = ("frame", "time_s", "range_m", "azimuth_deg", "elevation_deg",
                   "radial_velocity_mps", "snr_db", "x_m", "y_m", "z_m")
 
 
-def concat_clouds(clouds: list[pd.DataFrame]) -> pd.DataFrame:
-    """One scheme's point clouds of every frame as one table (typed columns when empty)."""
+def concat_clouds(clouds: list[pd.DataFrame], frames=None, times_s=None) -> pd.DataFrame:
+    """One scheme's point clouds of every frame as one table (typed columns when empty).
+
+    With `frames` (and `times_s`), one per cloud, the table starts with the columns frame
+    (int64) and time_s (float) of each cloud's rows (clouds as the chain returns them);
+    without, the clouds carry them already.
+    """
     pcs = pd.concat(clouds, ignore_index=True) if clouds else pd.DataFrame()
+    if frames is not None and len(pcs.columns):
+        n = [len(c) for c in clouds]
+        pcs.insert(0, "frame", np.repeat(np.asarray(frames, dtype=np.int64), n))
+        pcs.insert(1, "time_s", np.repeat(np.asarray(times_s, dtype=float), n))
     if pcs.empty:
         pcs = pd.DataFrame({c: pd.Series(dtype=float) for c in _CLOUD_COLUMNS})
         pcs["frame"] = pcs["frame"].astype(np.int64)
@@ -135,6 +144,7 @@ class _FrameOutputs(NamedTuple):
     """What the frame loop of a cell leaves for scoring."""
 
     clouds: dict[str, list[pd.DataFrame]]   # point clouds per result scheme, one per frame
+    #                                         (as the chain returns them: no frame column)
     saturated: dict[str, list[int]]         # saturated (chirp, Rx) pairs per scheme and frame
     scatterers: pd.DataFrame                # `metrics.association.scatterer_table`
     floor_rows: list[dict]                  # `_noise_floors` rows of every frame
@@ -177,7 +187,8 @@ def run_cell(spec: CellSpec, comps: Components | None = None,
     rows_out = []
     for rs in schemes:
         s, cfg = rs.name, radar[rs.mimo]
-        lab = _label(concat_clouds(out.clouds[s]), truth, out.scatterers, cfg, assoc)
+        lab = _label(concat_clouds(out.clouds[s], frames, times.to_numpy()), truth,
+                     out.scatterers, cfg, assoc)
         sc = msc.score_scheme(lab, truth, out.scatterers, len(frames), assoc, case)
         row = sc.row
         if s in out.reference:
@@ -290,10 +301,7 @@ def _process_frames(spec: CellSpec, comps: Components, run, radar: dict, procs: 
             scat.append((f, sc))
             floor_rows += floor
             for name, pc in pcs.items():
-                pc = pc.reset_index(drop=True)
-                pc.insert(0, "frame", np.int64(f))
-                pc.insert(1, "time_s", float(times.loc[f]))
-                clouds[name].append(pc)
+                clouds[name].append(pc)  # frame and time columns: once, in concat_clouds
                 saturated[name].append(int(pc.attrs.get("saturation", {})
                                            .get("n_saturated_chirp_rx", 0)))
             for name, pc in ref.items():

@@ -335,6 +335,14 @@ def associate(detections: pd.DataFrame, truth: pd.DataFrame, *, velocity_span_mp
     return out
 
 
+def _rows_by_frame(frame: np.ndarray) -> dict:
+    """Frame -> (m,) rows of `frame` holding it, ascending (one stable sort, not one scan of
+    every row per frame)."""
+    order = np.argsort(frame, kind="stable")
+    keys, starts = np.unique(frame[order], return_index=True)
+    return dict(zip(keys.tolist(), np.split(order, starts[1:])))
+
+
 def _ground_match(detections: pd.DataFrame, scatterers: pd.DataFrame,
                   cfg: AssociationConfig) -> np.ndarray:
     """(D,) bool: detection in a range-Doppler cell occupied by modelled ground clutter.
@@ -353,13 +361,14 @@ def _ground_match(detections: pd.DataFrame, scatterers: pd.DataFrame,
     scale = cfg.range_gate_m / cfg.velocity_gate_mps
     det_frame = detections["frame"].to_numpy()
     pts = np.column_stack([detections["range_m"], detections["radial_velocity_mps"] * scale])
-    for frame, gf in g.groupby("frame", sort=False):
-        rows = np.flatnonzero(det_frame == frame)
-        if not len(rows):
+    ref_all = np.column_stack([g["range_m"], g["radial_velocity_mps"] * scale])
+    det_rows = _rows_by_frame(det_frame)
+    for frame, at in g.groupby("frame", sort=False).indices.items():
+        rows = det_rows.get(frame)
+        if rows is None:
             continue
-        ref = np.column_stack([gf["range_m"], gf["radial_velocity_mps"] * scale])
         # Chebyshev distance: both gates must hold.
-        d, _ = cKDTree(ref).query(pts[rows], p=np.inf)
+        d, _ = cKDTree(ref_all[at]).query(pts[rows], p=np.inf)
         out[rows] = d <= cfg.range_gate_m
     return out
 
@@ -463,6 +472,27 @@ def detection_errors(labelled: pd.DataFrame, truth: pd.DataFrame,
     return out
 
 
+def _pair_index(frame: np.ndarray, actor: np.ndarray, q_frame: np.ndarray,
+                q_actor: np.ndarray) -> np.ndarray:
+    """(Q,) row of (frame, actor) holding each query pair (q_frame, q_actor), -1 if none (the
+    first such row if several)."""
+    f_all, f_code = np.unique(np.concatenate([frame, q_frame]), return_inverse=True)
+    a_all, a_code = np.unique(np.concatenate([actor, q_actor]), return_inverse=True)
+    key = f_code.astype(np.int64) * max(len(a_all), 1) + a_code
+    ref, q = key[:len(frame)], key[len(frame):]
+    order = np.argsort(ref, kind="stable")
+    pos = np.searchsorted(ref[order], q)
+    pos = np.minimum(pos, max(len(ref) - 1, 0))
+    found = (ref[order][pos] == q) if len(ref) else np.zeros(len(q), dtype=bool)
+    return np.where(found, order[pos] if len(ref) else -1, -1)
+
+
+def _pair_isin(frame: np.ndarray, actor: np.ndarray, q_frame: np.ndarray,
+               q_actor: np.ndarray) -> np.ndarray:
+    """(N,) bool: the pair (frame, actor) of each row is among the query pairs."""
+    return _pair_index(q_frame, q_actor, frame, actor) >= 0
+
+
 def actor_frames(labelled: pd.DataFrame, truth: pd.DataFrame, *,
                  scatterers: pd.DataFrame | None = None,
                  config: AssociationConfig | None = None) -> pd.DataFrame:
@@ -489,21 +519,26 @@ def actor_frames(labelled: pd.DataFrame, truth: pd.DataFrame, *,
     af = truth.loc[truth["actor_class"].isin(ROAD_USER_CLASSES), keep].reset_index(drop=True)
     vis = (np.abs(af["azimuth_deg"].to_numpy()) <= cfg.fov_deg) & \
         (af["range_m"].to_numpy() <= cfg.max_range_m)
+    af_frame, af_actor = af["frame"].to_numpy(), af["actor_id"].to_numpy()
     if scatterers is not None:
-        seen = scatterers.loc[scatterers["rcs_m2"] > 0, ["frame", "actor_id"]] \
-            .drop_duplicates().assign(_seen=True)
-        vis &= af[["frame", "actor_id"]].merge(seen, how="left", on=["frame", "actor_id"])[
-            "_seen"].fillna(False).to_numpy(dtype=bool)
+        lit = scatterers["rcs_m2"].to_numpy() > 0
+        vis &= _pair_isin(af_frame, af_actor, scatterers["frame"].to_numpy()[lit],
+                          scatterers["actor_id"].to_numpy()[lit])
     af["visible"] = vis
-    lab = labelled[["frame", "actor_id", "label", "snr_db"]]
-    tru = lab[lab["label"] == TRUE]
-    agg = tru.groupby(["frame", "actor_id"]).agg(n_true=("snr_db", "size"),
-                                                   max_snr_db=("snr_db", "max"))
-    amb = lab[lab["label"] == VELOCITY_AMBIGUOUS].groupby(["frame", "actor_id"]).size() \
-        .rename("n_ambiguous")
-    af = af.join(agg, on=["frame", "actor_id"]).join(amb, on=["frame", "actor_id"])
-    af["n_true"] = af["n_true"].fillna(0).astype(np.int64)
-    af["n_ambiguous"] = af["n_ambiguous"].fillna(0).astype(np.int64)
+    label = labelled["label"].to_numpy()
+    det_frame, det_actor = labelled["frame"].to_numpy(), labelled["actor_id"].to_numpy()
+    snr = labelled["snr_db"].to_numpy()
+    # Per actor-frame: TRUE detections, their peak SNR (NaN if none; NaN SNRs skipped) and
+    # VELOCITY_AMBIGUOUS detections (a detection counts for the actor-frame it names).
+    tru, amb = label == TRUE, label == VELOCITY_AMBIGUOUS
+    at_true = _pair_index(af_frame, af_actor, det_frame[tru], det_actor[tru])
+    hit = at_true >= 0
+    max_snr = np.full(len(af), np.nan, dtype=np.result_type(snr.dtype, np.float32))
+    np.fmax.at(max_snr, at_true[hit], snr[tru][hit])
+    at_amb = _pair_index(af_frame, af_actor, det_frame[amb], det_actor[amb])
+    af["n_true"] = np.bincount(at_true[hit], minlength=len(af)).astype(np.int64)
+    af["max_snr_db"] = max_snr
+    af["n_ambiguous"] = np.bincount(at_amb[at_amb >= 0], minlength=len(af)).astype(np.int64)
     af["detected"] = _assign_one_to_one(labelled, truth, af, cfg, scatterers)
     return af
 
@@ -531,12 +566,14 @@ def _assign_one_to_one(labelled: pd.DataFrame, truth: pd.DataFrame, af: pd.DataF
                          (pairs["dv_mps"] / cfg.velocity_gate_mps) ** 2)
     row_of = {key: i for i, key in enumerate(zip(af["frame"].to_numpy(),
                                                  af["actor_id"].to_numpy()))}
-    for frame, g in pairs.groupby("frame", sort=False):
-        dets, d_inv = np.unique(g["det_index"].to_numpy(), return_inverse=True)
-        acts, a_inv = np.unique(g["actor_id"].to_numpy(), return_inverse=True)
+    p_det, p_act = pairs["det_index"].to_numpy(), pairs["actor_id"].to_numpy()
+    p_cost = pairs["cost"].to_numpy()
+    for frame, at in pairs.groupby("frame", sort=False).indices.items():
+        dets, d_inv = np.unique(p_det[at], return_inverse=True)
+        acts, a_inv = np.unique(p_act[at], return_inverse=True)
         big = 1e6
         cost = np.full((len(dets), len(acts)), big)
-        cost[d_inv, a_inv] = g["cost"].to_numpy()
+        cost[d_inv, a_inv] = p_cost[at]
         r, c = linear_sum_assignment(cost)
         for a in acts[c[cost[r, c] < big]]:
             i = row_of.get((frame, a))

@@ -287,7 +287,8 @@ def target_first_detection_range_m(actors: pd.DataFrame, target_ids=None,
 def summarize_scheme(labelled: pd.DataFrame, af: pd.DataFrame, n_frames: int,
                      config: AssociationConfig | None = None, *, target_ids=None,
                      target_classes=None, classes=("car", "truck", "motorcycle", "bicycle",
-                                                   "pedestrian")) -> dict[str, float]:
+                                                   "pedestrian"),
+                     actors: pd.DataFrame | None = None) -> dict[str, float]:
     """All detection scores of one scheme of one run as one summary row (dict).
 
     Counts ``n_frames``, ``n_detections``, ``n_true``, ``n_velocity_ambiguous``, ``n_ghost``,
@@ -296,6 +297,8 @@ def summarize_scheme(labelled: pd.DataFrame, af: pd.DataFrame, n_frames: int,
     ``detection_probability_min`` = mean / min of the per-actor Pd of actors visible in at
     least ``config.pd_min_count`` frames; ``target_first_detection_range_m``; and
     ``pd90_max_range_<class>_m`` (`max_range_pd90`) for each class in ``classes``.
+    ``actors``: `actor_detection` of ``af`` when the caller has it already (computed if
+    None).
     """
     cfg = config or AssociationConfig()
     row: dict[str, float] = {"n_frames": int(n_frames), "n_detections": int(len(labelled))}
@@ -306,7 +309,7 @@ def summarize_scheme(labelled: pd.DataFrame, af: pd.DataFrame, n_frames: int,
     row.update(error_stats(labelled))
     row.update(velocity_stats(labelled, cfg.unambiguity_window_mps))
     row.update(ghost_stats(labelled, n_frames))
-    actors = actor_detection(af)
+    actors = actor_detection(af) if actors is None else actors
     good = actors[actors["n_visible_frames"] >= cfg.pd_min_count]
     pdv = good["detection_probability"].to_numpy(dtype=float)
     row["detection_probability_mean"] = float(pdv.mean()) if len(pdv) else float("nan")

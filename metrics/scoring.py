@@ -211,8 +211,9 @@ def score_scheme(labelled: pd.DataFrame, truth: pd.DataFrame, scatterers: pd.Dat
         ``s_critical_m``, ``r79_required_range_m``, ``r79_pass``).
     """
     af = actor_frames(labelled, truth, scatterers=scatterers, config=config)
-    row = det.summarize_scheme(labelled, af, n_frames, config, target_ids=case.target_ids)
     actors = det.actor_detection(af)
+    row = det.summarize_scheme(labelled, af, n_frames, config, target_ids=case.target_ids,
+                               actors=actors)
     row.update(case_criteria(case.criteria, labelled, actors, row))
     row["case_class"] = case.case_class
     verdict = CASE_VERDICTS[case.case_class].verdict
@@ -244,12 +245,16 @@ def add_snr_gains(summary: pd.DataFrame, actors: pd.DataFrame, gain_schemes, bas
 
 def frame_counts(labelled: pd.DataFrame, frames: np.ndarray) -> pd.DataFrame:
     """Per frame: detections and label counts (frames without detections give zeros)."""
-    ct = pd.crosstab(labelled["frame"], labelled["label"]) if len(labelled) else pd.DataFrame()
-    ct = ct.reindex(index=frames, columns=list(LABELS), fill_value=0)
-    out = pd.DataFrame({"frame": np.asarray(frames, dtype=np.int64)})
+    frames = np.asarray(frames, dtype=np.int64)
+    # Row of `frames` of every detection (-1: a frame not listed, not counted).
+    at = pd.Index(frames).get_indexer(labelled["frame"].to_numpy()) if len(labelled) \
+        else np.zeros(0, dtype=np.intp)
+    label = labelled["label"].to_numpy() if len(labelled) else np.zeros(0, dtype=object)
+    out = pd.DataFrame({"frame": frames})
     names = {TRUE: "n_true", VELOCITY_AMBIGUOUS: "n_velocity_ambiguous", GHOST: "n_ghost",
              CLUTTER: "n_clutter"}
     for lab_name, col in names.items():
-        out[col] = ct[lab_name].to_numpy(dtype=np.int64)
+        out[col] = np.bincount(at[(label == lab_name) & (at >= 0)],
+                               minlength=len(frames)).astype(np.int64)
     out.insert(1, "n_detections", out[list(names.values())].sum(axis=1))
     return out

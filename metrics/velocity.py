@@ -38,7 +38,7 @@ import numpy as np
 import pandas as pd
 from scipy.spatial import cKDTree
 
-from .association import ROAD_USER_CLASSES, AssociationConfig
+from .association import ROAD_USER_CLASSES, AssociationConfig, _rows_by_frame
 
 __all__ = ["VelocityCheck", "velocity_check", "RIGHT", "FAILURE", "UNMATCHED"]
 
@@ -136,14 +136,6 @@ def velocity_check(detections: pd.DataFrame, scatterers: pd.DataFrame, truth: pd
     verdict[best_rank == 0] = RIGHT
     verdict[best_rank == 1] = FAILURE
     return VelocityCheck(verdict, actor, alias, v_true)
-
-
-def _rows_by_frame(frame: np.ndarray) -> dict:
-    """Frame -> (m,) rows of `frame` holding it, ascending (one stable sort, not one scan of
-    every row per frame)."""
-    order = np.argsort(frame, kind="stable")
-    keys, starts = np.unique(frame[order], return_index=True)
-    return dict(zip(keys.tolist(), np.split(order, starts[1:])))
 
 
 def _best_matches(sc: pd.DataFrame, det_frame: np.ndarray, det_r: np.ndarray,
