@@ -85,6 +85,10 @@ def process_capture(capture, profile, proc=None, *, interleaved: bool | None = N
         sub-frame's start).
     proc : pipeline.ProcessingConfig or sequence of them, optional
         One per sub-frame (or one for all); default `processing_from_profile` of each.
+
+    A profile's enabled ``calibDcRangeSig`` (`TiProfile.dc_range_signature`) runs as on the
+    chip, per sub-frame: its first numAvg loops are measured and not compensated, every later
+    chirp has the signature subtracted (`pipeline.dc_range_signature`).
     """
     import pipeline
     from radarsim.subframe_capture import iter_subframes
@@ -99,9 +103,12 @@ def process_capture(capture, profile, proc=None, *, interleaved: bool | None = N
     else:
         procs = [proc] * len(parts)
     tables = []
+    calibrators = {k: _dc_calibrator(p) for k, p in enumerate(parts)}
     for sf in iter_subframes(capture, profile, interleaved=interleaved, max_frames=max_frames):
         part = parts[sf.subframe]
-        pc = pipeline.process_frame(part.radar, sf.adc, procs[sf.subframe]).reset_index(drop=True)
+        frame_proc = _with_dc_signature(calibrators[sf.subframe], part.radar, sf.adc,
+                                        procs[sf.subframe])
+        pc = pipeline.process_frame(part.radar, sf.adc, frame_proc).reset_index(drop=True)
         pc.insert(0, "frame", np.full(len(pc), sf.frame, dtype=np.int64))
         if profile.is_advanced:
             pc.insert(1, "subframe", np.full(len(pc), sf.subframe, dtype=np.int64))
@@ -109,6 +116,26 @@ def process_capture(capture, profile, proc=None, *, interleaved: bool | None = N
                   np.full(len(pc), sf.frame * profile.frame_period_s + part.subframe_start_s))
         tables.append(pc)
     return pd.concat(tables, ignore_index=True)
+
+
+def _dc_calibrator(part):
+    """The chip's ``calibDcRangeSig`` calibration for one (sub-)frame profile, or None."""
+    if part.dc_range_signature is None:
+        return None
+    from pipeline.dc_range_signature import DcSignatureCalibrator
+    return DcSignatureCalibrator(*part.dc_range_signature)
+
+
+def _with_dc_signature(calibrator, cfg, adc, proc):
+    """`proc` with the DC range signature this frame gets (none while calibrating)."""
+    if calibrator is None:
+        return proc
+    if calibrator.signature is None:
+        from pipeline.chirp_level import range_stage
+        sig = calibrator.process(range_stage(cfg, adc, proc))
+    else:
+        sig = calibrator.signature
+    return proc if sig is None else proc.replace(dc_range_signature=sig)
 
 
 def _process_joined(capture, profile, proc, interleaved, max_frames) -> pd.DataFrame:
@@ -244,6 +271,9 @@ def run_process(args: argparse.Namespace) -> int:
         notes: list[str] = []
         procs.append(processing_from_profile(part, notes))
         notes += _layout_notes(args.layout, part)
+        if profile.is_joined and any(p.dc_range_signature for p in profile.parts):
+            notes.append("calibDcRangeSig is not applied to a fast/slow pair of sub-frames "
+                         "processed as one frame")
         where = f"sub-frame {part.subframe_index}: " if part.subframe_index is not None else ""
         for note in notes:
             print(f"note: {where}{note}", file=sys.stderr)

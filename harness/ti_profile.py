@@ -61,6 +61,7 @@ def profile_processing(profile, notes: list[str] | None = None) -> dict:
     notes += [n for n in profile.notes if n.startswith("read but not modelled: ")
               or " is not a command of the " in n or n.endswith(" ignored")]
     overrides = dict(profile.processing)
+    _multi_peak_note(profile, notes)
     doppler = profile.cfar.get("doppler")
     if "range" in profile.cfar:
         notes.append(f"line {profile.cfar['range'].line_no}: range cfarCfg ignored (the chain "
@@ -82,6 +83,29 @@ def profile_processing(profile, notes: list[str] | None = None) -> dict:
         notes.append(f"CFAR training_stride 1 (contiguous cells, as TI's CFAR): the stride-2 "
                      f"window does not fit the {n_dop} Doppler bins")
     return overrides
+
+
+def _multi_peak_note(profile, notes: list[str]) -> None:
+    """An enabled ``multiObjBeamForming`` on a chain that reports one azimuth peak per cell
+    (`pipeline.MimoChain.multi_azimuth_peaks`): its second peak is read but not modelled."""
+    import pipeline
+    from radarsim.ti.processing_handlers import ONE_PEAK_DB
+    line = profile.command_lines.get("multiObjBeamForming")
+    if line is None or "azimuth_sidelobe_db" not in profile.processing:
+        return
+    if profile.processing["azimuth_sidelobe_db"] == ONE_PEAK_DB:
+        return
+    chain = pipeline.MIMO_CHAINS.get(profile.radar.mimo)
+    if chain is None or chain.multi_azimuth_peaks:
+        return
+    item = (f"line {line} multiObjBeamForming enabled (the {profile.radar.mimo} chain reports "
+            "the strongest azimuth peak of each range-Doppler cell only)")
+    head = "read but not modelled: "
+    at = [i for i, n in enumerate(notes) if n.startswith(head)]
+    if at:  # one line lists every command read but not modelled
+        notes[at[0]] = f"{notes[at[0]]}; {item}"
+    else:
+        notes.append(head + item)
 
 
 def simulation_radar(profile):

@@ -202,6 +202,10 @@ class ProcessingConfig:
         Field of view of the reported detections (``cfarFovCfg`` range / Doppler,
         ``aoaFovCfg``): detections outside are dropped (`pipeline.fov`). None: no limit
         (default).
+    dc_range_signature : pipeline.dc_range_signature.DcRangeSignature or None
+        TI's DC range signature (``calibDcRangeSig``), subtracted from the range-FFT output
+        of every chain (`pipeline.chirp_level.range_stage`); measured over a capture's first
+        frames by ``radar-harness process``. None: nothing subtracted (default).
     """
 
     cfar: CfarConfig = field(default_factory=CfarConfig)
@@ -235,6 +239,7 @@ class ProcessingConfig:
     velocity_fov_mps: tuple[float, float] | None = None
     azimuth_fov_deg: tuple[float, float] | None = None
     elevation_fov_deg: tuple[float, float] | None = None
+    dc_range_signature: object | None = None
 
     def __post_init__(self) -> None:
         if not isinstance(self.cfar, CfarConfig):
@@ -259,6 +264,11 @@ class ProcessingConfig:
         one_of("intf_mitigation", self.intf_mitigation, MITIGATIONS)
         require(self, "intf_hysteresis_samples", "integer", ge=0, le=32)
         require(self, "compression_ratio", ge=0.25, lt=1)
+        if self.dc_range_signature is not None:
+            from .dc_range_signature import DcRangeSignature
+            if not isinstance(self.dc_range_signature, DcRangeSignature):
+                raise ValueError(f"dc_range_signature must be a DcRangeSignature or None, got "
+                                 f"{type(self.dc_range_signature).__name__}")
         object.__setattr__(self, "channel_comp",
                            check_comp_values(self.range_bias_m, self.channel_comp))
         for name in FOV_FIELDS:

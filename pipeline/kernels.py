@@ -177,7 +177,9 @@ class ArrayLayout(NamedTuple):
     h_pos: np.ndarray       # (n_h,) int: their positions, lambda/2 units
     v_idx: np.ndarray       # (n_v,) int: elements of the raised row
     v_pos: np.ndarray       # (n_v,) int: their horizontal positions, lambda/2 units
-    v_height_wl: float      # height of the raised row, wavelengths (0 if none)
+    # height of the raised row, wavelengths (0 if none); (n_v,) float per element when the
+    # raised elements lie on several rows (antenna-on-package grids)
+    v_height_wl: float | np.ndarray
 
 
 def array_layout(virtual_positions_m: np.ndarray, wavelength_m: float) -> ArrayLayout:
@@ -197,8 +199,10 @@ def array_layout(virtual_positions_m: np.ndarray, wavelength_m: float) -> ArrayL
         Their positions in lambda/2 (0, 1, ...).
     v_idx, v_pos : (n_v,) int
         Elements of the raised row and their horizontal positions.
-    v_height_wl : float
-        Height of the raised row in wavelengths (0 if none).
+    v_height_wl : float or (n_v,) float
+        Height of the raised row in wavelengths (0 if none); per element when the elements
+        off the z = 0 row lie on several rows (the IWR6843AOP's 4 x 4 grid), which
+        `estimate_angles` then combines.
     """
     y = np.rint(virtual_positions_m[:, 1] / (wavelength_m / 2)).astype(int)
     z = virtual_positions_m[:, 2] / wavelength_m
@@ -207,7 +211,35 @@ def array_layout(virtual_positions_m: np.ndarray, wavelength_m: float) -> ArrayL
     h_idx = np.flatnonzero(low)[first]
     v_idx = np.flatnonzero(~low)
     v_height = float(z[v_idx[0]]) if v_idx.size else 0.0
+    if v_idx.size and not np.allclose(z[v_idx], v_height):
+        v_height = z[v_idx]
     return ArrayLayout(h_idx, h_pos, v_idx, y[v_idx], v_height)
+
+
+def _multi_row_sin_el(virt: np.ndarray, wx: np.ndarray, h_idx: np.ndarray, h_pos: np.ndarray,
+                      v_idx: np.ndarray, v_pos: np.ndarray, heights: np.ndarray) -> np.ndarray:
+    """sin(el) from several raised rows (heights h_k, wavelengths): each row's beam phase
+    against the z = 0 row's, wz_k = 2 pi h_k sin(el), unwrapped from the nearest row outwards
+    (a row within lambda/2 is unambiguous) and combined by least squares with weights
+    |A_k|^2. A loop over the few rows, vectorised over detections. (n,) float."""
+    a_h = np.einsum("nm,nm->n", virt[:, h_idx], np.exp(-1j * wx[:, None] * h_pos[None, :]))
+    rows = np.unique(np.round(heights, 6))
+    num = np.zeros(wx.shape)
+    den = np.zeros(wx.shape)
+    s = None
+    for h in rows[np.argsort(np.abs(rows), kind="stable")]:
+        m = np.isclose(heights, h)
+        a_v = np.einsum("nm,nm->n", virt[:, v_idx[m]],
+                        np.exp(-1j * wx[:, None] * v_pos[m][None, :]))
+        wz = np.angle(a_v * np.conj(a_h))
+        if s is not None:
+            wz = wz + 2 * np.pi * np.round((2 * np.pi * h * s - wz) / (2 * np.pi))
+        w = np.abs(a_v) ** 2
+        num += w * h * wz
+        den += w * h * h
+        with np.errstate(divide="ignore", invalid="ignore"):
+            s = np.where(den > 0, num / (2 * np.pi * den), 0.0)
+    return np.clip(s, -1.0, 1.0)
 
 
 def local_max_mask(power: np.ndarray, axes_cyclic: dict[int, bool],
@@ -363,7 +395,10 @@ def estimate_angles(virt: np.ndarray, sin_az_cos_el: np.ndarray, h_idx: np.ndarr
     azimuth_rad, elevation_rad : (n,) float
     """
     wx = np.pi * sin_az_cos_el
-    if v_idx.size:
+    if v_idx.size and np.ndim(v_height_wl):
+        sin_el = _multi_row_sin_el(virt, wx, h_idx, h_pos, v_idx, v_pos,
+                                   np.asarray(v_height_wl, dtype=float))
+    elif v_idx.size:
         a_h = np.einsum("nm,nm->n", virt[:, h_idx], np.exp(-1j * wx[:, None] * h_pos[None, :]))
         a_v = np.einsum("nm,nm->n", virt[:, v_idx], np.exp(-1j * wx[:, None] * v_pos[None, :]))
         wz = np.angle(a_v * np.conj(a_h))

@@ -27,11 +27,33 @@ Sources
   elevation +/-30 deg (BOOST / ISK user guides, approximate).
 - AWR1642BOOST: Tx1 and Tx2 2 lambda apart, Rx at lambda/2 (8 virtual elements in one row;
   mmWave SDK xwr16xx demo documentation; seed 001). FOV as the AWR1843BOOST.
-- AWR1443BOOST, AWR1243BOOST, AWR2243BOOST: the xWR1443/1243/2243 BOOST boards carry the same
-  3 Tx / 4 Rx layout as the xWR1843BOOST (Tx1, Tx3 2 lambda apart, Tx2 1 lambda over and
-  lambda/2 up; the mmWave SDK xwr14xx demo's 8 azimuth + 4 elevation virtual elements).
-  NOT checked against each board's drawing: give ``antGeometryCfg`` (or a
-  ``% radarsim:`` positions directive) to override.
+- IWR6843AOPEVM (``% Platform:xWR68xx_AOP``): TI mmWave Industrial Toolbox 4.7.0, 3D people
+  counting lab, ``chirp_configs/AOP_6m_default.cfg`` ``antGeometry0`` (azimuth) / ``antGeometry1``
+  (elevation) virtual-element indices in lambda/2 units, Tx0..Tx2 x Rx0..Rx3 in that
+  profile's chirp order (Tx masks 1, 2, 4; ``pcount3D_cli.c`` stores them as the Capon DoA's
+  m_ind / n_ind): ``-1 -1 0 0 -3 -3 -2 -2 -1 -1 0 0`` / ``-1 0 -1 0 -3 -2 -3 -2 -3 -2 -3 -2``.
+  The same lab's ``ISK_6m_default.cfg`` (``0 -1 -2 -3 -2 -3 -4 -5 -4 -5 -6 -7`` /
+  ``-1 -1 -1 -1 0 0 0 0 -1 -1 -1 -1``) reproduces the ISK layout above with y = -m / 2 and
+  z = n / 2; read the same way (z = n / 2 + 1, so that a 4-element row is the z = 0 row the
+  azimuth FFT uses) the AOP has its four Rx in a lambda/2 square and Tx at (0, 1), (1, 0),
+  (0, 0), Rx at (0.5, -0.5), (0.5, 0), (0, -0.5), (0, 0) lambda: a 4 x 4 lambda/2 virtual
+  grid less one 2 x 2 corner, rows at z = 1, 0.5, 0 and -0.5 lambda
+  (`pipeline.kernels.estimate_angles` combines the raised rows).
+  The lab's ``antPhaseRot 1 -1 1 -1 ...`` (Rx2, Rx4 fed in antiphase; the SDK's AOP profiles
+  say the same with ``compRangeBiasAndRxChanPhase 0.0 1 0 -1 0 ...``) is a channel phase, not
+  geometry: a profile's line gives it (`pipeline.compensation.implied_board`). Element
+  pattern: half power at +/-60 deg in both planes, ASSUMED (the toolbox's antenna page,
+  ``antennas/ant_rad_patterns/iwr6843_aop/IWR6843aop.html``, calls it "wide field-of-view" and
+  plots measured patterns without numbers).
+- AWR1443BOOST: the mmWave SDK xwr14xx demo's documentation (its ``main.c`` doxygen, section
+  "Antenna Configurations", as shipped in TI's mmWave Industrial Toolbox 4.7.0
+  ``labs/level_sensing/14xx_high_accuracy/pjt/main.c``): "Transmit antennas Tx1 and Tx3 are
+  horizontally spaced at d = 2 Lambda ... The third Tx antenna, Tx2, is positioned between the
+  other two Tx antennas at half lambda elevation" -- the xWR18xx BOOST layout.
+- AWR1243BOOST, AWR2243BOOST: ASSUMED to carry the same 3 Tx / 4 Rx layout (no TI document
+  giving their antenna geometry was found with the code/pages search: the Industrial
+  Toolbox's antenna database covers the IWR1443/1642/1843 BOOST and IWR6843 ISK/AOP/ODS
+  only). Give ``antGeometryCfg`` (or a ``% radarsim:`` positions directive) to override.
 """
 from __future__ import annotations
 
@@ -75,6 +97,8 @@ class Board:
     pattern_exponent_el: float
     source: str
     fov_deg: float = 80.0
+    #: TI Visualizer ``% Platform:`` name that means this board (e.g. ``xWR68xx_AOP``), or "".
+    ti_platform: str = ""
 
     def __post_init__(self) -> None:
         if not isinstance(self.name, str) or not self.name:
@@ -164,12 +188,19 @@ BOARDS.register_all((
     Board("IWR6843ISK", "IWR6843", _XWR18_TX, _RX_HALF_WAVE, _BOOST_AZ, _BOOST_EL,
           "mmWave SDK xwr68xx demo antenna geometry (ISK as xWR18xx BOOST)",
           60.0),
+    Board("IWR6843AOPEVM", "IWR6843", ((0.0, 1.0), (1.0, 0.0), (0.0, 0.0)),
+          ((0.5, -0.5), (0.5, 0.0), (0.0, -0.5), (0.0, 0.0)),
+          cos_exponent_for_half_power(60.0), cos_exponent_for_half_power(60.0),
+          "TI mmWave Industrial Toolbox 4.7.0 3D people counting AOP_6m_default.cfg "
+          "antGeometry0/antGeometry1", 60.0, ti_platform="xWR68xx_AOP"),
     Board("AWR1642BOOST", "AWR1642", ((0.0, 0.0), (2.0, 0.0)), _RX_HALF_WAVE,
           _BOOST_AZ, _BOOST_EL, "mmWave SDK xwr16xx demo; seed 001", 60.0),
     *(Board(name, chip, _XWR18_TX, _RX_HALF_WAVE, _BOOST_AZ, _BOOST_EL,
-            "as the xWR18xx BOOST layout (xwr14xx demo geometry); unverified", 60.0)
-      for name, chip in (("AWR1443BOOST", "AWR1443"), ("AWR1243BOOST", "AWR1243"),
-                         ("AWR2243BOOST", "AWR2243"))),
+            source, 60.0)
+      for name, chip, source in (
+          ("AWR1443BOOST", "AWR1443", "mmWave SDK xwr14xx demo antenna configurations"),
+          ("AWR1243BOOST", "AWR1243", "as the xWR18xx BOOST layout; unverified"),
+          ("AWR2243BOOST", "AWR2243", "as the xWR18xx BOOST layout; unverified"))),
 ))
 
 

@@ -34,7 +34,7 @@ __all__ = ["range_stage", "shared_range_stage", "RANGE_STAGE_FIELDS"]
 RANGE_STAGE_FIELDS = ("range_window", "dc_removal", "interference_mitigation", "intf_mag_snr_db",
                       "intf_magdiff_snr_db", "intf_threshold_mode", "intf_hysteresis_samples",
                       "intf_mitigation", "compression", "compression_ratio",
-                      "compression_range_bins_per_block")
+                      "compression_range_bins_per_block", "dc_range_signature")
 
 #: Range cubes of the current `shared_range_stage` scope by (frame id, n_samples, settings);
 #: each entry keeps its frame alive, so an id cannot be reused while the scope lasts.
@@ -75,15 +75,21 @@ def range_stage(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) -> np
     """
     memo = _SHARED.get()
     if memo is None:
-        return _range_stage(cfg, adc, proc)
+        return _dc_signature(_range_stage(cfg, adc, proc), proc)
     key = (id(adc), cfg.n_samples, *(getattr(proc, f) for f in RANGE_STAGE_FIELDS))
     hit = memo.get(key)
     if hit is not None and hit[0] is adc:
         return hit[1]
-    rf = _range_stage(cfg, adc, proc)
+    rf = _dc_signature(_range_stage(cfg, adc, proc), proc)
     rf.flags.writeable = False
     memo[key] = (adc, rf)
     return rf
+
+
+def _dc_signature(rf: np.ndarray, proc: ProcessingConfig) -> np.ndarray:
+    """`rf` minus ``proc.dc_range_signature`` (TI's ``calibDcRangeSig``), or `rf` itself."""
+    sig = proc.dc_range_signature
+    return rf if sig is None else sig.subtract(rf)
 
 
 def _range_stage(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) -> np.ndarray:

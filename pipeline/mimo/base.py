@@ -68,11 +68,16 @@ class MimoChain:
     removes_static_clutter : bool
         Whether the chain implements `ProcessingConfig.clutter_removal` (TI's
         ``clutterRemoval``); `pipeline.process_frame` refuses the setting for the others.
+    multi_azimuth_peaks : bool
+        Whether the chain can report several azimuth peaks of one (range, Doppler) cell
+        (`ProcessingConfig.azimuth_sidelobe_db`, TI's ``multiObjBeamForming``); the others
+        report the strongest only (TI's "disabled").
     """
 
     name: ClassVar[str] = ""
     variants: ClassVar[dict[str, dict[str, Any]]] = {}
     removes_static_clutter: ClassVar[bool] = False
+    multi_azimuth_peaks: ClassVar[bool] = False
 
     def process(self, cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) -> pd.DataFrame:
         """(n_chirps, n_rx, n_samples) int16 (real) or complex64 (I/Q) frame -> point cloud

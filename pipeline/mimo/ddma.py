@@ -131,6 +131,7 @@ class DdmaChain(MimoChain):
     """Empty-band DDMA receive chain (seed 000 section 5)."""
 
     name = "ddma"
+    multi_azimuth_peaks = True  # coherent_detections keeps peaks within azimuth_sidelobe_db
 
     def process(self, cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) -> pd.DataFrame:
         maps = ddma_maps(cfg, adc, proc)

@@ -8,7 +8,7 @@ import re
 from ..chips import CHIPS
 from .syntax import DIRECTIVE_RE
 
-__all__ = ["PLATFORMS", "infer_chip"]
+__all__ = ["PLATFORMS", "infer_chip", "platform_board"]
 
 
 #: Family spellings of the ``% Platform:`` header other TI tools and SDK releases write.
@@ -52,7 +52,7 @@ def infer_chip(lines: list[str]) -> tuple[str, str]:
             if name in PLATFORMS or base in PLATFORMS:
                 chip = PLATFORMS.get(name, PLATFORMS.get(base))
                 how = f"'% Platform:{m.group(1)}' header"
-                if name not in PLATFORMS:
+                if name not in PLATFORMS and _board_of_platform(name) is None:
                     how += (f" (the {m.group(1)} board is not in the board registry: the "
                             f"{chip}'s default board is assumed unless antGeometryCfg is given)")
                 return chip, how
@@ -82,3 +82,23 @@ def infer_chip(lines: list[str]) -> tuple[str, str]:
     if len(chan) == 5:
         return "AWR2944P", "real ADC with the 5-argument channelCfg (AWR2x44P)"
     return "AWR2944", "real ADC at 76-81 GHz"
+
+
+def _board_of_platform(name: str) -> str | None:
+    """The registered board whose `Board.ti_platform` is `name` (case-insensitive)."""
+    from ..boards import BOARDS
+    for board_name in BOARDS:
+        board = BOARDS[board_name]
+        if board.ti_platform and board.ti_platform.lower() == name.lower():
+            return board_name
+    return None
+
+
+def platform_board(lines: list[str]) -> str | None:
+    """The board a TI Visualizer ``% Platform:`` header names (``xWR68xx_AOP`` ->
+    IWR6843AOPEVM: `radarsim.boards.Board.ti_platform`), or None (the chip's default board)."""
+    for raw in lines:
+        m = _PLATFORM_RE.match(raw.strip())
+        if m:
+            return _board_of_platform(m.group(1))
+    return None

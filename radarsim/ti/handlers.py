@@ -275,12 +275,13 @@ def compression_cfg(st: ParseState, ln: Line) -> None:
 
 
 def flush_cfg(st: ParseState, ln: Line) -> None:
-    # TI's flushCfg resets the configuration given so far; ignored-command records are kept.
-    keep = (st.ignored, st.notes, st.directives, st.directive_lines)
+    # TI's flushCfg resets the configuration given so far; ignored-command records, notes,
+    # directives and the header's board are kept (they are not configuration commands).
+    keep = (st.ignored, st.notes, st.directives, st.directive_lines, st.board)
     fresh = ParseState(chip=st.chip, subframe=st.subframe, advanced=st.advanced)
     for f in dataclasses.fields(ParseState):
         setattr(st, f.name, getattr(fresh, f.name))
-    st.ignored, st.notes, st.directives, st.directive_lines = keep
+    st.ignored, st.notes, st.directives, st.directive_lines, st.board = keep
 
 
 def control(st: ParseState, ln: Line) -> None:

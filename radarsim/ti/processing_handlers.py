@@ -14,7 +14,7 @@ import math
 from .state import ParseState
 from .syntax import Line
 
-__all__ = ["extended_max_velocity", "multi_obj_beamforming", "cfar_fov_cfg", "aoa_fov_cfg",
+__all__ = ["ONE_PEAK_DB", "extended_max_velocity", "multi_obj_beamforming", "cfar_fov_cfg", "aoa_fov_cfg",
            "clutter_removal", "calib_dc_range_sig", "measure_range_bias", "rx_sat_monitor"]
 
 
@@ -36,24 +36,28 @@ def extended_max_velocity(st: ParseState, ln: Line) -> None:
     _record(st, ln, tdma_disambiguation=ln.flag(_sub(ln), "enabled"))
 
 
+#: `ProcessingConfig.azimuth_sidelobe_db` that keeps only the strongest azimuth peak of a cell
+#: (TI's multiObjBeamForming disabled, or a threshold of 1).
+ONE_PEAK_DB = 1e-6
+
+
 def multi_obj_beamforming(st: ParseState, ln: Line) -> None:
     """``multiObjBeamForming <subFrameIdx> <enabled> <threshold>``: a second azimuth peak of a
     (range, Doppler) cell is reported when its magnitude exceeds threshold x the first peak's
     (SDK 3.x AoAProcHWA compares magnitudes), i.e. within -20 log10(threshold) dB in power:
-    `ProcessingConfig.azimuth_sidelobe_db`. Disabled (one peak per cell) is not modelled."""
+    `ProcessingConfig.azimuth_sidelobe_db`. Disabled: the strongest peak only (`ONE_PEAK_DB`).
+    Chains that report one peak per cell anyway (`pipeline.MimoChain.multi_azimuth_peaks`
+    False) cannot follow "enabled": ``harness.ti_profile`` notes it."""
     k = _sub(ln)
     enabled = ln.flag(k, "enabled")
     thr = float(ln.dec(k + 1, "threshold"))
     if not 0.0 <= thr <= 1.0:
         raise ln.fail(f"threshold={ln.args[k + 1]} is outside 0..1 (a fraction of the first "
                       "peak's magnitude)")
-    if not enabled:
-        st.processing_commands[ln.cmd] = ln
-        st.unmodelled.append(f"line {ln.no} multiObjBeamForming disabled (one azimuth peak per "
-                             "cell; the chain keeps peaks within azimuth_sidelobe_db)")
+    if not enabled or thr == 1.0:
+        _record(st, ln, azimuth_sidelobe_db=ONE_PEAK_DB)
         return
-    _record(st, ln, azimuth_sidelobe_db=None if thr == 0.0 else -20.0 * math.log10(thr)
-            if thr < 1.0 else 1e-6)
+    _record(st, ln, azimuth_sidelobe_db=None if thr == 0.0 else -20.0 * math.log10(thr))
 
 
 def cfar_fov_cfg(st: ParseState, ln: Line) -> None:
@@ -92,13 +96,29 @@ def clutter_removal(st: ParseState, ln: Line) -> None:
     _record(st, ln, clutter_removal=ln.flag(_sub(ln), "enabled"))
 
 
+#: TI's DC_RANGE_SIGNATURE_COMP_MAX_BIN_SIZE (mmw_config.h): bins the signature may span.
+DC_SIGNATURE_MAX_BINS = 32
+
+
 def calib_dc_range_sig(st: ParseState, ln: Line) -> None:
     """``calibDcRangeSig <subFrameIdx> <enabled> <negativeBinIdx> <positiveBinIdx> <numAvg>``:
-    the DC range-signature removal (averaged over the first frames) is not modelled."""
+    the antenna-coupling signature of the bins negativeBinIdx..positiveBinIdx around DC,
+    averaged over the first numAvg loops and then subtracted (`pipeline.dc_range_signature`;
+    ``radar-harness process`` runs it over a capture). Checks of ``MmwDemo_CLICalibDcRangeSig``
+    (SDK 3.x ``mmw_cli.c``): negativeBinIdx <= 0, at most 32 bins, numAvg a power of two."""
     k = _sub(ln)
     st.processing_commands[ln.cmd] = ln
-    if ln.flag(k, "enabled"):
-        st.unmodelled.append(f"line {ln.no} calibDcRangeSig enabled")
+    if not ln.flag(k, "enabled"):
+        return
+    neg = ln.int(k + 1, "negativeBinIdx", -DC_SIGNATURE_MAX_BINS, 0)
+    pos = ln.int(k + 2, "positiveBinIdx", -1, DC_SIGNATURE_MAX_BINS - 1)
+    if pos - neg + 1 > DC_SIGNATURE_MAX_BINS:
+        raise ln.fail(f"bins {neg}..{pos} are {pos - neg + 1}; the demo takes at most "
+                      f"{DC_SIGNATURE_MAX_BINS} (DC_RANGE_SIGNATURE_COMP_MAX_BIN_SIZE)")
+    num_avg = ln.int(k + 3, "numAvg", 1, 65535)
+    if num_avg & (num_avg - 1):
+        raise ln.fail(f"numAvg={num_avg} is not a power of two (the demo's CLI refuses it)")
+    st.dc_range_sig = (ln, neg, pos, num_avg)
 
 
 def measure_range_bias(st: ParseState, ln: Line) -> None:

@@ -155,6 +155,9 @@ class TiProfile:
         The TI demo the profile is for (`radarsim.ti.families.DEMO_FAMILIES`).
     measure_range_bias : tuple or None
         ``measureRangeBiasAndRxChanPhase`` (enabled, target distance m, search window m).
+    dc_range_signature : tuple or None
+        An enabled ``calibDcRangeSig`` the demo runs: (negativeBinIdx, positiveBinIdx, numAvg
+        loops, chirps per loop); `pipeline.dc_range_signature` over a capture's frames.
     ignored : tuple of (int, str)
         (line number, command) of every command kept but not used (demo, monitoring, tracker
         and calibration commands, unknown commands).
@@ -190,6 +193,7 @@ class TiProfile:
     processing: dict[str, Any] = dataclasses.field(default_factory=dict)
     demo_family: str = ""
     measure_range_bias: tuple | None = None
+    dc_range_signature: tuple | None = None
     ignored: tuple[tuple[int, str], ...] = ()
     notes: tuple[str, ...] = ()
     directives: dict[str, Any] = dataclasses.field(default_factory=dict)

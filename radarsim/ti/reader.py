@@ -17,7 +17,7 @@ from ..radar_config import RadarConfig
 from . import advanced, fast_slow
 from .advanced import MAX_SUBFRAMES
 from .calibration import antenna_calib_pairs, is_identity
-from .chip_inference import infer_chip
+from .chip_inference import infer_chip, platform_board
 from .commands import MODELLED_COMMANDS, TI_COMMANDS
 from .families import PROCESSING_COMMANDS, family_of
 from .profile import TiProfile
@@ -89,6 +89,7 @@ class _Tokens:
     commands: list[tuple[Line, bool]] = dataclasses.field(default_factory=list)
     ignored: list[tuple[int, str]] = dataclasses.field(default_factory=list)
     notes: list[str] = dataclasses.field(default_factory=list)
+    board: str | None = None
 
 
 def _tokenize(lines: list[str], chip: Chip, n_subframes: int) -> _Tokens:
@@ -207,6 +208,9 @@ def parse_ti_cfg(path_or_text: str | os.PathLike) -> TiProfile:
         raise LineError(f"line 1: {exc}") from None
     tok = _tokenize(lines, chip, _n_subframes(lines))
     tok.notes.insert(0, f"chip {chip.name} from the {how}")
+    tok.board = platform_board(lines)
+    if tok.board is not None:
+        tok.notes.insert(1, f"board {tok.board} from the '% Platform:' header")
     adv = advanced.plan([ln for ln, _ in tok.commands], chip)
     if adv is None:
         return _read_pass([ln for ln, _ in tok.commands], tok, chip, len(lines))
@@ -225,6 +229,7 @@ def _read_pass(commands: list[Line], tok: _Tokens, chip: Chip, n_lines: int,
     st = ParseState(chip=chip, subframe=None if sub is None else sub.index,
                     advanced=sub is not None)
     st.ignored, st.notes = list(tok.ignored), list(tok.notes)
+    st.board = tok.board
     fields_by_name = {f.name: f for f in dataclasses.fields(RadarConfig)}
     for ln in tok.directives:
         name = ln.args[0]
@@ -299,6 +304,8 @@ def _finish(st: ParseState, n_lines: int) -> TiProfile:
 
     kw = dict(TI_DEFAULT_OVERRIDES)
     kw["chip"] = st.chip.name
+    if st.board is not None:
+        kw["board"] = st.board
     kw.update(st.directives)
     kw.update(st.fields)
     if "chirp_period_s" in st.directives:  # a directive refines the decimal idle + ramp sum
@@ -315,6 +322,7 @@ def _finish(st: ParseState, n_lines: int) -> TiProfile:
                        f"n_chirps x chirp period = {burst_s * 1e3:g} ms")
     family = family_of(st.chip, radar.scheme)
     processing = _family_processing(st, family)
+    dc_sig = _dc_range_signature(st, family, radar)
     return TiProfile(radar=radar, frame_period_s=fr["period_s"], n_frames=fr["n_frames"],
                      trigger_select=fr["trigger"], cfar=dict(st.cfar),
                      ddm_phase_order=st.ddm_order, ant_geometry=st.ant_geometry,
@@ -322,6 +330,7 @@ def _finish(st: ParseState, n_lines: int) -> TiProfile:
                      sample_swap=st.adcbuf.get("sample_swap"), lvds_stream=st.lvds,
                      profile_extras=dict(st.extras), processing=processing,
                      demo_family=family.name, measure_range_bias=st.measure,
+                     dc_range_signature=dc_sig,
                      ignored=tuple(st.ignored), notes=tuple(st.notes),
                      directives=dict(st.directives),
                      command_lines={cmd: ln.no for cmd, ln in st.seen.items()})
@@ -351,6 +360,22 @@ def _family_processing(st: ParseState, family) -> dict[str, Any]:
     if st.unmodelled:
         st.notes.append("read but not modelled: " + "; ".join(st.unmodelled))
     return processing
+
+
+def _dc_range_signature(st: ParseState, family, radar: RadarConfig) -> tuple | None:
+    """An enabled ``calibDcRangeSig`` as the demo runs it: (negativeBinIdx, positiveBinIdx,
+    numAvg, chirps per loop), or None. A numAvg below the loops per frame (the Doppler bins)
+    makes the demo disable it (``MmwDemo_dataPathTask``: ``dcRangeForcedDisableCntr``):
+    None, with a note. Not a command of the family's demo: ignored there (noted)."""
+    if st.dc_range_sig is None or not family.has("calibDcRangeSig"):
+        return None
+    ln, neg, pos, num_avg = st.dc_range_sig
+    loops = st.frame["loops"]
+    if num_avg < loops:
+        st.notes.append(f"line {ln.no}: calibDcRangeSig numAvg={num_avg} is below the "
+                        f"{loops} Doppler bins (loops per frame): the demo disables it")
+        return None
+    return (neg, pos, num_avg, radar.n_chirps // loops)
 
 
 def _apply_antenna_calib(st: ParseState, family, processing: dict[str, Any]) -> None:

@@ -50,6 +50,10 @@ class ParseState:
     #: Which command wrote a `processing` field (when two commands can write the same one).
     processing_origin: dict[str, str] = dataclasses.field(default_factory=dict)
     antenna_calib: Line | None = None
+    #: An enabled ``calibDcRangeSig``: (line, negativeBinIdx, positiveBinIdx, numAvg).
+    dc_range_sig: tuple | None = None
+    #: Board the ``% Platform:`` header names (None: the chip's default).
+    board: str | None = None
     unmodelled: list[str] = dataclasses.field(default_factory=list)
     measure: tuple | None = None
     ignored: list[tuple[int, str]] = dataclasses.field(default_factory=list)

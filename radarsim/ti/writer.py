@@ -6,6 +6,7 @@ import dataclasses
 import json
 from typing import Any, Iterable, Mapping
 
+from ..boards import get_board
 from ..chips import ADC_MODES
 from ..radar_config import RadarConfig
 from .families import DEMO_FAMILIES
@@ -149,7 +150,7 @@ def _header_lines(radar: RadarConfig, comments: Iterable[str]) -> list[str]:
     return [
         f"% {chip.name} profile written by radarsim.ti.to_ti_cfg "
         f"({'mmWave MCU+ SDK' if chip.mcu_plus_sdk else 'mmWave SDK 3.x'} CLI).",
-        f"% Platform:{chip.ti_platform}",
+        f"% Platform:{get_board(radar.board).ti_platform or chip.ti_platform}",
         f"% {radar.mimo.upper()} {radar.n_tx} Tx x {radar.n_rx} Rx, {radar.n_chirps} chirps of "
         f"{radar.chirp_period_s * 1e6:.6g} us, {radar.n_samples} {kind} samples at "
         f"{radar.adc_rate_sps / 1e6:g} Msps: range resolution {radar.range_resolution_m:.3f} m, "
@@ -317,6 +318,9 @@ def processing_lines(profile: TiProfile, subframe: int = -1) -> list[str]:
     if fam.has("aoaFovCfg") and p.get("azimuth_fov_deg") is not None:
         (a0, a1), (e0, e1) = p["azimuth_fov_deg"], p["elevation_fov_deg"]
         out.append("aoaFovCfg " + " ".join([sf] + [fmt_decimal(v) for v in (a0, a1, e0, e1)]))
+    if fam.has("calibDcRangeSig") and profile.dc_range_signature is not None:
+        neg, pos, num_avg, _ = profile.dc_range_signature
+        out.append(f"calibDcRangeSig {sf} 1 {neg} {pos} {num_avg}")
     if subframe in (-1, 0):  # one line for the whole frame, written with sub-frame 0's
         out += _calibration_lines(fam, p)
     return out

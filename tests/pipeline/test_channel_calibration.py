@@ -33,10 +33,12 @@ def x68():
     # The profile has no extendedMaxVelocity (the demo's default: off); these tests ask for it,
     # and for every velocity (its cfarFovCfg keeps +/-1.21 m/s: a return moved to +/-2 Vmax
     # would be dropped, not reported).
-    return prof.radar, processing_from_profile(prof).replace(compression=False, range_bias_m=0.0,
-                                                             channel_comp=None,
-                                                             tdma_disambiguation=True,
-                                                             velocity_fov_mps=None)
+    # The ISK array (8 azimuth + 4 raised elements) these tests and the velocity-extension
+    # analysis are about; the profile's xWR68xx_AOP header would now select the AOP grid.
+    return prof.radar.replace(board="IWR6843ISK"), \
+        processing_from_profile(prof).replace(compression=False, range_bias_m=0.0,
+                                              channel_comp=None, tdma_disambiguation=True,
+                                              velocity_fov_mps=None)
 
 
 def _board(cfg):

@@ -87,7 +87,9 @@ def test_read_but_not_modelled_commands_are_listed_in_one_note():
     text = _with(_with(text, "clutterRemoval -1 1"), "calibDcRangeSig -1 1 -5 8 256")
     notes = [n for n in parse_ti_cfg(text).notes if n.startswith("read but not modelled: ")]
     assert len(notes) == 1
-    assert "calibDcRangeSig enabled" in notes[0] and "CQRxSatMonitor" in notes[0]
+    assert "CQRxSatMonitor" in notes[0]
+    assert "calibDcRangeSig" not in notes[0]           # modelled: TiProfile.dc_range_signature
+    assert parse_ti_cfg(text).dc_range_signature[:3] == (-5, 8, 256)
     assert "clutterRemoval" not in notes[0]            # modelled: ProcessingConfig field
     assert parse_ti_cfg(text).processing["clutter_removal"] is True
     assert parse_ti_cfg(X68).processing["clutter_removal"] is False     # clutterRemoval -1 0

@@ -122,12 +122,13 @@ PROFILES = {
         (1, 2, 3), 288, C / (2 * 54.71e12 * 96 / 2.95e6), 2.95e6 * C / (2 * 54.71e12),
         _lam(60.75) / (4 * 3 * 89.1e-6), _lam(60.75) / (2 * 288 * 89.1e-6), 0.055,
         (list(range(8)), [2, 3, 4, 5], 0.5)),
-    # B = 70 x 240 / 5 = 3360 MHz; Tc = 257.15 us; 3 x 16 = 48 chirps; ISK array assumed.
+    # B = 70 x 240 / 5 = 3360 MHz; Tc = 257.15 us; 3 x 16 = 48 chirps; the AOP grid
+    # (radarsim.boards: z = 0 row Tx2/Tx3 x Rx2/Rx4, raised rows at 1, 0.5, -0.5 lambda).
     "xwr68xx_aop_visualizer": (
-        XWR68_AOP, "IWR6843", "IWR6843ISK", "complex1x", "tdma", 3, 4, (1, 2, 3), (1, 2, 3), 48,
+        XWR68_AOP, "IWR6843", "IWR6843AOPEVM", "complex1x", "tdma", 3, 4, (1, 2, 3), (1, 2, 3), 48,
         C / (2 * 3360e6), 5e6 * C / (2 * 70e12),
         _lam(60) / (4 * 3 * 257.15e-6), _lam(60) / (2 * 48 * 257.15e-6), 0.033333,
-        (list(range(8)), [2, 3, 4, 5], 0.5)),
+        ([0, 1, 2, 3], [0, 0, 0, 1, 1, 1, 2, 3], [0.5, 1, 0.5, 1, -0.5, -0.5, -0.5, -0.5])),
     # B = 70 x 256 / 5.209 = 3440.2 MHz; Tc = 97.14 us; 2 x 16 = 32 chirps.
     "xwr16xx_sdk2_visualizer": (
         XWR16_SDK2, "AWR1642", "AWR1642BOOST", "complex1x", "tdma", 2, 4, (1, 2), (1, 2), 32,
@@ -172,7 +173,8 @@ def test_real_profile_styles_are_accepted_with_hand_computed_values(name):
     assert prof.frame_period_s == pytest.approx(period, rel=1e-12)
     lay = array_layout(cfg.virtual_positions_m, cfg.wavelength_m)
     assert list(lay.h_pos) == h_pos
-    assert sorted(lay.v_pos) == v_pos and lay.v_height_wl == pytest.approx(v_h)
+    assert sorted(lay.v_pos) == v_pos
+    assert np.allclose(lay.v_height_wl, v_h)
     assert cfg.n_virtual == n_tx * n_rx
     # Every command is used or kept; the writer reproduces the radar exactly.
     assert parse_ti_cfg(to_ti_cfg(prof)).radar == cfg
