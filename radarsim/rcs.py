@@ -403,7 +403,7 @@ def scene_scatterers(truth_frame: pd.DataFrame, rng: np.random.Generator,
         pos = np.concatenate([hits.point_m, c_pos])
         rcs = np.concatenate([p_rcs, c_rcs])
         if box.size:
-            cell_scale = np.where(boxes.cls[box] == "guard_rail", cfg.clutter_merge_factor,
+            cell_scale = np.where((boxes.cls == "guard_rail")[box], cfg.clutter_merge_factor,
                                   1.0)
             first, mpos, mrcs = _merge(box, pos, rcs, cfg, cell_scale)
             mbox = box[first]
