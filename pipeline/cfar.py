@@ -72,6 +72,8 @@ class CfarMode:
     ranked: ClassVar[bool] = False
     #: True when `combine_looks` is the square-law sum (chains may then sum in any order).
     sums_looks: ClassVar[bool] = True
+    #: True when `peaks` runs a compiled detector (else it returns None).
+    compiled_peaks: ClassVar[bool] = False
 
     name: str
     description: str
@@ -116,9 +118,12 @@ class CfarMode:
         return np.ones(power.shape, dtype=bool)
 
     def peaks(self, power: np.ndarray, alpha: float, train_idx: np.ndarray, os_rank: int,
-              neighbours: tuple[bool, bool, bool, bool], first_bin: int):
+              neighbours: tuple[bool, bool, bool, bool], first_bin: int,
+              rows0: tuple[int, int] | None = None):
         """Compiled detector of `kernels.cfar_peaks` for this mode, or None (the numpy path:
-        `candidate_mask`, local maxima, gathered training cells)."""
+        `candidate_mask`, local maxima, gathered training cells). rows0 = (lo, hi): only the
+        cells with lo <= index < hi on axis 0 (their neighbours read from the whole map); a
+        mode with a compiled detector sets `compiled_peaks`."""
         return None
 
 
@@ -216,28 +221,31 @@ class OrderStatistic(CfarMode):
         col_k = np.take(np.partition(power, os_rank - 1, axis=axis), [os_rank - 1], axis=axis)
         return power > alpha * col_k
 
-    def peaks(self, power, alpha, train_idx, os_rank, neighbours, first_bin):
+    compiled_peaks = True
+
+    def peaks(self, power, alpha, train_idx, os_rank, neighbours, first_bin, rows0=None):
         """One compiled pass: local maximum, then the OS test as a count (the k-th smallest
         training cell y_(k) satisfies alpha y_(k) < x iff at least k cells do, alpha y rounded
         as the numpy path rounds it), the k-th value itself only for the hits."""
+        lo, hi = (0, power.shape[0]) if rows0 is None else rows0
         return _os_peaks(power, power.dtype.type(alpha), train_idx, os_rank, *neighbours,
-                         first_bin)
+                         first_bin, lo, hi)
 
 
 @numba.njit(cache=True, nogil=True)
-def _os_peaks(p, alpha, train_idx, k, check0, cyclic0, check1, cyclic1, first1):
+def _os_peaks(p, alpha, train_idx, k, check0, cyclic0, check1, cyclic1, first1, lo0, hi0):
     """(a, r, d, noise) of the cells of p (n0, n1, n_cfar) that are local maxima along the
     last axis (cyclic) and along axis 0 / 1 where checked (cyclic or not; the test of
     `kernels.local_max_mask`: greater than the previous cell, not less than the next), have
     index >= first1 on axis 1, and exceed alpha x the k-th smallest of their training cells
-    train_idx[d] (n_cfar, N) along the last axis."""
+    train_idx[d] (n_cfar, N) along the last axis; only rows lo0 <= a < hi0 of axis 0."""
     n0, n1, n2 = p.shape
     n_train = train_idx.shape[1]
     out = []
     train = np.empty(n_train, p.dtype)
     none = np.full(n2, -np.inf, p.dtype)  # a missing neighbour: every cell exceeds it
     ok = np.empty(n2, np.bool_)
-    for a in range(n0):
+    for a in range(lo0, hi0):
         a_prev = a - 1 if a > 0 else (n0 - 1 if cyclic0 else -1)
         a_next = a + 1 if a < n0 - 1 else (0 if cyclic0 else -1)
         for r in range(first1, n1):

@@ -23,8 +23,10 @@ import scipy.fft
 from scipy.signal import get_window
 
 from .cfar import CFAR_MODES, noise_estimate, training_offsets
+from .threads import run_parts, spans
 
-__all__ = ["window", "range_fft", "doppler_fft", "rx_energy", "ddma_metric", "ddma_gather",
+__all__ = ["window", "range_fft", "doppler_fft", "rx_energy", "gemm_power", "ddma_metric",
+           "ddma_gather",
            "ArrayLayout",
            "array_layout", "local_max_mask", "parabolic_offset", "candidate_cfar", "cfar_peaks",
            "training_table",
@@ -147,6 +149,59 @@ def _ddma_gather(spec, tx1_band, tx_pos, n_sb, out):
                 c = ((band + tx_pos[i]) % n_sb) * n_dop + d
                 for rx in range(n_rx):
                     out[i * n_rx + rx, b * n_dop + d] = spec[c, rx, b]
+
+
+def gemm_power(w: np.ndarray, x: np.ndarray) -> np.ndarray:
+    """|w @ x|^2 as float32 (re^2 + im^2, as `stages.power_of`), the product and the square
+    computed per block of rows of `w` on the cores (`pipeline.threads`).
+
+    A row block of a GEMM is the same arithmetic as the whole one with the BLAS at hand (checked
+    once per process and operand layout, `_row_blocks_exact`; where it is not, one block), so
+    the map is the same bits either way.
+
+    Parameters
+    ----------
+    w : (m, k) complex64
+    x : (k, n) complex64
+
+    Returns
+    -------
+    (m, n) float32
+    """
+    m = w.shape[0]
+    out = np.empty((m, x.shape[1]), np.float32)
+    blocks = spans(m, multiple=_ROW_MULTIPLE)
+    if len(blocks) > 1 and not _row_blocks_exact(w.shape, w.strides, x.shape, x.strides,
+                                                 blocks[0][1]):
+        blocks = [(0, m)]
+
+    def block(lo: int, hi: int) -> None:
+        y = (w[lo:hi] @ x).view(np.float32)
+        np.square(y, out=y)
+        np.add(y[:, 0::2], y[:, 1::2], out=out[lo:hi])
+
+    run_parts([lambda lo=lo, hi=hi: block(lo, hi) for lo, hi in blocks])
+    return out
+
+
+_ROW_MULTIPLE = 8  # row blocks start at multiples of the usual GEMM kernel widths
+
+
+@lru_cache(maxsize=16)
+def _row_blocks_exact(w_shape, w_strides, x_shape, x_strides, cut: int) -> bool:
+    """Whether rows [0, cut) and [cut, m) of a complex64 GEMM of this layout give the bits of the
+    whole product (random operands with the same shapes and strides)."""
+    g = np.random.default_rng(0)
+
+    def operand(shape, strides):
+        base = np.empty(shape[::-1] if strides[0] < strides[-1] else shape, np.complex64)
+        base.real, base.imag = g.standard_normal(base.shape), g.standard_normal(base.shape)
+        return base.T if strides[0] < strides[-1] else base
+
+    w, x = operand(w_shape, w_strides), operand(x_shape, x_strides)
+    whole = w @ x
+    return bool(np.array_equal(whole[:cut], w[:cut] @ x)
+                and np.array_equal(whole[cut:], w[cut:] @ x))
 
 
 def ddma_metric(power: np.ndarray, n_subbands: int, n_tx: int) -> np.ndarray:
@@ -355,12 +410,16 @@ def cfar_peaks(power: np.ndarray, mode: str, alpha: float, guard_cells: int,
         Noise estimate (the mode's statistic) and power of each.
     """
     cm = CFAR_MODES[mode]
-    found = cm.peaks(power, alpha, training_table(power.shape[-1], guard_cells, window_cells,
-                                                  stride), os_rank,
-                     (0 in neighbours, neighbours.get(0, False), 1 in neighbours,
-                      neighbours.get(1, False)), first_bin)
-    if found is not None:
-        idx, noise = found
+    if cm.compiled_peaks:
+        # Rows of axis 0 in parts on the cores (`pipeline.threads`), joined in C order.
+        table = training_table(power.shape[-1], guard_cells, window_cells, stride)
+        flags = (0 in neighbours, neighbours.get(0, False), 1 in neighbours,
+                 neighbours.get(1, False))
+        found = run_parts([lambda span=span: cm.peaks(power, alpha, table, os_rank, flags,
+                                                      first_bin, span)
+                           for span in spans(power.shape[0])])
+        idx = np.concatenate([f[0] for f in found], axis=1)
+        noise = np.concatenate([f[1] for f in found])
         cells = tuple(idx)
         return cells, noise, power[cells]
     mask = cm.candidate_mask(power, 2, alpha, os_rank)

@@ -41,6 +41,7 @@ import numpy as np
 
 from ..ege_format import (EGE_HEADER_BITS, EGE_K_ARRAY, HWA_OUTPUT_SCALE, ege_budget_bits,
                           ege_min_ratio)
+from ..threads import run_parts, spans
 
 __all__ = ["ege_compress", "ege_block_bits", "ege_min_ratio", "HWA_OUTPUT_SCALE", "EGE_K_ARRAY",
            "EGE_HEADER_BITS"]
@@ -122,13 +123,14 @@ def _block_shift(v: np.ndarray, budget: int, kk: np.ndarray, m: np.ndarray, hist
 
 @numba.njit(cache=True, nogil=True)
 def _ege_blocks(vv: np.ndarray, bins2: int, scale: np.float32, budget: int, kk: np.ndarray,
-                cold: float, shift: np.ndarray) -> None:
+                cold: float, shift: np.ndarray, c0: int, c1: int) -> None:
     """EGE encode + decode of every block of `vv` in place (`ege_compress`).
 
     vv : (n_chirps, n_rx, n_range x 2) float32, I/Q interleaved, rf units; block b of chirp c
     holds vv[c, :, b bins2 : (b + 1) bins2] (bins2 = 2 x range bins per block), value j =
     rx x bins2 + t at flat position (c n_blocks + b) n_val + j. shift : (n_chirps, n_blocks)
-    int8, written. Cold blocks (sum |v| <= cold, HWA LSB) fit unshifted (`_cold_sum`)."""
+    int8, written. Cold blocks (sum |v| <= cold, HWA LSB) fit unshifted (`_cold_sum`). Only
+    chirps c0 <= c < c1 (blocks are independent)."""
     n_c, n_r, n_b2 = vv.shape
     nb = n_b2 // bins2
     n_val = n_r * bins2
@@ -136,7 +138,7 @@ def _ege_blocks(vv: np.ndarray, bins2: int, scale: np.float32, budget: int, kk: 
     m = np.empty(n_val, np.float32)
     hist = np.empty(33, np.int64)
     fsum = np.zeros(33, np.int64)
-    for c in range(n_c):
+    for c in range(c0, c1):
         for b in range(nb):
             lo = b * bins2
             # Four partial sums (I and Q of two bins each step, float64): the cold test is a
@@ -258,6 +260,8 @@ def ege_compress(rf: np.ndarray, ratio: float = 0.5, range_bins_per_block: int =
                          f"k-array fits a block of {n_r} Rx x {range_bins_per_block} bins")
     shift = np.zeros((n_c, nb), dtype=np.int8)
     kk = EGE_K_ARRAY[n_val * (2 + EGE_K_ARRAY) <= budget]  # only these can ever fit
-    _ege_blocks(rf.view(np.float32), 2 * range_bins_per_block, np.float32(scale), budget, kk,
-                _cold_sum(n_val, budget), shift)
+    vv, cold = rf.view(np.float32), _cold_sum(n_val, budget)
+    run_parts([lambda lo=lo, hi=hi: _ege_blocks(vv, 2 * range_bins_per_block, np.float32(scale),
+                                                budget, kk, cold, shift, lo, hi)
+               for lo, hi in spans(n_c)])  # chirps in parts on the cores (`pipeline.threads`)
     return rf, shift

@@ -24,9 +24,9 @@ from ..chirp_level.stage import range_stage
 from ..compensation import compensate
 from ..config import WINDOWS, ProcessingConfig
 from ..kernels import (array_layout, cfar_peaks, ddma_gather, ddma_metric, doppler_fft,
-                       estimate_angles, rx_energy, window)
+                       estimate_angles, gemm_power, rx_energy, window)
 from ..stages import (array_dft, empty_cloud, interp_azimuth, interp_doppler, interp_range,
-                      point_cloud, power_of)
+                      point_cloud)
 from .base import DetectionMap, DopplerAzimuth, MimoChain, register_chain
 from .ddma_order import DdmaDetections, ddma_virtual, resolve_tx_order
 
@@ -86,12 +86,12 @@ def ddma_maps(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) -> Ddma
     h_idx, *_ = array_layout(cfg.virtual_positions_m, cfg.wavelength_m)
     tx_h = np.unique(h_idx // n_rx).astype(np.int32)  # sub-band positions p of the row
     virt_h = ddma_gather(spec, tx1_band, tx_h, n_sb)  # (P_h x R, B x D)
-    # Zero-padded azimuth FFT over the horizontal row as one complex GEMM.
+    # Zero-padded azimuth FFT over the horizontal row as one complex GEMM (its azimuth rows in
+    # parts on the cores) and the power map.
     rows = (tx_h[:, None] * n_rx + np.arange(n_rx)).reshape(-1)
     # compRangeBiasAndRxChanPhase: the channel coefficients folded into the DFT's columns.
     dft = compensate(cfg, proc, array_dft(cfg, n_az, "horizontal")[rows].T, rows)
-    az_spec = dft @ virt_h  # (A, B*D)
-    power = power_of(az_spec, consume=True).reshape(n_az, n_range, n_dop)
+    power = gemm_power(dft, virt_h).reshape(n_az, n_range, n_dop)  # (A, B, D)
     return DdmaMaps(power=power, spec=spec, energy=energy, tx1_band=tx1_band)
 
 

@@ -1,0 +1,80 @@
+"""Data parallelism inside one frame's chain: independent parts of a pass on the machine's cores.
+
+The floor a chain is measured against runs its FFTs on every core (`scipy.fft`, ``workers=-1``)
+and so do the chains' own FFTs; the other passes (EGE, the azimuth GEMM, the CFAR) run on one
+core unless the chain splits them. numpy's ufuncs and BLAS calls, scipy's FFTs and the numba
+kernels (``nogil=True``) release the GIL, so a pass split into independent parts (rows of a
+GEMM, azimuth rows of a map, chirps of a cube) runs on threads. Every part computes exactly what
+the whole pass computes at its indices and the results are assembled in index order, so the
+output is the same bits whatever the number of parts (tests/pipeline/test_threads.py runs every
+chain with one and with two parts).
+
+A sweep already keeps the cores busy (worker processes, `harness.cell` frame threads); the
+parts then queue for the one helper thread and the caller runs its own part meanwhile, so
+nothing waits on an idle core and nothing deadlocks (a part never submits parts itself).
+"""
+from __future__ import annotations
+
+import os
+import threading
+from collections.abc import Callable, Sequence
+from concurrent.futures import Future, ThreadPoolExecutor
+from typing import TypeVar
+
+__all__ = ["n_parts", "spans", "run_parts"]
+
+T = TypeVar("T")
+
+_LOCK = threading.Lock()
+_POOL: list[ThreadPoolExecutor] = []
+
+#: Parts a pass is split into: the machine's cores, at most 2 (the harness's 2-core target;
+#: more parts cost hand-offs for little gain on these frame sizes). 1 runs everything inline.
+N_PARTS = max(1, min(2, os.cpu_count() or 1))
+
+
+def n_parts() -> int:
+    """Parts a pass is split into (`N_PARTS`)."""
+    return N_PARTS
+
+
+def spans(n: int, parts: int | None = None, multiple: int = 1) -> list[tuple[int, int]]:
+    """`parts` (default `n_parts()`) contiguous (lo, hi) index ranges covering 0..n, every
+    boundary a multiple of `multiple`; fewer ranges when n is too small (never an empty one).
+
+    Examples
+    --------
+    >>> spans(48, 2)
+    [(0, 24), (24, 48)]
+    >>> spans(10, 2, multiple=4)
+    [(0, 4), (4, 10)]
+    >>> spans(3, 2, multiple=4)
+    [(0, 3)]
+    """
+    parts = n_parts() if parts is None else parts
+    cuts = sorted({min(n, (n * i // parts) // multiple * multiple) for i in range(1, parts)})
+    bounds = [0] + [c for c in cuts if 0 < c < n] + [n]
+    return list(zip(bounds[:-1], bounds[1:]))
+
+
+def _pool() -> ThreadPoolExecutor:
+    with _LOCK:
+        if not _POOL:
+            _POOL.append(ThreadPoolExecutor(max_workers=max(1, N_PARTS - 1),
+                                            thread_name_prefix="pipeline-part"))
+        return _POOL[0]
+
+
+def run_parts(calls: Sequence[Callable[[], T]]) -> list[T]:
+    """Run independent zero-argument calls, the first on the calling thread and the others on
+    the helper thread(s); return their results in order. Every call has finished when this
+    returns or raises (the first exception is raised)."""
+    if len(calls) <= 1:
+        return [c() for c in calls]
+    futures: list[Future] = [_pool().submit(c) for c in calls[1:]]
+    try:
+        first = calls[0]()
+    finally:
+        for f in futures:
+            f.exception()  # wait for every part, whatever happened here
+    return [first] + [f.result() for f in futures]

@@ -1,0 +1,95 @@
+"""Passes split into parts on threads (`pipeline.threads`) give the bits of the whole pass."""
+import threading
+
+import numpy as np
+import pandas as pd
+import pytest
+
+import pipeline
+import pipeline.threads as threads
+import radarsim
+from pipeline.chirp_level.ege import HWA_OUTPUT_SCALE, ege_compress
+from pipeline.kernels import gemm_power
+from pipeline.stages import power_of
+
+
+@pytest.mark.parametrize("n, parts, multiple", [(48, 2, 1), (48, 2, 8), (768, 3, 1), (7, 2, 4),
+                                                (3, 2, 4), (1, 2, 1), (0, 2, 1), (10, 1, 1)])
+def test_spans_cover_the_axis_in_order_with_boundaries_on_the_multiple(n, parts, multiple):
+    s = threads.spans(n, parts, multiple)
+    assert len(s) <= max(parts, 1)
+    assert [lo for lo, _ in s] == [0] + [hi for _, hi in s[:-1]]
+    assert s[-1][1] == n
+    assert all(hi > lo for lo, hi in s) or n == 0
+    assert all(lo % multiple == 0 for lo, _ in s)
+
+
+def test_run_parts_returns_in_order_and_uses_another_thread():
+    names = threads.run_parts([lambda i=i: (i, threading.current_thread().name)
+                               for i in range(2)])
+    assert [i for i, _ in names] == [0, 1]
+    assert names[0][1] == threading.current_thread().name
+    assert names[1][1] != names[0][1]
+
+
+def test_run_parts_waits_for_every_part_before_raising():
+    done = threading.Event()
+
+    def slow():
+        done.wait(0.2)
+        done.set()
+        return 1
+
+    def fails():
+        raise RuntimeError("part failed")
+
+    with pytest.raises(RuntimeError, match="part failed"):
+        threads.run_parts([fails, slow])
+    assert done.is_set()
+
+
+@pytest.mark.parametrize("layout", ["C", "F"])
+def test_gemm_power_equals_the_whole_product_bit_for_bit(layout):
+    g = np.random.default_rng(0)
+    w = (g.standard_normal((48, 12)) + 1j * g.standard_normal((48, 12))).astype(np.complex64)
+    w = np.asfortranarray(w) if layout == "F" else w
+    x = (g.standard_normal((12, 4096)) + 1j * g.standard_normal((12, 4096))).astype(np.complex64)
+    assert gemm_power(w, x).tobytes() == power_of(w @ x).tobytes()
+
+
+@pytest.fixture
+def one_part(monkeypatch):
+    def run(fn):
+        monkeypatch.setattr(threads, "N_PARTS", 1)
+        try:
+            return fn()
+        finally:
+            monkeypatch.undo()
+    return run
+
+
+@pytest.mark.parametrize("scheme", sorted(radarsim.MIMO_SCHEMES))
+def test_every_chain_gives_the_same_cloud_with_one_and_two_parts(scheme, one_part):
+    cfg = radarsim.presets.r79(scheme)
+    g = np.random.default_rng(3)
+    k = 40
+    sc = radarsim.Scatterers.from_spherical(g.uniform(5, 150, k), g.uniform(-60, 60, k),
+                                            g.uniform(-3, 3, k), g.uniform(-30, 30, k),
+                                            g.uniform(1, 10, k))
+    adc = radarsim.simulate_frame(cfg, sc, np.random.default_rng(4))
+    assert threads.N_PARTS == 2 or threads.n_parts() == 1
+    two = pipeline.process_frame(cfg, adc)
+    one = one_part(lambda: pipeline.process_frame(cfg, adc))
+    assert len(two) > 10
+    pd.testing.assert_frame_equal(one, two, check_exact=True)
+
+
+def test_ege_parts_give_the_same_cube_and_scale_factors(one_part):
+    g = np.random.default_rng(5)
+    lsb = 1 / HWA_OUTPUT_SCALE  # noise of 8 LSB, one bin in ten 50 dB above it
+    rf = ((g.standard_normal((64, 4, 64)) + 1j * g.standard_normal((64, 4, 64))) * 8 * lsb
+          * np.where(g.random((64, 1, 64)) < 0.1, 300, 1)).astype(np.complex64)
+    a, sa = ege_compress(rf.copy())
+    b, sb = one_part(lambda: ege_compress(rf.copy()))
+    assert (sa > 0).any()
+    assert a.tobytes() == b.tobytes() and sa.tobytes() == sb.tobytes()
