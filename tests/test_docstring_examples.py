@@ -18,6 +18,7 @@ MODULES = (
     "pipeline.chain", "pipeline.cfar", "pipeline.mimo.base", "pipeline.tracking.parts",
     "metrics.detection", "radarsim.mimo_fast_slow", "pipeline.mimo.fast_slow",
     "metrics.registry", "metrics.velocity", "metrics.r79", "metrics.interference",
+    "pipeline.mimo.echo_law", "pipeline.mimo.ddma_order", "pipeline.mimo.extension",
 )
 
 #: Public entry points that must show a runnable example: "module:qualified name".

@@ -36,7 +36,7 @@ from functools import lru_cache
 from typing import NamedTuple
 
 import numpy as np
-from scipy import optimize, stats
+from scipy import stats
 
 from radarsim.config import RadarConfig
 
@@ -45,6 +45,7 @@ from ..compensation import compensate, virtual_coefficients
 from ..kernels import array_layout
 from ..config import ProcessingConfig
 from ..stages import array_dft, interp_azimuth
+from .echo_law import echo_fit_quantile
 
 __all__ = ["DdmaDetections", "ddma_virtual", "band_beams", "beam_band_metric",
            "coherence_floor", "resolve_tx_order", "TX_COHERENCE_MISS", "EMPTY_BAND_PFA"]
@@ -162,29 +163,17 @@ def coherence_floor(n_tx_row: int, threshold_snr: float, miss: float = TX_COHERE
     probability 1 - `miss`.
 
     At its own direction a single echo of coherent-map SNR S gives the Tx beams
-    b_p = s e^{j wx t_p} + noise (P = `n_tx_row` Tx, complex Gaussian noise of power
-    sigma^2 per beam). The energy projected on the Tx steering, |c|^2 / P, is sigma^2 / 2 times
-    a noncentral chi-square with 2 degrees of freedom and noncentrality 2 S (its mean
-    sigma^2 (S + 1), S the coherent-map SNR); the energy orthogonal to it is noise only,
-    sigma^2 / 2 times a central chi-square with 2 (P - 1) degrees of freedom. So
-    rho = |c|^2 / (P sum |b_p|^2) = X / (X + Y) and (X / 2) / (Y / (2 (P - 1))) is a noncentral
-    F(2, 2 (P - 1), 2 S) variable: P(rho >= rho_0) = ncf.sf((P - 1) rho_0 / (1 - rho_0)).
-    Solved for rho_0 at S = `threshold_snr` (linear, over the mean noise).
+    b_p = s e^{j wx t_p} + noise (P = `n_tx_row` Tx); its coherence
+    rho = |sum_p e^{-j wx t_p} b_p|^2 / (P sum |b_p|^2) is one echo's fit on P elements, whose
+    law `pipeline.mimo.echo_law` gives. Evaluated at S = `threshold_snr` (linear, over the
+    mean noise).
 
     Examples
     --------
     >>> round(coherence_floor(3, 10 ** 1.3345), 3)  # 3 Tx, OS-CFAR Pfa 1e-6: 13.3 dB
     0.616
     """
-    if n_tx_row < 2:
-        return 0.0
-    dfd = 2 * (n_tx_row - 1)
-
-    def excess(rho: float) -> float:
-        return stats.ncf.sf((n_tx_row - 1) * rho / (1 - rho), 2, dfd, 2 * threshold_snr) \
-            - (1 - miss)
-
-    return float(optimize.brentq(excess, 1e-9, 1 - 1e-9))
+    return float(echo_fit_quantile(n_tx_row, threshold_snr, miss))
 
 
 def resolve_tx_order(cfg: RadarConfig, proc: ProcessingConfig, spec: np.ndarray,

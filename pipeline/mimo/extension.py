@@ -40,12 +40,12 @@ References
 from __future__ import annotations
 
 import numpy as np
-from scipy import special, stats
 
 from radarsim.config import RadarConfig
 
 from ..kernels import array_layout
 from ..stages import log_power, parabolic_offset
+from .echo_law import echo_fit_quantile
 
 __all__ = ["EXTENSION_MISS", "FIT_ALLOWANCE", "echo_fit", "fit_floor", "may_extend"]
 
@@ -98,24 +98,14 @@ def echo_fit(cfg: RadarConfig, virt: np.ndarray, n_fft: int = 64) -> np.ndarray:
 def fit_floor(n_elements: int, snr: np.ndarray, miss: float = EXTENSION_MISS,
               allowance: float = FIT_ALLOWANCE) -> np.ndarray:
     """(n,) the `miss` quantile of `echo_fit` for one echo of array SNR `snr` (linear) on
-    `n_elements` elements in white noise, times `allowance`.
-
-    Where the noncentral F quantile does not converge (SNR above about 1e4), the joint bound
-    X_q / (X_q + Y_q) is used: X_q = S + 1 - z sqrt(2 S + 1) the normal approximation of the
-    projected energy's `miss` quantile, Y_q the orthogonal noise's upper `miss` quantile.
+    `n_elements` elements in white noise (`pipeline.mimo.echo_law`), times `allowance`.
 
     Examples
     --------
     >>> fit_floor(16, np.array([0.0, 10.0, 100.0, 1e3, 1e8]), allowance=1.0).round(3)
     array([0.   , 0.071, 0.743, 0.971, 1.   ])
     """
-    snr = np.asarray(snr, dtype=float)
-    dfd = 2 * (n_elements - 1)
-    f_q = special.ncfdtri(2, dfd, 2 * snr, miss)
-    rho_q = f_q / (n_elements - 1 + f_q)
-    x_q = np.maximum(snr + 1 - stats.norm.isf(miss) * np.sqrt(2 * snr + 1), 0.0)
-    bound = x_q / (x_q + stats.gamma.isf(miss, n_elements - 1))
-    return np.where(np.isfinite(rho_q), rho_q, bound) * allowance
+    return echo_fit_quantile(n_elements, snr, miss) * allowance
 
 
 def may_extend(cfg: RadarConfig, virt: np.ndarray, sigma2: np.ndarray) -> np.ndarray:
