@@ -385,18 +385,19 @@ def scatterer_table(frames_scatterers) -> pd.DataFrame:
     parts = []
     for frame, sc in frames_scatterers:
         pos = np.asarray(sc.position_m)
-        parts.append(pd.DataFrame({
+        parts.append({
             "frame": np.full(len(sc), int(frame), dtype=np.int64),
             "actor_id": np.asarray(sc.actor_id, dtype=np.int64),
             "x_m": pos[:, 0], "y_m": pos[:, 1], "z_m": pos[:, 2],
             "range_m": sc.range_m, "radial_velocity_mps": sc.radial_velocity_mps,
-            "rcs_m2": np.asarray(sc.rcs_m2)}))
+            "rcs_m2": np.asarray(sc.rcs_m2)})
     if not parts:
         return pd.DataFrame({c: pd.Series(dtype=t) for c, t in (
             ("frame", "int64"), ("actor_id", "int64"), ("x_m", float), ("y_m", float),
             ("z_m", float), ("range_m", float), ("radial_velocity_mps", float),
             ("rcs_m2", float))})
-    return pd.concat(parts, ignore_index=True)
+    # One table from the joined columns (what concatenating a table per frame gives).
+    return pd.DataFrame({c: np.concatenate([p[c] for p in parts]) for c in parts[0]})
 
 
 def detection_errors(labelled: pd.DataFrame, truth: pd.DataFrame,

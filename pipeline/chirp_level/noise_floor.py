@@ -66,9 +66,38 @@ def noise_floor_rise(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig |
     ref_r = sigma2 * np.sum(wr ** 2)
     sub = rf[:, :, proc.min_range_bin::range_stride]
     p = sub.real ** 2 + sub.imag ** 2
-    floor_r = float(np.median(p)) / np.log(2)
+    floor_r = float(_median_power(p)) / np.log(2)
     spec = scipy.fft.fft(sub * wd.astype(np.float32)[:, None, None], axis=0, workers=-1)
     pd_ = spec.real ** 2 + spec.imag ** 2
-    floor_d = float(np.median(pd_)) / np.log(2)
+    floor_d = float(_median_power(pd_)) / np.log(2)
     return NoiseFloor(10 * np.log10(floor_r / ref_r),
                       10 * np.log10(floor_d / (ref_r * np.sum(wd ** 2))))
+
+
+def _median_power(p: np.ndarray) -> np.floating:
+    """``np.median(p)`` of a float32 power array, bit for bit, by a radix select.
+
+    Finite non-negative float32 values order as their bit patterns do, so the upper 16 bits
+    (sign, exponent, 7 mantissa bits) bin them in order: one bincount finds the bin holding
+    each middle rank, and only that bin's few values are partitioned. The two middle values
+    are averaged as `numpy.median` does (float32 mean); anything else (NaN, inf, a negative
+    or -0 value, another dtype) takes `numpy.median` itself. About half numpy's cost on the
+    floor's 147 456-cell maps (one counting pass instead of a full introselect copy).
+    """
+    a = p.reshape(-1)
+    n = a.size
+    if a.dtype != np.float32 or n == 0:
+        return np.median(p)
+    top = a.view(np.uint32) >> 16
+    if top.max() >= 0x7F80:  # sign bit, inf or NaN
+        return np.median(p)
+    cum = np.cumsum(np.bincount(top))
+
+    def ranked(k: int) -> np.float32:
+        """The k-th smallest value (0-based)."""
+        b = int(np.searchsorted(cum, k, side="right"))
+        below = int(cum[b - 1]) if b else 0
+        return np.partition(a[top == b], k - below)[k - below]
+    if n % 2:
+        return ranked(n // 2)
+    return np.mean(np.array([ranked(n // 2 - 1), ranked(n // 2)], dtype=np.float32))
