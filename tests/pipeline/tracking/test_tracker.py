@@ -184,14 +184,12 @@ def test_one_track_per_vehicle_but_side_by_side_vehicles_stay_apart(rng):
     assert sorted(np.sign(tab.y_m)) == [-1.0, 1.0] and (tab.state == "ACTIVE").all()
 
 
-@pytest.mark.parametrize("n_per_frame, min_points", [(20, 1), (30, 2)],
-                         ids=["20_per_frame_default", "30_per_frame_min2"])
-def test_clutter_alone_starts_no_confirmed_track(n_per_frame, min_points):
+def _clutter_alone(n_per_frame: int, min_points: int, n_frames: int) -> None:
     """Uniform false alarms over range, azimuth and radial velocity (the simulated chain
     gives about 2 moving ghosts per frame; 20 and 30 are 10-15 times that)."""
     rng = np.random.default_rng(7)
     tracker = GroupTracker(_cfg(alloc_min_points=min_points))
-    for i in range(400):
+    for i in range(n_frames):
         n = int(rng.integers(n_per_frame * 2 // 3, n_per_frame * 4 // 3 + 1))
         pc = pd.DataFrame({"range_m": rng.uniform(3, 150, n),
                            "azimuth_deg": rng.uniform(-75, 75, n),
@@ -199,6 +197,25 @@ def test_clutter_alone_starts_no_confirmed_track(n_per_frame, min_points):
                            "snr_db": rng.uniform(13, 22, n)})
         tab = tracker.step(pc, i * 0.05, 0.0)
         assert (tab.state != "ACTIVE").all(), i
+
+
+_CLUTTER_CASES = pytest.mark.parametrize("n_per_frame, min_points", [(20, 1), (30, 2)],
+                                         ids=["20_per_frame_default", "30_per_frame_min2"])
+
+
+@pytest.mark.slow
+@_CLUTTER_CASES
+def test_clutter_alone_starts_no_confirmed_track(n_per_frame, min_points):
+    """400 frames (20 s) of clutter confirm no track."""
+    _clutter_alone(n_per_frame, min_points, 400)
+
+
+@_CLUTTER_CASES
+def test_clutter_alone_starts_no_confirmed_track_fast(n_per_frame, min_points):
+    """The fast counterpart: 60 frames (3 s). A tracker that confirms clutter (a broken
+    DETECT -> ACTIVE rule, allocation thresholds or gate) does so within a few frames at 10-15
+    times the chain's ghost density, so 60 frames fail as the 400 do."""
+    _clutter_alone(n_per_frame, min_points, 60)
 
 
 def test_static_points_start_no_track_unless_allowed(rng):
