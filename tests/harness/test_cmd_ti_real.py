@@ -82,11 +82,18 @@ def test_calibration_puts_the_reflector_at_r_and_on_boresight(ti_capture, tmp_pa
     assert best.range_bin == STATED_RANGE_BIN
     assert abs(best.range_m - r) < 1e-4
     assert abs(best.azimuth_deg) < 0.5 and abs(best.elevation_deg) < 0.5
+    static = set(_process(ti_capture, cal, tmp_path / "cal2.csv").query("doppler_bin == 0")
+                 .range_bin)
     ext = tmp_path / "calibrated_ext.cfg"
     ext.write_text(cal.read_text().replace("extendedMaxVelocity -1 0", "extendedMaxVelocity -1 1"))
-    best = _reflector(_process(ti_capture, ext, tmp_path / "ext.csv"))
+    pc = _process(ti_capture, ext, tmp_path / "ext.csv")
+    best = _reflector(pc)
     assert best.range_bin == STATED_RANGE_BIN
     assert abs(best.radial_velocity_mps) < radar.velocity_resolution_mps
+    # Calibrated, extension on: the static scene stays static (issue 19's promise): every
+    # return in Doppler bin 0 without extension is still reported there with it.
+    moved = static - set(pc.query("doppler_bin == 0").range_bin)
+    assert not moved, sorted(moved)
 
 
 def test_installer_refuses_a_file_that_is_not_the_capture(tmp_path):
