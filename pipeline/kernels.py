@@ -59,10 +59,23 @@ def range_fft(adc: np.ndarray, win: np.ndarray) -> np.ndarray:
     (n_chirps, n_rx, n_samples // 2) or (n_chirps, n_rx, n_samples) complex64
     """
     if np.iscomplexobj(adc):
-        x = np.multiply(adc, win, dtype=np.complex64)
+        x = windowed(adc, win, np.complex64)
         return scipy.fft.fft(x, axis=-1, workers=-1, overwrite_x=True)
-    x = np.multiply(adc, win, dtype=np.float32)  # int16 -> float32 and window in one pass
+    x = windowed(adc, win, np.float32)  # int16 -> float32 and window in one pass
     return scipy.fft.rfft(x, axis=-1, workers=-1)[..., : adc.shape[-1] // 2]
+
+
+def windowed(x: np.ndarray, win: np.ndarray, dtype) -> np.ndarray:
+    """``np.multiply(x, win, dtype=dtype)`` (win broadcast against x), in blocks of axis 0 on
+    the cores (`pipeline.threads`): the same products."""
+    out = np.empty(np.broadcast_shapes(x.shape, win.shape), dtype)
+    per_row = win.ndim == x.ndim and win.shape[0] > 1
+
+    def block(lo: int, hi: int) -> None:
+        np.multiply(x[lo:hi], win[lo:hi] if per_row else win, out=out[lo:hi], dtype=dtype)
+
+    run_parts([lambda lo=lo, hi=hi: block(lo, hi) for lo, hi in spans(out.shape[0])])
+    return out
 
 
 def doppler_fft(x: np.ndarray, win: np.ndarray, axis: int = 0) -> np.ndarray:
@@ -71,7 +84,9 @@ def doppler_fft(x: np.ndarray, win: np.ndarray, axis: int = 0) -> np.ndarray:
     as over a transposed contiguous copy)."""
     shape = [1] * x.ndim
     shape[axis] = -1
-    return scipy.fft.fft(x * win.reshape(shape), axis=axis, workers=-1, overwrite_x=True)
+    w = win.reshape(shape)
+    xw = windowed(x, w, np.result_type(x.dtype, w.dtype))
+    return scipy.fft.fft(xw, axis=axis, workers=-1, overwrite_x=True)
 
 
 def rx_energy(spec: np.ndarray) -> np.ndarray:
@@ -87,7 +102,9 @@ def rx_energy(spec: np.ndarray) -> np.ndarray:
         Bit for bit ``stages.power_of(spec).sum(axis=1)``, without its full-size temporary.
     """
     out = np.empty((spec.shape[0], spec.shape[2]), np.float32)
-    _rx_energy(spec.view(np.float32), out)
+    v = spec.view(np.float32)
+    run_parts([lambda lo=lo, hi=hi: _rx_energy(v[lo:hi], out[lo:hi])
+               for lo, hi in spans(spec.shape[0])])  # chirps in parts on the cores
     return out
 
 
@@ -109,7 +126,8 @@ def _rx_energy(v: np.ndarray, out: np.ndarray) -> None:
 
 
 def ddma_gather(spec: np.ndarray, tx1_band: np.ndarray, tx_pos: np.ndarray,
-                n_subbands: int) -> np.ndarray:
+                n_subbands: int, out: np.ndarray | None = None,
+                range_span: tuple[int, int] | None = None) -> np.ndarray:
     """Demodulated DDMA samples of the transmitters at sub-band positions `tx_pos`, for every
     range and Doppler bin (seed 000 table 11): Tx p of Doppler bin d at range bin b sits at
     chirp-bin d + n_dop ((tx1_band[d, b] + p) mod N).
@@ -125,6 +143,11 @@ def ddma_gather(spec: np.ndarray, tx1_band: np.ndarray, tx_pos: np.ndarray,
     n_subbands : int
         N (n_dop = n_chirps / N).
 
+    out : (P x n_rx, n_range x n_dop) complex64, optional
+        Written and returned (default: a new array).
+    range_span : (lo, hi), optional
+        Only the columns of range bins lo <= b < hi (tx1_band read there only).
+
     Returns
     -------
     (P x n_rx, n_range x n_dop) complex64
@@ -132,18 +155,21 @@ def ddma_gather(spec: np.ndarray, tx1_band: np.ndarray, tx_pos: np.ndarray,
     """
     n_c, n_rx, n_b = spec.shape
     n_dop = n_c // n_subbands
-    out = np.empty((tx_pos.size * n_rx, n_b * n_dop), np.complex64)
-    _ddma_gather(spec, tx1_band, tx_pos.astype(np.int64), n_subbands, out)
+    if out is None:
+        out = np.empty((tx_pos.size * n_rx, n_b * n_dop), np.complex64)
+    lo, hi = (0, n_b) if range_span is None else range_span
+    _ddma_gather(spec, tx1_band, tx_pos.astype(np.int64), n_subbands, out, lo, hi)
     return out
 
 
 @numba.njit(cache=True, nogil=True)
-def _ddma_gather(spec, tx1_band, tx_pos, n_sb, out):
-    """`ddma_gather`'s loop: Doppler bins outer, range bins inner (reads run along range)."""
-    n_rx, n_b = spec.shape[1], spec.shape[2]
+def _ddma_gather(spec, tx1_band, tx_pos, n_sb, out, b0, b1):
+    """`ddma_gather`'s loop: Doppler bins outer, range bins b0..b1-1 inner (reads run along
+    range)."""
+    n_rx = spec.shape[1]
     n_dop = tx1_band.shape[0]
     for d in range(n_dop):
-        for b in range(n_b):
+        for b in range(b0, b1):
             band = tx1_band[d, b]
             for i in range(tx_pos.size):
                 c = ((band + tx_pos[i]) % n_sb) * n_dop + d

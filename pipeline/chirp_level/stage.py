@@ -21,7 +21,7 @@ import scipy.fft
 from radarsim.config import RadarConfig
 
 from ..config import WINDOWS, ProcessingConfig
-from ..kernels import range_fft, window
+from ..kernels import range_fft, window, windowed
 from .dc import remove_dc, window_spectrum
 from .ege import ege_compress
 from ..interference_repair import FrameRows, get_mitigation, repair
@@ -108,7 +108,7 @@ def _range_stage(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) -> n
         # One FFT of the whole frame, the flagged chirps (DC removed, repaired by the
         # `proc.intf_mitigation` method; the chip zeroes) swapped in first.
         work = np.complex64 if cplx else np.float32
-        x = np.multiply(adc, win, dtype=work)
+        x = windowed(adc, win, work)
         y = adc.reshape(-1, cfg.n_samples)[rows]
         y = y.astype(work) if dc is None else np.subtract(y, dc.reshape(-1, 1)[rows], dtype=work)
         repair(y, flags, win, proc.intf_hysteresis_samples, get_mitigation(proc.intf_mitigation),
