@@ -62,3 +62,22 @@ def test_tdma_chain_estimates_both_angles_on_the_aop_grid(az, el):
     pc = pipeline.process_frame(prof.radar, adc, proc)
     best = pc.loc[pc.snr_db.idxmax()]
     assert abs(best.azimuth_deg - az) <= 1.5 and abs(best.elevation_deg - el) <= 1.5, best
+
+
+@pytest.mark.parametrize("v", [0.5, 1.6, -1.8, 3.0])
+def test_velocity_extension_on_the_aop_grid(v):
+    """extendedMaxVelocity on the AOP board (Vmax 1.62 m/s, span +/-4.86): targets off
+    boresight in both planes are reported at their speed (within 0.1 m/s): the hypothesis
+    likelihood ties the three raised rows by one elevation (`stages.array_likelihood`)."""
+    prof = parse_ti_cfg(profile_text("xwr68_aop"))
+    proc = processing_from_profile(prof).replace(tdma_disambiguation=True,
+                                                 velocity_fov_mps=None)
+    radar = simulation_radar(prof)
+    rng = np.random.default_rng(5)
+    for az, el in ((0.0, 0.0), (20.0, 10.0), (-30.0, -15.0), (40.0, 25.0), (-10.0, -40.0)):
+        sc = radarsim.Scatterers.from_spherical(np.array([3.0]), np.array([az]),
+                                                np.array([el]), np.array([v]),
+                                                np.array([0.01]))
+        pc = pipeline.process_frame(prof.radar, radarsim.simulate_frame(radar, sc, rng), proc)
+        best = pc.loc[pc.snr_db.idxmax()]
+        assert abs(best.radial_velocity_mps - v) < 0.1, (az, el, best.radial_velocity_mps)
