@@ -13,9 +13,12 @@ and last, collapsed, the gate table. Panels follow the schemes present in the ta
 """
 from __future__ import annotations
 
+import concurrent.futures as cf
 import fnmatch
 import html
+import os
 from pathlib import Path
+from typing import NamedTuple
 
 import numpy as np
 import pandas as pd
@@ -309,26 +312,69 @@ def _gate_verdicts(summary: pd.DataFrame, manifest: dict):
 
 def _case_section(summary, det, truth, specs, key, maps: bool) -> list[str]:
     """HTML parts of one case: its summary rows, bird's-eye view, maps of one frame."""
-    import scenarios
+    return _draw_case(_case_inputs(summary, det, truth, specs, key, maps))
+
+
+class _CaseInputs(NamedTuple):
+    """What one case section draws (its rows of the tables, the chosen frame), small enough
+    to send to a worker process."""
+
+    key: tuple
+    summary: pd.DataFrame
+    det: pd.DataFrame
+    truth: pd.DataFrame
+    frame: int | None
+    spec: dict | None   # the cell spec for the maps (None: no maps)
+
+
+def _case_inputs(summary, det, truth, specs, key, maps: bool) -> _CaseInputs:
     sc, var, seed = key
-    parts = [f"<h2>Case {html.escape(sc)} <small>({html.escape(var)}, seed {seed})</small></h2>"]
-    parts.append(_table_html(summary[(summary["scenario"] == sc) & (summary["variant"] == var)
-                                     & (summary["seed"] == seed)], _SUMMARY_COLUMNS))
     cd = det[(det["scenario"] == sc) & (det["variant"] == var) & (det["seed"] == seed)] \
         if len(det) else det
     ct = truth[(truth["scenario"] == sc) & (truth["variant"] == var) &
                (truth["seed"] == seed)] if len(truth) else truth
     frame = choose_frame(det, sc, var, seed) if len(det) else None
-    if len(ct):
-        parts.append(_img(_birdseye(ct, cd, frame, sc)))
-    if maps and frame is not None and key in specs:
+    rows = summary[(summary["scenario"] == sc) & (summary["variant"] == var)
+                   & (summary["seed"] == seed)]
+    spec = specs[key] if maps and frame is not None and key in specs else None
+    return _CaseInputs(key, rows, cd, ct, frame, spec)
+
+
+def _draw_case(c: _CaseInputs) -> list[str]:
+    """HTML parts of one case from `_case_inputs`."""
+    import scenarios
+    sc, var, seed = c.key
+    parts = [f"<h2>Case {html.escape(sc)} <small>({html.escape(var)}, seed {seed})</small></h2>"]
+    parts.append(_table_html(c.summary, _SUMMARY_COLUMNS))
+    if len(c.truth):
+        parts.append(_img(_birdseye(c.truth, c.det, c.frame, sc)))
+    if c.spec is not None:
         if sc in scenarios.SCENARIOS:
-            parts.append(f"<h3>Range-Doppler and Doppler-azimuth maps, frame {frame}</h3>"
-                         + _img(_maps(specs[key], frame, cd)))
+            parts.append(f"<h3>Range-Doppler and Doppler-azimuth maps, frame {c.frame}</h3>"
+                         + _img(_maps(c.spec, c.frame, c.det)))
         else:
             parts.append(f"<p>maps not drawn: {html.escape(sc)} is not a catalogue case, so "
                          "its frame cannot be re-simulated here.</p>")
     return parts
+
+
+#: Case sections are drawn in worker processes when a report has at least this many: each
+#: takes a second or two of plotting (and, with maps, re-simulating a frame), so the default
+#: run's 18 cases kept one core busy while the other idled. Fewer are drawn inline (starting
+#: a pool costs more than it saves). Same sections, same order, either way.
+PARALLEL_MIN_CASES = 4
+
+
+def _case_sections(summary, det, truth, specs, keys: list, maps: bool) -> list[str]:
+    """HTML parts of every case of `keys`, in order."""
+    inputs = [_case_inputs(summary, det, truth, specs, k, maps) for k in keys]
+    workers = min(os.cpu_count() or 1, len(inputs), 4)
+    if len(inputs) < PARALLEL_MIN_CASES or workers < 2:
+        drawn = [_draw_case(c) for c in inputs]
+    else:
+        with cf.ProcessPoolExecutor(workers) as ex:
+            drawn = list(ex.map(_draw_case, inputs))
+    return [part for parts in drawn for part in parts]
 
 
 def interference_section(summary: pd.DataFrame, actors: pd.DataFrame) -> str:
@@ -463,9 +509,9 @@ def build_report(results: str | Path, out: str | Path | None = None, *, maps: bo
     keys = keys.drop_duplicates("scenario")  # one section per case: its first variant/seed
     if max_cases is not None:
         keys = keys.iloc[:max_cases]
-    for _, k in keys.iterrows():
-        parts += _case_section(summary, det, truth, specs,
-                               (k["scenario"], k["variant"], int(k["seed"])), maps)
+    parts += _case_sections(summary, det, truth, specs,
+                            [(k["scenario"], k["variant"], int(k["seed"]))
+                             for _, k in keys.iterrows()], maps)
     if len(det):
         parts.append("<h2>Ghost map</h2>" + _img(_ghost_map(det)))
     parts.append(interference_section(summary, actors))

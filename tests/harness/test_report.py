@@ -92,3 +92,16 @@ def test_report_panels_follow_the_schemes_in_the_tables(tmp_path):
     assert _schemes(det, mimo_only=True) == ["bpm", "tdma"]
     page = build_report(tmp_path, maps=False).read_text()
     assert "SNR gain over tdma" in page and ">bpm<" in page
+
+
+def test_case_sections_drawn_in_worker_processes_equal_inline(fake_results, tmp_path,
+                                                              monkeypatch):
+    """The case sections of a report with many cases are drawn in a process pool: the same
+    page, byte for byte, as drawing them inline."""
+    from harness import report as rp
+    monkeypatch.setattr(rp, "PARALLEL_MIN_CASES", 10 ** 9)
+    inline = rp.build_report(fake_results, tmp_path / "inline.html", maps=False).read_bytes()
+    monkeypatch.setattr(rp, "PARALLEL_MIN_CASES", 2)
+    monkeypatch.setattr(rp.os, "cpu_count", lambda: 2)
+    pooled = rp.build_report(fake_results, tmp_path / "pooled.html", maps=False).read_bytes()
+    assert b"<h2>Case " in pooled and pooled == inline
