@@ -139,6 +139,16 @@ def add_arguments_sweep(parser: argparse.ArgumentParser) -> None:
     _add_scheme_arguments(parser)
 
 
+def _print_profile_notes(spec) -> None:
+    """One stderr line per note of each TI profile the sweep's variants name: what the cells
+    read but do not run (nothing a profile asks for is dropped silently)."""
+    from .ti_profile import load_profile, sweep_profile_notes
+    paths = sorted({v.radar["profile"] for v in spec.variants if "profile" in v.radar})
+    for path in paths:
+        for note in sweep_profile_notes(load_profile(Path(path))):
+            print(f"note: radar.profile={path}: {note}", file=sys.stderr)
+
+
 def run_sweep(args: argparse.Namespace) -> int:
     from . import dask_cluster, schedule, sweepfile
     spec = sweepfile.load_sweep(args.sweep_file).with_overrides(
@@ -152,6 +162,7 @@ def run_sweep(args: argparse.Namespace) -> int:
     workers = args.workers if args.workers is not None else (os.cpu_count() or 1)
     security = dask_cluster.dask_security(args.security) if args.security else None
     out = schedule.prepare_out(out)
+    _print_profile_notes(spec)
     n = len(spec.cells())
     print(f"sweep {spec.name}: {n} cells ({len(spec.scenarios)} scenarios x "
           f"{len(spec.variants)} variants x {len(spec.seeds)} seeds) -> {out}/",

@@ -17,7 +17,7 @@ from pathlib import Path
 from scenarios.fileio import check_input_file
 
 __all__ = ["load_profile", "profile_processing", "processing_from_profile",
-           "cfar_config_from_ti", "simulation_radar"]
+           "cfar_config_from_ti", "simulation_radar", "sweep_profile_notes"]
 
 
 def cfar_config_from_ti(ti_cfar):
@@ -106,6 +106,19 @@ def _multi_peak_note(profile, notes: list[str]) -> None:
         notes[at[0]] = f"{notes[at[0]]}; {item}"
     else:
         notes.append(head + item)
+
+
+def sweep_profile_notes(profile) -> list[str]:
+    """What a sweep cell with ``radar.profile`` does not do of what the profile asks: the notes
+    `profile_processing` gives (the same as `radar-harness process` prints) plus the
+    capture-level ``calibDcRangeSig``, which `process` runs over a capture's first frames and a
+    cell, which simulates a front end without a DC range signature, does not."""
+    notes: list[str] = []
+    profile_processing(profile, notes)
+    if any(p.dc_range_signature for p in profile.parts):
+        notes.append("calibDcRangeSig not applied in a sweep cell (a calibration over a "
+                     "capture's first frames: `radar-harness process` applies it)")
+    return notes
 
 
 def simulation_radar(profile):

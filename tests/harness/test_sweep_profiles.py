@@ -215,3 +215,30 @@ def test_profile_clutter_removal_with_a_ddma_scheme_is_refused_before_the_sweep(
     with pytest.raises(ValueError, match=r"clutter_removal=True .*: the ddma chain has no "
                                          r"static clutter removal"):
         load_sweep(f, check_scenarios=False)
+
+
+@pytest.mark.parametrize("enabled", [True, False])
+def test_sweep_names_what_its_profile_asks_and_cells_do_not_run(tmp_path, capsys, enabled):
+    """A sweep prints, once per profile, the notes `process` prints (here the xwr68_tx13
+    profile's CQRxSatMonitor, read but not modelled) and the capture-level calibDcRangeSig a
+    cell does not run: nothing a profile asks for is dropped silently."""
+    from harness.cmd_sweep import _print_profile_notes
+    from tests.radarsim.profiles import profile_text
+    off = "calibDcRangeSig -1 0 -5 8 256"
+    text = profile_text("xwr68_tx13")
+    (tmp_path / "p.cfg").write_text(text.replace(off, "calibDcRangeSig -1 1 -5 8 32")
+                                    if enabled else text)
+    f = _sweep_file(tmp_path, """
+        name = "p"
+        scenarios = ["fast"]
+        schemes = ["tdma"]
+        baseline_scheme = "tdma"
+        [vary]
+        "radar.profile" = ["p.cfg"]
+    """)
+    _print_profile_notes(load_sweep(f, check_scenarios=False))
+    err = capsys.readouterr().err.splitlines()
+    assert all(line.startswith(f"note: radar.profile={tmp_path / 'p.cfg'}: ") for line in err)
+    assert sum("read but not modelled: " in line and "CQRxSatMonitor" in line
+               for line in err) == 1
+    assert any("calibDcRangeSig not applied in a sweep cell" in line for line in err) == enabled
