@@ -155,7 +155,9 @@ class Mitigation:
         Re-estimate the chirp's DC from the kept samples before the repair: the chip's DC
         estimate is the mean of the whole chirp, burst included, and the offset it leaves in
         the repaired chirps only is a slow-time modulation at range bin 0-1 (ghosts at a few
-        metres over every Doppler bin).
+        metres over every Doppler bin). "lowrank" ignores it: the constant column of its model
+        estimates the offset jointly with the echoes (the mean of the kept samples is biased
+        by a low beat frequency's partial periods), and each repaired row's mean is removed.
     rank_max : int
         "lowrank": at most this many fast-time components (besides the constant).
     rank_snr_gate_db : float
