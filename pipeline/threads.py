@@ -57,6 +57,19 @@ def spans(n: int, parts: int | None = None, multiple: int = 1) -> list[tuple[int
     return list(zip(bounds[:-1], bounds[1:]))
 
 
+def _forget_pool_after_fork() -> None:
+    """A forked child (a `ProcessPoolExecutor` sweep worker) has no copy of the parent's
+    helper thread: it must not submit to the parent's executor (its parts would never run),
+    so it starts without one and makes its own on first use."""
+    global _LOCK
+    _LOCK = threading.Lock()
+    _POOL.clear()
+
+
+if hasattr(os, "register_at_fork"):
+    os.register_at_fork(after_in_child=_forget_pool_after_fork)
+
+
 def _pool() -> ThreadPoolExecutor:
     with _LOCK:
         if not _POOL:

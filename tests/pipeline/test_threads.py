@@ -48,6 +48,20 @@ def test_run_parts_waits_for_every_part_before_raising():
     assert done.is_set()
 
 
+def _parts_in_child(_):
+    return threads.run_parts([lambda: 1, lambda: 2])
+
+
+@pytest.mark.skipif(not hasattr(__import__("os"), "fork"), reason="needs fork")
+def test_a_forked_worker_runs_parts_after_the_parent_made_its_helper_thread():
+    """A sweep's ProcessPoolExecutor forks workers from a process that may have run a chain:
+    the child must not wait on the parent's helper thread, which it does not have."""
+    import multiprocessing as mp
+    threads.run_parts([lambda: 0, lambda: 0])  # the parent's helper thread exists
+    with mp.get_context("fork").Pool(1) as pool:
+        assert pool.map_async(_parts_in_child, [0]).get(timeout=60) == [[1, 2]]
+
+
 @pytest.mark.parametrize("layout", ["C", "F"])
 def test_gemm_power_equals_the_whole_product_bit_for_bit(layout):
     g = np.random.default_rng(0)
