@@ -22,6 +22,7 @@ from radarsim.config import RadarConfig
 
 from ..config import WINDOWS, ProcessingConfig
 from ..kernels import range_fft, window, windowed
+from ..threads import run_parts, spans
 from .dc import remove_dc, window_spectrum
 from .ege import ege_compress
 from ..interference_repair import FrameRows, get_mitigation, repair
@@ -92,16 +93,34 @@ def _dc_signature(rf: np.ndarray, proc: ProcessingConfig) -> np.ndarray:
     return rf if sig is None else sig.subtract(rf)
 
 
+def _chirp_statistics(adc: np.ndarray, proc: ProcessingConfig):
+    """(DC estimate or None, flagged chirp x Rx rows, their flags or None) as `proc` switches
+    them: `remove_dc` and `flagged_rows`, both per chirp and Rx, run on blocks of chirps on the
+    cores (`pipeline.threads`) and joined in row order (the same values)."""
+    n_rx = adc.shape[1]
+
+    def block(lo: int, hi: int):
+        a = adc[lo:hi]
+        dc = remove_dc(a) if proc.dc_removal else None
+        if not proc.interference_mitigation:
+            return dc, np.zeros(0, dtype=np.intp), None
+        rows, flags = flagged_rows(a, dc, proc)
+        return dc, rows + lo * n_rx, flags
+
+    parts = run_parts([lambda lo=lo, hi=hi: block(lo, hi) for lo, hi in spans(adc.shape[0])])
+    dc = np.concatenate([p[0] for p in parts]) if proc.dc_removal else None
+    rows = np.concatenate([p[1] for p in parts])
+    flags = np.concatenate([p[2] for p in parts]) if proc.interference_mitigation else None
+    return dc, rows, flags
+
+
 def _range_stage(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) -> np.ndarray:
     """`range_stage` without the sharing."""
     cplx = np.iscomplexobj(adc)
     win = window(WINDOWS[proc.range_window], cfg.n_samples)
     if not (proc.dc_removal or proc.interference_mitigation or proc.compression):
         return range_fft(adc, win)
-    dc = remove_dc(adc) if proc.dc_removal else None
-    rows = np.zeros(0, dtype=np.intp)
-    if proc.interference_mitigation:
-        rows, flags = flagged_rows(adc, dc, proc)
+    dc, rows, flags = _chirp_statistics(adc, proc)
     if rows.size == 0:
         rf = range_fft(adc, win)
     else:
