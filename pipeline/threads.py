@@ -80,14 +80,21 @@ def _pool() -> ThreadPoolExecutor:
 
 def run_parts(calls: Sequence[Callable[[], T]]) -> list[T]:
     """Run independent zero-argument calls, the first on the calling thread and the others on
-    the helper thread(s); return their results in order. Every call has finished when this
-    returns or raises (the first exception is raised)."""
+    the helper thread(s); return their results in order. A part the helper has not started by
+    the time the caller is done with its own (the helper busy with another frame's part, or no
+    free core) is taken back and run by the caller, so a busy machine costs no waiting. Every
+    call has finished when this returns or raises (the first exception is raised)."""
     if len(calls) <= 1:
         return [c() for c in calls]
     futures: list[Future] = [_pool().submit(c) for c in calls[1:]]
     try:
         first = calls[0]()
-    finally:
+    except BaseException:
         for f in futures:
-            f.exception()  # wait for every part, whatever happened here
-    return [first] + [f.result() for f in futures]
+            if not f.cancel():
+                f.exception()  # wait for a running part, whatever happened here
+        raise
+    results = [first]
+    for call, f in zip(calls[1:], futures):
+        results.append(call() if f.cancel() else f.result())
+    return results

@@ -25,22 +25,45 @@ def test_spans_cover_the_axis_in_order_with_boundaries_on_the_multiple(n, parts,
 
 
 def test_run_parts_returns_in_order_and_uses_another_thread():
-    names = threads.run_parts([lambda i=i: (i, threading.current_thread().name)
-                               for i in range(2)])
+    started = threading.Event()
+
+    def helper_part():
+        started.set()
+        return 1, threading.current_thread().name
+
+    def caller_part():
+        assert started.wait(5)  # the helper has taken its part
+        return 0, threading.current_thread().name
+
+    names = threads.run_parts([caller_part, helper_part])
     assert [i for i, _ in names] == [0, 1]
     assert names[0][1] == threading.current_thread().name
     assert names[1][1] != names[0][1]
 
 
-def test_run_parts_waits_for_every_part_before_raising():
-    done = threading.Event()
+def test_a_part_the_busy_helper_has_not_started_is_run_by_the_caller():
+    release = threading.Event()
+    blocker = threads._pool().submit(release.wait, 10)  # the helper is busy elsewhere
+    try:
+        names = threads.run_parts([lambda: threading.current_thread().name,
+                                   lambda: threading.current_thread().name])
+    finally:
+        release.set()
+        blocker.result()
+    assert names == [threading.current_thread().name] * 2
+
+
+def test_run_parts_waits_for_a_started_part_before_raising():
+    started, done = threading.Event(), threading.Event()
 
     def slow():
+        started.set()
         done.wait(0.2)
         done.set()
         return 1
 
     def fails():
+        assert started.wait(5)
         raise RuntimeError("part failed")
 
     with pytest.raises(RuntimeError, match="part failed"):
