@@ -270,12 +270,17 @@ def _process_frames(spec: CellSpec, comps: Components, run, radar: dict, procs: 
     reference point clouds of the same ADC frames. Frames run `FRAME_THREADS` at a time and
     are collected in frame order."""
     from pipeline.chirp_level import shared_range_stage  # after the caller's BLAS setting
+    from pipeline.threads import inline
     refs = refs or {}
     ctx = _frame_context(run)
     equipment = comps.equipment(run, spec.seed, dict(spec.scene)) \
         if comps.equipment is not None else None
 
     def one(f):
+        with inline():  # the frames already keep the cores busy (`pipeline.threads.inline`)
+            return _one(f)
+
+    def _one(f):
         rows = truth[truth["frame"] == f]
         sc = _scatterers(comps, rows, frame_rng(spec.seed, f, "rcs"), ctx.get(int(f)))
         adc, inr = _simulate_frames(comps, radar, sc, spec.seed, f, rows, equipment)

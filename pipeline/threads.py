@@ -17,11 +17,12 @@ from __future__ import annotations
 
 import os
 import threading
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterator, Sequence
+from contextlib import contextmanager
 from concurrent.futures import Future, ThreadPoolExecutor
 from typing import TypeVar
 
-__all__ = ["n_parts", "spans", "run_parts"]
+__all__ = ["n_parts", "spans", "run_parts", "inline"]
 
 T = TypeVar("T")
 
@@ -33,9 +34,30 @@ _POOL: list[ThreadPoolExecutor] = []
 N_PARTS = max(1, min(2, os.cpu_count() or 1))
 
 
+#: Per thread: its chains run every pass whole (`inline`).
+_LOCAL = threading.local()
+
+
 def n_parts() -> int:
-    """Parts a pass is split into (`N_PARTS`)."""
-    return N_PARTS
+    """Parts a pass is split into: `N_PARTS`, or 1 on a thread inside `inline`."""
+    return 1 if getattr(_LOCAL, "inline", False) else N_PARTS
+
+
+@contextmanager
+def inline() -> Iterator[None]:
+    """Within the block the calling thread's chains split no pass (`n_parts` is 1 there).
+
+    For callers that already keep every core busy with whole frames (a sweep cell runs two
+    frames at a time): parts would only add hand-offs. Measured on a quiet 2-core machine, a
+    cell of r79_motorcycle_rear took 11 % less CPU and 10 % less wall time with its frames'
+    chains inline. The bits do not depend on it (parts compute exactly the whole pass).
+    """
+    before = getattr(_LOCAL, "inline", False)
+    _LOCAL.inline = True
+    try:
+        yield
+    finally:
+        _LOCAL.inline = before
 
 
 def spans(n: int, parts: int | None = None, multiple: int = 1) -> list[tuple[int, int]]:

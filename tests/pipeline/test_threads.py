@@ -130,3 +130,19 @@ def test_ege_parts_give_the_same_cube_and_scale_factors(one_part):
     b, sb = one_part(lambda: ege_compress(rf.copy()))
     assert (sa > 0).any()
     assert a.tobytes() == b.tobytes() and sa.tobytes() == sb.tobytes()
+
+
+def test_inline_splits_nothing_on_its_own_thread_only():
+    """`inline` is per thread (a cell's frame threads) and restores what was there before."""
+    import threading
+    seen = {}
+    with threads.inline():
+        assert threads.n_parts() == 1 and threads.spans(48) == [(0, 48)]
+        with threads.inline():
+            assert threads.n_parts() == 1
+        assert threads.n_parts() == 1
+        other = threading.Thread(target=lambda: seen.setdefault("other", threads.n_parts()))
+        other.start()
+        other.join()
+    assert seen["other"] == threads.N_PARTS
+    assert threads.n_parts() == threads.N_PARTS
