@@ -51,17 +51,27 @@ def comp_range_bias_and_rx_chan_phase(st: ParseState, ln: Line) -> None:
                       f"then Re, Im of each of its {st.chip.n_tx} Tx x {st.chip.n_rx} Rx "
                       "pairs, Tx major)")
     bias = float(ln.dec(0, "rangeBias"))
-    parts = []
-    for i in range(1, want):
-        v = float(ln.dec(i, f"{'Re' if i % 2 else 'Im'}({(i - 1) // 2 // st.chip.n_rx},"
-                            f"{(i - 1) // 2 % st.chip.n_rx})"))
-        if not -1.0 <= v <= 1.0:
-            raise ln.fail(f"value {i + 1} = {v:g} is outside the Q15 range [-1, 1] (the demo "
-                          "would saturate it)")
-        parts.append(v)
+    parts = _unit_values(ln, 1, ("Re", "Im"), st.chip.n_rx,
+                         "the Q15 range [-1, 1] (the demo would saturate it)")
     st.processing.update(range_bias_m=bias, channel_comp=tuple(zip(parts[0::2], parts[1::2])))
     st.processing_origin.update(range_bias_m=ln.cmd, channel_comp=ln.cmd)
     st.processing_commands[ln.cmd] = ln
+
+
+def _unit_values(ln: Line, first: int, names: tuple[str, str], n_rx: int,
+                 limit: str) -> list[float]:
+    """The line's values from index `first` on, each in [-1, 1], read as interleaved
+    (names[0], names[1]) parts of the coefficients of (Tx, Rx) pairs, Tx major (the names
+    and pair indices go into the message of a malformed value); `limit` says why out of range
+    is refused."""
+    vals = []
+    for i in range(first, len(ln.args)):
+        k = i - first
+        v = float(ln.dec(i, f"{names[k % 2]}({k // 2 // n_rx},{k // 2 % n_rx})"))
+        if not -1.0 <= v <= 1.0:
+            raise ln.fail(f"value {i + 1} = {v:g} is outside {limit}")
+        vals.append(v)
+    return vals
 
 
 def is_identity(pairs) -> bool:
@@ -90,13 +100,8 @@ def antenna_calib_pairs(ln: Line, chip) -> tuple[tuple[float, float], ...] | Non
     if len(ln.args) != want:
         raise ln.fail(f"{len(ln.args)} values; the {chip.name} needs {want} (Im, Re of each of "
                       f"its {chip.n_tx} Tx x {chip.n_rx} Rx virtual antennas, Tx major)")
-    vals = []
-    for i in range(want):
-        v = float(ln.dec(i, f"{'Re' if i % 2 else 'Im'}({i // 2 // chip.n_rx},"
-                            f"{i // 2 % chip.n_rx})"))
-        if not -1.0 <= v <= 1.0:
-            raise ln.fail(f"value {i + 1} = {v:g} is outside [-1, 1] (a calibration "
-                          "coefficient never amplifies; the fixed-point path would saturate)")
-        vals.append(v)
+    vals = _unit_values(ln, 0, ("Im", "Re"), chip.n_rx,
+                        "[-1, 1] (a calibration coefficient never amplifies; the "
+                        "fixed-point path would saturate)")
     pairs = tuple(zip(vals[1::2], vals[0::2]))
     return None if is_identity(pairs) else pairs

@@ -112,11 +112,8 @@ def find_capture(name: str) -> Path | None:
 
 
 def _sha256(path: Path) -> str:
-    h = hashlib.sha256()
     with open(path, "rb") as fh:
-        for block in iter(lambda: fh.read(1 << 20), b""):
-            h.update(block)
-    return h.hexdigest()
+        return hashlib.file_digest(fh, "sha256").hexdigest()
 
 
 def install(name: str, source: str | os.PathLike, dest_dir: Path = EXTERNAL_DIR) -> Path:
