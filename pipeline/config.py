@@ -9,6 +9,7 @@ from scenarios.checks import one_of, require
 
 from .cfar import CFAR_MODES, cfar_scale
 from .compensation import check_channel_comp, check_comp_values
+from .dc_range_signature import DcRangeSignature
 from .fov import FOV_FIELDS, check_interval
 from .ege_format import ege_min_ratio
 from .interference_repair import MITIGATIONS
@@ -242,7 +243,7 @@ class ProcessingConfig:
     velocity_fov_mps: tuple[float, float] | None = None
     azimuth_fov_deg: tuple[float, float] | None = None
     elevation_fov_deg: tuple[float, float] | None = None
-    dc_range_signature: object | None = None
+    dc_range_signature: DcRangeSignature | None = None
 
     def __post_init__(self) -> None:
         if not isinstance(self.cfar, CfarConfig):
@@ -268,7 +269,6 @@ class ProcessingConfig:
         require(self, "intf_hysteresis_samples", "integer", ge=0, le=32)
         require(self, "compression_ratio", ge=0.25, lt=1)
         if self.dc_range_signature is not None:
-            from .dc_range_signature import DcRangeSignature
             if not isinstance(self.dc_range_signature, DcRangeSignature):
                 raise ValueError(f"dc_range_signature must be a DcRangeSignature or None, got "
                                  f"{type(self.dc_range_signature).__name__}")

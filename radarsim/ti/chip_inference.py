@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 import re
 
+from ..boards import BOARDS
 from ..chips import CHIPS
 from .syntax import DIRECTIVE_RE
 
@@ -86,7 +87,6 @@ def infer_chip(lines: list[str]) -> tuple[str, str]:
 
 def _board_of_platform(name: str) -> str | None:
     """The registered board whose `Board.ti_platform` is `name` (case-insensitive)."""
-    from ..boards import BOARDS
     for board_name in BOARDS:
         board = BOARDS[board_name]
         if board.ti_platform and board.ti_platform.lower() == name.lower():
