@@ -10,7 +10,8 @@ import argparse
 import math
 
 __all__ = ["int_in", "float_in", "DURATION_S", "SEED", "FRAMES", "FRAME_STRIDE", "WORKERS",
-           "MAX_CASES", "TIMEOUT_S", "check_output_file", "MAX_DURATION_S", "MAX_SEED", "MAX_FRAMES"]
+           "MAX_CASES", "TIMEOUT_S", "check_output_file", "MAX_DURATION_S", "MAX_SEED", "MAX_FRAMES",
+           "LAYOUTS", "add_capture_reading"]
 
 #: Longest scenario, s (the catalogue's limit on a case duration).
 MAX_DURATION_S = 120.0
@@ -72,3 +73,16 @@ def check_output_file(path, option: str):
     """
     from scenarios.fileio import check_output_path
     return check_output_path(path, option)
+
+
+#: ``--layout`` choices -> the ADC buffer order they force (None: the profile's ``adcbufCfg``
+#: ChanInterleave decides).
+LAYOUTS: dict[str, bool | None] = {"auto": None, "non-interleaved": False, "interleaved": True}
+
+
+def add_capture_reading(parser: argparse.ArgumentParser, verb: str) -> None:
+    """The ``--frames`` and ``--layout`` options of every command that reads a DCA1000
+    capture (``process``, ``calibrate``); ``verb`` says what the frames are for."""
+    parser.add_argument("--frames", type=FRAMES, default=None, help=f"{verb} at most N frames")
+    parser.add_argument("--layout", choices=list(LAYOUTS), default="auto",
+                        help="sample order; auto follows the profile's adcbufCfg")

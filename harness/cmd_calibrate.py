@@ -29,14 +29,13 @@ from pathlib import Path
 
 from scenarios.fileio import atomic_write
 
-from .args import FRAMES, check_output_file, float_in
+from .args import LAYOUTS, add_capture_reading, check_output_file, float_in
 
 __all__ = ["add_arguments", "run", "with_comp_line", "antenna_calib_line", "with_identity_antenna_calib"]
 
 #: How many range bins the default search window spans on each side of R (TI: "at least the
 #: distance equivalent of a few range bins").
 DEFAULT_WINDOW_BINS = 4
-_LAYOUTS: dict[str, bool | None] = {"auto": None, "non-interleaved": False, "interleaved": True}
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -51,9 +50,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              f"{DEFAULT_WINDOW_BINS} range bins)")
     parser.add_argument("--azimuth-deg", type=float_in(-90.0, 90.0, " deg"), default=0.0,
                         help="azimuth the reflector stands at (TI's procedure: 0, boresight)")
-    parser.add_argument("--frames", type=FRAMES, default=None, help="use at most N frames")
-    parser.add_argument("--layout", choices=list(_LAYOUTS), default="auto",
-                        help="sample order; auto follows the profile's adcbufCfg")
+    add_capture_reading(parser, "use")
     parser.add_argument("--write", type=Path, default=None,
                         help="write the profile with the measured line to this file")
 
@@ -124,13 +121,13 @@ def run(args: argparse.Namespace) -> int:
     from pipeline.channel_calibration import measure_channel_calibration
     from radarsim.capture import capture_n_frames, iter_capture
 
-    from .cmd_ti import _profile, processing_from_profile
+    from .ti_profile import load_profile, processing_from_profile
 
     if args.capture.is_dir():
         raise ValueError(f"capture {str(args.capture)!r} is a directory, not a capture file")
     if args.write is not None:
         check_output_file(args.write, "--write")
-    profile = _profile(args.cfg)
+    profile = load_profile(args.cfg)
     if profile.is_advanced:
         raise ValueError(f"--cfg {str(args.cfg)!r} is an advanced-frame profile "
                          f"({len(profile.subframes)} sub-frames): calibrate on a capture "
@@ -141,7 +138,7 @@ def run(args: argparse.Namespace) -> int:
     n_frames = capture_n_frames(args.capture, cfg)
     if args.frames is not None:
         n_frames = min(n_frames, args.frames)
-    frames = iter_capture(args.capture, cfg, interleaved=_LAYOUTS[args.layout],
+    frames = iter_capture(args.capture, cfg, interleaved=LAYOUTS[args.layout],
                           max_frames=n_frames)
     try:
         cal = measure_channel_calibration(cfg, frames, target, window, proc,

@@ -34,7 +34,8 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from .args import DURATION_S, FRAMES, MAX_FRAMES, SEED, check_output_file, int_in
+from .args import (DURATION_S, FRAMES, LAYOUTS, MAX_FRAMES, SEED, add_capture_reading,
+                   check_output_file, int_in)
 from .ti_profile import (cfar_config_from_ti, load_profile, processing_from_profile,
                          simulation_radar)
 
@@ -48,8 +49,6 @@ TABLE_WRITERS = {
     ".parquet": lambda df, path: df.to_parquet(path, index=False),
     ".csv": lambda df, path: df.to_csv(path, index=False),
 }
-#: --layout choices -> the ADC buffer order they force (None: the profile's adcbufCfg decides).
-_LAYOUTS: dict[str, bool | None] = {"auto": None, "non-interleaved": False, "interleaved": True}
 
 
 # ---------------------------------------------------------------------------- helpers
@@ -162,11 +161,6 @@ def _process_joined(capture, profile, proc, interleaved, max_frames) -> pd.DataF
     return pd.concat(tables, ignore_index=True)
 
 
-def _profile(path: Path):
-    """The profile behind ``--cfg`` (`harness.ti_profile.load_profile`)."""
-    return load_profile(path)
-
-
 def _track(points: pd.DataFrame, profile, n_frames: int) -> pd.DataFrame:
     """Tracks of the point cloud; an advanced frame's sub-frames are tracked separately (each
     sees its own range span and waveform) and the table gets a `subframe` column."""
@@ -190,7 +184,7 @@ def _track(points: pd.DataFrame, profile, n_frames: int) -> pd.DataFrame:
 def _layout_notes(layout: str, profile) -> list[str]:
     """A ``--layout`` that contradicts the profile's ``adcbufCfg`` ChanInterleave is obeyed
     (a recording made with another buffer setting) but said."""
-    forced = _LAYOUTS[layout]
+    forced = LAYOUTS[layout]
     own = profile.radar.adcbuf_interleaved
     if forced is None or forced == own:
         return []
@@ -210,9 +204,7 @@ def add_arguments_process(parser: argparse.ArgumentParser) -> None:
                              "was recorded with")
     parser.add_argument("--out", type=Path, default=None,
                         help="point cloud table, .parquet or .csv (default CAPTURE.parquet)")
-    parser.add_argument("--frames", type=FRAMES, default=None, help="process at most N frames")
-    parser.add_argument("--layout", choices=list(_LAYOUTS), default="auto",
-                        help="sample order; auto follows the profile's adcbufCfg")
+    add_capture_reading(parser, "process")
     parser.add_argument("--tracks", type=Path, default=None,
                         help="track table (default OUT with '_tracks' appended to the stem)")
     parser.add_argument("--no-track", action="store_true", help="do not run the tracker")
@@ -237,7 +229,7 @@ def _process_profile(args: argparse.Namespace):
         if one:
             raise ValueError(f"--cfg {str(args.cfg)!r} has one chirp per frame: give "
                              "--regroup-frames N to process N frames as one frame of N chirps")
-        return _profile(args.cfg), None
+        return load_profile(args.cfg), None
     if Path(args.cfg).is_dir():
         raise ValueError(f"--cfg {str(args.cfg)!r} is a directory, not a TI .cfg profile")
     profile = fr.regroup_profile(Path(args.cfg), n)
@@ -278,7 +270,7 @@ def run_process(args: argparse.Namespace) -> int:
         for note in notes:
             print(f"note: {where}{note}", file=sys.stderr)
     points = process_capture(args.capture, profile, procs,
-                             interleaved=_LAYOUTS[args.layout],
+                             interleaved=LAYOUTS[args.layout],
                              max_frames=n_frames)
     write_table(points, out)
     print(f"{n_frames} frame(s), {len(points)} detection(s) -> {out}")
@@ -352,7 +344,7 @@ def run_simulate(args: argparse.Namespace) -> int:
     if args.frames is not None and args.frames < 1:
         raise ValueError(f"--frames={args.frames} must be >= 1")
     check_output_file(args.out, "--out")
-    profile = _profile(args.cfg)
+    profile = load_profile(args.cfg)
     comps = _components()
     # The scenario advances one profile frame period per frame: process stamps frame f at
     # f x framePeriodicity, so the capture's scene must move by the same step.
