@@ -23,11 +23,10 @@ from ..cfar import noise_mean_factor
 from ..chirp_level.stage import range_stage
 from ..compensation import compensate
 from ..config import WINDOWS, ProcessingConfig
-from ..kernels import (array_layout, cfar_peaks, ddma_gather, ddma_metric, doppler_fft,
-                       estimate_angles, gemm_power, rx_energy, window)
+from ..kernels import (array_layout, cfar_peaks, ddma_coherent_power, doppler_fft,
+                       estimate_angles, rx_energy, window)
 from ..stages import (array_dft, empty_cloud, interp_azimuth, interp_doppler, interp_range,
                       point_cloud)
-from ..threads import run_parts, spans
 from .base import DetectionMap, DopplerAzimuth, MimoChain, register_chain
 from .ddma_order import DdmaDetections, ddma_virtual, resolve_tx_order
 
@@ -80,25 +79,16 @@ def ddma_maps(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) -> Ddma
     n_az = proc.n_azimuth_bins
     spec, energy = full_doppler_spectrum(cfg, adc, proc)
     n_range = spec.shape[2]
-    # Demodulation: Tx p of Doppler bin d sits at chirp-bin d + n_dop (band + p) mod N. Only
-    # the transmitters of the horizontal row enter the azimuth map, gathered straight into the
-    # (p, rx, range, Doppler) layout of the GEMM below. Range bins in parts on the cores.
     h_idx, *_ = array_layout(cfg.virtual_positions_m, cfg.wavelength_m)
     tx_h = np.unique(h_idx // n_rx).astype(np.int32)  # sub-band positions p of the row
-    tx1_band = np.empty((n_dop, n_range), np.intp)  # (D, B)
-    virt_h = np.empty((tx_h.size * n_rx, n_range * n_dop), np.complex64)  # (P_h x R, B x D)
-
-    def demodulate(lo: int, hi: int) -> None:
-        tx1_band[:, lo:hi] = np.argmax(ddma_metric(energy[:, lo:hi], n_sb, n_tx), axis=0)
-        ddma_gather(spec, tx1_band, tx_h, n_sb, out=virt_h, range_span=(lo, hi))
-
-    run_parts([lambda lo=lo, hi=hi: demodulate(lo, hi) for lo, hi in spans(n_range)])
-    # Zero-padded azimuth FFT over the horizontal row as one complex GEMM (its azimuth rows in
-    # parts on the cores) and the power map.
-    rows = (tx_h[:, None] * n_rx + np.arange(n_rx)).reshape(-1)
+    # Zero-padded azimuth FFT over the horizontal row as one complex GEMM and the power map;
     # compRangeBiasAndRxChanPhase: the channel coefficients folded into the DFT's columns.
+    rows = (tx_h[:, None] * n_rx + np.arange(n_rx)).reshape(-1)
     dft = compensate(cfg, proc, array_dft(cfg, n_az, "horizontal")[rows].T, rows)
-    power = gemm_power(dft, virt_h).reshape(n_az, n_range, n_dop)  # (A, B, D)
+    # Demodulation (Tx p of Doppler bin d sits at chirp-bin d + n_dop (band + p) mod N; only
+    # the transmitters of the horizontal row enter the map), GEMM and power by range blocks.
+    power, tx1_band = ddma_coherent_power(spec, energy, tx_h, n_sb, n_tx, dft)
+    power = power.reshape(n_az, n_range, n_dop)  # (A, B, D)
     return DdmaMaps(power=power, spec=spec, energy=energy, tx1_band=tx1_band)
 
 
