@@ -241,10 +241,12 @@ def _os_peaks(p, alpha, train_idx, k, check0, cyclic0, check1, cyclic1, first1, 
     train_idx[d] (n_cfar, N) along the last axis; only rows lo0 <= a < hi0 of axis 0."""
     n0, n1, n2 = p.shape
     n_train = train_idx.shape[1]
+    h = n_train // 2
     out = []
     train = np.empty(n_train, p.dtype)
     none = np.full(n2, -np.inf, p.dtype)  # a missing neighbour: every cell exceeds it
     ok = np.empty(n2, np.bool_)
+    cand = np.empty(n2, np.int64)
     for a in range(lo0, hi0):
         a_prev = a - 1 if a > 0 else (n0 - 1 if cyclic0 else -1)
         a_next = a + 1 if a < n0 - 1 else (0 if cyclic0 else -1)
@@ -265,21 +267,25 @@ def _os_peaks(p, alpha, train_idx, k, check0, cyclic0, check1, cyclic1, first1, 
                 ok[d] &= (row[d] > row[d - 1]) & ~(row[d + 1] > row[d])
             ok[0] &= (row[0] > row[n2 - 1]) & ~(row[1 % n2] > row[0])
             ok[n2 - 1] &= (row[n2 - 1] > row[n2 - 2 if n2 > 1 else 0]) & ~(row[0] > row[n2 - 1])
+            # The candidates' positions, compressed without a branch per cell (a local
+            # maximum is rare and random: a branch would mispredict on each).
+            nc = 0
             for d in range(n2):
-                if not ok[d]:
-                    continue
+                cand[nc] = d
+                nc += ok[d]
+            for ci in range(nc):
+                d = cand[ci]
                 x = row[d]
+                tix = train_idx[d]
+                # The count without branches, the first half first: fewer than k - (n_train
+                # - h) below there and the cell cannot reach k.
                 below = 0
-                above = 0
-                for t in range(n_train):
-                    if alpha * row[train_idx[d, t]] < x:
-                        below += 1
-                        if below >= k:
-                            break
-                    else:
-                        above += 1
-                        if above > n_train - k:
-                            break
+                for t in range(h):
+                    below += alpha * row[tix[t]] < x
+                if below + (n_train - h) < k:
+                    continue
+                for t in range(h, n_train):
+                    below += alpha * row[tix[t]] < x
                 if below < k:
                     continue
                 for t in range(n_train):
