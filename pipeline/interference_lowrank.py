@@ -39,8 +39,10 @@ and widened by the hysteresis only) and grows where the burst is, instead of a f
 that would also cut into every echo.
 
 Cost per frame: the basis (a few (N, n) x (n, k + 8) products), one (R, n) x (n, k) product
-each way for the R hit rows, and k^3 / 3 per hit chirp; no loop over samples or chirps
-outside the compiled per-burst solve.
+for the R hit rows, the running sums of the basis' outer products (n k^2 / 2), and per hit
+chirp one k x k Cholesky factorisation (k^3 / 6) plus k per masked or flank sample and row;
+no loop over samples or chirps outside the compiled per-burst kernel, whose bursts run in
+parts on the cores (`pipeline.threads`).
 
 References
 ----------
@@ -58,6 +60,8 @@ from typing import NamedTuple
 
 import numba
 import numpy as np
+
+from .threads import run_parts, spans
 
 __all__ = ["FastTimeBasis", "fast_time_basis", "lowrank_fill"]
 
@@ -133,33 +137,19 @@ class Runs(NamedTuple):
     end: np.ndarray     # (M,) int, exclusive
 
 
-def _runs_of(b: np.ndarray, s: np.ndarray, e: np.ndarray, n: int) -> Runs:
-    """Runs (sorted by burst, then start, ends non-decreasing within a burst) clipped to the
-    row, those of one burst that overlap or touch merged into one."""
-    s, e = np.maximum(s, 0), np.minimum(e, n)
-    new = np.r_[True, (b[1:] != b[:-1]) | (s[1:] > e[:-1])]
-    first = np.flatnonzero(new)
-    last = np.r_[first[1:] - 1, len(b) - 1]
-    return Runs(b[first], s[first], e[last])
-
-
 def burst_runs(flags: np.ndarray, close: int, halfwidth: int) -> Runs:
-    """The runs of `flags` (B, n) closed over gaps of up to `close` samples, then widened by
-    `halfwidth` on each side and clipped to the row: the same samples as
-    ``widen(close_gaps(flags, close), halfwidth)``, as runs (flags are sparse)."""
-    b, c = np.nonzero(flags)
-    new = np.r_[True, (b[1:] != b[:-1]) | (c[1:] - c[:-1] - 1 > close)]
-    first = np.flatnonzero(new)
-    last = np.r_[first[1:] - 1, len(b) - 1]
-    return _runs_of(b[first], c[first] - halfwidth, c[last] + halfwidth + 1, flags.shape[-1])
-
-
-def _united(rows: np.ndarray, starts: np.ndarray) -> np.ndarray:
-    """(B, n) bool: OR of the (R, n) bool `rows` over each burst's rows (consecutive, from
-    `starts`), 8 samples per word where the row length allows."""
-    if rows.shape[-1] % 8 == 0 and rows.flags.c_contiguous:
-        return np.bitwise_or.reduceat(rows.view(np.uint64), starts, axis=0).view(bool)
-    return np.logical_or.reduceat(rows, starts, axis=0)
+    """The runs of each row of `flags` (B, n) closed over gaps of up to `close` samples, then
+    widened by `halfwidth` on each side, clipped to the row and merged where they touch: the
+    same samples as ``widen(close_gaps(flags, close), halfwidth)``, as runs (the compiled
+    `_to_runs` the fill makes its masks with)."""
+    n = flags.shape[-1]
+    s_buf, e_buf = np.zeros(n + 1, np.int64), np.zeros(n + 1, np.int64)
+    out = []
+    for i, row in enumerate(np.ascontiguousarray(flags, dtype=bool)):  # a test helper
+        m = _to_runs(row, close, halfwidth, s_buf, e_buf)
+        out.append((np.full(m, i), s_buf[:m].copy(), e_buf[:m].copy()))
+    return Runs(*(np.concatenate([o[j] for o in out]) if out else np.zeros(0, np.int64)
+                  for j in range(3)))
 
 
 def runs_mask(runs: Runs, n_bursts: int, n: int) -> np.ndarray:
@@ -170,62 +160,106 @@ def runs_mask(runs: Runs, n_bursts: int, n: int) -> np.ndarray:
     return np.cumsum(d[:, :n], axis=-1, dtype=np.int8) > 0
 
 
+# The compiled kernels. Every float64 (complex128) value is computed by the same operations
+# in the same order as the straightforward formulation (the Cholesky's and the solves'
+# subtractions in increasing index order, the model summed over components in increasing
+# order from 0): the loops are only arranged so that the innermost one runs over independent,
+# contiguous elements (vectorised by the compiler) or over the rows of a burst (independent
+# dependency chains), and the result does not depend on the arrangement.
+
 @numba.njit(cache=True, nogil=True)
-def _cholesky(prefix, shrink, run_s, run_e, n_runs, low):
-    """low (k, k) <- the lower Cholesky factor of I - sum over the runs of (prefix[e] -
-    prefix[s]) + diag(shrink) (Hermitian positive definite: I minus the Gram matrix of part
-    of an orthonormal basis, plus a positive diagonal). Only the lower triangle is written."""
-    k = low.shape[0]
-    for i in range(k):
-        for j in range(i + 1):
-            acc = prefix[0, i, j]  # 0, in the prefix' type
+def _gram_prefix(vec_c, vec):
+    """(n + 1, k (k + 1) / 2) running sums over samples of the basis' outer products
+    conj(b_i) b_j, i >= j, packed by j (row j holds i = j .. k - 1): the Gram matrix of the
+    samples s .. e - 1 is prefix[e] - prefix[s]."""
+    n, k = vec.shape
+    prefix = np.zeros((n + 1, k * (k + 1) // 2), dtype=vec.dtype)
+    for t in range(n):
+        p = 0
+        for j in range(k):
+            bj = vec[t, j]
+            for i in range(j, k):
+                o = vec_c[t, i] * bj
+                prefix[t + 1, p] = o if t == 0 else prefix[t, p] + o
+                p += 1
+    return prefix
+
+
+@numba.njit(cache=True, nogil=True)
+def _cholesky(prefix, shrink, run_s, run_e, n_runs, lt):
+    """lt (k, k) <- the Cholesky factor L of I - sum over the runs of (prefix[e] - prefix[s])
+    + diag(shrink), transposed: lt[j, i] = L[i, j] for i >= j (the lower triangle of L, its
+    columns as rows). The matrix is Hermitian positive definite: I minus the Gram matrix of
+    part of an orthonormal basis, plus a positive diagonal. Right-looking (each column
+    updates the trailing rows of lt, contiguous), the subtractions of each element in the
+    order of the left-looking textbook form (Golub & Van Loan 4.2.5)."""
+    k = lt.shape[0]
+    p = 0
+    for j in range(k):
+        for i in range(j, k):
+            acc = prefix[0, p]  # 0, in the prefix' type
             for q in range(n_runs):
-                acc -= prefix[run_e[q], i, j] - prefix[run_s[q], i, j]
+                acc -= prefix[run_e[q], p] - prefix[run_s[q], p]
             if i == j:
                 acc += 1.0 + shrink[i]
-            for m in range(j):
-                acc -= low[i, m] * np.conj(low[j, m])
-            if i == j:
-                low[i, i] = np.sqrt(acc.real)
-            else:
-                low[i, j] = acc / low[j, j]
+            lt[j, i] = acc
+            p += 1
+    for m in range(k):
+        lt[m, m] = np.sqrt(lt[m, m].real)
+        d = lt[m, m]
+        for i in range(m + 1, k):
+            lt[m, i] = lt[m, i] / d
+        for j in range(m + 1, k):
+            w = np.conj(lt[m, j])
+            for i in range(j, k):
+                lt[j, i] -= lt[m, i] * w
 
 
 @numba.njit(cache=True, nogil=True)
-def _fit_rows(x, rhs, vec_c, low, run_s, run_e, n_runs, r0, r1, c, y):
-    """c[r - r0] (k,) <- LMMSE coefficients of rows r0 .. r1 - 1 from their kept samples:
+def _fit_rows(x, rhs, vec_c, lt, run_s, run_e, n_runs, r0, r1, y, c):
+    """c[:, r - r0] (k,) <- LMMSE coefficients of rows r0 .. r1 - 1 from their kept samples:
     rhs[r] (the full row's projection on the basis) minus the masked runs' share (`vec_c`
-    (n, k) the conjugate basis), then the two triangular solves with `low`. Inner loops run
-    over contiguous, independent elements (vectorised by the compiler)."""
-    k = low.shape[0]
-    for r in range(r0, r1):
-        y[:] = rhs[r]
-        for q in range(n_runs):
-            for t in range(run_s[q], run_e[q]):
-                xt = x[r, t]
+    (n, k) the conjugate basis), then the two triangular solves with `lt` (`_cholesky`).
+    y (>= r1 - r0, k) scratch; c (k, >= r1 - r0)."""
+    k = lt.shape[0]
+    nr = r1 - r0
+    for r in range(nr):
+        y[r, :] = rhs[r0 + r]
+    for q in range(n_runs):
+        for t in range(run_s[q], run_e[q]):
+            for r in range(nr):
+                xt = x[r0 + r, t]
                 for i in range(k):
-                    y[i] -= xt * vec_c[t, i]
-        for i in range(k):
-            acc = y[i]
-            for m in range(i):
-                acc -= low[i, m] * y[m]
-            y[i] = acc / low[i, i]
-        for i in range(k - 1, -1, -1):
-            acc = y[i]
-            for m in range(i + 1, k):
-                acc -= np.conj(low[m, i]) * c[r - r0, m]
-            c[r - r0, i] = acc / low[i, i]
+                    y[r, i] -= xt * vec_c[t, i]
+    for m in range(k):  # L y' = y, column by column
+        for r in range(nr):
+            y[r, m] = y[r, m] / lt[m, m]
+            ym = y[r, m]
+            for i in range(m + 1, k):
+                y[r, i] -= lt[m, i] * ym
+    for i in range(k - 1, -1, -1):  # L^H c = y', row by row, the rows of the burst together
+        for r in range(nr):
+            c[i, r] = y[r, i]
+        for m in range(i + 1, k):
+            w = np.conj(lt[i, m])
+            for r in range(nr):
+                c[i, r] -= w * c[m, r]
+        for r in range(nr):
+            c[i, r] = c[i, r] / lt[i, i]
 
 
 @numba.njit(cache=True, nogil=True)
-def _evaluate(vec_t, c, t0, t1, buf):
-    """buf[t0:t1] <- the model with coefficients c (k,) at samples t0 .. t1 - 1 (`vec_t`
-    (k, n) the basis, transposed: the inner loop runs over contiguous samples)."""
-    buf[t0:t1] = 0
+def _evaluate(vec_t, c, nr, t0, t1, buf):
+    """buf[r, t0:t1] <- the model with coefficients c[:, r] at samples t0 .. t1 - 1, rows
+    r < nr (`vec_t` (k, n) the basis, transposed: the inner loop runs over contiguous
+    samples)."""
+    for r in range(nr):
+        buf[r, t0:t1] = 0
     for i in range(vec_t.shape[0]):
-        ci = c[i]
-        for t in range(t0, t1):
-            buf[t] += ci * vec_t[i, t]
+        for r in range(nr):
+            ci = c[i, r]
+            for t in range(t0, t1):
+                buf[r, t] += ci * vec_t[i, t]
 
 
 @numba.njit(cache=True, nogil=True)
@@ -258,57 +292,75 @@ def _to_runs(mask, close, margin, run_s, run_e):
 
 
 @numba.njit(cache=True, nogil=True)
-def _repair_bursts(x, rhs, vec_c, vec_t, prefix, shrink, row_start, run_start, runs_s, runs_e,
-                   thr, reach, close, margin, mask_out):
-    """Every burst's rows (row_start[b] .. row_start[b + 1] - 1 of x (R, n), modified in
-    place) filled over its runs (runs_s/e[run_start[b] .. run_start[b + 1] - 1]) with their
-    LMMSE model; kept samples within `reach` of a run whose residual exceeds `thr` grow the
-    mask (closed over `close`, widened by `margin`) and the burst is fitted again (thr <= 0:
-    never). mask_out (B, n) <- each burst's final mask."""
-    n_b = len(row_start) - 1
+def _repair_bursts(x, flags, rhs, vec_c, vec_t, prefix, shrink, row_start, b0, b1, close,
+                   halfwidth, thr, reach, grow_close, grow_margin, mask_out):
+    """Bursts b0 .. b1 - 1: burst b's rows row_start[b] .. row_start[b + 1] - 1 of x (R, n)
+    (modified in place) filled over its mask with their LMMSE model. The mask: the rows'
+    `flags` (R, n) united, closed over `close` and widened by `halfwidth` (`_to_runs`); kept
+    samples within `reach` of it whose residual exceeds `thr` grow it (closed over
+    `grow_close`, widened by `grow_margin`) and the burst is fitted again (thr <= 0: never).
+    mask_out (B, n) <- each burst's final mask. Bursts are independent: disjoint burst
+    ranges can run at the same time."""
     n, k = vec_c.shape
-    low = np.zeros((k, k), dtype=prefix.dtype)
-    buf = np.zeros(n, dtype=prefix.dtype)
-    y = np.zeros(k, dtype=prefix.dtype)
-    rows_max = np.max(row_start[1:] - row_start[:-1])
-    c = np.zeros((rows_max, k), dtype=prefix.dtype)
+    if b1 <= b0:
+        return
+    rows_max = np.max(row_start[b0 + 1:b1 + 1] - row_start[b0:b1])
+    lt = np.zeros((k, k), dtype=prefix.dtype)
+    y = np.zeros((rows_max, k), dtype=prefix.dtype)
+    c = np.zeros((k, rows_max), dtype=prefix.dtype)
+    buf = np.zeros((rows_max, n), dtype=prefix.dtype)
     s_buf = np.zeros(n + 1, dtype=np.int64)
     e_buf = np.zeros(n + 1, dtype=np.int64)
-    grow = np.zeros(n, dtype=np.bool_)
-    for b in range(n_b):  # bursts (chirps), not samples: the work per burst is k^3 / 3
-        n_runs = run_start[b + 1] - run_start[b]
-        s_buf[:n_runs] = runs_s[run_start[b]:run_start[b + 1]]
-        e_buf[:n_runs] = runs_e[run_start[b]:run_start[b + 1]]
+    united = np.zeros(n, dtype=np.bool_)
+    near = np.zeros(n, dtype=np.bool_)
+    for b in range(b0, b1):  # bursts (chirps), not samples: the work per burst is k^3 / 3
         r0, r1 = row_start[b], row_start[b + 1]
-        _cholesky(prefix, shrink, s_buf, e_buf, n_runs, low)
-        _fit_rows(x, rhs, vec_c, low, s_buf, e_buf, n_runs, r0, r1, c, y)
+        nr = r1 - r0
+        united[:] = flags[r0]
+        for r in range(r0 + 1, r1):
+            for t in range(n):
+                united[t] |= flags[r, t]
+        n_runs = _to_runs(united, close, halfwidth, s_buf, e_buf)
+        _cholesky(prefix, shrink, s_buf, e_buf, n_runs, lt)
+        _fit_rows(x, rhs, vec_c, lt, s_buf, e_buf, n_runs, r0, r1, y, c)
         mask = mask_out[b]
         for q in range(n_runs):
             mask[s_buf[q]:e_buf[q]] = True
-        if thr > 0:
-            grow[:] = mask
+        if thr > 0 and n_runs:
+            # the unmasked samples within `reach` of a run (its flanks)
+            near[:] = False
+            for q in range(n_runs):
+                near[max(s_buf[q] - reach, 0):s_buf[q]] = True
+                near[e_buf[q]:min(e_buf[q] + reach, n)] = True
             grown = False
-            for q in range(2 * n_runs):  # the flanks of each run
-                t0 = max(s_buf[q // 2] - reach, 0) if q % 2 == 0 else e_buf[q // 2]
-                t1 = s_buf[q // 2] if q % 2 == 0 else min(e_buf[q // 2] + reach, n)
-                for r in range(r0, r1):
-                    _evaluate(vec_t, c[r - r0], t0, t1, buf)
-                    for t in range(t0, t1):
-                        if not mask[t] and abs(x[r, t] - buf[t]) > thr:
-                            grow[t] = True
+            united[:] = mask  # the grown mask
+            t = 0
+            while t < n:
+                if not near[t] or mask[t]:
+                    t += 1
+                    continue
+                t1 = t
+                while t1 < n and near[t1] and not mask[t1]:
+                    t1 += 1
+                _evaluate(vec_t, c, nr, t, t1, buf)
+                for r in range(nr):
+                    for u in range(t, t1):
+                        if abs(x[r0 + r, u] - buf[r, u]) > thr:
+                            united[u] = True
                             grown = True
+                t = t1
             if grown:
-                n_runs = _to_runs(grow, close, margin, s_buf, e_buf)
-                _cholesky(prefix, shrink, s_buf, e_buf, n_runs, low)
-                _fit_rows(x, rhs, vec_c, low, s_buf, e_buf, n_runs, r0, r1, c, y)
+                n_runs = _to_runs(united, grow_close, grow_margin, s_buf, e_buf)
+                _cholesky(prefix, shrink, s_buf, e_buf, n_runs, lt)
+                _fit_rows(x, rhs, vec_c, lt, s_buf, e_buf, n_runs, r0, r1, y, c)
                 mask[:] = False
                 for q in range(n_runs):
                     mask[s_buf[q]:e_buf[q]] = True
-        for r in range(r0, r1):
-            for q in range(n_runs):
-                _evaluate(vec_t, c[r - r0], s_buf[q], e_buf[q], buf)
+        for q in range(n_runs):
+            _evaluate(vec_t, c, nr, s_buf[q], e_buf[q], buf)
+            for r in range(nr):
                 for t in range(s_buf[q], e_buf[q]):
-                    x[r, t] = buf[t]
+                    x[r0 + r, t] = buf[r, t]
 
 
 def lowrank_fill(x: np.ndarray, flags: np.ndarray, bursts: np.ndarray, basis: FastTimeBasis,
@@ -338,6 +390,11 @@ def lowrank_fill(x: np.ndarray, flags: np.ndarray, bursts: np.ndarray, basis: Fa
     Returns
     -------
     (x, mask) : the repaired rows and the (R, n) mask finally used.
+
+    Notes
+    -----
+    The bursts are independent; they run in parts on the cores (`pipeline.threads`: the
+    same values whatever the number of parts).
     """
     n = x.shape[-1]
     if not len(x):
@@ -346,18 +403,22 @@ def lowrank_fill(x: np.ndarray, flags: np.ndarray, bursts: np.ndarray, basis: Fa
     new = np.r_[True, bursts[1:] != bursts[:-1]]
     starts = np.flatnonzero(new)
     b = basis.vectors
-    k = b.shape[1]
     wide = np.complex128 if np.iscomplexobj(b) else np.float64
-    prefix = np.zeros((n + 1, k, k), dtype=wide)
-    np.cumsum(b.conj()[:, :, None].astype(wide) * b[:, None, :], axis=0, out=prefix[1:])
-    runs = burst_runs(_united(flags, starts), close, halfwidth)
-    mask_b = np.zeros((len(starts), n), dtype=bool)
     vec_c = np.ascontiguousarray(b.conj(), dtype=wide)
     rhs = (x @ vec_c.astype(b.dtype)).astype(wide)
+    prefix = _gram_prefix(vec_c, np.ascontiguousarray(b, dtype=wide))
+    vec_t = np.ascontiguousarray(b.T, dtype=wide)
+    shrink = basis.shrink.astype(np.float64)
+    row_start = np.r_[starts, len(x)]
+    flags = np.ascontiguousarray(flags, dtype=bool)
+    mask_b = np.zeros((len(starts), n), dtype=bool)
     thr = grow_sigma * np.sqrt(basis.noise_var) if grow_sigma > 0 else 0.0
-    _repair_bursts(x, rhs, vec_c, np.ascontiguousarray(b.T, dtype=wide), prefix,
-                   basis.shrink.astype(np.float64), np.r_[starts, len(x)],
-                   np.searchsorted(runs.burst, np.arange(len(starts) + 1)), runs.start,
-                   runs.end, thr, grow_reach, GROW_CLOSE_SAMPLES, GROW_MARGIN_SAMPLES, mask_b)
-    x -= x.mean(axis=-1, keepdims=True)
+
+    def part(lo: int, hi: int) -> None:
+        _repair_bursts(x, flags, rhs, vec_c, vec_t, prefix, shrink, row_start, lo, hi, close,
+                       halfwidth, thr, grow_reach, GROW_CLOSE_SAMPLES, GROW_MARGIN_SAMPLES, mask_b)
+        rows = x[row_start[lo]:row_start[hi]]
+        rows -= rows.mean(axis=-1, keepdims=True)  # row by row: the same means in any part
+
+    run_parts([lambda lo=lo, hi=hi: part(lo, hi) for lo, hi in spans(len(starts))])
     return x, mask_b[np.cumsum(new) - 1]

@@ -274,20 +274,39 @@ def test_compiled_fit_is_the_masked_least_squares_solve(dtype):
     n, k = 40, 6
     cplx = 1j if dtype is np.complex128 else 0
     b = np.linalg.qr(rng.standard_normal((n, k)) + cplx * rng.standard_normal((n, k)))[0]
-    prefix = np.zeros((n + 1, k, k), dtype)
-    np.cumsum(b.conj()[:, :, None] * b[:, None, :], axis=0, out=prefix[1:])
+    prefix = lr._gram_prefix(np.ascontiguousarray(b.conj()), b)
     shrink = np.r_[lr.SHRINK_FLOOR, rng.uniform(0, 1, k - 1)]
     run_s, run_e = np.array([3, 20]), np.array([9, 31])
-    low = np.zeros((k, k), dtype)
-    lr._cholesky(prefix, shrink, run_s, run_e, 2, low)
+    lt = np.zeros((k, k), dtype)
+    lr._cholesky(prefix, shrink, run_s, run_e, 2, lt)
+    low = np.triu(lt).T
     x = (rng.standard_normal((3, n)) + cplx * rng.standard_normal((3, n))).astype(dtype)
-    c = np.zeros((3, k), dtype)
-    lr._fit_rows(x, x @ b.conj(), np.ascontiguousarray(b.conj()), low, run_s, run_e, 2, 0, 3,
-                 c, np.zeros(k, dtype))
+    c = np.zeros((k, 3), dtype)
+    lr._fit_rows(x, x @ b.conj(), np.ascontiguousarray(b.conj()), lt, run_s, run_e, 2, 0, 3,
+                 np.zeros((3, k), dtype), c)
     kept = np.ones(n, bool)
     kept[3:9] = kept[20:31] = False
     a = b[kept].conj().T @ b[kept] + np.diag(shrink)
-    assert np.tril(low) @ np.tril(low).conj().T == pytest.approx(a, abs=1e-12)
+    assert low @ low.conj().T == pytest.approx(a, abs=1e-12)
     for r in range(3):
-        assert c[r] == pytest.approx(np.linalg.solve(a, b[kept].conj().T @ x[r, kept]),
+        assert c[:, r] == pytest.approx(np.linalg.solve(a, b[kept].conj().T @ x[r, kept]),
                                      rel=1e-10, abs=1e-12)
+
+
+def test_lowrank_fill_is_the_same_in_one_part_and_in_two():
+    """The bursts are repaired in parts on the cores (`pipeline.threads`): the same bits and
+    masks whether they run in one part (`threads.inline`) or two."""
+    from pipeline import threads
+    rng = np.random.default_rng(11)
+    f, a = [0.02, 0.09, 0.31], [500.0, 100.0, 30.0]
+    clean, hit = echo_rows(256, f, a, rng, 1.0), echo_rows(40, f, a, rng, 1.0)
+    hit[:, 150:200] += 40 * rng.standard_normal((40, 50)).astype(np.float32)
+    flags = np.zeros(hit.shape, bool)
+    flags[:, [160, 175, 190]] = True
+    basis = lr.fast_time_basis(clean, 24, 10.0)
+    bursts = np.arange(40) // 4
+    two = lr.lowrank_fill(hit.copy(), flags, bursts, basis, 48, 3, 5.0, 32)
+    with threads.inline():
+        one = lr.lowrank_fill(hit.copy(), flags, bursts, basis, 48, 3, 5.0, 32)
+    assert two[0].tobytes() == one[0].tobytes() and np.array_equal(two[1], one[1])
+    assert two[1].sum() > 40 * 43  # the mask grew beyond the closed flags (43 samples)
