@@ -82,11 +82,41 @@ def doppler_fft(x: np.ndarray, win: np.ndarray, axis: int = 0) -> np.ndarray:
     """Windowed complex FFT over slow time along `axis` (in natural bin order 0..N-1), into the
     windowed copy (pocketfft gathers strided columns itself: the same transforms, bit for bit,
     as over a transposed contiguous copy)."""
-    shape = [1] * x.ndim
-    shape[axis] = -1
-    w = win.reshape(shape)
-    xw = windowed(x, w, np.result_type(x.dtype, w.dtype))
+    if axis == 0 and x.dtype == np.complex64 and win.dtype == np.float32 and x.ndim >= 2:
+        xw = _doppler_windowed(x, win)
+    else:
+        shape = [1] * x.ndim
+        shape[axis] = -1
+        w = win.reshape(shape)
+        xw = windowed(x, w, np.result_type(x.dtype, w.dtype))
     return scipy.fft.fft(xw, axis=axis, workers=-1, overwrite_x=True)
+
+
+def _doppler_windowed(x: np.ndarray, win: np.ndarray) -> np.ndarray:
+    """``np.multiply(x, win[:, None, ...])`` of a complex64 cube and a float32 window along axis
+    0, bit for bit: numpy casts the window to complex64 and multiplies complex numbers,
+    (re w - im 0, re 0 + im w) (which keeps NaN, inf and signed zeros as they come out of that
+    product); the compiled loop does the same arithmetic in about half numpy's time (no casting
+    buffer). Chirps in parts on the cores (`pipeline.threads`)."""
+    out = np.empty(x.shape, np.complex64)
+    x3 = x.reshape(x.shape[0], -1, x.shape[-1])
+    o3 = out.reshape(x3.shape)
+    run_parts([lambda lo=lo, hi=hi: _complex_times_real(x3, win, o3, lo, hi)
+               for lo, hi in spans(x.shape[0])])
+    return out
+
+
+@numba.njit(cache=True, nogil=True)
+def _complex_times_real(x, w, out, lo, hi):
+    """out[c] = x[c] * complex(w[c], 0) as numpy's complex64 multiply computes it, c in lo..hi-1."""
+    n1, n2 = x.shape[1], x.shape[2]
+    zero = np.float32(0.0)
+    for c in range(lo, hi):
+        wr = w[c]
+        for r in range(n1):
+            for b in range(n2):
+                v = x[c, r, b]
+                out[c, r, b] = complex(v.real * wr - v.imag * zero, v.real * zero + v.imag * wr)
 
 
 def rx_energy(spec: np.ndarray) -> np.ndarray:

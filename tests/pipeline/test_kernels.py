@@ -74,3 +74,21 @@ def test_ddma_coherent_power_equals_argmax_gather_gemm_power_bit_for_bit(n_b, bl
     assert np.array_equal(band, want_band)
     want = power_of(dft @ ddma_gather(spec, want_band, tx_pos, n_sb))
     assert power.tobytes() == want.tobytes()
+
+
+@pytest.mark.parametrize("shape", [(96, 4, 41), (24, 4, 3, 41)])
+def test_doppler_window_equals_numpy_complex_product_bit_for_bit(shape):
+    """The compiled window product of `doppler_fft` is numpy's complex64 x float32 product,
+    special values and signed zeros included, on a strided slice (the range FFT's layout)."""
+    full = _cube(np.random.default_rng(4), shape[:-1] + (shape[-1] + 1,))
+    x = full[..., :-1]
+    x[0, 0, ..., 0] = complex(-0.0, -1.0)
+    x[1, 1, ..., 1] = complex(np.nan, 1.0)
+    x[2, 0, ..., 2] = complex(np.inf, -0.0)
+    win = np.hanning(shape[0]).astype(np.float32)
+    win[3] = -0.0
+    win[4] = np.inf
+    with np.errstate(invalid="ignore"):
+        ref = scipy.fft.fft(np.multiply(x, win.reshape((-1,) + (1,) * (x.ndim - 1))), axis=0)
+        got = doppler_fft(x, win)
+    assert got.tobytes() == ref.tobytes()
