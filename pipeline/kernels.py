@@ -28,7 +28,8 @@ from .threads import run_parts, spans
 __all__ = ["window", "range_fft", "doppler_fft", "rx_energy", "gemm_power", "ddma_metric",
            "ddma_gather", "ddma_coherent_power",
            "ArrayLayout",
-           "array_layout", "local_max_mask", "parabolic_offset", "candidate_cfar", "cfar_peaks",
+           "array_layout", "layout_of", "local_max_mask", "parabolic_offset", "candidate_cfar",
+           "cfar_peaks",
            "training_table",
            "estimate_angles"]
 
@@ -461,6 +462,17 @@ def array_layout(virtual_positions_m: np.ndarray, wavelength_m: float) -> ArrayL
     if v_idx.size and not np.allclose(z[v_idx], v_height):
         v_height = z[v_idx]
     return ArrayLayout(h_idx, h_pos, v_idx, y[v_idx], v_height)
+
+
+@lru_cache(maxsize=32)
+def layout_of(cfg) -> ArrayLayout:
+    """`array_layout` of a `radarsim.RadarConfig`'s virtual array, computed once per
+    configuration (~0.1 ms a call, several calls per frame); its arrays are read-only."""
+    layout = array_layout(cfg.virtual_positions_m, cfg.wavelength_m)
+    for a in layout:
+        if isinstance(a, np.ndarray):
+            a.flags.writeable = False
+    return layout
 
 
 def _multi_row_sin_el(virt: np.ndarray, wx: np.ndarray, h_idx: np.ndarray, h_pos: np.ndarray,

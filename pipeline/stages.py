@@ -22,7 +22,7 @@ from radarsim.config import C_MPS, RadarConfig
 
 from .cfar import noise_mean_factor
 from .config import WINDOWS, ProcessingConfig
-from .kernels import array_layout, cfar_peaks, estimate_angles, parabolic_offset
+from .kernels import cfar_peaks, estimate_angles, layout_of, parabolic_offset
 
 __all__ = ["POINT_CLOUD_COLUMNS", "check_frame", "power_of", "log_power", "point_cloud",
            "empty_cloud", "interp_azimuth", "interp_range", "interp_doppler", "array_dft",
@@ -172,7 +172,7 @@ def array_dft(cfg: RadarConfig, n_fft: int, row: str) -> np.ndarray:
     matrix, so `samples @ W` is the row's n_fft-point azimuth spectrum: element m at horizontal
     position p (lambda/2 units) of the row gets exp(-2j pi p k / n_fft), every other element
     zero. row: "horizontal" (the z = 0 row) or "raised" (Tx2's row)."""
-    h_idx, h_pos, v_idx, v_pos, _ = array_layout(cfg.virtual_positions_m, cfg.wavelength_m)
+    h_idx, h_pos, v_idx, v_pos, _ = layout_of(cfg)
     idx, pos = (h_idx, h_pos) if row == "horizontal" else (v_idx, v_pos)
     w = np.zeros((cfg.n_virtual, n_fft), dtype=np.complex64)
     w[idx] = np.exp(-2j * np.pi * np.outer(pos, np.arange(n_fft)) / n_fft)
@@ -224,7 +224,7 @@ def raised_row_dfts(cfg: RadarConfig, n_fft: int) -> tuple[np.ndarray, np.ndarra
     """(heights (K,) wavelengths, (K, n_virtual, n_fft) complex64): the zero-padded azimuth
     DFT of each raised row of the virtual array (as `array_dft`), rows by height. One row for
     the BOOST/EVM arrays; several for antenna-on-package grids (IWR6843AOP)."""
-    _, _, v_idx, v_pos, v_h = array_layout(cfg.virtual_positions_m, cfg.wavelength_m)
+    _, _, v_idx, v_pos, v_h = layout_of(cfg)
     per = np.broadcast_to(np.asarray(v_h, dtype=float), v_idx.shape)
     heights = np.unique(np.round(per, 6))
     w = np.zeros((heights.size, cfg.n_virtual, n_fft), dtype=np.complex64)
@@ -335,7 +335,7 @@ def hypothesis_cloud(cfg: RadarConfig, proc: ProcessingConfig, hits: RangeDopple
     power_az = az_pow[rows, best]  # (n, A)
     a = np.argmax(power_az, axis=1)
     peak = power_az[rows, a]
-    h_idx, h_pos, v_idx, v_pos, v_h = array_layout(cfg.virtual_positions_m, cfg.wavelength_m)
+    h_idx, h_pos, v_idx, v_pos, v_h = layout_of(cfg)
     sin_term = interp_azimuth(power_az, a)
     az, el = estimate_angles(virt[rows, best], sin_term, h_idx, h_pos, v_idx, v_pos, v_h)
     # Noise per virtual channel from the L-look CFAR estimate; the coherent azimuth spectrum

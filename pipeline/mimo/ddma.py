@@ -23,7 +23,7 @@ from ..cfar import noise_mean_factor
 from ..chirp_level.stage import range_stage
 from ..compensation import compensate
 from ..config import WINDOWS, ProcessingConfig
-from ..kernels import (array_layout, cfar_peaks, ddma_coherent_power, doppler_fft,
+from ..kernels import (cfar_peaks, ddma_coherent_power, doppler_fft, layout_of,
                        estimate_angles, rx_energy, window)
 from ..stages import (array_dft, empty_cloud, interp_azimuth, interp_doppler, interp_range,
                       point_cloud)
@@ -79,7 +79,7 @@ def ddma_maps(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) -> Ddma
     n_az = proc.n_azimuth_bins
     spec, energy = full_doppler_spectrum(cfg, adc, proc)
     n_range = spec.shape[2]
-    h_idx, *_ = array_layout(cfg.virtual_positions_m, cfg.wavelength_m)
+    h_idx, *_ = layout_of(cfg)
     tx_h = np.unique(h_idx // n_rx).astype(np.int32)  # sub-band positions p of the row
     # Zero-padded azimuth FFT over the horizontal row as one complex GEMM and the power map;
     # compRangeBiasAndRxChanPhase: the channel coefficients folded into the DFT's columns.
@@ -161,8 +161,7 @@ class DdmaChain(MimoChain):
                                          WINDOWS[proc.doppler_window], cfg.n_chirps)
         velocity = doppler_velocity_mps(cfg, k_frac)
         # Angles.
-        h_idx, h_pos, v_idx, v_pos, v_h = array_layout(cfg.virtual_positions_m,
-                                                       cfg.wavelength_m)
+        h_idx, h_pos, v_idx, v_pos, v_h = layout_of(cfg)
         sin_term = interp_azimuth(det.power_az, a)
         virt = compensate(cfg, proc, ddma_virtual(cfg, maps.spec, band, r, d))
         az, el = estimate_angles(virt, sin_term, h_idx, h_pos, v_idx, v_pos, v_h)

@@ -25,7 +25,7 @@ from radarsim.config import RadarConfig
 
 from ..cfar import CFAR_MODES
 from ..config import ProcessingConfig
-from ..kernels import array_layout
+from ..kernels import layout_of
 from ..compensation import compensate
 from ..stages import (
     array_dft,
@@ -101,7 +101,7 @@ def assignment_scores(cfg: RadarConfig, bands: np.ndarray, n_az: int,
         Whole-array likelihood (`stages.array_likelihood`).
     """
     virt, az_pow = _assignment_arrays(cfg, bands, n_az, proc)
-    _, _, v_idx, _, _ = array_layout(cfg.virtual_positions_m, cfg.wavelength_m)
+    _, _, v_idx, _, _ = layout_of(cfg)
     return virt, az_pow, array_likelihood(cfg, virt, az_pow, v_idx)
 
 

@@ -42,7 +42,7 @@ from radarsim.config import RadarConfig
 
 from ..cfar import noise_mean_factor
 from ..compensation import compensate, virtual_coefficients
-from ..kernels import array_layout
+from ..kernels import layout_of
 from ..config import ProcessingConfig
 from ..stages import array_dft, interp_azimuth
 from .echo_law import echo_fit_quantile
@@ -243,6 +243,13 @@ def _reread(cfg: RadarConfig, proc: ProcessingConfig, spec: np.ndarray, det: Ddm
     return new
 
 
+@lru_cache(maxsize=32)
+def _empty_band_quantile(dof: int) -> float:
+    """Upper `EMPTY_BAND_PFA` quantile of the empty sub-bands' energy in units of one cell's
+    noise (gamma, `dof` complex cells); configuration-only, computed once per `dof`."""
+    return stats.gamma.isf(EMPTY_BAND_PFA, dof)
+
+
 def _single_echo(cfg: RadarConfig, proc: ProcessingConfig, det: DdmaDetections,
                  beams: np.ndarray, energy: np.ndarray, sin_term: np.ndarray) -> np.ndarray:
     """(n,) bool: not (empty sub-bands occupied and Tx coherence below `coherence_floor`).
@@ -259,7 +266,7 @@ def _single_echo(cfg: RadarConfig, proc: ProcessingConfig, det: DdmaDetections,
     """
     cf = proc.cfar
     noise_mean = det.noise / noise_mean_factor(cf.mode, cf.n_training, cf.os_rank, 1)
-    h_idx = array_layout(cfg.virtual_positions_m, cfg.wavelength_m).h_idx
+    h_idx = layout_of(cfg).h_idx
     row = np.unique(h_idx // cfg.n_rx)  # Tx of the horizontal row (positions in tx_order)
     n_row = row.size
     slots = _slots(cfg, det.band)  # (n, P)
@@ -276,7 +283,7 @@ def _single_echo(cfg: RadarConfig, proc: ProcessingConfig, det: DdmaDetections,
     empty[n[:, None], slots] = False
     e_out = (energy * empty).sum(-1)
     dof = (cfg.n_subbands - cfg.n_tx) * cfg.n_rx
-    occupied = e_out > noise_mean / n_row / cfg.n_rx * stats.gamma.isf(EMPTY_BAND_PFA, dof)
+    occupied = e_out > noise_mean / n_row / cfg.n_rx * _empty_band_quantile(dof)
     floor = coherence_floor(n_row, cf.scale(looks=1) * noise_mean_factor(
         cf.mode, cf.n_training, cf.os_rank, 1))
     return ~(occupied & (rho < floor))

@@ -43,7 +43,7 @@ import numpy as np
 
 from radarsim.config import RadarConfig
 
-from ..kernels import array_layout
+from ..kernels import layout_of
 from ..stages import log_power, parabolic_offset
 from .echo_law import echo_fit_quantile
 
@@ -72,7 +72,7 @@ def echo_fit(cfg: RadarConfig, virt: np.ndarray, n_fft: int = 64) -> np.ndarray:
         (|A_h(wx)| + |A_v(wx)|)^2 / (N ||x||^2) at the refined wx, A_h and A_v the beams of
         the horizontal and raised rows (wz free), N their element count.
     """
-    h_idx, h_pos, v_idx, v_pos, _ = array_layout(cfg.virtual_positions_m, cfg.wavelength_m)
+    h_idx, h_pos, v_idx, v_pos, _ = layout_of(cfg)
     idx = np.concatenate([h_idx, v_idx])
     x = virt[:, idx]
     n_h = h_idx.size
@@ -112,7 +112,9 @@ def may_extend(cfg: RadarConfig, virt: np.ndarray, sigma2: np.ndarray) -> np.nda
     """(n,) bool: the winning hypothesis' array `virt` (n, n_virtual) fits one far-field echo
     at least as well as a real echo at its SNR does with probability 1 - `EXTENSION_MISS`;
     sigma2 : (n,) noise power per virtual channel."""
-    h_idx, _, v_idx, _, _ = array_layout(cfg.virtual_positions_m, cfg.wavelength_m)
+    if len(virt) == 0:  # most frames: no zero-Doppler detection moved
+        return np.zeros(0, dtype=bool)
+    h_idx, _, v_idx, _, _ = layout_of(cfg)
     idx = np.concatenate([h_idx, v_idx])
     energy = (np.abs(virt[:, idx]) ** 2).sum(axis=-1)
     snr = np.maximum(energy / sigma2 - idx.size, 0.0)

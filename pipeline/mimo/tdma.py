@@ -35,7 +35,7 @@ from ..cfar import CFAR_MODES, noise_mean_factor
 from ..chirp_level.stage import range_stage
 from ..compensation import compensate
 from ..config import WINDOWS, ProcessingConfig
-from ..kernels import array_layout, doppler_fft, window
+from ..kernels import doppler_fft, layout_of, window
 from ..stages import (
     array_dft,
     array_likelihood,
@@ -135,7 +135,7 @@ class SlotChain(MimoChain):
         else:
             v_hyp = v_est[:, None]
             valid = np.ones_like(v_hyp, dtype=bool)
-        _, _, v_idx, _, _ = array_layout(cfg.virtual_positions_m, cfg.wavelength_m)
+        _, _, v_idx, _, _ = layout_of(cfg)
         virt = virt_all[r, d].reshape(-1, 1, n_tx, cfg.n_rx)  # (n, 1, S, R)
         # Doppler phase of slot s: 2 pi f_D s Tc, f_D = -2 v / lambda (eq. 8-10): remove it.
         f_hyp = -2 * v_hyp / cfg.wavelength_m
