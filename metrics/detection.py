@@ -142,25 +142,47 @@ def actor_detection(af: pd.DataFrame) -> pd.DataFrame:
             "max_visible_range_m"]
     if af.empty:
         return pd.DataFrame(columns=cols)
-    vis = af[af["visible"]]
-    g = af.groupby("actor_id", sort=True)
-    out = pd.DataFrame({"actor_class": g["actor_class"].first()})
-    out["n_visible_frames"] = vis.groupby("actor_id").size().reindex(out.index).fillna(0) \
-        .astype(np.int64)
-    det = vis[vis["detected"]]
-    out["n_detected_frames"] = det.groupby("actor_id").size().reindex(out.index).fillna(0) \
-        .astype(np.int64)
+    # By integer group codes (actor ids in increasing order, as groupby sorts them) instead of
+    # five groupbys and reindexes: the same counts, rows and maxima.
+    ids, grp = np.unique(af["actor_id"].to_numpy(), return_inverse=True)
+    n = ids.size
+    vis = af["visible"].to_numpy(dtype=bool)
+    det = af["detected"].to_numpy(dtype=bool)
+    frame = af["frame"].to_numpy()
+    n_vis = np.bincount(grp[vis], minlength=n).astype(np.int64)
+    n_det = np.bincount(grp[vis & det], minlength=n).astype(np.int64)
     with np.errstate(invalid="ignore", divide="ignore"):
-        out["detection_probability"] = np.where(
-            out["n_visible_frames"] > 0, out["n_detected_frames"] / out["n_visible_frames"],
-            np.nan)
-    first = af[af["detected"]].sort_values("frame").drop_duplicates("actor_id") \
-        .set_index("actor_id")
-    out["first_detection_range_m"] = first["range_m"].reindex(out.index)
-    out["first_detection_time_s"] = (first["time_s"].reindex(out.index)
-                                     if "time_s" in first else np.nan)
-    out["max_visible_range_m"] = vis.groupby("actor_id")["range_m"].max().reindex(out.index)
-    return out.reset_index()[cols]
+        p_det = np.where(n_vis > 0, n_det / n_vis, np.nan)
+    # Each actor's class: its first non-null class (groupby's first()), else its first row.
+    cls = af["actor_class"]
+    has = cls.notna().to_numpy()
+    rows = np.unique(grp, return_index=True)[1]
+    named, at = np.unique(grp[has], return_index=True)
+    rows[named] = np.flatnonzero(has)[at]
+    # First detection: the detected row of the lowest frame per actor.
+    d_rows = np.flatnonzero(det)
+    d_rows = d_rows[np.lexsort((frame[d_rows], grp[d_rows]))]
+    d_grp, at = np.unique(grp[d_rows], return_index=True)
+    first = np.full(n, -1, dtype=np.int64)
+    first[d_grp] = d_rows[at]
+
+    def _float(col: str) -> np.ndarray:
+        """The column, and a NaN-filled (n,) array of the float dtype a reindex gives it."""
+        v = af[col].to_numpy()
+        return v, np.full(n, np.nan, dtype=v.dtype if v.dtype.kind == "f" else float)
+
+    def at_first(col: str) -> np.ndarray:
+        v, out = _float(col)
+        out[d_grp] = v[first[d_grp]]
+        return out
+    r, max_vis = _float("range_m")
+    np.fmax.at(max_vis, grp[vis], r[vis])
+    return pd.DataFrame({
+        "actor_id": ids, "actor_class": cls.array.take(rows), "n_visible_frames": n_vis,
+        "n_detected_frames": n_det, "detection_probability": p_det,
+        "first_detection_range_m": at_first("range_m"),
+        "first_detection_time_s": at_first("time_s") if "time_s" in af else np.full(n, np.nan),
+        "max_visible_range_m": max_vis}, columns=cols)
 
 
 def pd_vs_range(af: pd.DataFrame, bin_m: float = 10.0) -> pd.DataFrame:
@@ -197,6 +219,30 @@ def max_range_pd90(pd_table: pd.DataFrame, min_count: int = 5,
                   (pd_table["detection_probability"] >= pd_min)]
     out = {c: float("nan") for c in pd_table["actor_class"].unique()}
     out.update(ok.groupby("actor_class")["range_hi_m"].max().astype(float).to_dict())
+    return out
+
+
+def _max_range_pd90_of(af: pd.DataFrame, bin_m: float, min_count: int,
+                       pd_min: float = 0.9) -> dict[str, float]:
+    """``max_range_pd90(pd_vs_range(af, bin_m), min_count, pd_min)`` without building the
+    table: the same (class, range bin) groups of the visible actor-frames, counted with
+    bincount; the same ratios, comparisons and upper bin edges."""
+    vis = af["visible"].to_numpy(dtype=bool)
+    out: dict[str, float] = {}
+    if not vis.any():
+        return out
+    cls = af["actor_class"].to_numpy()[vis]
+    k = np.floor(af["range_m"].to_numpy()[vis] / bin_m).astype(np.int64)
+    det = af["detected"].to_numpy(dtype=bool)[vis]
+    for c in pd.unique(cls):
+        if pd.isna(c):
+            continue  # groupby drops a null class
+        m = cls == c
+        bins, inv = np.unique(k[m], return_inverse=True)
+        n_frames = np.bincount(inv, minlength=bins.size)
+        n_det = np.bincount(inv[det[m]], minlength=bins.size)
+        ok = (n_frames >= min_count) & (n_det / n_frames >= pd_min)
+        out[c] = float(((bins[ok] + 1) * bin_m).max()) if ok.any() else float("nan")
     return out
 
 
@@ -316,7 +362,7 @@ def summarize_scheme(labelled: pd.DataFrame, af: pd.DataFrame, n_frames: int,
     row["detection_probability_min"] = float(pdv.min()) if len(pdv) else float("nan")
     row["target_first_detection_range_m"] = target_first_detection_range_m(
         actors, target_ids, target_classes)
-    pr = max_range_pd90(pd_vs_range(af, cfg.pd_range_bin_m), cfg.pd_min_count)
+    pr = _max_range_pd90_of(af, cfg.pd_range_bin_m, cfg.pd_min_count)
     for c in classes:
         row[f"pd90_max_range_{c}_m"] = pr.get(c, float("nan"))
     return row
