@@ -72,6 +72,9 @@ SHRINK_FLOOR = 1e-6
 GROW_CLOSE_SAMPLES = 16
 #: ... and widened by this many (the residual threshold cuts into the burst's skirts).
 GROW_MARGIN_SAMPLES = 2
+#: The conjugate basis the fits subtract with has a multiple of this many columns (zeros
+#: beyond the k components): LLVM vectorises that loop 8 x 4 wide, k = 23 would stay scalar.
+FIT_COLUMNS = 32
 
 
 class FastTimeBasis(NamedTuple):
@@ -165,7 +168,10 @@ def runs_mask(runs: Runs, n_bursts: int, n: int) -> np.ndarray:
 # subtractions in increasing index order, the model summed over components in increasing
 # order from 0): the loops are only arranged so that the innermost one runs over independent,
 # contiguous elements (vectorised by the compiler) or over the rows of a burst (independent
-# dependency chains), and the result does not depend on the arrangement.
+# dependency chains), and the result does not depend on the arrangement. Inner loops run over
+# unsigned indices: a signed index may be negative (numba wraps it around), which keeps LLVM
+# from vectorising the loop.
+_U = np.uint64
 
 @numba.njit(cache=True, nogil=True)
 def _gram_prefix(vec_c, vec):
@@ -194,24 +200,26 @@ def _cholesky(prefix, shrink, run_s, run_e, n_runs, lt):
     updates the trailing rows of lt, contiguous), the subtractions of each element in the
     order of the left-looking textbook form (Golub & Van Loan 4.2.5)."""
     k = lt.shape[0]
-    p = 0
-    for j in range(k):
-        for i in range(j, k):
-            acc = prefix[0, p]  # 0, in the prefix' type
-            for q in range(n_runs):
-                acc -= prefix[run_e[q], p] - prefix[run_s[q], p]
-            if i == j:
-                acc += 1.0 + shrink[i]
-            lt[j, i] = acc
-            p += 1
-    for m in range(k):
+    uk = _U(k)
+    p = _U(0)
+    for j in range(uk):
+        w = uk - j  # row j of the packed prefix: i = j .. k - 1
+        for i in range(j, uk):
+            lt[j, i] = prefix[0, p + i - j]  # 0, in the prefix' type
+        for q in range(n_runs):
+            pe, ps = prefix[run_e[q]], prefix[run_s[q]]
+            for i in range(j, uk):
+                lt[j, i] -= pe[p + i - j] - ps[p + i - j]
+        lt[j, j] += 1.0 + shrink[j]
+        p += w
+    for m in range(uk):
         lt[m, m] = np.sqrt(lt[m, m].real)
         d = lt[m, m]
-        for i in range(m + 1, k):
+        for i in range(m + _U(1), uk):
             lt[m, i] = lt[m, i] / d
-        for j in range(m + 1, k):
+        for j in range(m + _U(1), uk):
             w = np.conj(lt[m, j])
-            for i in range(j, k):
+            for i in range(j, uk):
                 lt[j, i] -= lt[m, i] * w
 
 
@@ -219,28 +227,31 @@ def _cholesky(prefix, shrink, run_s, run_e, n_runs, lt):
 def _fit_rows(x, rhs, vec_c, lt, run_s, run_e, n_runs, r0, r1, y, c):
     """c[:, r - r0] (k,) <- LMMSE coefficients of rows r0 .. r1 - 1 from their kept samples:
     rhs[r] (the full row's projection on the basis) minus the masked runs' share (`vec_c`
-    (n, k) the conjugate basis), then the two triangular solves with `lt` (`_cholesky`).
-    y (>= r1 - r0, k) scratch; c (k, >= r1 - r0)."""
-    k = lt.shape[0]
+    (n, kp) the conjugate basis, zero beyond column k), then the two triangular solves with
+    `lt` (`_cholesky`). y (>= r1 - r0, kp) scratch; c (k, >= r1 - r0)."""
+    uk = _U(lt.shape[0])
+    kp = _U(vec_c.shape[1])  # >= k: zero columns, so that the loop over them vectorises
     nr = r1 - r0
     for r in range(nr):
-        y[r, :] = rhs[r0 + r]
+        for i in range(kp):
+            y[r, i] = rhs[r0 + r, i] if i < uk else 0
     for q in range(n_runs):
-        for t in range(run_s[q], run_e[q]):
+        for t in range(_U(run_s[q]), _U(run_e[q])):
             for r in range(nr):
                 xt = x[r0 + r, t]
-                for i in range(k):
+                for i in range(kp):
                     y[r, i] -= xt * vec_c[t, i]
-    for m in range(k):  # L y' = y, column by column
+    for m in range(uk):  # L y' = y, column by column
         for r in range(nr):
             y[r, m] = y[r, m] / lt[m, m]
             ym = y[r, m]
-            for i in range(m + 1, k):
+            for i in range(m + _U(1), uk):
                 y[r, i] -= lt[m, i] * ym
-    for i in range(k - 1, -1, -1):  # L^H c = y', row by row, the rows of the burst together
+    for ii in range(uk):  # L^H c = y', row by row, the rows of the burst together
+        i = uk - _U(1) - ii
         for r in range(nr):
             c[i, r] = y[r, i]
-        for m in range(i + 1, k):
+        for m in range(i + _U(1), uk):
             w = np.conj(lt[i, m])
             for r in range(nr):
                 c[i, r] -= w * c[m, r]
@@ -253,12 +264,14 @@ def _evaluate(vec_t, c, nr, t0, t1, buf):
     """buf[r, t0:t1] <- the model with coefficients c[:, r] at samples t0 .. t1 - 1, rows
     r < nr (`vec_t` (k, n) the basis, transposed: the inner loop runs over contiguous
     samples)."""
+    a, b = _U(t0), _U(t1)
     for r in range(nr):
-        buf[r, t0:t1] = 0
+        for t in range(a, b):
+            buf[r, t] = 0
     for i in range(vec_t.shape[0]):
         for r in range(nr):
             ci = c[i, r]
-            for t in range(t0, t1):
+            for t in range(a, b):
                 buf[r, t] += ci * vec_t[i, t]
 
 
@@ -301,12 +314,13 @@ def _repair_bursts(x, flags, rhs, vec_c, vec_t, prefix, shrink, row_start, b0, b
     `grow_close`, widened by `grow_margin`) and the burst is fitted again (thr <= 0: never).
     mask_out (B, n) <- each burst's final mask. Bursts are independent: disjoint burst
     ranges can run at the same time."""
-    n, k = vec_c.shape
+    n, kp = vec_c.shape
+    k = vec_t.shape[0]
     if b1 <= b0:
         return
     rows_max = np.max(row_start[b0 + 1:b1 + 1] - row_start[b0:b1])
     lt = np.zeros((k, k), dtype=prefix.dtype)
-    y = np.zeros((rows_max, k), dtype=prefix.dtype)
+    y = np.zeros((rows_max, kp), dtype=prefix.dtype)
     c = np.zeros((k, rows_max), dtype=prefix.dtype)
     buf = np.zeros((rows_max, n), dtype=prefix.dtype)
     s_buf = np.zeros(n + 1, dtype=np.int64)
@@ -316,9 +330,10 @@ def _repair_bursts(x, flags, rhs, vec_c, vec_t, prefix, shrink, row_start, b0, b
     for b in range(b0, b1):  # bursts (chirps), not samples: the work per burst is k^3 / 3
         r0, r1 = row_start[b], row_start[b + 1]
         nr = r1 - r0
-        united[:] = flags[r0]
+        for t in range(_U(n)):
+            united[t] = flags[r0, t]
         for r in range(r0 + 1, r1):
-            for t in range(n):
+            for t in range(_U(n)):
                 united[t] |= flags[r, t]
         n_runs = _to_runs(united, close, halfwidth, s_buf, e_buf)
         _cholesky(prefix, shrink, s_buf, e_buf, n_runs, lt)
@@ -359,7 +374,7 @@ def _repair_bursts(x, flags, rhs, vec_c, vec_t, prefix, shrink, row_start, b0, b
         for q in range(n_runs):
             _evaluate(vec_t, c, nr, s_buf[q], e_buf[q], buf)
             for r in range(nr):
-                for t in range(s_buf[q], e_buf[q]):
+                for t in range(_U(s_buf[q]), _U(e_buf[q])):
                     x[r0 + r, t] = buf[r, t]
 
 
@@ -404,8 +419,10 @@ def lowrank_fill(x: np.ndarray, flags: np.ndarray, bursts: np.ndarray, basis: Fa
     starts = np.flatnonzero(new)
     b = basis.vectors
     wide = np.complex128 if np.iscomplexobj(b) else np.float64
-    vec_c = np.ascontiguousarray(b.conj(), dtype=wide)
-    rhs = (x @ vec_c.astype(b.dtype)).astype(wide)
+    k = b.shape[1]
+    vec_c = np.zeros((n, -(-k // FIT_COLUMNS) * FIT_COLUMNS), dtype=wide)
+    vec_c[:, :k] = b.conj()
+    rhs = (x @ b.conj()).astype(wide)
     prefix = _gram_prefix(vec_c, np.ascontiguousarray(b, dtype=wide))
     vec_t = np.ascontiguousarray(b.T, dtype=wide)
     shrink = basis.shrink.astype(np.float64)
