@@ -23,8 +23,9 @@ from ..cfar import noise_mean_factor
 from ..chirp_level.stage import range_stage
 from ..compensation import compensate
 from ..config import WINDOWS, ProcessingConfig
-from ..kernels import (cfar_peaks, ddma_coherent_power, doppler_fft, layout_of,
-                       estimate_angles, rx_energy, window)
+from ..ddma_kernels import ddma_coherent_power
+from ..kernels import (cfar_peaks, doppler_fft, estimate_angles, layout_of, rx_energy,
+                       window)
 from ..stages import (array_dft, empty_cloud, interp_azimuth, interp_doppler, interp_range,
                       point_cloud)
 from .base import DetectionMap, DopplerAzimuth, MimoChain, register_chain

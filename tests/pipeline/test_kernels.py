@@ -5,8 +5,8 @@ import numpy as np
 import pytest
 import scipy.fft
 
-from pipeline.kernels import (ddma_coherent_power, ddma_gather, ddma_metric, doppler_fft,
-                              rx_energy)
+from pipeline.ddma_kernels import ddma_coherent_power, ddma_gather, ddma_metric
+from pipeline.kernels import doppler_fft, rx_energy
 from pipeline.stages import power_of
 
 

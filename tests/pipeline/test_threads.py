@@ -9,7 +9,7 @@ import pipeline
 import pipeline.threads as threads
 import radarsim
 from pipeline.chirp_level.ege import HWA_OUTPUT_SCALE, ege_compress
-from pipeline.kernels import gemm_power
+from pipeline.ddma_kernels import gemm_power
 from pipeline.stages import power_of
 
 

@@ -15,7 +15,7 @@ from scipy import stats
 import pipeline
 import pipeline.mimo.ddma_order as ddma_order
 import radarsim
-from pipeline.kernels import ddma_metric
+from pipeline.ddma_kernels import ddma_metric
 from pipeline.mimo.ddma_order import band_beams, beam_band_metric, coherence_floor
 from tests.pipeline.test_chain import scene_at_snr
 

@@ -1,0 +1,284 @@
+"""Kernels of the empty-band DDMA demodulation (seed 000 table 11) and its coherent azimuth
+map: the Tx-order metric, the demodulation gather and the zero-padded azimuth DFT as a complex
+GEMM with its power map, whole or in blocks of range bins that stay in cache.
+
+Compiled loops (numba, ``cache=True``) repeat numpy's float32 operations in numpy's order, and a
+GEMM is only split where the BLAS at hand gives the whole product's bits (checked once per
+process and layout), so every output is bit for bit the numpy formulation's.
+
+References
+----------
+.. [1] TI, AWR2944 DDMA application note (seed 000): section 5, tables 11, 14.
+"""
+from __future__ import annotations
+
+from functools import lru_cache
+
+import numba
+import numpy as np
+
+from .threads import run_parts, spans
+
+__all__ = ["ddma_metric", "ddma_gather", "gemm_power", "ddma_coherent_power", "DDMA_RANGE_BLOCK"]
+
+
+def ddma_gather(spec: np.ndarray, tx1_band: np.ndarray, tx_pos: np.ndarray,
+                n_subbands: int, out: np.ndarray | None = None,
+                range_span: tuple[int, int] | None = None) -> np.ndarray:
+    """Demodulated DDMA samples of the transmitters at sub-band positions `tx_pos`, for every
+    range and Doppler bin (seed 000 table 11): Tx p of Doppler bin d at range bin b sits at
+    chirp-bin d + n_dop ((tx1_band[d, b] + p) mod N).
+
+    Parameters
+    ----------
+    spec : (n_chirps, n_rx, n_range) complex64
+        Doppler spectra over all chirps.
+    tx1_band : (n_dop, n_range) int
+        Sub-band of the first Tx per Doppler bin of a sub-band and range bin.
+    tx_pos : (P,) int
+        Sub-band positions of the wanted transmitters (0 = the first Tx).
+    n_subbands : int
+        N (n_dop = n_chirps / N).
+
+    out : (P x n_rx, n_range x n_dop) complex64, optional
+        Written and returned (default: a new array).
+    range_span : (lo, hi), optional
+        Only the columns of range bins lo <= b < hi (tx1_band read there only).
+
+    Returns
+    -------
+    (P x n_rx, n_range x n_dop) complex64
+        Row p n_rx + rx, column b n_dop + d (one flat gather, no index arrays).
+    """
+    n_c, n_rx, n_b = spec.shape
+    n_dop = n_c // n_subbands
+    if out is None:
+        out = np.empty((tx_pos.size * n_rx, n_b * n_dop), np.complex64)
+    lo, hi = (0, n_b) if range_span is None else range_span
+    _ddma_gather(spec, tx1_band, tx_pos.astype(np.int64), n_subbands, out, lo, hi)
+    return out
+
+
+@numba.njit(cache=True, nogil=True)
+def _ddma_gather(spec, tx1_band, tx_pos, n_sb, out, b0, b1):
+    """`ddma_gather`'s loop: Doppler bins outer, range bins b0..b1-1 inner (reads run along
+    range)."""
+    n_rx = spec.shape[1]
+    n_dop = tx1_band.shape[0]
+    for d in range(n_dop):
+        for b in range(b0, b1):
+            band = tx1_band[d, b]
+            for i in range(tx_pos.size):
+                c = ((band + tx_pos[i]) % n_sb) * n_dop + d
+                for rx in range(n_rx):
+                    out[i * n_rx + rx, b * n_dop + d] = spec[c, rx, b]
+
+
+def gemm_power(w: np.ndarray, x: np.ndarray) -> np.ndarray:
+    """|w @ x|^2 as float32 (re^2 + im^2, as `stages.power_of`), the product and the square
+    computed per block of rows of `w` on the cores (`pipeline.threads`).
+
+    A row block of a GEMM is the same arithmetic as the whole one with the BLAS at hand (checked
+    once per process and operand layout, `_row_blocks_exact`; where it is not, one block), so
+    the map is the same bits either way.
+
+    Parameters
+    ----------
+    w : (m, k) complex64
+    x : (k, n) complex64
+
+    Returns
+    -------
+    (m, n) float32
+    """
+    m = w.shape[0]
+    out = np.empty((m, x.shape[1]), np.float32)
+    blocks = spans(m, multiple=_ROW_MULTIPLE)
+    if len(blocks) > 1 and not _row_blocks_exact(w.shape, w.strides, x.shape, x.strides,
+                                                 blocks[0][1]):
+        blocks = [(0, m)]
+
+    def block(lo: int, hi: int) -> None:
+        y = (w[lo:hi] @ x).view(np.float32)
+        np.square(y, out=y)
+        np.add(y[:, 0::2], y[:, 1::2], out=out[lo:hi])
+
+    run_parts([lambda lo=lo, hi=hi: block(lo, hi) for lo, hi in blocks])
+    return out
+
+
+_ROW_MULTIPLE = 8  # row blocks start at multiples of the usual GEMM kernel widths
+
+
+@lru_cache(maxsize=16)
+def _row_blocks_exact(w_shape, w_strides, x_shape, x_strides, cut: int) -> bool:
+    """Whether rows [0, cut) and [cut, m) of a complex64 GEMM of this layout give the bits of the
+    whole product (random operands with the same shapes and strides)."""
+    g = np.random.default_rng(0)
+
+    def operand(shape, strides):
+        base = np.empty(shape[::-1] if strides[0] < strides[-1] else shape, np.complex64)
+        base.real, base.imag = g.standard_normal(base.shape), g.standard_normal(base.shape)
+        return base.T if strides[0] < strides[-1] else base
+
+    w, x = operand(w_shape, w_strides), operand(x_shape, x_strides)
+    whole = w @ x
+    return bool(np.array_equal(whole[:cut], w[:cut] @ x)
+                and np.array_equal(whole[cut:], w[cut:] @ x))
+
+
+#: Range bins per block of `ddma_coherent_power`: the block's gathered samples (12 x 512
+#: complex64), its GEMM output (48 x 512) and power (48 x 512 float32) stay in a core's L2.
+DDMA_RANGE_BLOCK = 4
+
+
+def ddma_coherent_power(spec: np.ndarray, energy: np.ndarray, tx_pos: np.ndarray,
+                        n_subbands: int, n_tx: int, dft: np.ndarray,
+                        range_block: int = DDMA_RANGE_BLOCK) -> tuple[np.ndarray, np.ndarray]:
+    """Empty-band demodulation and the coherent azimuth power map of a DDMA frame, in blocks of
+    range bins (seed 000 table 11 and section 5.4).
+
+    Per block of `range_block` range bins: the Tx order of every (Doppler, range) cell (the
+    argmax over j of `ddma_metric`, `_band_argmax`), the demodulated samples of the
+    transmitters at sub-band positions `tx_pos` (`ddma_gather`), their product with `dft` and
+    its power |.|^2 (re^2 + im^2 in float32, as `stages.power_of`). The block's samples, product
+    and power stay in cache instead of three frame-sized passes through memory; blocks of range
+    bins run in parts on the cores (`pipeline.threads`). A column block of a GEMM is the same
+    arithmetic as the whole product with the BLAS at hand (checked once per process and
+    layout, `_col_blocks_exact`; where it is not, one block), so the map is bit for bit
+    ``power_of(dft @ ddma_gather(spec, argmax(ddma_metric(energy)), ...))``.
+
+    Parameters
+    ----------
+    spec : (n_chirps, n_rx, n_range) complex64
+        Doppler spectra over all chirps, C-contiguous.
+    energy : (n_chirps, n_range) float32
+        `spec`'s energy summed over Rx (`rx_energy`).
+    tx_pos : (P,) int
+        Sub-band positions of the transmitters entering the map (0 = the first Tx).
+    n_subbands, n_tx : int
+        N sub-bands and the transmitters of the metric's cyclic sum.
+    dft : (n_az, P x n_rx) complex64
+        Azimuth DFT (channel coefficients folded in) applied to the rows p n_rx + rx.
+    range_block : int
+        Range bins per block.
+
+    Returns
+    -------
+    power : (n_az, n_range x n_dop) float32
+        Column b n_dop + d.
+    tx1_band : (n_dop, n_range) intp
+        Sub-band of the first Tx per Doppler bin of a sub-band and range bin.
+    """
+    n_c, n_rx, n_b = spec.shape
+    n_dop = n_c // n_subbands
+    n_az, n_rows = dft.shape[0], tx_pos.size * n_rx
+    tx1_band = np.empty((n_dop, n_b), np.intp)
+    power = np.empty((n_az, n_b * n_dop), np.float32)
+    pos = tx_pos.astype(np.int64)
+    blk = max(1, min(range_block, n_b))
+    parts = spans(n_b, multiple=blk)
+    bounds = tuple((b0 * n_dop, min(b0 + blk, hi) * n_dop)
+                   for lo, hi in parts for b0 in range(lo, hi, blk))
+    if not _col_blocks_exact(dft.shape, dft.strides, n_rows, bounds):
+        blk, parts = n_b, [(0, n_b)]
+
+    def part(lo: int, hi: int) -> None:
+        _band_argmax(energy, n_subbands, n_tx, tx1_band, lo, hi)
+        for b0 in range(lo, hi, blk):
+            b1 = min(b0 + blk, hi)
+            x = np.empty((n_rows, (b1 - b0) * n_dop), np.complex64)
+            _gather_block(spec, tx1_band, pos, n_subbands, x, b0, b1)
+            y = (dft @ x).view(np.float32)
+            np.square(y, out=y)
+            np.add(y[:, 0::2], y[:, 1::2], out=power[:, b0 * n_dop: b1 * n_dop])
+
+    run_parts([lambda lo=lo, hi=hi: part(lo, hi) for lo, hi in parts])
+    return power, tx1_band
+
+
+@lru_cache(maxsize=16)
+def _col_blocks_exact(w_shape, w_strides, k: int, bounds: tuple) -> bool:
+    """Whether the column blocks `bounds` ((lo, hi), ...) of a complex64 GEMM w @ x, w of this
+    layout and x (k, n) C-contiguous, each computed from its own contiguous (k, hi - lo) copy,
+    give the bits of the whole product (random operands)."""
+    g = np.random.default_rng(0)
+    n = bounds[-1][1]
+
+    def cplx(shape):
+        return (g.standard_normal(shape) + 1j * g.standard_normal(shape)).astype(np.complex64)
+
+    w = cplx(w_shape[::-1]).T if w_strides[0] < w_strides[-1] else cplx(w_shape)
+    x = cplx((k, n))
+    whole = w @ x
+    return all(np.array_equal(whole[:, lo:hi], w @ np.ascontiguousarray(x[:, lo:hi]))
+               for lo, hi in bounds)
+
+
+@numba.njit(cache=True, nogil=True)
+def _band_argmax(energy, n_sb, n_tx, out, b0, b1):
+    """out[d, b] = argmax over j of Z_j (`ddma_metric`: ((S_j + S_j+1) + S_j+2) + ..., float32,
+    sub-band indices mod N), the first maximum (the first NaN, as numpy's argmax), for range
+    bins b0..b1-1 (the inner, contiguous loop)."""
+    n_dop = energy.shape[0] // n_sb
+    nb = b1 - b0
+    top = np.empty(nb, energy.dtype)
+    z = np.empty(nb, energy.dtype)
+    best = np.empty(nb, np.int64)
+    for d in range(n_dop):
+        for j in range(n_sb):
+            row = energy[j * n_dop + d, b0:b1]
+            for t in range(nb):
+                z[t] = row[t]
+            for m in range(1, n_tx):
+                row = energy[((j + m) % n_sb) * n_dop + d, b0:b1]
+                for t in range(nb):
+                    z[t] = z[t] + row[t]
+            if j == 0:
+                for t in range(nb):
+                    top[t] = z[t]
+                    best[t] = 0
+            else:
+                for t in range(nb):
+                    if top[t] == top[t] and (z[t] > top[t] or z[t] != z[t]):
+                        top[t] = z[t]
+                        best[t] = j
+        for t in range(nb):
+            out[d, b0 + t] = best[t]
+
+
+@numba.njit(cache=True, nogil=True)
+def _gather_block(spec, tx1_band, tx_pos, n_sb, out, b0, b1):
+    """`ddma_gather` of range bins b0..b1-1 into out (P x n_rx, (b1 - b0) x n_dop): Doppler bins
+    outer, range bins inner (reads run along range, writes stay in the block)."""
+    n_rx = spec.shape[1]
+    n_dop = tx1_band.shape[0]
+    for d in range(n_dop):
+        for b in range(b0, b1):
+            band = tx1_band[d, b]
+            col = (b - b0) * n_dop + d
+            for i in range(tx_pos.size):
+                c = ((band + tx_pos[i]) % n_sb) * n_dop + d
+                for rx in range(n_rx):
+                    out[i * n_rx + rx, col] = spec[c, rx, b]
+
+
+def ddma_metric(power: np.ndarray, n_subbands: int, n_tx: int) -> np.ndarray:
+    """Empty-band DDMA metric Z_j = sum_{m < n_tx} S_{(j+m) mod N} (seed 000 table 11).
+
+    Parameters
+    ----------
+    power : (n_chirps, ...) float
+        Energy per Doppler bin (summed over Rx), Doppler first, bins in natural order.
+
+    Returns
+    -------
+    (n_subbands, n_chirps // n_subbands, ...) float
+        Z_j for every Doppler bin d of a sub-band.
+    """
+    s = power.reshape(n_subbands, -1, *power.shape[1:])
+    ext = np.concatenate([s, s[: n_tx - 1]], axis=0)  # cyclic extension over sub-bands
+    z = ext[:n_subbands].copy()
+    for m in range(1, n_tx):  # n_tx - 1 <= 3 shifted adds, not a loop over bins
+        z += ext[m: m + n_subbands]
+    return z
