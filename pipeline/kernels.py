@@ -25,7 +25,8 @@ from scipy.signal import get_window
 from .cfar import CFAR_MODES, noise_estimate, training_offsets
 from .threads import run_parts, spans
 
-__all__ = ["window", "range_fft", "doppler_fft", "rx_energy",
+__all__ = ["window", "range_fft", "doppler_fft", "slow_time_fft", "doppler_windowed",
+           "rx_energy",
            "ArrayLayout",
            "array_layout", "layout_of", "local_max_mask", "parabolic_offset", "candidate_cfar",
            "cfar_peaks",
@@ -83,24 +84,32 @@ def doppler_fft(x: np.ndarray, win: np.ndarray, axis: int = 0) -> np.ndarray:
     windowed copy (pocketfft gathers strided columns itself: the same transforms, bit for bit,
     as over a transposed contiguous copy)."""
     if axis == 0 and x.dtype == np.complex64 and win.dtype == np.float32 and x.ndim >= 2:
-        xw = _doppler_windowed(x, win)
-    else:
-        shape = [1] * x.ndim
-        shape[axis] = -1
-        w = win.reshape(shape)
-        xw = windowed(x, w, np.result_type(x.dtype, w.dtype))
+        return slow_time_fft(doppler_windowed(x, win))
+    shape = [1] * x.ndim
+    shape[axis] = -1
+    w = win.reshape(shape)
+    return slow_time_fft(windowed(x, w, np.result_type(x.dtype, w.dtype)), axis)
+
+
+def slow_time_fft(xw: np.ndarray, axis: int = 0) -> np.ndarray:
+    """The FFT of `doppler_fft` over an already windowed cube (overwritten), all cores."""
     return scipy.fft.fft(xw, axis=axis, workers=-1, overwrite_x=True)
 
 
-def _doppler_windowed(x: np.ndarray, win: np.ndarray) -> np.ndarray:
+def doppler_windowed(x: np.ndarray, win: np.ndarray, out: np.ndarray | None = None,
+                     split: bool = True) -> np.ndarray:
     """``np.multiply(x, win[:, None, ...])`` of a complex64 cube and a float32 window along axis
     0, bit for bit: numpy casts the window to complex64 and multiplies complex numbers,
     (re w - im 0, re 0 + im w) (which keeps NaN, inf and signed zeros as they come out of that
     product); the compiled loop does the same arithmetic in about half numpy's time (no casting
-    buffer). Chirps in parts on the cores (`pipeline.threads`)."""
-    out = np.empty(x.shape, np.complex64)
+    buffer). Into `out` (C-contiguous, x's shape) if given; chirps in parts on the cores
+    (`pipeline.threads`) unless `split` is False."""
+    out = np.empty(x.shape, np.complex64) if out is None else out
     x3 = x.reshape(x.shape[0], -1, x.shape[-1])
     o3 = out.reshape(x3.shape)
+    if not split:
+        _complex_times_real(x3, win, o3, 0, x.shape[0])
+        return out
     run_parts([lambda lo=lo, hi=hi: _complex_times_real(x3, win, o3, lo, hi)
                for lo, hi in spans(x.shape[0])])
     return out

@@ -123,14 +123,15 @@ def _block_shift(v: np.ndarray, budget: int, kk: np.ndarray, m: np.ndarray, hist
 
 @numba.njit(cache=True, nogil=True)
 def _ege_blocks(vv: np.ndarray, bins2: int, scale: np.float32, budget: int, kk: np.ndarray,
-                cold: float, shift: np.ndarray, c0: int, c1: int) -> None:
+                cold: float, shift: np.ndarray, c0: int, c1: int, c_base: int = 0) -> None:
     """EGE encode + decode of every block of `vv` in place (`ege_compress`).
 
     vv : (n_chirps, n_rx, n_range x 2) float32, I/Q interleaved, rf units; block b of chirp c
     holds vv[c, :, b bins2 : (b + 1) bins2] (bins2 = 2 x range bins per block), value j =
-    rx x bins2 + t at flat position (c n_blocks + b) n_val + j. shift : (n_chirps, n_blocks)
-    int8, written. Cold blocks (sum |v| <= cold, HWA LSB) fit unshifted (`_cold_sum`). Only
-    chirps c0 <= c < c1 (blocks are independent)."""
+    rx x bins2 + t at flat position ((c_base + c) n_blocks + b) n_val + j of the frame (vv
+    may be the chirps c_base.. of a frame). shift : (n_chirps, n_blocks) int8, written. Cold
+    blocks (sum |v| <= cold, HWA LSB) fit unshifted (`_cold_sum`). Only chirps c0 <= c < c1
+    (blocks are independent)."""
     n_c, n_r, n_b2 = vv.shape
     nb = n_b2 // bins2
     n_val = n_r * bins2
@@ -168,7 +169,7 @@ def _ege_blocks(vv: np.ndarray, bins2: int, scale: np.float32, budget: int, kk: 
                 continue
             down = np.float32(2.0 ** -s)
             up = np.float32(2.0 ** s) / scale
-            first = (c * nb + b) * n_val
+            first = ((c_base + c) * nb + b) * n_val
             for r in range(n_r):
                 for t in range(bins2):
                     j = r * bins2 + t
@@ -250,20 +251,35 @@ def ege_compress(rf: np.ndarray, ratio: float = 0.5, range_bins_per_block: int =
     interference, some noise peaks) go through the encoder model.
     """
     n_c, n_r, n_b = rf.shape
-    if n_b % range_bins_per_block:
-        raise ValueError(f"compression_range_bins_per_block={range_bins_per_block} does not "
-                         f"divide the {n_b} range bins")
+    bins2, budget, kk, cold = ege_setup(n_r, n_b, ratio, range_bins_per_block)
     nb = n_b // range_bins_per_block
-    n_val = 2 * n_r * range_bins_per_block
-    budget = ege_budget_bits(n_r, range_bins_per_block, ratio)
-    if ratio < ege_min_ratio(n_r, range_bins_per_block):
-        raise ValueError(f"compression_ratio={ratio:g} is below "
-                         f"{ege_min_ratio(n_r, range_bins_per_block):.4f}: no EG code of the "
-                         f"k-array fits a block of {n_r} Rx x {range_bins_per_block} bins")
     shift = np.zeros((n_c, nb), dtype=np.int8)
-    kk = EGE_K_ARRAY[n_val * (2 + EGE_K_ARRAY) <= budget]  # only these can ever fit
-    vv, cold = rf.view(np.float32), _cold_sum(n_val, budget)
-    run_parts([lambda lo=lo, hi=hi: _ege_blocks(vv, 2 * range_bins_per_block, np.float32(scale),
-                                                budget, kk, cold, shift, lo, hi)
+    vv = rf.view(np.float32)
+    run_parts([lambda lo=lo, hi=hi: _ege_blocks(vv, bins2, np.float32(scale), budget, kk, cold,
+                                                shift, lo, hi)
                for lo, hi in spans(n_c)])  # chirps in parts on the cores (`pipeline.threads`)
     return rf, shift
+
+
+def ege_setup(n_rx: int, n_range: int, ratio: float,
+              range_bins_per_block: int) -> tuple[int, int, np.ndarray, float]:
+    """(bins2, budget bits, usable k-array, cold-block sum) of `_ege_blocks` for a cube of
+    `n_rx` x `n_range` bins per chirp (`ege_compress`'s parameters).
+
+    Raises
+    ------
+    ValueError
+        If `range_bins_per_block` does not divide `n_range`, or `ratio` is below
+        `ege_min_ratio`.
+    """
+    if n_range % range_bins_per_block:
+        raise ValueError(f"compression_range_bins_per_block={range_bins_per_block} does not "
+                         f"divide the {n_range} range bins")
+    n_val = 2 * n_rx * range_bins_per_block
+    budget = ege_budget_bits(n_rx, range_bins_per_block, ratio)
+    if ratio < ege_min_ratio(n_rx, range_bins_per_block):
+        raise ValueError(f"compression_ratio={ratio:g} is below "
+                         f"{ege_min_ratio(n_rx, range_bins_per_block):.4f}: no EG code of the "
+                         f"k-array fits a block of {n_rx} Rx x {range_bins_per_block} bins")
+    kk = EGE_K_ARRAY[n_val * (2 + EGE_K_ARRAY) <= budget]  # only these can ever fit
+    return 2 * range_bins_per_block, budget, kk, _cold_sum(n_val, budget)

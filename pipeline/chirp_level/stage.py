@@ -21,14 +21,15 @@ import scipy.fft
 from radarsim.config import RadarConfig
 
 from ..config import WINDOWS, ProcessingConfig
-from ..kernels import range_fft, window, windowed
+from ..kernels import doppler_windowed, range_fft, window, windowed
 from ..threads import run_parts, spans
 from .dc import remove_dc, window_spectrum
-from .ege import ege_compress
+from .ege import HWA_OUTPUT_SCALE, _ege_blocks, ege_compress, ege_setup
 from ..interference_repair import FrameRows, get_mitigation, repair
 from .interference import flagged_rows
 
-__all__ = ["range_stage", "shared_range_stage", "RANGE_STAGE_FIELDS"]
+__all__ = ["range_stage", "windowed_range_stage", "shared_range_stage", "RANGE_STAGE_FIELDS",
+           "CHIRP_BLOCK"]
 
 #: The `ProcessingConfig` fields the range stage reads: two settings equal on these give the
 #: same range cube for the same frame.
@@ -77,14 +78,122 @@ def range_stage(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) -> np
     memo = _SHARED.get()
     if memo is None:
         return _dc_signature(_range_stage(cfg, adc, proc), proc)
-    key = (id(adc), cfg.n_samples, *(getattr(proc, f) for f in RANGE_STAGE_FIELDS))
-    hit = memo.get(key)
-    if hit is not None and hit[0] is adc:
-        return hit[1]
-    rf = _dc_signature(_range_stage(cfg, adc, proc), proc)
+    hit = _memo_get(memo, cfg, adc, proc)
+    if hit is not None:
+        return hit
+    return _memo_put(memo, cfg, adc, proc, _dc_signature(_range_stage(cfg, adc, proc), proc))
+
+
+def _memo_key(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) -> tuple:
+    return (id(adc), cfg.n_samples, *(getattr(proc, f) for f in RANGE_STAGE_FIELDS))
+
+
+def _memo_get(memo: dict, cfg: RadarConfig, adc: np.ndarray,
+              proc: ProcessingConfig) -> np.ndarray | None:
+    hit = memo.get(_memo_key(cfg, adc, proc))
+    return hit[1] if hit is not None and hit[0] is adc else None
+
+
+def _memo_put(memo: dict, cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig,
+              rf: np.ndarray) -> np.ndarray:
     rf.flags.writeable = False
-    memo[key] = (adc, rf)
+    memo[_memo_key(cfg, adc, proc)] = (adc, rf)
     return rf
+
+
+#: Chirps per block of `windowed_range_stage`: a block's float32 samples, range spectra and
+#: windowed output (~400 kB each for 4 Rx x 384 samples) stay in cache, and the per-call costs
+#: of the rFFT and the compiled loops stay small (measured: 64-128 chirps best, 16 worst).
+CHIRP_BLOCK = 64
+
+
+def windowed_range_stage(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig,
+                         chirp_window: np.ndarray) -> np.ndarray:
+    """`range_stage` times a slow-time window: the input of the Doppler FFT.
+
+    Parameters
+    ----------
+    cfg, adc, proc
+        As `range_stage`.
+    chirp_window : (n_chirps,) float32
+        The Doppler window's value at each chirp (a slot-coded chain repeats each value for
+        the slots of a code period).
+
+    Returns
+    -------
+    (n_chirps, n_rx, n_bins) complex64, C-contiguous
+        Chirp c of `range_stage`'s cube times chirp_window[c], as numpy's complex64 product
+        (`kernels.doppler_windowed`), bit for bit.
+
+    Notes
+    -----
+    For real samples without flagged chirps or a DC range signature, the whole stage runs per
+    block of `CHIRP_BLOCK` chirps, blocks in parts on the cores: window, rFFT, DC correction,
+    EGE and the slow-time window one after the other on data that stays in cache, instead of
+    five passes over the frame, each with its own hand-off to the cores. Each step does what
+    `range_stage` does on those chirps (the rFFT of each row is the same transform in any
+    batch; EGE's dither is indexed by the chirp's place in the frame), so the cube is the
+    same. Inside `shared_range_stage` the unwindowed cube is kept for the other readers too.
+    Otherwise (I/Q frames, flagged chirps, a DC range signature, every switch off)
+    `range_stage` and the window product.
+    """
+    memo = _SHARED.get()
+    if memo is not None:
+        hit = _memo_get(memo, cfg, adc, proc)
+        if hit is not None:
+            return doppler_windowed(hit, chirp_window)
+    if (np.iscomplexobj(adc) or proc.dc_range_signature is not None
+            or not (proc.dc_removal or proc.interference_mitigation or proc.compression)):
+        return doppler_windowed(range_stage(cfg, adc, proc), chirp_window)
+    dc, rows, flags = _chirp_statistics(adc, proc)
+    if rows.size:
+        rf = _range_cube(cfg, adc, proc, dc, rows, flags)
+        if memo is not None:
+            _memo_put(memo, cfg, adc, proc, rf)
+        return doppler_windowed(rf, chirp_window)
+    keep = np.empty((adc.shape[0], adc.shape[1], cfg.n_samples // 2), np.complex64) \
+        if memo is not None else None
+    out = _blockwise(cfg, adc, proc, dc, chirp_window, keep)
+    if memo is not None:
+        _memo_put(memo, cfg, adc, proc, keep)
+    return out
+
+
+def _blockwise(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig, dc: np.ndarray | None,
+               chirp_window: np.ndarray, keep: np.ndarray | None) -> np.ndarray:
+    """`windowed_range_stage` of a real frame without flagged chirps, per block of chirps;
+    the range cube before the slow-time window also into `keep` if given."""
+    n_c, n_rx, n_s = adc.shape
+    n_b = n_s // 2
+    win = window(WINDOWS[proc.range_window], n_s)
+    fix = window_spectrum(WINDOWS[proc.range_window], n_s, False) if dc is not None else ()
+    ege = ege_setup(n_rx, n_b, proc.compression_ratio, proc.compression_range_bins_per_block) \
+        if proc.compression else None
+    out = np.empty((n_c, n_rx, n_b), np.complex64)
+
+    def block(c0: int, c1: int) -> None:
+        x = np.multiply(adc[c0:c1], win, dtype=np.float32)
+        rf = scipy.fft.rfft(x, axis=-1, workers=1)[..., :n_b]
+        if fix:
+            m = dc[c0:c1, :, 0]
+            for k, wk in fix:
+                rf[..., k] -= m * wk
+        if ege is not None:
+            bins2, budget, kk, cold = ege
+            shift = np.zeros((c1 - c0, n_b * 2 // bins2), np.int8)
+            _ege_blocks(rf.view(np.float32), bins2, np.float32(HWA_OUTPUT_SCALE), budget, kk,
+                        cold, shift, 0, c1 - c0, c0)
+        if keep is not None:
+            keep[c0:c1] = rf
+        doppler_windowed(rf, chirp_window[c0:c1], out=out[c0:c1], split=False)
+
+    def part(lo: int, hi: int) -> None:
+        for c0 in range(lo, hi, CHIRP_BLOCK):
+            block(c0, min(c0 + CHIRP_BLOCK, hi))
+
+    run_parts([lambda lo=lo, hi=hi: part(lo, hi)
+               for lo, hi in spans(n_c, multiple=CHIRP_BLOCK)])
+    return out
 
 
 def _dc_signature(rf: np.ndarray, proc: ProcessingConfig) -> np.ndarray:
@@ -116,11 +225,18 @@ def _chirp_statistics(adc: np.ndarray, proc: ProcessingConfig):
 
 def _range_stage(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) -> np.ndarray:
     """`range_stage` without the sharing."""
-    cplx = np.iscomplexobj(adc)
     win = window(WINDOWS[proc.range_window], cfg.n_samples)
     if not (proc.dc_removal or proc.interference_mitigation or proc.compression):
         return range_fft(adc, win)
     dc, rows, flags = _chirp_statistics(adc, proc)
+    return _range_cube(cfg, adc, proc, dc, rows, flags)
+
+
+def _range_cube(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig, dc: np.ndarray | None,
+                rows: np.ndarray, flags: np.ndarray | None) -> np.ndarray:
+    """`_range_stage` after the chirp statistics (`_chirp_statistics`)."""
+    cplx = np.iscomplexobj(adc)
+    win = window(WINDOWS[proc.range_window], cfg.n_samples)
     if rows.size == 0:
         rf = range_fft(adc, win)
     else:

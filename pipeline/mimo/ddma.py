@@ -20,11 +20,11 @@ import pandas as pd
 from radarsim.config import RadarConfig
 
 from ..cfar import noise_mean_factor
-from ..chirp_level.stage import range_stage
+from ..chirp_level.stage import windowed_range_stage
 from ..compensation import compensate
 from ..config import WINDOWS, ProcessingConfig
 from ..ddma_kernels import ddma_coherent_power
-from ..kernels import (cfar_peaks, doppler_fft, estimate_angles, layout_of, rx_energy,
+from ..kernels import (cfar_peaks, estimate_angles, layout_of, rx_energy, slow_time_fft,
                        window)
 from ..stages import (array_dft, empty_cloud, interp_azimuth, interp_doppler, interp_range,
                       point_cloud)
@@ -67,8 +67,9 @@ def full_doppler_spectrum(cfg: RadarConfig, adc: np.ndarray,
     energy : (n_chirps, n_range) float32
         Summed over Rx.
     """
-    rf = range_stage(cfg, adc, proc)  # (C, R, B): chirp-level chain + range FFT
-    spec = doppler_fft(rf, window(WINDOWS[proc.doppler_window], cfg.n_chirps))  # (C, R, B)
+    # (C, R, B): chirp-level chain + range FFT, times the Doppler window
+    xw = windowed_range_stage(cfg, adc, proc, window(WINDOWS[proc.doppler_window], cfg.n_chirps))
+    spec = slow_time_fft(xw)  # (C, R, B)
     return spec, rx_energy(spec)
 
 

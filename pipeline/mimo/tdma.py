@@ -24,6 +24,7 @@ References
 """
 from __future__ import annotations
 
+from functools import lru_cache
 from typing import NamedTuple
 
 import numpy as np
@@ -32,10 +33,10 @@ import pandas as pd
 from radarsim.config import RadarConfig
 
 from ..cfar import CFAR_MODES, noise_mean_factor
-from ..chirp_level.stage import range_stage
+from ..chirp_level.stage import range_stage, windowed_range_stage
 from ..compensation import compensate
 from ..config import WINDOWS, ProcessingConfig
-from ..kernels import doppler_fft, layout_of, window
+from ..kernels import doppler_fft, layout_of, slow_time_fft, window
 from ..stages import (
     array_dft,
     array_likelihood,
@@ -73,19 +74,33 @@ def slot_maps(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) -> Slot
     """Range FFT and per-slot Doppler FFT (chirp = n_tx c' + slot)."""
     n_tx = cfg.n_tx
     n_dop = cfg.n_chirps // n_tx
-    rf = range_stage(cfg, adc, proc)  # (C, R, B): chirp-level chain + range FFT
-    rf = rf.reshape(n_dop, n_tx, cfg.n_rx, -1)  # chirp = n_tx c' + slot
     if proc.clutter_removal:
+        rf = range_stage(cfg, adc, proc)  # (C, R, B): chirp-level chain + range FFT
+        rf = rf.reshape(n_dop, n_tx, cfg.n_rx, -1)  # chirp = n_tx c' + slot
         # TI's static clutter removal (clutterRemoval, SDK 3.x DopplerProc): the mean over the
         # frame's chirps of each slot, Rx and range bin -- the zero-Doppler return -- removed
         # before the Doppler FFT.
         rf = rf - rf.mean(axis=0, keepdims=True)
-    spec = doppler_fft(rf, window(WINDOWS[proc.doppler_window], n_dop))  # (D, S, R, B)
+        spec = doppler_fft(rf, window(WINDOWS[proc.doppler_window], n_dop))  # (D, S, R, B)
+    else:
+        # The same product with the window's value repeated for the slots of each period.
+        xw = windowed_range_stage(cfg, adc, proc,
+                                  _slot_window(WINDOWS[proc.doppler_window], n_dop, n_tx))
+        spec = slow_time_fft(xw.reshape(n_dop, n_tx, cfg.n_rx, -1))  # (D, S, R, B)
     n_range = spec.shape[-1]
     virt_all = np.moveaxis(spec, 3, 0).reshape(n_range, n_dop, -1)  # (B, D, 16) slot-major
     # (B, D), L = n_virtual looks per cell: their sum, or the CFAR mode's own statistic.
     rd = CFAR_MODES[proc.cfar.mode].combine_looks(np.abs(virt_all) ** 2, axis=-1)
     return SlotMaps(power=rd, virt=virt_all)
+
+
+@lru_cache(maxsize=16)
+def _slot_window(name: str, n_dop: int, n_tx: int) -> np.ndarray:
+    """(n_dop x n_tx,) float32, read-only: each chirp's value of the n_dop-point Doppler window
+    `name` (chirp = n_tx c' + slot takes window[c'])."""
+    w = np.repeat(window(name, n_dop), n_tx)
+    w.flags.writeable = False
+    return w
 
 
 class SlotChain(MimoChain):

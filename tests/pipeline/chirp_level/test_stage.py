@@ -13,7 +13,7 @@ import radarsim
 from pipeline import chirp_level as cl
 from pipeline.kernels import range_fft, window
 
-from .helpers import OFF, empty
+from .helpers import OFF, empty, one_interferer
 
 
 def test_switches_off_is_the_plain_range_fft(cfg):
@@ -97,3 +97,34 @@ def test_shared_range_stage_computes_each_frame_and_setting_once(cfg, monkeypatc
     pd.testing.assert_frame_equal(pc, want_pc)
     cl.range_stage(cfg, adc, base)
     assert len(calls) == 4
+
+
+@pytest.mark.parametrize("kw", [{}, dict(compression=False), dict(dc_removal=False),
+                                dict(compression_range_bins_per_block=4, compression_ratio=0.4),
+                                OFF])
+def test_windowed_range_stage_is_the_range_stage_times_the_window_bit_for_bit(cfg, kw):
+    """The blockwise stage (window, rFFT, DC correction, EGE and the slow-time window per block
+    of chirps) gives the range stage's cube times the window, bit for bit: on a frame with a
+    strong target (EGE requantises), with an interferer (flagged chirps: the whole-frame path),
+    in one part and in two, and inside `shared_range_stage` (which then keeps the cube)."""
+    from pipeline import threads
+    sc = radarsim.Scatterers(position_m=[[8.0, 1.0, 0.0]], velocity_mps=[[-3.0, 0, 0]],
+                             rcs_m2=[100.0])
+    proc = pipeline.ProcessingConfig().replace(**kw)
+    w = np.hanning(cfg.n_chirps).astype(np.float32)
+    for itf in (None, one_interferer()):
+        adc = radarsim.simulate_frame(cfg.replace(adc_dc_offset_lsb=200.0), sc,
+                                      np.random.default_rng(2), itf)
+        want = (cl.range_stage(cfg, adc, proc) * w[:, None, None]).tobytes()
+        assert cl.windowed_range_stage(cfg, adc, proc, w).tobytes() == want
+        n_parts = threads.N_PARTS
+        threads.N_PARTS = 1
+        try:
+            assert cl.windowed_range_stage(cfg, adc, proc, w).tobytes() == want
+        finally:
+            threads.N_PARTS = n_parts
+        with cl.shared_range_stage():
+            assert cl.windowed_range_stage(cfg, adc, proc, w).tobytes() == want
+            kept = cl.range_stage(cfg, adc, proc)
+            assert not kept.flags.writeable
+            assert (kept * w[:, None, None]).tobytes() == want
