@@ -5,8 +5,8 @@ scatterers; the chirp-level chain (DC removal, interference statistics and zeroi
 compression) adds at most 30 % to `process_frame` (R79 DDMA). Both are ratios measured in the
 same run. The bench also prints the noise-floor rise of one interferer with mitigation off and
 on, the range stage's time with each repair method (`pipeline.interference_repair.MITIGATIONS`)
-on the 10-interferer frame, and the SNR loss EGE compression causes a weak target in the same
-block as a strong one.
+on the 10-interferer frame with where the default ("lowrank") spends it, and the SNR loss EGE
+compression causes a weak target in the same block as a strong one.
 """
 from __future__ import annotations
 
@@ -87,6 +87,57 @@ def _interleaved(f_a, f_b, repeats: int, warmup: int) -> tuple[float, float]:
     return float(np.median(ta)), float(np.median(tb))
 
 
+def _thread_cpu_s(fn, repeats: int, warmup: int) -> float:
+    """Median thread CPU time of `fn()`, s (this thread only: `fn` must not hand work to
+    other threads)."""
+    for _ in range(warmup):
+        fn()
+    times = []
+    for _ in range(repeats):
+        t0 = time.thread_time()
+        fn()
+        times.append(time.thread_time() - t0)
+    return float(np.median(times))
+
+
+def lowrank_breakdown(cfg, adc: np.ndarray, repeats: int, warmup: int) -> list[str]:
+    """Where the default repair ("lowrank") spends its time on the frame: thread CPU of the
+    frame's fast-time basis and of the fill (one part: `pipeline.threads.inline`) with and
+    without the mask growth, and the work's size (hit rows and chirps, components). The basis
+    and the fill's row projections are BLAS calls: with several BLAS threads on a busy
+    machine, this thread's time includes OpenBLAS waiting for its worker threads."""
+    from pipeline.chirp_level.stage import _chirp_statistics
+    from pipeline.interference_lowrank import fast_time_basis, lowrank_fill
+    from pipeline.interference_repair import FrameRows, _reference
+    from pipeline.threads import inline
+    proc = pipeline.ProcessingConfig()
+    m = MITIGATIONS["lowrank"]
+    n = cfg.n_samples
+    dc, rows, flags = _chirp_statistics(adc, proc)
+    y = np.subtract(adc.reshape(-1, n)[rows], dc.reshape(-1, 1)[rows], dtype=np.float32)
+    frame = FrameRows(adc.reshape(-1, n), rows, cfg.n_rx)
+    gate = 10 ** (m.rank_snr_gate_db / 10)
+    ref = _reference(y, frame, None)
+    basis = fast_time_basis(ref, m.rank_max, gate)
+    bursts = rows // cfg.n_rx
+    hw = proc.intf_hysteresis_samples + m.extend_samples
+
+    def fill(grow_sigma):
+        with inline():
+            lowrank_fill(y.copy(), flags, bursts, basis, m.close_gap_samples, hw, grow_sigma,
+                         m.grow_reach_samples)
+
+    t_basis = _thread_cpu_s(lambda: fast_time_basis(_reference(y, frame, None), m.rank_max,
+                                                    gate), repeats, warmup)
+    t_fill = _thread_cpu_s(lambda: fill(m.grow_sigma), repeats, warmup)
+    t_fixed = _thread_cpu_s(lambda: fill(0.0), repeats, warmup)
+    return [f"  lowrank on this frame: {rows.size} hit rows of {adc.shape[0] * adc.shape[1]}, "
+            f"{np.unique(bursts).size} hit chirps, k = {basis.vectors.shape[1]} components; "
+            f"thread CPU (one part): reference rows + basis {1e3 * t_basis:.2f} ms, fill "
+            f"{1e3 * t_fill:.2f} ms (of which mask growth and refits "
+            f"{1e3 * (t_fill - t_fixed):.2f} ms)"]
+
+
 def run(repeats: int = 15, warmup: int = 2) -> list[str]:
     cfg = radarsim.presets.r79_ddma()
     sc = _scene(N_SCATTERERS)
@@ -131,6 +182,7 @@ def run(repeats: int = 15, warmup: int = 2) -> list[str]:
         for name in MITIGATIONS}
     lines += [f"  range stage, mitigation {k!r}: {1e3 * v:.2f} ms (+{1e3 * (v - t_rep['zero']):.2f}"
               " ms over the chip's zero)" for k, v in t_rep.items()]
+    lines += lowrank_breakdown(cfg, adc, repeats, warmup)
     # What the chain does to one interferer's floor (short and long bursts).
     empty = radarsim.Scatterers.empty()
     for slope, what in ((50e12, "short bursts, |dS| = 41 MHz/us"),
