@@ -36,6 +36,8 @@ from scipy.optimize import linear_sum_assignment
 
 from scenarios.checks import require
 
+from .association import _pair_isin
+
 __all__ = [
     "TrackMetricsConfig", "gospa", "match_tracks", "gospa_per_frame", "per_actor_track_metrics",
     "track_metrics", "track_metrics_long", "TRACK_METRIC_COLUMNS",
@@ -206,9 +208,12 @@ def _in_view(truth: pd.DataFrame, cfg: TrackMetricsConfig) -> np.ndarray:
 
 
 def _matched_rows(truth: pd.DataFrame, matches: pd.DataFrame) -> np.ndarray:
-    """(rows,) bool: truth rows (frame, actor) that a track matches."""
-    key = pd.MultiIndex.from_frame(matches[["actor_id", "frame"]].astype(np.int64))
-    return pd.MultiIndex.from_frame(truth[["actor_id", "frame"]].astype(np.int64)).isin(key)
+    """(rows,) bool: truth rows (frame, actor) that a track matches (pairs compared as
+    int64, by integer keys instead of two MultiIndexes)."""
+    def pair(df: pd.DataFrame) -> tuple[np.ndarray, np.ndarray]:
+        return (df["frame"].to_numpy().astype(np.int64),
+                df["actor_id"].to_numpy().astype(np.int64))
+    return _pair_isin(*pair(truth), *pair(matches))
 
 
 def _footprint_distance(trk_xy: np.ndarray, tru: pd.DataFrame) -> np.ndarray:
@@ -284,7 +289,11 @@ def match_tracks(tracks: pd.DataFrame, truth: pd.DataFrame,
         else the vehicle-frame distance).
     """
     cfg = TrackMetricsConfig() if cfg is None else cfg
-    trk, tru = _prepare(tracks, truth, cfg)
+    return _match(*_prepare(tracks, truth, cfg), cfg)
+
+
+def _match(trk: pd.DataFrame, tru: pd.DataFrame, cfg: TrackMetricsConfig) -> pd.DataFrame:
+    """`match_tracks` of the `_prepare`d tables."""
     cols = ["frame", "time_s", "track_id", "actor_id", "dx_m", "dy_m", "dvx_mps", "dvy_mps",
             "range_m"]
     if trk.empty or tru.empty:
@@ -346,8 +355,14 @@ def gospa_per_frame(tracks: pd.DataFrame, truth: pd.DataFrame,
     frames = np.union1d(tracks["frame"].to_numpy(), truth["frame"].to_numpy())
     trk, tru = _prepare(tracks, truth, cfg)
     if matches is None:
-        matches = match_tracks(tracks, truth, cfg)
-    tru = tru[_in_view(tru, cfg) | _matched_rows(tru, matches)]
+        matches = _match(trk, tru, cfg)
+    return _gospa(frames, trk, tru, cfg, _matched_rows(tru, matches))
+
+
+def _gospa(frames: np.ndarray, trk: pd.DataFrame, tru: pd.DataFrame, cfg: TrackMetricsConfig,
+           matched: np.ndarray) -> pd.DataFrame:
+    """`gospa_per_frame` of the `_prepare`d tables, `matched` = `_matched_rows` of tru."""
+    tru = tru[_in_view(tru, cfg) | matched]
     t_fr, u_fr = trk["frame"].to_numpy(), tru["frame"].to_numpy()
     t_lo, t_hi = _frame_slices(t_fr, frames)
     u_lo, u_hi = _frame_slices(u_fr, frames)
@@ -384,36 +399,84 @@ def per_actor_track_metrics(tracks: pd.DataFrame, truth: pd.DataFrame,
         view), track_coverage (matched frames / truth frames in view).
     """
     cfg = TrackMetricsConfig() if cfg is None else cfg
-    _, tru = _prepare(tracks, truth, cfg)
+    trk, tru = _prepare(tracks, truth, cfg)
     if matches is None:
-        matches = match_tracks(tracks, truth, cfg)
-    tru = tru.assign(_matched=_matched_rows(tru, matches))
-    tru = tru[_in_view(tru, cfg)].sort_values(["actor_id", "frame"], kind="stable")
-    m = matches.sort_values(["actor_id", "frame"], kind="stable")
-    g = tru.groupby("actor_id", sort=True)
-    out = pd.DataFrame({"n_frames": g.size(), "first_time_s": g["time_s"].min()})
+        matches = _match(trk, tru, cfg)
+    return _per_actor(tru, cfg, matches, _matched_rows(tru, matches))
+
+
+def _per_actor(tru: pd.DataFrame, cfg: TrackMetricsConfig, matches: pd.DataFrame,
+               matched: np.ndarray) -> pd.DataFrame:
+    """`per_actor_track_metrics` of the `_prepare`d truth, `matched` = its
+    `_matched_rows`."""
+    # The groupby / shift / reindex formulation by integer group codes: rows in (actor,
+    # frame) order (a stable lexsort, as the stable sort_values), actors in increasing id
+    # order (as groupby sorts them).
+    view = _in_view(tru, cfg)
+    t_rows = np.flatnonzero(view)
+    t_aid, t_frame = tru["actor_id"].to_numpy()[t_rows], tru["frame"].to_numpy()[t_rows]
+    order = np.lexsort((t_frame, t_aid))
+    t_rows, t_aid = t_rows[order], t_aid[order]
+    ids, grp = np.unique(t_aid, return_inverse=True)
+    n = ids.size
+    n_frames = np.bincount(grp, minlength=n).astype(np.int64)
+    first_time = np.full(n, np.nan)
+    np.fmin.at(first_time, grp, tru["time_s"].to_numpy(dtype=float)[t_rows])
+    cols: dict[str, np.ndarray] = {"actor_id": ids}
     if "actor_class" in tru.columns:
-        out.insert(0, "actor_class", g["actor_class"].first())
+        cls = tru["actor_class"]
+        has = cls.notna().to_numpy()[t_rows]
+        rows = np.unique(grp, return_index=True)[1]  # first row; first non-null if any
+        named, at = np.unique(grp[has], return_index=True)
+        rows[named] = np.flatnonzero(has)[at]
+        cols["actor_class"] = cls.array.take(t_rows[rows])
+    cols.update(n_frames=n_frames, first_time_s=first_time)
     # Confirmation and identity from every match (also just outside the field of view).
-    first = m.groupby("actor_id").first()
-    out["track_confirm_time_s"] = first["time_s"].reindex(out.index)
-    out["track_confirm_latency_s"] = out["track_confirm_time_s"] - out["first_time_s"]
-    out["track_confirm_range_m"] = first["range_m"].reindex(out.index)
-    out["n_track_ids"] = m.groupby("actor_id")["track_id"].nunique().reindex(
-        out.index, fill_value=0)
-    switch = m["track_id"].ne(m.groupby("actor_id")["track_id"].shift()) & m[
-        "actor_id"].eq(m["actor_id"].shift())
-    out["track_id_switches"] = switch.groupby(m["actor_id"]).sum().reindex(
-        out.index, fill_value=0).astype(np.int64)
+    m_aid, m_frame = matches["actor_id"].to_numpy(), matches["frame"].to_numpy()
+    m_order = np.lexsort((m_frame, m_aid))
+    m_aid = m_aid[m_order]
+    m_tid = matches["track_id"].to_numpy()[m_order]
+    m_ids, m_grp = np.unique(m_aid, return_inverse=True)
+    pos = np.minimum(np.searchsorted(ids, m_ids), max(n - 1, 0))
+    known = (ids[pos] == m_ids) if n else np.zeros(m_ids.size, dtype=bool)
+
+    def first_valid(col: str) -> np.ndarray:
+        """Per actor, the column's first non-null value over its matches (NaN if none)."""
+        v = matches[col].to_numpy(dtype=float)[m_order]
+        ok = ~np.isnan(v)
+        g, at = np.unique(m_grp[ok], return_index=True)
+        per_m = np.full(m_ids.size, np.nan)
+        per_m[g] = v[ok][at]
+        out = np.full(n, np.nan)
+        out[pos[known]] = per_m[known]
+        return out
+
+    def per_actor(counts: np.ndarray) -> np.ndarray:
+        """(n,) int64 of per-match-actor counts, 0 for actors without a match."""
+        out = np.zeros(n, dtype=np.int64)
+        out[pos[known]] = counts[known]
+        return out
+    confirm = first_valid("time_s")
+    cols.update(track_confirm_time_s=confirm, track_confirm_latency_s=confirm - first_time,
+                track_confirm_range_m=first_valid("range_m"))
+    u_order = np.lexsort((m_tid, m_grp))
+    g_s, t_s = m_grp[u_order], m_tid[u_order]
+    new_id = np.r_[True, (g_s[1:] != g_s[:-1]) | (t_s[1:] != t_s[:-1])] if g_s.size else \
+        np.zeros(0, dtype=bool)
+    cols["n_track_ids"] = per_actor(np.bincount(g_s[new_id], minlength=m_ids.size))
+    switch = np.r_[False, (m_tid[1:] != m_tid[:-1]) & (m_aid[1:] == m_aid[:-1])] \
+        if m_aid.size else np.zeros(0, dtype=bool)
+    cols["track_id_switches"] = per_actor(np.bincount(m_grp[switch], minlength=m_ids.size))
     # Fragmentation: an unmatched -> matched transition (in view) after the first match.
-    gm = tru.groupby("actor_id")["_matched"]
-    prev = gm.shift(fill_value=False).astype(bool)
-    seen_before = gm.cumsum() - tru["_matched"].astype(int) > 0
-    resume = tru["_matched"] & ~prev & seen_before
-    out["track_fragmentations"] = resume.groupby(tru["actor_id"]).sum().reindex(
-        out.index, fill_value=0).astype(np.int64)
-    out["track_coverage"] = gm.mean().reindex(out.index).astype(float)
-    return out.reset_index()
+    hit = np.asarray(matched, dtype=bool)[t_rows]
+    start = np.r_[True, grp[1:] != grp[:-1]] if n else np.zeros(0, dtype=bool)
+    prev = np.r_[False, hit[:-1]]  # across an actor boundary seen_before is False
+    before = np.cumsum(hit) - hit  # matches before each row, whole table
+    seen_before = before - before[start][grp] > 0 if n else np.zeros(0, dtype=bool)
+    resume = hit & ~prev & seen_before
+    cols["track_fragmentations"] = np.bincount(grp[resume], minlength=n).astype(np.int64)
+    cols["track_coverage"] = np.bincount(grp[hit], minlength=n) / n_frames
+    return pd.DataFrame(cols)
 
 
 def track_metrics(tracks: pd.DataFrame, truth: pd.DataFrame,
@@ -433,14 +496,21 @@ def track_metrics(tracks: pd.DataFrame, truth: pd.DataFrame,
         velocity relative to the ego). NaN where undefined (e.g. no match).
     """
     cfg = TrackMetricsConfig() if cfg is None else cfg
-    matches = match_tracks(tracks, truth, cfg)
-    actors = per_actor_track_metrics(tracks, truth, cfg, matches)
-    gos = gospa_per_frame(tracks, truth, cfg, matches)
-    trk, _ = _prepare(tracks, truth, cfg)
+    # The confirmed tracks and the sorted truth once, for the matching and every score.
+    trk, tru = _prepare(tracks, truth, cfg)
+    matches = _match(trk, tru, cfg)
+    matched = _matched_rows(tru, matches)
+    actors = _per_actor(tru, cfg, matches, matched)
+    gos = _gospa(np.union1d(tracks["frame"].to_numpy(), truth["frame"].to_numpy()), trk, tru,
+                 cfg, matched)
     duration = _duration_s(tracks, truth, cfg)
 
-    n_conf = trk.groupby("track_id").size()
-    n_match = matches.groupby("track_id").size().reindex(n_conf.index, fill_value=0)
+    # Per confirmed track: confirmed frames and matched frames (bincount over its id).
+    ids, n_conf = np.unique(trk["track_id"].to_numpy(), return_counts=True)
+    at = np.searchsorted(ids, matches["track_id"].to_numpy())
+    mine = at < ids.size
+    mine[mine] = ids[at[mine]] == matches["track_id"].to_numpy()[mine]
+    n_match = np.bincount(at[mine], minlength=ids.size)
     n_false = int((n_match / n_conf < cfg.false_track_max_match_fraction).sum())
     conf = actors.dropna(subset=["track_confirm_time_s"])
 

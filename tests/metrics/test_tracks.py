@@ -190,6 +190,26 @@ def test_id_swap_between_two_actors_counts_two_switches():
     assert m["n_false_tracks"] == 0 and m["gospa_mean_m"] == 0.0
 
 
+def test_two_actors_each_with_its_own_track_have_no_switch():
+    """Per-actor identity counts stop at the actor boundary: the first match of actor 1 (track
+    2) follows actor 0's matches (track 1) in the sorted table and is no switch, nor is it a
+    resumed match (actor 1 is first matched at frame 1, after actor 0's hits); its gap at
+    frame 2 is one fragmentation."""
+    f = np.repeat(np.arange(5), 2)
+    truth = pd.DataFrame({"frame": f, "time_s": 0.1 * f, "actor_id": np.tile([0, 1], 5),
+                          "x_m": np.tile([20.0, 40.0], 5), "y_m": 0.0, "vx_mps": 0.0,
+                          "vy_mps": 0.0})
+    keep = ~(np.isin(f, [0, 2]) & (np.tile([0, 1], 5) == 1))  # actor 1 unmatched at 0, 2
+    tracks = pd.DataFrame({"frame": f, "time_s": 0.1 * f, "state": "ACTIVE",
+                           "track_id": np.tile([1, 2], 5), "x_m": np.tile([20.0, 40.0], 5),
+                           "y_m": 0.0, "vx_mps": 0.0, "vy_mps": 0.0})[keep]
+    out = per_actor_track_metrics(tracks, truth)
+    assert out.track_id_switches.tolist() == [0, 0]
+    assert out.n_track_ids.tolist() == [1, 1]
+    assert out.track_fragmentations.tolist() == [0, 1]
+    assert out.track_coverage.tolist() == [1.0, 0.6]
+
+
 def test_no_tracks_gives_nan_scores_and_full_misses():
     tracks = _tracks().iloc[0:0]
     m = track_metrics(tracks, _truth())

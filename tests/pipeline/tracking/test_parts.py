@@ -6,6 +6,7 @@ import copy
 import dataclasses
 
 import numpy as np
+import pandas as pd
 import pytest
 
 from pipeline.tracking import (ASSOCIATORS, MOTION_MODELS, AllocationConfig, Association,
@@ -155,3 +156,27 @@ def test_the_hypothesiser_gates_and_the_associator_only_chooses(rng):
     closed = GatedMaximumLikelihood(cfg).associate(hyp._replace(gated=np.zeros_like(hyp.gated)),
                                                    tracker.tracks, static)
     assert (closed.track_index == -1).all()
+
+
+def test_points_from_frame_reads_the_columns_whatever_else_the_frame_holds():
+    """The whole-frame conversion gives each column's own float64 values: float32 and int
+    columns, extra bool columns, a string column (the column-by-column path), attrs."""
+    rng = np.random.default_rng(3)
+    n = 7
+    base = pd.DataFrame({"range_m": rng.uniform(1, 90, n), "azimuth_deg": rng.uniform(-60, 60, n),
+                         "radial_velocity_mps": rng.normal(0, 9, n),
+                         "snr_db": rng.uniform(10, 40, n).astype(np.float32)})
+    want = [base[c].to_numpy(dtype=np.float64) for c in base.columns]
+    want[1] = np.radians(want[1])
+    extra = {"ints": base.assign(range_bin=np.arange(n), saturated=False, range_m=np.arange(1, n + 1)),
+             "strings": base.assign(label=["TRUE"] * n)}
+    extra["ints"].attrs["saturation"] = {"n_saturated_chirp_rx": 0}
+    for name, frame in extra.items():
+        got = Points.from_frame(frame)
+        ref = [frame[c].to_numpy(dtype=np.float64)
+               for c in ("range_m", "azimuth_deg", "radial_velocity_mps", "snr_db")]
+        ref[1] = np.radians(ref[1])
+        for g, w in zip(got, ref):
+            assert g.dtype == np.float64 and g.flags.c_contiguous
+            np.testing.assert_array_equal(g, w, err_msg=name)
+    np.testing.assert_array_equal(Points.from_frame(base).snr_db, want[3])
