@@ -20,13 +20,14 @@ import scipy.fft
 
 from radarsim.config import RadarConfig
 
-from ..config import WINDOWS, ProcessingConfig
+from ..config import INTF_THRESHOLD_MODES, WINDOWS, ProcessingConfig
 from ..kernels import doppler_windowed, range_fft, window, windowed
 from ..threads import run_parts, spans
 from .dc import remove_dc, window_spectrum
 from .ege import HWA_OUTPUT_SCALE, _ege_blocks, ege_compress, ege_setup
 from ..interference_repair import FrameRows, get_mitigation, repair
 from .interference import flagged_rows
+from .row_statistics import row_statistics
 
 __all__ = ["range_stage", "windowed_range_stage", "shared_range_stage", "RANGE_STAGE_FIELDS",
            "CHIRP_BLOCK"]
@@ -207,6 +208,9 @@ def _chirp_statistics(adc: np.ndarray, proc: ProcessingConfig):
     them: `remove_dc` and `flagged_rows`, both per chirp and Rx, run on blocks of chirps on the
     cores (`pipeline.threads`) and joined in row order (the same values)."""
     n_rx = adc.shape[1]
+    fused = _fused_statistics(adc, proc)
+    if fused is not None:
+        return fused
 
     def block(lo: int, hi: int):
         a = adc[lo:hi]
@@ -220,6 +224,29 @@ def _chirp_statistics(adc: np.ndarray, proc: ProcessingConfig):
     dc = np.concatenate([p[0] for p in parts]) if proc.dc_removal else None
     rows = np.concatenate([p[1] for p in parts])
     flags = np.concatenate([p[2] for p in parts]) if proc.interference_mitigation else None
+    return dc, rows, flags
+
+
+def _fused_statistics(adc: np.ndarray, proc: ProcessingConfig):
+    """`_chirp_statistics` from one compiled pass (`row_statistics`) where it gives
+    `remove_dc`'s and the magdiff `flagged_rows`' values bit for bit (an int16 frame, a
+    difference-only threshold mode), else None. The flags of the few flagged rows are built as
+    `flagged_rows` builds them."""
+    intf = proc.interference_mitigation
+    if intf and INTF_THRESHOLD_MODES[proc.intf_threshold_mode].magnitude:
+        return None
+    st = row_statistics(adc, proc.intf_magdiff_snr_db)
+    if st is None:
+        return None
+    dc = st.dc if proc.dc_removal else None
+    if not intf:
+        return dc, np.zeros(0, dtype=np.intp), None
+    rows = st.flagged
+    a2 = adc.reshape(-1, adc.shape[-1])[rows]
+    d = np.subtract(a2[:, 1:], a2[:, :-1])  # int16: no difference overflows (row_statistics)
+    np.abs(d, out=d)
+    flags = np.zeros(a2.shape, dtype=bool)
+    np.greater(d, st.threshold[rows, None], out=flags[:, 1:])
     return dc, rows, flags
 
 
