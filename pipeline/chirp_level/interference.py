@@ -32,11 +32,15 @@ References
 """
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numpy as np
 
 from ..config import INTF_THRESHOLD_MODES, ProcessingConfig
+from ..interference_repair import FrameRows, get_mitigation, repair
 
-__all__ = ["interference_flags", "zero_flagged", "flagged_rows", "INTF_THRESHOLD_MODES"]
+__all__ = ["interference_flags", "zero_flagged", "flagged_rows", "repaired_rows", "RepairedRows",
+           "INTF_THRESHOLD_MODES"]
 
 
 def interference_flags(adc: np.ndarray, dc: np.ndarray | None, mag_snr_db: float,
@@ -141,3 +145,61 @@ def flagged_rows(adc: np.ndarray, dc, proc: ProcessingConfig) -> tuple[np.ndarra
                                proc.intf_threshold_mode).reshape(-1, n)
     rows = np.flatnonzero(flags.any(axis=-1))
     return rows, flags[rows]
+
+
+class RepairedRows(NamedTuple):
+    """The flagged chirp x Rx rows of a frame, DC removed, repaired and windowed: what the
+    range FFT takes in their place (`repaired_rows`)."""
+
+    rows: np.ndarray      # (R,) increasing row indices, chirp * n_rx + Rx
+    windowed: np.ndarray  # (R, n_samples) float32 (complex64 for I/Q): repaired x window
+
+    def swap_into(self, x: np.ndarray, c0: int) -> None:
+        """Put the rows of chirps c0 .. c0 + len(x) - 1 into `x` (chirps, n_rx, n_samples),
+        the windowed samples of those chirps."""
+        n_rx = x.shape[1]
+        lo, hi = np.searchsorted(self.rows, (c0 * n_rx, (c0 + len(x)) * n_rx))
+        x.reshape(-1, x.shape[-1])[self.rows[lo:hi] - c0 * n_rx] = self.windowed[lo:hi]
+
+    def without_dc(self, m: np.ndarray, c0: int) -> np.ndarray:
+        """`m` (chirps, n_rx), the DC estimates of chirps c0 .. c0 + len(m) - 1, with the
+        repaired rows' set to 0 (their DC was removed before the FFT); a copy if any is."""
+        n_rx = m.shape[1]
+        lo, hi = np.searchsorted(self.rows, (c0 * n_rx, (c0 + len(m)) * n_rx))
+        if lo == hi:
+            return m
+        m = m.copy()
+        m.reshape(-1)[self.rows[lo:hi] - c0 * n_rx] = 0
+        return m
+
+
+def repaired_rows(adc: np.ndarray, dc: np.ndarray | None, rows: np.ndarray, flags: np.ndarray,
+                  win: np.ndarray, proc: ProcessingConfig) -> RepairedRows:
+    """The flagged rows, DC removed, repaired by ``proc.intf_mitigation`` (the chip zeroes) and
+    windowed.
+
+    Parameters
+    ----------
+    adc : (n_chirps, n_rx, n_samples) int16, or complex64 I/Q
+    dc : (n_chirps, n_rx, 1) float or None
+        DC estimates (None: no DC removal).
+    rows : (R,) int
+        Increasing flagged rows (`flagged_rows`).
+    flags : (R, n_samples) bool
+        Their interference flags.
+    win : (n_samples,) float32
+        The range window.
+    proc : ProcessingConfig
+
+    Returns
+    -------
+    RepairedRows
+    """
+    n_rx, n = adc.shape[1], adc.shape[-1]
+    work = np.complex64 if np.iscomplexobj(adc) else np.float32
+    y = adc.reshape(-1, n)[rows]
+    y = y.astype(work) if dc is None else np.subtract(y, dc.reshape(-1, 1)[rows], dtype=work)
+    repair(y, flags, win, proc.intf_hysteresis_samples, get_mitigation(proc.intf_mitigation),
+           frame=FrameRows(adc.reshape(-1, n), rows, n_rx))
+    y *= win
+    return RepairedRows(rows, y)

@@ -25,8 +25,7 @@ from ..kernels import doppler_windowed, range_fft, window, windowed
 from ..threads import run_parts, spans
 from .dc import remove_dc, window_spectrum
 from .ege import HWA_OUTPUT_SCALE, _ege_blocks, ege_compress, ege_setup
-from ..interference_repair import FrameRows, get_mitigation, repair
-from .interference import flagged_rows
+from .interference import RepairedRows, flagged_rows, repaired_rows
 from .row_statistics import row_statistics
 
 __all__ = ["range_stage", "windowed_range_stage", "shared_range_stage", "RANGE_STAGE_FIELDS",
@@ -128,15 +127,16 @@ def windowed_range_stage(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConf
 
     Notes
     -----
-    For real samples without flagged chirps or a DC range signature, the whole stage runs per
-    block of `CHIRP_BLOCK` chirps, blocks in parts on the cores: window, rFFT, DC correction,
-    EGE and the slow-time window one after the other on data that stays in cache, instead of
-    five passes over the frame, each with its own hand-off to the cores. Each step does what
+    For real samples without a DC range signature, the whole stage runs per block of
+    `CHIRP_BLOCK` chirps (flagged chirps repaired first and swapped in), blocks in parts on
+    the cores: window, rFFT, DC correction, EGE and the slow-time window one after the other
+    on data that stays in cache, instead of five passes over the frame, each with its own
+    hand-off to the cores. Each step does what
     `range_stage` does on those chirps (the rFFT of each row is the same transform in any
     batch; EGE's dither is indexed by the chirp's place in the frame), so the cube is the
     same. Inside `shared_range_stage` the unwindowed cube is kept for the other readers too.
-    Otherwise (I/Q frames, flagged chirps, a DC range signature, every switch off)
-    `range_stage` and the window product.
+    Otherwise (I/Q frames, a DC range signature, every switch off) `range_stage` and the
+    window product.
     """
     memo = _SHARED.get()
     if memo is not None:
@@ -147,23 +147,22 @@ def windowed_range_stage(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConf
             or not (proc.dc_removal or proc.interference_mitigation or proc.compression)):
         return doppler_windowed(range_stage(cfg, adc, proc), chirp_window)
     dc, rows, flags = _chirp_statistics(adc, proc)
-    if rows.size:
-        rf = _range_cube(cfg, adc, proc, dc, rows, flags)
-        if memo is not None:
-            _memo_put(memo, cfg, adc, proc, rf)
-        return doppler_windowed(rf, chirp_window)
+    rep = repaired_rows(adc, dc, rows, flags, window(WINDOWS[proc.range_window], cfg.n_samples),
+                        proc) if rows.size else None
     keep = np.empty((adc.shape[0], adc.shape[1], cfg.n_samples // 2), np.complex64) \
         if memo is not None else None
-    out = _blockwise(cfg, adc, proc, dc, chirp_window, keep)
+    out = _blockwise(cfg, adc, proc, dc, chirp_window, keep, rep)
     if memo is not None:
         _memo_put(memo, cfg, adc, proc, keep)
     return out
 
 
 def _blockwise(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig, dc: np.ndarray | None,
-               chirp_window: np.ndarray, keep: np.ndarray | None) -> np.ndarray:
-    """`windowed_range_stage` of a real frame without flagged chirps, per block of chirps;
-    the range cube before the slow-time window also into `keep` if given."""
+               chirp_window: np.ndarray, keep: np.ndarray | None,
+               rep: RepairedRows | None = None) -> np.ndarray:
+    """`windowed_range_stage` of a real frame, per block of chirps, the flagged chirps' rows
+    `rep` (repaired, windowed, DC removed) swapped in; the range cube before the slow-time
+    window also into `keep` if given."""
     n_c, n_rx, n_s = adc.shape
     n_b = n_s // 2
     win = window(WINDOWS[proc.range_window], n_s)
@@ -174,9 +173,11 @@ def _blockwise(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig, dc: np
 
     def block(c0: int, c1: int) -> None:
         x = np.multiply(adc[c0:c1], win, dtype=np.float32)
+        if rep is not None:
+            rep.swap_into(x, c0)
         rf = scipy.fft.rfft(x, axis=-1, workers=1)[..., :n_b]
         if fix:
-            m = dc[c0:c1, :, 0]
+            m = dc[c0:c1, :, 0] if rep is None else rep.without_dc(dc[c0:c1, :, 0], c0)
             for k, wk in fix:
                 rf[..., k] -= m * wk
         if ege is not None:
@@ -269,14 +270,9 @@ def _range_cube(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig, dc: n
     else:
         # One FFT of the whole frame, the flagged chirps (DC removed, repaired by the
         # `proc.intf_mitigation` method; the chip zeroes) swapped in first.
-        work = np.complex64 if cplx else np.float32
-        x = windowed(adc, win, work)
-        y = adc.reshape(-1, cfg.n_samples)[rows]
-        y = y.astype(work) if dc is None else np.subtract(y, dc.reshape(-1, 1)[rows], dtype=work)
-        repair(y, flags, win, proc.intf_hysteresis_samples, get_mitigation(proc.intf_mitigation),
-               frame=FrameRows(adc.reshape(-1, cfg.n_samples), rows, cfg.n_rx))
-        y *= win
-        x.reshape(-1, cfg.n_samples)[rows] = y
+        x = windowed(adc, win, np.complex64 if cplx else np.float32)
+        rep = repaired_rows(adc, dc, rows, flags, win, proc)
+        x.reshape(-1, cfg.n_samples)[rep.rows] = rep.windowed
         if cplx:
             rf = scipy.fft.fft(x, axis=-1, workers=-1, overwrite_x=True)
         else:
