@@ -281,7 +281,7 @@ def _process_frames(spec: CellSpec, comps: Components, run, radar: dict, procs: 
             return _one(f)
 
     def _one(f):
-        rows = truth[truth["frame"] == f]
+        rows = truth.iloc[np.flatnonzero(truth_frame == f)]  # = truth[truth["frame"] == f]
         sc = _scatterers(comps, rows, frame_rng(spec.seed, f, "rcs"), ctx.get(int(f)))
         adc, inr = _simulate_frames(comps, radar, sc, spec.seed, f, rows, equipment)
         # The chains of schemes sharing an ADC frame and the noise-floor metric read one
@@ -295,6 +295,7 @@ def _process_frames(spec: CellSpec, comps: Components, run, radar: dict, procs: 
         return sc, floor, pcs, ref
 
     mimo_of = {rs.name: rs.mimo for rs in schemes}
+    truth_frame = truth["frame"].to_numpy()
     clouds: dict[str, list[pd.DataFrame]] = {s.name: [] for s in schemes}
     reference: dict[str, list[pd.DataFrame]] = {s: [] for s in refs}
     # Saturated (chirp, Rx) pairs per scheme and frame (pipeline.saturation).

@@ -178,16 +178,23 @@ def _same_frame_pairs(det_frame: np.ndarray, truth_frame: np.ndarray
 
 
 def _pairs(detections: pd.DataFrame, truth: pd.DataFrame, cfg: AssociationConfig,
-           velocity_span_mps: float) -> pd.DataFrame:
+           velocity_span_mps: float, rows: np.ndarray | None = None) -> pd.DataFrame:
     """All (detection, actor) pairs of the same frame with gate distances.
+
+    `rows` (ascending positions) restricts the truth to those rows: the pairs of
+    ``truth.iloc[rows]``, without building that table.
 
     Returns a frame with columns det_index, actor_id, actor_class, is_static, pos_cost (gate
     units, <= 1 inside the gate), dv_mps (detection minus truth), alias_k, resid_mps,
     truth_radial_velocity_mps, near_x_m, near_y_m (nearest box point), box_distance_m.
     """
-    d_i, t_i = _same_frame_pairs(detections["frame"].to_numpy(), truth["frame"].to_numpy())
+    t_frame = truth["frame"].to_numpy()
+    d_i, t_i = _same_frame_pairs(detections["frame"].to_numpy(),
+                                 t_frame if rows is None else t_frame[rows])
     if not d_i.size:
         return _EMPTY_PAIRS.copy()
+    if rows is not None:
+        t_i = rows[t_i]
     # The joined columns (detection's, then its actor's), gathered by position.
     p = {c: detections[c].to_numpy()[d_i] for c in _DET_COLUMNS}
     p.update((c, truth[c].to_numpy()[t_i]) for c in _TRUTH_COLUMNS[1:])
@@ -435,8 +442,9 @@ def detection_errors(labelled: pd.DataFrame, truth: pd.DataFrame,
     if not is_true.any():
         return out
     pos = np.flatnonzero(is_true)
-    det = out.iloc[pos][["frame", "actor_id", "x_m", "y_m", "range_m",
-                         "radial_velocity_mps"]].copy()
+    # The TRUE rows' columns from arrays (not a take of every column of the table).
+    det = pd.DataFrame({c: out[c].to_numpy()[pos] for c in (
+        "frame", "actor_id", "x_m", "y_m", "range_m", "radial_velocity_mps")})
     det["row"] = pos
     done = np.zeros(len(out), dtype=bool)
     if scatterers is not None and len(scatterers):
@@ -457,11 +465,10 @@ def detection_errors(labelled: pd.DataFrame, truth: pd.DataFrame,
             done[rows] = True
     rest = np.flatnonzero(is_true & ~done)
     if len(rest):
-        sub = out.iloc[rest][["frame", "x_m", "y_m", "range_m"]].copy()
-        sub["actor_id"] = out["actor_id"].to_numpy()[rest]
-        sub["radial_velocity_mps"] = out["radial_velocity_mps"].to_numpy()[rest]
-        pairs = _pairs(sub.reset_index(drop=True), truth[truth["actor_id"].isin(
-            sub["actor_id"])], AssociationConfig(), np.inf)
+        sub = pd.DataFrame({c: out[c].to_numpy()[rest] for c in (
+            "frame", "x_m", "y_m", "range_m", "actor_id", "radial_velocity_mps")})
+        pairs = _pairs(sub, truth, AssociationConfig(), np.inf, rows=np.flatnonzero(
+            truth["actor_id"].isin(sub["actor_id"]).to_numpy()))
         pairs = pairs[pairs["actor_id"].to_numpy() == sub["actor_id"].to_numpy()[
             pairs["det_index"].to_numpy()]]
         rows = rest[pairs["det_index"].to_numpy()]
@@ -555,8 +562,8 @@ def _assign_one_to_one(labelled: pd.DataFrame, truth: pd.DataFrame, af: pd.DataF
     # Every (TRUE detection, road user) pair that passes both gates, not only the winner:
     # a detection between two actors is a candidate for both.
     span = np.inf
-    pairs = _pairs(tru.reset_index(drop=True), truth[truth["actor_class"].isin(
-        ROAD_USER_CLASSES)], cfg, span)
+    pairs = _pairs(tru.reset_index(drop=True), truth, cfg, span, rows=np.flatnonzero(
+        truth["actor_class"].isin(ROAD_USER_CLASSES).to_numpy()))
     if pairs.empty:
         return detected
     ok = (pairs["pos_cost"] <= 1.0) & (pairs["dv_mps"].abs() <= cfg.velocity_gate_mps)

@@ -430,8 +430,7 @@ def scene_scatterers(truth_frame: pd.DataFrame, rng: np.random.Generator,
     if cfg.cull_rcs_at_100m_m2 > 0 and len(sc):
         keep = sc.rcs_m2 * (100.0 / _row_norm(sc.position_m)) ** 4 >= cfg.cull_rcs_at_100m_m2
         if not keep.all():
-            sc = Scatterers(sc.position_m[keep], sc.velocity_mps[keep], sc.rcs_m2[keep],
-                            sc.actor_id[keep])
+            sc = sc.select(keep)
     return sc
 
 

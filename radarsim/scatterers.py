@@ -144,10 +144,28 @@ class Scatterers(PointGeometry):
         """Join several sets into one (order preserved)."""
         if not parts:
             return cls.empty()
-        return cls(np.concatenate([p.position_m for p in parts]),
-                   np.concatenate([p.velocity_mps for p in parts]),
-                   np.concatenate([p.rcs_m2 for p in parts]),
-                   np.concatenate([p.actor_id for p in parts]))
+        return cls._of_checked(np.concatenate([p.position_m for p in parts]),
+                               np.concatenate([p.velocity_mps for p in parts]),
+                               np.concatenate([p.rcs_m2 for p in parts]),
+                               np.concatenate([p.actor_id for p in parts]))
+
+    def select(self, keep: np.ndarray) -> "Scatterers":
+        """The scatterers where `keep` ((K,) bool or indices) holds, in order."""
+        return self._of_checked(self.position_m[keep], self.velocity_mps[keep],
+                                self.rcs_m2[keep], self.actor_id[keep])
+
+    @classmethod
+    def _of_checked(cls, pos: np.ndarray, vel: np.ndarray, rcs: np.ndarray,
+                    aid: np.ndarray) -> "Scatterers":
+        """A set from the (new) arrays of checked sets (joined or subset: every rule of
+        `__init__` still holds), without checking them again (the scene builds several sets a
+        frame)."""
+        out = object.__new__(cls)
+        for name, arr in (("position_m", pos), ("velocity_mps", vel), ("rcs_m2", rcs),
+                          ("actor_id", aid)):
+            arr.setflags(write=False)
+            object.__setattr__(out, name, arr)
+        return out
 
     @property
     def radial_velocity_mps(self) -> np.ndarray:

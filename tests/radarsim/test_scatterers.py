@@ -79,3 +79,25 @@ def test_from_spherical_round_trips_range_angles_and_radial_velocity():
     np.testing.assert_allclose(sc.elevation_deg, [5.0, -10.0])
     np.testing.assert_allclose(sc.radial_velocity_mps, [-12.0, 7.5])
     np.testing.assert_array_equal(sc.actor_id, [-1, -1])
+
+
+def test_concatenate_and_select_keep_values_order_and_read_only_arrays():
+    """Joined and selected sets (built without re-checking checked arrays) hold the parts'
+    values in order, as new read-only arrays the parts do not share."""
+    a = Scatterers.from_spherical([10.0, 20.0], [5.0, -5.0], [0.0, 1.0], [-3.0, 2.0],
+                                  [1.0, 2.0], actor_id=[4, 5])
+    b = Scatterers.from_spherical([30.0], [0.0], [0.0], [1.0], [3.0])
+    ab = Scatterers.concatenate([a, b])
+    np.testing.assert_array_equal(ab.position_m, np.vstack([a.position_m, b.position_m]))
+    np.testing.assert_array_equal(ab.velocity_mps, np.vstack([a.velocity_mps, b.velocity_mps]))
+    np.testing.assert_array_equal(ab.rcs_m2, [1.0, 2.0, 3.0])
+    np.testing.assert_array_equal(ab.actor_id, [4, 5, -1])
+    sel = ab.select(np.array([True, False, True]))
+    np.testing.assert_array_equal(sel.rcs_m2, [1.0, 3.0])
+    np.testing.assert_array_equal(sel.actor_id, [4, -1])
+    for s in (ab, sel):
+        assert len(s) == s.position_m.shape[0]
+        for arr in (s.position_m, s.velocity_mps, s.rcs_m2, s.actor_id):
+            assert not arr.flags.writeable
+            assert not np.shares_memory(arr, a.position_m)
+    assert len(Scatterers.concatenate([Scatterers.empty(), Scatterers.empty()])) == 0
