@@ -63,7 +63,8 @@ def log_power(p: np.ndarray) -> np.ndarray:
 def point_cloud(cfg: RadarConfig, proc: ProcessingConfig, range_pos: np.ndarray,
                 velocity: np.ndarray, az: np.ndarray, el: np.ndarray, snr_db: np.ndarray,
                 bins: dict[str, np.ndarray]) -> pd.DataFrame:
-    """Point cloud of n detections, sorted by (range, Doppler, azimuth) bin.
+    """Point cloud of n detections (`POINT_CLOUD_COLUMNS`, ``saturated`` False), sorted by
+    (range, Doppler, azimuth) bin.
 
     range_pos : (n,) fractional range bin; velocity (m/s), az, el (rad), snr_db : (n,);
     bins : "range_bin", "doppler_bin", "azimuth_bin" -> (n,) int."""
@@ -87,7 +88,10 @@ def point_cloud(cfg: RadarConfig, proc: ProcessingConfig, range_pos: np.ndarray,
         "y_m": rng_m * cos_el * np.sin(az),
         "z_m": rng_m * np.sin(el),
         **bins,
-    })
+        # Filled by `pipeline.saturation.apply_policy`; present from the start, so that the
+        # policy replaces a column instead of growing the frame (a copy of every column).
+        "saturated": np.zeros(rng_m.size, dtype=bool),
+    }, copy=False)
     return df
 
 
