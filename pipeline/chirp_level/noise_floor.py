@@ -12,7 +12,7 @@ import scipy.fft
 from radarsim.config import RadarConfig
 
 from ..config import WINDOWS, ProcessingConfig
-from ..kernels import window
+from ..kernels import doppler_windowed, window
 from ..threads import n_parts
 from .stage import RANGE_STAGE_FIELDS, range_stage
 
@@ -70,8 +70,9 @@ def noise_floor_rise(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig |
     floor_r = float(_power_median(sub)) / np.log(2)
     # The FFT on every core, or on this thread alone inside `pipeline.threads.inline` (a sweep
     # cell's frames already keep the cores busy): the same transforms either way.
-    spec = scipy.fft.fft(sub * wd.astype(np.float32)[:, None, None], axis=0,
-                         workers=-1 if n_parts() > 1 else 1)
+    # (`doppler_windowed`: numpy's complex64 x float32 window product, bit for bit.)
+    spec = scipy.fft.fft(doppler_windowed(sub, wd.astype(np.float32)), axis=0,
+                         workers=-1 if n_parts() > 1 else 1, overwrite_x=True)
     floor_d = float(_power_median(spec)) / np.log(2)
     return NoiseFloor(10 * np.log10(floor_r / ref_r),
                       10 * np.log10(floor_d / (ref_r * np.sum(wd ** 2))))

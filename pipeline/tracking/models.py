@@ -57,9 +57,17 @@ class MotionModel:
         return self.transition(dt_s)
 
 
+#: The per-axis identity of `_per_axis` (read-only).
+_EYE2 = np.eye(2)
+_EYE2.setflags(write=False)
+
+
 def _per_axis(block: np.ndarray) -> np.ndarray:
     # State order is [x, y, vx, vy, ax, ay]: derivative order major, axis minor.
-    return np.kron(block, np.eye(2))
+    # np.kron(block, eye(2)) as the one broadcast product kron computes (the same products,
+    # signed zeros included), without kron's general-shape bookkeeping (two calls a frame).
+    n = block.shape[0]
+    return (block[:, None, :, None] * _EYE2[None, :, None, :]).reshape(2 * n, 2 * n)
 
 
 def _cv_transition(dt: float) -> np.ndarray:

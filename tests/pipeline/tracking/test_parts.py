@@ -180,3 +180,22 @@ def test_points_from_frame_reads_the_columns_whatever_else_the_frame_holds():
             assert g.dtype == np.float64 and g.flags.c_contiguous
             np.testing.assert_array_equal(g, w, err_msg=name)
     np.testing.assert_array_equal(Points.from_frame(base).snr_db, want[3])
+
+
+@pytest.mark.parametrize("name", sorted(MOTION_MODELS))
+def test_motion_model_matrices_are_the_per_axis_kronecker_products(name):
+    """F and Q of each model are kron(block, I2) of the 1-D block, bit for bit (the state is
+    derivative-major, axis-minor); the 1-D CV block at dt is [[1, dt], [0, 1]]."""
+    from pipeline.tracking.models import _per_axis
+    g = np.random.default_rng(5)
+    for n in (2, 3):
+        for _ in range(50):
+            block = g.normal(size=(n, n)) * 10 ** g.uniform(-4, 4)
+            block[g.random((n, n)) < 0.3] = 0.0
+            assert _per_axis(block).tobytes() == np.kron(block, np.eye(2)).tobytes()
+    model = MOTION_MODELS[name]
+    f = model.transition(0.05)
+    assert f.shape == (model.n_state, model.n_state)
+    assert f[0, 2] == 0.05 and f[1, 3] == 0.05 and f[0, 3] == 0.0 and f[0, 0] == 1.0
+    q = model.process_noise(0.05, 2.0)
+    np.testing.assert_array_equal(q, q.T)
