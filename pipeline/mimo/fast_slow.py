@@ -45,10 +45,10 @@ from scipy.optimize import linear_sum_assignment
 
 from radarsim.config import RadarConfig
 
-from ..chirp_level import range_stage
+from ..chirp_level import windowed_range_stage
 from ..compensation import compensate
 from ..config import WINDOWS, ProcessingConfig
-from ..kernels import doppler_fft, window
+from ..kernels import slow_time_fft, window
 from ..stages import (RangeDopplerHits, array_dft, empty_cloud, hypothesis_cloud,
                       noncoherent_hits, power_of)
 from .base import DetectionMap, DopplerAzimuth, MimoChain, register_chain
@@ -76,13 +76,13 @@ class FastSlowMaps(NamedTuple):
     slow_virt: np.ndarray
 
 
-def _set_spectra(rf: np.ndarray, n_tx: int, win: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """(C_set, R, B) range spectra of one TDMA set -> per-slot Doppler spectra
-    (B, n_dop, n_tx x R) complex64 (a view of the FFT output, slot-major) and their power
-    summed over the channels (B, n_dop) float32."""
-    n_c, n_rx, n_range = rf.shape
+def _set_spectra(xw: np.ndarray, n_tx: int) -> tuple[np.ndarray, np.ndarray]:
+    """(C_set, R, B) range spectra of one TDMA set, times the Doppler window of each chirp's
+    period (overwritten) -> per-slot Doppler spectra (B, n_dop, n_tx x R) complex64 (a view of
+    the FFT output, slot-major) and their power summed over the channels (B, n_dop) float32."""
+    n_c, n_rx, n_range = xw.shape
     n_dop = n_c // n_tx
-    spec = doppler_fft(rf.reshape(n_dop, n_tx, n_rx, n_range), win)  # (D, S, R, B)
+    spec = slow_time_fft(xw.reshape(n_dop, n_tx, n_rx, n_range))  # (D, S, R, B)
     power = np.ascontiguousarray(power_of(spec).sum(axis=(1, 2)).T)
     return np.moveaxis(spec, 3, 0).reshape(n_range, n_dop, -1), power
 
@@ -98,10 +98,15 @@ def fast_slow_maps(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) ->
     proc : ProcessingConfig
     """
     sets = cfg.scheme.chirp_sets(cfg)
-    rf = range_stage(cfg, adc, proc)  # (C, R, B): chirp-level chain + range FFT
-    win = window(WINDOWS[proc.doppler_window], sets.n_doppler_bins)
-    fast_virt, fast_power = _set_spectra(rf[sets.fast], cfg.n_tx, win)
-    slow_virt, slow_power = _set_spectra(rf[sets.slow], cfg.n_tx, win)
+    # Each chirp's value of its set's Doppler window (chirp = n_tx c' + slot within a set).
+    per_chirp = np.empty(cfg.n_chirps, np.float32)
+    slots = np.repeat(window(WINDOWS[proc.doppler_window], sets.n_doppler_bins), cfg.n_tx)
+    per_chirp[sets.fast] = slots
+    per_chirp[sets.slow] = slots
+    # (C, R, B): chirp-level chain + range FFT, times the window
+    xw = windowed_range_stage(cfg, adc, proc, per_chirp)
+    fast_virt, fast_power = _set_spectra(xw[sets.fast], cfg.n_tx)
+    slow_virt, slow_power = _set_spectra(xw[sets.slow], cfg.n_tx)
     return FastSlowMaps(fast_power, slow_power, fast_virt, slow_virt)
 
 
