@@ -61,7 +61,7 @@ from typing import NamedTuple
 import numba
 import numpy as np
 
-from .threads import run_parts, spans
+from .threads import n_parts, run_parts, spans
 
 __all__ = ["FastTimeBasis", "fast_time_basis", "lowrank_fill"]
 
@@ -422,8 +422,10 @@ def lowrank_fill(x: np.ndarray, flags: np.ndarray, bursts: np.ndarray, basis: Fa
     k = b.shape[1]
     vec_c = np.zeros((n, -(-k // FIT_COLUMNS) * FIT_COLUMNS), dtype=wide)
     vec_c[:, :k] = b.conj()
-    rhs = (x @ b.conj()).astype(wide)
-    prefix = _gram_prefix(vec_c, np.ascontiguousarray(b, dtype=wide))
+    # the rows' projections (BLAS) and the Gram sums (compiled) side by side on the cores
+    calls = [lambda: (x @ b.conj()).astype(wide),
+             lambda: _gram_prefix(vec_c, np.ascontiguousarray(b, dtype=wide))]
+    rhs, prefix = run_parts(calls) if n_parts() > 1 else [c() for c in calls]
     vec_t = np.ascontiguousarray(b.T, dtype=wide)
     shrink = basis.shrink.astype(np.float64)
     row_start = np.r_[starts, len(x)]

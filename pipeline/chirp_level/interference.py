@@ -38,6 +38,7 @@ import numpy as np
 
 from ..config import INTF_THRESHOLD_MODES, ProcessingConfig
 from ..interference_repair import FrameRows, get_mitigation, repair
+from ..threads import run_parts, spans
 
 __all__ = ["interference_flags", "zero_flagged", "flagged_rows", "repaired_rows", "RepairedRows",
            "INTF_THRESHOLD_MODES"]
@@ -196,10 +197,20 @@ def repaired_rows(adc: np.ndarray, dc: np.ndarray | None, rows: np.ndarray, flag
     RepairedRows
     """
     n_rx, n = adc.shape[1], adc.shape[-1]
-    work = np.complex64 if np.iscomplexobj(adc) else np.float32
-    y = adc.reshape(-1, n)[rows]
-    y = y.astype(work) if dc is None else np.subtract(y, dc.reshape(-1, 1)[rows], dtype=work)
+    a2 = adc.reshape(-1, n)
+    y = np.empty((len(rows), n), np.complex64 if np.iscomplexobj(adc) else np.float32)
+    parts = spans(len(rows))  # elementwise passes in parts on the cores: the same values
+
+    def dc_removed(lo: int, hi: int) -> None:
+        if dc is None:
+            y[lo:hi] = a2[rows[lo:hi]]
+        else:
+            np.subtract(a2[rows[lo:hi]], dc.reshape(-1, 1)[rows[lo:hi]], out=y[lo:hi],
+                        dtype=y.dtype)
+
+    run_parts([lambda lo=lo, hi=hi: dc_removed(lo, hi) for lo, hi in parts])
     repair(y, flags, win, proc.intf_hysteresis_samples, get_mitigation(proc.intf_mitigation),
-           frame=FrameRows(adc.reshape(-1, n), rows, n_rx))
-    y *= win
+           frame=FrameRows(a2, rows, n_rx))
+    run_parts([lambda lo=lo, hi=hi: np.multiply(y[lo:hi], win, out=y[lo:hi])
+               for lo, hi in parts])
     return RepairedRows(rows, y)
