@@ -1,10 +1,13 @@
 """Shared factory fixtures."""
 from __future__ import annotations
 
+import os
+
 import numpy as np
 import pytest
 
 import radarsim
+from tests import numba_warm
 
 
 @pytest.fixture
@@ -43,3 +46,59 @@ def make_x18():
                                     slope_hz_per_s=30e12, ramp_end_time_s=18.81e-6,
                                     idle_time_s=5e-6, antenna_pattern="isotropic")
     return _make
+
+
+# Numba kernels compiled once per run, not once per xdist worker (tests/numba_warm.py). Only in
+# xdist workers: a run of a few tests compiles only what it meets.
+_WARM = numba_warm.Warmup()
+_WARM_LATER: list[str] = []
+_WARM_TABLE: dict = {}
+_WARM_REPORTS: list[dict] = []
+
+
+def pytest_sessionstart(session):
+    worker = os.environ.get("PYTEST_XDIST_WORKER", "")
+    if worker.startswith("gw"):
+        _WARM_TABLE.update(numba_warm.read_signatures())
+        own, others = numba_warm.split(int(worker[2:]),
+                                       int(os.environ.get("PYTEST_XDIST_WORKER_COUNT", "1")),
+                                       _WARM_TABLE)
+        numba_warm.warm(own, _WARM_TABLE, _WARM)
+        _WARM_LATER.extend(others)
+
+
+@pytest.hookimpl(hookwrapper=True)
+def pytest_runtestloop(session):
+    # After collection: the other workers have had that long to write their shares.
+    numba_warm.warm(_WARM_LATER, _WARM_TABLE, _WARM)
+    _WARM_LATER.clear()
+    yield
+
+
+def pytest_sessionfinish(session):
+    if _WARM_TABLE and hasattr(session.config, "workeroutput"):
+        session.config.workeroutput["numba_warm"] = {
+            "worker": os.environ.get("PYTEST_XDIST_WORKER", ""), "compiled": _WARM.compiled,
+            "stale": _WARM.stale, "cpu_s": _WARM.cpu_s, "wall_s": _WARM.wall_s,
+            "missing": numba_warm.missing(_WARM_TABLE)}
+
+
+@pytest.hookimpl(optionalhook=True)
+def pytest_testnodedown(node, error):
+    report = getattr(node, "workeroutput", {}).get("numba_warm")
+    if report:
+        _WARM_REPORTS.append(report)
+
+
+def pytest_terminal_summary(terminalreporter):
+    for r in sorted(_WARM_REPORTS, key=lambda r: r["worker"]):
+        terminalreporter.write_line(
+            f"numba warm-up {r['worker']}: {r['compiled']} signatures in {r['wall_s']:.1f} s "
+            f"({r['cpu_s']:.1f} s CPU)")
+        for line in r["stale"]:
+            terminalreporter.write_line(f"  stale (kernel changed?): {line}")
+        for line in r["missing"]:
+            terminalreporter.write_line(f"  compiled outside the list: {line}")
+    if any(r["stale"] or r["missing"] for r in _WARM_REPORTS):
+        terminalreporter.write_line("  (python -m tests.numba_warm rewrites "
+                                    "tests/numba_signatures.txt)")

@@ -1,0 +1,193 @@
+"""Compile the pipeline's numba kernels once per test run instead of once per xdist worker.
+
+The kernels are ``cache=True``: compiled once per machine, then loaded from ``__pycache__``.
+In a clean clone nothing is cached, and each of the two xdist workers (and every CLI
+subprocess a test started before the cache was written) compiled every signature it met on
+its own: ~16 s CPU of compilation done about twice. Here the signatures listed in
+`numba_signatures.txt` are split by module into one share per worker: when its session
+starts, each worker compiles its share (written to the disk cache); after collecting, before
+its first test, it loads the other shares, waiting if another worker is still compiling one.
+Every test, and every subprocess a test starts, then finds them compiled.
+
+A module's signatures are compiled under a per-module file lock because numba keeps one
+cache index per function and rewrites it without a lock (load, add, save): two processes
+compiling one function at once can lose an entry or pair it with the other's data file. The
+kernels of one module call only kernels of that module, so modules are disjoint units.
+
+Only speed depends on the list: a signature the kernels no longer take is skipped, one the
+tests compile that the list lacks is compiled where it is met (as without the warm-up); the
+terminal summary names both (`python -m tests.numba_warm` rewrites the list from the cache
+indexes a suite run leaves).
+"""
+from __future__ import annotations
+
+import contextlib
+import hashlib
+import importlib
+import os
+import re
+import sys
+import tempfile
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+SIGNATURES = Path(__file__).with_name("numba_signatures.txt")
+ROOT = Path(__file__).resolve().parents[1]
+PACKAGES = ("pipeline", "radarsim", "metrics", "harness", "scenarios")
+
+
+@dataclass
+class Warmup:
+    """What one process's warm-up did so far."""
+    compiled: int = 0
+    stale: list[str] = field(default_factory=list)
+    cpu_s: float = 0.0
+    wall_s: float = 0.0
+
+
+def read_signatures(path: Path = SIGNATURES) -> dict[str, list[tuple[str, str]]]:
+    """module -> [(function, signature repr)] from `path` (lines ``module function sig``)."""
+    out: dict[str, list[tuple[str, str]]] = {}
+    if not path.exists():
+        return out
+    for line in path.read_text().splitlines():
+        if line.strip() and not line.startswith("#"):
+            module, function, sig = line.split(" ", 2)
+            out.setdefault(module, []).append((function, sig))
+    return out
+
+
+def shares(modules: dict[str, list], n: int) -> list[list[str]]:
+    """Modules split into n shares of about equal signature count (largest first, each to the
+    lightest share so far): the compile time of a signature is roughly even, ~0.5-1 s."""
+    out: list[list[str]] = [[] for _ in range(n)]
+    load = [0] * n
+    for m in sorted(modules, key=lambda m: (-len(modules[m]), m)):
+        i = load.index(min(load))
+        out[i].append(m)
+        load[i] += len(modules[m])
+    return out
+
+
+def _types_namespace() -> dict:
+    from numba.core import types
+    ns = dict(vars(types))
+    ns["bool"] = types.boolean  # repr of types.boolean
+    ns["omitted"] = lambda default: types.Omitted(default)  # an argument left at its default
+    ns["_literal"] = types.literal
+    return ns
+
+
+def _parse(sig: str, ns: dict) -> tuple:
+    """The argument types of a signature's repr (``Literal[int](0)``: a constant argument)."""
+    return tuple(eval(re.sub(r"Literal\[\w+\]\(([^()]*)\)", r"_literal(\1)", sig), ns))
+
+
+@contextlib.contextmanager
+def _module_lock(module: str):
+    """An exclusive flock shared by every process of this machine warming `module` of this
+    checkout (released by the OS if the holder dies)."""
+    try:
+        import fcntl
+    except ImportError:  # no flock: compile unlocked (the warm-up is an optimisation)
+        yield
+        return
+    key = hashlib.sha1(f"{ROOT}:{module}".encode()).hexdigest()[:16]
+    with open(Path(tempfile.gettempdir()) / f"numba-warm-{key}.lock", "a") as f:
+        fcntl.flock(f, fcntl.LOCK_EX)
+        try:
+            yield
+        finally:
+            fcntl.flock(f, fcntl.LOCK_UN)
+
+
+def warm(modules: list[str], table: dict[str, list[tuple[str, str]]], out: Warmup) -> None:
+    """Compile (or load from the disk cache) the signatures of `modules` listed in `table`,
+    one module at a time under its lock; counts and failures added to `out`."""
+    if os.environ.get("NUMBA_DISABLE_JIT", "0") not in ("", "0"):
+        return
+    t0, c0 = time.perf_counter(), time.process_time()
+    ns = _types_namespace()
+    for module in modules:
+        with _module_lock(module):
+            try:
+                mod = importlib.import_module(module)
+            except Exception as e:  # noqa: BLE001 - a module gone: its lines are stale
+                out.stale += [f"{module} {fn}: {type(e).__name__}" for fn, _ in table[module]]
+                continue
+            for fn, sig in table[module]:
+                try:
+                    getattr(mod, fn).compile(_parse(sig, ns))
+                    out.compiled += 1
+                except Exception as e:  # noqa: BLE001 - the kernel changed: compiled lazily
+                    out.stale.append(f"{module}.{fn}{sig[:60]}...: {type(e).__name__}")
+    out.cpu_s += time.process_time() - c0
+    out.wall_s += time.perf_counter() - t0
+
+
+def split(index: int, n_workers: int, table: dict[str, list]) -> tuple[list[str], list[str]]:
+    """(worker `index`'s own share of the modules, the others' modules)."""
+    parts = shares(table, n_workers)
+    own = parts[index % n_workers]
+    return own, [m for p in parts if p is not own for m in p]
+
+
+def _dispatchers():
+    """(module, name, dispatcher) of every cached numba kernel in the project's packages
+    (imported)."""
+    import pkgutil
+
+    from numba.core.registry import CPUDispatcher
+    for pkg in PACKAGES:
+        root = importlib.import_module(pkg)
+        names = [pkg] + [m.name for m in pkgutil.walk_packages(root.__path__, pkg + ".")
+                         if not m.name.endswith("__main__")]
+        for name in names:
+            mod = sys.modules.get(name) or importlib.import_module(name)
+            for k, v in vars(mod).items():
+                if (isinstance(v, CPUDispatcher) and v.py_func.__module__ == name
+                        and v._cache.__class__.__name__ != "NullCache"):
+                    yield name, k, v
+
+
+def missing(table: dict[str, list[tuple[str, str]]]) -> list[str]:
+    """Signatures this process compiled or loaded that `table` lacks (kernels of modules
+    already imported only)."""
+    from numba.core.registry import CPUDispatcher
+    have = {(m, fn, sig) for m, rows in table.items() for fn, sig in rows}
+    out = []
+    for name, mod in list(sys.modules.items()):
+        if not name.startswith(tuple(p + "." for p in PACKAGES)) or mod is None:
+            continue
+        for k, v in list(vars(mod).items()):
+            if isinstance(v, CPUDispatcher) and v.py_func.__module__ == name:
+                out += [f"{name}.{k}{s!r}" for s in v.signatures
+                        if (name, k, repr(tuple(s))) not in have]
+    return sorted(set(out))
+
+
+def record(path: Path = SIGNATURES) -> int:
+    """Rewrite `path` from the on-disk cache indexes of the current sources (run the suite
+    first, so that they hold what it compiles). Returns the number of signatures."""
+    ns = _types_namespace()
+    lines = []
+    for module, name, d in _dispatchers():
+        index = d._cache._cache_file._load_index()  # {(signature, target), ...}: fresh only
+        for sig in sorted({repr(tuple(key[0])) for key in index}):
+            try:
+                ok = repr(_parse(sig, ns)) == sig
+            except Exception:  # noqa: BLE001 - a type this parser does not know
+                ok = False
+            if ok:
+                lines.append(f"{module} {name} {sig}")
+            else:  # compiled lazily where met
+                print(f"skipped (no eval(repr()) round trip): {module}.{name}{sig}")
+    path.write_text("# Signatures of the cached numba kernels the test suite compiles: "
+                    "tests/numba_warm.py\n# (python -m tests.numba_warm rewrites it after a "
+                    "suite run).\n" + "\n".join(lines) + "\n")
+    return len(lines)
+
+
+if __name__ == "__main__":
+    print(f"{record()} signatures written to {SIGNATURES}")
