@@ -235,17 +235,28 @@ def _scatterer_support(pairs: pd.DataFrame, detections: pd.DataFrame,
     out = np.zeros(len(pairs), dtype=bool)
     if pairs.empty or scatterers is None or scatterers.empty:
         return out
-    sc = scatterers.loc[scatterers["rcs_m2"] > 0, ["frame", "actor_id", "x_m", "y_m"]]
-    q = pd.DataFrame({"pair": np.arange(len(pairs)), "frame": pairs["frame"].to_numpy(),
-                      "actor_id": pairs["actor_id"].to_numpy(),
-                      "dx": detections["x_m"].to_numpy()[pairs["det_index"].to_numpy()],
-                      "dy": detections["y_m"].to_numpy()[pairs["det_index"].to_numpy()]})
-    m = q.merge(sc, on=["frame", "actor_id"], how="inner")
-    if m.empty:
+    lit = scatterers["rcs_m2"].to_numpy() > 0
+    s_frame, s_actor = scatterers["frame"].to_numpy()[lit], scatterers["actor_id"].to_numpy()[lit]
+    # Every (pair, scatterer of the pair's frame and actor) combination, as the inner join on
+    # (frame, actor_id) gives them (order aside: only whether any is in the gate counts).
+    f_all, f_code = np.unique(np.concatenate([s_frame, pairs["frame"].to_numpy()]),
+                              return_inverse=True)
+    a_all, a_code = np.unique(np.concatenate([s_actor, pairs["actor_id"].to_numpy()]),
+                              return_inverse=True)
+    key = f_code.astype(np.int64) * max(len(a_all), 1) + a_code
+    s_key, p_key = key[:s_frame.size], key[s_frame.size:]
+    order = np.argsort(s_key, kind="stable")
+    lo = np.searchsorted(s_key[order], p_key, side="left")
+    n = np.searchsorted(s_key[order], p_key, side="right") - lo
+    if not n.any():
         return out
-    cost = _gate_cost(m["dx"].to_numpy(), m["dy"].to_numpy(), m["x_m"].to_numpy(),
-                      m["y_m"].to_numpy(), cfg)
-    out[np.unique(m["pair"].to_numpy()[cost <= 1.0])] = True
+    p_i = np.repeat(np.arange(p_key.size), n)
+    s_i = order[np.repeat(lo, n) + np.arange(p_i.size) - np.repeat(np.cumsum(n) - n, n)]
+    det = pairs["det_index"].to_numpy()[p_i]
+    cost = _gate_cost(detections["x_m"].to_numpy()[det], detections["y_m"].to_numpy()[det],
+                      scatterers["x_m"].to_numpy()[lit][s_i],
+                      scatterers["y_m"].to_numpy()[lit][s_i], cfg)
+    out[np.unique(p_i[cost <= 1.0])] = True
     return out
 
 

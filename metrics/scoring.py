@@ -19,7 +19,8 @@ import pandas as pd
 from . import detection as det
 from . import r79
 from .association import (CLUTTER, GHOST, LABELS, STATIC_CLASSES, TRUE, VELOCITY_AMBIGUOUS,
-                          AssociationConfig, actor_frames, associate, detection_errors)
+                          AssociationConfig, _pair_index, actor_frames, associate,
+                          detection_errors)
 from .registry import case_criteria
 from .velocity import FAILURE, RIGHT, velocity_check
 
@@ -234,13 +235,27 @@ def add_snr_gains(summary: pd.DataFrame, actors: pd.DataFrame, gain_schemes, bas
     """SNR-gain columns (`detection.snr_gain_stats`) of every scheme in `gain_schemes` over
     ``base`` on the same actor and frame, in place; rows of other schemes (the baseline, chain
     variants sharing an ADC frame) get NaN and count 0."""
-    gains = {s: det.snr_gain_stats(det.snr_gain_pairs(actors, s, base)) for s in gain_schemes}
+    gains = {s: det.snr_gain_stats(_gain_pairs(actors, s, base)) for s in gain_schemes}
     for k in det.snr_gain_stats(pd.DataFrame({"snr_gain_db": pd.Series(dtype=float)})):
         count = k.endswith("_n")
         summary[k] = np.array([gains[s][k] if s in gains else (0 if count else np.nan)
                                for s in summary["scheme"]],
                               dtype=np.int64 if count else float)
     summary["case_pass"] = summary["case_pass"].astype(float)
+
+
+def _gain_pairs(af: pd.DataFrame, a: str, b: str) -> pd.DataFrame:
+    """The two columns of `detection.snr_gain_pairs` that `snr_gain_stats` reads
+    (snr_gain_db, reference_snr_db), in its row order (scheme ``a``'s detected actor-frames in
+    table order that ``b`` detected too), by integer pair keys instead of two indexed tables
+    and a join."""
+    scheme, hit = af["scheme"].to_numpy(), af["detected"].to_numpy(dtype=bool)
+    ra, rb = np.flatnonzero((scheme == a) & hit), np.flatnonzero((scheme == b) & hit)
+    frame, actor = af["frame"].to_numpy(), af["actor_id"].to_numpy()
+    at = _pair_index(frame[rb], actor[rb], frame[ra], actor[ra])
+    ra, rb = ra[at >= 0], rb[at[at >= 0]]
+    snr = af["max_snr_db"].to_numpy()
+    return pd.DataFrame({"reference_snr_db": snr[rb], "snr_gain_db": snr[ra] - snr[rb]})
 
 
 def frame_counts(labelled: pd.DataFrame, frames: np.ndarray) -> pd.DataFrame:

@@ -93,3 +93,21 @@ def test_aliased_static_clutter_is_clutter_and_a_velocity_failure():
     s = score_scheme(lab, truth, sc, 4, cfg, CaseInfo(target_ids=[0]))
     assert s.row["n_ghost"] == 0 and s.row["n_velocity_resolution_failures"] == 1
     assert s.row["velocity_unambiguity_rate"] == pytest.approx(4 / 5)
+
+
+def test_gain_pairs_are_snr_gain_pairs_in_its_order():
+    """add_snr_gains' pair columns equal detection.snr_gain_pairs' (same rows, same order:
+    scheme a's detected actor-frames in table order that b detected too), shuffled tables,
+    pairs only one scheme detected, a scheme without rows."""
+    from metrics.detection import snr_gain_pairs
+    from metrics.scoring import _gain_pairs
+    g = np.random.default_rng(4)
+    rows = [{"scheme": s, "frame": f, "actor_id": a, "actor_class": "car", "range_m": 10.0 + f,
+             "detected": bool(g.random() < 0.7), "max_snr_db": float(g.uniform(5, 40))}
+            for s in ("ddma", "tdma") for f in range(6) for a in (3, 1, 7)]
+    af = pd.DataFrame(rows).sample(frac=1.0, random_state=1).reset_index(drop=True)
+    for a, b in (("ddma", "tdma"), ("tdma", "ddma"), ("ddma", "none")):
+        want, got = snr_gain_pairs(af, a, b), _gain_pairs(af, a, b)
+        assert len(got) == len(want)
+        for col in ("snr_gain_db", "reference_snr_db"):
+            np.testing.assert_array_equal(got[col].to_numpy(), want[col].to_numpy())
