@@ -189,9 +189,7 @@ def ddma_coherent_power(spec: np.ndarray, energy: np.ndarray, tx_pos: np.ndarray
             b1 = min(b0 + blk, hi)
             x = np.empty((n_rows, (b1 - b0) * n_dop), np.complex64)
             _gather_block(spec, tx1_band, pos, n_subbands, x, b0, b1)
-            y = (dft @ x).view(np.float32)
-            np.square(y, out=y)
-            np.add(y[:, 0::2], y[:, 1::2], out=power[:, b0 * n_dop: b1 * n_dop])
+            _power_into((dft @ x).view(np.float32), power, b0 * n_dop)
 
     run_parts([lambda lo=lo, hi=hi: part(lo, hi) for lo, hi in parts])
     return power, tx1_band
@@ -261,6 +259,18 @@ def _gather_block(spec, tx1_band, tx_pos, n_sb, out, b0, b1):
                 c = ((band + tx_pos[i]) % n_sb) * n_dop + d
                 for rx in range(n_rx):
                     out[i * n_rx + rx, col] = spec[c, rx, b]
+
+
+@numba.njit(cache=True, nogil=True)
+def _power_into(yv, out, col0):
+    """out[:, col0 + j] = yv[:, 2j]^2 + yv[:, 2j + 1]^2: |y|^2 of a complex64 product seen as
+    float32 (re, im) pairs, as `stages.power_of` (two rounded squares, a rounded sum)."""
+    m, n2 = yv.shape
+    for i in range(m):
+        for j in range(n2 // 2):
+            re = yv[i, 2 * j]
+            im = yv[i, 2 * j + 1]
+            out[i, col0 + j] = re * re + im * im
 
 
 def ddma_metric(power: np.ndarray, n_subbands: int, n_tx: int) -> np.ndarray:

@@ -25,7 +25,8 @@ from scipy.signal import get_window
 from .cfar import CFAR_MODES, noise_estimate, training_offsets
 from .threads import run_parts, spans
 
-__all__ = ["window", "range_fft", "doppler_fft", "slow_time_fft", "doppler_windowed",
+__all__ = ["window", "range_fft", "windowed", "samples_windowed", "doppler_fft", "slow_time_fft",
+           "doppler_windowed",
            "rx_energy",
            "ArrayLayout",
            "array_layout", "layout_of", "local_max_mask", "parabolic_offset", "candidate_cfar",
@@ -73,10 +74,35 @@ def windowed(x: np.ndarray, win: np.ndarray, dtype) -> np.ndarray:
     per_row = win.ndim == x.ndim and win.shape[0] > 1
 
     def block(lo: int, hi: int) -> None:
-        np.multiply(x[lo:hi], win[lo:hi] if per_row else win, out=out[lo:hi], dtype=dtype)
+        if _samples_case(x, win, out):
+            samples_windowed(x[lo:hi], win, out[lo:hi])
+        else:
+            np.multiply(x[lo:hi], win[lo:hi] if per_row else win, out=out[lo:hi], dtype=dtype)
 
     run_parts([lambda lo=lo, hi=hi: block(lo, hi) for lo, hi in spans(out.shape[0])])
     return out
+
+
+def _samples_case(x: np.ndarray, win: np.ndarray, out: np.ndarray) -> bool:
+    return (x.dtype == np.int16 and x.ndim == 3 and win.dtype == np.float32 and win.ndim == 1
+            and out.dtype == np.float32)
+
+
+def samples_windowed(x: np.ndarray, win: np.ndarray, out: np.ndarray) -> np.ndarray:
+    """``np.multiply(x, win, out=out, dtype=np.float32)`` of (n0, n1, n) int16 samples and an
+    (n,) float32 window, bit for bit (each int16 is exact in float32, then one float32
+    product), as one compiled loop instead of numpy's casting buffer (~3x faster)."""
+    _samples_times_window(x, win, out)
+    return out
+
+
+@numba.njit(cache=True, nogil=True)
+def _samples_times_window(x, w, out):
+    n0, n1, n2 = x.shape
+    for c in range(n0):
+        for r in range(n1):
+            for j in range(n2):
+                out[c, r, j] = np.float32(x[c, r, j]) * w[j]
 
 
 def doppler_fft(x: np.ndarray, win: np.ndarray, axis: int = 0) -> np.ndarray:

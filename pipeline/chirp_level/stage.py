@@ -21,7 +21,7 @@ import scipy.fft
 from radarsim.config import RadarConfig
 
 from ..config import INTF_THRESHOLD_MODES, WINDOWS, ProcessingConfig
-from ..kernels import doppler_windowed, range_fft, window, windowed
+from ..kernels import doppler_windowed, range_fft, samples_windowed, window, windowed
 from ..threads import run_parts, spans
 from .dc import remove_dc, window_spectrum
 from .ege import HWA_OUTPUT_SCALE, _ege_blocks, ege_compress, ege_setup
@@ -172,7 +172,7 @@ def _blockwise(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig, dc: np
     out = np.empty((n_c, n_rx, n_b), np.complex64)
 
     def block(c0: int, c1: int) -> None:
-        x = np.multiply(adc[c0:c1], win, dtype=np.float32)
+        x = samples_windowed(adc[c0:c1], win, np.empty((c1 - c0, n_rx, n_s), np.float32))
         if rep is not None:
             rep.swap_into(x, c0)
         rf = scipy.fft.rfft(x, axis=-1, workers=1)[..., :n_b]

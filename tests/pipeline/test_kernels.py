@@ -92,3 +92,16 @@ def test_doppler_window_equals_numpy_complex_product_bit_for_bit(shape):
         ref = scipy.fft.fft(np.multiply(x, win.reshape((-1,) + (1,) * (x.ndim - 1))), axis=0)
         got = doppler_fft(x, win)
     assert got.tobytes() == ref.tobytes()
+
+
+def test_samples_windowed_equals_numpy_casting_product_bit_for_bit():
+    """int16 samples (both rails included) times a float32 window, as numpy's multiply with
+    dtype=float32 computes it."""
+    from pipeline.kernels import samples_windowed, windowed
+    x = np.random.default_rng(5).integers(-32768, 32768, (7, 3, 64)).astype(np.int16)
+    x[0, 0, :2] = (-32768, 32767)
+    win = np.hanning(64).astype(np.float32)
+    win[5] = -0.0
+    want = np.multiply(x, win, dtype=np.float32)
+    assert samples_windowed(x, win, np.empty(x.shape, np.float32)).tobytes() == want.tobytes()
+    assert windowed(x, win, np.float32).tobytes() == want.tobytes()
