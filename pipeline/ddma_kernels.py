@@ -19,6 +19,9 @@ import numpy as np
 
 from .threads import run_parts, spans
 
+#: Unsigned loop indices in the compiled loops (see `_power_into`).
+_U = np.uint64
+
 __all__ = ["ddma_metric", "ddma_gather", "gemm_power", "ddma_coherent_power", "DDMA_RANGE_BLOCK"]
 
 
@@ -266,11 +269,14 @@ def _power_into(yv, out, col0):
     """out[:, col0 + j] = yv[:, 2j]^2 + yv[:, 2j + 1]^2: |y|^2 of a complex64 product seen as
     float32 (re, im) pairs, as `stages.power_of` (two rounded squares, a rounded sum)."""
     m, n2 = yv.shape
+    n, c0, one, two = _U(n2 // 2), _U(col0), _U(1), _U(2)
     for i in range(m):
-        for j in range(n2 // 2):
-            re = yv[i, 2 * j]
-            im = yv[i, 2 * j + 1]
-            out[i, col0 + j] = re * re + im * im
+        row = yv[i]
+        dst = out[i]
+        for j in range(n):  # unsigned: numba would wrap a negative signed index around,
+            re = row[two * j]  # which keeps LLVM from vectorising the loop (3x slower)
+            im = row[two * j + one]
+            dst[c0 + j] = re * re + im * im
 
 
 def ddma_metric(power: np.ndarray, n_subbands: int, n_tx: int) -> np.ndarray:
