@@ -34,6 +34,7 @@ from __future__ import annotations
 
 from typing import NamedTuple
 
+import numba
 import numpy as np
 
 from ..config import INTF_THRESHOLD_MODES, ProcessingConfig
@@ -154,24 +155,19 @@ class RepairedRows(NamedTuple):
 
     rows: np.ndarray      # (R,) increasing row indices, chirp * n_rx + Rx
     windowed: np.ndarray  # (R, n_samples) float32 (complex64 for I/Q): repaired x window
+    dc: np.ndarray | None  # (n_chirps, n_rx) DC estimates, the repaired rows' 0 (None: none)
 
     def swap_into(self, x: np.ndarray, c0: int) -> None:
         """Put the rows of chirps c0 .. c0 + len(x) - 1 into `x` (chirps, n_rx, n_samples),
         the windowed samples of those chirps."""
         n_rx = x.shape[1]
         lo, hi = np.searchsorted(self.rows, (c0 * n_rx, (c0 + len(x)) * n_rx))
-        x.reshape(-1, x.shape[-1])[self.rows[lo:hi] - c0 * n_rx] = self.windowed[lo:hi]
+        _put_rows(x.reshape(-1, x.shape[-1]), self.windowed, self.rows, c0 * n_rx, lo, hi)
 
     def without_dc(self, m: np.ndarray, c0: int) -> np.ndarray:
         """`m` (chirps, n_rx), the DC estimates of chirps c0 .. c0 + len(m) - 1, with the
-        repaired rows' set to 0 (their DC was removed before the FFT); a copy if any is."""
-        n_rx = m.shape[1]
-        lo, hi = np.searchsorted(self.rows, (c0 * n_rx, (c0 + len(m)) * n_rx))
-        if lo == hi:
-            return m
-        m = m.copy()
-        m.reshape(-1)[self.rows[lo:hi] - c0 * n_rx] = 0
-        return m
+        repaired rows' set to 0 (their DC was removed before the FFT)."""
+        return self.dc[c0:c0 + len(m)]
 
 
 def repaired_rows(adc: np.ndarray, dc: np.ndarray | None, rows: np.ndarray, flags: np.ndarray,
@@ -201,8 +197,12 @@ def repaired_rows(adc: np.ndarray, dc: np.ndarray | None, rows: np.ndarray, flag
     y = np.empty((len(rows), n), np.complex64 if np.iscomplexobj(adc) else np.float32)
     parts = spans(len(rows))  # elementwise passes in parts on the cores: the same values
 
+    compiled = dc is not None and a2.dtype == np.int16
+
     def dc_removed(lo: int, hi: int) -> None:
-        if dc is None:
+        if compiled:  # one pass: gather, convert and subtract (numpy's float32 steps)
+            _dc_removed_rows(a2, rows, dc.reshape(-1).astype(np.float32, copy=False), y, lo, hi)
+        elif dc is None:
             y[lo:hi] = a2[rows[lo:hi]]
         else:
             np.subtract(a2[rows[lo:hi]], dc.reshape(-1, 1)[rows[lo:hi]], out=y[lo:hi],
@@ -213,4 +213,30 @@ def repaired_rows(adc: np.ndarray, dc: np.ndarray | None, rows: np.ndarray, flag
            frame=FrameRows(a2, rows, n_rx))
     run_parts([lambda lo=lo, hi=hi: np.multiply(y[lo:hi], win, out=y[lo:hi])
                for lo, hi in parts])
-    return RepairedRows(rows, y)
+    dc0 = None
+    if dc is not None:
+        dc0 = dc[..., 0].copy()
+        dc0.reshape(-1)[rows] = 0
+    return RepairedRows(rows, y, dc0)
+
+
+@numba.njit(cache=True, nogil=True)
+def _put_rows(dst, src, rows, row0, lo, hi):
+    """dst[rows[i] - row0] <- src[i] for i in lo .. hi - 1."""
+    for i in range(lo, hi):
+        d = dst[rows[i] - row0]
+        s = src[i]
+        for t in range(s.shape[0]):
+            d[t] = s[t]
+
+
+@numba.njit(cache=True, nogil=True)
+def _dc_removed_rows(a2, rows, dc, out, lo, hi):
+    """out[i] <- float32(a2[rows[i]]) - dc[rows[i]] for i in lo .. hi - 1 (int16 rows, float32
+    DC estimates: numpy's ``np.subtract(a, dc, dtype=float32)``, element by element)."""
+    n = a2.shape[1]
+    for i in range(lo, hi):
+        r = rows[i]
+        d = dc[r]
+        for t in range(n):
+            out[i, t] = np.float32(a2[r, t]) - d
