@@ -44,6 +44,7 @@ from ..stages import (
     hypothesis_cloud,
     noncoherent_hits,
 )
+from ..threads import run_parts, spans
 from .base import DetectionMap, DopplerAzimuth, MimoChain, register_chain
 from .extension import may_extend
 
@@ -89,8 +90,13 @@ def slot_maps(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) -> Slot
         spec = slow_time_fft(xw.reshape(n_dop, n_tx, cfg.n_rx, -1))  # (D, S, R, B)
     n_range = spec.shape[-1]
     virt_all = np.moveaxis(spec, 3, 0).reshape(n_range, n_dop, -1)  # (B, D, 16) slot-major
-    # (B, D), L = n_virtual looks per cell: their sum, or the CFAR mode's own statistic.
-    rd = CFAR_MODES[proc.cfar.mode].combine_looks(np.abs(virt_all) ** 2, axis=-1)
+    combine = CFAR_MODES[proc.cfar.mode].combine_looks
+    # (B, D), L = n_virtual looks per cell: their sum, or the CFAR mode's own statistic, in
+    # parts of range bins on the cores (`virt_all` is a view of `spec`: each part reduces its
+    # range bins in the memory order the whole map would be reduced in).
+    rd = np.concatenate(run_parts([lambda lo=lo, hi=hi: combine(np.abs(virt_all[lo:hi]) ** 2,
+                                                                axis=-1)
+                                   for lo, hi in spans(n_range)]))
     return SlotMaps(power=rd, virt=virt_all)
 
 
