@@ -72,25 +72,25 @@ def row_statistics(adc: np.ndarray, magdiff_snr_db: float) -> RowStatistics | No
 def _rows(a2, scale, dc, thr, hit, lo_hi, r0, r1):
     """Rows r0..r1-1: dc = float32(sum / n); thr = float32(sum |dx|) x scale; hit = max |dx| >
     thr (compared in float32, as numpy compares int16 with float32); lo_hi = (min, max)."""
-    n = a2.shape[1]
+    n = np.uint64(a2.shape[1])  # unsigned: lets LLVM vectorise the loops (no index wrap)
+    one = np.uint64(1)
     for i in range(r0, r1):
         row = a2[i]
-        prev = np.int32(row[0])
-        s = prev
-        mn = prev
-        mx = prev
-        ds = np.int32(0)
-        dm = np.int32(0)
-        for j in range(1, n):
+        s = np.int64(0)
+        mn = np.int32(row[0])
+        mx = mn
+        for j in range(n):
             x = np.int32(row[j])
             s += x
             mn = min(mn, x)
             mx = max(mx, x)
-            d = abs(x - prev)
+        ds = np.int64(0)
+        dm = np.int32(0)
+        for j in range(one, n):
+            d = abs(np.int32(row[j]) - np.int32(row[j - one]))
             ds += d
             dm = max(dm, d)
-            prev = x
-        dc[i] = np.float32(np.float64(s) / n)
+        dc[i] = np.float32(np.float64(s) / a2.shape[1])
         t = np.float32(ds) * scale
         thr[i] = t
         hit[i] = np.float32(dm) > t
