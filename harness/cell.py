@@ -285,13 +285,15 @@ def _process_frames(spec: CellSpec, comps: Components, run, radar: dict, procs: 
         sc = _scatterers(comps, rows, frame_rng(spec.seed, f, "rcs"), ctx.get(int(f)))
         adc, inr = _simulate_frames(comps, radar, sc, spec.seed, f, rows, equipment)
         # The chains of schemes sharing an ADC frame and the noise-floor metric read one
-        # range cube per frame and chirp-level setting.
+        # range cube per frame and chirp-level setting. The chains first: the first of them
+        # makes the cube in its own (blockwise, windowed) pass and keeps it for the others
+        # (`windowed_range_stage`); the floor then reads it (the same cube either way).
         with shared_range_stage():
-            floor = _noise_floors(comps, radar, adc, procs, schemes, f, inr, refs)
             pcs = {rs.name: comps.process_frame(radar[rs.mimo], adc[rs.mimo], procs[rs.name])
                    for rs in schemes}
             ref = {name: comps.process_frame(radar[mimo_of[name]], adc[mimo_of[name]], p)
                    for name, p in refs.items()}
+            floor = _noise_floors(comps, radar, adc, procs, schemes, f, inr, refs)
         return sc, floor, pcs, ref
 
     mimo_of = {rs.name: rs.mimo for rs in schemes}
