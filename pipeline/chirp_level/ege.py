@@ -47,6 +47,7 @@ __all__ = ["ege_compress", "ege_block_bits", "ege_min_ratio", "HWA_OUTPUT_SCALE"
            "EGE_HEADER_BITS"]
 
 _MAX_SHIFT = 15  # a 4-bit scale factor
+_U = np.uint64  # unsigned loop indices: LLVM vectorises those loops (see `_block_shift`)
 _SPLITMIX_GAMMA = np.uint64(0x9E3779B97F4A7C15)
 _SPLITMIX_M1 = np.uint64(0xBF58476D1CE4E5B9)
 _SPLITMIX_M2 = np.uint64(0x94D049BB133111EB)
@@ -70,55 +71,69 @@ def _dither(index: int) -> np.float32:
 
 
 @numba.njit(cache=True, nogil=True)
-def _block_shift(v: np.ndarray, budget: int, kk: np.ndarray, m: np.ndarray, hist: np.ndarray,
-                 fsum: np.ndarray) -> int:
+def _block_shift(v: np.ndarray, budget: int, kk: np.ndarray, m: np.ndarray,
+                 qa: np.ndarray) -> int:
     """Scale factor s of one block (pass 1 of the encoder): the smallest s for which the
-    exact EG code length with the best order of `kk` fits `budget` bits.
+    EG code length with the best order of `kk` fits `budget` bits, `_MAX_SHIFT` if none.
 
-    v : (n_val,) float32 values in HWA LSB. The bit length L_j of each value (|v_j| < 2^L_j,
-    clipped to 0..31) bounds its EG prefix: with a = L - s - k - 1 and f(a) = max(a, 0) +
-    [a = 0], f(a) <= floor(log2(1 + (|q| >> k))) <= f(a + 1) (rint(v / 2^s) keeps |q| in
-    [2^(L-1-s), 2^(L-s)] when L - 1 >= s; a = 0 puts |q| >> k at 1 or 2, a prefix of exactly
-    one). So bits(s, k) lies between n_val (2 + k) + 2 sum_j f(a_j) and the same with a_j + 1,
-    both read off the block's histogram of L. Per s, an order whose lower bound exceeds the
-    budget is skipped (it cannot fit), one whose upper bound fits is taken without the exact
-    length, the others get the exact length sum_j (2 + k + 2 floor(log2(|q_j| + 2^k)) - 2 k).
-    Logarithms are read off the IEEE exponent field of float32 values (biased exponent - 127;
-    exact for the integers |q| + 2^k < 2^24). m (n_val,) float32, hist, fsum (33,) int64 are
-    scratch buffers.
+    v : (n_val,) float32 values in HWA LSB. The length at (s, k) is sum_j (2 + k + 2
+    floor(log2(|q_j| + 2^k)) - 2 k), q = rint(v / 2^s), each logarithm read off the IEEE
+    exponent field of the float32 sum |q_j| + 2^k (biased exponent - 127; exact below 2^24).
+    Every (s, k) is one pass over the values in loops LLVM vectorises (unsigned indices from
+    0), s ascending. m, qa (n_val,) float32 are scratch buffers.
+
+    This returns what the formulation it replaced returned, for every input (the test
+    compares the two bit for bit): that one bounded each (s, k) first from a histogram of the
+    bit lengths L of |v| (|v| < 2^L, clipped to 0..31), skipping an order whose lower bound
+    exceeded the budget and taking one whose upper bound fitted (no L at the clip) without the
+    length above. Both shortcuts agree with the length above: per value, with a = L - s - k - 1
+    and f(a) = max(a, 0) + [a = 0], f(a) <= floor(log2(1 + (|q| >> k))) <= f(a + 1)
+    (|q| <= 2^(L-s)), and the float32 sum can only round up to the next power of two, so its
+    logarithm is at least the exact one and, as |q| + 2^k <= 2^(L-s) + 2^k, at most the upper
+    bound's. A length that fits is found at the same s either way.
     """
     n_val = v.size
     mi = m.view(np.int32)
-    hist[:] = 0
-    for j in range(n_val):
-        m[j] = abs(v[j])
-    for j in range(n_val):  # L = biased exponent - 126 (|v| < 2^L), 0 for 0 and |v| < 1
-        hist[min(max((mi[j] >> 23) - 126, 0), 31)] += 1
-    # fsum[t] = sum_j f(L_j - t) = sum_j max(L_j - t, 0) + #(L_j = t)
-    above = 0   # #(L_j > t)
-    excess = 0  # sum_j max(L_j - t, 0)
-    for t in range(31, -1, -1):
-        above += hist[t + 1]
-        excess += above
-        fsum[t] = excess + hist[t]
-    unbounded = hist[31] > 0  # a value at the clip has no upper bound
     for s in range(_MAX_SHIFT + 1):
         step = np.float32(2.0 ** -s)
+        for j in range(_U(n_val)):
+            qa[j] = abs(np.rint(v[j] * step))
         for k in kk:
-            base = n_val * (2 + k)
-            if base + 2 * fsum[min(s + k + 1, 31)] > budget:
-                continue
-            if not unbounded and base + 2 * fsum[s + k] <= budget:
-                return s
             two_k = np.float32(2.0 ** k)
-            for j in range(n_val):
-                m[j] = abs(np.rint(v[j] * step)) + two_k
             lead = 0
-            for j in range(n_val):
+            for j in range(_U(n_val)):
+                m[j] = qa[j] + two_k
                 lead += (mi[j] >> 23) - 127 - k  # floor(log2(|q| + 2^k)) - k
-            if base + 2 * lead <= budget:
+            if n_val * (2 + k) + 2 * lead <= budget:
                 return s
     return _MAX_SHIFT
+
+
+@numba.njit(cache=True, nogil=True)
+def _hot_block(vv: np.ndarray, c: int, lo: int, bins2: int, scale: np.float32, budget: int,
+               kk: np.ndarray, first: int, v: np.ndarray, m: np.ndarray,
+               qa: np.ndarray) -> int:
+    """Encode + decode of the block vv[c, :, lo : lo + bins2] that is not cold (`_ege_blocks`),
+    in place: its scale factor s (`_block_shift`), then, if s > 0, every value requantised
+    with the dither of its flat frame position first + j (j = rx x bins2 + t). v, m, qa
+    (n_val,) float32 are scratch buffers. Returns s."""
+    n_r = vv.shape[1]
+    ub, ulo, uc = _U(bins2), _U(lo), _U(c)
+    for r in range(_U(n_r)):
+        for t in range(ub):
+            v[r * ub + t] = vv[uc, r, ulo + t] * scale
+    s = _block_shift(v, budget, kk, m, qa)
+    if s == 0:  # s = 0: only the (unmodelled) 16-bit rounding
+        return s
+    down = np.float32(2.0 ** -s)
+    up = np.float32(2.0 ** s) / scale
+    f0 = _U(first)
+    for j in range(_U(v.size)):
+        m[j] = np.rint(v[j] * down + _dither(f0 + j)) * up
+    for r in range(_U(n_r)):
+        for t in range(ub):
+            vv[uc, r, ulo + t] = m[r * ub + t]
+    return s
 
 
 @numba.njit(cache=True, nogil=True)
@@ -137,8 +152,7 @@ def _ege_blocks(vv: np.ndarray, bins2: int, scale: np.float32, budget: int, kk: 
     n_val = n_r * bins2
     v = np.empty(n_val, np.float32)
     m = np.empty(n_val, np.float32)
-    hist = np.empty(33, np.int64)
-    fsum = np.zeros(33, np.int64)
+    qa = np.empty(n_val, np.float32)
     acc = np.empty(bins2, np.float32)
     for c in range(c0, c1):
         for b in range(nb):
@@ -160,21 +174,8 @@ def _ege_blocks(vv: np.ndarray, bins2: int, scale: np.float32, budget: int, kk: 
                 total += acc[t]
             if total * scale <= cold:
                 continue
-            for r in range(n_r):
-                for t in range(bins2):
-                    v[r * bins2 + t] = vv[c, r, lo + t] * scale
-            s = _block_shift(v, budget, kk, m, hist, fsum)
-            shift[c, b] = s
-            if s == 0:  # s = 0: only the (unmodelled) 16-bit rounding
-                continue
-            down = np.float32(2.0 ** -s)
-            up = np.float32(2.0 ** s) / scale
-            first = ((c_base + c) * nb + b) * n_val
-            for r in range(n_r):
-                for t in range(bins2):
-                    j = r * bins2 + t
-                    q = np.rint(v[j] * down + _dither(first + j))
-                    vv[c, r, lo + t] = q * up
+            shift[c, b] = _hot_block(vv, c, lo, bins2, scale, budget, kk,
+                                     ((c_base + c) * nb + b) * n_val, v, m, qa)
 
 
 def ege_block_bits(q: np.ndarray, k) -> np.ndarray:

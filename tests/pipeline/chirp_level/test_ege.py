@@ -145,3 +145,87 @@ def test_compression_blocks_must_tile_the_range_bins(make_config):
     proc.check_radar(make_config())
     with pytest.raises(ValueError, match="=32 does not divide the radar's 100 range bins"):
         proc.check_compression(4, 100)
+
+
+def _reference_shift(v: np.ndarray, budget: int, kk: np.ndarray) -> int:
+    """The encoder model's pass 1 as formulated before the exact search (main 324a798): a
+    histogram of bit lengths L bounds each (s, k); an order whose lower bound exceeds the
+    budget is skipped, one whose upper bound fits is taken unchecked (unless a value is at the
+    clip L = 31), the others get the float32 exact length. v (n_val,) float32, HWA LSB."""
+    n_val = v.size
+    length = np.clip((np.abs(v).view(np.int32) >> 23) - 126, 0, 31)
+
+    def f_sum(t):
+        return int(np.sum(np.maximum(length - t, 0) + (length == t)))
+
+    unbounded = bool((length == 31).any())
+    for s in range(16):
+        for k in kk:
+            base = n_val * (2 + int(k))
+            if base + 2 * f_sum(min(s + k + 1, 31)) > budget:
+                continue
+            if not unbounded and base + 2 * f_sum(s + k) <= budget:
+                return s
+            m = np.abs(np.rint(v * np.float32(2.0 ** -s))) + np.float32(2.0 ** k)
+            if base + 2 * int(np.sum((m.view(np.int32) >> 23) - 127 - k)) <= budget:
+                return s
+    return 15
+
+
+def _reference_dither(index: np.ndarray) -> np.ndarray:
+    """The encoder's triangular dither (`ege._dither`) of flat positions `index`, in numpy."""
+    with np.errstate(over="ignore"):
+        z = index.astype(np.uint64) + np.uint64(0x9E3779B97F4A7C15)
+        z = (z ^ (z >> np.uint64(30))) * np.uint64(0xBF58476D1CE4E5B9)
+        z = (z ^ (z >> np.uint64(27))) * np.uint64(0x94D049BB133111EB)
+    z = z ^ (z >> np.uint64(31))
+    u1 = (z >> np.uint64(40)).astype(np.float32)
+    u2 = ((z >> np.uint64(8)) & np.uint64(0xFFFFFF)).astype(np.float32)
+    return (u1 + u2) * np.float32(2.0 ** -24) - np.float32(1.0)
+
+
+@pytest.mark.parametrize("n_rx, bins, ratio", [(4, 8, 0.5), (2, 16, 0.7), (3, 4, 0.45)],
+                         ids=["demo", "2rx-16bins", "3rx-4bins"])
+def test_ege_hot_blocks_equal_the_histogram_bounded_encoder_bit_for_bit(n_rx, bins, ratio):
+    """Blocks that are not cold (`_ege_blocks`' hot path: exact scale-factor search, then
+    the dithered requantisation) against the formulation it replaced, bit for bit, values and
+    scale factors: noise at 2..3e4 LSB (scale factors 0..12), strong echoes, rail-to-rail
+    blocks, blocks with values at and beyond 2^24 LSB (where float32 logarithms round and the
+    histogram bounds decide, up to the clip at 2^31 and inf), a chirp offset into the frame
+    (the dither's position). Every block goes through the reference, cold or not: a cold
+    block gets s = 0 there and is left as it was."""
+    rng = np.random.default_rng(20)
+    n_c, nb, n_val = 24, 12, 2 * n_rx * bins
+    sigma = np.exp(rng.uniform(np.log(2.0), np.log(3e4), (n_c, 1, nb, 1)))
+    v = rng.standard_normal((n_c, n_rx, nb, 2 * bins)) * sigma
+    echo = rng.random((n_c, 1, nb, 1)) < 0.3
+    v += echo * rng.uniform(1e2, 3e5, (n_c, 1, nb, 1)) \
+        * (rng.random((n_c, n_rx, nb, 2 * bins)) < 0.1)
+    v[-6:-4] = rng.uniform(-32767, 32767, (2, n_rx, nb, 2 * bins))
+    big = rng.random((4, n_rx, nb, 2 * bins)) < 0.05  # saturation: values at and past 2^24
+    v[-4:] = np.where(big, rng.choice([2.0 ** 24 - 0.5, 2.0 ** 24, 3.1e7, 2.0 ** 30, 3e9,
+                                       np.inf], size=big.shape)
+                      * rng.choice([-1, 1], size=big.shape), v[-4:])
+    v[-1, :, :, 0] = 2.0 ** 24 - 1  # a whole column just below 2^24: the exact search
+    scale = np.float32(cl.HWA_OUTPUT_SCALE)
+    vv = (v / scale).astype(np.float32).reshape(n_c, n_rx, nb * 2 * bins)
+    bins2, budget, kk, cold = cl.ege.ege_setup(n_rx, nb * bins, ratio, bins)
+    c_base = 37
+    got, shift = vv.copy(), np.zeros((n_c, nb), np.int8)
+    cl.ege._ege_blocks(got, bins2, scale, budget, kk, cold, shift, 0, n_c, c_base)
+
+    want, want_shift = vv.copy(), np.zeros((n_c, nb), np.int8)
+    for c in range(n_c):
+        for b in range(nb):
+            blk = want[c, :, b * bins2:(b + 1) * bins2]
+            x = (blk * scale).reshape(-1)
+            s = _reference_shift(x, budget, kk)
+            want_shift[c, b] = s
+            if s:
+                pos = ((c_base + c) * nb + b) * n_val + np.arange(n_val)
+                q = np.rint(x * np.float32(2.0 ** -s) + _reference_dither(pos))
+                blk[...] = (q * (np.float32(2.0 ** s) / scale)).reshape(blk.shape)
+    assert np.bincount(want_shift.ravel()).size > 10 and (want_shift == 15).any()
+    assert (want_shift > 0).any(axis=1).sum() > n_c // 2  # most chirps requantised
+    np.testing.assert_array_equal(shift, want_shift)
+    assert got.tobytes() == want.tobytes()
