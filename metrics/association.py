@@ -236,22 +236,13 @@ def _scatterer_support(pairs: pd.DataFrame, detections: pd.DataFrame,
     if pairs.empty or scatterers is None or scatterers.empty:
         return out
     lit = scatterers["rcs_m2"].to_numpy() > 0
-    s_frame, s_actor = scatterers["frame"].to_numpy()[lit], scatterers["actor_id"].to_numpy()[lit]
-    # Every (pair, scatterer of the pair's frame and actor) combination, as the inner join on
-    # (frame, actor_id) gives them (order aside: only whether any is in the gate counts).
-    f_all, f_code = np.unique(np.concatenate([s_frame, pairs["frame"].to_numpy()]),
-                              return_inverse=True)
-    a_all, a_code = np.unique(np.concatenate([s_actor, pairs["actor_id"].to_numpy()]),
-                              return_inverse=True)
-    key = f_code.astype(np.int64) * max(len(a_all), 1) + a_code
-    s_key, p_key = key[:s_frame.size], key[s_frame.size:]
-    order = np.argsort(s_key, kind="stable")
-    lo = np.searchsorted(s_key[order], p_key, side="left")
-    n = np.searchsorted(s_key[order], p_key, side="right") - lo
-    if not n.any():
+    # Every (pair, lit scatterer of the pair's frame and actor) combination, as the inner join
+    # on (frame, actor_id) gives them (order aside: only whether any is in the gate counts).
+    p_i, s_i = _key_join(pairs["frame"].to_numpy(), pairs["actor_id"].to_numpy(),
+                         scatterers["frame"].to_numpy()[lit],
+                         scatterers["actor_id"].to_numpy()[lit])
+    if not p_i.size:
         return out
-    p_i = np.repeat(np.arange(p_key.size), n)
-    s_i = order[np.repeat(lo, n) + np.arange(p_i.size) - np.repeat(np.cumsum(n) - n, n)]
     det = pairs["det_index"].to_numpy()[p_i]
     cost = _gate_cost(detections["x_m"].to_numpy()[det], detections["y_m"].to_numpy()[det],
                       scatterers["x_m"].to_numpy()[lit][s_i],
@@ -418,6 +409,21 @@ def scatterer_table(frames_scatterers) -> pd.DataFrame:
     return pd.DataFrame({c: np.concatenate([p[c] for p in parts]) for c in parts[0]})
 
 
+def _key_join(q_frame: np.ndarray, q_actor: np.ndarray, frame: np.ndarray,
+              actor: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(P,) query and table row positions of every pair with equal (frame, actor): queries in
+    order, each with its table rows in table order (an inner join's pairs)."""
+    f_all, f_code = np.unique(np.concatenate([frame, q_frame]), return_inverse=True)
+    a_all, a_code = np.unique(np.concatenate([actor, q_actor]), return_inverse=True)
+    key = f_code.astype(np.int64) * max(len(a_all), 1) + a_code
+    t_key, q_key = key[:frame.size], key[frame.size:]
+    order = np.argsort(t_key, kind="stable")
+    lo = np.searchsorted(t_key[order], q_key, side="left")
+    n = np.searchsorted(t_key[order], q_key, side="right") - lo
+    q_i = np.repeat(np.arange(q_key.size), n)
+    return q_i, order[np.repeat(lo, n) + np.arange(q_i.size) - np.repeat(np.cumsum(n) - n, n)]
+
+
 def detection_errors(labelled: pd.DataFrame, truth: pd.DataFrame,
                      scatterers: pd.DataFrame | None = None) -> pd.DataFrame:
     """Range and radial-speed error of TRUE detections.
@@ -445,13 +451,20 @@ def detection_errors(labelled: pd.DataFrame, truth: pd.DataFrame,
         reference) and ``error_reference`` ("scatterer", "box" or "").
     """
     out = labelled.copy()
-    out["range_error_m"] = np.nan
-    out["radial_velocity_error_mps"] = np.nan
-    out["error_reference"] = ""
-    out["azimuth_error_deg"] = np.nan
+    n = len(out)
+    # The four columns as arrays, set in place and added at the end (in this order).
+    rng_err, vel_err = np.full(n, np.nan), np.full(n, np.nan)
+    ref, az_err = np.full(n, "", dtype=object), np.full(n, np.nan)
+
+    def finish() -> pd.DataFrame:
+        out["range_error_m"] = rng_err
+        out["radial_velocity_error_mps"] = vel_err
+        out["error_reference"] = ref
+        out["azimuth_error_deg"] = az_err
+        return out
     is_true = (out["label"] == TRUE).to_numpy()
     if not is_true.any():
-        return out
+        return finish()
     pos = np.flatnonzero(is_true)
     # The TRUE rows' columns from arrays (not a take of every column of the table).
     det = pd.DataFrame({c: out[c].to_numpy()[pos] for c in (
@@ -459,20 +472,26 @@ def detection_errors(labelled: pd.DataFrame, truth: pd.DataFrame,
     det["row"] = pos
     done = np.zeros(len(out), dtype=bool)
     if scatterers is not None and len(scatterers):
-        m = det.merge(scatterers[["frame", "actor_id", "x_m", "y_m", "range_m",
-                                  "radial_velocity_mps"]], on=["frame", "actor_id"],
-                      suffixes=("", "_sc"))
-        if len(m):
-            m["d2"] = (m["x_m"] - m["x_m_sc"]) ** 2 + (m["y_m"] - m["y_m_sc"]) ** 2
-            m = m.sort_values(["row", "d2"], kind="stable").drop_duplicates("row")
-            rows = m["row"].to_numpy()
-            out.iloc[rows, out.columns.get_loc("range_error_m")] = \
-                (m["range_m"] - m["range_m_sc"]).to_numpy()
-            out.iloc[rows, out.columns.get_loc("radial_velocity_error_mps")] = \
-                (m["radial_velocity_mps"] - m["radial_velocity_mps_sc"]).to_numpy()
-            out.iloc[rows, out.columns.get_loc("error_reference")] = "scatterer"
-            out.iloc[rows, out.columns.get_loc("azimuth_error_deg")] = np.degrees(
-                np.arctan2(m["y_m"], m["x_m"]) - np.arctan2(m["y_m_sc"], m["x_m_sc"])).to_numpy()
+        # Nearest scatterer of the detection's (frame, actor): every such pair by sorted
+        # integer keys (the inner join's pairs, each detection's scatterers in table order),
+        # the first smallest d2 per detection (a stable sort by (row, d2), as before).
+        p_i, s_i = _key_join(det["frame"].to_numpy(), det["actor_id"].to_numpy(),
+                             scatterers["frame"].to_numpy(), scatterers["actor_id"].to_numpy())
+        if p_i.size:
+            col = {c: scatterers[c].to_numpy()[s_i] for c in ("x_m", "y_m", "range_m",
+                                                              "radial_velocity_mps")}
+            dx, dy = det["x_m"].to_numpy()[p_i], det["y_m"].to_numpy()[p_i]
+            d2 = (dx - col["x_m"]) ** 2 + (dy - col["y_m"]) ** 2
+            order = np.lexsort((d2, p_i))
+            first = order[np.r_[True, p_i[order][1:] != p_i[order][:-1]]]
+            p_i, dx, dy = p_i[first], dx[first], dy[first]
+            rows = pos[p_i]
+            rng_err[rows] = det["range_m"].to_numpy()[p_i] - col["range_m"][first]
+            vel_err[rows] = det["radial_velocity_mps"].to_numpy()[p_i] \
+                - col["radial_velocity_mps"][first]
+            ref[rows] = "scatterer"
+            az_err[rows] = np.degrees(np.arctan2(dy, dx)
+                                      - np.arctan2(col["y_m"][first], col["x_m"][first]))
             done[rows] = True
     rest = np.flatnonzero(is_true & ~done)
     if len(rest):
@@ -483,12 +502,10 @@ def detection_errors(labelled: pd.DataFrame, truth: pd.DataFrame,
         pairs = pairs[pairs["actor_id"].to_numpy() == sub["actor_id"].to_numpy()[
             pairs["det_index"].to_numpy()]]
         rows = rest[pairs["det_index"].to_numpy()]
-        out.iloc[rows, out.columns.get_loc("range_error_m")] = \
-            out["range_m"].to_numpy()[rows] - pairs["near_range_m"].to_numpy()
-        out.iloc[rows, out.columns.get_loc("radial_velocity_error_mps")] = \
-            pairs["dv_mps"].to_numpy()
-        out.iloc[rows, out.columns.get_loc("error_reference")] = "box"
-    return out
+        rng_err[rows] = out["range_m"].to_numpy()[rows] - pairs["near_range_m"].to_numpy()
+        vel_err[rows] = pairs["dv_mps"].to_numpy()
+        ref[rows] = "box"
+    return finish()
 
 
 def _pair_index(frame: np.ndarray, actor: np.ndarray, q_frame: np.ndarray,
