@@ -105,9 +105,10 @@ def _power_median(z: np.ndarray) -> np.floating:
     patterns' upper 12 bits (sign, exponent, 3 mantissa bits: 4 096 bins, which stay in the
     L1 cache, counted into 4 interleaved tables so that runs of equal bins do not wait on
     each other) made in one compiled pass over `z` (any strides: the floor reads every 4th
-    range bin in place); then only the bin holding the middle ranks is partitioned. A
-    third of the numpy passes' cost on the floor's 147 456-cell maps. Other dtypes and
-    shapes, and maps with NaN or inf, take `_median_power` / `numpy.median`.
+    range bin in place); then only the bin holding the middle ranks is partitioned. On the
+    floor's 147 456-cell maps 0.26-0.30 ms against 0.42 ms for the power map and
+    `_median_power` (same process, loaded machine). Other dtypes and shapes, and maps with
+    NaN or inf, take `_median_power` / `numpy.median`.
     """
     if z.dtype != np.complex64 or z.ndim != 3 or z.size == 0:
         return _median_power(z.real ** 2 + z.imag ** 2)
@@ -115,7 +116,7 @@ def _power_median(z: np.ndarray) -> np.floating:
     counts = np.zeros((4, 1 << 12), np.int32 if z.size < 2 ** 31 else np.int64)
     _power_histogram(z, p, counts)
     counts = counts.sum(axis=0)
-    if counts[_SPECIAL_TOP >> 4:].any():  # inf or NaN
+    if counts[_SPECIAL_TOP >> 4:].any():  # inf or NaN (the 12-bit bins from +inf's up)
         return np.median(p)
     a = p.reshape(-1)
     bits = a.view(np.uint32)
