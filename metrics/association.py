@@ -47,6 +47,8 @@ from scipy.spatial import cKDTree
 
 from scenarios.checks import require
 
+from .joins import key_join, pair_index, pair_isin
+
 __all__ = [
     "AssociationConfig", "LABELS", "TRUE", "VELOCITY_AMBIGUOUS", "GHOST", "CLUTTER",
     "ROAD_USER_CLASSES", "STATIC_CLASSES", "STATIC_SCATTERER_IDS", "associate",
@@ -238,7 +240,7 @@ def _scatterer_support(pairs: pd.DataFrame, detections: pd.DataFrame,
     lit = scatterers["rcs_m2"].to_numpy() > 0
     # Every (pair, lit scatterer of the pair's frame and actor) combination, as the inner join
     # on (frame, actor_id) gives them (order aside: only whether any is in the gate counts).
-    p_i, s_i = _key_join(pairs["frame"].to_numpy(), pairs["actor_id"].to_numpy(),
+    p_i, s_i = key_join(pairs["frame"].to_numpy(), pairs["actor_id"].to_numpy(),
                          scatterers["frame"].to_numpy()[lit],
                          scatterers["actor_id"].to_numpy()[lit])
     if not p_i.size:
@@ -409,21 +411,6 @@ def scatterer_table(frames_scatterers) -> pd.DataFrame:
     return pd.DataFrame({c: np.concatenate([p[c] for p in parts]) for c in parts[0]})
 
 
-def _key_join(q_frame: np.ndarray, q_actor: np.ndarray, frame: np.ndarray,
-              actor: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """(P,) query and table row positions of every pair with equal (frame, actor): queries in
-    order, each with its table rows in table order (an inner join's pairs)."""
-    f_all, f_code = np.unique(np.concatenate([frame, q_frame]), return_inverse=True)
-    a_all, a_code = np.unique(np.concatenate([actor, q_actor]), return_inverse=True)
-    key = f_code.astype(np.int64) * max(len(a_all), 1) + a_code
-    t_key, q_key = key[:frame.size], key[frame.size:]
-    order = np.argsort(t_key, kind="stable")
-    lo = np.searchsorted(t_key[order], q_key, side="left")
-    n = np.searchsorted(t_key[order], q_key, side="right") - lo
-    q_i = np.repeat(np.arange(q_key.size), n)
-    return q_i, order[np.repeat(lo, n) + np.arange(q_i.size) - np.repeat(np.cumsum(n) - n, n)]
-
-
 def detection_errors(labelled: pd.DataFrame, truth: pd.DataFrame,
                      scatterers: pd.DataFrame | None = None) -> pd.DataFrame:
     """Range and radial-speed error of TRUE detections.
@@ -475,7 +462,7 @@ def detection_errors(labelled: pd.DataFrame, truth: pd.DataFrame,
         # Nearest scatterer of the detection's (frame, actor): every such pair by sorted
         # integer keys (the inner join's pairs, each detection's scatterers in table order),
         # the first smallest d2 per detection (a stable sort by (row, d2), as before).
-        p_i, s_i = _key_join(det["frame"].to_numpy(), det["actor_id"].to_numpy(),
+        p_i, s_i = key_join(det["frame"].to_numpy(), det["actor_id"].to_numpy(),
                              scatterers["frame"].to_numpy(), scatterers["actor_id"].to_numpy())
         if p_i.size:
             col = {c: scatterers[c].to_numpy()[s_i] for c in ("x_m", "y_m", "range_m",
@@ -508,27 +495,6 @@ def detection_errors(labelled: pd.DataFrame, truth: pd.DataFrame,
     return finish()
 
 
-def _pair_index(frame: np.ndarray, actor: np.ndarray, q_frame: np.ndarray,
-                q_actor: np.ndarray) -> np.ndarray:
-    """(Q,) row of (frame, actor) holding each query pair (q_frame, q_actor), -1 if none (the
-    first such row if several)."""
-    f_all, f_code = np.unique(np.concatenate([frame, q_frame]), return_inverse=True)
-    a_all, a_code = np.unique(np.concatenate([actor, q_actor]), return_inverse=True)
-    key = f_code.astype(np.int64) * max(len(a_all), 1) + a_code
-    ref, q = key[:len(frame)], key[len(frame):]
-    order = np.argsort(ref, kind="stable")
-    pos = np.searchsorted(ref[order], q)
-    pos = np.minimum(pos, max(len(ref) - 1, 0))
-    found = (ref[order][pos] == q) if len(ref) else np.zeros(len(q), dtype=bool)
-    return np.where(found, order[pos] if len(ref) else -1, -1)
-
-
-def _pair_isin(frame: np.ndarray, actor: np.ndarray, q_frame: np.ndarray,
-               q_actor: np.ndarray) -> np.ndarray:
-    """(N,) bool: the pair (frame, actor) of each row is among the query pairs."""
-    return _pair_index(q_frame, q_actor, frame, actor) >= 0
-
-
 def actor_frames(labelled: pd.DataFrame, truth: pd.DataFrame, *,
                  scatterers: pd.DataFrame | None = None,
                  config: AssociationConfig | None = None) -> pd.DataFrame:
@@ -558,7 +524,7 @@ def actor_frames(labelled: pd.DataFrame, truth: pd.DataFrame, *,
     af_frame, af_actor = af["frame"].to_numpy(), af["actor_id"].to_numpy()
     if scatterers is not None:
         lit = scatterers["rcs_m2"].to_numpy() > 0
-        vis &= _pair_isin(af_frame, af_actor, scatterers["frame"].to_numpy()[lit],
+        vis &= pair_isin(af_frame, af_actor, scatterers["frame"].to_numpy()[lit],
                           scatterers["actor_id"].to_numpy()[lit])
     af["visible"] = vis
     label = labelled["label"].to_numpy()
@@ -567,11 +533,11 @@ def actor_frames(labelled: pd.DataFrame, truth: pd.DataFrame, *,
     # Per actor-frame: TRUE detections, their peak SNR (NaN if none; NaN SNRs skipped) and
     # VELOCITY_AMBIGUOUS detections (a detection counts for the actor-frame it names).
     tru, amb = label == TRUE, label == VELOCITY_AMBIGUOUS
-    at_true = _pair_index(af_frame, af_actor, det_frame[tru], det_actor[tru])
+    at_true = pair_index(af_frame, af_actor, det_frame[tru], det_actor[tru])
     hit = at_true >= 0
     max_snr = np.full(len(af), np.nan, dtype=np.result_type(snr.dtype, np.float32))
     np.fmax.at(max_snr, at_true[hit], snr[tru][hit])
-    at_amb = _pair_index(af_frame, af_actor, det_frame[amb], det_actor[amb])
+    at_amb = pair_index(af_frame, af_actor, det_frame[amb], det_actor[amb])
     af["n_true"] = np.bincount(at_true[hit], minlength=len(af)).astype(np.int64)
     af["max_snr_db"] = max_snr
     af["n_ambiguous"] = np.bincount(at_amb[at_amb >= 0], minlength=len(af)).astype(np.int64)

@@ -19,8 +19,9 @@ import pandas as pd
 from . import detection as det
 from . import r79
 from .association import (CLUTTER, GHOST, LABELS, STATIC_CLASSES, TRUE, VELOCITY_AMBIGUOUS,
-                          AssociationConfig, _pair_index, actor_frames, associate,
+                          AssociationConfig, actor_frames, associate,
                           detection_errors)
+from .joins import pair_index
 from .registry import case_criteria
 from .velocity import FAILURE, RIGHT, velocity_check
 
@@ -252,7 +253,7 @@ def _gain_pairs(af: pd.DataFrame, a: str, b: str) -> pd.DataFrame:
     scheme, hit = af["scheme"].to_numpy(), af["detected"].to_numpy(dtype=bool)
     ra, rb = np.flatnonzero((scheme == a) & hit), np.flatnonzero((scheme == b) & hit)
     frame, actor = af["frame"].to_numpy(), af["actor_id"].to_numpy()
-    at = _pair_index(frame[rb], actor[rb], frame[ra], actor[ra])
+    at = pair_index(frame[rb], actor[rb], frame[ra], actor[ra])
     ra, rb = ra[at >= 0], rb[at[at >= 0]]
     snr = af["max_snr_db"].to_numpy()
     return pd.DataFrame({"reference_snr_db": snr[rb], "snr_gain_db": snr[ra] - snr[rb]})

@@ -36,7 +36,7 @@ from scipy.optimize import linear_sum_assignment
 
 from scenarios.checks import require
 
-from .association import _pair_isin
+from .joins import pair_isin
 
 __all__ = [
     "TrackMetricsConfig", "gospa", "match_tracks", "gospa_per_frame", "per_actor_track_metrics",
@@ -213,7 +213,7 @@ def _matched_rows(truth: pd.DataFrame, matches: pd.DataFrame) -> np.ndarray:
     def pair(df: pd.DataFrame) -> tuple[np.ndarray, np.ndarray]:
         return (df["frame"].to_numpy().astype(np.int64),
                 df["actor_id"].to_numpy().astype(np.int64))
-    return _pair_isin(*pair(truth), *pair(matches))
+    return pair_isin(*pair(truth), *pair(matches))
 
 
 def _footprint_distance(trk_xy: np.ndarray, tru: pd.DataFrame) -> np.ndarray:

@@ -1,0 +1,50 @@
+"""Row joins of the scoring tables by integer keys: which rows of one table hold the (frame,
+actor) pair of each row of another. The pairs are coded as integers (np.unique codes of both
+sides) and matched by a stable sort and searchsorted instead of pandas merges / MultiIndexes,
+whose per-call cost dominates on the few-thousand-row tables of one sweep cell.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["pair_index", "pair_isin", "key_join"]
+
+
+def _keys(frame: np.ndarray, actor: np.ndarray, q_frame: np.ndarray,
+          q_actor: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(N,) and (Q,) int64 codes of the (frame, actor) pairs of the table and of the queries
+    (equal pairs, equal codes)."""
+    f_all, f_code = np.unique(np.concatenate([frame, q_frame]), return_inverse=True)
+    a_all, a_code = np.unique(np.concatenate([actor, q_actor]), return_inverse=True)
+    key = f_code.astype(np.int64) * max(len(a_all), 1) + a_code
+    return key[:len(frame)], key[len(frame):]
+
+
+def pair_index(frame: np.ndarray, actor: np.ndarray, q_frame: np.ndarray,
+               q_actor: np.ndarray) -> np.ndarray:
+    """(Q,) row of (frame, actor) holding each query pair (q_frame, q_actor), -1 if none (the
+    first such row if several)."""
+    ref, q = _keys(frame, actor, q_frame, q_actor)
+    order = np.argsort(ref, kind="stable")
+    pos = np.searchsorted(ref[order], q)
+    pos = np.minimum(pos, max(len(ref) - 1, 0))
+    found = (ref[order][pos] == q) if len(ref) else np.zeros(len(q), dtype=bool)
+    return np.where(found, order[pos] if len(ref) else -1, -1)
+
+
+def pair_isin(frame: np.ndarray, actor: np.ndarray, q_frame: np.ndarray,
+              q_actor: np.ndarray) -> np.ndarray:
+    """(N,) bool: the pair (frame, actor) of each row is among the query pairs."""
+    return pair_index(q_frame, q_actor, frame, actor) >= 0
+
+
+def key_join(q_frame: np.ndarray, q_actor: np.ndarray, frame: np.ndarray,
+             actor: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(P,) query and table row positions of every pair with equal (frame, actor): queries in
+    order, each with its table rows in table order (an inner join's pairs)."""
+    t_key, q_key = _keys(frame, actor, q_frame, q_actor)
+    order = np.argsort(t_key, kind="stable")
+    lo = np.searchsorted(t_key[order], q_key, side="left")
+    n = np.searchsorted(t_key[order], q_key, side="right") - lo
+    q_i = np.repeat(np.arange(q_key.size), n)
+    return q_i, order[np.repeat(lo, n) + np.arange(q_i.size) - np.repeat(np.cumsum(n) - n, n)]
