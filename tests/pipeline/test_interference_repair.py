@@ -278,7 +278,7 @@ def test_compiled_fit_is_the_masked_least_squares_solve(dtype):
     shrink = np.r_[lr.SHRINK_FLOOR, rng.uniform(0, 1, k - 1)]
     run_s, run_e = np.array([3, 20]), np.array([9, 31])
     lt = np.zeros((k, k), dtype)
-    lr._cholesky(prefix, shrink, run_s, run_e, 2, lt)
+    lr._cholesky(prefix, shrink, run_s, run_e, 2, lt, np.zeros(prefix.shape[1], dtype))
     low = np.triu(lt).T
     x = (rng.standard_normal((3, n)) + cplx * rng.standard_normal((3, n))).astype(dtype)
     c = np.zeros((k, 3), dtype)
