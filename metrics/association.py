@@ -73,6 +73,9 @@ _DET_COLUMNS = ("frame", "x_m", "y_m", "range_m", "radial_velocity_mps")
 _TRUTH_COLUMNS = ("frame", "actor_id", "actor_class", "length_m", "width_m", "x_radar_m",
                   "y_radar_m", "yaw_radar_deg", "vx_radar_mps", "vy_radar_mps", "range_m",
                   "azimuth_deg")
+#: The truth columns `_pairs` gathers per pair (the class is taken from the column's array).
+_PAIR_TRUTH_COLUMNS = ("actor_id", "length_m", "width_m", "x_radar_m", "y_radar_m",
+                       "yaw_radar_deg", "vx_radar_mps", "vy_radar_mps")
 
 
 @dataclass(frozen=True, kw_only=True, slots=True)
@@ -199,7 +202,7 @@ def _pairs(detections: pd.DataFrame, truth: pd.DataFrame, cfg: AssociationConfig
         t_i = rows[t_i]
     # The joined columns (detection's, then its actor's), gathered by position.
     p = {c: detections[c].to_numpy()[d_i] for c in _DET_COLUMNS}
-    p.update((c, truth[c].to_numpy()[t_i]) for c in _TRUTH_COLUMNS[1:])
+    p.update((c, truth[c].to_numpy()[t_i]) for c in _PAIR_TRUTH_COLUMNS)
     yaw = np.radians(p["yaw_radar_deg"])
     c, s = np.cos(yaw), np.sin(yaw)
     dx = p["x_m"] - p["x_radar_m"]
@@ -322,16 +325,20 @@ def associate(detections: pd.DataFrame, truth: pd.DataFrame, *, velocity_span_mp
         is_clut = in_gate & ~road
         rank = np.select([is_true, is_amb, is_clut], [0, 1, 2], default=9)
         cost = pairs["pos_cost"].to_numpy() ** 2 + (pairs["resid_mps"].to_numpy() / vg) ** 2
-        cand = pairs.assign(rank=rank, cost=cost)[rank < 9]
-        best = cand.sort_values(["det_index", "rank", "cost"], kind="stable") \
-            .drop_duplicates("det_index")
-        idx = best["det_index"].to_numpy()
-        label[idx] = np.array(LABELS[:3], dtype=object)[best["rank"].to_numpy()]
-        actor_id[idx] = best["actor_id"].to_numpy()
-        actor_class[idx] = best["actor_class"].to_numpy()
-        v_true[idx] = best["truth_radial_velocity_mps"].to_numpy()
-        alias_k[idx] = np.where(best["rank"].to_numpy() == 1, best["alias_k"].to_numpy(), 0)
-        box_dist[idx] = best["box_distance_m"].to_numpy()
+        # Per detection the first candidate pair in (det_index, rank, cost) order, a stable
+        # lexsort (what a stable sort_values + drop_duplicates of the table gives).
+        cand = np.flatnonzero(rank < 9)
+        det_i = pairs["det_index"].to_numpy()[cand]
+        order = np.lexsort((cost[cand], rank[cand], det_i))
+        first = order[np.r_[True, det_i[order][1:] != det_i[order][:-1]]] if order.size \
+            else order
+        best, idx = cand[first], det_i[first]
+        label[idx] = np.array(LABELS[:3], dtype=object)[rank[best]]
+        actor_id[idx] = pairs["actor_id"].to_numpy()[best]
+        actor_class[idx] = pairs["actor_class"].array.take(best).to_numpy()  # (not all P)
+        v_true[idx] = pairs["truth_radial_velocity_mps"].to_numpy()[best]
+        alias_k[idx] = np.where(rank[best] == 1, pairs["alias_k"].to_numpy()[best], 0)
+        box_dist[idx] = pairs["box_distance_m"].to_numpy()[best]
     if scatterers is not None and len(scatterers):
         ground = _ground_match(detections, scatterers, cfg) & (label == GHOST)
         label[ground] = CLUTTER
