@@ -20,10 +20,15 @@ Speed choices (the sweep steps every frame):
 * collision physics is disabled (scripted cases drive deliberately on collision courses, and
   it saves an O(N^2) Python loop).
 Determinism: random traffic draws only from the environment's generator seeded by
-`env.reset(seed=seed)`; scripted cases use no randomness at all.
+`env.reset(seed=seed)`; scripted cases use no randomness at all. highway-env's environments
+may set driver constants on the vehicle classes themselves (`IntersectionEnv._make_vehicles`
+sets `DISTANCE_WANTED`, `COMFORT_ACC_MAX` and `COMFORT_ACC_MIN` of `IDMVehicle`), which would
+otherwise reach every later case simulated in the same process; each simulation restores them
+(`vehicle_class_state_restored`), so a case gives the same traffic whatever ran before it.
 """
 from __future__ import annotations
 
+import contextlib
 from collections.abc import Iterator
 from dataclasses import dataclass
 
@@ -43,7 +48,7 @@ from .truth import (RAW_ACTOR_COLUMNS, RAW_EGO_COLUMNS, build_tables, ego_yaw_ra
 
 __all__ = ["ScenarioRun", "FrameTruth", "run_scenario", "Path", "ScriptedVehicle",
            "VEHICLE_CLASSES", "IDM_CLASSES", "LANE_WIDTH_M", "RANDOM_ID_BASE",
-           "RAIL_ID_BASE"]
+           "RAIL_ID_BASE", "vehicle_class_state_restored"]
 
 #: Actor ids: scripted actors 0..n-1, random traffic from 100, guard-rail segments from 10000.
 RANDOM_ID_BASE = 100
@@ -294,6 +299,37 @@ def _random_traffic(case: Case, seed: int, frame_rate_hz: float, substeps: int):
     return road, ego, {}, traffic.rails_y_hw(case.lanes), env
 
 
+def _vehicle_classes() -> list[type]:
+    """highway-env's `Vehicle` and every subclass defined so far (its own drivers, ours)."""
+    out, todo = [], [Vehicle]
+    while todo:
+        cls = todo.pop()
+        out.append(cls)
+        todo.extend(cls.__subclasses__())
+    return out
+
+
+@contextlib.contextmanager
+def vehicle_class_state_restored() -> Iterator[None]:
+    """Restore the class-level constants (upper-case attributes) of every highway-env vehicle
+    class on exit, as they were on entry: an environment that sets them for its own traffic
+    (highway-env 1.x `IntersectionEnv._make_vehicles`: `DISTANCE_WANTED = 7`,
+    `COMFORT_ACC_MAX = 6`, `COMFORT_ACC_MIN = -3` on `IDMVehicle`) keeps them for its own
+    simulation only, not for the next case a sweep worker simulates."""
+    saved = {cls: {k: v for k, v in vars(cls).items() if k.isupper()}
+             for cls in _vehicle_classes()}
+    try:
+        yield
+    finally:
+        for cls in _vehicle_classes():
+            before = saved.get(cls, {})
+            for k in [k for k in vars(cls) if k.isupper() and k not in before]:
+                delattr(cls, k)
+            for k, v in before.items():
+                if vars(cls).get(k, object()) is not v:
+                    setattr(cls, k, v)
+
+
 def run_scenario(name_or_case, seed: int = 0, duration_s: float | None = None,
                  frame_rate_hz: float = 20.0, substeps: int = 1,
                  decision_rate_hz: float = 10.0) -> ScenarioRun:
@@ -337,31 +373,32 @@ def run_scenario(name_or_case, seed: int = 0, duration_s: float | None = None,
     if not duration > 0:
         raise ValueError(f"duration_s={duration!r} must be > 0")
     n_frames = max(int(round(duration * frame_rate_hz)), 1)
-    if case.traffic is None:
-        road, ego, ids, rails, _env = _scripted(case)
-    else:
-        road, ego, ids, rails, _env = _random_traffic(case, seed, frame_rate_hz, substeps)
-    dt = 1.0 / (frame_rate_hz * substeps)
-    actor_rows: list[tuple] = []
-    ego_rows: list[tuple] = []
-    for frame in range(n_frames):
-        ego_rows.append((frame, ego.position[0], ego.position[1], ego.heading, ego.speed))
-        for v in road.vehicles:
-            if v is ego:
-                continue
-            key = id(v)
-            if key not in ids:
-                ids[key] = RANDOM_ID_BASE + len(ids)
-            cls = getattr(v, "ACTOR_CLASS", "car")
-            vel = v.velocity
-            actor_rows.append((frame, ids[key], cls, v.LENGTH, v.WIDTH,
-                               ACTOR_CLASSES[cls].height_m, v.position[0], v.position[1],
-                               v.heading, vel[0], vel[1]))
-        if frame < n_frames - 1:
-            for sub in range(substeps):
-                if (frame * substeps + sub) % stride == 0:
-                    road.act()
-                road.step(dt)
+    with vehicle_class_state_restored():
+        if case.traffic is None:
+            road, ego, ids, rails, _env = _scripted(case)
+        else:
+            road, ego, ids, rails, _env = _random_traffic(case, seed, frame_rate_hz, substeps)
+        dt = 1.0 / (frame_rate_hz * substeps)
+        actor_rows: list[tuple] = []
+        ego_rows: list[tuple] = []
+        for frame in range(n_frames):
+            ego_rows.append((frame, ego.position[0], ego.position[1], ego.heading, ego.speed))
+            for v in road.vehicles:
+                if v is ego:
+                    continue
+                key = id(v)
+                if key not in ids:
+                    ids[key] = RANDOM_ID_BASE + len(ids)
+                cls = getattr(v, "ACTOR_CLASS", "car")
+                vel = v.velocity
+                actor_rows.append((frame, ids[key], cls, v.LENGTH, v.WIDTH,
+                                   ACTOR_CLASSES[cls].height_m, v.position[0], v.position[1],
+                                   v.heading, vel[0], vel[1]))
+            if frame < n_frames - 1:
+                for sub in range(substeps):
+                    if (frame * substeps + sub) % stride == 0:
+                        road.act()
+                    road.step(dt)
     raw_ego = pd.DataFrame(ego_rows, columns=RAW_EGO_COLUMNS)
     raw = pd.DataFrame(actor_rows, columns=RAW_ACTOR_COLUMNS)
     rail = _rail_rows(rails, raw_ego) if case.guard_rails else None
