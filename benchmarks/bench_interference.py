@@ -19,7 +19,10 @@ import pipeline
 import radarsim
 from benchmarks._timing import median_time_s
 from pipeline import chirp_level as cl
-from pipeline.interference_repair import MITIGATIONS
+from pipeline.chirp_level.stage import _chirp_statistics
+from pipeline.interference_lowrank import fast_time_basis, lowrank_fill
+from pipeline.interference_repair import MITIGATIONS, FrameRows, _reference
+from pipeline.threads import inline
 from radarsim import interference as itf_mod
 
 N_SCATTERERS = 100
@@ -87,29 +90,12 @@ def _interleaved(f_a, f_b, repeats: int, warmup: int) -> tuple[float, float]:
     return float(np.median(ta)), float(np.median(tb))
 
 
-def _thread_cpu_s(fn, repeats: int, warmup: int) -> float:
-    """Median thread CPU time of `fn()`, s (this thread only: `fn` must not hand work to
-    other threads)."""
-    for _ in range(warmup):
-        fn()
-    times = []
-    for _ in range(repeats):
-        t0 = time.thread_time()
-        fn()
-        times.append(time.thread_time() - t0)
-    return float(np.median(times))
-
-
 def lowrank_breakdown(cfg, adc: np.ndarray, repeats: int, warmup: int) -> list[str]:
     """Where the default repair ("lowrank") spends its time on the frame: thread CPU of the
     frame's fast-time basis and of the fill (one part: `pipeline.threads.inline`) with and
     without the mask growth, and the work's size (hit rows and chirps, components). The basis
     and the fill's row projections are BLAS calls: with several BLAS threads on a busy
     machine, this thread's time includes OpenBLAS waiting for its worker threads."""
-    from pipeline.chirp_level.stage import _chirp_statistics
-    from pipeline.interference_lowrank import fast_time_basis, lowrank_fill
-    from pipeline.interference_repair import FrameRows, _reference
-    from pipeline.threads import inline
     proc = pipeline.ProcessingConfig()
     m = MITIGATIONS["lowrank"]
     n = cfg.n_samples
@@ -117,8 +103,11 @@ def lowrank_breakdown(cfg, adc: np.ndarray, repeats: int, warmup: int) -> list[s
     y = np.subtract(adc.reshape(-1, n)[rows], dc.reshape(-1, 1)[rows], dtype=np.float32)
     frame = FrameRows(adc.reshape(-1, n), rows, cfg.n_rx)
     gate = 10 ** (m.rank_snr_gate_db / 10)
-    ref = _reference(y, frame, None)
-    basis = fast_time_basis(ref, m.rank_max, gate)
+
+    def mask():  # repaired rows' masks: the reference when the frame has too few clean rows
+        return m.mask(flags, proc.intf_hysteresis_samples)
+
+    basis = fast_time_basis(_reference(y, frame, mask), m.rank_max, gate)
     bursts = rows // cfg.n_rx
     hw = proc.intf_hysteresis_samples + m.extend_samples
 
@@ -127,10 +116,11 @@ def lowrank_breakdown(cfg, adc: np.ndarray, repeats: int, warmup: int) -> list[s
             lowrank_fill(y.copy(), flags, bursts, basis, m.close_gap_samples, hw, grow_sigma,
                          m.grow_reach_samples)
 
-    t_basis = _thread_cpu_s(lambda: fast_time_basis(_reference(y, frame, None), m.rank_max,
-                                                    gate), repeats, warmup)
-    t_fill = _thread_cpu_s(lambda: fill(m.grow_sigma), repeats, warmup)
-    t_fixed = _thread_cpu_s(lambda: fill(0.0), repeats, warmup)
+    t_basis = median_time_s(lambda: fast_time_basis(_reference(y, frame, mask), m.rank_max,
+                                                    gate), repeats, warmup,
+                            clock=time.thread_time)
+    t_fill = median_time_s(lambda: fill(m.grow_sigma), repeats, warmup, clock=time.thread_time)
+    t_fixed = median_time_s(lambda: fill(0.0), repeats, warmup, clock=time.thread_time)
     return [f"  lowrank on this frame: {rows.size} hit rows of {adc.shape[0] * adc.shape[1]}, "
             f"{np.unique(bursts).size} hit chirps, k = {basis.vectors.shape[1]} components; "
             f"thread CPU (one part): reference rows + basis {1e3 * t_basis:.2f} ms, fill "

@@ -335,7 +335,7 @@ def _repair_bursts(x, flags, rhs, vec_c, vec_t, prefix, shrink, row_start, b0, b
     e_buf = np.zeros(n + 1, dtype=np.int64)
     united = np.zeros(n, dtype=np.bool_)
     near = np.zeros(n, dtype=np.bool_)
-    for b in range(b0, b1):  # bursts (chirps), not samples: the work per burst is k^3 / 3
+    for b in range(b0, b1):  # bursts (chirps), not samples: the work per burst is k^3 / 6
         r0, r1 = row_start[b], row_start[b + 1]
         nr = r1 - r0
         for t in range(_U(n)):
@@ -403,7 +403,8 @@ def lowrank_fill(x: np.ndarray, flags: np.ndarray, bursts: np.ndarray, basis: Fa
     basis : FastTimeBasis
     close, halfwidth : int
         The mask: the united flags closed over gaps of up to `close` samples, then widened by
-        `halfwidth` samples on each side (`burst_runs`).
+        `halfwidth` samples on each side (per burst in the compiled `_to_runs`; `burst_runs`
+        is the same mask in numpy).
     grow_sigma : float
         Kept samples within `grow_reach` of the mask whose residual from the fit exceeds
         grow_sigma x sigma are masked too, and their chirps refitted (0: never).

@@ -164,10 +164,10 @@ class RepairedRows(NamedTuple):
         lo, hi = np.searchsorted(self.rows, (c0 * n_rx, (c0 + len(x)) * n_rx))
         _put_rows(x.reshape(-1, x.shape[-1]), self.windowed, self.rows, c0 * n_rx, lo, hi)
 
-    def without_dc(self, m: np.ndarray, c0: int) -> np.ndarray:
-        """`m` (chirps, n_rx), the DC estimates of chirps c0 .. c0 + len(m) - 1, with the
-        repaired rows' set to 0 (their DC was removed before the FFT)."""
-        return self.dc[c0:c0 + len(m)]
+    def without_dc(self, c0: int, c1: int) -> np.ndarray:
+        """(c1 - c0, n_rx) the DC estimates of chirps c0 .. c1 - 1 with the repaired rows' set
+        to 0 (their DC was removed before the FFT)."""
+        return self.dc[c0:c1]
 
 
 def repaired_rows(adc: np.ndarray, dc: np.ndarray | None, rows: np.ndarray, flags: np.ndarray,

@@ -177,7 +177,7 @@ def _blockwise(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig, dc: np
             rep.swap_into(x, c0)
         rf = scipy.fft.rfft(x, axis=-1, workers=1)[..., :n_b]
         if fix:
-            m = dc[c0:c1, :, 0] if rep is None else rep.without_dc(dc[c0:c1, :, 0], c0)
+            m = dc[c0:c1, :, 0] if rep is None else rep.without_dc(c0, c1)
             for k, wk in fix:
                 rf[..., k] -= m * wk
         if ege is not None:
