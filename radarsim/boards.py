@@ -114,6 +114,9 @@ class Board:
                 raise ValueError(f"board {self.name}: {fld}={v!r} must be a finite number >= 0")
         if not (isinstance(self.fov_deg, (int, float)) and 0 < self.fov_deg <= 90):
             raise ValueError(f"board {self.name}: fov_deg={self.fov_deg!r} must be in (0, 90]")
+        if not isinstance(self.ti_platform, str):
+            raise ValueError(f"board {self.name}: ti_platform={self.ti_platform!r} must be a "
+                             "string (a TI Visualizer '% Platform:' name, or '')")
 
     # ------------------------------------------------------------------ configs
     def validate(self, cfg) -> None:

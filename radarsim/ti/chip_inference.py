@@ -7,7 +7,7 @@ import re
 
 from ..boards import BOARDS
 from ..chips import CHIPS
-from .syntax import DIRECTIVE_RE
+from .syntax import DIRECTIVE_RE, LineError
 
 __all__ = ["PLATFORMS", "infer_chip", "platform_board"]
 
@@ -94,11 +94,23 @@ def _board_of_platform(name: str) -> str | None:
     return None
 
 
-def platform_board(lines: list[str]) -> str | None:
+def platform_board(lines: list[str], chip: str) -> str | None:
     """The board a TI Visualizer ``% Platform:`` header names (``xWR68xx_AOP`` ->
-    IWR6843AOPEVM: `radarsim.boards.Board.ti_platform`), or None (the chip's default board)."""
-    for raw in lines:
+    IWR6843AOPEVM: `radarsim.boards.Board.ti_platform`), or None (the chip's default board).
+
+    Raises
+    ------
+    LineError
+        The header names a board that carries another chip than `chip`, the profile's (e.g.
+        a ``% radarsim: chip`` directive that contradicts it).
+    """
+    for no, raw in enumerate(lines, 1):
         m = _PLATFORM_RE.match(raw.strip())
         if m:
-            return _board_of_platform(m.group(1))
+            board = _board_of_platform(m.group(1))
+            if board is not None and BOARDS[board].chip != chip:
+                raise LineError(f"line {no}: '% Platform:{m.group(1)}' means board {board}, "
+                                f"which carries a {BOARDS[board].chip}, not the profile's chip "
+                                f"{chip}")
+            return board
     return None

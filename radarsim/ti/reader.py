@@ -208,7 +208,7 @@ def parse_ti_cfg(path_or_text: str | os.PathLike) -> TiProfile:
         raise LineError(f"line 1: {exc}") from None
     tok = _tokenize(lines, chip, _n_subframes(lines))
     tok.notes.insert(0, f"chip {chip.name} from the {how}")
-    tok.board = platform_board(lines)
+    tok.board = platform_board(lines, chip.name)
     if tok.board is not None:
         tok.notes.insert(1, f"board {tok.board} from the '% Platform:' header")
     adv = advanced.plan([ln for ln, _ in tok.commands], chip)

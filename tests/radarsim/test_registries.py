@@ -152,6 +152,11 @@ def test_a_labs_board_must_fit_its_chip():
         radarsim.register_board(dataclasses.replace(LAB_BOARD, name="AWR2944EVM"))
 
 
+def test_a_boards_ti_platform_must_be_a_string():
+    with pytest.raises(ValueError, match=r"board LAB_BAD: ti_platform=68 must be a string"):
+        dataclasses.replace(LAB_BOARD, name="LAB_BAD", ti_platform=68)
+
+
 def test_a_board_of_another_chip_is_refused(lab_board):
     with pytest.raises(ValueError, match=r"board='LAB_AWR2944_LOWRISE' carries a AWR2944, "
                                          r"not chip='AWR1843'"):

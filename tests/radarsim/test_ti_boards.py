@@ -40,6 +40,16 @@ def test_platform_header_gives_the_board_ti_describes(profile, board, geo0, geo1
     np.testing.assert_array_equal(n, np.array(geo1) - geo1[0])
 
 
+def test_platform_header_of_another_chips_board_is_refused():
+    """A ``% radarsim: chip`` directive for an AWR1843 above the AOP header (a board carrying
+    an IWR6843) contradicts it: the reader names the header line, not RadarConfig later."""
+    text = '% radarsim: chip = "AWR1843"\n' + profile_text("xwr68_aop")
+    with pytest.raises(ValueError, match=r"line 5: '% Platform:xWR68xx_AOP' means board "
+                                         r"IWR6843AOPEVM, which carries a IWR6843, not the "
+                                         r"profile's chip AWR1843"):
+        parse_ti_cfg(text)
+
+
 def test_written_profile_keeps_the_aop_board():
     prof = parse_ti_cfg(profile_text("xwr68_aop"))
     text = to_ti_cfg(prof)
