@@ -22,15 +22,15 @@ from .threads import run_parts, spans
 #: Unsigned loop indices in the compiled loops (see `_power_into`).
 _U = np.uint64
 
-__all__ = ["ddma_metric", "ddma_gather", "gemm_power", "ddma_coherent_power", "DDMA_RANGE_BLOCK"]
+__all__ = ["ddma_metric", "ddma_gather", "ddma_coherent_power", "DDMA_RANGE_BLOCK"]
 
 
 def ddma_gather(spec: np.ndarray, tx1_band: np.ndarray, tx_pos: np.ndarray,
-                n_subbands: int, out: np.ndarray | None = None,
-                range_span: tuple[int, int] | None = None) -> np.ndarray:
+                n_subbands: int) -> np.ndarray:
     """Demodulated DDMA samples of the transmitters at sub-band positions `tx_pos`, for every
     range and Doppler bin (seed 000 table 11): Tx p of Doppler bin d at range bin b sits at
-    chirp-bin d + n_dop ((tx1_band[d, b] + p) mod N).
+    chirp-bin d + n_dop ((tx1_band[d, b] + p) mod N). The whole frame in one block of
+    `ddma_coherent_power`'s gather (the chains gather per block inside it).
 
     Parameters
     ----------
@@ -43,91 +43,15 @@ def ddma_gather(spec: np.ndarray, tx1_band: np.ndarray, tx_pos: np.ndarray,
     n_subbands : int
         N (n_dop = n_chirps / N).
 
-    out : (P x n_rx, n_range x n_dop) complex64, optional
-        Written and returned (default: a new array).
-    range_span : (lo, hi), optional
-        Only the columns of range bins lo <= b < hi (tx1_band read there only).
-
     Returns
     -------
     (P x n_rx, n_range x n_dop) complex64
-        Row p n_rx + rx, column b n_dop + d (one flat gather, no index arrays).
+        Row p n_rx + rx, column b n_dop + d.
     """
     n_c, n_rx, n_b = spec.shape
-    n_dop = n_c // n_subbands
-    if out is None:
-        out = np.empty((tx_pos.size * n_rx, n_b * n_dop), np.complex64)
-    lo, hi = (0, n_b) if range_span is None else range_span
-    _ddma_gather(spec, tx1_band, tx_pos.astype(np.int64), n_subbands, out, lo, hi)
+    out = np.empty((tx_pos.size * n_rx, n_b * (n_c // n_subbands)), np.complex64)
+    _gather_block(spec, tx1_band, tx_pos.astype(np.int64), n_subbands, out, 0, n_b)
     return out
-
-
-@numba.njit(cache=True, nogil=True)
-def _ddma_gather(spec, tx1_band, tx_pos, n_sb, out, b0, b1):
-    """`ddma_gather`'s loop: Doppler bins outer, range bins b0..b1-1 inner (reads run along
-    range)."""
-    n_rx = spec.shape[1]
-    n_dop = tx1_band.shape[0]
-    for d in range(n_dop):
-        for b in range(b0, b1):
-            band = tx1_band[d, b]
-            for i in range(tx_pos.size):
-                c = ((band + tx_pos[i]) % n_sb) * n_dop + d
-                for rx in range(n_rx):
-                    out[i * n_rx + rx, b * n_dop + d] = spec[c, rx, b]
-
-
-def gemm_power(w: np.ndarray, x: np.ndarray) -> np.ndarray:
-    """|w @ x|^2 as float32 (re^2 + im^2, as `stages.power_of`), the product and the square
-    computed per block of rows of `w` on the cores (`pipeline.threads`).
-
-    A row block of a GEMM is the same arithmetic as the whole one with the BLAS at hand (checked
-    once per process and operand layout, `_row_blocks_exact`; where it is not, one block), so
-    the map is the same bits either way.
-
-    Parameters
-    ----------
-    w : (m, k) complex64
-    x : (k, n) complex64
-
-    Returns
-    -------
-    (m, n) float32
-    """
-    m = w.shape[0]
-    out = np.empty((m, x.shape[1]), np.float32)
-    blocks = spans(m, multiple=_ROW_MULTIPLE)
-    if len(blocks) > 1 and not _row_blocks_exact(w.shape, w.strides, x.shape, x.strides,
-                                                 blocks[0][1]):
-        blocks = [(0, m)]
-
-    def block(lo: int, hi: int) -> None:
-        y = (w[lo:hi] @ x).view(np.float32)
-        np.square(y, out=y)
-        np.add(y[:, 0::2], y[:, 1::2], out=out[lo:hi])
-
-    run_parts([lambda lo=lo, hi=hi: block(lo, hi) for lo, hi in blocks])
-    return out
-
-
-_ROW_MULTIPLE = 8  # row blocks start at multiples of the usual GEMM kernel widths
-
-
-@lru_cache(maxsize=16)
-def _row_blocks_exact(w_shape, w_strides, x_shape, x_strides, cut: int) -> bool:
-    """Whether rows [0, cut) and [cut, m) of a complex64 GEMM of this layout give the bits of the
-    whole product (random operands with the same shapes and strides)."""
-    g = np.random.default_rng(0)
-
-    def operand(shape, strides):
-        base = np.empty(shape[::-1] if strides[0] < strides[-1] else shape, np.complex64)
-        base.real, base.imag = g.standard_normal(base.shape), g.standard_normal(base.shape)
-        return base.T if strides[0] < strides[-1] else base
-
-    w, x = operand(w_shape, w_strides), operand(x_shape, x_strides)
-    whole = w @ x
-    return bool(np.array_equal(whole[:cut], w[:cut] @ x)
-                and np.array_equal(whole[cut:], w[cut:] @ x))
 
 
 #: Range bins per block of `ddma_coherent_power`: the block's gathered samples (12 x 512

@@ -9,8 +9,6 @@ import pipeline
 import pipeline.threads as threads
 import radarsim
 from pipeline.chirp_level.ege import HWA_OUTPUT_SCALE, ege_compress
-from pipeline.ddma_kernels import gemm_power
-from pipeline.stages import power_of
 
 
 @pytest.mark.parametrize("n, parts, multiple", [(48, 2, 1), (48, 2, 8), (768, 3, 1), (7, 2, 4),
@@ -83,15 +81,6 @@ def test_a_forked_worker_runs_parts_after_the_parent_made_its_helper_thread():
     threads.run_parts([lambda: 0, lambda: 0])  # the parent's helper thread exists
     with mp.get_context("fork").Pool(1) as pool:
         assert pool.map_async(_parts_in_child, [0]).get(timeout=60) == [[1, 2]]
-
-
-@pytest.mark.parametrize("layout", ["C", "F"])
-def test_gemm_power_equals_the_whole_product_bit_for_bit(layout):
-    g = np.random.default_rng(0)
-    w = (g.standard_normal((48, 12)) + 1j * g.standard_normal((48, 12))).astype(np.complex64)
-    w = np.asfortranarray(w) if layout == "F" else w
-    x = (g.standard_normal((12, 4096)) + 1j * g.standard_normal((12, 4096))).astype(np.complex64)
-    assert gemm_power(w, x).tobytes() == power_of(w @ x).tobytes()
 
 
 @pytest.fixture
