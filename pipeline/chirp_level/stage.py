@@ -209,6 +209,8 @@ def _chirp_statistics(adc: np.ndarray, proc: ProcessingConfig):
     them: `remove_dc` and `flagged_rows`, both per chirp and Rx, run on blocks of chirps on the
     cores (`pipeline.threads`) and joined in row order (the same values)."""
     n_rx = adc.shape[1]
+    if not (proc.dc_removal or proc.interference_mitigation):  # nothing to measure
+        return None, np.zeros(0, dtype=np.intp), None
     fused = _fused_statistics(adc, proc)
     if fused is not None:
         return fused
