@@ -47,7 +47,7 @@ from scipy.spatial import cKDTree
 
 from scenarios.checks import require
 
-from .joins import key_join, pair_index, pair_isin
+from .joins import key_join, pair_index, pair_isin, sorted_join
 
 __all__ = [
     "AssociationConfig", "LABELS", "TRUE", "VELOCITY_AMBIGUOUS", "GHOST", "CLUTTER",
@@ -167,21 +167,6 @@ _EMPTY_PAIRS = pd.DataFrame({c: pd.Series(dtype=t) for c, t in (
     ("near_y_m", float), ("near_range_m", float), ("box_distance_m", float))})
 
 
-def _same_frame_pairs(det_frame: np.ndarray, truth_frame: np.ndarray
-                      ) -> tuple[np.ndarray, np.ndarray]:
-    """(P,) detection and truth row positions of every pair in the same frame: detections in
-    order, each with its frame's truth rows in table order (an inner join on the frame, in
-    the row order pandas' merge gives, without building the joined table)."""
-    order = np.argsort(truth_frame, kind="stable")
-    sorted_frame = truth_frame[order]
-    lo = np.searchsorted(sorted_frame, det_frame, side="left")
-    n = np.searchsorted(sorted_frame, det_frame, side="right") - lo
-    d_i = np.repeat(np.arange(det_frame.size), n)
-    # Position inside each detection's run of truth rows: 0, 1, ... n_d - 1.
-    within = np.arange(d_i.size) - np.repeat(np.cumsum(n) - n, n)
-    return d_i, order[np.repeat(lo, n) + within]
-
-
 def _pairs(detections: pd.DataFrame, truth: pd.DataFrame, cfg: AssociationConfig,
            velocity_span_mps: float, rows: np.ndarray | None = None) -> pd.DataFrame:
     """All (detection, actor) pairs of the same frame with gate distances.
@@ -194,8 +179,8 @@ def _pairs(detections: pd.DataFrame, truth: pd.DataFrame, cfg: AssociationConfig
     truth_radial_velocity_mps, near_x_m, near_y_m (nearest box point), box_distance_m.
     """
     t_frame = truth["frame"].to_numpy()
-    d_i, t_i = _same_frame_pairs(detections["frame"].to_numpy(),
-                                 t_frame if rows is None else t_frame[rows])
+    d_i, t_i = sorted_join(detections["frame"].to_numpy(),
+                           t_frame if rows is None else t_frame[rows])
     if not d_i.size:
         return _EMPTY_PAIRS.copy()
     if rows is not None:

@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["pair_index", "pair_isin", "key_join"]
+__all__ = ["pair_index", "pair_isin", "key_join", "sorted_join"]
 
 
 def _keys(frame: np.ndarray, actor: np.ndarray, q_frame: np.ndarray,
@@ -43,8 +43,18 @@ def key_join(q_frame: np.ndarray, q_actor: np.ndarray, frame: np.ndarray,
     """(P,) query and table row positions of every pair with equal (frame, actor): queries in
     order, each with its table rows in table order (an inner join's pairs)."""
     t_key, q_key = _keys(frame, actor, q_frame, q_actor)
+    return sorted_join(q_key, t_key)
+
+
+def sorted_join(q_key: np.ndarray, t_key: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(P,) query and table row positions of every pair with equal keys (1-D, sortable):
+    queries in order, each with its table rows in table order, the row order of pandas'
+    inner merge, without building the joined table."""
     order = np.argsort(t_key, kind="stable")
-    lo = np.searchsorted(t_key[order], q_key, side="left")
-    n = np.searchsorted(t_key[order], q_key, side="right") - lo
+    sorted_key = t_key[order]
+    lo = np.searchsorted(sorted_key, q_key, side="left")
+    n = np.searchsorted(sorted_key, q_key, side="right") - lo
     q_i = np.repeat(np.arange(q_key.size), n)
-    return q_i, order[np.repeat(lo, n) + np.arange(q_i.size) - np.repeat(np.cumsum(n) - n, n)]
+    # Position inside each query's run of table rows: 0, 1, ... n_q - 1.
+    within = np.arange(q_i.size) - np.repeat(np.cumsum(n) - n, n)
+    return q_i, order[np.repeat(lo, n) + within]
