@@ -15,11 +15,12 @@ import numpy as np
 import pandas as pd
 
 from .association import CLUTTER, GHOST, TRUE, VELOCITY_AMBIGUOUS, AssociationConfig
+from .joins import first_valid_rows, pair_index
 from .velocity import FAILURE, RIGHT
 
 __all__ = [
     "error_stats", "velocity_stats", "ghost_stats", "actor_detection",
-    "pd_vs_range", "max_range_pd90", "snr_gain_pairs", "snr_gain_stats", "summarize_scheme",
+    "pd_vs_range", "max_range_pd90", "snr_gain_rows", "snr_gain_pairs", "snr_gain_stats", "summarize_scheme",
     "target_first_detection_range_m", "NOISE_LIMITED_SNR_DB", "NOISE_LIMITED_MIN_PAIRS",
 ]
 
@@ -155,10 +156,7 @@ def actor_detection(af: pd.DataFrame) -> pd.DataFrame:
         p_det = np.where(n_vis > 0, n_det / n_vis, np.nan)
     # Each actor's class: its first non-null class (groupby's first()), else its first row.
     cls = af["actor_class"]
-    has = cls.notna().to_numpy()
-    rows = np.unique(grp, return_index=True)[1]
-    named, at = np.unique(grp[has], return_index=True)
-    rows[named] = np.flatnonzero(has)[at]
+    rows = first_valid_rows(grp, cls.notna().to_numpy())
     # First detection: the detected row of the lowest frame per actor.
     d_rows = np.flatnonzero(det)
     d_rows = d_rows[np.lexsort((frame[d_rows], grp[d_rows]))]
@@ -246,24 +244,33 @@ def _max_range_pd90_of(af: pd.DataFrame, bin_m: float, min_count: int,
     return out
 
 
+def snr_gain_rows(af: pd.DataFrame, a: str, b: str) -> tuple[np.ndarray, np.ndarray]:
+    """(P,) rows of ``af`` of scheme ``a`` and of scheme ``b`` on the same actor and frame,
+    both detected: ``a``'s detected actor-frames in table order that ``b`` detected too (the
+    row order of an inner join on (frame, actor_id)), each with ``b``'s row (its first, should
+    the table repeat one)."""
+    scheme, hit = af["scheme"].to_numpy(), af["detected"].to_numpy(dtype=bool)
+    ra, rb = np.flatnonzero((scheme == a) & hit), np.flatnonzero((scheme == b) & hit)
+    frame, actor = af["frame"].to_numpy(), af["actor_id"].to_numpy()
+    at = pair_index(frame[rb], actor[rb], frame[ra], actor[ra])
+    return ra[at >= 0], rb[at[at >= 0]]
+
+
 def snr_gain_pairs(af: pd.DataFrame, a: str, b: str) -> pd.DataFrame:
     """SNR gain of scheme ``a`` over ``b`` on the same actor and frame.
 
     ``af`` is the actor-frame table of both schemes with a ``scheme`` column. For every
-    (frame, actor_id) detected by both, ``snr_gain_db`` = max snr_db of the actor's TRUE
-    detections in ``a`` minus the same in ``b`` (the actor's strongest echo in each scheme).
-    Returns columns frame, actor_id, actor_class, range_m, reference_snr_db (scheme ``b``'s
-    peak SNR), snr_gain_db.
+    (frame, actor_id) detected by both (`snr_gain_rows`), ``snr_gain_db`` = max snr_db of the
+    actor's TRUE detections in ``a`` minus the same in ``b`` (the actor's strongest echo in
+    each scheme). Returns columns frame, actor_id, actor_class, range_m (scheme ``a``'s rows),
+    reference_snr_db (scheme ``b``'s peak SNR), snr_gain_db.
     """
-    key = ["frame", "actor_id"]
-    da = af[(af["scheme"] == a) & af["detected"]].set_index(key)
-    db = af[(af["scheme"] == b) & af["detected"]].set_index(key)
-    j = da[["actor_class", "range_m", "max_snr_db"]].join(
-        db[["max_snr_db"]].rename(columns={"max_snr_db": "max_snr_db_b"}), how="inner")
-    j["snr_gain_db"] = j["max_snr_db"] - j["max_snr_db_b"]
-    j = j.rename(columns={"max_snr_db_b": "reference_snr_db"})
-    return j.reset_index()[["frame", "actor_id", "actor_class", "range_m", "reference_snr_db",
-                            "snr_gain_db"]]
+    ra, rb = snr_gain_rows(af, a, b)
+    out = af[["frame", "actor_id", "actor_class", "range_m"]].iloc[ra].reset_index(drop=True)
+    snr = af["max_snr_db"].to_numpy()
+    out["reference_snr_db"] = snr[rb]
+    out["snr_gain_db"] = snr[ra] - snr[rb]
+    return out
 
 
 #: Pairs whose TDMA peak SNR is at most this are noise-limited, dB. DDMA's dynamic range is

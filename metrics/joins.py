@@ -1,5 +1,5 @@
 """Row joins of the scoring tables by integer keys: which rows of one table hold the (frame,
-actor) pair of each row of another. The pairs are coded as integers (np.unique codes of both
+actor) pair of each row of another, and which row stands for each group. The pairs are coded as integers (np.unique codes of both
 sides) and matched by a stable sort and searchsorted instead of pandas merges / MultiIndexes,
 whose per-call cost dominates on the few-thousand-row tables of one sweep cell.
 """
@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["pair_index", "pair_isin", "key_join", "sorted_join"]
+__all__ = ["pair_index", "pair_isin", "key_join", "sorted_join", "first_valid_rows"]
 
 
 def _keys(frame: np.ndarray, actor: np.ndarray, q_frame: np.ndarray,
@@ -58,3 +58,16 @@ def sorted_join(q_key: np.ndarray, t_key: np.ndarray) -> tuple[np.ndarray, np.nd
     # Position inside each query's run of table rows: 0, 1, ... n_q - 1.
     within = np.arange(q_i.size) - np.repeat(np.cumsum(n) - n, n)
     return q_i, order[np.repeat(lo, n) + within]
+
+
+def first_valid_rows(grp: np.ndarray, valid: np.ndarray) -> np.ndarray:
+    """(G,) row of each group holding its first valid value, else the group's first row.
+
+    ``grp`` (N,) are group codes 0 .. G-1, each present (np.unique's inverse); ``valid`` (N,)
+    bool. The row whose value groupby's ``first()`` returns (its first non-null), and the
+    group's first row where all are null.
+    """
+    rows = np.unique(grp, return_index=True)[1]
+    named, at = np.unique(grp[valid], return_index=True)
+    rows[named] = np.flatnonzero(valid)[at]
+    return rows

@@ -21,7 +21,6 @@ from . import r79
 from .association import (CLUTTER, GHOST, LABELS, STATIC_CLASSES, TRUE, VELOCITY_AMBIGUOUS,
                           AssociationConfig, actor_frames, associate,
                           detection_errors)
-from .joins import pair_index
 from .registry import case_criteria
 from .velocity import FAILURE, RIGHT, velocity_check
 
@@ -247,14 +246,8 @@ def add_snr_gains(summary: pd.DataFrame, actors: pd.DataFrame, gain_schemes, bas
 
 def _gain_pairs(af: pd.DataFrame, a: str, b: str) -> pd.DataFrame:
     """The two columns of `detection.snr_gain_pairs` that `snr_gain_stats` reads
-    (snr_gain_db, reference_snr_db), in its row order (scheme ``a``'s detected actor-frames in
-    table order that ``b`` detected too), by integer pair keys instead of two indexed tables
-    and a join."""
-    scheme, hit = af["scheme"].to_numpy(), af["detected"].to_numpy(dtype=bool)
-    ra, rb = np.flatnonzero((scheme == a) & hit), np.flatnonzero((scheme == b) & hit)
-    frame, actor = af["frame"].to_numpy(), af["actor_id"].to_numpy()
-    at = pair_index(frame[rb], actor[rb], frame[ra], actor[ra])
-    ra, rb = ra[at >= 0], rb[at[at >= 0]]
+    (snr_gain_db, reference_snr_db), without the actor columns it does not."""
+    ra, rb = det.snr_gain_rows(af, a, b)
     snr = af["max_snr_db"].to_numpy()
     return pd.DataFrame({"reference_snr_db": snr[rb], "snr_gain_db": snr[ra] - snr[rb]})
 

@@ -36,7 +36,7 @@ from scipy.optimize import linear_sum_assignment
 
 from scenarios.checks import require
 
-from .joins import pair_isin
+from .joins import first_valid_rows, pair_isin
 
 __all__ = [
     "TrackMetricsConfig", "gospa", "match_tracks", "gospa_per_frame", "per_actor_track_metrics",
@@ -425,10 +425,7 @@ def _per_actor(tru: pd.DataFrame, cfg: TrackMetricsConfig, matches: pd.DataFrame
     cols: dict[str, np.ndarray] = {"actor_id": ids}
     if "actor_class" in tru.columns:
         cls = tru["actor_class"]
-        has = cls.notna().to_numpy()[t_rows]
-        rows = np.unique(grp, return_index=True)[1]  # first row; first non-null if any
-        named, at = np.unique(grp[has], return_index=True)
-        rows[named] = np.flatnonzero(has)[at]
+        rows = first_valid_rows(grp, cls.notna().to_numpy()[t_rows])
         cols["actor_class"] = cls.array.take(t_rows[rows])
     cols.update(n_frames=n_frames, first_time_s=first_time)
     # Confirmation and identity from every match (also just outside the field of view).
