@@ -26,7 +26,7 @@ from ..threads import run_parts, spans
 from .dc import remove_dc, window_spectrum
 from .ege import HWA_OUTPUT_SCALE, _ege_blocks, ege_compress, ege_setup
 from .interference import RepairedRows, flagged_rows, repaired_rows
-from .row_statistics import row_statistics
+from .row_statistics import row_flags, row_statistics
 
 __all__ = ["range_stage", "windowed_range_stage", "shared_range_stage", "RANGE_STAGE_FIELDS",
            "CHIRP_BLOCK"]
@@ -233,8 +233,8 @@ def _chirp_statistics(adc: np.ndarray, proc: ProcessingConfig):
 def _fused_statistics(adc: np.ndarray, proc: ProcessingConfig):
     """`_chirp_statistics` from one compiled pass (`row_statistics`) where it gives
     `remove_dc`'s and the magdiff `flagged_rows`' values bit for bit (an int16 frame, a
-    difference-only threshold mode), else None. The flags of the few flagged rows are built as
-    `flagged_rows` builds them."""
+    difference-only threshold mode), else None. The flags of the flagged rows are
+    `flagged_rows`' (`row_flags`)."""
     intf = proc.interference_mitigation
     if intf and INTF_THRESHOLD_MODES[proc.intf_threshold_mode].magnitude:
         return None
@@ -244,13 +244,7 @@ def _fused_statistics(adc: np.ndarray, proc: ProcessingConfig):
     dc = st.dc if proc.dc_removal else None
     if not intf:
         return dc, np.zeros(0, dtype=np.intp), None
-    rows = st.flagged
-    a2 = adc.reshape(-1, adc.shape[-1])[rows]
-    d = np.subtract(a2[:, 1:], a2[:, :-1])  # int16: no difference overflows (row_statistics)
-    np.abs(d, out=d)
-    flags = np.zeros(a2.shape, dtype=bool)
-    np.greater(d, st.threshold[rows, None], out=flags[:, 1:])
-    return dc, rows, flags
+    return dc, st.flagged, row_flags(adc, st.flagged, st.threshold)
 
 
 def _range_stage(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) -> np.ndarray:

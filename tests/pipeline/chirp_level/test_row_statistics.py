@@ -8,7 +8,7 @@ import pipeline
 import radarsim
 from pipeline.chirp_level.dc import remove_dc
 from pipeline.chirp_level.interference import flagged_rows
-from pipeline.chirp_level.row_statistics import row_statistics
+from pipeline.chirp_level.row_statistics import row_flags, row_statistics
 from pipeline.chirp_level.stage import _chirp_statistics
 
 from .helpers import empty, one_interferer
@@ -39,3 +39,25 @@ def test_row_statistics_leave_frames_spanning_more_than_int16_to_numpy(cfg):
     dc, rows, flags = _chirp_statistics(adc, proc)
     want_rows, want_flags = flagged_rows(adc, remove_dc(adc), proc)
     assert np.array_equal(rows, want_rows) and flags.tobytes() == want_flags.tobytes()
+
+
+def test_row_flags_are_numpys_int16_difference_compared_in_float32():
+    """The compiled flags of chosen rows against numpy's formulation (int16 difference, its
+    absolute value, float32 comparison), bit for bit: differences up to the int16 limit, and
+    thresholds equal to a row's |dx|, one float32 step below it and between integers."""
+    g = np.random.default_rng(3)
+    adc = g.integers(-16384, 16384, (12, 3, 64)).astype(np.int16)  # |dx| up to 32767
+    adc[2, 1, 5:9] = (-16384, 16383, -16384, 16383)
+    a2 = adc.reshape(-1, 64)
+    d = np.abs(np.subtract(a2[:, 1:], a2[:, :-1]))
+    thr = np.float32(0.9) * d.max(axis=-1).astype(np.float32)
+    thr[7] = d[7, 10]                                  # a flag needs |dx| > threshold
+    thr[8] = np.nextafter(np.float32(d[8, 3]), np.float32(0))
+    thr[9], thr[10] = 0.5, 0.0
+    rows = np.array([0, 7, 8, 9, 10, 20, 35])
+    want = np.zeros((rows.size, 64), dtype=bool)
+    np.greater(d[rows], thr[rows, None], out=want[:, 1:])
+    got = row_flags(adc, rows, thr)
+    assert got.dtype == bool and got.tobytes() == want.tobytes()
+    assert not want[1, 11] and want[2, 4] and want[3].sum() == 63 - (d[9] == 0).sum()
+    assert row_flags(adc, rows[:0], thr).shape == (0, 64)
