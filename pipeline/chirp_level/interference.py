@@ -150,19 +150,34 @@ def flagged_rows(adc: np.ndarray, dc, proc: ProcessingConfig) -> tuple[np.ndarra
 
 
 class RepairedRows(NamedTuple):
-    """The flagged chirp x Rx rows of a frame, DC removed, repaired and windowed: what the
-    range FFT takes in their place (`repaired_rows`)."""
+    """The flagged chirp x Rx rows of a frame, DC removed and repaired: what the range FFT
+    takes in their place, times the range window (`repaired_rows`)."""
 
     rows: np.ndarray      # (R,) increasing row indices, chirp * n_rx + Rx
-    windowed: np.ndarray  # (R, n_samples) float32 (complex64 for I/Q): repaired x window
+    samples: np.ndarray   # (R, n_samples) float32 (complex64 for I/Q): repaired, not windowed
+    window: np.ndarray    # (n_samples,) float32 range window
     dc: np.ndarray | None  # (n_chirps, n_rx) DC estimates, the repaired rows' 0 (None: none)
 
-    def swap_into(self, x: np.ndarray, c0: int) -> None:
-        """Put the rows of chirps c0 .. c0 + len(x) - 1 into `x` (chirps, n_rx, n_samples),
-        the windowed samples of those chirps."""
-        n_rx = x.shape[1]
-        lo, hi = np.searchsorted(self.rows, (c0 * n_rx, (c0 + len(x)) * n_rx))
-        _put_rows(x.reshape(-1, x.shape[-1]), self.windowed, self.rows, c0 * n_rx, lo, hi)
+    def windowed(self) -> np.ndarray:
+        """(R, n_samples) the repaired rows times the window (numpy's product; rows in parts
+        on the cores)."""
+        y = np.empty_like(self.samples)
+        run_parts([lambda lo=lo, hi=hi: np.multiply(self.samples[lo:hi], self.window,
+                                                    out=y[lo:hi])
+                   for lo, hi in spans(len(y))])
+        return y
+
+    def windowed_block(self, adc: np.ndarray, c0: int, out: np.ndarray) -> np.ndarray:
+        """The windowed samples of chirps c0 .. c0 + len(adc) - 1 into `out` and returned:
+        `adc` (chirps, n_rx, n_samples) int16, those chirps of the frame, each row as
+        float32 times the window (`kernels.samples_windowed`), the repaired rows' (real
+        frames) in its place, as `windowed()` has them: one compiled pass, no row windowed
+        twice."""
+        n_rx, n = adc.shape[1], adc.shape[-1]
+        lo, hi = np.searchsorted(self.rows, (c0 * n_rx, (c0 + len(adc)) * n_rx))
+        _windowed_rows(adc.reshape(-1, n), self.samples, self.rows, self.window, c0 * n_rx,
+                       lo, hi, out.reshape(-1, n))
+        return out
 
     def without_dc(self, c0: int, c1: int) -> np.ndarray:
         """(c1 - c0, n_rx) the DC estimates of chirps c0 .. c1 - 1 with the repaired rows' set
@@ -172,8 +187,8 @@ class RepairedRows(NamedTuple):
 
 def repaired_rows(adc: np.ndarray, dc: np.ndarray | None, rows: np.ndarray, flags: np.ndarray,
                   win: np.ndarray, proc: ProcessingConfig) -> RepairedRows:
-    """The flagged rows, DC removed, repaired by ``proc.intf_mitigation`` (the chip zeroes) and
-    windowed.
+    """The flagged rows, DC removed and repaired by ``proc.intf_mitigation`` (the chip
+    zeroes), with the window they are multiplied by.
 
     Parameters
     ----------
@@ -211,23 +226,31 @@ def repaired_rows(adc: np.ndarray, dc: np.ndarray | None, rows: np.ndarray, flag
     run_parts([lambda lo=lo, hi=hi: dc_removed(lo, hi) for lo, hi in parts])
     repair(y, flags, win, proc.intf_hysteresis_samples, get_mitigation(proc.intf_mitigation),
            frame=FrameRows(a2, rows, n_rx))
-    run_parts([lambda lo=lo, hi=hi: np.multiply(y[lo:hi], win, out=y[lo:hi])
-               for lo, hi in parts])
     dc0 = None
     if dc is not None:
         dc0 = dc[..., 0].copy()
         dc0.reshape(-1)[rows] = 0
-    return RepairedRows(rows, y, dc0)
+    return RepairedRows(rows, y, win, dc0)
 
 
 @numba.njit(cache=True, nogil=True)
-def _put_rows(dst, src, rows, row0, lo, hi):
-    """dst[rows[i] - row0] <- src[i] for i in lo .. hi - 1."""
-    for i in range(lo, hi):
-        d = dst[rows[i] - row0]
-        s = src[i]
-        for t in range(s.shape[0]):
-            d[t] = s[t]
+def _windowed_rows(a2, y, rows, w, row0, lo, hi, out):
+    """out[r] <- w x (y[i] if rows[i] == row0 + r for an i in lo .. hi - 1, else
+    float32(a2[r])), float32 products (numpy's ``np.multiply`` of each pair, element by
+    element); rows[lo:hi] increasing, within row0 .. row0 + len(a2) - 1."""
+    n = np.uint64(a2.shape[1])  # unsigned: lets LLVM vectorise the loops
+    i = lo
+    for r in range(a2.shape[0]):
+        o = out[r]
+        if i < hi and rows[i] == row0 + r:
+            s = y[i]
+            for t in range(n):
+                o[t] = s[t] * w[t]
+            i += 1
+        else:
+            a = a2[r]
+            for t in range(n):
+                o[t] = np.float32(a[t]) * w[t]
 
 
 @numba.njit(cache=True, nogil=True)

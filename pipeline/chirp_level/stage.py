@@ -128,10 +128,10 @@ def windowed_range_stage(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConf
     Notes
     -----
     For real samples without a DC range signature, the whole stage runs per block of
-    `CHIRP_BLOCK` chirps (flagged chirps repaired first and swapped in), blocks in parts on
-    the cores: window, rFFT, DC correction, EGE and the slow-time window one after the other
-    on data that stays in cache, instead of five passes over the frame, each with its own
-    hand-off to the cores. Each step does what
+    `CHIRP_BLOCK` chirps (flagged rows repaired first and windowed in place of theirs),
+    blocks in parts on the cores: window, rFFT, DC correction, EGE and the slow-time window
+    one after the other on data that stays in cache, instead of five passes over the frame,
+    each with its own hand-off to the cores. Each step does what
     `range_stage` does on those chirps (the rFFT of each row is the same transform in any
     batch; EGE's dither is indexed by the chirp's place in the frame), so the cube is the
     same. Inside `shared_range_stage` the unwindowed cube is kept for the other readers too.
@@ -160,8 +160,8 @@ def windowed_range_stage(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConf
 def _blockwise(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig, dc: np.ndarray | None,
                chirp_window: np.ndarray, keep: np.ndarray | None,
                rep: RepairedRows | None = None) -> np.ndarray:
-    """`windowed_range_stage` of a real frame, per block of chirps, the flagged chirps' rows
-    `rep` (repaired, windowed, DC removed) swapped in; the range cube before the slow-time
+    """`windowed_range_stage` of a real frame, per block of chirps, the flagged rows `rep`
+    (DC removed, repaired) windowed in place of theirs; the range cube before the slow-time
     window also into `keep` if given."""
     n_c, n_rx, n_s = adc.shape
     n_b = n_s // 2
@@ -172,9 +172,11 @@ def _blockwise(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig, dc: np
     out = np.empty((n_c, n_rx, n_b), np.complex64)
 
     def block(c0: int, c1: int) -> None:
-        x = samples_windowed(adc[c0:c1], win, np.empty((c1 - c0, n_rx, n_s), np.float32))
-        if rep is not None:
-            rep.swap_into(x, c0)
+        x = np.empty((c1 - c0, n_rx, n_s), np.float32)
+        if rep is None:
+            samples_windowed(adc[c0:c1], win, x)
+        else:  # the repaired rows in place of theirs
+            rep.windowed_block(adc[c0:c1], c0, x)
         rf = scipy.fft.rfft(x, axis=-1, workers=1)[..., :n_b]
         if fix:
             m = dc[c0:c1, :, 0] if rep is None else rep.without_dc(c0, c1)
@@ -268,7 +270,7 @@ def _range_cube(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig, dc: n
         # `proc.intf_mitigation` method; the chip zeroes) swapped in first.
         x = windowed(adc, win, np.complex64 if cplx else np.float32)
         rep = repaired_rows(adc, dc, rows, flags, win, proc)
-        x.reshape(-1, cfg.n_samples)[rep.rows] = rep.windowed
+        x.reshape(-1, cfg.n_samples)[rep.rows] = rep.windowed()
         if cplx:
             rf = scipy.fft.fft(x, axis=-1, workers=-1, overwrite_x=True)
         else:

@@ -102,3 +102,22 @@ def test_mitigation_works_on_every_adc_mode(make_x18, adc_mode):
         compression=False, intf_mitigation="zero")).doppler_db
     assert off > 15
     assert abs(on) < 1.0
+
+
+def test_windowed_block_is_the_windowed_samples_with_the_repaired_rows_in_place():
+    """`RepairedRows.windowed_block`: every row of the block float32 x window (numpy), the
+    repaired rows' `windowed()` in their place, bit for bit: repaired rows at the block's
+    first and last row, rows of other blocks around it, a block without any."""
+    from pipeline.chirp_level.interference import RepairedRows
+    g = np.random.default_rng(4)
+    adc = g.integers(-3000, 3000, (10, 3, 32)).astype(np.int16)
+    rows = np.array([2, 12, 14, 17, 26])  # chirp x 3 + Rx: chirps 0, 4, 4, 5, 8
+    win = np.hanning(32).astype(np.float32)
+    rep = RepairedRows(rows, (g.standard_normal((5, 32)) * 1e3).astype(np.float32), win, None)
+    full = np.multiply(adc, win, dtype=np.float32).reshape(-1, 32)
+    full[rows] = rep.windowed()
+    assert rep.windowed().tobytes() == np.multiply(rep.samples, win).tobytes()
+    for c0, c1 in ((4, 6), (0, 10), (1, 4), (6, 8)):
+        out = np.full((c1 - c0, 3, 32), np.nan, np.float32)
+        got = rep.windowed_block(adc[c0:c1], c0, out)
+        assert got is out and got.tobytes() == full[3 * c0:3 * c1].tobytes()
