@@ -105,3 +105,41 @@ def test_samples_windowed_equals_numpy_casting_product_bit_for_bit():
     want = np.multiply(x, win, dtype=np.float32)
     assert samples_windowed(x, win, np.empty(x.shape, np.float32)).tobytes() == want.tobytes()
     assert windowed(x, win, np.float32).tobytes() == want.tobytes()
+
+
+@pytest.mark.parametrize("n", [0, 1, 57])
+def test_point_cloud_equals_the_frame_of_a_column_dict(n):
+    """`stages.point_cloud` builds the frame pandas builds from a dict of its columns: same
+    columns in order, dtypes, values (NaN included), RangeIndex; and the empty cloud is a new
+    frame on every call."""
+    import pandas as pd
+    import radarsim
+    from pipeline import ProcessingConfig
+    from pipeline.stages import POINT_CLOUD_COLUMNS, empty_cloud, point_cloud
+    cfg, proc = radarsim.presets.r79("ddma"), ProcessingConfig()
+    g = np.random.default_rng(n)
+    rng_pos, vel, az, el, snr = (g.standard_normal(n) for _ in range(5))
+    if n:
+        az[0] = np.nan
+    bins = {"range_bin": g.integers(0, 3, n), "doppler_bin": g.integers(0, 3, n),
+            "azimuth_bin": g.integers(0, 48, n).astype(np.intp)}
+    got = point_cloud(cfg, proc, rng_pos, vel, az, el, snr, bins)
+    order = np.lexsort((bins["azimuth_bin"], bins["doppler_bin"], bins["range_bin"]))
+    rng_m = ((rng_pos * cfg.range_resolution_m + vel * radarsim.config.C_MPS
+              / (cfg.slope_hz_per_s * cfg.wavelength_m)) - proc.range_bias_m)[order]
+    az, el, vel, snr = az[order], el[order], vel[order], snr[order]
+    want = pd.DataFrame({
+        "range_m": rng_m, "azimuth_deg": np.degrees(az), "elevation_deg": np.degrees(el),
+        "radial_velocity_mps": vel, "snr_db": snr,
+        "x_m": rng_m * np.cos(el) * np.cos(az), "y_m": rng_m * np.cos(el) * np.sin(az),
+        "z_m": rng_m * np.sin(el), **{k: v[order] for k, v in bins.items()},
+        "saturated": np.zeros(n, dtype=bool)})
+    assert list(got.columns) == POINT_CLOUD_COLUMNS
+    assert list(got.dtypes) == list(want.dtypes)
+    assert got.index.equals(want.index) and isinstance(got.index, pd.RangeIndex)
+    for c in POINT_CLOUD_COLUMNS:
+        assert got[c].to_numpy().tobytes() == want[c].to_numpy().tobytes(), c
+    e1, e2 = empty_cloud(), empty_cloud()
+    assert e1 is not e2 and list(e1.columns) == POINT_CLOUD_COLUMNS and len(e1) == 0
+    e1["range_m"] = e1["range_m"] + 1.0
+    assert e2.equals(empty_cloud())
