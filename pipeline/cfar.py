@@ -32,9 +32,11 @@ from typing import ClassVar
 
 import numba
 import numpy as np
-from scipy import integrate, ndimage, optimize, special, stats
+from scipy import integrate, ndimage, optimize, special
 
 from scenarios.registries import Registry
+
+from .gamma_law import Gamma
 
 __all__ = ["CfarMode", "CellAveraging", "SideSelecting", "OrderStatistic", "CFAR_MODES",
            "cfar_mode", "cfar_scale", "noise_mean_factor", "pfa_of_scale", "pfa_numeric",
@@ -144,7 +146,7 @@ class CellAveraging(CfarMode):
     """CA: the mean of both training windows (Richards eq. 6.167 for L = 1)."""
 
     def estimate_pdf(self, n_cells, os_rank, looks):
-        return stats.gamma(n_cells * looks, scale=1.0 / n_cells).pdf
+        return Gamma(n_cells * looks, scale=1.0 / n_cells).pdf
 
     def closed_form_pfa(self, scale, n_cells, os_rank, looks):
         return float((1.0 + scale / n_cells) ** -n_cells) if looks == 1 else None
@@ -172,7 +174,7 @@ class SideSelecting(CfarMode):
 
     def estimate_pdf(self, n_cells, os_rank, looks):
         half = n_cells // 2
-        mean_half = stats.gamma(half * looks, scale=1.0 / half)
+        mean_half = Gamma(half * looks, scale=1.0 / half)
         if self.greatest:
             return lambda y: 2 * mean_half.cdf(y) * mean_half.pdf(y)
         return lambda y: 2 * mean_half.sf(y) * mean_half.pdf(y)
@@ -194,7 +196,7 @@ class OrderStatistic(CfarMode):
     ranked: ClassVar[bool] = True
 
     def estimate_pdf(self, n_cells, os_rank, looks):
-        gam = stats.gamma(looks)
+        gam = Gamma(looks)
         n, k = n_cells, os_rank
         log_c = special.gammaln(n + 1) - special.gammaln(k) - special.gammaln(n - k + 1)
 
