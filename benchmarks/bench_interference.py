@@ -5,7 +5,9 @@ scatterers; the chirp-level chain (DC removal, interference statistics and zeroi
 compression) adds at most 30 % to `process_frame` (R79 DDMA). Both are ratios measured in the
 same run. The bench also prints the noise-floor rise of one interferer with mitigation off and
 on, the range stage's time with each repair method (`pipeline.interference_repair.MITIGATIONS`)
-on the 10-interferer frame with where the default ("lowrank") spends it, and the SNR loss EGE
+on the 10-interferer frame with where the default ("lowrank") spends it, where the
+10-interferer DDMA frame of `benchmarks.bench_floors` (issue 20's "<= 1.3x the clean frame"
+row) spends what the clean frame does not (`dirty_frame_breakdown`), and the SNR loss EGE
 compression causes a weak target in the same block as a strong one.
 """
 from __future__ import annotations
@@ -128,6 +130,102 @@ def lowrank_breakdown(cfg, adc: np.ndarray, repeats: int, warmup: int) -> list[s
             f"{1e3 * (t_fill - t_fixed):.2f} ms)"]
 
 
+def _alternating_cpu(fns: dict, repeats: int, warmup: int) -> dict[str, float]:
+    """Median thread CPU of each callable, s, timed in alternating rounds (load hits all
+    alike)."""
+    for fn in fns.values():
+        for _ in range(warmup):
+            fn()
+    times = {k: [] for k in fns}
+    for _ in range(repeats):
+        for k, fn in fns.items():
+            t0 = time.thread_time()
+            fn()
+            times[k].append(time.thread_time() - t0)
+    return {k: float(np.median(v)) for k, v in times.items()}
+
+
+def dirty_frame_breakdown(repeats: int, warmup: int) -> list[str]:
+    """Where the 10-interferer DDMA frame of `benchmarks.bench_floors` (its "ddma, 10
+    interferers" row) spends what the clean frame does not: the work (thread CPU, one part:
+    `pipeline.threads.inline`) of the whole frame and of the range stage's pieces, clean and
+    dirty, alternated; then, in two parts, the calling thread's CPU (the serial share, which
+    bounds the wall time on an idle machine from below) and the wall time."""
+    from pipeline.chirp_level.interference import repaired_rows
+    from pipeline.chirp_level.stage import _blockwise
+    from pipeline.config import WINDOWS
+    from pipeline.kernels import window
+
+    from .bench_floors import _scene as floor_scene
+    cfg = radarsim.presets.r79_ddma()
+    frames = {"clean": radarsim.simulate_frame(cfg, floor_scene(), np.random.default_rng(0)),
+              "dirty": radarsim.simulate_frame(cfg, floor_scene(), np.random.default_rng(0),
+                                               interferers(N_INTERFERERS))}
+    proc = pipeline.ProcessingConfig()
+    m = MITIGATIONS[proc.intf_mitigation]
+    n = cfg.n_samples
+    win = window(WINDOWS[proc.range_window], n)
+    w = window(WINDOWS[proc.doppler_window], cfg.n_chirps)
+    stats = {k: _chirp_statistics(a, proc) for k, a in frames.items()}
+    dc, rows, flags = stats["dirty"]
+    adc = frames["dirty"]
+    rep = repaired_rows(adc, dc, rows, flags, win, proc)
+    y = np.subtract(adc.reshape(-1, n)[rows], dc.reshape(-1, 1)[rows], dtype=np.float32)
+    frame = FrameRows(adc.reshape(-1, n), rows, cfg.n_rx)
+    gate = 10 ** (m.rank_snr_gate_db / 10)
+    basis = fast_time_basis(_reference(y, frame, None), m.rank_max, gate)
+    hw = proc.intf_hysteresis_samples + m.extend_samples
+
+    def fill(grow_sigma):
+        lowrank_fill(y.copy(), flags, rows // cfg.n_rx, basis, m.close_gap_samples, hw,
+                     grow_sigma, m.grow_reach_samples)
+
+    fns = {}
+    for k, a in frames.items():
+        fns[f"frame {k}"] = lambda a=a: pipeline.process_frame(cfg, a)
+        fns[f"stage {k}"] = lambda a=a: cl.windowed_range_stage(cfg, a, proc, w)
+        fns[f"stats {k}"] = lambda a=a: _chirp_statistics(a, proc)
+        fns[f"blocks {k}"] = lambda a=a, r=(rep if k == "dirty" else None): _blockwise(
+            cfg, a, proc, stats[k][0], w, None, r)
+    fns["repaired rows"] = lambda: repaired_rows(adc, dc, rows, flags, win, proc)
+    fns["basis"] = lambda: fast_time_basis(_reference(y, frame, None), m.rank_max, gate)
+    fns["fill"] = lambda: fill(m.grow_sigma)
+    fns["fill, no growth"] = lambda: fill(0.0)
+    with inline():
+        t = {k: 1e3 * v for k, v in _alternating_cpu(fns, repeats, warmup).items()}
+    # two parts: the calling thread's CPU and the wall time
+    serial = {k: ([], []) for k in frames}
+    for _ in range(repeats):
+        for k, a in frames.items():
+            t0, w0 = time.thread_time(), time.perf_counter()
+            pipeline.process_frame(cfg, a)
+            serial[k][0].append(time.thread_time() - t0)
+            serial[k][1].append(time.perf_counter() - w0)
+    ms = {k: [1e3 * float(np.median(v)) for v in vv] for k, vv in serial.items()}
+
+    def extra(what):
+        return t[f"{what} dirty"] - t[f"{what} clean"]
+    rest = extra("frame") - extra("stage")
+    other = t["repaired rows"] - t["basis"] - t["fill"]
+    return [
+        f"dirty-frame breakdown (bench_floors' DDMA frame + {N_INTERFERERS} interferers: "
+        f"{rows.size} of {adc.shape[0] * adc.shape[1]} rows flagged, "
+        f"{np.unique(rows // cfg.n_rx).size} chirps hit, k = {basis.vectors.shape[1]}):",
+        f"  work (thread CPU, one part): clean {t['frame clean']:.2f} ms, dirty "
+        f"{t['frame dirty']:.2f} ms = +{extra('frame'):.2f} ms "
+        f"({t['frame dirty'] / t['frame clean']:.2f}x)",
+        f"    range stage +{extra('stage'):.2f} ms: statistics and flags "
+        f"+{extra('stats'):.2f}, repaired rows {t['repaired rows']:.2f} (reference rows + "
+        f"basis {t['basis']:.2f}, lowrank fill {t['fill']:.2f} of which mask growth "
+        f"{t['fill'] - t['fill, no growth']:.2f}, DC removal and the rest {other:.2f}), "
+        f"blockwise window / rFFT / EGE +{extra('blocks'):.2f}",
+        f"    the rest of the chain (Doppler, maps, CFAR...) {rest:+.2f} ms",
+        f"  two parts: calling thread's CPU clean {ms['clean'][0]:.2f} ms, dirty "
+        f"{ms['dirty'][0]:.2f} ms (+{ms['dirty'][0] - ms['clean'][0]:.2f}: the serial share "
+        f"bounds the wall from below); wall clean {ms['clean'][1]:.2f} ms, dirty "
+        f"{ms['dirty'][1]:.2f} ms ({ms['dirty'][1] / ms['clean'][1]:.2f}x)"]
+
+
 def run(repeats: int = 15, warmup: int = 2) -> list[str]:
     cfg = radarsim.presets.r79_ddma()
     sc = _scene(N_SCATTERERS)
@@ -173,6 +271,7 @@ def run(repeats: int = 15, warmup: int = 2) -> list[str]:
     lines += [f"  range stage, mitigation {k!r}: {1e3 * v:.2f} ms (+{1e3 * (v - t_rep['zero']):.2f}"
               " ms over the chip's zero)" for k, v in t_rep.items()]
     lines += lowrank_breakdown(cfg, adc, repeats, warmup)
+    lines += dirty_frame_breakdown(repeats, warmup)
     # What the chain does to one interferer's floor (short and long bursts).
     empty = radarsim.Scatterers.empty()
     for slope, what in ((50e12, "short bursts, |dS| = 41 MHz/us"),
