@@ -155,11 +155,10 @@ def dirty_frame_breakdown(repeats: int, warmup: int) -> list[str]:
     from pipeline.chirp_level.stage import _blockwise
     from pipeline.config import WINDOWS
     from pipeline.kernels import window
-
-    from .bench_floors import _scene as floor_scene
     cfg = radarsim.presets.r79_ddma()
-    frames = {"clean": radarsim.simulate_frame(cfg, floor_scene(), np.random.default_rng(0)),
-              "dirty": radarsim.simulate_frame(cfg, floor_scene(), np.random.default_rng(0),
+    sc = _scene(N_SCATTERERS)  # bench_floors' scene (the same draws), its frames
+    frames = {"clean": radarsim.simulate_frame(cfg, sc, np.random.default_rng(0)),
+              "dirty": radarsim.simulate_frame(cfg, sc, np.random.default_rng(0),
                                                interferers(N_INTERFERERS))}
     proc = pipeline.ProcessingConfig()
     m = MITIGATIONS[proc.intf_mitigation]
