@@ -54,9 +54,12 @@ def ddma_gather(spec: np.ndarray, tx1_band: np.ndarray, tx_pos: np.ndarray,
     return out
 
 
-#: Range bins per block of `ddma_coherent_power`: the block's gathered samples (12 x 512
-#: complex64), its GEMM output (48 x 512) and power (48 x 512 float32) stay in a core's L2.
-DDMA_RANGE_BLOCK = 4
+#: Range bins per block of `ddma_coherent_power`: the block's gathered samples (12 x 1024
+#: complex64), its GEMM output (48 x 1024) and power (48 x 1024 float32), ~0.7 MB for an R79
+#: frame, stay in a core's L2 (1 MB here), and the gather reads whole 64-byte lines of the
+#: spectra (8 complex64 range bins). Measured on the R79 frame, process_frame alternating in
+#: one process: 8 bins 0.2-0.36 ms CPU less than 4 (1 and 2 parts); 16 slower again.
+DDMA_RANGE_BLOCK = 8
 
 
 def ddma_coherent_power(spec: np.ndarray, energy: np.ndarray, tx_pos: np.ndarray,

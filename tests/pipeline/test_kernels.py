@@ -56,7 +56,7 @@ def test_ddma_gather_reads_each_tx_from_its_subband(n_sb, n_tx, tx_pos):
                     assert out[i * n_rx + rx, b * n_dop + d] == want
 
 
-@pytest.mark.parametrize("n_b, block", [(40, 4), (13, 4), (7, 16), (9, 1)])
+@pytest.mark.parametrize("n_b, block", [(40, 4), (13, 4), (7, 16), (9, 1), (21, 8)])
 def test_ddma_coherent_power_equals_argmax_gather_gemm_power_bit_for_bit(n_b, block):
     """The blocked demodulation + azimuth GEMM + power map is the whole-frame numpy formulation
     bit for bit, ties and NaN in the metric resolved as numpy's argmax (first maximum, first
