@@ -126,11 +126,32 @@ def band_beams(cfg: RadarConfig, proc: ProcessingConfig, spec: np.ndarray, r: np
     n_dop = cfg.n_chirps // n_sb
     chirp_bin = np.arange(n_sb) * n_dop + d[:, None]  # (n, N)
     x = spec[chirp_bin[:, None, :], np.arange(n_rx)[None, :, None], r[:, None, None]]
-    y_rx = cfg.rx_positions_m[:, 1] / (cfg.wavelength_m / 2)  # (Rx,) lambda/2 units
+    y_rx = _geometry(cfg).y_rx  # (Rx,) lambda/2 units
     steer = np.exp(-1j * np.pi * sin_az_cos_el[:, None] * y_rx[None, :])  # (n, Rx)
     coef = virtual_coefficients(cfg, proc.channel_comp)
     coef = np.ones((n_tx, n_rx)) if coef is None else coef.reshape(n_tx, n_rx)
     return np.einsum("nr,pr,nri->npi", steer, coef, x)
+
+
+class _Geometry(NamedTuple):
+    """Configuration-only arrays of the Tx-order decision (read-only)."""
+
+    y_rx: np.ndarray   # (n_rx,) Rx positions, lambda/2 units
+    row: np.ndarray    # (P_h,) Tx of the horizontal row (positions in tx_order)
+    t_row: np.ndarray  # (P_h,) their positions, lambda/2 units
+
+
+@lru_cache(maxsize=32)
+def _geometry(cfg: RadarConfig) -> _Geometry:
+    """`_Geometry` of a radar, computed once per configuration (the positions are properties
+    recomputed on every access: ~0.1 ms a frame inside the chain)."""
+    row = np.unique(layout_of(cfg).h_idx // cfg.n_rx)
+    geo = _Geometry(cfg.rx_positions_m[:, 1] / (cfg.wavelength_m / 2), row,
+                    cfg.tx_positions_m[np.array(cfg.tx_order) - 1][row, 1]
+                    / (cfg.wavelength_m / 2))
+    for a in geo:
+        a.flags.writeable = False
+    return geo
 
 
 def _slots(cfg: RadarConfig, band: np.ndarray) -> np.ndarray:
@@ -266,13 +287,11 @@ def _single_echo(cfg: RadarConfig, proc: ProcessingConfig, det: DdmaDetections,
     """
     cf = proc.cfar
     noise_mean = det.noise / noise_mean_factor(cf.mode, cf.n_training, cf.os_rank, 1)
-    h_idx = layout_of(cfg).h_idx
-    row = np.unique(h_idx // cfg.n_rx)  # Tx of the horizontal row (positions in tx_order)
+    _, row, t = _geometry(cfg)
     n_row = row.size
     slots = _slots(cfg, det.band)  # (n, P)
     n = np.arange(det.a.size)
     b = beams[n[:, None], np.arange(cfg.n_tx)[None, :], slots][:, row]  # (n, P_h)
-    t = cfg.tx_positions_m[np.array(cfg.tx_order) - 1][row, 1] / (cfg.wavelength_m / 2)
     proj = np.abs((b * np.exp(-1j * np.pi * sin_term[:, None] * t[None, :])).sum(-1)) ** 2
     rho = proj / (n_row * np.maximum((np.abs(b) ** 2).sum(-1), np.finfo(float).tiny))
     # The cell holds another Tx order's return when its empty sub-bands (Rx-summed energy,

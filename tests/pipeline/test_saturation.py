@@ -83,3 +83,25 @@ def test_sweep_frame_table_counts_saturated_frames(tmp_path):
     res = run_cell(CellSpec(scenario="fast", duration_s=0.2), FAKE)
     assert (res.tables["frames"]["n_saturated_chirp_rx"] == 0).all()
     assert (res.tables["summary"]["n_saturated_frames"] == 0).all()
+
+
+@pytest.mark.parametrize("policy", sorted(SATURATION_POLICIES))
+@pytest.mark.parametrize("saturated", [False, True])
+def test_apply_policy_is_assign_of_the_flag_column(policy, saturated):
+    """`apply_policy` returns what ``points.assign(saturated=...)`` (after the policy's drop)
+    returns, for a cloud with the column (where it stays in place), one without it (appended)
+    and the empty cloud, and leaves its input as it was."""
+    import pandas as pd
+    rep = monitor(np.full((2, 1, 4), 32767 if saturated else 0, np.int16))
+    g = np.random.default_rng(1)
+    cloud = pd.DataFrame({"range_m": g.random(5), "saturated": np.ones(5, bool),
+                          "azimuth_bin": np.arange(5)})
+    for points in (cloud, cloud.drop(columns="saturated"), pipeline.stages.empty_cloud()):
+        before = points.copy()
+        got = apply_policy(points, rep, policy)
+        base = points.iloc[:0] if saturated and SATURATION_POLICIES[policy].drops_frame else points
+        want = base.assign(saturated=np.full(len(base), saturated, dtype=bool))
+        assert got is not points and points.equals(before) and "saturation" not in points.attrs
+        assert list(got.columns) == list(want.columns) and got.equals(want)
+        assert list(got.dtypes) == list(want.dtypes)
+        assert got.attrs["saturation"] == rep.to_dict()
