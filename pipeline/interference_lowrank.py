@@ -235,10 +235,20 @@ def _fit_rows(x, rhs, vec_c, lt, run_s, run_e, n_runs, r0, r1, y, c):
     """c[:, r - r0] (k,) <- LMMSE coefficients of rows r0 .. r1 - 1 from their kept samples:
     rhs[r] (the full row's projection on the basis) minus the masked runs' share (`vec_c`
     (n, kp) the conjugate basis, zero beyond column k), then the two triangular solves with
-    `lt` (`_cholesky`). y (>= r1 - r0, kp) scratch; c (k, >= r1 - r0)."""
+    `lt` (`_cholesky`). y (>= R4, kp) scratch; c (k, >= R4): R4 the burst's rows rounded up
+    to a multiple of 4 (the solves run 4 rows at a time; what the padding rows hold is
+    meaningless).
+
+    The solves keep each value's running difference in a register, 4 rows side by side
+    (independent dependency chains), instead of updating it in memory: the same subtractions
+    in the same order (increasing m for both, as the column form of the forward solve takes
+    them) and the same division."""
     uk = _U(lt.shape[0])
     kp = _U(vec_c.shape[1])  # >= k: zero columns, so that the loop over them vectorises
     nr = r1 - r0
+    nr4 = (nr + 3) // 4 * 4
+    if y.shape[0] < nr4 or c.shape[1] < nr4:
+        raise ValueError("_fit_rows: y and c must hold the burst's rows rounded up to 4")
     for r in range(nr):
         for i in range(kp):
             y[r, i] = rhs[r0 + r, i] if i < uk else 0
@@ -248,22 +258,29 @@ def _fit_rows(x, rhs, vec_c, lt, run_s, run_e, n_runs, r0, r1, y, c):
                 xt = x[r0 + r, t]
                 for i in range(kp):
                     y[r, i] -= xt * vec_c[t, i]
-    for m in range(uk):  # L y' = y, column by column
-        for r in range(nr):
-            y[r, m] = y[r, m] / lt[m, m]
-            ym = y[r, m]
-            for i in range(m + _U(1), uk):
-                y[r, i] -= lt[m, i] * ym
-    for ii in range(uk):  # L^H c = y', row by row, the rows of the burst together
-        i = uk - _U(1) - ii
-        for r in range(nr):
-            c[i, r] = y[r, i]
-        for m in range(i + _U(1), uk):
-            w = np.conj(lt[i, m])
-            for r in range(nr):
-                c[i, r] -= w * c[m, r]
-        for r in range(nr):
-            c[i, r] = c[i, r] / lt[i, i]
+    for g in range(0, nr4, 4):
+        g1, g2, g3 = g + 1, g + 2, g + 3
+        for i in range(uk):  # L y' = y: y'[i] = (y[i] - sum_m<i L[i, m] y'[m]) / L[i, i]
+            s0, s1, s2, s3 = y[g, i], y[g1, i], y[g2, i], y[g3, i]
+            for m in range(i):
+                w = lt[m, i]
+                s0 -= w * y[g, m]
+                s1 -= w * y[g1, m]
+                s2 -= w * y[g2, m]
+                s3 -= w * y[g3, m]
+            d = lt[i, i]
+            y[g, i], y[g1, i], y[g2, i], y[g3, i] = s0 / d, s1 / d, s2 / d, s3 / d
+        for ii in range(uk):  # L^H c = y', from the last coefficient back
+            i = uk - _U(1) - ii
+            s0, s1, s2, s3 = y[g, i], y[g1, i], y[g2, i], y[g3, i]
+            for m in range(i + _U(1), uk):
+                w = np.conj(lt[i, m])
+                s0 -= w * c[m, g]
+                s1 -= w * c[m, g1]
+                s2 -= w * c[m, g2]
+                s3 -= w * c[m, g3]
+            d = lt[i, i]
+            c[i, g], c[i, g1], c[i, g2], c[i, g3] = s0 / d, s1 / d, s2 / d, s3 / d
 
 
 @numba.njit(cache=True, nogil=True)
@@ -326,10 +343,11 @@ def _repair_bursts(x, flags, rhs, vec_c, vec_t, prefix, shrink, row_start, b0, b
     if b1 <= b0:
         return
     rows_max = np.max(row_start[b0 + 1:b1 + 1] - row_start[b0:b1])
+    rows4 = (rows_max + 3) // 4 * 4  # `_fit_rows` solves 4 rows at a time
     lt = np.zeros((k, k), dtype=prefix.dtype)
     acc = np.zeros(prefix.shape[1], dtype=prefix.dtype)
-    y = np.zeros((rows_max, kp), dtype=prefix.dtype)
-    c = np.zeros((k, rows_max), dtype=prefix.dtype)
+    y = np.zeros((rows4, kp), dtype=prefix.dtype)
+    c = np.zeros((k, rows4), dtype=prefix.dtype)
     buf = np.zeros((rows_max, n), dtype=prefix.dtype)
     s_buf = np.zeros(n + 1, dtype=np.int64)
     e_buf = np.zeros(n + 1, dtype=np.int64)

@@ -282,9 +282,9 @@ def test_compiled_fit_is_the_masked_least_squares_solve(dtype):
     lr._cholesky(prefix, shrink, run_s, run_e, 2, lt, np.zeros(prefix.shape[1], dtype))
     low = np.triu(lt).T
     x = (rng.standard_normal((3, n)) + cplx * rng.standard_normal((3, n))).astype(dtype)
-    c = np.zeros((k, 3), dtype)
+    c = np.zeros((k, 4), dtype)  # 3 rows, padded to the 4 the solves take at a time
     lr._fit_rows(x, x @ b.conj(), np.ascontiguousarray(b.conj()), lt, run_s, run_e, 2, 0, 3,
-                 np.zeros((3, k), dtype), c)
+                 np.zeros((4, k), dtype), c)
     kept = np.ones(n, bool)
     kept[3:9] = kept[20:31] = False
     a = b[kept].conj().T @ b[kept] + np.diag(shrink)
@@ -314,3 +314,55 @@ def test_lowrank_fill_is_the_same_in_one_part_and_in_two(monkeypatch):
     # The flags 160 / 175 / 190 closed over 48 samples and widened by 3 cover [157, 194), 37
     # samples; the burst covers [150, 200): the mask must grow over all of it in every row.
     assert two[1][:, 150:200].all()
+
+
+def _fit_reference(x, rhs, vec_c, lt, runs, rows):
+    """_fit_rows' values by its textbook loops in Python floats (each value updated in place:
+    the masked runs subtracted sample by sample, the forward solve by columns, the backward
+    solve by rows), the reference its register-held, 4-row solves must equal bit for bit."""
+    k = lt.shape[0]
+    out = []
+    for r in rows:
+        y = [rhs[r, i] for i in range(k)]
+        for s, e in runs:
+            for t in range(s, e):
+                for i in range(k):
+                    y[i] -= x[r, t] * vec_c[t, i]
+        for m in range(k):
+            y[m] = y[m] / lt[m, m]
+            for i in range(m + 1, k):
+                y[i] -= lt[m, i] * y[m]
+        c = [0.0] * k
+        for i in reversed(range(k)):
+            c[i] = y[i]
+            for m in range(i + 1, k):
+                c[i] -= np.conj(lt[i, m]) * c[m]
+            c[i] = c[i] / lt[i, i]
+        out.append(c)
+    return np.array(out).T
+
+
+@pytest.mark.parametrize("n_rows", [1, 3, 4, 5])
+def test_compiled_fit_is_its_textbook_loops_bit_for_bit(n_rows):
+    """_fit_rows against the same operations in the textbook order, in Python floats: equal
+    bit for bit for 1, 3, 4 and 5 rows (one group of 4 rows, padded, and one more), the rows
+    taken from the middle of x."""
+    rng = np.random.default_rng(5)
+    n, k = 40, 6
+    b = np.linalg.qr(rng.standard_normal((n, k)))[0]
+    prefix = lr._gram_prefix(np.ascontiguousarray(b), b)
+    shrink = np.r_[lr.SHRINK_FLOOR, rng.uniform(0, 1, k - 1)]
+    run_s, run_e = np.array([3, 20]), np.array([9, 31])
+    lt = np.zeros((k, k))
+    lr._cholesky(prefix, shrink, run_s, run_e, 2, lt, np.zeros(prefix.shape[1]))
+    x = rng.standard_normal((n_rows + 4, n)) * 100
+    rhs = x @ b
+    pad = (n_rows + 3) // 4 * 4
+    c = np.full((k, pad), np.nan)
+    lr._fit_rows(x, rhs, np.ascontiguousarray(b), lt, run_s, run_e, 2, 2, 2 + n_rows,
+                 np.zeros((pad, k)), c)
+    want = _fit_reference(x, rhs, b, lt, list(zip(run_s, run_e)), range(2, 2 + n_rows))
+    assert c[:, :n_rows].tobytes() == want.tobytes()
+    with pytest.raises(ValueError, match="rounded up to 4"):
+        lr._fit_rows(x, rhs, np.ascontiguousarray(b), lt, run_s, run_e, 2, 2, 2 + n_rows,
+                     np.zeros((pad - 1, k)), c)
