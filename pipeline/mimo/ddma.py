@@ -104,19 +104,22 @@ def doppler_velocity_mps(cfg: RadarConfig, k: np.ndarray) -> np.ndarray:
 def coherent_detections(power: np.ndarray, proc: ProcessingConfig):
     """CFAR (cyclic, along Doppler) and local maxima on (n_az, n_range, n_dop) coherent maps.
 
-    Returns (a, r, d, noise, peak): azimuth, range and Doppler bins of the detections, the
-    CFAR noise estimate (order statistic) and the peak power, each (n,)."""
+    Returns (a, r, d, noise, peak, power_az): azimuth, range and Doppler bins of the
+    detections, the CFAR noise estimate (order statistic) and the peak power, each (n,), and
+    the azimuth spectrum of each, (n, n_az) (``power[:, r, d].T``)."""
     cf = proc.cfar
     # Figure 19: 4-neighbour maximum in (azimuth, Doppler), optionally also along range.
     (a, r, d), noise, peak = cfar_peaks(
         power, cf.mode, cf.scale(looks=1), cf.guard_cells, cf.window_cells, cf.os_rank,
         cf.training_stride, {0: True, 1: False} if proc.range_peak_check else {0: True},
         proc.min_range_bin)
+    spectra = power[:, r, d]  # (n_az, n): gathered once for the sidelobe test and the caller
     if proc.azimuth_sidelobe_db is not None:
-        strongest = power[:, r, d].max(axis=0)
+        strongest = spectra.max(axis=0)
         keep = peak >= strongest * 10 ** (-proc.azimuth_sidelobe_db / 10)
         a, r, d, noise, peak = a[keep], r[keep], d[keep], noise[keep], peak[keep]
-    return a, r, d, noise, peak
+        spectra = spectra[:, keep]
+    return a, r, d, noise, peak, spectra.T
 
 
 def coherent_snr_db(proc: ProcessingConfig, noise: np.ndarray, peak: np.ndarray) -> np.ndarray:
@@ -137,7 +140,7 @@ class DdmaChain(MimoChain):
         power, energy, tx1_band = maps.power, maps.energy, maps.tx1_band
         n_az, n_range, n_dop = power.shape
         n_tx = cfg.n_tx
-        a, r, d, noise, peak = coherent_detections(power, proc)
+        a, r, d, noise, peak, power_az = coherent_detections(power, proc)
         if r.size == 0:
             return empty_cloud()
         pr = power[a[:, None], np.clip(r[:, None] + np.arange(-1, 2), 0, n_range - 1),
@@ -147,7 +150,7 @@ class DdmaChain(MimoChain):
         # read in the stronger one's order and reported at its velocity.
         det = resolve_tx_order(cfg, proc, maps.spec, energy,
                                DdmaDetections(a, r, d, tx1_band[d, r], noise, peak,
-                                              power[:, r, d].T, pr))
+                                              power_az, pr))
         a, r, d, band, noise, peak = det.a, det.r, det.d, det.band, det.noise, det.peak
         if r.size == 0:
             return empty_cloud()
