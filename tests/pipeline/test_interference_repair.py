@@ -281,7 +281,9 @@ def test_compiled_fit_is_the_masked_least_squares_solve(dtype):
     lt = np.zeros((k, k), dtype)
     lr._cholesky(prefix, shrink, run_s, run_e, 2, lt, np.zeros(prefix.shape[1], dtype))
     low = np.triu(lt).T
-    x = (rng.standard_normal((3, n)) + cplx * rng.standard_normal((3, n))).astype(dtype)
+    # the rows in the chain's type (float32 / complex64: the product's compiled signature)
+    x = (rng.standard_normal((3, n)) + cplx * rng.standard_normal((3, n))).astype(
+        np.complex64 if cplx else np.float32)
     c = np.zeros((k, 4), dtype)  # 3 rows, padded to the 4 the solves take at a time
     lr._fit_rows(x, x @ b.conj(), np.ascontiguousarray(b.conj()), lt, run_s, run_e, 2, 0, 3,
                  np.zeros((4, k), dtype), c)
