@@ -405,9 +405,11 @@ def _repair_bursts(x, flags, rhs, vec_c, vec_t, prefix, shrink, row_start, b0, b
 
 
 def lowrank_fill(x: np.ndarray, flags: np.ndarray, bursts: np.ndarray, basis: FastTimeBasis,
-                 close: int, halfwidth: int, grow_sigma: float,
-                 grow_reach: int) -> tuple[np.ndarray, np.ndarray]:
-    """Masked samples replaced by the rows' low-rank LMMSE model, each row's mean removed.
+                 close: int, halfwidth: int, grow_sigma: float, grow_reach: int,
+                 remove_mean: bool = True) -> tuple[np.ndarray, np.ndarray]:
+    """Masked samples replaced by the rows' low-rank LMMSE model, each row's mean removed
+    (``rows -= rows.mean(axis=-1, keepdims=True)``; with `remove_mean` False that is left to
+    the caller, who may fuse it into a later pass).
 
     Parameters
     ----------
@@ -463,8 +465,9 @@ def lowrank_fill(x: np.ndarray, flags: np.ndarray, bursts: np.ndarray, basis: Fa
     def part(lo: int, hi: int) -> None:
         _repair_bursts(x, flags, rhs, vec_c, vec_t, prefix, shrink, row_start, lo, hi, close,
                        halfwidth, thr, grow_reach, GROW_CLOSE_SAMPLES, GROW_MARGIN_SAMPLES, mask_b)
-        rows = x[row_start[lo]:row_start[hi]]
-        rows -= rows.mean(axis=-1, keepdims=True)  # row by row: the same means in any part
+        if remove_mean:
+            rows = x[row_start[lo]:row_start[hi]]
+            rows -= rows.mean(axis=-1, keepdims=True)  # row by row: the same in any part
 
     run_parts([lambda lo=lo, hi=hi: part(lo, hi) for lo, hi in spans(len(starts))])
     return x, mask_b[np.cumsum(new) - 1]

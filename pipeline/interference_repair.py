@@ -408,7 +408,7 @@ def _cancel(x: np.ndarray, mask: np.ndarray, freqs: np.ndarray,
 
 def repair(x: np.ndarray, flags: np.ndarray, window_: np.ndarray, hysteresis: int,
            method: Mitigation, groups: np.ndarray | None = None,
-           frame: FrameRows | None = None) -> np.ndarray:
+           frame: FrameRows | None = None, remove_mean: bool = True) -> np.ndarray:
     """Repair flagged rows of DC-removed samples in place and return them.
 
     Parameters
@@ -429,13 +429,17 @@ def repair(x: np.ndarray, flags: np.ndarray, window_: np.ndarray, hysteresis: in
         The frame the rows come from: "lowrank" learns the echoes from its unflagged rows and
         unites the masks of the rows of one chirp (without it: from the repaired rows, each
         row its own mask).
+    remove_mean : bool
+        "lowrank" removes each repaired row's mean (its model's constant column takes the
+        offset); False leaves that to the caller (``x - x.mean(axis=-1, keepdims=True)`` gives
+        the same values). The other methods ignore it.
 
     Returns
     -------
     (R, n) same dtype as x
     """
     if method.fill == "lowrank":
-        return _lowrank(x, flags, hysteresis, method, frame)
+        return _lowrank(x, flags, hysteresis, method, frame, remove_mean)
     mask = method.mask(flags, hysteresis)
     if groups is None and frame is not None:
         groups = frame.rows % frame.n_rx
@@ -469,7 +473,7 @@ def repair(x: np.ndarray, flags: np.ndarray, window_: np.ndarray, hysteresis: in
 
 
 def _lowrank(x: np.ndarray, flags: np.ndarray, hysteresis: int, method: Mitigation,
-             frame: FrameRows | None) -> np.ndarray:
+             frame: FrameRows | None, remove_mean: bool = True) -> np.ndarray:
     """`repair` with the "lowrank" fill (`pipeline.interference_lowrank`)."""
     if not len(x):
         return x
@@ -478,7 +482,7 @@ def _lowrank(x: np.ndarray, flags: np.ndarray, hysteresis: int, method: Mitigati
     bursts = np.arange(len(x)) if frame is None else frame.rows // frame.n_rx
     return lowrank_fill(x, flags, bursts, basis, method.close_gap_samples,
                         hysteresis + method.extend_samples, method.grow_sigma,
-                        method.grow_reach_samples)[0]
+                        method.grow_reach_samples, remove_mean)[0]
 
 
 #: Gaps closed between flagged samples by the methods that improve on the chip, samples: an

@@ -157,14 +157,17 @@ class RepairedRows(NamedTuple):
     samples: np.ndarray   # (R, n_samples) float32 (complex64 for I/Q): repaired, not windowed
     window: np.ndarray    # (n_samples,) float32 range window
     dc: np.ndarray | None  # (n_chirps, n_rx) DC estimates, the repaired rows' 0 (None: none)
+    means: np.ndarray     # (R,) what the repair still subtracts from each row (0: nothing)
 
     def windowed(self) -> np.ndarray:
-        """(R, n_samples) the repaired rows times the window (numpy's product; rows in parts
-        on the cores)."""
+        """(R, n_samples) the repaired rows, their `means` subtracted, times the window
+        (numpy's products; rows in parts on the cores)."""
         y = np.empty_like(self.samples)
-        run_parts([lambda lo=lo, hi=hi: np.multiply(self.samples[lo:hi], self.window,
-                                                    out=y[lo:hi])
-                   for lo, hi in spans(len(y))])
+
+        def part(lo: int, hi: int) -> None:
+            np.subtract(self.samples[lo:hi], self.means[lo:hi, None], out=y[lo:hi])
+            np.multiply(y[lo:hi], self.window, out=y[lo:hi])
+        run_parts([lambda lo=lo, hi=hi: part(lo, hi) for lo, hi in spans(len(y))])
         return y
 
     def windowed_block(self, adc: np.ndarray, c0: int, out: np.ndarray) -> np.ndarray:
@@ -175,8 +178,8 @@ class RepairedRows(NamedTuple):
         twice."""
         n_rx, n = adc.shape[1], adc.shape[-1]
         lo, hi = np.searchsorted(self.rows, (c0 * n_rx, (c0 + len(adc)) * n_rx))
-        _windowed_rows(adc.reshape(-1, n), self.samples, self.rows, self.window, c0 * n_rx,
-                       lo, hi, out.reshape(-1, n))
+        _windowed_rows(adc.reshape(-1, n), self.samples, self.means, self.rows, self.window,
+                       c0 * n_rx, lo, hi, out.reshape(-1, n))
         return out
 
     def without_dc(self, c0: int, c1: int) -> np.ndarray:
@@ -224,28 +227,37 @@ def repaired_rows(adc: np.ndarray, dc: np.ndarray | None, rows: np.ndarray, flag
                         dtype=y.dtype)
 
     run_parts([lambda lo=lo, hi=hi: dc_removed(lo, hi) for lo, hi in parts])
-    repair(y, flags, win, proc.intf_hysteresis_samples, get_mitigation(proc.intf_mitigation),
-           frame=FrameRows(a2, rows, n_rx))
+    method = get_mitigation(proc.intf_mitigation)
+    # "lowrank" leaves its rows' means to the window product (one pass less over the rows)
+    centre = method.fill == "lowrank" and y.dtype == np.float32
+    repair(y, flags, win, proc.intf_hysteresis_samples, method, frame=FrameRows(a2, rows, n_rx),
+           remove_mean=not centre)
+    means = np.zeros(len(rows), y.dtype)
+    if centre:
+        run_parts([lambda lo=lo, hi=hi: y[lo:hi].mean(axis=-1, out=means[lo:hi])
+                   for lo, hi in parts])
     dc0 = None
     if dc is not None:
         dc0 = dc[..., 0].copy()
         dc0.reshape(-1)[rows] = 0
-    return RepairedRows(rows, y, win, dc0)
+    return RepairedRows(rows, y, win, dc0, means)
 
 
 @numba.njit(cache=True, nogil=True)
-def _windowed_rows(a2, y, rows, w, row0, lo, hi, out):
-    """out[r] <- w x (y[i] if rows[i] == row0 + r for an i in lo .. hi - 1, else
-    float32(a2[r])), float32 products (numpy's ``np.multiply`` of each pair, element by
-    element); rows[lo:hi] increasing, within row0 .. row0 + len(a2) - 1."""
+def _windowed_rows(a2, y, means, rows, w, row0, lo, hi, out):
+    """out[r] <- w x (y[i] - means[i] if rows[i] == row0 + r for an i in lo .. hi - 1, else
+    float32(a2[r])), float32 differences and products (numpy's ``np.subtract`` and
+    ``np.multiply`` of each pair, element by element); rows[lo:hi] increasing, within
+    row0 .. row0 + len(a2) - 1."""
     n = np.uint64(a2.shape[1])  # unsigned: lets LLVM vectorise the loops
     i = lo
     for r in range(a2.shape[0]):
         o = out[r]
         if i < hi and rows[i] == row0 + r:
             s = y[i]
+            m = means[i]
             for t in range(n):
-                o[t] = s[t] * w[t]
+                o[t] = (s[t] - m) * w[t]
             i += 1
         else:
             a = a2[r]

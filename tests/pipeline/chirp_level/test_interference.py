@@ -106,18 +106,44 @@ def test_mitigation_works_on_every_adc_mode(make_x18, adc_mode):
 
 def test_windowed_block_is_the_windowed_samples_with_the_repaired_rows_in_place():
     """`RepairedRows.windowed_block`: every row of the block float32 x window (numpy), the
-    repaired rows' `windowed()` in their place, bit for bit: repaired rows at the block's
-    first and last row, rows of other blocks around it, a block without any."""
+    repaired rows' `windowed()` (their means subtracted, then the window) in their place, bit
+    for bit: repaired rows at the block's first and last row, rows of other blocks around it,
+    a block without any."""
     from pipeline.chirp_level.interference import RepairedRows
     g = np.random.default_rng(4)
     adc = g.integers(-3000, 3000, (10, 3, 32)).astype(np.int16)
     rows = np.array([2, 12, 14, 17, 26])  # chirp x 3 + Rx: chirps 0, 4, 4, 5, 8
     win = np.hanning(32).astype(np.float32)
-    rep = RepairedRows(rows, (g.standard_normal((5, 32)) * 1e3).astype(np.float32), win, None)
+    y = (g.standard_normal((5, 32)) * 1e3 + 300).astype(np.float32)
+    rep = RepairedRows(rows, y, win, None, y.mean(axis=-1))
     full = np.multiply(adc, win, dtype=np.float32).reshape(-1, 32)
     full[rows] = rep.windowed()
-    assert rep.windowed().tobytes() == np.multiply(rep.samples, win).tobytes()
+    assert rep.windowed().tobytes() == np.multiply(
+        y - y.mean(axis=-1, keepdims=True), win).tobytes()
     for c0, c1 in ((4, 6), (0, 10), (1, 4), (6, 8)):
         out = np.full((c1 - c0, 3, 32), np.nan, np.float32)
         got = rep.windowed_block(adc[c0:c1], c0, out)
         assert got is out and got.tobytes() == full[3 * c0:3 * c1].tobytes()
+
+
+@pytest.mark.parametrize("method", ["lowrank", "zero"])
+def test_repaired_rows_window_the_repair_of_the_dc_removed_rows(cfg, method):
+    """`repaired_rows(...).windowed()` is `repair` of the flagged rows (DC removed, numpy's
+    float32 difference) times the window, bit for bit: "lowrank" leaves its rows' means to
+    the window product, which must subtract exactly what the fill would have."""
+    from pipeline.chirp_level.interference import repaired_rows
+    from pipeline.chirp_level.stage import _chirp_statistics
+    from pipeline.interference_repair import FrameRows, get_mitigation, repair
+    from pipeline.kernels import window
+    adc = radarsim.simulate_frame(cfg.replace(adc_dc_offset_lsb=-120.0), empty(),
+                                  np.random.default_rng(8), one_interferer())
+    proc = pipeline.ProcessingConfig(intf_mitigation=method)
+    dc, rows, flags = _chirp_statistics(adc, proc)
+    n = adc.shape[-1]
+    win = window("hann", n)
+    y = np.subtract(adc.reshape(-1, n)[rows], dc.reshape(-1, 1)[rows], dtype=np.float32)
+    want = repair(y, flags, win, proc.intf_hysteresis_samples, get_mitigation(method),
+                  frame=FrameRows(adc.reshape(-1, n), rows, adc.shape[1])) * win
+    rep = repaired_rows(adc, dc, rows, flags, win, proc)
+    assert rows.size and rep.windowed().tobytes() == want.tobytes()
+    assert (rep.means != 0).any() == (method == "lowrank")
