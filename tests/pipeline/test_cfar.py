@@ -162,17 +162,19 @@ def _reference_peaks(power, mode, alpha, guard, window, k, stride, neighbours, f
     return cells, noise[cells]
 
 
+@pytest.mark.parametrize("order", ["C", "F"])
 @pytest.mark.parametrize("mode", list(CFAR_MODES))
 @pytest.mark.parametrize("neighbours, first_bin", [({0: True, 1: False}, 1), ({0: True}, 0),
                                                    ({1: False}, 3), ({0: False, 1: True}, 0)])
 @pytest.mark.parametrize("guard, window, stride, n_dop", [(2, 12, 2, 64), (1, 6, 1, 16),
                                                           (2, 8, 3, 20)])
 def test_cfar_peaks_equals_the_full_map_reference(mode, neighbours, first_bin, guard, window,
-                                                 stride, n_dop):
+                                                 stride, n_dop, order):
     """The detector the chains run (the OS mode's compiled pass, the numpy path of the others)
     gives exactly the cells, noise estimates and peaks of the full-map reference, on maps with
     exact ties (plateaus), targets, and training windows longer than the axis (wrapping more
-    than once)."""
+    than once), in C order and strided (F order: the slot chains' range-Doppler sum is a
+    strided view)."""
     rng = np.random.default_rng(n_dop + first_bin)
     power = rng.exponential(size=(5, 7, n_dop)).astype(np.float32)
     power[rng.random(power.shape) < 0.1] = 1.0          # plateaus
@@ -180,6 +182,7 @@ def test_cfar_peaks_equals_the_full_map_reference(mode, neighbours, first_bin, g
     power[0, 0, 0] = 400.0
     # Strong plateaus (two equal cells) along each axis: the first cell alone is the maximum.
     power[1, 4, 9:11] = power[2:4, 1, 12] = power[3, 5:7, 14] = 500.0
+    power = np.asarray(power, order=order)
     k = max(1, round(1.5 * window))
     alpha = cfar_scale(1e-2, mode, 2 * window, k)
     (a, r, d), noise, peak = cfar_peaks(power, mode, alpha, guard, window, k, stride,
