@@ -357,8 +357,9 @@ def test_compiled_fit_is_its_textbook_loops_bit_for_bit(n_rows):
     run_s, run_e = np.array([3, 20]), np.array([9, 31])
     lt = np.zeros((k, k))
     lr._cholesky(prefix, shrink, run_s, run_e, 2, lt, np.zeros(prefix.shape[1]))
-    x = rng.standard_normal((n_rows + 4, n)) * 100
-    rhs = x @ b
+    # the chain's types (float32 rows, float64 projections): no test-only compilation
+    x = (rng.standard_normal((n_rows + 4, n)) * 100).astype(np.float32)
+    rhs = x.astype(np.float64) @ b
     pad = (n_rows + 3) // 4 * 4
     c = np.full((k, pad), np.nan)
     lr._fit_rows(x, rhs, np.ascontiguousarray(b), lt, run_s, run_e, 2, 2, 2 + n_rows,
