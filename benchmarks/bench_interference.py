@@ -175,9 +175,9 @@ def dirty_frame_breakdown(repeats: int, warmup: int) -> list[str]:
     basis = fast_time_basis(_reference(y, frame, None), m.rank_max, gate)
     hw = proc.intf_hysteresis_samples + m.extend_samples
 
-    def fill(grow_sigma):
+    def fill(grow_sigma):  # as repaired_rows calls it: the means left to the window pass
         lowrank_fill(y.copy(), flags, rows // cfg.n_rx, basis, m.close_gap_samples, hw,
-                     grow_sigma, m.grow_reach_samples)
+                     grow_sigma, m.grow_reach_samples, remove_mean=False)
 
     fns = {}
     for k, a in frames.items():
@@ -213,10 +213,12 @@ def dirty_frame_breakdown(repeats: int, warmup: int) -> list[str]:
         f"  work (thread CPU, one part): clean {t['frame clean']:.2f} ms, dirty "
         f"{t['frame dirty']:.2f} ms = +{extra('frame'):.2f} ms "
         f"({t['frame dirty'] / t['frame clean']:.2f}x)",
-        f"    range stage +{extra('stage'):.2f} ms: statistics and flags "
+        f"    range stage +{extra('stage'):.2f} ms (pieces timed on their own: the rest is "
+        "a difference, noise included): statistics and flags "
         f"+{extra('stats'):.2f}, repaired rows {t['repaired rows']:.2f} (reference rows + "
         f"basis {t['basis']:.2f}, lowrank fill {t['fill']:.2f} of which mask growth "
-        f"{t['fill'] - t['fill, no growth']:.2f}, DC removal and the rest {other:.2f}), "
+        f"{t['fill'] - t['fill, no growth']:.2f}, DC removal, row means and the rest "
+        f"{other:.2f}), "
         f"blockwise window / rFFT / EGE +{extra('blocks'):.2f}",
         f"    the rest of the chain (Doppler, maps, CFAR...) {rest:+.2f} ms",
         f"  two parts: calling thread's CPU clean {ms['clean'][0]:.2f} ms, dirty "
