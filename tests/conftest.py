@@ -58,7 +58,7 @@ _WARM_REPORTS: list[dict] = []
 
 def pytest_sessionstart(session):
     worker = os.environ.get("PYTEST_XDIST_WORKER", "")
-    if worker.startswith("gw"):
+    if worker.startswith("gw") and os.environ.get(numba_warm.SWITCH, "1") != "0":
         _WARM_TABLE.update(numba_warm.read_signatures())
         own, others = numba_warm.split(int(worker[2:]),
                                        int(os.environ.get("PYTEST_XDIST_WORKER_COUNT", "1")),

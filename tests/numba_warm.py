@@ -16,8 +16,10 @@ kernels of one module call only kernels of that module, so modules are disjoint 
 
 Only speed depends on the list: a signature the kernels no longer take is skipped, one the
 tests compile that the list lacks is compiled where it is met (as without the warm-up); the
-terminal summary names both (`python -m tests.numba_warm` rewrites the list from the cache
-indexes a suite run leaves).
+terminal summary names both. To rewrite the list, run the suite in a clean checkout with the
+warm-up off (``TESTS_NUMBA_WARM=0``: the cache indexes then hold exactly what the tests and
+their subprocesses compiled, not the list's own signatures) and then
+``python -m tests.numba_warm``.
 """
 from __future__ import annotations
 
@@ -33,6 +35,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 SIGNATURES = Path(__file__).with_name("numba_signatures.txt")
+#: Environment variable: "0" turns the warm-up off (to record the list, see above).
+SWITCH = "TESTS_NUMBA_WARM"
 ROOT = Path(__file__).resolve().parents[1]
 PACKAGES = ("pipeline", "radarsim", "metrics", "harness", "scenarios")
 
@@ -169,7 +173,8 @@ def missing(table: dict[str, list[tuple[str, str]]]) -> list[str]:
 
 def record(path: Path = SIGNATURES) -> int:
     """Rewrite `path` from the on-disk cache indexes of the current sources (run the suite
-    first, so that they hold what it compiles). Returns the number of signatures."""
+    first, in a clean checkout with the warm-up off, so that they hold what it compiles and
+    nothing else). Returns the number of signatures."""
     ns = _types_namespace()
     lines = []
     for module, name, d in _dispatchers():
