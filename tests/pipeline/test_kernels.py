@@ -143,3 +143,8 @@ def test_point_cloud_equals_the_frame_of_a_column_dict(n):
     assert e1 is not e2 and list(e1.columns) == POINT_CLOUD_COLUMNS and len(e1) == 0
     e1["range_m"] = e1["range_m"] + 1.0
     assert e2.equals(empty_cloud())
+    # Frames share no mutable state: a name given to one frame's column labels stays there.
+    for one, make in ((got, lambda: point_cloud(cfg, proc, rng_pos, vel, az, el, snr, bins)),
+                      (e1, empty_cloud)):
+        one.columns.name = "mine"
+        assert make().columns.name is None
