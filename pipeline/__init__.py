@@ -2,6 +2,9 @@
 
     pc = pipeline.process_frame(cfg, adc)          # pandas.DataFrame, one row per detection
 """
+from .numba_cache import install_cache_lock
+
+install_cache_lock()  # before any cache=True kernel compiles: concurrent workers share one cache
 from .cfar import CFAR_MODES, cfar_scale, noise_mean_factor
 from . import cfar_log  # noqa: F401  (registers TI's log-domain CFAR modes)
 from .chain import (MIMO_CHAINS, POINT_CLOUD_COLUMNS, detection_map, doppler_azimuth_map,
