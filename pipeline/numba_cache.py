@@ -85,10 +85,13 @@ def install_cache_lock() -> bool:
     nothing stops two processes interleaving these steps. Both can pick ``.1.nbc``; the last
     index writer wins and may point its signature at the other process's data (the test
     ``tests/pipeline/test_numba_cache.py`` forces this interleaving). Upstream: numba issue
-    #10128 (open; a race between two processes caching one function, where numba's
-    developers suggested a file lock) and #4807 (cache segfaults when generated in parallel).
+    #10128 (open: two processes caching one gufunc leave its kernel and wrapper from different
+    compilations, a segfault; numba's developers suggested a file lock) and #4807 (open: cache
+    segfaults when generated in parallel). This lock covers one index and its data files, not
+    #10128's kernel/wrapper pair (two indexes); the pipeline has no gufuncs.
     ``flock`` is advisory and machine-local: processes on different hosts sharing a cache
-    over NFS are not serialised (nor are they by numba).
+    over NFS are not serialised (nor are they by numba). ``IndexDataCacheFile.flush`` (empties
+    the index, only on an explicit ``Cache.flush()``) stays unlocked.
 
     References
     ----------
