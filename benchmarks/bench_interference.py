@@ -172,7 +172,9 @@ def dirty_frame_breakdown(repeats: int, warmup: int) -> list[str]:
     y = np.subtract(adc.reshape(-1, n)[rows], dc.reshape(-1, 1)[rows], dtype=np.float32)
     frame = FrameRows(adc.reshape(-1, n), rows, cfg.n_rx)
     gate = 10 ** (m.rank_snr_gate_db / 10)
-    basis = fast_time_basis(_reference(y, frame, None), m.rank_max, gate)
+    def ref_mask():  # the repaired rows' masks, read only if the frame has too few clean rows
+        return m.mask(flags, proc.intf_hysteresis_samples)
+    basis = fast_time_basis(_reference(y, frame, ref_mask), m.rank_max, gate)
     hw = proc.intf_hysteresis_samples + m.extend_samples
 
     def fill(grow_sigma):  # as repaired_rows calls it: the means left to the window pass
@@ -184,10 +186,10 @@ def dirty_frame_breakdown(repeats: int, warmup: int) -> list[str]:
         fns[f"frame {k}"] = lambda a=a: pipeline.process_frame(cfg, a)
         fns[f"stage {k}"] = lambda a=a: cl.windowed_range_stage(cfg, a, proc, w)
         fns[f"stats {k}"] = lambda a=a: _chirp_statistics(a, proc)
-        fns[f"blocks {k}"] = lambda a=a, r=(rep if k == "dirty" else None): _blockwise(
-            cfg, a, proc, stats[k][0], w, None, r)
+        fns[f"blocks {k}"] = lambda a=a, d=stats[k][0], r=(rep if k == "dirty" else None): \
+            _blockwise(cfg, a, proc, d, w, None, r)
     fns["repaired rows"] = lambda: repaired_rows(adc, dc, rows, flags, win, proc)
-    fns["basis"] = lambda: fast_time_basis(_reference(y, frame, None), m.rank_max, gate)
+    fns["basis"] = lambda: fast_time_basis(_reference(y, frame, ref_mask), m.rank_max, gate)
     fns["fill"] = lambda: fill(m.grow_sigma)
     fns["fill, no growth"] = lambda: fill(0.0)
     with inline():

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import contextlib
 import functools
+import time
 
 try:
     import fcntl
@@ -20,26 +21,51 @@ except ImportError:  # not POSIX (Windows): numba's cache stays as it is
 #: Marks numba methods this module has wrapped (so installing twice wraps once).
 _MARK = "_pipeline_cache_lock"
 
+#: Longest wait for another process's cache step, s. numba's index and data writes take
+#: milliseconds; a holder stalled longer (a stopped process, a hung file system) is passed by,
+#: the step then running unlocked as numba's own does, rather than stalling every worker.
+LOCK_WAIT_S = 30.0
+
+
+def _flock(f, mode: int) -> bool:
+    """``flock(mode)`` on `f`, polling for at most `LOCK_WAIT_S`; False if not taken."""
+    deadline = time.monotonic() + LOCK_WAIT_S
+    while True:
+        try:
+            fcntl.flock(f, mode | fcntl.LOCK_NB)
+            return True
+        except BlockingIOError:  # held by another process
+            if time.monotonic() >= deadline:
+                return False
+            time.sleep(0.002)
+        except OSError:  # a file system without flock
+            return False
+
+
+def _open_lock_file(path: str):
+    """The lock file, created if need be; read-only if another user created it (flock needs
+    no write access); None if it cannot be opened at all."""
+    for mode in ("a", "r"):
+        try:
+            return open(path, mode)
+        except OSError:
+            continue
+    return None
+
 
 @contextlib.contextmanager
 def _index_lock(index_path: str, mode: int):
     """Hold ``flock(mode)`` on ``<index_path>.lock`` (created beside the index) for the block.
 
     Where the lock file cannot be opened or locked (a read-only cache directory, a file system
-    without ``flock``), the block runs unlocked: numba's own behaviour, never an error."""
-    try:
-        f = open(index_path + ".lock", "a")
-    except OSError:
-        f = None
+    without ``flock``, a holder stalled for `LOCK_WAIT_S`), the block runs unlocked: numba's
+    own behaviour, never an error."""
+    f = _open_lock_file(index_path + ".lock")
     if f is None:
         yield
         return
     with f:
-        try:
-            fcntl.flock(f, mode)
-            locked = True
-        except OSError:
-            locked = False
+        locked = _flock(f, mode)
         try:
             yield
         finally:
@@ -102,7 +128,11 @@ def install_cache_lock() -> bool:
 
     Examples
     --------
-    >>> install_cache_lock() in (True, False)
+    >>> from numba.core.caching import IndexDataCacheFile
+    >>> install_cache_lock()
+    True
+    >>> save = IndexDataCacheFile.save
+    >>> install_cache_lock() and IndexDataCacheFile.save is save  # installed once
     True
     """
     if fcntl is None:

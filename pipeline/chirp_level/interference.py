@@ -177,6 +177,10 @@ class RepairedRows(NamedTuple):
         frames) in its place, as `windowed()` has them: one compiled pass, no row windowed
         twice."""
         n_rx, n = adc.shape[1], adc.shape[-1]
+        if out.shape != adc.shape or not out.flags.c_contiguous:
+            # a reshape of a strided `out` would be a copy: the results would be lost
+            raise ValueError(f"out must be a C-contiguous {adc.shape} array, got {out.shape} "
+                             f"(C-contiguous: {out.flags.c_contiguous})")
         lo, hi = np.searchsorted(self.rows, (c0 * n_rx, (c0 + len(adc)) * n_rx))
         _windowed_rows(adc.reshape(-1, n), self.samples, self.means, self.rows, self.window,
                        c0 * n_rx, lo, hi, out.reshape(-1, n))

@@ -145,8 +145,10 @@ def test_point_cloud_equals_the_frame_of_a_column_dict(n, public, monkeypatch):
         assert got[c].to_numpy().tobytes() == want[c].to_numpy().tobytes(), c
     e1, e2 = empty_cloud(), empty_cloud()
     assert e1 is not e2 and list(e1.columns) == POINT_CLOUD_COLUMNS and len(e1) == 0
-    e1["range_m"] = e1["range_m"] + 1.0
-    assert e2.equals(empty_cloud())
+    e1["extra"] = e1["range_m"]  # a change to one empty cloud reaches no other
+    e1.attrs["mine"] = True
+    fresh = empty_cloud()
+    assert list(e2.columns) == list(fresh.columns) == POINT_CLOUD_COLUMNS and not fresh.attrs
     # Frames share no mutable state: a name given to one frame's column labels stays there.
     for one, make in ((got, lambda: point_cloud(cfg, proc, rng_pos, vel, az, el, snr, bins)),
                       (e1, empty_cloud)):

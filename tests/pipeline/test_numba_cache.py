@@ -181,3 +181,39 @@ def test_unlockable_cache_directory_falls_back_to_numba_behaviour(tmp_path):
     with numba_cache._index_lock(str(tmp_path / "missing-dir" / "f.nbi"), fcntl.LOCK_EX):
         ran.append(True)
     assert ran == [True]
+
+
+def test_a_stalled_holder_is_passed_by_after_the_wait(tmp_path, monkeypatch):
+    """A lock held past `LOCK_WAIT_S` (a stopped process, a hung file system) does not stall
+    the step: it runs unlocked, as numba's own does."""
+    monkeypatch.setattr(numba_cache, "LOCK_WAIT_S", 0.05)
+    index = str(tmp_path / "f.nbi")
+    ran = []
+    with open(index + ".lock", "a") as holder:  # another open file: flock treats it as another
+        fcntl.flock(holder, fcntl.LOCK_EX)     # process's lock
+        with open(index + ".lock") as other:
+            assert not numba_cache._flock(other, fcntl.LOCK_SH)
+        with numba_cache._index_lock(index, fcntl.LOCK_EX):
+            ran.append(True)
+    assert ran == [True]
+    with open(index + ".lock") as f:  # released: taken at once
+        assert numba_cache._flock(f, fcntl.LOCK_EX)
+
+
+def test_a_read_only_lock_file_still_locks(tmp_path, monkeypatch):
+    """A lock file this process may not write (another user's) is opened read-only: flock
+    needs no write access."""
+    import builtins
+    path = tmp_path / "f.nbi.lock"
+    path.touch()
+
+    def no_write(file, mode="r", *args, **kwargs):
+        if mode != "r":
+            raise PermissionError(13, "Permission denied", str(file))
+        return builtins.open(file, mode, *args, **kwargs)
+    monkeypatch.setattr(numba_cache, "open", no_write, raising=False)
+    with numba_cache._open_lock_file(str(path)) as f:
+        assert f.mode == "r" and numba_cache._flock(f, fcntl.LOCK_EX)
+    monkeypatch.setattr(numba_cache, "open", lambda *a, **k: no_write(a[0], "a"),
+                        raising=False)
+    assert numba_cache._open_lock_file(str(path)) is None

@@ -124,6 +124,9 @@ def test_windowed_block_is_the_windowed_samples_with_the_repaired_rows_in_place(
         out = np.full((c1 - c0, 3, 32), np.nan, np.float32)
         got = rep.windowed_block(adc[c0:c1], c0, out)
         assert got is out and got.tobytes() == full[3 * c0:3 * c1].tobytes()
+    strided = np.empty((32, 3, 2), np.float32).T  # (2, 3, 32), not C-contiguous
+    with pytest.raises(ValueError, match=r"out must be a C-contiguous \(2, 3, 32\) array"):
+        rep.windowed_block(adc[4:6], 4, strided)
 
 
 @pytest.mark.parametrize("method", ["lowrank", "zero"])
