@@ -60,11 +60,9 @@ def pytest_sessionstart(session):
     worker = os.environ.get("PYTEST_XDIST_WORKER", "")
     if worker.startswith("gw") and os.environ.get(numba_warm.SWITCH, "1") != "0":
         _WARM_TABLE.update(numba_warm.read_signatures())
-        own, others = numba_warm.split(int(worker[2:]),
-                                       int(os.environ.get("PYTEST_XDIST_WORKER_COUNT", "1")),
-                                       _WARM_TABLE)
-        numba_warm.warm(own, _WARM_TABLE, _WARM)
-        _WARM_LATER.extend(others)
+        # every module no other worker holds now; the held ones after collecting
+        _WARM_LATER.extend(numba_warm.warm(numba_warm.claim_order(_WARM_TABLE), _WARM_TABLE,
+                                           _WARM, wait=False))
 
 
 @pytest.hookimpl(hookwrapper=True)

@@ -4,10 +4,14 @@ The kernels are ``cache=True``: compiled once per machine, then loaded from ``__
 In a clean clone nothing is cached, and each of the two xdist workers (and every CLI
 subprocess a test started before the cache was written) compiled every signature it met on
 its own: ~16 s CPU of compilation done about twice. Here the signatures listed in
-`numba_signatures.txt` are split by module into one share per worker: when its session
-starts, each worker compiles its share (written to the disk cache); after collecting, before
-its first test, it loads the other shares, waiting if another worker is still compiling one.
-Every test, and every subprocess a test starts, then finds them compiled.
+`numba_signatures.txt` are compiled module by module, each module by one worker: when its
+session starts, each worker walks the modules (most signatures first) and takes every one no
+other worker holds (a non-blocking lock), compiling it (or loading it, if another worker
+already did); a module held by another worker is loaded after collecting, before the first
+test, waiting for that worker if it is still compiling. The modules so go to whichever worker
+is free (one module, `interference_lowrank`, takes about half of the compile time: a fixed
+split by count left one worker idle for seconds). Every test, and every subprocess a test
+starts, then finds the kernels compiled.
 
 A module's signatures are compiled under a per-module file lock because numba keeps one
 cache index per function and rewrites it without a lock (load, add, save): two processes
@@ -62,16 +66,10 @@ def read_signatures(path: Path = SIGNATURES) -> dict[str, list[tuple[str, str]]]
     return out
 
 
-def shares(modules: dict[str, list], n: int) -> list[list[str]]:
-    """Modules split into n shares of about equal signature count (largest first, each to the
-    lightest share so far): the compile time of a signature is roughly even, ~0.5-1 s."""
-    out: list[list[str]] = [[] for _ in range(n)]
-    load = [0] * n
-    for m in sorted(modules, key=lambda m: (-len(modules[m]), m)):
-        i = load.index(min(load))
-        out[i].append(m)
-        load[i] += len(modules[m])
-    return out
+def claim_order(modules: dict[str, list]) -> list[str]:
+    """The modules in the order every worker tries to take them: most signatures first (the
+    heavy ones start early, the light ones fill in), then by name."""
+    return sorted(modules, key=lambda m: (-len(modules[m]), m))
 
 
 def _types_namespace() -> dict:
@@ -89,32 +87,43 @@ def _parse(sig: str, ns: dict) -> tuple:
 
 
 @contextlib.contextmanager
-def _module_lock(module: str):
+def _module_lock(module: str, wait: bool = True):
     """An exclusive flock shared by every process of this machine warming `module` of this
-    checkout (released by the OS if the holder dies)."""
+    checkout (released by the OS if the holder dies). Yields whether it is held: with
+    ``wait=False`` False when another process holds it (nothing done then)."""
     try:
         import fcntl
     except ImportError:  # no flock: compile unlocked (the warm-up is an optimisation)
-        yield
+        yield True
         return
     key = hashlib.sha1(f"{ROOT}:{module}".encode()).hexdigest()[:16]
     with open(Path(tempfile.gettempdir()) / f"numba-warm-{key}.lock", "a") as f:
-        fcntl.flock(f, fcntl.LOCK_EX)
         try:
-            yield
+            fcntl.flock(f, fcntl.LOCK_EX | (0 if wait else fcntl.LOCK_NB))
+        except BlockingIOError:
+            yield False
+            return
+        try:
+            yield True
         finally:
             fcntl.flock(f, fcntl.LOCK_UN)
 
 
-def warm(modules: list[str], table: dict[str, list[tuple[str, str]]], out: Warmup) -> None:
+def warm(modules: list[str], table: dict[str, list[tuple[str, str]]], out: Warmup,
+         wait: bool = True) -> list[str]:
     """Compile (or load from the disk cache) the signatures of `modules` listed in `table`,
-    one module at a time under its lock; counts and failures added to `out`."""
+    one module at a time under its lock; counts and failures added to `out`. With
+    ``wait=False`` a module another process holds is skipped; returns the skipped modules."""
     if os.environ.get("NUMBA_DISABLE_JIT", "0") not in ("", "0"):
-        return
+        return []
     t0, c0 = time.perf_counter(), time.process_time()
     ns = _types_namespace()
+    skipped = []
     for module in modules:
-        with _module_lock(module):
+        with _module_lock(module, wait) as held:
+            if not held:
+                skipped.append(module)
+                continue
             try:
                 mod = importlib.import_module(module)
             except Exception as e:  # noqa: BLE001 - a module gone: its lines are stale
@@ -128,13 +137,7 @@ def warm(modules: list[str], table: dict[str, list[tuple[str, str]]], out: Warmu
                     out.stale.append(f"{module}.{fn}{sig[:60]}...: {type(e).__name__}")
     out.cpu_s += time.process_time() - c0
     out.wall_s += time.perf_counter() - t0
-
-
-def split(index: int, n_workers: int, table: dict[str, list]) -> tuple[list[str], list[str]]:
-    """(worker `index`'s own share of the modules, the others' modules)."""
-    parts = shares(table, n_workers)
-    own = parts[index % n_workers]
-    return own, [m for p in parts if p is not own for m in p]
+    return skipped
 
 
 def _dispatchers():
