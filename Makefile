@@ -15,14 +15,19 @@ $(STAMP): pyproject.toml
 	touch $(STAMP)
 
 # Fast suite (slow statistical tests deselected) on both cores (pytest-xdist; each test keeps
-# its outputs under its own tmp_path); `make test-all` runs everything.
+# its outputs under its own tmp_path); `make test-all` runs everything. Bytecode is written
+# even where the environment sets PYTHONDONTWRITEBYTECODE: the xdist worker that collects
+# second then reads the first one's rewritten test modules, and the ~15 CLI subprocesses the
+# suite starts load the sources compiled instead of compiling them (clean clone, same code,
+# runs alternated: 125 / 140 s CPU with bytecode against 136 / 150 s without).
 XDIST := -n 2 --dist worksteal
+BYTECODE := PYTHONDONTWRITEBYTECODE=
 
 test: $(STAMP)
-	$(PY) -m pytest -q -m "not slow" $(XDIST)
+	$(BYTECODE) $(PY) -m pytest -q -m "not slow" $(XDIST)
 
 test-all: $(STAMP)
-	$(PY) -m pytest -q $(XDIST)
+	$(BYTECODE) $(PY) -m pytest -q $(XDIST)
 
 # The default sweep (whole catalogue, DDMA vs TDMA, seed 0): tables in results/default, the
 # summary printed, the HTML report, then the shipped gates with the verdict table (scheme x
