@@ -21,9 +21,12 @@ import pipeline
 import radarsim
 from benchmarks._timing import median_time_s
 from pipeline import chirp_level as cl
-from pipeline.chirp_level.stage import _chirp_statistics
+from pipeline.chirp_level.interference import repaired_rows
+from pipeline.chirp_level.stage import _blockwise, _chirp_statistics
+from pipeline.config import WINDOWS
 from pipeline.interference_lowrank import fast_time_basis, lowrank_fill
 from pipeline.interference_repair import MITIGATIONS, FrameRows, _reference
+from pipeline.kernels import window
 from pipeline.threads import inline
 from radarsim import interference as itf_mod
 
@@ -151,10 +154,6 @@ def dirty_frame_breakdown(repeats: int, warmup: int) -> list[str]:
     `pipeline.threads.inline`) of the whole frame and of the range stage's pieces, clean and
     dirty, alternated; then, in two parts, the calling thread's CPU (the serial share, which
     bounds the wall time on an idle machine from below) and the wall time."""
-    from pipeline.chirp_level.interference import repaired_rows
-    from pipeline.chirp_level.stage import _blockwise
-    from pipeline.config import WINDOWS
-    from pipeline.kernels import window
     cfg = radarsim.presets.r79_ddma()
     sc = _scene(N_SCATTERERS)  # bench_floors' scene (the same draws), its frames
     frames = {"clean": radarsim.simulate_frame(cfg, sc, np.random.default_rng(0)),

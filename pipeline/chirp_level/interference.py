@@ -163,10 +163,14 @@ class RepairedRows(NamedTuple):
         """(R, n_samples) the repaired rows, their `means` subtracted, times the window
         (numpy's products; rows in parts on the cores)."""
         y = np.empty_like(self.samples)
+        # (x - 0) is x bit for bit (-0 and NaN included): no subtraction pass without means
+        centre = bool(self.means.any())
 
         def part(lo: int, hi: int) -> None:
-            np.subtract(self.samples[lo:hi], self.means[lo:hi, None], out=y[lo:hi])
-            np.multiply(y[lo:hi], self.window, out=y[lo:hi])
+            x = self.samples[lo:hi]
+            if centre:
+                x = np.subtract(x, self.means[lo:hi, None], out=y[lo:hi])
+            np.multiply(x, self.window, out=y[lo:hi])
         run_parts([lambda lo=lo, hi=hi: part(lo, hi) for lo, hi in spans(len(y))])
         return y
 
