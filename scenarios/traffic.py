@@ -321,8 +321,9 @@ def vehicle_class_state_restored() -> Iterator[None]:
     try:
         yield
     finally:
-        for cls in _vehicle_classes():
-            before = saved.get(cls, {})
+        # Only the classes that existed on entry: a class first defined inside the block (a
+        # module imported there) has nothing to restore, and its own constants stay.
+        for cls, before in saved.items():
             for k in [k for k in vars(cls) if k.isupper() and k not in before]:
                 delattr(cls, k)
             for k, v in before.items():

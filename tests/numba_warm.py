@@ -59,9 +59,13 @@ def read_signatures(path: Path = SIGNATURES) -> dict[str, list[tuple[str, str]]]
     out: dict[str, list[tuple[str, str]]] = {}
     if not path.exists():
         return out
-    for line in path.read_text().splitlines():
+    for number, line in enumerate(path.read_text().splitlines(), 1):
         if line.strip() and not line.startswith("#"):
-            module, function, sig = line.split(" ", 2)
+            fields = line.split(" ", 2)
+            if len(fields) != 3:
+                raise ValueError(f"{path}:{number}: {line!r} is not 'module function "
+                                 "signature' (rewrite the list: python -m tests.numba_warm)")
+            module, function, sig = fields
             out.setdefault(module, []).append((function, sig))
     return out
 

@@ -168,6 +168,15 @@ def test_class_state_restored_undoes_set_and_added_constants():
     assert not hasattr(cls, "NEW_CONSTANT")
 
 
+def test_class_state_restored_keeps_a_class_defined_inside_the_block():
+    """A vehicle class first defined inside the block (a module imported there) had no state
+    on entry: its own constants stay."""
+    from scenarios.traffic import vehicle_class_state_restored
+    with vehicle_class_state_restored():
+        new = type("LateVehicle", (IDM_CLASSES["car"],), {"LENGTH": 3.2, "MAX_SPEED": 9.0})
+    assert vars(new)["LENGTH"] == 3.2 and vars(new)["MAX_SPEED"] == 9.0
+
+
 def test_roundabout_traffic_is_the_same_after_an_intersection_case():
     """The sweep-order dependence found on the default run: roundabout_random simulated after
     intersection_random in the same worker drove its ego differently from frame 39 on."""
