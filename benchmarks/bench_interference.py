@@ -14,6 +14,8 @@ from __future__ import annotations
 
 import os
 import time
+from collections.abc import Callable
+from typing import NamedTuple
 
 import numpy as np
 
@@ -24,7 +26,7 @@ from pipeline import chirp_level as cl
 from pipeline.chirp_level.interference import repaired_rows
 from pipeline.chirp_level.stage import _blockwise, _chirp_statistics
 from pipeline.config import WINDOWS
-from pipeline.interference_lowrank import fast_time_basis, lowrank_fill
+from pipeline.interference_lowrank import FastTimeBasis, fast_time_basis, lowrank_fill
 from pipeline.interference_repair import MITIGATIONS, FrameRows, _reference
 from pipeline.kernels import window
 from pipeline.threads import inline
@@ -95,6 +97,41 @@ def _interleaved(f_a, f_b, repeats: int, warmup: int) -> tuple[float, float]:
     return float(np.median(ta)), float(np.median(tb))
 
 
+class _LowrankWork(NamedTuple):
+    """The default repair ("lowrank") of one frame's flagged rows, as the benches time it."""
+
+    rows: np.ndarray                      # (R,) flagged chirp x Rx rows
+    bursts: np.ndarray                    # (R,) their chirps
+    basis: FastTimeBasis                  # the frame's fast-time basis
+    reference_and_basis: Callable[[], FastTimeBasis]  # reference rows + basis, recomputed
+    fill: Callable[[float], None]         # the fill with this grow_sigma, on a copy of the rows
+
+
+def _lowrank_work(cfg, adc: np.ndarray, stats, proc, remove_mean: bool) -> _LowrankWork:
+    """`_LowrankWork` of `adc` (int16 frame) with its chirp statistics ``stats`` (dc, rows,
+    flags: `_chirp_statistics`): the DC-removed rows, the reference rows (the repaired rows'
+    masks only if the frame has too few clean rows) and the fill's settings, as the repair
+    computes them."""
+    m = MITIGATIONS["lowrank"]
+    n = cfg.n_samples
+    dc, rows, flags = stats
+    y = np.subtract(adc.reshape(-1, n)[rows], dc.reshape(-1, 1)[rows], dtype=np.float32)
+    frame = FrameRows(adc.reshape(-1, n), rows, cfg.n_rx)
+    gate = 10 ** (m.rank_snr_gate_db / 10)
+
+    def reference_and_basis():
+        return fast_time_basis(_reference(
+            y, frame, lambda: m.mask(flags, proc.intf_hysteresis_samples)), m.rank_max, gate)
+    basis = reference_and_basis()
+    bursts = rows // cfg.n_rx
+    hw = proc.intf_hysteresis_samples + m.extend_samples
+
+    def fill(grow_sigma: float) -> None:
+        lowrank_fill(y.copy(), flags, bursts, basis, m.close_gap_samples, hw, grow_sigma,
+                     m.grow_reach_samples, remove_mean=remove_mean)
+    return _LowrankWork(rows, bursts, basis, reference_and_basis, fill)
+
+
 def lowrank_breakdown(cfg, adc: np.ndarray, repeats: int, warmup: int) -> list[str]:
     """Where the default repair ("lowrank") spends its time on the frame: thread CPU of the
     frame's fast-time basis and of the fill (one part: `pipeline.threads.inline`) with and
@@ -102,29 +139,16 @@ def lowrank_breakdown(cfg, adc: np.ndarray, repeats: int, warmup: int) -> list[s
     and the fill's row projections are BLAS calls: with several BLAS threads on a busy
     machine, this thread's time includes OpenBLAS waiting for its worker threads."""
     proc = pipeline.ProcessingConfig()
-    m = MITIGATIONS["lowrank"]
-    n = cfg.n_samples
-    dc, rows, flags = _chirp_statistics(adc, proc)
-    y = np.subtract(adc.reshape(-1, n)[rows], dc.reshape(-1, 1)[rows], dtype=np.float32)
-    frame = FrameRows(adc.reshape(-1, n), rows, cfg.n_rx)
-    gate = 10 ** (m.rank_snr_gate_db / 10)
-
-    def mask():  # repaired rows' masks: the reference when the frame has too few clean rows
-        return m.mask(flags, proc.intf_hysteresis_samples)
-
-    basis = fast_time_basis(_reference(y, frame, mask), m.rank_max, gate)
-    bursts = rows // cfg.n_rx
-    hw = proc.intf_hysteresis_samples + m.extend_samples
+    rows, bursts, basis, reference_and_basis, fill_rows = _lowrank_work(
+        cfg, adc, _chirp_statistics(adc, proc), proc, remove_mean=True)
 
     def fill(grow_sigma):
         with inline():
-            lowrank_fill(y.copy(), flags, bursts, basis, m.close_gap_samples, hw, grow_sigma,
-                         m.grow_reach_samples)
+            fill_rows(grow_sigma)
 
-    t_basis = median_time_s(lambda: fast_time_basis(_reference(y, frame, mask), m.rank_max,
-                                                    gate), repeats, warmup,
-                            clock=time.thread_time)
-    t_fill = median_time_s(lambda: fill(m.grow_sigma), repeats, warmup, clock=time.thread_time)
+    grow = MITIGATIONS["lowrank"].grow_sigma
+    t_basis = median_time_s(reference_and_basis, repeats, warmup, clock=time.thread_time)
+    t_fill = median_time_s(lambda: fill(grow), repeats, warmup, clock=time.thread_time)
     t_fixed = median_time_s(lambda: fill(0.0), repeats, warmup, clock=time.thread_time)
     return [f"  lowrank on this frame: {rows.size} hit rows of {adc.shape[0] * adc.shape[1]}, "
             f"{np.unique(bursts).size} hit chirps, k = {basis.vectors.shape[1]} components; "
@@ -168,17 +192,8 @@ def dirty_frame_breakdown(repeats: int, warmup: int) -> list[str]:
     dc, rows, flags = stats["dirty"]
     adc = frames["dirty"]
     rep = repaired_rows(adc, dc, rows, flags, win, proc)
-    y = np.subtract(adc.reshape(-1, n)[rows], dc.reshape(-1, 1)[rows], dtype=np.float32)
-    frame = FrameRows(adc.reshape(-1, n), rows, cfg.n_rx)
-    gate = 10 ** (m.rank_snr_gate_db / 10)
-    def ref_mask():  # the repaired rows' masks, read only if the frame has too few clean rows
-        return m.mask(flags, proc.intf_hysteresis_samples)
-    basis = fast_time_basis(_reference(y, frame, ref_mask), m.rank_max, gate)
-    hw = proc.intf_hysteresis_samples + m.extend_samples
-
-    def fill(grow_sigma):  # as repaired_rows calls it: the means left to the window pass
-        lowrank_fill(y.copy(), flags, rows // cfg.n_rx, basis, m.close_gap_samples, hw,
-                     grow_sigma, m.grow_reach_samples, remove_mean=False)
+    # as repaired_rows calls the fill: the means left to the window pass
+    work = _lowrank_work(cfg, adc, stats["dirty"], proc, remove_mean=False)
 
     fns = {}
     for k, a in frames.items():
@@ -188,9 +203,9 @@ def dirty_frame_breakdown(repeats: int, warmup: int) -> list[str]:
         fns[f"blocks {k}"] = lambda a=a, d=stats[k][0], r=(rep if k == "dirty" else None): \
             _blockwise(cfg, a, proc, d, w, None, r)
     fns["repaired rows"] = lambda: repaired_rows(adc, dc, rows, flags, win, proc)
-    fns["basis"] = lambda: fast_time_basis(_reference(y, frame, ref_mask), m.rank_max, gate)
-    fns["fill"] = lambda: fill(m.grow_sigma)
-    fns["fill, no growth"] = lambda: fill(0.0)
+    fns["basis"] = work.reference_and_basis
+    fns["fill"] = lambda: work.fill(m.grow_sigma)
+    fns["fill, no growth"] = lambda: work.fill(0.0)
     with inline():
         t = {k: 1e3 * v for k, v in _alternating_cpu(fns, repeats, warmup).items()}
     # two parts: the calling thread's CPU and the wall time
@@ -210,7 +225,7 @@ def dirty_frame_breakdown(repeats: int, warmup: int) -> list[str]:
     return [
         f"dirty-frame breakdown (bench_floors' DDMA frame + {N_INTERFERERS} interferers: "
         f"{rows.size} of {adc.shape[0] * adc.shape[1]} rows flagged, "
-        f"{np.unique(rows // cfg.n_rx).size} chirps hit, k = {basis.vectors.shape[1]}):",
+        f"{np.unique(rows // cfg.n_rx).size} chirps hit, k = {work.basis.vectors.shape[1]}):",
         f"  work (thread CPU, one part): clean {t['frame clean']:.2f} ms, dirty "
         f"{t['frame dirty']:.2f} ms = +{extra('frame'):.2f} ms "
         f"({t['frame dirty'] / t['frame clean']:.2f}x)",
