@@ -25,9 +25,12 @@ from scipy.signal import get_window
 from .cfar import CFAR_MODES, noise_estimate, training_offsets
 from .threads import run_parts, spans
 
+#: Unsigned loop indices in the compiled loops (see `_rx_energy`).
+_U = np.uint64
+
 __all__ = ["window", "range_fft", "windowed", "samples_windowed", "doppler_fft", "slow_time_fft",
            "doppler_windowed",
-           "rx_energy",
+           "rx_energy", "rx_energy_bins",
            "ArrayLayout",
            "array_layout", "layout_of", "local_max_mask", "parabolic_offset", "candidate_cfar",
            "cfar_peaks",
@@ -173,26 +176,43 @@ def rx_energy(spec: np.ndarray) -> np.ndarray:
     """
     out = np.empty((spec.shape[0], spec.shape[2]), np.float32)
     v = spec.view(np.float32)
-    run_parts([lambda lo=lo, hi=hi: _rx_energy(v[lo:hi], out[lo:hi])
+    run_parts([lambda lo=lo, hi=hi: _rx_energy(v[lo:hi], out[lo:hi], 0, spec.shape[2])
                for lo, hi in spans(spec.shape[0])])  # chirps in parts on the cores
     return out
 
 
+def rx_energy_bins(spec: np.ndarray, out: np.ndarray, b0: int, b1: int) -> None:
+    """`rx_energy` of range bins b0..b1-1 only, into out[:, b0:b1] (the same values), on the
+    calling thread: for a pass that has just computed those bins of `spec` (the DDMA chain's
+    Doppler FFT by range spans, `ddma_kernels.ddma_spectra_power`).
+
+    spec : (n_chirps, n_rx, n_range) complex64 and out : (n_chirps, n_range) float32, both
+    C-contiguous.
+    """
+    _rx_energy(spec.view(np.float32), out, b0, b1)
+
+
 @numba.njit(cache=True, nogil=True)
-def _rx_energy(v: np.ndarray, out: np.ndarray) -> None:
-    """out[c, b] = sum over r (in order) of v[c, r, 2b]^2 + v[c, r, 2b + 1]^2, float32."""
+def _rx_energy(v: np.ndarray, out: np.ndarray, b0: int, b1: int) -> None:
+    """out[c, b] = sum over r (in order) of v[c, r, 2b]^2 + v[c, r, 2b + 1]^2, float32, for
+    range bins b0 <= b < b1."""
     n_c, n_r, _ = v.shape
-    n_b = out.shape[1]
+    # Unsigned indices: numba wraps a negative signed index around, which keeps LLVM from
+    # vectorising the loops (range(b0, b1) with signed b: 4x slower).
+    lo, hi, one, two = _U(b0), _U(b1), _U(1), _U(2)
     for c in range(n_c):
-        for b in range(n_b):
-            re = v[c, 0, 2 * b]
-            im = v[c, 0, 2 * b + 1]
-            out[c, b] = re * re + im * im
+        dst = out[c]
+        row = v[c, 0]
+        for b in range(lo, hi):
+            re = row[two * b]
+            im = row[two * b + one]
+            dst[b] = re * re + im * im
         for r in range(1, n_r):
-            for b in range(n_b):
-                re = v[c, r, 2 * b]
-                im = v[c, r, 2 * b + 1]
-                out[c, b] += re * re + im * im
+            row = v[c, r]
+            for b in range(lo, hi):
+                re = row[two * b]
+                im = row[two * b + one]
+                dst[b] += re * re + im * im
 
 
 class ArrayLayout(NamedTuple):

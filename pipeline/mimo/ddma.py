@@ -23,7 +23,7 @@ from ..cfar import noise_mean_factor
 from ..chirp_level.stage import windowed_range_stage
 from ..compensation import compensate
 from ..config import WINDOWS, ProcessingConfig
-from ..ddma_kernels import ddma_coherent_power
+from ..ddma_kernels import ddma_spectra_power
 from ..kernels import (cfar_peaks, estimate_angles, layout_of, rx_energy, slow_time_fft,
                        window)
 from ..stages import (array_dft, empty_cloud, interp_azimuth, interp_doppler, interp_range,
@@ -79,17 +79,18 @@ def ddma_maps(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) -> Ddma
     n_chirps = cfg.n_chirps
     n_dop = n_chirps // n_sb
     n_az = proc.n_azimuth_bins
-    spec, energy = full_doppler_spectrum(cfg, adc, proc)
-    n_range = spec.shape[2]
+    xw = windowed_range_stage(cfg, adc, proc, window(WINDOWS[proc.doppler_window], n_chirps))
+    n_range = xw.shape[2]
     h_idx, *_ = layout_of(cfg)
     tx_h = np.unique(h_idx // n_rx).astype(np.int32)  # sub-band positions p of the row
     # Zero-padded azimuth FFT over the horizontal row as one complex GEMM and the power map;
     # compRangeBiasAndRxChanPhase: the channel coefficients folded into the DFT's columns.
     rows = (tx_h[:, None] * n_rx + np.arange(n_rx)).reshape(-1)
     dft = compensate(cfg, proc, array_dft(cfg, n_az, "horizontal")[rows].T, rows)
-    # Demodulation (Tx p of Doppler bin d sits at chirp-bin d + n_dop (band + p) mod N; only
-    # the transmitters of the horizontal row enter the map), GEMM and power by range blocks.
-    power, tx1_band = ddma_coherent_power(spec, energy, tx_h, n_sb, n_tx, dft)
+    # Doppler FFT (`full_doppler_spectrum`'s), Rx energy, demodulation (Tx p of Doppler bin d
+    # sits at chirp-bin d + n_dop (band + p) mod N; only the transmitters of the horizontal row
+    # enter the map), GEMM and power, by spans of range bins in one pass on the cores.
+    spec, energy, power, tx1_band = ddma_spectra_power(xw, tx_h, n_sb, n_tx, dft)
     power = power.reshape(n_az, n_range, n_dop)  # (A, B, D)
     return DdmaMaps(power=power, spec=spec, energy=energy, tx1_band=tx1_band)
 

@@ -1,12 +1,16 @@
 """Compiled kernels of `pipeline.kernels` against their numpy definitions, bit for bit (the
 chains' outputs must not move when a pass is compiled), and the DDMA demodulation against
 seed 000 table 11 written out independently."""
+import contextlib
+
 import numpy as np
 import pytest
 import scipy.fft
 
-from pipeline.ddma_kernels import ddma_coherent_power, ddma_gather, ddma_metric
-from pipeline.kernels import doppler_fft, rx_energy
+import pipeline.threads as threads
+from pipeline.ddma_kernels import (ddma_coherent_power, ddma_gather, ddma_metric,
+                                   ddma_spectra_power)
+from pipeline.kernels import doppler_fft, rx_energy, rx_energy_bins, slow_time_fft
 from pipeline.stages import power_of
 
 
@@ -74,6 +78,37 @@ def test_ddma_coherent_power_equals_argmax_gather_gemm_power_bit_for_bit(n_b, bl
     assert np.array_equal(band, want_band)
     want = power_of(dft @ ddma_gather(spec, want_band, tx_pos, n_sb))
     assert power.tobytes() == want.tobytes()
+
+
+@pytest.mark.parametrize("n_b, block", [(40, 8), (13, 4), (7, 16), (21, 1)])
+@pytest.mark.parametrize("inline", [False, True])
+def test_ddma_spectra_power_equals_fft_energy_and_map_passes_bit_for_bit(n_b, block, inline,
+                                                                         monkeypatch):
+    """The Doppler FFT, Rx energy and map by range spans (spans of any width, so pocketfft
+    batches a different number of columns than over the whole cube) are the three whole passes
+    bit for bit, with two parts (on any machine) and with one (`threads.inline`)."""
+    monkeypatch.setattr(threads, "N_PARTS", 2)
+    rng = np.random.default_rng(5)
+    n_sb, n_tx, n_dop, n_rx = 6, 4, 16, 4
+    xw = _cube(rng, (n_sb * n_dop, n_rx, n_b))
+    tx_pos = np.array([0, 1, 2])
+    dft = np.asfortranarray(_cube(rng, (48, tx_pos.size * n_rx)))
+    spec = slow_time_fft(xw.copy())
+    energy = rx_energy(spec)
+    want = ddma_coherent_power(spec, energy, tx_pos, n_sb, n_tx, dft, range_block=block)
+    with threads.inline() if inline else contextlib.nullcontext():
+        got = ddma_spectra_power(xw, tx_pos, n_sb, n_tx, dft, range_block=block)
+    assert got[0] is xw and got[0].tobytes() == spec.tobytes()
+    assert got[1].tobytes() == energy.tobytes()
+    assert got[2].tobytes() == want[0].tobytes() and np.array_equal(got[3], want[1])
+
+
+def test_rx_energy_bins_fills_only_its_range_bins():
+    spec = _cube(np.random.default_rng(6), (32, 3, 19))
+    out = np.full((32, 19), -1.0, np.float32)
+    rx_energy_bins(spec, out, 5, 12)
+    assert out[:, 5:12].tobytes() == rx_energy(spec)[:, 5:12].tobytes()
+    assert (out[:, :5] == -1).all() and (out[:, 12:] == -1).all()
 
 
 @pytest.mark.parametrize("shape", [(96, 4, 41), (24, 4, 3, 41)])
