@@ -63,7 +63,7 @@ import numpy as np
 
 from .threads import n_parts, run_parts, spans
 
-__all__ = ["FastTimeBasis", "fast_time_basis", "lowrank_fill"]
+__all__ = ["FastTimeBasis", "fast_time_basis", "lowrank_fill", "burst_fill", "BurstFill"]
 
 #: Smallest ratio noise / prior variance of a coefficient (the constant's prior is unbounded).
 SHRINK_FLOOR = 1e-6
@@ -404,6 +404,66 @@ def _repair_bursts(x, flags, rhs, vec_c, vec_t, prefix, shrink, row_start, b0, b
                     x[r0 + r, t] = buf[r, t]
 
 
+class BurstFill(NamedTuple):
+    """The "lowrank" fill of rows x (R, n) prepared up to its per-burst work (`burst_fill`):
+    `run` repairs any range of bursts, each exactly once, in any order and on any thread."""
+
+    x: np.ndarray          # (R, n) the rows, repaired in place by `run`
+    flags: np.ndarray      # (R, n) bool, C-contiguous
+    rhs: np.ndarray        # (R, k) the rows' projections on the conjugate basis
+    vec_c: np.ndarray      # (n, kp) the conjugate basis, zero beyond column k
+    vec_t: np.ndarray      # (k, n) the basis, transposed
+    prefix: np.ndarray     # `_gram_prefix` of the basis
+    shrink: np.ndarray     # (k,) float64
+    row_start: np.ndarray  # (B + 1,) burst b is rows row_start[b] .. row_start[b + 1] - 1
+    settings: tuple        # (close, halfwidth, residual threshold, grow reach)
+    mask: np.ndarray       # (B, n) bool, each burst's final mask once `run` has run on it
+
+    def run(self, b0: int, b1: int) -> None:
+        """Repair bursts b0 .. b1 - 1 (rows row_start[b0] .. row_start[b1] - 1 of x) in
+        place; the same values whatever the ranges the bursts are run in."""
+        close, halfwidth, thr, reach = self.settings
+        _repair_bursts(self.x, self.flags, self.rhs, self.vec_c, self.vec_t, self.prefix,
+                       self.shrink, self.row_start, b0, b1, close, halfwidth, thr, reach,
+                       GROW_CLOSE_SAMPLES, GROW_MARGIN_SAMPLES, self.mask)
+
+    def run_all(self, remove_mean: bool = True) -> None:
+        """Every burst, in parts on the cores (`pipeline.threads`), each part's rows' means
+        removed after it if `remove_mean` (row by row: the same in any part)."""
+        def part(lo: int, hi: int) -> None:
+            self.run(lo, hi)
+            if remove_mean:
+                rows = self.x[self.row_start[lo]:self.row_start[hi]]
+                rows -= rows.mean(axis=-1, keepdims=True)
+        run_parts([lambda lo=lo, hi=hi: part(lo, hi)
+                   for lo, hi in spans(len(self.row_start) - 1)])
+
+
+def burst_fill(x: np.ndarray, flags: np.ndarray, bursts: np.ndarray, basis: FastTimeBasis,
+               close: int, halfwidth: int, grow_sigma: float, grow_reach: int) -> BurstFill:
+    """`lowrank_fill`'s work up to the bursts: the rows' projections on the basis and the
+    basis' Gram sums (side by side on the cores), the kernel's operands. Arguments as
+    `lowrank_fill`; x must hold at least one row."""
+    n = x.shape[-1]
+    bursts = np.asarray(bursts)
+    starts = np.flatnonzero(np.r_[True, bursts[1:] != bursts[:-1]])
+    b = basis.vectors
+    wide = np.complex128 if np.iscomplexobj(b) else np.float64
+    k = b.shape[1]
+    vec_c = np.zeros((n, -(-k // FIT_COLUMNS) * FIT_COLUMNS), dtype=wide)
+    vec_c[:, :k] = b.conj()
+    # the rows' projections (BLAS) and the Gram sums (compiled) side by side on the cores
+    calls = [lambda: (x @ b.conj()).astype(wide),
+             lambda: _gram_prefix(vec_c, np.ascontiguousarray(b, dtype=wide))]
+    rhs, prefix = run_parts(calls) if n_parts() > 1 else [c() for c in calls]
+    thr = grow_sigma * np.sqrt(basis.noise_var) if grow_sigma > 0 else 0.0
+    return BurstFill(x, np.ascontiguousarray(flags, dtype=bool), rhs, vec_c,
+                     np.ascontiguousarray(b.T, dtype=wide), prefix,
+                     basis.shrink.astype(np.float64), np.r_[starts, len(x)],
+                     (close, halfwidth, thr, grow_reach),
+                     np.zeros((len(starts), n), dtype=bool))
+
+
 def lowrank_fill(x: np.ndarray, flags: np.ndarray, bursts: np.ndarray, basis: FastTimeBasis,
                  close: int, halfwidth: int, grow_sigma: float, grow_reach: int,
                  remove_mean: bool = True) -> tuple[np.ndarray, np.ndarray]:
@@ -440,34 +500,8 @@ def lowrank_fill(x: np.ndarray, flags: np.ndarray, bursts: np.ndarray, basis: Fa
     The bursts are independent; they run in parts on the cores (`pipeline.threads`: the
     same values whatever the number of parts).
     """
-    n = x.shape[-1]
     if not len(x):
         return x, np.zeros(x.shape, dtype=bool)
-    bursts = np.asarray(bursts)
-    new = np.r_[True, bursts[1:] != bursts[:-1]]
-    starts = np.flatnonzero(new)
-    b = basis.vectors
-    wide = np.complex128 if np.iscomplexobj(b) else np.float64
-    k = b.shape[1]
-    vec_c = np.zeros((n, -(-k // FIT_COLUMNS) * FIT_COLUMNS), dtype=wide)
-    vec_c[:, :k] = b.conj()
-    # the rows' projections (BLAS) and the Gram sums (compiled) side by side on the cores
-    calls = [lambda: (x @ b.conj()).astype(wide),
-             lambda: _gram_prefix(vec_c, np.ascontiguousarray(b, dtype=wide))]
-    rhs, prefix = run_parts(calls) if n_parts() > 1 else [c() for c in calls]
-    vec_t = np.ascontiguousarray(b.T, dtype=wide)
-    shrink = basis.shrink.astype(np.float64)
-    row_start = np.r_[starts, len(x)]
-    flags = np.ascontiguousarray(flags, dtype=bool)
-    mask_b = np.zeros((len(starts), n), dtype=bool)
-    thr = grow_sigma * np.sqrt(basis.noise_var) if grow_sigma > 0 else 0.0
-
-    def part(lo: int, hi: int) -> None:
-        _repair_bursts(x, flags, rhs, vec_c, vec_t, prefix, shrink, row_start, lo, hi, close,
-                       halfwidth, thr, grow_reach, GROW_CLOSE_SAMPLES, GROW_MARGIN_SAMPLES, mask_b)
-        if remove_mean:
-            rows = x[row_start[lo]:row_start[hi]]
-            rows -= rows.mean(axis=-1, keepdims=True)  # row by row: the same in any part
-
-    run_parts([lambda lo=lo, hi=hi: part(lo, hi) for lo, hi in spans(len(starts))])
-    return x, mask_b[np.cumsum(new) - 1]
+    fill = burst_fill(x, flags, bursts, basis, close, halfwidth, grow_sigma, grow_reach)
+    fill.run_all(remove_mean)
+    return x, fill.mask[np.repeat(np.arange(len(fill.mask)), np.diff(fill.row_start))]

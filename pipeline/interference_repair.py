@@ -60,10 +60,11 @@ import scipy.signal
 
 from scenarios.registries import Registry
 
-from .interference_lowrank import fast_time_basis, lowrank_fill
+from .interference_lowrank import BurstFill, FastTimeBasis, burst_fill, fast_time_basis
 
 __all__ = ["Mitigation", "MITIGATIONS", "get_mitigation", "widen", "close_gaps", "repair",
-           "FrameRows", "CLOSE_GAP_SAMPLES", "EXTEND_SAMPLES", "REFERENCE_ROWS"]
+           "lowrank_bursts", "frame_basis", "FrameRows", "CLOSE_GAP_SAMPLES", "EXTEND_SAMPLES",
+           "REFERENCE_ROWS"]
 
 
 def widen(flags: np.ndarray, hysteresis: int) -> np.ndarray:
@@ -108,19 +109,30 @@ REFERENCE_ROWS = 256
 MIN_REFERENCE_ROWS = 64
 
 
+def _spread(idx: np.ndarray) -> np.ndarray:
+    """Up to REFERENCE_ROWS of the indices `idx`, evenly spread."""
+    return idx[np.linspace(0, len(idx) - 1, min(REFERENCE_ROWS, len(idx))).astype(np.intp)]
+
+
+def _frame_reference(frame: FrameRows, dtype: np.dtype) -> np.ndarray | None:
+    """(N, n) up to REFERENCE_ROWS unflagged rows of the frame, evenly spread, as `dtype`;
+    None if it has fewer than MIN_REFERENCE_ROWS."""
+    clean = np.ones(len(frame.samples), dtype=bool)
+    clean[frame.rows] = False
+    idx = np.flatnonzero(clean)
+    if len(idx) < MIN_REFERENCE_ROWS:
+        return None
+    return frame.samples[_spread(idx)].astype(dtype, copy=False)
+
+
 def _reference(x: np.ndarray, frame: FrameRows | None, mask) -> np.ndarray:
     """(N, n) rows without interference: up to REFERENCE_ROWS unflagged rows of the frame,
     evenly spread; without a frame (or with too few clean rows), the repaired rows with their
     masked samples (`mask()`, (R, n) bool) zeroed."""
-    def spread(idx):
-        return idx[np.linspace(0, len(idx) - 1, min(REFERENCE_ROWS, len(idx))).astype(np.intp)]
-    if frame is not None:
-        clean = np.ones(len(frame.samples), dtype=bool)
-        clean[frame.rows] = False
-        idx = np.flatnonzero(clean)
-        if len(idx) >= MIN_REFERENCE_ROWS:
-            return frame.samples[spread(idx)].astype(x.dtype, copy=False)
-    idx = spread(np.arange(len(x)))
+    ref = None if frame is None else _frame_reference(frame, x.dtype)
+    if ref is not None:
+        return ref
+    idx = _spread(np.arange(len(x)))
     return np.where(mask()[idx], 0, x[idx])
 
 
@@ -475,14 +487,36 @@ def repair(x: np.ndarray, flags: np.ndarray, window_: np.ndarray, hysteresis: in
 def _lowrank(x: np.ndarray, flags: np.ndarray, hysteresis: int, method: Mitigation,
              frame: FrameRows | None, remove_mean: bool = True) -> np.ndarray:
     """`repair` with the "lowrank" fill (`pipeline.interference_lowrank`)."""
-    if not len(x):
-        return x
-    ref = _reference(x, frame, lambda: method.mask(flags, hysteresis))
-    basis = fast_time_basis(ref, method.rank_max, 10 ** (method.rank_snr_gate_db / 10))
+    if len(x):
+        lowrank_bursts(x, flags, hysteresis, method, frame).run_all(remove_mean)
+    return x
+
+
+def lowrank_bursts(x: np.ndarray, flags: np.ndarray, hysteresis: int, method: Mitigation,
+                   frame: FrameRows | None, basis: FastTimeBasis | None = None) -> BurstFill:
+    """`repair` of rows x (at least one) with the "lowrank" fill `method`, prepared up to its
+    per-burst work (a burst: the rows of one chirp of `frame`, else one row): the frame's
+    basis (`frame_basis`, unless given), the rows' projections on it. ``.run(b0, b1)`` then
+    repairs bursts b0 .. b1 - 1 in place, each burst once, ``.run_all(remove_mean)`` all of
+    them (`repair`'s values; the means are not removed by `run`). Arguments as `repair`."""
+    if basis is None:
+        ref = _reference(x, frame, lambda: method.mask(flags, hysteresis))
+        basis = fast_time_basis(ref, method.rank_max, 10 ** (method.rank_snr_gate_db / 10))
     bursts = np.arange(len(x)) if frame is None else frame.rows // frame.n_rx
-    return lowrank_fill(x, flags, bursts, basis, method.close_gap_samples,
-                        hysteresis + method.extend_samples, method.grow_sigma,
-                        method.grow_reach_samples, remove_mean)[0]
+    return burst_fill(x, flags, bursts, basis, method.close_gap_samples,
+                      hysteresis + method.extend_samples, method.grow_sigma,
+                      method.grow_reach_samples)
+
+
+def frame_basis(frame: FrameRows, dtype: np.dtype, method: Mitigation) -> FastTimeBasis | None:
+    """The "lowrank" `method`'s basis for rows of `dtype` repaired in `frame`, where the
+    frame's unflagged rows give it (`lowrank_bursts` computes the same one): it needs neither
+    the repaired rows nor their flags, so it can be computed beside them. None where the
+    frame has too few unflagged rows (the basis then comes from the repaired rows)."""
+    ref = _frame_reference(frame, dtype)
+    if ref is None:
+        return None
+    return fast_time_basis(ref, method.rank_max, 10 ** (method.rank_snr_gate_db / 10))
 
 
 #: Gaps closed between flagged samples by the methods that improve on the chip, samples: an

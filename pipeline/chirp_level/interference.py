@@ -32,14 +32,16 @@ References
 """
 from __future__ import annotations
 
+from collections.abc import Callable
 from typing import NamedTuple
 
 import numba
 import numpy as np
 
 from ..config import INTF_THRESHOLD_MODES, ProcessingConfig
-from ..interference_repair import FrameRows, get_mitigation, repair
-from ..threads import run_parts, spans
+from ..interference_lowrank import BurstFill
+from ..interference_repair import FrameRows, frame_basis, get_mitigation, lowrank_bursts, repair
+from ..threads import inline, run_parts, spans
 
 __all__ = ["interference_flags", "zero_flagged", "flagged_rows", "repaired_rows", "RepairedRows",
            "INTF_THRESHOLD_MODES"]
@@ -158,6 +160,18 @@ class RepairedRows(NamedTuple):
     window: np.ndarray    # (n_samples,) float32 range window
     dc: np.ndarray | None  # (n_chirps, n_rx) DC estimates, the repaired rows' 0 (None: none)
     means: np.ndarray     # (R,) what the repair still subtracts from each row (0: nothing)
+    fill: BurstFill | None = None  # the repair still to run (`repaired_rows(deferred=True)`)
+
+    def repair_chirps(self, c0: int, c1: int, n_rx: int) -> None:
+        """Run the deferred repair (`fill`) of the rows of chirps c0 .. c1 - 1 and set their
+        `means`; nothing without one. Each chirp exactly once, any order, any thread: until
+        then those rows' `samples` and `means` are not the repaired ones."""
+        if self.fill is None:
+            return
+        lo, hi = np.searchsorted(self.rows, (c0 * n_rx, c1 * n_rx))
+        if hi > lo:  # a chirp's rows are one burst: lo and hi are where bursts start
+            self.fill.run(*np.searchsorted(self.fill.row_start, (lo, hi)))
+            self.samples[lo:hi].mean(axis=-1, out=self.means[lo:hi])
 
     def windowed(self) -> np.ndarray:
         """(R, n_samples) the repaired rows, their `means` subtracted, times the window
@@ -196,8 +210,9 @@ class RepairedRows(NamedTuple):
         return self.dc[c0:c1]
 
 
-def repaired_rows(adc: np.ndarray, dc: np.ndarray | None, rows: np.ndarray, flags: np.ndarray,
-                  win: np.ndarray, proc: ProcessingConfig) -> RepairedRows:
+def repaired_rows(adc: np.ndarray, dc: np.ndarray | None, rows: np.ndarray,
+                  flags: np.ndarray | Callable[[], np.ndarray], win: np.ndarray,
+                  proc: ProcessingConfig, deferred: bool = False) -> RepairedRows:
     """The flagged rows, DC removed and repaired by ``proc.intf_mitigation`` (the chip
     zeroes), with the window they are multiplied by.
 
@@ -208,11 +223,16 @@ def repaired_rows(adc: np.ndarray, dc: np.ndarray | None, rows: np.ndarray, flag
         DC estimates (None: no DC removal).
     rows : (R,) int
         Increasing flagged rows (`flagged_rows`).
-    flags : (R, n_samples) bool
-        Their interference flags.
+    flags : (R, n_samples) bool, or a function returning them
+        Their interference flags (a function: called once, maybe beside other work on
+        another core, where its own passes run whole, `pipeline.threads.inline`).
     win : (n_samples,) float32
         The range window.
     proc : ProcessingConfig
+    deferred : bool
+        Where the repair is the "lowrank" fill of real rows, leave its per-chirp work (and
+        the rows' means) to `RepairedRows.repair_chirps`, which the caller then runs on every
+        chirp once (so a chirp's repair can run next to its range FFT); elsewhere ignored.
 
     Returns
     -------
@@ -234,21 +254,35 @@ def repaired_rows(adc: np.ndarray, dc: np.ndarray | None, rows: np.ndarray, flag
             np.subtract(a2[rows[lo:hi]], dc.reshape(-1, 1)[rows[lo:hi]], out=y[lo:hi],
                         dtype=y.dtype)
 
-    run_parts([lambda lo=lo, hi=hi: dc_removed(lo, hi) for lo, hi in parts])
     method = get_mitigation(proc.intf_mitigation)
     # "lowrank" leaves its rows' means to the window product (one pass less over the rows)
     centre = method.fill == "lowrank" and y.dtype == np.float32
-    repair(y, flags, win, proc.intf_hysteresis_samples, method, frame=FrameRows(a2, rows, n_rx),
-           remove_mean=not centre)
+    frame = FrameRows(a2, rows, n_rx)
+    make_flags = flags if callable(flags) else lambda: flags
     means = np.zeros(len(rows), y.dtype)
-    if centre:
-        run_parts([lambda lo=lo, hi=hi: y[lo:hi].mean(axis=-1, out=means[lo:hi])
-                   for lo, hi in parts])
+    fill = None
+    if deferred and centre and len(rows):
+        # The frame's basis (BLAS and LAPACK on one core, ~1.5 ms) needs neither the rows nor
+        # their flags: the other core makes those meanwhile.
+        def rows_and_flags() -> np.ndarray:
+            with inline():
+                dc_removed(0, len(rows))
+                return make_flags()
+        basis, flags = run_parts([lambda: frame_basis(frame, y.dtype, method), rows_and_flags])
+        fill = lowrank_bursts(y, flags, proc.intf_hysteresis_samples, method, frame, basis)
+    else:
+        flags = make_flags()
+        run_parts([lambda lo=lo, hi=hi: dc_removed(lo, hi) for lo, hi in parts])
+        repair(y, flags, win, proc.intf_hysteresis_samples, method, frame=frame,
+               remove_mean=not centre)
+        if centre:
+            run_parts([lambda lo=lo, hi=hi: y[lo:hi].mean(axis=-1, out=means[lo:hi])
+                       for lo, hi in parts])
     dc0 = None
     if dc is not None:
         dc0 = dc[..., 0].copy()
         dc0.reshape(-1)[rows] = 0
-    return RepairedRows(rows, y, win, dc0, means)
+    return RepairedRows(rows, y, win, dc0, means, fill)
 
 
 @numba.njit(cache=True, nogil=True)

@@ -11,6 +11,7 @@ cubes through every chain's signature.
 """
 from __future__ import annotations
 
+import threading
 from collections.abc import Iterator
 from contextlib import contextmanager
 from contextvars import ContextVar
@@ -22,7 +23,7 @@ from radarsim.config import RadarConfig
 
 from ..config import INTF_THRESHOLD_MODES, WINDOWS, ProcessingConfig
 from ..kernels import doppler_windowed, range_fft, samples_windowed, window, windowed
-from ..threads import run_parts, spans
+from ..threads import n_parts, run_parts, spans
 from .dc import remove_dc, window_spectrum
 from .ege import HWA_OUTPUT_SCALE, _ege_blocks, ege_compress, ege_setup
 from .interference import RepairedRows, flagged_rows, repaired_rows
@@ -146,9 +147,9 @@ def windowed_range_stage(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConf
     if (np.iscomplexobj(adc) or proc.dc_range_signature is not None
             or not (proc.dc_removal or proc.interference_mitigation or proc.compression)):
         return doppler_windowed(range_stage(cfg, adc, proc), chirp_window)
-    dc, rows, flags = _chirp_statistics(adc, proc)
+    dc, rows, flags = _chirp_statistics(adc, proc, lazy_flags=True)
     rep = repaired_rows(adc, dc, rows, flags, window(WINDOWS[proc.range_window], cfg.n_samples),
-                        proc) if rows.size else None
+                        proc, deferred=True) if rows.size else None
     keep = np.empty((adc.shape[0], adc.shape[1], cfg.n_samples // 2), np.complex64) \
         if memo is not None else None
     out = _blockwise(cfg, adc, proc, dc, chirp_window, keep, rep)
@@ -195,9 +196,48 @@ def _blockwise(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig, dc: np
         for c0 in range(lo, hi, CHIRP_BLOCK):
             block(c0, min(c0 + CHIRP_BLOCK, hi))
 
-    run_parts([lambda lo=lo, hi=hi: part(lo, hi)
-               for lo, hi in spans(n_c, multiple=CHIRP_BLOCK)])
+    if rep is None or rep.fill is None:
+        run_parts([lambda lo=lo, hi=hi: part(lo, hi)
+                   for lo, hi in spans(n_c, multiple=CHIRP_BLOCK)])
+        return out
+    # The repair still to run: the blocks' repairs, then the blocks, taken one at a time by
+    # whichever part is free (one hand-off, parts balanced whatever the repairs cost). A
+    # repair takes `group` blocks (each call costs ~30 us); a block waits for its own repair
+    # only, which was taken before it.
+    c0s = range(0, n_c, CHIRP_BLOCK)
+    group = max(1, len(c0s) // (2 * n_parts()))
+    done = [threading.Event() for _ in range(0, len(c0s), group)]
+
+    def repair(g: int) -> None:
+        try:
+            rep.repair_chirps(c0s[g * group], min((g + 1) * group * CHIRP_BLOCK, n_c), n_rx)
+        finally:
+            done[g].set()  # also on failure: run_parts raises it, no part waits forever
+
+    def after_repair(j: int) -> None:
+        done[j // group].wait()
+        block(c0s[j], min(c0s[j] + CHIRP_BLOCK, n_c))
+    _in_turn([lambda g=g: repair(g) for g in range(len(done))]
+             + [lambda j=j: after_repair(j) for j in range(len(c0s))])
     return out
+
+
+def _in_turn(calls: list) -> None:
+    """Every call once, taken in list order by whichever part (`pipeline.threads`) is free:
+    the calls must be independent (each writes its own results), so the results do not
+    depend on which part ran a call. One hand-off, and the parts finish within one call of
+    each other whatever the calls cost."""
+    lock = threading.Lock()
+    queue = iter(calls)
+
+    def take() -> None:
+        while True:
+            with lock:
+                call = next(queue, None)
+            if call is None:
+                return
+            call()
+    run_parts([take] * min(n_parts(), len(calls)))
 
 
 def _dc_signature(rf: np.ndarray, proc: ProcessingConfig) -> np.ndarray:
@@ -206,14 +246,15 @@ def _dc_signature(rf: np.ndarray, proc: ProcessingConfig) -> np.ndarray:
     return rf if sig is None else sig.subtract(rf)
 
 
-def _chirp_statistics(adc: np.ndarray, proc: ProcessingConfig):
+def _chirp_statistics(adc: np.ndarray, proc: ProcessingConfig, lazy_flags: bool = False):
     """(DC estimate or None, flagged chirp x Rx rows, their flags or None) as `proc` switches
     them: `remove_dc` and `flagged_rows`, both per chirp and Rx, run on blocks of chirps on the
-    cores (`pipeline.threads`) and joined in row order (the same values)."""
+    cores (`pipeline.threads`) and joined in row order (the same values). With `lazy_flags`
+    the flags may come as a function that makes them (`repaired_rows` takes either)."""
     n_rx = adc.shape[1]
     if not (proc.dc_removal or proc.interference_mitigation):  # nothing to measure
         return None, np.zeros(0, dtype=np.intp), None
-    fused = _fused_statistics(adc, proc)
+    fused = _fused_statistics(adc, proc, lazy_flags)
     if fused is not None:
         return fused
 
@@ -232,7 +273,7 @@ def _chirp_statistics(adc: np.ndarray, proc: ProcessingConfig):
     return dc, rows, flags
 
 
-def _fused_statistics(adc: np.ndarray, proc: ProcessingConfig):
+def _fused_statistics(adc: np.ndarray, proc: ProcessingConfig, lazy_flags: bool = False):
     """`_chirp_statistics` from one compiled pass (`row_statistics`) where it gives
     `remove_dc`'s and the magdiff `flagged_rows`' values bit for bit (an int16 frame, a
     difference-only threshold mode), else None. The flags of the flagged rows are
@@ -246,6 +287,8 @@ def _fused_statistics(adc: np.ndarray, proc: ProcessingConfig):
     dc = st.dc if proc.dc_removal else None
     if not intf:
         return dc, np.zeros(0, dtype=np.intp), None
+    if lazy_flags:
+        return dc, st.flagged, lambda: row_flags(adc, st.flagged, st.threshold)
     return dc, st.flagged, row_flags(adc, st.flagged, st.threshold)
 
 

@@ -150,3 +150,40 @@ def test_repaired_rows_window_the_repair_of_the_dc_removed_rows(cfg, method):
     rep = repaired_rows(adc, dc, rows, flags, win, proc)
     assert rows.size and rep.windowed().tobytes() == want.tobytes()
     assert (rep.means != 0).any() == (method == "lowrank")
+
+
+@pytest.mark.parametrize("parts", [1, 2])
+@pytest.mark.parametrize("few_clean_rows", [False, True])
+def test_deferred_repair_is_the_repair_in_any_chirp_order(cfg, monkeypatch, parts,
+                                                          few_clean_rows):
+    """`repaired_rows(deferred=True)` with flags made on demand (beside the frame's basis),
+    then `repair_chirps` over chunks of chirps in a shuffled order: the eager repair's rows
+    and means bit for bit, the flags made once; with too few clean rows for the frame's
+    basis too (the basis then comes from the repaired rows, after their flags)."""
+    from pipeline import interference_repair, threads
+    from pipeline.chirp_level.interference import repaired_rows
+    from pipeline.chirp_level.stage import _chirp_statistics
+    from pipeline.kernels import window
+    if few_clean_rows:
+        monkeypatch.setattr(interference_repair, "MIN_REFERENCE_ROWS", 10 ** 9)
+    monkeypatch.setattr(threads, "N_PARTS", parts)
+    adc = radarsim.simulate_frame(cfg.replace(adc_dc_offset_lsb=-120.0), empty(),
+                                  np.random.default_rng(8), one_interferer())
+    proc = pipeline.ProcessingConfig()
+    dc, rows, flags = _chirp_statistics(adc, proc)
+    win = window("hann", adc.shape[-1])
+    want = repaired_rows(adc, dc, rows, flags, win, proc)
+    calls = []
+    rep = repaired_rows(adc, dc, rows, lambda: calls.append(1) or flags.copy(), win, proc,
+                        deferred=True)
+    assert rep.fill is not None and len(calls) == 1
+    n_c, n_rx = adc.shape[:2]
+    cuts = np.unique(np.r_[0, np.random.default_rng(1).integers(0, n_c, 7), n_c])
+    for c0, c1 in np.random.default_rng(2).permutation(np.c_[cuts[:-1], cuts[1:]]):
+        rep.repair_chirps(c0, c1, n_rx)
+    assert rows.size > 4 and rep.samples.tobytes() == want.samples.tobytes()
+    assert rep.means.tobytes() == want.means.tobytes() and (rep.means != 0).any()
+    assert rep.windowed().tobytes() == want.windowed().tobytes()
+    eager = repaired_rows(adc, dc, rows, flags, win, pipeline.ProcessingConfig(
+        intf_mitigation="zero"), deferred=True)  # only "lowrank" defers
+    assert eager.fill is None

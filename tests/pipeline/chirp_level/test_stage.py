@@ -128,3 +128,27 @@ def test_windowed_range_stage_is_the_range_stage_times_the_window_bit_for_bit(cf
             kept = cl.range_stage(cfg, adc, proc)
             assert not kept.flags.writeable
             assert (kept * w[:, None, None]).tobytes() == want
+
+
+@pytest.mark.parametrize("parts", [1, 2])
+def test_in_turn_runs_every_call_once_and_raises_a_failure(monkeypatch, parts):
+    """`_in_turn`: every call exactly once in any number of parts; a failing call's exception
+    is raised once the parts are done, and no call ran twice."""
+    import threading
+
+    from pipeline import threads
+    from pipeline.chirp_level.stage import _in_turn
+    monkeypatch.setattr(threads, "N_PARTS", parts)
+    ran, lock = [], threading.Lock()
+
+    def call(i):
+        with lock:
+            ran.append(i)
+        if i == 7:
+            raise RuntimeError("call 7")
+    _in_turn([lambda i=i: call(i) for i in range(7)])
+    assert sorted(ran) == list(range(7))
+    ran.clear()
+    with pytest.raises(RuntimeError, match="call 7"):
+        _in_turn([lambda i=i: call(i) for i in range(20)])
+    assert len(ran) == len(set(ran)) and 7 in ran
