@@ -41,7 +41,7 @@ import numpy as np
 from ..config import INTF_THRESHOLD_MODES, ProcessingConfig
 from ..interference_lowrank import BurstFill
 from ..interference_repair import FrameRows, frame_basis, get_mitigation, lowrank_bursts, repair
-from ..threads import inline, run_parts, spans
+from ..threads import inline, n_parts, run_parts, spans
 
 __all__ = ["interference_flags", "zero_flagged", "flagged_rows", "repaired_rows", "RepairedRows",
            "INTF_THRESHOLD_MODES"]
@@ -268,7 +268,8 @@ def repaired_rows(adc: np.ndarray, dc: np.ndarray | None, rows: np.ndarray,
             with inline():
                 dc_removed(0, len(rows))
                 return make_flags()
-        basis, flags = run_parts([lambda: frame_basis(frame, y.dtype, method), rows_and_flags])
+        calls = [lambda: frame_basis(frame, y.dtype, method), rows_and_flags]
+        basis, flags = run_parts(calls) if n_parts() > 1 else [c() for c in calls]
         fill = lowrank_bursts(y, flags, proc.intf_hysteresis_samples, method, frame, basis)
     else:
         flags = make_flags()

@@ -152,3 +152,20 @@ def test_in_turn_runs_every_call_once_and_raises_a_failure(monkeypatch, parts):
     with pytest.raises(RuntimeError, match="call 7"):
         _in_turn([lambda i=i: call(i) for i in range(20)])
     assert len(ran) == len(set(ran)) and 7 in ran
+
+
+def test_inline_dirty_range_stage_hands_nothing_to_the_helper(cfg, monkeypatch):
+    """Inside `threads.inline` (a sweep cell's frames) the range stage of a frame with a
+    repaired burst runs every step on the calling thread, the basis and its neighbours
+    included: no part goes to the helper thread."""
+    from pipeline import threads
+
+    def no_helper():
+        raise AssertionError("a part went to the helper thread")
+    adc = radarsim.simulate_frame(cfg, empty(), np.random.default_rng(8), one_interferer())
+    proc = pipeline.ProcessingConfig()
+    w = np.hanning(cfg.n_chirps).astype(np.float32)
+    want = cl.windowed_range_stage(cfg, adc, proc, w)
+    monkeypatch.setattr(threads, "_pool", no_helper)
+    with threads.inline():
+        assert cl.windowed_range_stage(cfg, adc, proc, w).tobytes() == want.tobytes()
