@@ -100,7 +100,7 @@ def process_frame(cfg: RadarConfig, adc: np.ndarray,
     """
     chain, proc, report = _inputs(cfg, adc, proc)
     points = saturation.apply_policy(chain.process(cfg, adc, proc), report,
-                                     proc.saturation_policy)
+                                     proc.saturation_policy, owned=True)
     return apply_fov(points, proc)
 
 

@@ -147,7 +147,8 @@ def _non_finite(adc: np.ndarray) -> None:
                      "upstream)")
 
 
-def apply_policy(points: pd.DataFrame, report: SaturationReport, policy: str) -> pd.DataFrame:
+def apply_policy(points: pd.DataFrame, report: SaturationReport, policy: str, *,
+                 owned: bool = False) -> pd.DataFrame:
     """Add the ``saturated`` column and ``attrs["saturation"]``; apply the policy.
 
     Parameters
@@ -158,16 +159,27 @@ def apply_policy(points: pd.DataFrame, report: SaturationReport, policy: str) ->
         `monitor` of the same frame.
     policy : {"flag", "drop"}
         See `SATURATION_POLICIES`.
+    owned : bool
+        `points` is the caller's own new frame, read by nobody else (`pipeline.process_frame`
+        hands over the chain's cloud): where the policy changes no row and no value (a frame
+        without saturation whose ``saturated`` column is already all False, as every chain's
+        cloud has it), `points` itself gets the attrs and is returned.
 
     Returns
     -------
     DataFrame
-        A new frame; its columns other than ``saturated`` may share memory with `points`
-        (the chain's own cloud, discarded), so write into a copy of it, not into `points`.
+        A new frame (or `points` itself, see `owned`); its columns other than ``saturated``
+        may share memory with `points` (the chain's own cloud, discarded), so write into a copy
+        of it, not into `points`.
     """
     if policy not in SATURATION_POLICIES:
         raise ValueError(f"saturation_policy={policy!r} is not one of "
                          f"{sorted(SATURATION_POLICIES)}")
+    if owned and not report.saturated and _all_false(points):
+        # The frame below would be a copy of `points` with the same values: 0.15-0.25 ms of
+        # pandas calls inside a frame (shallow copy, column setter), saved.
+        points.attrs["saturation"] = report.to_dict()
+        return points
     if report.saturated and SATURATION_POLICIES[policy].drops_frame:
         points = points.iloc[:0]
     flags = np.full(len(points), report.saturated, dtype=bool)
@@ -182,3 +194,12 @@ def apply_policy(points: pd.DataFrame, report: SaturationReport, policy: str) ->
         points = points.assign(saturated=flags)
     points.attrs["saturation"] = report.to_dict()
     return points
+
+
+def _all_false(points: pd.DataFrame) -> bool:
+    """`points` has one bool ``saturated`` column and none of its values is True."""
+    if not isinstance(points.columns.get_loc("saturated") if "saturated" in points.columns
+                      else None, int):
+        return False
+    col = points["saturated"]
+    return col.dtype == np.bool_ and not col.to_numpy().any()

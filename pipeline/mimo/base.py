@@ -81,7 +81,8 @@ class MimoChain:
 
     def process(self, cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) -> pd.DataFrame:
         """(n_chirps, n_rx, n_samples) int16 (real) or complex64 (I/Q) frame -> point cloud
-        (`POINT_CLOUD_COLUMNS`)."""
+        (`POINT_CLOUD_COLUMNS`): a new frame, the caller's own (`pipeline.process_frame`
+        completes it in place, `saturation.apply_policy` with ``owned=True``)."""
         raise NotImplementedError
 
     def detection_map(self, cfg: RadarConfig, adc: np.ndarray,

@@ -12,6 +12,7 @@ References
 """
 from __future__ import annotations
 
+from functools import lru_cache
 from typing import NamedTuple
 
 import numpy as np
@@ -21,7 +22,7 @@ from radarsim.config import RadarConfig
 
 from ..cfar import noise_mean_factor
 from ..chirp_level.stage import windowed_range_stage
-from ..compensation import compensate
+from ..compensation import compensate, virtual_coefficients
 from ..config import WINDOWS, ProcessingConfig
 from ..ddma_kernels import ddma_spectra_power
 from ..kernels import (cfar_peaks, estimate_angles, layout_of, rx_energy, slow_time_fft,
@@ -75,24 +76,40 @@ def full_doppler_spectrum(cfg: RadarConfig, adc: np.ndarray,
 
 def ddma_maps(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) -> DdmaMaps:
     """Range FFT, Doppler FFT, empty-band demodulation and the coherent detection map."""
-    n_sb, n_tx, n_rx = cfg.n_subbands, cfg.n_tx, cfg.n_rx
+    n_sb, n_tx = cfg.n_subbands, cfg.n_tx
     n_chirps = cfg.n_chirps
     n_dop = n_chirps // n_sb
     n_az = proc.n_azimuth_bins
     xw = windowed_range_stage(cfg, adc, proc, window(WINDOWS[proc.doppler_window], n_chirps))
     n_range = xw.shape[2]
-    h_idx, *_ = layout_of(cfg)
-    tx_h = np.unique(h_idx // n_rx).astype(np.int32)  # sub-band positions p of the row
-    # Zero-padded azimuth FFT over the horizontal row as one complex GEMM and the power map;
-    # compRangeBiasAndRxChanPhase: the channel coefficients folded into the DFT's columns.
-    rows = (tx_h[:, None] * n_rx + np.arange(n_rx)).reshape(-1)
-    dft = compensate(cfg, proc, array_dft(cfg, n_az, "horizontal")[rows].T, rows)
+    # Zero-padded azimuth FFT over the horizontal row as one complex GEMM and the power map.
+    tx_h, dft = _map_dft(cfg, n_az, proc.channel_comp)
     # Doppler FFT (`full_doppler_spectrum`'s), Rx energy, demodulation (Tx p of Doppler bin d
     # sits at chirp-bin d + n_dop (band + p) mod N; only the transmitters of the horizontal row
     # enter the map), GEMM and power, by spans of range bins in one pass on the cores.
     spec, energy, power, tx1_band = ddma_spectra_power(xw, tx_h, n_sb, n_tx, dft)
     power = power.reshape(n_az, n_range, n_dop)  # (A, B, D)
     return DdmaMaps(power=power, spec=spec, energy=energy, tx1_band=tx1_band)
+
+
+@lru_cache(maxsize=32)
+def _map_dft(cfg: RadarConfig, n_az: int, channel_comp: tuple | None
+             ) -> tuple[np.ndarray, np.ndarray]:
+    """(tx_h, dft) of `ddma_maps`, configuration-only, computed once (~0.1 ms a frame inside
+    the chain; read-only): the sub-band positions p of the horizontal row's transmitters, (P,)
+    int32, and the zero-padded azimuth DFT over their virtual channels, (n_az, P x n_rx)
+    complex64, with compRangeBiasAndRxChanPhase's channel coefficients folded into its columns
+    (`compensate`'s product)."""
+    n_rx = cfg.n_rx
+    tx_h = np.unique(layout_of(cfg).h_idx // n_rx).astype(np.int32)
+    rows = (tx_h[:, None] * n_rx + np.arange(n_rx)).reshape(-1)
+    dft = array_dft(cfg, n_az, "horizontal")[rows].T
+    coef = virtual_coefficients(cfg, channel_comp)
+    if coef is not None:
+        dft = dft * coef[rows]
+    for a in (tx_h, dft):
+        a.flags.writeable = False
+    return tx_h, dft
 
 
 def doppler_velocity_mps(cfg: RadarConfig, k: np.ndarray) -> np.ndarray:

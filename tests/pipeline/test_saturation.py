@@ -87,6 +87,31 @@ def test_sweep_frame_table_counts_saturated_frames(tmp_path):
 
 @pytest.mark.parametrize("policy", sorted(SATURATION_POLICIES))
 @pytest.mark.parametrize("saturated", [False, True])
+def test_apply_policy_on_an_owned_frame_gives_the_frame_of_a_copy(policy, saturated):
+    """``owned=True`` returns the frame the default returns (values, dtypes, columns, attrs);
+    `points` itself only where nothing but attrs changes (no saturation, an all-False bool
+    column), else a new frame as before."""
+    import pandas as pd
+    rep = monitor(np.full((2, 1, 4), 32767 if saturated else 0, np.int16))
+    g = np.random.default_rng(2)
+
+    def clouds():
+        yield pd.DataFrame({"range_m": g.random(4), "saturated": np.zeros(4, bool)}), True
+        yield pd.DataFrame({"range_m": g.random(4), "saturated": np.eye(4, dtype=bool)[1]}), False
+        yield pd.DataFrame({"range_m": g.random(4), "saturated": np.zeros(4)}), False  # float
+        yield pd.DataFrame({"range_m": g.random(4)}), False
+        yield pipeline.stages.empty_cloud(), False
+
+    for points, in_place in clouds():
+        want = apply_policy(points.copy(), rep, policy)
+        got = apply_policy(points, rep, policy, owned=True)
+        assert (got is points) == (in_place and not saturated)
+        assert list(got.columns) == list(want.columns) and got.equals(want)
+        assert list(got.dtypes) == list(want.dtypes) and got.attrs == want.attrs
+
+
+@pytest.mark.parametrize("policy", sorted(SATURATION_POLICIES))
+@pytest.mark.parametrize("saturated", [False, True])
 def test_apply_policy_is_assign_of_the_flag_column(policy, saturated):
     """`apply_policy` returns what ``points.assign(saturated=...)`` (after the policy's drop)
     returns, for a cloud with the column (where it stays in place), one without it (appended)
