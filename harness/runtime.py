@@ -19,7 +19,11 @@ closed terminal sends SIGHUP), to the main process only. `terminate_on_signals` 
 into `Terminated`, a KeyboardInterrupt, so they take Ctrl-C's path (pool workers stopped, cells
 written so far kept, exit with the resume hint). Pool workers (`prepare_worker`) also die with
 their parent, even a parent killed by SIGKILL: Linux's PR_SET_PDEATHSIG [2]_, or a watchdog
-thread on ``os.getppid()`` where prctl is missing.
+thread on ``os.getppid()`` where prctl is missing. While a process pool starts and runs, the
+parent only records stop signals and raises them where it polls (`stop_signals_recorded`):
+Python drops an exception a signal raises inside os.fork's at-fork hooks, which a Ctrl-C that
+lands while the pool forks its workers did. A signal ignored on entry (SIGINT of a job a
+script started with ``&``, SIGHUP under ``nohup``) stays ignored, as POSIX shells expect [3]_.
 
 References
 ----------
@@ -27,6 +31,9 @@ References
        M_TOP_PAD); mallopt(3).
 .. [2] prctl(2), PR_SET_PDEATHSIG: "the signal that the calling process will get when its
        parent dies"; the parent is the thread that created it.
+.. [3] POSIX.1-2017, Shell Command Language, 2.11 "Signals and Error Handling": the commands of
+       an asynchronous list inherit SIGINT and SIGQUIT ignored; Python keeps SIGINT ignored
+       when it starts with it ignored (`signal` module documentation).
 """
 from __future__ import annotations
 
@@ -39,7 +46,8 @@ import sys
 import threading
 
 __all__ = ["tune_allocator", "single_thread_blas", "prepare_process", "exit_with_parent",
-           "prepare_worker", "Terminated", "terminate_on_signals"]
+           "prepare_worker", "Terminated", "terminate_on_signals", "StopSignals",
+           "stop_signals_recorded", "STOP_POLL_S"]
 
 _M_TRIM_THRESHOLD, _M_TOP_PAD, _M_MMAP_THRESHOLD = -1, -2, -3
 _MMAP_THRESHOLD_BYTES = 32 << 20  # glibc's maximum on 64-bit: blocks below come from the heap
@@ -127,8 +135,9 @@ def exit_with_parent(parent_pid: int) -> str:
 def prepare_worker(parent_pid: int) -> None:
     """Set up a pool worker process: die with the parent (`exit_with_parent`), leave SIGINT to
     the parent (a Ctrl-C lets the parent stop the pool), SIGTERM and SIGHUP at their default
-    (a forked worker inherits the parent's `terminate_on_signals` handlers, which would turn
-    the pool's own ``terminate()`` into an exception the worker survives), then
+    (a forked worker inherits the parent's `terminate_on_signals` or `stop_signals_recorded`
+    handlers, which would turn the pool's own ``terminate()`` into an exception the worker
+    survives, or into nothing), then
     `prepare_process`."""
     exit_with_parent(parent_pid)
     signal.signal(signal.SIGINT, signal.SIG_IGN)
@@ -164,9 +173,80 @@ def terminate_on_signals():
             signal.signal(sig, signal.SIG_IGN)
         raise Terminated(signum)
 
-    previous = {sig: signal.signal(sig, handler) for sig in _STOP_SIGNALS}
+    previous = {sig: signal.signal(sig, handler) for sig in _STOP_SIGNALS
+                if signal.getsignal(sig) is not signal.SIG_IGN}  # nohup's SIGHUP stays ignored
     try:
         yield
     finally:
         for sig, old in previous.items():
             signal.signal(sig, old)
+
+
+#: How often a sweep's main thread looks for a recorded stop signal while it waits, s.
+STOP_POLL_S = 0.1
+
+
+class _StopRequested(KeyboardInterrupt):
+    """Raised by `StopSignals.check` to leave the block; the block's exit then delivers the
+    recorded signal again, to the handler it was meant for."""
+
+
+class StopSignals:
+    """The stop signals recorded in a `stop_signals_recorded` block (signal numbers, in order
+    of arrival)."""
+
+    def __init__(self) -> None:
+        self.received: list[int] = []
+
+    def check(self) -> None:
+        """Raise (a KeyboardInterrupt) if a stop signal was recorded; the block's exit turns it
+        into what the signal's own handler does."""
+        if self.received:
+            raise _StopRequested(signal.Signals(self.received[0]).name)
+
+
+@contextlib.contextmanager
+def stop_signals_recorded():
+    """Within the block, SIGINT, SIGTERM and SIGHUP are only recorded (`StopSignals`); the
+    block calls `StopSignals.check` where stopping is safe (at most `STOP_POLL_S` apart while
+    it waits). On exit the handlers of before the block come back and the first recorded
+    signal is delivered to them again (``signal.raise_signal``): KeyboardInterrupt for
+    Ctrl-C, `Terminated` inside `terminate_on_signals`, the default action elsewhere.
+
+    Why: Python raises a signal's exception at whatever bytecode the main thread runs next.
+    In a callback whose exceptions Python only prints ("Exception ignored in ..."), the signal
+    is lost: os.fork runs logging's and concurrent.futures' at-fork hooks, so a Ctrl-C that
+    landed while a process pool forked its workers (likeliest under load) let the sweep run to
+    its end and exit 0. Signals ignored on entry stay ignored. Outside the main thread nothing
+    is recorded and `StopSignals.check` never raises.
+
+    Examples
+    --------
+    >>> import signal
+    >>> old = signal.signal(signal.SIGINT, signal.default_int_handler)  # a terminal's Ctrl-C
+    >>> try:
+    ...     with stop_signals_recorded() as stops:
+    ...         signal.raise_signal(signal.SIGINT)  # recorded, not raised here
+    ...         print(stops.received == [signal.SIGINT])
+    ... except KeyboardInterrupt:
+    ...     print("raised when the block ends")
+    ... finally:
+    ...     _ = signal.signal(signal.SIGINT, old)
+    True
+    raised when the block ends
+    """
+    stops = StopSignals()
+    previous = {}
+    if threading.current_thread() is threading.main_thread():
+        def record(signum, frame):
+            stops.received.append(signum)
+        for sig in (signal.SIGINT, *_STOP_SIGNALS):
+            if signal.getsignal(sig) not in (signal.SIG_IGN, None):  # None: not Python's
+                previous[sig] = signal.signal(sig, record)
+    try:
+        yield stops
+    finally:
+        for sig, old in previous.items():
+            signal.signal(sig, old)
+        if stops.received:
+            signal.raise_signal(stops.received[0])

@@ -2,6 +2,7 @@
 parent. Before: ``kill <main pid>`` of ``sweep --workers 2`` left both workers alive for good."""
 from __future__ import annotations
 
+import contextlib
 import os
 import signal
 import subprocess
@@ -127,13 +128,60 @@ def test_stop_signal_takes_the_ctrl_c_path(monkeypatch, capsys, sig):
         time.sleep(5)  # the handler raises before this ends
         return 0
 
-    before = signal.getsignal(sig)
     monkeypatch.setattr(cs, "run_scenarios", run)
-    assert main(["scenarios"]) == 128 + sig
-    err = capsys.readouterr().err.strip().splitlines()
-    assert err == [f"radar-harness scenarios: stopped by {signal.Signals(sig).name}: rerun the "
-                   "same command to resume"]
-    assert signal.getsignal(sig) == before
+    with _handler(sig, _noop) as before:  # not ignored on entry (as under nohup)
+        assert main(["scenarios"]) == 128 + sig
+        err = capsys.readouterr().err.strip().splitlines()
+        assert err == [f"radar-harness scenarios: stopped by {signal.Signals(sig).name}: rerun "
+                       "the same command to resume"]
+        assert signal.getsignal(sig) == before
+
+
+def _noop(signum, frame):
+    pass
+
+
+@contextlib.contextmanager
+def _handler(sig, handler):
+    old = signal.signal(sig, handler)
+    try:
+        yield handler
+    finally:
+        signal.signal(sig, old)
+
+
+@pytest.mark.parametrize("sig", [signal.SIGINT, signal.SIGTERM, signal.SIGHUP],
+                         ids=["SIGINT", "SIGTERM", "SIGHUP"])
+def test_a_signal_ignored_on_entry_stays_ignored(sig):
+    """``nohup`` starts a run with SIGHUP ignored, a script's ``cmd &`` with SIGINT ignored:
+    neither block takes that back (a closed terminal used to stop a nohup'ed sweep)."""
+    with _handler(sig, signal.SIG_IGN):
+        with runtime.terminate_on_signals():
+            assert signal.getsignal(sig) is signal.SIG_IGN
+            with runtime.stop_signals_recorded() as stops:
+                assert signal.getsignal(sig) is signal.SIG_IGN
+                os.kill(os.getpid(), sig)
+                stops.check()
+                assert stops.received == []
+
+
+@pytest.mark.parametrize("sig", [signal.SIGTERM, signal.SIGHUP], ids=["SIGTERM", "SIGHUP"])
+def test_a_recorded_stop_signal_reaches_its_own_handler_when_the_block_ends(sig):
+    """Inside `stop_signals_recorded` the signal is only recorded; `check` leaves the block,
+    whose end delivers it to `terminate_on_signals`' handler: `Terminated`, not the check's
+    exception."""
+    reached = []
+    with _handler(sig, _noop), _handler(signal.SIGINT, signal.default_int_handler):
+        with runtime.terminate_on_signals():
+            with pytest.raises(runtime.Terminated) as info:
+                with runtime.stop_signals_recorded() as stops:
+                    os.kill(os.getpid(), sig)
+                    reached.append(list(stops.received))  # not raised where it landed
+                    stops.check()
+                    reached.append("after check")
+            assert signal.getsignal(signal.SIGINT) is signal.default_int_handler
+        assert reached == [[sig]]
+        assert info.value.signum == sig
 
 
 def test_terminated_is_a_keyboard_interrupt():

@@ -253,27 +253,72 @@ def test_sigkill_at_random_points_many_trials(tmp_path):
     _kill_resume_trials(tmp_path, n_trials=12, seed=1515)
 
 
+def _ctrl_c_as_in_a_terminal() -> None:
+    """Start the child with SIGINT at its default, as a terminal's foreground job has it: a
+    suite started with ``&`` by a script inherits SIGINT ignored (POSIX), and the sweep, like
+    Python, keeps an inherited ignore (a background job must survive the script's Ctrl-C)."""
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
 def test_sigint_prints_the_resume_hint_not_a_traceback(tmp_path):
-    """Ctrl-C on a real pool sweep: exit 130, one line, cells already written stay valid."""
+    """Ctrl-C on a real pool sweep: exit 130, one line, cells already written stay valid.
+
+    The signal goes 1.5 s after the results folder appears (the pool forks its workers about
+    0.02-0.3 s after it), so the workers are computing their first cells, which take seconds:
+    the sweep cannot have finished. An exit 0 is a lost signal, a failure (a Ctrl-C during the
+    workers' fork used to be dropped: `test_ctrl_c_while_the_pool_forks_its_workers_...`)."""
     out = tmp_path / "r"
     cmd = [sys.executable, "-m", "harness.cli", "sweep", str(sweepspec.CI_SWEEP_PATH),
            "--scenarios",
            "blind_spot_overtaking", "head_on_aliasing", "--duration-s", "2", "--workers", "2",
            "--out", str(out)]
     p = subprocess.Popen(cmd, cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                         text=True)
+                         text=True, preexec_fn=_ctrl_c_as_in_a_terminal)
     deadline = time.monotonic() + 60
-    # The results folder appears once the configs are validated, just before the pool starts.
+    # The results folder appears just before the configs are validated and the pool starts.
     while time.monotonic() < deadline and not out.exists() and p.poll() is None:
         time.sleep(0.05)
     time.sleep(1.5)
     p.send_signal(signal.SIGINT)
     _, err = p.communicate(timeout=120)
-    if p.returncode == 0:
-        pytest.skip("the sweep finished before the signal")
     assert p.returncode == 130, err
     assert "Traceback" not in err
     assert err.strip().splitlines()[-1].endswith("interrupted: rerun the same command to resume")
     for c in sweepfile.load_sweep(sweepspec.CI_SWEEP_PATH).with_overrides(
             scenarios=["blind_spot_overtaking", "head_on_aliasing"], duration_s=2.0).cells():
         assert store.cell_state(cell_dir(out, c)) in ("ok", "missing")
+
+
+_FORK_SIGNAL = {"armed": False}
+
+
+def _signal_at_the_next_fork() -> None:
+    """Send this process SIGINT from inside its next ``os.fork()`` (a pool worker's start):
+    Python runs the handler at the first bytecode it meets, which is in the at-fork hooks,
+    as for a Ctrl-C that lands while the pool forks its workers under load."""
+    if not _FORK_SIGNAL.get("registered"):
+        def before() -> None:
+            if _FORK_SIGNAL["armed"]:
+                _FORK_SIGNAL["armed"] = False
+                os.kill(os.getpid(), signal.SIGINT)
+        os.register_at_fork(before=before)  # permanent: inert once fired
+        _FORK_SIGNAL["registered"] = True
+    _FORK_SIGNAL["armed"] = True
+
+
+def test_ctrl_c_while_the_pool_forks_its_workers_stops_the_sweep(tmp_path):
+    """A SIGINT that arrives while a pool worker is being forked is raised inside os.fork's
+    at-fork hooks, where Python only prints it ("Exception ignored") and drops it: the sweep
+    used to run to the end and exit 0. It must stop the sweep like any other Ctrl-C."""
+    spec = small_spec(seeds=(0, 1, 2, 3))
+    old = signal.signal(signal.SIGINT, signal.default_int_handler)  # as in a terminal
+    try:
+        _signal_at_the_next_fork()
+        with pytest.raises(KeyboardInterrupt):
+            run_sweep(spec, tmp_path, workers=2, components=FAKE, progress=False)
+    finally:
+        _FORK_SIGNAL["armed"] = False
+        signal.signal(signal.SIGINT, old)
+    assert not (tmp_path / "manifest.json").exists()
+    for c in spec.cells():
+        assert store.cell_state(cell_dir(tmp_path, c)) in ("ok", "missing")
