@@ -148,8 +148,10 @@ def windowed_range_stage(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConf
             or not (proc.dc_removal or proc.interference_mitigation or proc.compression)):
         return doppler_windowed(range_stage(cfg, adc, proc), chirp_window)
     dc, rows, flags = _chirp_statistics(adc, proc, lazy_flags=True)
+    # Deferred repair (each block's repair next to it, in one queue): for parts on the cores;
+    # inline, a whole repair costs less than the same in several calls.
     rep = repaired_rows(adc, dc, rows, flags, window(WINDOWS[proc.range_window], cfg.n_samples),
-                        proc, deferred=True) if rows.size else None
+                        proc, deferred=n_parts() > 1) if rows.size else None
     keep = np.empty((adc.shape[0], adc.shape[1], cfg.n_samples // 2), np.complex64) \
         if memo is not None else None
     out = _blockwise(cfg, adc, proc, dc, chirp_window, keep, rep)
