@@ -152,8 +152,7 @@ def test_repaired_rows_window_the_repair_of_the_dc_removed_rows(cfg, method):
     assert (rep.means != 0).any() == (method == "lowrank")
 
 
-@pytest.mark.parametrize("parts", [1, 2])
-@pytest.mark.parametrize("few_clean_rows", [False, True])
+@pytest.mark.parametrize("parts, few_clean_rows", [(2, False), (1, True)])
 def test_deferred_repair_is_the_repair_in_any_chirp_order(cfg, monkeypatch, parts,
                                                           few_clean_rows):
     """`repaired_rows(deferred=True)` with flags made on demand (beside the frame's basis),
