@@ -136,6 +136,9 @@ def windowed_range_stage(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConf
     `range_stage` does on those chirps (the rFFT of each row is the same transform in any
     batch; EGE's dither is indexed by the chirp's place in the frame), so the cube is the
     same. Inside `shared_range_stage` the unwindowed cube is kept for the other readers too.
+    With the "lowrank" repair in parts, the frame's basis is computed beside the flagged
+    rows' DC removal and flags, and the chirps' repairs then go into the blocks' queue
+    (`repaired_rows(deferred=True)`, `_blockwise`): one hand-off for both.
     Otherwise (I/Q frames, a DC range signature, every switch off) `range_stage` and the
     window product.
     """
@@ -165,7 +168,8 @@ def _blockwise(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig, dc: np
                rep: RepairedRows | None = None) -> np.ndarray:
     """`windowed_range_stage` of a real frame, per block of chirps, the flagged rows `rep`
     (DC removed, repaired) windowed in place of theirs; the range cube before the slow-time
-    window also into `keep` if given."""
+    window also into `keep` if given. A repair `rep` still holds (`RepairedRows.fill`) runs
+    here, each block's before that block."""
     n_c, n_rx, n_s = adc.shape
     n_b = n_s // 2
     win = window(WINDOWS[proc.range_window], n_s)
