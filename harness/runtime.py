@@ -215,9 +215,9 @@ def stop_signals_recorded():
 
     Why: Python raises a signal's exception at whatever bytecode the main thread runs next.
     In a callback whose exceptions Python only prints ("Exception ignored in ..."), the signal
-    is lost: os.fork runs logging's and concurrent.futures' at-fork hooks, so a Ctrl-C that
-    landed while a process pool forked its workers (likeliest under load) let the sweep run to
-    its end and exit 0. Signals ignored on entry stay ignored. Outside the main thread nothing
+    is lost: os.fork runs the at-fork hooks of the modules loaded (logging's are Python
+    functions), so a Ctrl-C that landed while a process pool forked its workers (likeliest
+    under load) let the sweep run to its end and exit 0. Signals ignored on entry stay ignored. Outside the main thread nothing
     is recorded and `StopSignals.check` never raises.
 
     Examples
