@@ -23,6 +23,7 @@ import scipy.fft
 from scipy.signal import get_window
 
 from .cfar import CFAR_MODES, noise_estimate, training_offsets
+from .config_cache import per_config
 from .threads import run_parts, spans
 
 #: Unsigned loop indices in the compiled loops (see `_rx_energy`).
@@ -261,7 +262,7 @@ def array_layout(virtual_positions_m: np.ndarray, wavelength_m: float) -> ArrayL
     return ArrayLayout(h_idx, h_pos, v_idx, y[v_idx], v_height)
 
 
-@lru_cache(maxsize=32)
+@per_config(32)
 def layout_of(cfg) -> ArrayLayout:
     """`array_layout` of a `radarsim.RadarConfig`'s virtual array, computed once per
     configuration (~0.1 ms a call, several calls per frame); its arrays are read-only."""

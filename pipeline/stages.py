@@ -22,6 +22,7 @@ from radarsim.config import C_MPS, RadarConfig
 
 from .cfar import noise_mean_factor
 from .config import WINDOWS, ProcessingConfig
+from .config_cache import per_config
 from .kernels import cfar_peaks, estimate_angles, layout_of, parabolic_offset
 
 __all__ = ["POINT_CLOUD_COLUMNS", "check_frame", "power_of", "log_power", "point_cloud",
@@ -176,7 +177,7 @@ def interp_doppler(power_d: np.ndarray, window: str, n_fft: int) -> np.ndarray:
     return np.interp(parabolic_offset(y[:, 0], y[:, 1], y[:, 2]), g, d)
 
 
-@lru_cache(maxsize=16)
+@per_config(16)
 def array_dft(cfg: RadarConfig, n_fft: int, row: str) -> np.ndarray:
     """(n_virtual, n_fft) complex64 zero-padded DFT of one row of the virtual array as a
     matrix, so `samples @ W` is the row's n_fft-point azimuth spectrum: element m at horizontal
@@ -234,7 +235,7 @@ def array_likelihood(cfg: RadarConfig, virt: np.ndarray, az_pow: np.ndarray,
 _SIN_EL_GRID = np.linspace(-1.0, 1.0, 65)
 
 
-@lru_cache(maxsize=8)
+@per_config(8)
 def raised_row_dfts(cfg: RadarConfig, n_fft: int) -> tuple[np.ndarray, np.ndarray]:
     """(heights (K,) wavelengths, (K, n_virtual, n_fft) complex64): the zero-padded azimuth
     DFT of each raised row of the virtual array (as `array_dft`), rows by height. One row for

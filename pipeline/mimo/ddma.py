@@ -12,7 +12,6 @@ References
 """
 from __future__ import annotations
 
-from functools import lru_cache
 from typing import NamedTuple
 
 import numpy as np
@@ -24,6 +23,7 @@ from ..cfar import noise_mean_factor
 from ..chirp_level.stage import windowed_range_stage
 from ..compensation import compensate, virtual_coefficients
 from ..config import WINDOWS, ProcessingConfig
+from ..config_cache import per_config
 from ..ddma_kernels import ddma_spectra_power
 from ..kernels import (cfar_peaks, estimate_angles, layout_of, rx_energy, slow_time_fft,
                        window)
@@ -92,7 +92,7 @@ def ddma_maps(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) -> Ddma
     return DdmaMaps(power=power, spec=spec, energy=energy, tx1_band=tx1_band)
 
 
-@lru_cache(maxsize=32)
+@per_config(32)
 def _map_dft(cfg: RadarConfig, n_az: int, channel_comp: tuple | None
              ) -> tuple[np.ndarray, np.ndarray]:
     """(tx_h, dft) of `ddma_maps`, configuration-only, computed once (~0.1 ms a frame inside
