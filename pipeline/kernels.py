@@ -14,6 +14,7 @@ References
 """
 from __future__ import annotations
 
+from collections.abc import Callable
 from functools import lru_cache
 from typing import NamedTuple
 
@@ -386,7 +387,7 @@ def candidate_cfar(power: np.ndarray, cand: tuple[np.ndarray, ...], axis: int,
 
 def cfar_peaks(power: np.ndarray, mode: str, alpha: float, guard_cells: int,
                window_cells: int, os_rank: int, stride: int, neighbours: dict[int, bool],
-               first_bin: int = 0) -> tuple[tuple[np.ndarray, ...], np.ndarray, np.ndarray]:
+               first_bin: int = 0, then: Callable | None = None) -> tuple:
     """Detections of a cyclic CFAR along the last axis among local maxima.
 
     A cell is a detection when it is a local maximum (`local_max_mask`) along the last axis
@@ -404,6 +405,10 @@ def cfar_peaks(power: np.ndarray, mode: str, alpha: float, guard_cells: int,
         Key of `cfar.CFAR_MODES`.
     neighbours : {axis: cyclic}
         Axes 0 and/or 1 to check for a local maximum too (the last axis always is).
+    then : callable, optional
+        ``then(cells, noise, peak)`` of a consecutive share of the detections (C order), run
+        by each part of the compiled detector once its rows are done (per-detection work such
+        as gathers from the map, beside the other part's rows), once on all of them otherwise.
 
     Returns
     -------
@@ -411,6 +416,8 @@ def cfar_peaks(power: np.ndarray, mode: str, alpha: float, guard_cells: int,
         Indices of the detections, C order.
     noise, peak : (n,) float32
         Noise estimate (the mode's statistic) and power of each.
+    after : list
+        With `then` only: its results, in C order of the shares they cover.
     """
     cm = CFAR_MODES[mode]
     if cm.compiled_peaks:
@@ -422,13 +429,18 @@ def cfar_peaks(power: np.ndarray, mode: str, alpha: float, guard_cells: int,
         table = training_table(power.shape[-1], guard_cells, window_cells, stride)
         flags = (0 in neighbours, neighbours.get(0, False), 1 in neighbours,
                  neighbours.get(1, False))
-        found = run_parts([lambda span=span: cm.peaks(power, alpha, table, os_rank, flags,
-                                                      first_bin, span)
-                           for span in spans(power.shape[0])])
-        idx = np.concatenate([f[0] for f in found], axis=1)
-        noise = np.concatenate([f[1] for f in found])
-        cells = tuple(idx)
-        return cells, noise, power[cells]
+
+        def part(span):
+            idx, noise = cm.peaks(power, alpha, table, os_rank, flags, first_bin, span)
+            cells = tuple(idx)
+            peak = power[cells]
+            return idx, noise, peak, None if then is None else then(cells, noise, peak)
+
+        found = run_parts([lambda span=span: part(span) for span in spans(power.shape[0])])
+        cells = tuple(np.concatenate([f[0] for f in found], axis=1))
+        noise, peak = (np.concatenate([f[i] for f in found]) for i in (1, 2))
+        return (cells, noise, peak) if then is None else (cells, noise, peak,
+                                                          [f[3] for f in found])
     mask = cm.candidate_mask(power, 2, alpha, os_rank)
     mask[:, :first_bin] = False
     local_max_mask(power, {**neighbours, 2: True}, mask=mask)
@@ -436,7 +448,9 @@ def cfar_peaks(power: np.ndarray, mode: str, alpha: float, guard_cells: int,
     noise = candidate_cfar(power, cand, 2, guard_cells, window_cells, mode, os_rank, stride)
     peak = power[cand]
     hit = peak > alpha * noise
-    return tuple(c[hit] for c in cand), noise[hit], peak[hit]
+    cells, noise, peak = tuple(c[hit] for c in cand), noise[hit], peak[hit]
+    return (cells, noise, peak) if then is None else (cells, noise, peak,
+                                                      [then(cells, noise, peak)])
 
 
 def estimate_angles(virt: np.ndarray, sin_az_cos_el: np.ndarray, h_idx: np.ndarray,

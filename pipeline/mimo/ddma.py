@@ -122,22 +122,36 @@ def doppler_velocity_mps(cfg: RadarConfig, k: np.ndarray) -> np.ndarray:
 def coherent_detections(power: np.ndarray, proc: ProcessingConfig):
     """CFAR (cyclic, along Doppler) and local maxima on (n_az, n_range, n_dop) coherent maps.
 
-    Returns (a, r, d, noise, peak, power_az): azimuth, range and Doppler bins of the
-    detections, the CFAR noise estimate (order statistic) and the peak power, each (n,), and
-    the azimuth spectrum of each, (n, n_az) (``power[:, r, d].T``)."""
+    Returns (a, r, d, noise, peak, power_az, power_range): azimuth, range and Doppler bins of
+    the detections, the CFAR noise estimate (order statistic) and the peak power, each (n,),
+    the azimuth spectrum of each, (n, n_az) (``power[:, r, d].T``), and the power at range
+    bins r-1, r, r+1 (clipped) in its azimuth and Doppler bins, (n, 3)."""
     cf = proc.cfar
+    n_range = power.shape[1]
+    level = None if proc.azimuth_sidelobe_db is None else 10 ** (-proc.azimuth_sidelobe_db / 10)
+
+    def gathered(cells, noise, peak):
+        # Per detection, in the CFAR's parts beside the other part's rows: the azimuth spectra
+        # (for the sidelobe test and the caller), the range neighbours, the sidelobe test.
+        a, r, d = cells
+        spectra = power[:, r, d]  # (n_az, n)
+        pr = power[a[:, None], np.clip(r[:, None] + np.arange(-1, 2), 0, n_range - 1),
+                   d[:, None]]
+        keep = None if level is None else peak >= spectra.max(axis=0) * level
+        return spectra, pr, keep
+
     # Figure 19: 4-neighbour maximum in (azimuth, Doppler), optionally also along range.
-    (a, r, d), noise, peak = cfar_peaks(
+    (a, r, d), noise, peak, shares = cfar_peaks(
         power, cf.mode, cf.scale(looks=1), cf.guard_cells, cf.window_cells, cf.os_rank,
         cf.training_stride, {0: True, 1: False} if proc.range_peak_check else {0: True},
-        proc.min_range_bin)
-    spectra = power[:, r, d]  # (n_az, n): gathered once for the sidelobe test and the caller
-    if proc.azimuth_sidelobe_db is not None:
-        strongest = spectra.max(axis=0)
-        keep = peak >= strongest * 10 ** (-proc.azimuth_sidelobe_db / 10)
-        a, r, d, noise, peak = a[keep], r[keep], d[keep], noise[keep], peak[keep]
+        proc.min_range_bin, then=gathered)
+    spectra = np.concatenate([s[0] for s in shares], axis=1)
+    pr = np.concatenate([s[1] for s in shares])
+    if level is not None:
+        keep = np.concatenate([s[2] for s in shares])
+        a, r, d, noise, peak, pr = a[keep], r[keep], d[keep], noise[keep], peak[keep], pr[keep]
         spectra = spectra[:, keep]
-    return a, r, d, noise, peak, spectra.T
+    return a, r, d, noise, peak, spectra.T, pr
 
 
 def coherent_snr_db(proc: ProcessingConfig, noise: np.ndarray, peak: np.ndarray) -> np.ndarray:
@@ -158,11 +172,9 @@ class DdmaChain(MimoChain):
         power, energy, tx1_band = maps.power, maps.energy, maps.tx1_band
         n_az, n_range, n_dop = power.shape
         n_tx = cfg.n_tx
-        a, r, d, noise, peak, power_az = coherent_detections(power, proc)
+        a, r, d, noise, peak, power_az, pr = coherent_detections(power, proc)
         if r.size == 0:
             return empty_cloud()
-        pr = power[a[:, None], np.clip(r[:, None] + np.arange(-1, 2), 0, n_range - 1),
-                   d[:, None]]
         # The Tx order of each detection, decided again on the Rx beam at its own azimuth
         # (`ddma_order`): a weaker return one sub-band off in the same range bin is otherwise
         # read in the stronger one's order and reported at its velocity.

@@ -194,3 +194,26 @@ def test_cfar_peaks_equals_the_full_map_reference(mode, neighbours, first_bin, g
     np.testing.assert_allclose(noise, want, rtol=1e-6 if mode != "os" else 0)
     np.testing.assert_array_equal(peak, power[cells])
     assert a.size >= 4
+
+
+@pytest.mark.parametrize("mode", ["os", "ca"])
+def test_cfar_peaks_then_runs_on_consecutive_shares_of_the_result(mode, monkeypatch):
+    """`then` (the DDMA chain's per-detection gathers) sees consecutive C-order shares of the
+    detections with their noise and peaks, per part of the compiled detector (2 parts on any
+    machine) or once (numpy path); joined in order they are the whole result."""
+    import pipeline.threads as threads
+    monkeypatch.setattr(threads, "N_PARTS", 2)
+    rng = np.random.default_rng(7)
+    power = rng.exponential(size=(6, 9, 32)).astype(np.float32)
+    power[::2, ::3, ::5] = 300.0
+    args = (mode, cfar_scale(1e-2, mode, 8, 6), 1, 4, 6, 1, {0: True, 1: False}, 0)
+    cells, noise, peak = cfar_peaks(power, *args)
+    got = cfar_peaks(power, *args, then=lambda c, n, p: (c, n, p))
+    assert all(np.array_equal(x, y) for x, y in zip(got[0], cells))
+    assert got[1].tobytes() == noise.tobytes() and got[2].tobytes() == peak.tobytes()
+    seen = got[3]  # in the order of the shares, whichever part finished first
+    assert len(seen) == (2 if CFAR_MODES[mode].compiled_peaks else 1)
+    joined = [np.concatenate([s[0][i] for s in seen]) for i in range(3)]
+    assert all(np.array_equal(x, y) for x, y in zip(joined, cells)) and cells[0].size >= 8
+    assert np.concatenate([s[1] for s in seen]).tobytes() == noise.tobytes()
+    assert np.concatenate([s[2] for s in seen]).tobytes() == peak.tobytes()
