@@ -63,7 +63,8 @@ import numpy as np
 
 from .threads import n_parts, run_parts, spans
 
-__all__ = ["FastTimeBasis", "fast_time_basis", "lowrank_fill", "burst_fill", "BurstFill"]
+__all__ = ["FastTimeBasis", "fast_time_basis", "lowrank_fill", "burst_fill", "BurstFill",
+           "GramOperands", "gram_operands", "projections"]
 
 #: Smallest ratio noise / prior variance of a coefficient (the constant's prior is unbounded).
 SHRINK_FLOOR = 1e-6
@@ -439,28 +440,49 @@ class BurstFill(NamedTuple):
                    for lo, hi in spans(len(self.row_start) - 1)])
 
 
+class GramOperands(NamedTuple):
+    """The basis' operands of the per-burst kernel (`gram_operands`)."""
+
+    vec_c: np.ndarray    # (n, kp) the conjugate basis, zero beyond column k
+    vec_t: np.ndarray    # (k, n) the basis, transposed
+    prefix: np.ndarray   # `_gram_prefix` of the basis
+
+
+def gram_operands(basis: FastTimeBasis) -> GramOperands:
+    """The conjugate basis (padded to `FIT_COLUMNS`), the transposed basis and the running
+    sums of its outer products (compiled), in the kernel's wide type."""
+    b = basis.vectors
+    n, k = b.shape
+    wide = np.complex128 if np.iscomplexobj(b) else np.float64
+    vec_c = np.zeros((n, -(-k // FIT_COLUMNS) * FIT_COLUMNS), dtype=wide)
+    vec_c[:, :k] = b.conj()
+    return GramOperands(vec_c, np.ascontiguousarray(b.T, dtype=wide),
+                        _gram_prefix(vec_c, np.ascontiguousarray(b, dtype=wide)))
+
+
+def projections(x: np.ndarray, basis: FastTimeBasis) -> np.ndarray:
+    """(R, k) the rows' projections on the conjugate basis (BLAS), in the kernel's wide type."""
+    b = basis.vectors
+    return (x @ b.conj()).astype(np.complex128 if np.iscomplexobj(b) else np.float64)
+
+
 def burst_fill(x: np.ndarray, flags: np.ndarray, bursts: np.ndarray, basis: FastTimeBasis,
-               close: int, halfwidth: int, grow_sigma: float, grow_reach: int) -> BurstFill:
+               close: int, halfwidth: int, grow_sigma: float, grow_reach: int,
+               operands: GramOperands | None = None, rhs: np.ndarray | None = None) -> BurstFill:
     """`lowrank_fill`'s work up to the bursts: the rows' projections on the basis and the
-    basis' Gram sums (side by side on the cores), the kernel's operands. Arguments as
-    `lowrank_fill`; x must hold at least one row."""
+    basis' Gram sums (side by side on the cores, unless given: `projections`,
+    `gram_operands`), the kernel's operands. Arguments as `lowrank_fill`; x must hold at
+    least one row."""
     n = x.shape[-1]
     bursts = np.asarray(bursts)
     starts = np.flatnonzero(np.r_[True, bursts[1:] != bursts[:-1]])
-    b = basis.vectors
-    wide = np.complex128 if np.iscomplexobj(b) else np.float64
-    k = b.shape[1]
-    vec_c = np.zeros((n, -(-k // FIT_COLUMNS) * FIT_COLUMNS), dtype=wide)
-    vec_c[:, :k] = b.conj()
-    # the rows' projections (BLAS) and the Gram sums (compiled) side by side on the cores
-    calls = [lambda: (x @ b.conj()).astype(wide),
-             lambda: _gram_prefix(vec_c, np.ascontiguousarray(b, dtype=wide))]
-    rhs, prefix = run_parts(calls) if n_parts() > 1 else [c() for c in calls]
+    if operands is None or rhs is None:
+        calls = [lambda: projections(x, basis), lambda: gram_operands(basis)]
+        rhs, operands = run_parts(calls) if n_parts() > 1 else [c() for c in calls]
     thr = grow_sigma * np.sqrt(basis.noise_var) if grow_sigma > 0 else 0.0
-    return BurstFill(x, np.ascontiguousarray(flags, dtype=bool), rhs, vec_c,
-                     np.ascontiguousarray(b.T, dtype=wide), prefix,
-                     basis.shrink.astype(np.float64), np.r_[starts, len(x)],
-                     (close, halfwidth, thr, grow_reach),
+    return BurstFill(x, np.ascontiguousarray(flags, dtype=bool), rhs, operands.vec_c,
+                     operands.vec_t, operands.prefix, basis.shrink.astype(np.float64),
+                     np.r_[starts, len(x)], (close, halfwidth, thr, grow_reach),
                      np.zeros((len(starts), n), dtype=bool))
 
 

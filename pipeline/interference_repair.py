@@ -60,11 +60,12 @@ import scipy.signal
 
 from scenarios.registries import Registry
 
-from .interference_lowrank import BurstFill, FastTimeBasis, burst_fill, fast_time_basis
+from .interference_lowrank import (BurstFill, FastTimeBasis, GramOperands, burst_fill,
+                                   fast_time_basis)
 
 __all__ = ["Mitigation", "MITIGATIONS", "get_mitigation", "widen", "close_gaps", "repair",
-           "lowrank_bursts", "frame_basis", "FrameRows", "CLOSE_GAP_SAMPLES", "EXTEND_SAMPLES",
-           "REFERENCE_ROWS"]
+           "lowrank_bursts", "frame_basis", "frame_has_reference", "FrameRows",
+           "CLOSE_GAP_SAMPLES", "EXTEND_SAMPLES", "REFERENCE_ROWS"]
 
 
 def widen(flags: np.ndarray, hysteresis: int) -> np.ndarray:
@@ -493,19 +494,28 @@ def _lowrank(x: np.ndarray, flags: np.ndarray, hysteresis: int, method: Mitigati
 
 
 def lowrank_bursts(x: np.ndarray, flags: np.ndarray, hysteresis: int, method: Mitigation,
-                   frame: FrameRows | None, basis: FastTimeBasis | None = None) -> BurstFill:
+                   frame: FrameRows | None, basis: FastTimeBasis | None = None,
+                   operands: GramOperands | None = None,
+                   rhs: np.ndarray | None = None) -> BurstFill:
     """`repair` of rows x (at least one) with the "lowrank" fill `method`, prepared up to its
     per-burst work (a burst: the rows of one chirp of `frame`, else one row): the frame's
-    basis (`frame_basis`, unless given), the rows' projections on it. ``.run(b0, b1)`` then
-    repairs bursts b0 .. b1 - 1 in place, each burst once, ``.run_all(remove_mean)`` all of
-    them (`repair`'s values; the means are not removed by `run`). Arguments as `repair`."""
+    basis (`frame_basis`, unless given), the rows' projections on it and its Gram sums
+    (`burst_fill`, unless given). ``.run(b0, b1)`` then repairs bursts b0 .. b1 - 1 in place,
+    each burst once, ``.run_all(remove_mean)`` all of them (`repair`'s values; the means are
+    not removed by `run`). Arguments as `repair`."""
     if basis is None:
         ref = _reference(x, frame, lambda: method.mask(flags, hysteresis))
         basis = fast_time_basis(ref, method.rank_max, 10 ** (method.rank_snr_gate_db / 10))
     bursts = np.arange(len(x)) if frame is None else frame.rows // frame.n_rx
     return burst_fill(x, flags, bursts, basis, method.close_gap_samples,
                       hysteresis + method.extend_samples, method.grow_sigma,
-                      method.grow_reach_samples)
+                      method.grow_reach_samples, operands, rhs)
+
+
+def frame_has_reference(frame: FrameRows) -> bool:
+    """Whether the "lowrank" basis of rows repaired in `frame` comes from the frame's unflagged
+    rows (`frame_basis`), not from the repaired rows and their flags."""
+    return len(frame.samples) - len(frame.rows) >= MIN_REFERENCE_ROWS
 
 
 def frame_basis(frame: FrameRows, dtype: np.dtype, method: Mitigation) -> FastTimeBasis | None:

@@ -32,6 +32,7 @@ References
 """
 from __future__ import annotations
 
+import threading
 from collections.abc import Callable
 from typing import NamedTuple
 
@@ -39,12 +40,13 @@ import numba
 import numpy as np
 
 from ..config import INTF_THRESHOLD_MODES, ProcessingConfig
-from ..interference_lowrank import BurstFill
-from ..interference_repair import FrameRows, frame_basis, get_mitigation, lowrank_bursts, repair
-from ..threads import inline, n_parts, run_parts, spans
+from ..interference_lowrank import FastTimeBasis, GramOperands, gram_operands, projections
+from ..interference_repair import (FrameRows, Mitigation, frame_basis, frame_has_reference,
+                                   get_mitigation, lowrank_bursts, repair)
+from ..threads import inline, run_parts, spans
 
 __all__ = ["interference_flags", "zero_flagged", "flagged_rows", "repaired_rows", "RepairedRows",
-           "INTF_THRESHOLD_MODES"]
+           "DeferredLowrank", "INTF_THRESHOLD_MODES"]
 
 
 def interference_flags(adc: np.ndarray, dc: np.ndarray | None, mag_snr_db: float,
@@ -151,6 +153,84 @@ def flagged_rows(adc: np.ndarray, dc, proc: ProcessingConfig) -> tuple[np.ndarra
     return rows, flags[rows]
 
 
+class DeferredLowrank:
+    """The "lowrank" repair of `repaired_rows(deferred=True)`: first its `steps` (the frame's
+    basis; the rows' DC removal and flags; the basis' Gram sums; the rows' projections and
+    the kernel's operands), each run once, then `run` on ranges of bursts (the rows of one
+    chirp), each burst once. A step or `run` waits only for earlier steps: run in order, or
+    taken in order by several threads (a queue), nothing waits for a step nobody took.
+
+    Each step computes what `repaired_rows` computes eagerly (the frame's basis only: the
+    frame must have its reference rows, `frame_has_reference`), so the rows come out the
+    same whatever thread ran what.
+    """
+
+    def __init__(self, y: np.ndarray, frame: FrameRows, method: Mitigation, hysteresis: int,
+                 make_rows: Callable[[], None], make_flags: Callable[[], np.ndarray]):
+        self.y, self.frame, self.method, self.hysteresis = y, frame, method, hysteresis
+        self._make_rows, self._make_flags = make_rows, make_flags
+        bursts = frame.rows // frame.n_rx
+        starts = np.flatnonzero(np.r_[True, bursts[1:] != bursts[:-1]])
+        self.row_start = np.r_[starts, len(y)]  # burst b: rows row_start[b] .. [b + 1] - 1
+        self._done = [threading.Event() for _ in range(4)]
+        self._basis: FastTimeBasis | None = None
+        self._flags: np.ndarray | None = None
+        self._operands: GramOperands | None = None
+        self._fill = None
+
+    def steps(self) -> list[Callable[[], None]]:
+        """The four steps, in the order they must be taken."""
+        return [self._step_basis, self._step_rows, self._step_gram, self._step_fill]
+
+    def prepare(self) -> None:
+        """Every step, here, in order (no queue)."""
+        for step in self.steps():
+            step()
+
+    def run(self, b0: int, b1: int) -> None:
+        """Repair bursts b0 .. b1 - 1 (after the steps; nothing if one failed: its exception
+        is the caller's to raise)."""
+        self._done[3].wait()
+        if self._fill is not None:
+            self._fill.run(b0, b1)
+
+    def _step_basis(self) -> None:
+        try:
+            self._basis = frame_basis(self.frame, self.y.dtype, self.method)
+        finally:
+            self._done[0].set()  # also on failure: no later step waits forever
+
+    def _step_rows(self) -> None:
+        try:
+            with inline():  # a step's own passes run whole: it may be on either core
+                self._make_rows()
+                self._flags = self._make_flags()
+        finally:
+            self._done[1].set()
+
+    def _step_gram(self) -> None:
+        try:
+            self._done[0].wait()
+            if self._basis is not None:
+                self._operands = gram_operands(self._basis)
+        finally:
+            self._done[2].set()
+
+    def _step_fill(self) -> None:
+        try:
+            self._done[0].wait()
+            self._done[1].wait()
+            if self._basis is None or self._flags is None:
+                return
+            rhs = projections(self.y, self._basis)
+            self._done[2].wait()
+            if self._operands is not None:
+                self._fill = lowrank_bursts(self.y, self._flags, self.hysteresis, self.method,
+                                            self.frame, self._basis, self._operands, rhs)
+        finally:
+            self._done[3].set()
+
+
 class RepairedRows(NamedTuple):
     """The flagged chirp x Rx rows of a frame, DC removed and repaired: what the range FFT
     takes in their place, times the range window (`repaired_rows`)."""
@@ -160,12 +240,12 @@ class RepairedRows(NamedTuple):
     window: np.ndarray    # (n_samples,) float32 range window
     dc: np.ndarray | None  # (n_chirps, n_rx) DC estimates, the repaired rows' 0 (None: none)
     means: np.ndarray     # (R,) what the repair still subtracts from each row (0: nothing)
-    fill: BurstFill | None = None  # the repair still to run (`repaired_rows(deferred=True)`)
+    fill: DeferredLowrank | None = None  # the repair still to run (`deferred=True`)
 
     def repair_chirps(self, c0: int, c1: int, n_rx: int) -> None:
-        """Run the deferred repair (`fill`) of the rows of chirps c0 .. c1 - 1 and set their
-        `means`; nothing without one. Each chirp exactly once, any order, any thread: until
-        then those rows' `samples` and `means` are not the repaired ones."""
+        """Run the deferred repair (`fill`, after its steps) of the rows of chirps c0 .. c1 - 1
+        and set their `means`; nothing without one. Each chirp exactly once, any order, any
+        thread: until then those rows' `samples` and `means` are not the repaired ones."""
         if self.fill is None:
             return
         lo, hi = np.searchsorted(self.rows, (c0 * n_rx, c1 * n_rx))
@@ -230,9 +310,11 @@ def repaired_rows(adc: np.ndarray, dc: np.ndarray | None, rows: np.ndarray,
         The range window.
     proc : ProcessingConfig
     deferred : bool
-        Where the repair is the "lowrank" fill of real rows, leave its per-chirp work (and
-        the rows' means) to `RepairedRows.repair_chirps`, which the caller then runs on every
-        chirp once (so a chirp's repair can run next to its range FFT); elsewhere ignored.
+        Where the repair is the "lowrank" fill of real rows and the frame has its reference
+        rows, leave all of it to the caller: the DC removal, the flags and the basis to
+        ``fill.steps()`` (`DeferredLowrank`), then the per-chirp work and the rows' means to
+        `RepairedRows.repair_chirps` on every chirp once (so the steps run side by side and
+        a chirp's repair next to its range FFT); elsewhere ignored.
 
     Returns
     -------
@@ -261,16 +343,11 @@ def repaired_rows(adc: np.ndarray, dc: np.ndarray | None, rows: np.ndarray,
     make_flags = flags if callable(flags) else lambda: flags
     means = np.zeros(len(rows), y.dtype)
     fill = None
-    if deferred and centre and len(rows):
+    if deferred and centre and len(rows) and frame_has_reference(frame):
         # The frame's basis (BLAS and LAPACK on one core, ~1.5 ms) needs neither the rows nor
-        # their flags: the other core makes those meanwhile.
-        def rows_and_flags() -> np.ndarray:
-            with inline():
-                dc_removed(0, len(rows))
-                return make_flags()
-        calls = [lambda: frame_basis(frame, y.dtype, method), rows_and_flags]
-        basis, flags = run_parts(calls) if n_parts() > 1 else [c() for c in calls]
-        fill = lowrank_bursts(y, flags, proc.intf_hysteresis_samples, method, frame, basis)
+        # their flags: the caller's queue runs the steps side by side.
+        fill = DeferredLowrank(y, frame, method, proc.intf_hysteresis_samples,
+                               lambda: dc_removed(0, len(rows)), make_flags)
     else:
         flags = make_flags()
         run_parts([lambda lo=lo, hi=hi: dc_removed(lo, hi) for lo, hi in parts])

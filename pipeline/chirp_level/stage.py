@@ -206,10 +206,11 @@ def _blockwise(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig, dc: np
         run_parts([lambda lo=lo, hi=hi: part(lo, hi)
                    for lo, hi in spans(n_c, multiple=CHIRP_BLOCK)])
         return out
-    # The repair still to run: the blocks' repairs, then the blocks, taken one at a time by
-    # whichever part is free (one hand-off, parts balanced whatever the repairs cost). A
-    # repair takes `group` blocks (each call costs ~30 us); a block waits for its own repair
-    # only, which was taken before it.
+    # The repair still to run: its steps (basis, rows and flags, Gram sums, projections), the
+    # blocks' repairs, then the blocks, taken one at a time by whichever part is free (one
+    # hand-off, parts balanced whatever the repairs cost). A repair takes `group` blocks
+    # (each call costs ~30 us); each item waits only for earlier items (a block for its own
+    # repair), which some part has taken and runs.
     c0s = range(0, n_c, CHIRP_BLOCK)
     group = max(1, len(c0s) // (2 * n_parts()))
     done = [threading.Event() for _ in range(0, len(c0s), group)]
@@ -223,7 +224,7 @@ def _blockwise(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig, dc: np
     def after_repair(j: int) -> None:
         done[j // group].wait()
         block(c0s[j], min(c0s[j] + CHIRP_BLOCK, n_c))
-    _in_turn([lambda g=g: repair(g) for g in range(len(done))]
+    _in_turn(rep.fill.steps() + [lambda g=g: repair(g) for g in range(len(done))]
              + [lambda j=j: after_repair(j) for j in range(len(c0s))])
     return out
 

@@ -152,16 +152,18 @@ def test_repaired_rows_window_the_repair_of_the_dc_removed_rows(cfg, method):
     assert (rep.means != 0).any() == (method == "lowrank")
 
 
-@pytest.mark.parametrize("parts, few_clean_rows", [(2, False), (1, True)])
+@pytest.mark.parametrize("parts, few_clean_rows", [(2, False), (1, False), (1, True)])
 def test_deferred_repair_is_the_repair_in_any_chirp_order(cfg, monkeypatch, parts,
                                                           few_clean_rows):
-    """`repaired_rows(deferred=True)` with flags made on demand (beside the frame's basis),
-    then `repair_chirps` over chunks of chirps in a shuffled order: the eager repair's rows
-    and means bit for bit, the flags made once; with too few clean rows for the frame's
-    basis too (the basis then comes from the repaired rows, after their flags)."""
+    """`repaired_rows(deferred=True)` with flags made on demand: its steps taken by a queue
+    of `parts` parts (basis beside the rows' DC removal and flags, Gram sums beside the
+    projections), then `repair_chirps` over chunks of chirps in a shuffled order: the eager
+    repair's rows and means bit for bit, the flags made once. With too few clean rows for
+    the frame's basis (it then comes from the repaired rows, after their flags) nothing is
+    deferred."""
     from pipeline import interference_repair, threads
     from pipeline.chirp_level.interference import repaired_rows
-    from pipeline.chirp_level.stage import _chirp_statistics
+    from pipeline.chirp_level.stage import _chirp_statistics, _in_turn
     from pipeline.kernels import window
     if few_clean_rows:
         monkeypatch.setattr(interference_repair, "MIN_REFERENCE_ROWS", 10 ** 9)
@@ -175,7 +177,10 @@ def test_deferred_repair_is_the_repair_in_any_chirp_order(cfg, monkeypatch, part
     calls = []
     rep = repaired_rows(adc, dc, rows, lambda: calls.append(1) or flags.copy(), win, proc,
                         deferred=True)
-    assert rep.fill is not None and len(calls) == 1
+    assert (rep.fill is None) == few_clean_rows and len(calls) == few_clean_rows
+    if rep.fill is not None:
+        _in_turn(rep.fill.steps()) if parts == 2 else rep.fill.prepare()
+    assert len(calls) == 1
     n_c, n_rx = adc.shape[:2]
     cuts = np.unique(np.r_[0, np.random.default_rng(1).integers(0, n_c, 7), n_c])
     for c0, c1 in np.random.default_rng(2).permutation(np.c_[cuts[:-1], cuts[1:]]):

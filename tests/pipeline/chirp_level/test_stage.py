@@ -169,3 +169,31 @@ def test_inline_dirty_range_stage_hands_nothing_to_the_helper(cfg, monkeypatch):
     monkeypatch.setattr(threads, "_pool", no_helper)
     with threads.inline():
         assert cl.windowed_range_stage(cfg, adc, proc, w).tobytes() == want.tobytes()
+
+
+def test_dirty_range_stage_finishes_alone_while_the_helper_is_busy(cfg, monkeypatch):
+    """In parts, the repair's steps and the blocks are one queue whose items wait only for
+    items taken before them: with the helper thread busy elsewhere the caller takes every
+    item itself, in order, and finishes (no wait for an item nobody took), same cube."""
+    import threading
+
+    from pipeline import threads
+    monkeypatch.setattr(threads, "N_PARTS", 2)
+    adc = radarsim.simulate_frame(cfg, empty(), np.random.default_rng(8), one_interferer())
+    proc = pipeline.ProcessingConfig()
+    w = np.hanning(cfg.n_chirps).astype(np.float32)
+    with threads.inline():
+        want = cl.windowed_range_stage(cfg, adc, proc, w)
+    release = threading.Event()
+    blocker = threads._pool().submit(release.wait, 30)  # the helper is busy elsewhere
+    try:
+        got = []
+        worker = threading.Thread(target=lambda: got.append(
+            cl.windowed_range_stage(cfg, adc, proc, w)), daemon=True)
+        worker.start()
+        worker.join(20)
+        assert not worker.is_alive(), "the stage waits for an item nobody took"
+    finally:
+        release.set()
+        blocker.result()
+    assert got[0].tobytes() == want.tobytes()
