@@ -5,8 +5,6 @@ import dataclasses
 import json
 import os
 import signal
-import subprocess
-import sys
 import textwrap
 import time
 from pathlib import Path
@@ -20,8 +18,8 @@ from harness.schedule import run_sweep
 from harness.sweepfile import load_sweep
 from harness.sweepspec import SCHEMES_SWEEP_PATH, SweepSpec, Variant
 from tests.harness.fakes import FAKE, assert_same_tables
+from tests.harness.forked import fork_sweep, wait_exit
 
-ROOT = Path(__file__).resolve().parents[2]
 
 
 def small_spec(**kw) -> SweepSpec:
@@ -116,33 +114,22 @@ def _children(pid: int) -> list[int]:
 
 def test_killed_worker_loses_no_completed_cell_and_rerun_resumes(tmp_path):
     out = tmp_path / "r"
-    script = textwrap.dedent(f"""
-        import json, sys
-        sys.path.insert(0, {str(ROOT)!r})
-        from harness.schedule import run_sweep
-        from harness.sweepspec import SweepSpec
-        from tests.harness.fakes import FAKE
-        spec = SweepSpec(name="t", scenarios=("fast", "slow", "mid"), seeds=(0, 1),
-                         duration_s=0.4)
-        o = run_sweep(spec, {str(out)!r}, workers=2, components=FAKE, progress=False)
-        print(json.dumps({{"ok": o.n_ok, "interrupted": o.n_interrupted}}))
-    """)
-    env = {**os.environ, "FAKE_PROCESS_DELAY_S": "0.02"}  # ~0.5 s per cell
-    proc = subprocess.Popen([sys.executable, "-c", script], env=env, stdout=subprocess.PIPE,
-                            text=True)
     spec = SweepSpec(name="t", scenarios=("fast", "slow", "mid"), seeds=(0, 1), duration_s=0.4)
     cells = spec.cells()
+    # A real pool sweep in a process of its own (forked: no second interpreter start-up).
+    pid = fork_sweep(spec, out, report=tmp_path / "report.json",
+                     env={"FAKE_PROCESS_DELAY_S": "0.02"})  # ~0.5 s per cell
     # Kill a worker once a first cell is on disk. The deadline only guards against a hang: on a
     # loaded machine the pool may take well over 30 s to start (the test failed that way).
     deadline = time.monotonic() + 300
     while not completed_cells(out, cells) and time.monotonic() < deadline:
         time.sleep(0.05)
     assert completed_cells(out, cells), "no cell completed within 300 s"
-    workers = _children(proc.pid)
+    workers = _children(pid)
     assert workers, "no worker process found"
     os.kill(workers[0], signal.SIGKILL)
-    stdout, _ = proc.communicate(timeout=60)
-    report = json.loads(stdout.strip().splitlines()[-1])
+    assert wait_exit(pid, 60) == 0
+    report = json.loads((tmp_path / "report.json").read_text())
     done = completed_cells(out, cells)
     assert report["interrupted"] >= 1 and len(done) >= 1
     assert len(done) < len(cells)

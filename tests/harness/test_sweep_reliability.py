@@ -14,7 +14,6 @@ import os
 import signal
 import subprocess
 import sys
-import textwrap
 import time
 from pathlib import Path
 
@@ -30,6 +29,7 @@ from harness.schedule import run_sweep
 from harness.sweepspec import SweepSpec
 from harness.worker import execute_cell
 from tests.harness.fakes import FAILING, FAKE, TABLES, assert_same_tables
+from tests.harness.forked import fork_sweep, wait_exit, wait_group_gone
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -204,36 +204,25 @@ def test_cli_sweep_with_missing_cells_exits_1_and_says_so(tmp_path, monkeypatch,
 
 
 # ------------------------------------------------------------------------- kill and resume
-_KILL_SCRIPT = """
-import sys
-sys.path.insert(0, {root!r})
-from harness.schedule import run_sweep
-from harness.sweepspec import SweepSpec
-from tests.harness.fakes import FAKE
-spec = SweepSpec(name="k", scenarios={scenarios!r}, seeds=(0, 1, 2), duration_s=0.3)
-run_sweep(spec, {out!r}, workers=2, components=FAKE, progress=False)
-"""
-
-
 def _kill_resume_trials(tmp_path: Path, n_trials: int, seed: int,
                         scenarios=("fast", "slow", "mid")) -> None:
     """SIGKILL the whole process group (parent and pool workers) of a real pool sweep at
-    seeded random moments, rerun the same command each time, and compare the final tables
-    with an uninterrupted run. Every kill is bounded: at most 3 s after the start."""
+    seeded random moments, rerun the same sweep each time, and compare the final tables with
+    an uninterrupted run. The sweep runs in a forked process (its pool forks the workers from
+    it), so it starts at once: every kill lands 0.1-1.5 s after the start, before, during or
+    after the cells (the whole sweep of 3 cells on 2 workers takes ~1.1-1.9 s here)."""
     rng = np.random.default_rng(seed)
     out = tmp_path / "killed"
-    env = {**os.environ, "FAKE_PROCESS_DELAY_S": "0.01"}
-    script = _KILL_SCRIPT.format(root=str(ROOT), out=str(out), scenarios=tuple(scenarios))
     spec = SweepSpec(name="k", scenarios=tuple(scenarios), seeds=(0, 1, 2), duration_s=0.3)
     for _ in range(n_trials):
-        p = subprocess.Popen([sys.executable, "-c", script], env=env, start_new_session=True,
-                             stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-        time.sleep(float(rng.uniform(1.0, 4.0)))  # imports take about 1-2 s
+        pid = fork_sweep(spec, out, env={"FAKE_PROCESS_DELAY_S": "0.01"}, own_group=True)
+        time.sleep(float(rng.uniform(0.1, 1.5)))
         try:
-            os.killpg(p.pid, signal.SIGKILL)
+            os.killpg(pid, signal.SIGKILL)
         except ProcessLookupError:
             pass
-        p.wait(timeout=30)
+        wait_exit(pid, 30)
+        wait_group_gone(pid, 30)
         # Whatever the moment, every cell on disk is either complete and intact or absent.
         for c in spec.cells():
             assert store.cell_state(cell_dir(out, c)) in ("ok", "missing")
@@ -261,12 +250,29 @@ def _ctrl_c_as_in_a_terminal() -> None:
     signal.signal(signal.SIGINT, signal.SIG_DFL)
 
 
+def _forked_children(pid: int) -> list[int]:
+    """Children of `pid` running its own executable: forked pool workers, not `git`."""
+    try:
+        exe = os.readlink(f"/proc/{pid}/exe")
+        kids = Path(f"/proc/{pid}/task/{pid}/children").read_text().split()
+    except OSError:  # the sweep has exited
+        return []
+    out = []
+    for k in kids:
+        try:
+            if os.readlink(f"/proc/{k}/exe") == exe:
+                out.append(int(k))
+        except OSError:  # gone meanwhile
+            pass
+    return out
+
+
 def test_sigint_prints_the_resume_hint_not_a_traceback(tmp_path):
     """Ctrl-C on a real pool sweep: exit 130, one line, cells already written stay valid.
 
-    The signal goes 1.5 s after the results folder appears (the pool forks its workers about
-    0.02-0.3 s after it), so the workers are computing their first cells, which take seconds:
-    the sweep cannot have finished. An exit 0 is a lost signal, a failure (a Ctrl-C during the
+    The signal goes 0.3 s after the pool's two workers exist (they are forked together at the
+    first submit), so they are computing their first cells, which take seconds: the sweep
+    cannot have finished. An exit 0 is a lost signal, a failure (a Ctrl-C during the
     workers' fork used to be dropped: `test_ctrl_c_while_the_pool_forks_its_workers_...`)."""
     out = tmp_path / "r"
     cmd = [sys.executable, "-m", "harness.cli", "sweep", str(sweepspec.CI_SWEEP_PATH),
@@ -275,13 +281,19 @@ def test_sigint_prints_the_resume_hint_not_a_traceback(tmp_path):
            "--out", str(out)]
     p = subprocess.Popen(cmd, cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
                          text=True, preexec_fn=_ctrl_c_as_in_a_terminal)
-    deadline = time.monotonic() + 60
-    # The results folder appears just before the configs are validated and the pool starts.
-    while time.monotonic() < deadline and not out.exists() and p.poll() is None:
-        time.sleep(0.05)
-    time.sleep(1.5)
-    p.send_signal(signal.SIGINT)
-    _, err = p.communicate(timeout=120)
+    try:
+        deadline = time.monotonic() + 120
+        while time.monotonic() < deadline and len(_forked_children(p.pid)) < 2 \
+                and p.poll() is None:
+            time.sleep(0.05)
+        assert len(_forked_children(p.pid)) >= 2, "the sweep's pool did not start 2 workers"
+        time.sleep(0.3)
+        p.send_signal(signal.SIGINT)
+        _, err = p.communicate(timeout=120)
+    finally:
+        if p.poll() is None:
+            p.kill()
+            p.communicate()
     assert p.returncode == 130, err
     assert "Traceback" not in err
     assert err.strip().splitlines()[-1].endswith("interrupted: rerun the same command to resume")

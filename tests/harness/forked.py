@@ -1,0 +1,81 @@
+"""A stand-in sweep in a child process forked from the test's own process.
+
+Tests that kill a sweep's processes need the sweep in a process of its own. A fresh
+interpreter (``python -c ...``) spends ~2 s CPU importing the harness before the sweep
+starts; a fork of the test process has everything imported already and runs the same
+`run_sweep` with a real process pool (the pool forks its workers from the child, as the CLI's
+pool forks them from the CLI process).
+"""
+from __future__ import annotations
+
+import json
+import os
+import sys
+import time
+import traceback
+from pathlib import Path
+
+
+def fork_sweep(spec, out: Path, report: Path | None = None, env: dict | None = None,
+               own_group: bool = False) -> int:
+    """Fork a child that runs ``run_sweep(spec, out, workers=2)`` with the stand-in components
+    and exits; return its pid.
+
+    `env` is added to the child's environment before the pool starts (its workers inherit it).
+    `report`: the child writes ``{"ok": n_ok, "interrupted": n_interrupted}`` there. `own_group`:
+    the child leads a process group of its own (its pool workers join it), so
+    ``os.killpg(pid, ...)`` reaches the whole sweep and nothing else.
+    """
+    pid = os.fork()
+    if pid == 0:  # the child: never returns into the test runner
+        code = 1
+        try:
+            if own_group:
+                os.setpgid(0, 0)
+            os.environ.update(env or {})
+            from harness.schedule import run_sweep
+            from tests.harness.fakes import FAKE
+            o = run_sweep(spec, out, workers=2, components=FAKE, progress=False)
+            if report is not None:
+                report.write_text(json.dumps({"ok": o.n_ok, "interrupted": o.n_interrupted}))
+            code = 0
+        except BaseException:  # noqa: BLE001 - reported on stderr, exit status 1
+            traceback.print_exc()
+            sys.stderr.flush()
+        finally:
+            os._exit(code)
+    if own_group:
+        try:  # both sides set it: the group exists as soon as either has run
+            os.setpgid(pid, pid)
+        except OSError:  # the child did it first, or has already exited
+            pass
+    return pid
+
+
+def wait_exit(pid: int, timeout_s: float) -> int:
+    """Wait for the forked child `pid`; its exit status (-signal if a signal ended it).
+    Raises TimeoutError (after killing it) if it is still running after `timeout_s`."""
+    deadline = time.monotonic() + timeout_s
+    while True:
+        done, status = os.waitpid(pid, os.WNOHANG)
+        if done:
+            return os.waitstatus_to_exitcode(status)
+        if time.monotonic() > deadline:
+            os.kill(pid, 9)
+            os.waitpid(pid, 0)
+            raise TimeoutError(f"forked sweep {pid} still running after {timeout_s} s")
+        time.sleep(0.02)
+
+
+def wait_group_gone(pgid: int, timeout_s: float) -> None:
+    """Wait until no process of group `pgid` exists any more, zombies included: a killed
+    sweep's pool workers outlive their parent as zombies until init reaps them, and a
+    resume takes a temporary directory of a pid that still exists for a live writer's."""
+    deadline = time.monotonic() + timeout_s
+    while time.monotonic() < deadline:
+        try:
+            os.killpg(pgid, 0)
+        except ProcessLookupError:
+            return
+        time.sleep(0.02)
+    raise TimeoutError(f"process group {pgid} still exists after {timeout_s} s")
