@@ -73,9 +73,12 @@ def _one_line(exc: BaseException) -> str:
 
 
 def main(argv: list[str] | None = None) -> int:
-    prepare_process()
-    with terminate_on_signals():
-        return _main(argv)
+    try:
+        prepare_process()
+        with terminate_on_signals():
+            return _main(argv)
+    except KeyboardInterrupt as exc:  # during start-up: the commands' modules (pandas, scipy,
+        return _stopped("", exc)      # the pipeline) take most of a second to import
 
 
 def _stopped(command: str, exc: KeyboardInterrupt) -> int:

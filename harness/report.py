@@ -30,6 +30,7 @@ from .figures import png_img as _img
 from .figures import pyplot as _plt
 from .mitigation_report import html_section as mitigation_section
 from .provenance import read_manifest, version_line
+from .runtime import STOP_POLL_S, prepare_worker, stop_pool, stop_signals_recorded
 
 __all__ = ["build_report", "doppler_azimuth_map", "choose_frame"]
 
@@ -372,9 +373,31 @@ def _case_sections(summary, det, truth, specs, keys: list, maps: bool) -> list[s
     if len(inputs) < PARALLEL_MIN_CASES or workers < 2:
         drawn = [_draw_case(c) for c in inputs]
     else:
-        with cf.ProcessPoolExecutor(workers) as ex:
-            drawn = list(ex.map(_draw_case, inputs))
+        drawn = _drawn_in_pool(inputs, workers)
     return [part for parts in drawn for part in parts]
+
+
+def _drawn_in_pool(inputs: list, workers: int) -> list:
+    """`_draw_case` of every input, in order, on a pool of `workers` processes that a stop
+    signal stops at any moment, as a sweep's pool (`harness.runtime.stop_signals_recorded`:
+    one landing while the pool forks its workers would otherwise be dropped). The workers
+    leave Ctrl-C to this process (`prepare_worker`), so a terminal's Ctrl-C gives one line,
+    not a traceback per worker."""
+    with stop_signals_recorded() as stops:
+        ex = cf.ProcessPoolExecutor(workers, initializer=prepare_worker,
+                                    initargs=(os.getpid(),))
+        try:
+            futs = [ex.submit(_draw_case, c) for c in inputs]
+            waiting = set(futs)
+            while waiting:
+                stops.check()
+                _, waiting = cf.wait(waiting, timeout=STOP_POLL_S)
+            drawn = [f.result() for f in futs]
+        except BaseException:
+            stop_pool(ex)
+            raise
+        ex.shutdown(wait=True)
+    return drawn
 
 
 def interference_section(summary: pd.DataFrame, actors: pd.DataFrame) -> str:

@@ -37,6 +37,7 @@ References
 """
 from __future__ import annotations
 
+import concurrent.futures as cf
 import contextlib
 import ctypes
 import ctypes.util
@@ -47,7 +48,7 @@ import threading
 
 __all__ = ["tune_allocator", "single_thread_blas", "prepare_process", "exit_with_parent",
            "prepare_worker", "Terminated", "terminate_on_signals", "StopSignals",
-           "stop_signals_recorded", "STOP_POLL_S"]
+           "stop_signals_recorded", "STOP_POLL_S", "stop_pool"]
 
 _M_TRIM_THRESHOLD, _M_TOP_PAD, _M_MMAP_THRESHOLD = -1, -2, -3
 _MMAP_THRESHOLD_BYTES = 32 << 20  # glibc's maximum on 64-bit: blocks below come from the heap
@@ -250,3 +251,21 @@ def stop_signals_recorded():
             signal.signal(sig, old)
         if stops.received:
             signal.raise_signal(stops.received[0])
+
+
+def stop_pool(ex: cf.ProcessPoolExecutor, join_timeout_s: float = 5.0) -> None:
+    """Stop a process pool now: terminate its workers, cancel what has not started and reap
+    every worker (killed if it outlives `join_timeout_s`), so none outlives the caller.
+
+    For the ``except BaseException`` of a pool's user (a stop signal, or any escape): running
+    tasks are lost whole, which is what a sweep's cell store and a report expect.
+    """
+    # The executor's own worker table (private, stable since Python 3.2; None once shut down).
+    procs = list((getattr(ex, "_processes", None) or {}).values())
+    for proc in procs:
+        proc.terminate()
+    ex.shutdown(wait=False, cancel_futures=True)
+    for proc in procs:
+        proc.join(timeout=join_timeout_s)
+        if proc.is_alive():
+            proc.kill()

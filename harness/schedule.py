@@ -29,7 +29,7 @@ from . import cellstore as store
 from .assemble import assemble
 from .components import Components
 from .dask_cluster import DEFAULT_SCHEDULER_TIMEOUT_S, run_dask
-from .runtime import STOP_POLL_S, single_thread_blas, stop_signals_recorded
+from .runtime import STOP_POLL_S, single_thread_blas, stop_pool, stop_signals_recorded
 from .sweepfile import validate_cells
 from .sweepspec import SweepSpec
 from .worker import execute_cell, init_worker
@@ -230,14 +230,7 @@ def _run_local(pending: list, out: Path, workers: int, components, bar
             # (their temporary directories are cleaned by the next run), written ones stay.
             # The workers are reaped before the exception goes on, so none outlives this
             # process; a second signal meanwhile is only recorded.
-            procs = list(getattr(ex, "_processes", {}).values())
-            for proc in procs:
-                proc.terminate()
-            ex.shutdown(wait=False, cancel_futures=True)
-            for proc in procs:
-                proc.join(timeout=5.0)
-                if proc.is_alive():
-                    proc.kill()
+            stop_pool(ex)
             raise
         ex.shutdown(wait=True)
     return results, interrupted

@@ -112,3 +112,25 @@ def test_case_sections_drawn_in_worker_processes_equal_inline(fake_results, monk
     pooled = rp._case_sections(*args)
     assert len(keys) == 2 and sum("<h2>Case " in p for p in pooled) == 2
     assert pooled == inline
+
+
+def test_ctrl_c_while_the_case_pool_forks_stops_the_report(fake_results, monkeypatch):
+    """A Ctrl-C landing while the report's pool forks its workers used to be dropped by
+    Python (raised inside os.fork's at-fork hooks) and the report ran on: it must stop it."""
+    import multiprocessing
+
+    import pandas as pd
+
+    from harness import report as rp
+    from tests.harness.fakes import ctrl_c_at_the_next_fork
+    if multiprocessing.get_start_method() != "fork":
+        pytest.skip("this Python starts pool workers without forking: no at-fork hook runs")
+    tabs = {t: pd.read_parquet(fake_results / f"{t}.parquet")
+            for t in ("summary", "detections", "truth")}
+    keys = [tuple(k) for k in tabs["summary"][["scenario", "variant", "seed"]]
+            .drop_duplicates().itertuples(index=False)]
+    monkeypatch.setattr(rp, "PARALLEL_MIN_CASES", 2)
+    monkeypatch.setattr(rp.os, "cpu_count", lambda: 2)
+    with ctrl_c_at_the_next_fork() as ctrl_c, pytest.raises(KeyboardInterrupt):
+        rp._case_sections(tabs["summary"], tabs["detections"], tabs["truth"], {}, keys, False)
+    assert ctrl_c["fired"]

@@ -187,3 +187,31 @@ def test_a_recorded_stop_signal_reaches_its_own_handler_when_the_block_ends(sig)
 def test_terminated_is_a_keyboard_interrupt():
     exc = runtime.Terminated(signal.SIGTERM)
     assert isinstance(exc, KeyboardInterrupt) and exc.signum == signal.SIGTERM
+
+
+class _ImportInterrupted:
+    """Stands in for `importlib` in `harness.cli`: a Ctrl-C while the commands' modules
+    (pandas, scipy, the pipeline: most of a second) import, before a command is known."""
+
+    @staticmethod
+    def import_module(name):
+        raise KeyboardInterrupt
+
+
+def test_ctrl_c_while_the_commands_import_gives_the_one_line(monkeypatch, capsys):
+    import harness.cli as cli
+    monkeypatch.setattr(cli, "importlib", _ImportInterrupted)
+    assert main(["scenarios"]) == 130
+    assert capsys.readouterr().err.strip().splitlines() == [
+        "radar-harness: interrupted: rerun the same command to resume"]
+
+
+def test_ctrl_c_during_start_up_gives_the_one_line(monkeypatch, capsys):
+    import harness.cli as cli
+
+    def interrupted():
+        raise KeyboardInterrupt
+    monkeypatch.setattr(cli, "prepare_process", interrupted)
+    assert main(["scenarios"]) == 130
+    assert capsys.readouterr().err.strip().splitlines() == [
+        "radar-harness: interrupted: rerun the same command to resume"]

@@ -28,7 +28,8 @@ from harness.cellstore import cell_dir, completed_cells
 from harness.schedule import run_sweep
 from harness.sweepspec import SweepSpec
 from harness.worker import execute_cell
-from tests.harness.fakes import FAILING, FAKE, TABLES, assert_same_tables
+from tests.harness.fakes import (FAILING, FAKE, TABLES, assert_same_tables,
+                                 ctrl_c_at_the_next_fork)
 from tests.harness.forked import fork_sweep, wait_exit, wait_group_gone
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -302,23 +303,6 @@ def test_sigint_prints_the_resume_hint_not_a_traceback(tmp_path):
         assert store.cell_state(cell_dir(out, c)) in ("ok", "missing")
 
 
-_FORK_SIGNAL = {"armed": False}
-
-
-def _signal_at_the_next_fork() -> None:
-    """Send this process SIGINT from inside its next ``os.fork()`` (a pool worker's start):
-    Python runs the handler at the first bytecode it meets, which is in the at-fork hooks,
-    as for a Ctrl-C that lands while the pool forks its workers under load."""
-    if not _FORK_SIGNAL.get("registered"):
-        def before() -> None:
-            if _FORK_SIGNAL["armed"]:
-                _FORK_SIGNAL["armed"] = False
-                os.kill(os.getpid(), signal.SIGINT)
-        os.register_at_fork(before=before)  # permanent: inert once fired
-        _FORK_SIGNAL["registered"] = True
-    _FORK_SIGNAL["armed"] = True
-
-
 def test_ctrl_c_while_the_pool_forks_its_workers_stops_the_sweep(tmp_path):
     """A SIGINT that arrives while a pool worker is being forked is raised inside os.fork's
     at-fork hooks, where Python only prints it ("Exception ignored") and drops it: the sweep
@@ -327,16 +311,9 @@ def test_ctrl_c_while_the_pool_forks_its_workers_stops_the_sweep(tmp_path):
         pytest.skip("this Python starts pool workers without forking the sweep's process: "
                     "no at-fork hook runs there")
     spec = small_spec(seeds=(0, 1, 2, 3))
-    old = signal.signal(signal.SIGINT, signal.default_int_handler)  # as in a terminal
-    try:
-        _signal_at_the_next_fork()
-        with pytest.raises(KeyboardInterrupt):
-            run_sweep(spec, tmp_path, workers=2, components=FAKE, progress=False)
-    finally:
-        fired = not _FORK_SIGNAL["armed"]
-        _FORK_SIGNAL["armed"] = False
-        signal.signal(signal.SIGINT, old)
-    assert fired
+    with ctrl_c_at_the_next_fork() as ctrl_c, pytest.raises(KeyboardInterrupt):
+        run_sweep(spec, tmp_path, workers=2, components=FAKE, progress=False)
+    assert ctrl_c["fired"]
     assert not (tmp_path / "manifest.json").exists()
     for c in spec.cells():
         assert store.cell_state(cell_dir(tmp_path, c)) in ("ok", "missing")
