@@ -26,7 +26,7 @@ from radarsim.capture import read_capture
 from radarsim.ti import parse_ti_cfg, r79_cfg_path
 
 ROOT = Path(__file__).resolve().parents[2]
-CASE, SEEDS, DURATION_S = "dense_highway", ("0", "1"), "0.2"
+CASE, SEEDS, DURATION_S = "dense_highway", ("0", "1"), "0.1"
 TABLES = ("summary", "detections", "frames", "actors", "actor_summary", "truth", "tracks")
 
 
