@@ -105,8 +105,10 @@ def run_parts(calls: Sequence[Callable[[], T]]) -> list[T]:
     the helper thread(s); return their results in order. A part the helper has not started by
     the time the caller is done with its own (the helper busy with another frame's part, or no
     free core) is taken back and run by the caller, so a busy machine costs no waiting. Every
-    call has finished when this returns or raises (the first exception is raised)."""
-    if len(calls) <= 1:
+    call has finished when this returns or raises (the first exception is raised). Where
+    `n_parts` is 1 (inside `inline`, or a one-core machine) every call runs on the calling
+    thread, in order, whatever the caller split: the calls are independent by contract."""
+    if len(calls) <= 1 or n_parts() == 1:
         return [c() for c in calls]
     futures: list[Future] = [_pool().submit(c) for c in calls[1:]]
     try:

@@ -135,3 +135,18 @@ def test_inline_splits_nothing_on_its_own_thread_only():
         other.join()
     assert seen["other"] == threads.N_PARTS
     assert threads.n_parts() == threads.N_PARTS
+
+
+def test_run_parts_inside_inline_runs_every_call_on_the_calling_thread():
+    """A pass split by its caller into more calls than `n_parts` (two independent steps, say)
+    still runs on the calling thread inside `inline`: a sweep cell's frame threads keep the
+    cores busy and must not queue work on the shared helper thread."""
+    import threading
+    import time
+
+    def first():  # long enough for a helper thread to start the others, if it gets them
+        time.sleep(0.05)
+        return threading.get_ident()
+    with threads.inline():
+        where = threads.run_parts([first, threading.get_ident, threading.get_ident])
+    assert where == [threading.get_ident()] * 3
