@@ -1,8 +1,11 @@
 """The real parts wired together: `radar-harness run`, `sweep`, `gate` and `report` on tiny
-cases (a few frames), checking the contract between scenarios, radarsim, pipeline and metrics."""
+cases (a few frames), checking the contract between scenarios, radarsim, pipeline and metrics.
+The sweep is the one the determinism tests compare (`real_pool_sweep`, tests/harness/conftest.py),
+run once per test session."""
 from __future__ import annotations
 
 import json
+import shutil
 
 import pandas as pd
 
@@ -29,15 +32,16 @@ def test_unknown_case_is_bad_input(capsys):
     assert "unknown case" in capsys.readouterr().err
 
 
-def test_sweep_gate_report_real_parts(tmp_path):
+def test_sweep_gate_report_real_parts(tmp_path, real_pool_sweep):
+    """`sweep` (the shared real-parts pool sweep: the real CLI, `--workers 2`, frame stride 2),
+    then `gate` and `report` on a copy of its folder (the shared one stays read-only)."""
     out = tmp_path / "sweep"
-    assert main(["sweep", "--scenarios", "r79_motorcycle_rear", "head_on_aliasing",
-                 "--duration-s", "0.5", "--frame-stride", "2", "--workers", "2",
-                 "--out", str(out)]) == 0
+    shutil.copytree(real_pool_sweep, out)
     manifest = json.loads((out / "manifest.json").read_text())
     assert manifest["n_ok"] == 2
     s = pd.read_parquet(out / "summary.parquet")
     assert len(s) == 6 and (s["error"] == "").all()
+    assert (s["n_frames"] == 2).all()  # 0.2 s at stride 2: frames 0 and 2
     (tmp_path / "g.toml").write_text(
         "[[gate]]\nname='ok'\nmetric='n_frames'\nmin=1\n")
     assert main(["gate", str(out), "--thresholds", str(tmp_path / "g.toml")]) == 0
