@@ -20,8 +20,10 @@ def fake_results(tmp_path_factory):
 
 @pytest.fixture(scope="session")
 def real_pool_sweep(tmp_path_factory):
-    """`radar-harness sweep <real_sweep.SWEEP_ARGS> --workers 2` in a fresh process: the pool
-    path of the real parts, 2 cells (one per worker). Read-only for its users."""
+    """`radar-harness sweep <real_sweep.SWEEP_ARGS> --workers 2` run by the CLI's `main` in this
+    test process: the pool path of the real parts, 2 cells (one per worker), the workers forked
+    from this process as the CLI's are forked from the CLI process. Read-only for its users."""
+    from harness.cli import main
     out = tmp_path_factory.mktemp("real") / "w2"
-    real_sweep.cli("sweep", *real_sweep.SWEEP_ARGS, "--workers", "2", "--out", str(out))
+    assert main(["sweep", *real_sweep.SWEEP_ARGS, "--workers", "2", "--out", str(out)]) == 0
     return out

@@ -1,7 +1,8 @@
-"""One small real-parts sweep through the real CLI, shared by the determinism and end-to-end
-tests (the `real_pool_sweep` fixture in conftest.py): the default sweep cut to two cases of
-two processed frames each (0.2 s at frame stride 2). The dense highway is one of them: its
-front-end GEMM is the largest of the catalogue (`tests/harness/test_determinism.py`)."""
+"""One small real-parts sweep, shared by the determinism and end-to-end tests (its pool run is
+the `real_pool_sweep` fixture in conftest.py; `cli` runs the serial one in a fresh process):
+the default sweep cut to two cases of two processed frames each (0.2 s at frame stride 2).
+The dense highway is one of them: its front-end GEMM is the largest of the catalogue
+(`tests/harness/test_determinism.py`)."""
 from __future__ import annotations
 
 import subprocess

@@ -2,15 +2,18 @@
 
 `run`, a serial sweep (`--workers 1`), a pool sweep (`--workers 2`) and a Dask cluster give
 bit-identical tables for the same cell, and `simulate` writes exactly the ADC frames a pool
-worker simulates. Each CLI path runs in its own fresh process, so a BLAS thread setting left
-behind by another test cannot hide a difference: one BLAS thread must come from the path itself
-(`harness.runtime.single_thread_blas`). The dense highway is used because its front-end GEMM
-is large enough for a two-thread OpenBLAS to split the sums differently: before the fix, 2 ADC
-samples of its frame 3 flipped by 1 LSB and `--workers 1` and `--workers 2` gave different
-range errors (with today's front end a two-thread OpenBLAS gives the same bits: the check stays
-for the next BLAS). The sweep is `tests/harness/real_sweep.py`'s: two cases, so the serial
-process runs two cells one after the other while each pool worker runs one, and state one
-cell leaves behind for the next shows as a difference.
+worker simulates. The serial sweep, `run` and `simulate` run in fresh processes, so a BLAS
+thread setting left behind by another test cannot hide a difference: one BLAS thread must come
+from the path itself (`harness.runtime.single_thread_blas`). The dense highway is used because
+its front-end GEMM is large enough for a two-thread OpenBLAS to split the sums differently:
+before the fix, 2 ADC samples of its frame 3 flipped by 1 LSB and `--workers 1` and
+`--workers 2` gave different range errors (with today's front end a serial sweep with two
+OpenBLAS threads gives the same bits as the pool's one: the check stays for the next BLAS).
+The pool sweep is `real_pool_sweep` (tests/harness/conftest.py): the CLI's `main` in the test
+process, whose state left by earlier tests its forked workers inherit, a harder reference than
+a fresh process for state leaking between cells; its two cases (`tests/harness/real_sweep.py`)
+make the fresh serial process run two cells one after the other while each pool worker runs
+one, so state one cell leaves behind for the next shows as a difference too.
 """
 from __future__ import annotations
 
