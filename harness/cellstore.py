@@ -232,13 +232,21 @@ def write_cell_dir(final: Path, write: Callable[[Path], None]) -> str:
 
 
 def _pid_alive(pid: int) -> bool:
+    """Whether process `pid` of this host still runs. A zombie (exited, not yet reaped) does
+    not: a killed sweep's orphaned pool workers stay zombies until the host's init reaps them,
+    which a container's PID 1 may never do, and their temporaries would then be kept for good
+    (Linux: the state letter of /proc/<pid>/stat, proc(5))."""
     try:
         os.kill(pid, 0)
     except ProcessLookupError:
         return False
     except PermissionError:
         return True
-    return True
+    try:
+        stat = Path(f"/proc/{pid}/stat").read_text()
+    except OSError:  # no procfs (not Linux), or the process just went
+        return True
+    return stat[stat.rfind(")") + 2:][:1] != "Z"  # after "pid (comm) ", comm may hold ")"
 
 
 def clean_temporaries(cells_root: Path) -> list[Path]:

@@ -157,6 +157,25 @@ def test_temporaries_of_dead_writers_are_cleaned(tmp_path):
     assert not foreign.exists()
 
 
+@pytest.mark.skipif(not Path("/proc/self/stat").exists(), reason="needs Linux procfs")
+def test_temporaries_of_a_zombie_writer_are_removed(tmp_path):
+    """A killed sweep's pool workers can stay zombies (exited, never reaped): not writers."""
+    pid = os.fork()
+    if pid == 0:
+        os._exit(0)
+    try:
+        deadline = time.monotonic() + 10
+        while Path(f"/proc/{pid}/stat").read_text().split(") ")[-1][:1] != "Z":
+            assert time.monotonic() < deadline
+            time.sleep(0.01)
+        tmp = tmp_path / f".tmp-x__s0__abc-{store._HOST}-{pid}-abcdef"
+        tmp.mkdir()
+        assert store.clean_temporaries(tmp_path) == [tmp] and not tmp.exists()
+        assert store._pid_alive(os.getpid())
+    finally:
+        os.waitpid(pid, 0)
+
+
 def test_relative_out_is_resolved_before_dask_workers_see_it(tmp_path, monkeypatch):
     import distributed
     monkeypatch.chdir(tmp_path)
