@@ -41,7 +41,7 @@ import numpy as np
 from radarsim.config import RadarConfig
 
 __all__ = ["COMP_COMMAND", "Q15_SCALE", "q15", "n_chip_pairs", "ti_pair_index",
-           "virtual_coefficients", "compensate", "check_channel_comp", "comp_line",
+           "virtual_coefficients", "compensate", "apply_coefficients", "check_channel_comp", "comp_line",
            "chip_order_coefficients", "check_comp_values", "implied_board"]
 
 #: The TI CLI command this module applies.
@@ -146,7 +146,14 @@ def compensate(cfg: RadarConfig, proc, virt: np.ndarray,
     -------
     (..., n_ch) complex64 (a new array) or `virt` itself.
     """
-    coef = virtual_coefficients(cfg, proc.channel_comp)
+    return apply_coefficients(cfg, proc.channel_comp, virt, channels)
+
+
+def apply_coefficients(cfg: RadarConfig, channel_comp, virt: np.ndarray,
+                       channels: np.ndarray | None = None) -> np.ndarray:
+    """`compensate` by the coefficients ``channel_comp`` itself (hashable: for products
+    cached per configuration, e.g. a DFT with the coefficients folded into its columns)."""
+    coef = virtual_coefficients(cfg, channel_comp)
     if coef is None:
         return virt
     if channels is not None:

@@ -18,11 +18,8 @@ import numba
 import numpy as np
 import scipy.fft
 
-from .kernels import rx_energy_bins, slow_time_fft
+from .kernels import _U, rx_energy_bins, slow_time_fft  # _U: unsigned loop indices
 from .threads import run_parts, spans
-
-#: Unsigned loop indices in the compiled loops (see `_power_into`).
-_U = np.uint64
 
 __all__ = ["ddma_metric", "ddma_gather", "ddma_coherent_power", "ddma_spectra_power",
            "DDMA_RANGE_BLOCK"]

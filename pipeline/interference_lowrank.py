@@ -61,10 +61,10 @@ from typing import NamedTuple
 import numba
 import numpy as np
 
-from .threads import n_parts, run_parts, spans
+from .threads import run_parts, spans
 
 __all__ = ["FastTimeBasis", "fast_time_basis", "lowrank_fill", "burst_fill", "BurstFill",
-           "GramOperands", "gram_operands", "projections"]
+           "GramOperands", "gram_operands", "projections", "burst_row_start"]
 
 #: Smallest ratio noise / prior variance of a coefficient (the constant's prior is unbounded).
 SHRINK_FLOOR = 1e-6
@@ -466,6 +466,13 @@ def projections(x: np.ndarray, basis: FastTimeBasis) -> np.ndarray:
     return (x @ b.conj()).astype(np.complex128 if np.iscomplexobj(b) else np.float64)
 
 
+def burst_row_start(bursts: np.ndarray) -> np.ndarray:
+    """(B + 1,) where each burst's rows start, then the row count: rows of equal consecutive
+    `bursts` ((R,) int, e.g. their chirps) form one burst, rows row_start[b] .. [b + 1] - 1."""
+    bursts = np.asarray(bursts)
+    return np.r_[np.flatnonzero(np.r_[True, bursts[1:] != bursts[:-1]]), len(bursts)]
+
+
 def burst_fill(x: np.ndarray, flags: np.ndarray, bursts: np.ndarray, basis: FastTimeBasis,
                close: int, halfwidth: int, grow_sigma: float, grow_reach: int,
                operands: GramOperands | None = None, rhs: np.ndarray | None = None) -> BurstFill:
@@ -474,16 +481,15 @@ def burst_fill(x: np.ndarray, flags: np.ndarray, bursts: np.ndarray, basis: Fast
     `gram_operands`), the kernel's operands. Arguments as `lowrank_fill`; x must hold at
     least one row."""
     n = x.shape[-1]
-    bursts = np.asarray(bursts)
-    starts = np.flatnonzero(np.r_[True, bursts[1:] != bursts[:-1]])
+    row_start = burst_row_start(bursts)
     if operands is None or rhs is None:
         calls = [lambda: projections(x, basis), lambda: gram_operands(basis)]
-        rhs, operands = run_parts(calls) if n_parts() > 1 else [c() for c in calls]
+        rhs, operands = run_parts(calls)
     thr = grow_sigma * np.sqrt(basis.noise_var) if grow_sigma > 0 else 0.0
     return BurstFill(x, np.ascontiguousarray(flags, dtype=bool), rhs, operands.vec_c,
                      operands.vec_t, operands.prefix, basis.shrink.astype(np.float64),
-                     np.r_[starts, len(x)], (close, halfwidth, thr, grow_reach),
-                     np.zeros((len(starts), n), dtype=bool))
+                     row_start, (close, halfwidth, thr, grow_reach),
+                     np.zeros((len(row_start) - 1, n), dtype=bool))
 
 
 def lowrank_fill(x: np.ndarray, flags: np.ndarray, bursts: np.ndarray, basis: FastTimeBasis,

@@ -504,8 +504,7 @@ def lowrank_bursts(x: np.ndarray, flags: np.ndarray, hysteresis: int, method: Mi
     each burst once, ``.run_all(remove_mean)`` all of them (`repair`'s values; the means are
     not removed by `run`). Arguments as `repair`."""
     if basis is None:
-        ref = _reference(x, frame, lambda: method.mask(flags, hysteresis))
-        basis = fast_time_basis(ref, method.rank_max, 10 ** (method.rank_snr_gate_db / 10))
+        basis = _basis(_reference(x, frame, lambda: method.mask(flags, hysteresis)), method)
     bursts = np.arange(len(x)) if frame is None else frame.rows // frame.n_rx
     return burst_fill(x, flags, bursts, basis, method.close_gap_samples,
                       hysteresis + method.extend_samples, method.grow_sigma,
@@ -524,8 +523,11 @@ def frame_basis(frame: FrameRows, dtype: np.dtype, method: Mitigation) -> FastTi
     the repaired rows nor their flags, so it can be computed beside them. None where the
     frame has too few unflagged rows (the basis then comes from the repaired rows)."""
     ref = _frame_reference(frame, dtype)
-    if ref is None:
-        return None
+    return None if ref is None else _basis(ref, method)
+
+
+def _basis(ref: np.ndarray, method: Mitigation) -> FastTimeBasis:
+    """The "lowrank" `method`'s basis of reference rows `ref` (N, n)."""
     return fast_time_basis(ref, method.rank_max, 10 ** (method.rank_snr_gate_db / 10))
 
 

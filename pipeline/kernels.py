@@ -27,7 +27,7 @@ from .cfar import CFAR_MODES, noise_estimate, training_offsets
 from .config_cache import per_config
 from .threads import run_parts, spans
 
-#: Unsigned loop indices in the compiled loops (see `_rx_energy`).
+#: Unsigned loop indices in the compiled loops (see `_rx_energy`; `ddma_kernels` too).
 _U = np.uint64
 
 __all__ = ["window", "range_fft", "windowed", "samples_windowed", "doppler_fft", "slow_time_fft",

@@ -40,7 +40,8 @@ import numba
 import numpy as np
 
 from ..config import INTF_THRESHOLD_MODES, ProcessingConfig
-from ..interference_lowrank import FastTimeBasis, GramOperands, gram_operands, projections
+from ..interference_lowrank import (FastTimeBasis, GramOperands, burst_row_start,
+                                   gram_operands, projections)
 from ..interference_repair import (FrameRows, Mitigation, frame_basis, frame_has_reference,
                                    get_mitigation, lowrank_bursts, repair)
 from ..threads import inline, run_parts, spans
@@ -169,9 +170,7 @@ class DeferredLowrank:
                  make_rows: Callable[[], None], make_flags: Callable[[], np.ndarray]):
         self.y, self.frame, self.method, self.hysteresis = y, frame, method, hysteresis
         self._make_rows, self._make_flags = make_rows, make_flags
-        bursts = frame.rows // frame.n_rx
-        starts = np.flatnonzero(np.r_[True, bursts[1:] != bursts[:-1]])
-        self.row_start = np.r_[starts, len(y)]  # burst b: rows row_start[b] .. [b + 1] - 1
+        self.row_start = burst_row_start(frame.rows // frame.n_rx)  # a burst: one chirp
         self._done = [threading.Event() for _ in range(4)]
         self._basis: FastTimeBasis | None = None
         self._flags: np.ndarray | None = None

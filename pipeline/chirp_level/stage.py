@@ -23,7 +23,7 @@ from radarsim.config import RadarConfig
 
 from ..config import INTF_THRESHOLD_MODES, WINDOWS, ProcessingConfig
 from ..kernels import doppler_windowed, range_fft, samples_windowed, window, windowed
-from ..threads import n_parts, run_parts, spans
+from ..threads import n_parts, run_parts, run_queue, spans
 from .dc import remove_dc, window_spectrum
 from .ege import HWA_OUTPUT_SCALE, _ege_blocks, ege_compress, ege_setup
 from .interference import RepairedRows, flagged_rows, repaired_rows
@@ -224,27 +224,9 @@ def _blockwise(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig, dc: np
     def after_repair(j: int) -> None:
         done[j // group].wait()
         block(c0s[j], min(c0s[j] + CHIRP_BLOCK, n_c))
-    _in_turn(rep.fill.steps() + [lambda g=g: repair(g) for g in range(len(done))]
+    run_queue(rep.fill.steps() + [lambda g=g: repair(g) for g in range(len(done))]
              + [lambda j=j: after_repair(j) for j in range(len(c0s))])
     return out
-
-
-def _in_turn(calls: list) -> None:
-    """Every call once, taken in list order by whichever part (`pipeline.threads`) is free:
-    the calls must be independent (each writes its own results), so the results do not
-    depend on which part ran a call. One hand-off, and the parts finish within one call of
-    each other whatever the calls cost."""
-    lock = threading.Lock()
-    queue = iter(calls)
-
-    def take() -> None:
-        while True:
-            with lock:
-                call = next(queue, None)
-            if call is None:
-                return
-            call()
-    run_parts([take] * min(n_parts(), len(calls)))
 
 
 def _dc_signature(rf: np.ndarray, proc: ProcessingConfig) -> np.ndarray:

@@ -21,7 +21,7 @@ from radarsim.config import RadarConfig
 
 from ..cfar import noise_mean_factor
 from ..chirp_level.stage import windowed_range_stage
-from ..compensation import compensate, virtual_coefficients
+from ..compensation import apply_coefficients, compensate
 from ..config import WINDOWS, ProcessingConfig
 from ..config_cache import per_config
 from ..ddma_kernels import ddma_spectra_power
@@ -99,14 +99,11 @@ def _map_dft(cfg: RadarConfig, n_az: int, channel_comp: tuple | None
     the chain; read-only): the sub-band positions p of the horizontal row's transmitters, (P,)
     int32, and the zero-padded azimuth DFT over their virtual channels, (n_az, P x n_rx)
     complex64, with compRangeBiasAndRxChanPhase's channel coefficients folded into its columns
-    (`compensate`'s product)."""
+    (`compensation.apply_coefficients`)."""
     n_rx = cfg.n_rx
     tx_h = np.unique(layout_of(cfg).h_idx // n_rx).astype(np.int32)
     rows = (tx_h[:, None] * n_rx + np.arange(n_rx)).reshape(-1)
-    dft = array_dft(cfg, n_az, "horizontal")[rows].T
-    coef = virtual_coefficients(cfg, channel_comp)
-    if coef is not None:
-        dft = dft * coef[rows]
+    dft = apply_coefficients(cfg, channel_comp, array_dft(cfg, n_az, "horizontal")[rows].T, rows)
     for a in (tx_h, dft):
         a.flags.writeable = False
     return tx_h, dft

@@ -163,7 +163,8 @@ def test_deferred_repair_is_the_repair_in_any_chirp_order(cfg, monkeypatch, part
     deferred."""
     from pipeline import interference_repair, threads
     from pipeline.chirp_level.interference import repaired_rows
-    from pipeline.chirp_level.stage import _chirp_statistics, _in_turn
+    from pipeline.chirp_level.stage import _chirp_statistics
+    from pipeline.threads import run_queue
     from pipeline.kernels import window
     if few_clean_rows:
         monkeypatch.setattr(interference_repair, "MIN_REFERENCE_ROWS", 10 ** 9)
@@ -179,7 +180,7 @@ def test_deferred_repair_is_the_repair_in_any_chirp_order(cfg, monkeypatch, part
                         deferred=True)
     assert (rep.fill is None) == few_clean_rows and len(calls) == few_clean_rows
     if rep.fill is not None:
-        _in_turn(rep.fill.steps()) if parts == 2 else rep.fill.prepare()
+        run_queue(rep.fill.steps()) if parts == 2 else rep.fill.prepare()
     assert len(calls) == 1
     n_c, n_rx = adc.shape[:2]
     cuts = np.unique(np.r_[0, np.random.default_rng(1).integers(0, n_c, 7), n_c])

@@ -130,30 +130,6 @@ def test_windowed_range_stage_is_the_range_stage_times_the_window_bit_for_bit(cf
             assert (kept * w[:, None, None]).tobytes() == want
 
 
-@pytest.mark.parametrize("parts", [1, 2])
-def test_in_turn_runs_every_call_once_and_raises_a_failure(monkeypatch, parts):
-    """`_in_turn`: every call exactly once in any number of parts; a failing call's exception
-    is raised once the parts are done, and no call ran twice."""
-    import threading
-
-    from pipeline import threads
-    from pipeline.chirp_level.stage import _in_turn
-    monkeypatch.setattr(threads, "N_PARTS", parts)
-    ran, lock = [], threading.Lock()
-
-    def call(i):
-        with lock:
-            ran.append(i)
-        if i == 7:
-            raise RuntimeError("call 7")
-    _in_turn([lambda i=i: call(i) for i in range(7)])
-    assert sorted(ran) == list(range(7))
-    ran.clear()
-    with pytest.raises(RuntimeError, match="call 7"):
-        _in_turn([lambda i=i: call(i) for i in range(20)])
-    assert len(ran) == len(set(ran)) and 7 in ran
-
-
 def test_inline_dirty_range_stage_hands_nothing_to_the_helper(cfg, monkeypatch):
     """Inside `threads.inline` (a sweep cell's frames) the range stage of a frame with a
     repaired burst runs every step on the calling thread, the basis and its neighbours
