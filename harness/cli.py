@@ -83,7 +83,8 @@ def main(argv: list[str] | None = None) -> int:
 
 def _stopped(command: str, exc: KeyboardInterrupt) -> int:
     why = f"stopped by {exc.args[0]}" if isinstance(exc, Terminated) else "interrupted"
-    print(f"radar-harness{' ' + command if command else ''}: {why}: rerun the same command to resume", file=sys.stderr)
+    print(f"radar-harness{' ' + command if command else ''}: {why}: rerun the same command to "
+          "resume", file=sys.stderr)
     return 128 + exc.signum if isinstance(exc, Terminated) else EXIT_INTERRUPTED
 
 
@@ -93,8 +94,6 @@ def _main(argv: list[str] | None) -> int:
         args = parser.parse_args(argv)
     except SystemExit as exc:  # --help (0) or a one-line usage error (2)
         return int(exc.code or 0) if not isinstance(exc.code, str) else EXIT_BAD_INPUT
-    except KeyboardInterrupt as exc:
-        return _stopped("", exc)
     mod = importlib.import_module(args._module)
     runner = getattr(mod, f"run_{args.command}", getattr(mod, "run", None))
     try:

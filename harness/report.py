@@ -13,7 +13,6 @@ and last, collapsed, the gate table. Panels follow the schemes present in the ta
 """
 from __future__ import annotations
 
-import concurrent.futures as cf
 import fnmatch
 import html
 import os
@@ -30,7 +29,7 @@ from .figures import png_img as _img
 from .figures import pyplot as _plt
 from .mitigation_report import html_section as mitigation_section
 from .provenance import read_manifest, version_line
-from .runtime import STOP_POLL_S, prepare_worker, stop_pool, stop_signals_recorded
+from .runtime import prepare_worker, stoppable_pool
 
 __all__ = ["build_report", "doppler_azimuth_map", "choose_frame"]
 
@@ -379,25 +378,15 @@ def _case_sections(summary, det, truth, specs, keys: list, maps: bool) -> list[s
 
 def _drawn_in_pool(inputs: list, workers: int) -> list:
     """`_draw_case` of every input, in order, on a pool of `workers` processes that a stop
-    signal stops at any moment, as a sweep's pool (`harness.runtime.stop_signals_recorded`:
-    one landing while the pool forks its workers would otherwise be dropped). The workers
+    signal stops at any moment, as a sweep's pool (`harness.runtime.stoppable_pool`: one
+    landing while the pool forks its workers would otherwise be dropped). The workers
     leave Ctrl-C to this process (`prepare_worker`), so a terminal's Ctrl-C gives one line,
     not a traceback per worker."""
-    with stop_signals_recorded() as stops:
-        ex = cf.ProcessPoolExecutor(workers, initializer=prepare_worker,
-                                    initargs=(os.getpid(),))
-        try:
-            futs = [ex.submit(_draw_case, c) for c in inputs]
-            waiting = set(futs)
-            while waiting:
-                stops.check()
-                _, waiting = cf.wait(waiting, timeout=STOP_POLL_S)
-            drawn = [f.result() for f in futs]
-        except BaseException:
-            stop_pool(ex)
-            raise
-        ex.shutdown(wait=True)
-    return drawn
+    with stoppable_pool(workers, prepare_worker, (os.getpid(),)) as pool:
+        futs = [pool.executor.submit(_draw_case, c) for c in inputs]
+        for _ in pool.completed(futs):
+            pass
+        return [f.result() for f in futs]
 
 
 def interference_section(summary: pd.DataFrame, actors: pd.DataFrame) -> str:

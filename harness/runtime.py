@@ -45,10 +45,13 @@ import os
 import signal
 import sys
 import threading
+from collections.abc import Iterator
+from typing import NamedTuple
 
 __all__ = ["tune_allocator", "single_thread_blas", "prepare_process", "exit_with_parent",
            "prepare_worker", "Terminated", "terminate_on_signals", "StopSignals",
-           "stop_signals_recorded", "STOP_POLL_S", "stop_pool"]
+           "stop_signals_recorded", "STOP_POLL_S", "stop_pool", "stoppable_pool",
+           "StoppablePool"]
 
 _M_TRIM_THRESHOLD, _M_TOP_PAD, _M_MMAP_THRESHOLD = -1, -2, -3
 _MMAP_THRESHOLD_BYTES = 32 << 20  # glibc's maximum on 64-bit: blocks below come from the heap
@@ -218,8 +221,8 @@ def stop_signals_recorded():
     In a callback whose exceptions Python only prints ("Exception ignored in ..."), the signal
     is lost: os.fork runs the at-fork hooks of the modules loaded (logging's are Python
     functions), so a Ctrl-C that landed while a process pool forked its workers (likeliest
-    under load) let the sweep run to its end and exit 0. Signals ignored on entry stay ignored. Outside the main thread nothing
-    is recorded and `StopSignals.check` never raises.
+    under load) let the sweep run to its end and exit 0. Signals ignored on entry stay
+    ignored. Outside the main thread nothing is recorded and `StopSignals.check` never raises.
 
     Examples
     --------
@@ -251,6 +254,41 @@ def stop_signals_recorded():
             signal.signal(sig, old)
         if stops.received:
             signal.raise_signal(stops.received[0])
+
+
+class StoppablePool(NamedTuple):
+    """A process pool inside `stoppable_pool`: its `executor` and the stop signals recorded."""
+
+    executor: cf.ProcessPoolExecutor
+    stops: StopSignals
+
+    def completed(self, futures) -> Iterator[cf.Future]:
+        """`futures` as they complete (``concurrent.futures.as_completed``), a recorded stop
+        signal raised between them, at most `STOP_POLL_S` apart."""
+        waiting = set(futures)
+        while waiting:
+            self.stops.check()
+            done, waiting = cf.wait(waiting, timeout=STOP_POLL_S, return_when=cf.FIRST_COMPLETED)
+            yield from done
+
+
+@contextlib.contextmanager
+def stoppable_pool(workers: int, initializer, initargs: tuple) -> Iterator[StoppablePool]:
+    """A process pool that a stop signal (Ctrl-C, SIGTERM, SIGHUP) stops at any moment, its
+    start included: the signals are recorded (`stop_signals_recorded`) and raised where the
+    user waits (`StoppablePool.completed`), not where they land (one landing inside os.fork's
+    at-fork hooks, while the pool forks its workers, would be dropped). On any escape from
+    the block the pool is stopped and its workers reaped (`stop_pool`) before the exception
+    goes on; otherwise the block's end waits for the pool to shut down."""
+    with stop_signals_recorded() as stops:
+        ex = cf.ProcessPoolExecutor(max_workers=workers, initializer=initializer,
+                                    initargs=initargs)
+        try:
+            yield StoppablePool(ex, stops)
+        except BaseException:
+            stop_pool(ex)
+            raise
+        ex.shutdown(wait=True)
 
 
 def stop_pool(ex: cf.ProcessPoolExecutor, join_timeout_s: float = 5.0) -> None:

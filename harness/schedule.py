@@ -9,14 +9,13 @@ checksum of every table. A rerun reuses cells of the same code version whose tab
 cells of another version unless ``force`` (then they are recomputed). A cell that raises is
 recorded (``cell.json`` with status "error" and the traceback) and the sweep continues; errored
 cells are retried by the next run. A stop signal (Ctrl-C, SIGTERM, SIGHUP) at any moment of a
-pool sweep stops it and its workers (`harness.runtime.stop_signals_recorded`). Every path runs
+pool sweep stops it and its workers (`harness.runtime.stoppable_pool`). Every path runs
 with one BLAS thread, so the same seeds give the same bits whatever the worker count or
 scheduler. When all cells are done the tables are assembled (`harness.assemble`); a sweep with
 missing cells is incomplete (`SweepOutcome.complete`).
 """
 from __future__ import annotations
 
-import concurrent.futures as cf
 import os
 import sys
 import uuid
@@ -29,7 +28,7 @@ from . import cellstore as store
 from .assemble import assemble
 from .components import Components
 from .dask_cluster import DEFAULT_SCHEDULER_TIMEOUT_S, run_dask
-from .runtime import STOP_POLL_S, single_thread_blas, stop_pool, stop_signals_recorded
+from .runtime import single_thread_blas, stoppable_pool
 from .sweepfile import validate_cells
 from .sweepspec import SweepSpec
 from .worker import execute_cell, init_worker
@@ -203,34 +202,19 @@ def _run_local(pending: list, out: Path, workers: int, components, bar
             results[c.cell_id] = execute_cell(c, str(out), components)
             bar.update(1)
         return results, interrupted
-    # Stop signals are recorded and raised where this loop polls, not where they land: one
-    # raised inside os.fork's at-fork hooks (a Ctrl-C while the pool forks its workers) is
-    # dropped by Python, and the sweep ran on to its end (`stop_signals_recorded`).
-    with stop_signals_recorded() as stops:
-        ex = cf.ProcessPoolExecutor(max_workers=workers, initializer=init_worker,
-                                    initargs=(os.getpid(),))
-        try:
-            futs = {ex.submit(execute_cell, c, str(out), components): c for c in pending}
-            waiting = set(futs)
-            while waiting:
-                stops.check()
-                done, waiting = cf.wait(waiting, timeout=STOP_POLL_S,
-                                        return_when=cf.FIRST_COMPLETED)
-                for fut in done:
-                    c = futs[fut]
-                    try:
-                        results[c.cell_id] = fut.result()
-                    except BrokenProcessPool:
-                        # A worker died (killed, OOM): its cells are not recorded as errors;
-                        # the next run of the same command resumes them.
-                        interrupted.append(c.cell_id)
-                    bar.update(1)
-        except BaseException:
-            # Ctrl-C, SIGTERM, SIGHUP (or any escape): stop now. Running cells are lost whole
-            # (their temporary directories are cleaned by the next run), written ones stay.
-            # The workers are reaped before the exception goes on, so none outlives this
-            # process; a second signal meanwhile is only recorded.
-            stop_pool(ex)
-            raise
-        ex.shutdown(wait=True)
+    # Ctrl-C, SIGTERM, SIGHUP at any moment, the pool's start included, stop it now
+    # (`stoppable_pool`): running cells are lost whole (their temporary directories are
+    # cleaned by the next run), written ones stay; no worker outlives this process.
+    with stoppable_pool(workers, init_worker, (os.getpid(),)) as pool:
+        futs = {pool.executor.submit(execute_cell, c, str(out), components): c
+                for c in pending}
+        for fut in pool.completed(futs):
+            c = futs[fut]
+            try:
+                results[c.cell_id] = fut.result()
+            except BrokenProcessPool:
+                # A worker died (killed, OOM): its cells are not recorded as errors; the next
+                # run of the same command resumes them.
+                interrupted.append(c.cell_id)
+            bar.update(1)
     return results, interrupted

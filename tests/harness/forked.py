@@ -68,14 +68,49 @@ def wait_exit(pid: int, timeout_s: float) -> int:
 
 
 def wait_group_gone(pgid: int, timeout_s: float) -> None:
-    """Wait until no process of group `pgid` exists any more, zombies included: a killed
-    sweep's pool workers outlive their parent as zombies until init reaps them, and a
-    resume takes a temporary directory of a pid that still exists for a live writer's."""
+    """Wait until no process of group `pgid` runs any more: each is gone or a zombie (a
+    killed sweep's pool workers outlive their parent as zombies until init reaps them, which
+    a container's PID 1 may never do; the cell store takes a zombie for a dead writer)."""
     deadline = time.monotonic() + timeout_s
-    while time.monotonic() < deadline:
+    while _running_in_group(pgid):
+        if time.monotonic() > deadline:
+            raise TimeoutError(f"process group {pgid} still running after {timeout_s} s")
+        time.sleep(0.02)
+
+
+def _running_in_group(pgid: int) -> bool:
+    """Whether a process of group `pgid` exists that is not a zombie (Linux /proc/<pid>/stat:
+    state, then the group two fields on, after "pid (comm) ", proc(5)); where there is no
+    procfs, whether the group exists at all."""
+    if not Path("/proc/self/stat").exists():
         try:
             os.killpg(pgid, 0)
         except ProcessLookupError:
-            return
-        time.sleep(0.02)
-    raise TimeoutError(f"process group {pgid} still exists after {timeout_s} s")
+            return False
+        return True
+    for stat in Path("/proc").glob("[0-9]*/stat"):
+        try:
+            fields = stat.read_text()
+        except OSError:  # gone meanwhile
+            continue
+        state, _, group = fields[fields.rfind(")") + 2:].split()[:3]
+        if int(group) == pgid and state != "Z":
+            return True
+    return False
+
+
+def forked_children(pid: int) -> list[int]:
+    """Children of `pid` running its own executable: forked pool workers, not `git`."""
+    try:
+        exe = os.readlink(f"/proc/{pid}/exe")
+        kids = Path(f"/proc/{pid}/task/{pid}/children").read_text().split()
+    except OSError:  # the sweep has exited
+        return []
+    out = []
+    for k in kids:
+        try:
+            if os.readlink(f"/proc/{k}/exe") == exe:
+                out.append(int(k))
+        except OSError:  # gone meanwhile
+            pass
+    return out

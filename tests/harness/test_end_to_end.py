@@ -1,7 +1,7 @@
 """The real parts wired together: `radar-harness run`, `sweep`, `gate` and `report` on tiny
 cases (a few frames), checking the contract between scenarios, radarsim, pipeline and metrics.
 The sweep is the one the determinism tests compare (`real_pool_sweep`, tests/harness/conftest.py),
-run once per test session."""
+run once per test process (an xdist worker that runs neither user runs none)."""
 from __future__ import annotations
 
 import json

@@ -13,7 +13,7 @@ import time
 import psutil
 import pytest
 
-from harness import runtime
+from harness import cli, runtime
 from harness.cli import main
 
 SWEEP = textwrap.dedent("""\
@@ -199,7 +199,6 @@ class _ImportInterrupted:
 
 
 def test_ctrl_c_while_the_commands_import_gives_the_one_line(monkeypatch, capsys):
-    import harness.cli as cli
     monkeypatch.setattr(cli, "importlib", _ImportInterrupted)
     assert main(["scenarios"]) == 130
     assert capsys.readouterr().err.strip().splitlines() == [
@@ -207,8 +206,6 @@ def test_ctrl_c_while_the_commands_import_gives_the_one_line(monkeypatch, capsys
 
 
 def test_ctrl_c_during_start_up_gives_the_one_line(monkeypatch, capsys):
-    import harness.cli as cli
-
     def interrupted():
         raise KeyboardInterrupt
     monkeypatch.setattr(cli, "prepare_process", interrupted)

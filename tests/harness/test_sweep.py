@@ -7,7 +7,6 @@ import os
 import signal
 import textwrap
 import time
-from pathlib import Path
 
 import pandas as pd
 import pytest
@@ -18,7 +17,7 @@ from harness.schedule import run_sweep
 from harness.sweepfile import load_sweep
 from harness.sweepspec import SCHEMES_SWEEP_PATH, SweepSpec, Variant
 from tests.harness.fakes import FAKE, assert_same_tables
-from tests.harness.forked import fork_sweep, wait_exit
+from tests.harness.forked import fork_sweep, forked_children, wait_exit
 
 
 
@@ -107,11 +106,6 @@ def test_pool_equals_serial_and_dask(tmp_path):
     assert_same_tables(tmp_path / "serial", tmp_path / "dask")
 
 
-def _children(pid: int) -> list[int]:
-    path = Path(f"/proc/{pid}/task/{pid}/children")
-    return [int(x) for x in path.read_text().split()] if path.exists() else []
-
-
 def test_killed_worker_loses_no_completed_cell_and_rerun_resumes(tmp_path):
     out = tmp_path / "r"
     spec = SweepSpec(name="t", scenarios=("fast", "slow", "mid"), seeds=(0, 1), duration_s=0.4)
@@ -121,13 +115,18 @@ def test_killed_worker_loses_no_completed_cell_and_rerun_resumes(tmp_path):
                      env={"FAKE_PROCESS_DELAY_S": "0.02"})  # ~0.5 s per cell
     # Kill a worker once a first cell is on disk. The deadline only guards against a hang: on a
     # loaded machine the pool may take well over 30 s to start (the test failed that way).
-    deadline = time.monotonic() + 300
-    while not completed_cells(out, cells) and time.monotonic() < deadline:
-        time.sleep(0.05)
-    assert completed_cells(out, cells), "no cell completed within 300 s"
-    workers = _children(pid)
-    assert workers, "no worker process found"
-    os.kill(workers[0], signal.SIGKILL)
+    try:
+        deadline = time.monotonic() + 300
+        while not completed_cells(out, cells) and time.monotonic() < deadline:
+            time.sleep(0.05)
+        assert completed_cells(out, cells), "no cell completed within 300 s"
+        workers = forked_children(pid)
+        assert workers, "no worker process found"
+        os.kill(workers[0], signal.SIGKILL)
+    except BaseException:
+        os.kill(pid, signal.SIGKILL)  # no sweep left running behind a failed test
+        os.waitpid(pid, 0)
+        raise
     assert wait_exit(pid, 60) == 0
     report = json.loads((tmp_path / "report.json").read_text())
     done = completed_cells(out, cells)

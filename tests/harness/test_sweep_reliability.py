@@ -31,7 +31,7 @@ from harness.sweepspec import SweepSpec
 from harness.worker import execute_cell
 from tests.harness.fakes import (FAILING, FAKE, TABLES, assert_same_tables,
                                  ctrl_c_at_the_next_fork)
-from tests.harness.forked import fork_sweep, wait_exit, wait_group_gone
+from tests.harness.forked import fork_sweep, forked_children, wait_exit, wait_group_gone
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -264,30 +264,6 @@ def test_sigkill_at_random_points_many_trials(tmp_path):
     _kill_resume_trials(tmp_path, n_trials=12, seed=1515)
 
 
-def _ctrl_c_as_in_a_terminal() -> None:
-    """Start the child with SIGINT at its default, as a terminal's foreground job has it: a
-    suite started with ``&`` by a script inherits SIGINT ignored (POSIX), and the sweep, like
-    Python, keeps an inherited ignore (a background job must survive the script's Ctrl-C)."""
-    signal.signal(signal.SIGINT, signal.SIG_DFL)
-
-
-def _forked_children(pid: int) -> list[int]:
-    """Children of `pid` running its own executable: forked pool workers, not `git`."""
-    try:
-        exe = os.readlink(f"/proc/{pid}/exe")
-        kids = Path(f"/proc/{pid}/task/{pid}/children").read_text().split()
-    except OSError:  # the sweep has exited
-        return []
-    out = []
-    for k in kids:
-        try:
-            if os.readlink(f"/proc/{k}/exe") == exe:
-                out.append(int(k))
-        except OSError:  # gone meanwhile
-            pass
-    return out
-
-
 def test_sigint_prints_the_resume_hint_not_a_traceback(tmp_path):
     """Ctrl-C on a real pool sweep: exit 130, one line, cells already written stay valid.
 
@@ -300,14 +276,23 @@ def test_sigint_prints_the_resume_hint_not_a_traceback(tmp_path):
            "--scenarios",
            "blind_spot_overtaking", "head_on_aliasing", "--duration-s", "2", "--workers", "2",
            "--out", str(out)]
-    p = subprocess.Popen(cmd, cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                         text=True, preexec_fn=_ctrl_c_as_in_a_terminal)
+    # The sweep starts with SIGINT at its default, as a terminal's foreground job has it: a
+    # suite started with ``&`` by a script inherits SIGINT ignored (POSIX), and the sweep,
+    # like Python, keeps an inherited ignore (a background job must survive the script's
+    # Ctrl-C). A handled signal is reset to its default by exec (no preexec_fn, which may
+    # deadlock in a process with threads).
+    before = signal.signal(signal.SIGINT, signal.default_int_handler)
+    try:
+        p = subprocess.Popen(cmd, cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                             text=True)
+    finally:
+        signal.signal(signal.SIGINT, before)
     try:
         deadline = time.monotonic() + 120
-        while time.monotonic() < deadline and len(_forked_children(p.pid)) < 2 \
+        while time.monotonic() < deadline and len(forked_children(p.pid)) < 2 \
                 and p.poll() is None:
             time.sleep(0.05)
-        assert len(_forked_children(p.pid)) >= 2, "the sweep's pool did not start 2 workers"
+        assert len(forked_children(p.pid)) >= 2, "the sweep's pool did not start 2 workers"
         time.sleep(0.3)
         p.send_signal(signal.SIGINT)
         _, err = p.communicate(timeout=120)

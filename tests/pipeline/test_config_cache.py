@@ -17,7 +17,7 @@ def test_entries_by_identity_oldest_dropped_first():
     assert f(a, 1) is first and len(calls) == 1
     assert f(b, 1) == first and f(b, 1) is not first and len(calls) == 2
     f(c, 1)  # a's entry is the oldest: dropped
-    assert len(calls) == 3 and f(b, 1) is not None and len(calls) == 3
+    assert len(calls) == 3 and f(b, 1) == first and len(calls) == 3  # b's entry is kept
     f(a, 1)
     assert len(calls) == 4
     f.cache_clear()

@@ -127,10 +127,16 @@ def _race(tmp_path: Path, locked: bool) -> tuple[dict, dict, list[str]]:
                                 stderr=subprocess.PIPE, text=True)
                for role in ("A", "B")]
     records = []
-    for w in writers:
-        out, err = w.communicate(timeout=60)
-        assert w.returncode == 0, err
-        records.append(json.loads(out))
+    try:
+        for w in writers:
+            out, err = w.communicate(timeout=60)
+            assert w.returncode == 0, err
+            records.append(json.loads(out))
+    finally:  # a writer left waiting for the other's event is not left behind
+        for w in writers:
+            if w.poll() is None:
+                w.kill()
+                w.communicate()
     files = sorted(p.name for p in (tmp_path / "cache").rglob("*.nbc"))
     return *records, files
 

@@ -141,7 +141,6 @@ def test_run_parts_inside_inline_runs_every_call_on_the_calling_thread():
     """A pass split by its caller into more calls than `n_parts` (two independent steps, say)
     still runs on the calling thread inside `inline`: a sweep cell's frame threads keep the
     cores busy and must not queue work on the shared helper thread."""
-    import threading
     import time
 
     def first():  # long enough for a helper thread to start the others, if it gets them
