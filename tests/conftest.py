@@ -67,7 +67,7 @@ def pytest_sessionstart(session):
 
 @pytest.hookimpl(hookwrapper=True)
 def pytest_runtestloop(session):
-    # After collection: the other workers have had that long to write their shares.
+    # After collection: the modules no worker has claimed yet (each claims a free one).
     numba_warm.warm(_WARM_LATER, _WARM_TABLE, _WARM)
     _WARM_LATER.clear()
     yield
@@ -98,5 +98,6 @@ def pytest_terminal_summary(terminalreporter):
         for line in r["missing"]:
             terminalreporter.write_line(f"  compiled outside the list: {line}")
     if any(r["stale"] or r["missing"] for r in _WARM_REPORTS):
-        terminalreporter.write_line("  (python -m tests.numba_warm rewrites "
+        terminalreporter.write_line("  (after a suite run with TESTS_NUMBA_WARM=0 in a clean "
+                                    "checkout, python -m tests.numba_warm rewrites "
                                     "tests/numba_signatures.txt)")

@@ -8,11 +8,14 @@ pool forks them from the CLI process).
 """
 from __future__ import annotations
 
+import contextlib
 import json
 import os
+import signal
 import sys
 import time
 import traceback
+from collections.abc import Iterator
 from pathlib import Path
 
 
@@ -114,3 +117,32 @@ def forked_children(pid: int) -> list[int]:
         except OSError:  # gone meanwhile
             pass
     return out
+
+
+_FORK_SIGNAL = {"armed": False, "registered": False}
+
+
+@contextlib.contextmanager
+def ctrl_c_at_the_next_fork() -> Iterator[dict]:
+    """Within the block, SIGINT is handled as in a terminal (KeyboardInterrupt) and this
+    process sends itself SIGINT from inside its next ``os.fork()`` (a pool worker's start):
+    Python runs the handler at the first bytecode it meets, in the at-fork hooks, as for a
+    Ctrl-C that lands while a pool forks its workers under load. Yields a dict whose "fired"
+    says, after the block, whether the signal was sent (a test that never forked tests
+    nothing)."""
+    if not _FORK_SIGNAL["registered"]:
+        def before() -> None:
+            if _FORK_SIGNAL["armed"]:
+                _FORK_SIGNAL["armed"] = False
+                os.kill(os.getpid(), signal.SIGINT)
+        os.register_at_fork(before=before)  # permanent: inert while disarmed
+        _FORK_SIGNAL["registered"] = True
+    state = {"fired": False}
+    old = signal.signal(signal.SIGINT, signal.default_int_handler)
+    _FORK_SIGNAL["armed"] = True
+    try:
+        yield state
+    finally:
+        state["fired"] = not _FORK_SIGNAL["armed"]
+        _FORK_SIGNAL["armed"] = False
+        signal.signal(signal.SIGINT, old)

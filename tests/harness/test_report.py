@@ -94,17 +94,22 @@ def test_report_panels_follow_the_schemes_in_the_tables(tmp_path):
     assert "SNR gain over tdma" in page and ">bpm<" in page
 
 
-def test_case_sections_drawn_in_worker_processes_equal_inline(fake_results, monkeypatch):
-    """Case sections drawn in a process pool (a report with many cases): the same HTML, in
-    the same order, as drawn inline."""
+def _case_section_args(results) -> tuple:
+    """`report._case_sections`' arguments for every case of a results folder, no maps."""
     import pandas as pd
-
-    from harness import report as rp
-    tabs = {t: pd.read_parquet(fake_results / f"{t}.parquet")
+    tabs = {t: pd.read_parquet(results / f"{t}.parquet")
             for t in ("summary", "detections", "truth")}
     keys = [tuple(k) for k in tabs["summary"][["scenario", "variant", "seed"]]
             .drop_duplicates().itertuples(index=False)]
-    args = (tabs["summary"], tabs["detections"], tabs["truth"], {}, keys, False)
+    return tabs["summary"], tabs["detections"], tabs["truth"], {}, keys, False
+
+
+def test_case_sections_drawn_in_worker_processes_equal_inline(fake_results, monkeypatch):
+    """Case sections drawn in a process pool (a report with many cases): the same HTML, in
+    the same order, as drawn inline."""
+    from harness import report as rp
+    args = _case_section_args(fake_results)
+    keys = args[4]
     monkeypatch.setattr(rp, "PARALLEL_MIN_CASES", 10 ** 9)
     inline = rp._case_sections(*args)
     monkeypatch.setattr(rp, "PARALLEL_MIN_CASES", 2)
@@ -119,18 +124,13 @@ def test_ctrl_c_while_the_case_pool_forks_stops_the_report(fake_results, monkeyp
     Python (raised inside os.fork's at-fork hooks) and the report ran on: it must stop it."""
     import multiprocessing
 
-    import pandas as pd
-
     from harness import report as rp
-    from tests.harness.fakes import ctrl_c_at_the_next_fork
+    from tests.harness.forked import ctrl_c_at_the_next_fork
     if multiprocessing.get_start_method() != "fork":
         pytest.skip("this Python starts pool workers without forking: no at-fork hook runs")
-    tabs = {t: pd.read_parquet(fake_results / f"{t}.parquet")
-            for t in ("summary", "detections", "truth")}
-    keys = [tuple(k) for k in tabs["summary"][["scenario", "variant", "seed"]]
-            .drop_duplicates().itertuples(index=False)]
+    args = _case_section_args(fake_results)
     monkeypatch.setattr(rp, "PARALLEL_MIN_CASES", 2)
     monkeypatch.setattr(rp.os, "cpu_count", lambda: 2)
     with ctrl_c_at_the_next_fork() as ctrl_c, pytest.raises(KeyboardInterrupt):
-        rp._case_sections(tabs["summary"], tabs["detections"], tabs["truth"], {}, keys, False)
+        rp._case_sections(*args)
     assert ctrl_c["fired"]

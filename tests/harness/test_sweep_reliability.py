@@ -29,9 +29,9 @@ from harness.cellstore import cell_dir, completed_cells
 from harness.schedule import run_sweep
 from harness.sweepspec import SweepSpec
 from harness.worker import execute_cell
-from tests.harness.fakes import (FAILING, FAKE, TABLES, assert_same_tables,
-                                 ctrl_c_at_the_next_fork)
-from tests.harness.forked import fork_sweep, forked_children, wait_exit, wait_group_gone
+from tests.harness.fakes import FAILING, FAKE, TABLES, assert_same_tables
+from tests.harness.forked import (ctrl_c_at_the_next_fork, fork_sweep, forked_children,
+                                  wait_exit, wait_group_gone)
 
 ROOT = Path(__file__).resolve().parents[2]
 
