@@ -64,14 +64,14 @@ def check_output_file(path, option: str):
     """An output file path that can be written: not a directory, in an existing folder that
     takes new files (a probe file is created: a read-only mount is caught even for root),
     an existing file writable. Checked before a long computation, so it never fails at the
-    end (`scenarios.fileio.check_output_path`).
+    end (`core.fileio.check_output_path`).
 
     Raises
     ------
     ValueError
         Naming the option, the path and what is wrong.
     """
-    from scenarios.fileio import check_output_path
+    from core.fileio import check_output_path
     return check_output_path(path, option)
 
 

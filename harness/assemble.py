@@ -12,8 +12,8 @@ from pathlib import Path
 
 import pandas as pd
 
+from core.fileio import atomic_write
 from metrics.association import AssociationConfig
-from scenarios.fileio import atomic_write
 
 from . import cellstore as store
 from .cellspec import TABLES, result_schemes
@@ -37,7 +37,7 @@ def _versions() -> dict[str, str]:
 
 
 def write_atomic(path: Path, write) -> None:
-    """`scenarios.fileio.atomic_write`: temporary file, then rename; a full disk or read-only
+    """`core.fileio.atomic_write`: temporary file, then rename; a full disk or read-only
     folder raises `OutputError` naming the path and leaves nothing behind."""
     atomic_write(path, write)
 

@@ -6,6 +6,7 @@ from __future__ import annotations
 from collections.abc import Mapping
 from pathlib import Path
 
+from core.errors import BadInput
 from metrics.association import AssociationConfig
 
 from .cellspec import CellSpec, mimos, result_schemes
@@ -38,15 +39,15 @@ def radar_config(overrides: dict, mimo: str):
         return resolve_calibration(radarsim.presets.r79(mimo, **ov), request)
     prof = load_profile(Path(path))
     if prof.is_advanced and not prof.is_joined:  # a fast/slow pair is one radar
-        raise ValueError(f"radar.profile={str(path)!r}: an advanced-frame profile has one radar "
-                         f"per sub-frame ({len(prof.subframes)}), a sweep cell runs one; use "
-                         "`radar-harness process` for it, or a profile of one sub-frame")
+        raise BadInput(f"radar.profile={str(path)!r}: an advanced-frame profile has one radar "
+                       f"per sub-frame ({len(prof.subframes)}), a sweep cell runs one; use "
+                       "`radar-harness process` for it, or a profile of one sub-frame")
     base = simulation_radar(prof)  # on the board its compRangeBiasAndRxChanPhase calibrates
     try:
         cfg = base.replace(**{"mimo": mimo, **ov}) if base.mimo != mimo or ov else base
-    except ValueError as exc:
-        raise ValueError(f"radar.profile={str(path)!r} ({base.chip}, {base.mimo}) as scheme "
-                         f"{mimo!r}: {exc}") from exc
+    except BadInput as exc:
+        raise BadInput(f"radar.profile={str(path)!r} ({base.chip}, {base.mimo}) as scheme "
+                       f"{mimo!r}: {exc}") from exc
     return resolve_calibration(cfg, request)
 
 

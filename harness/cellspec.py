@@ -16,6 +16,8 @@ from typing import Any
 
 import numpy as np
 
+from core.errors import BadInput
+
 __all__ = ["CellSpec", "ResultScheme", "DEFAULT_SCHEMES", "DEFAULT_BASELINE_SCHEME", "TABLES",
            "SCENE_FIELDS", "check_scene", "result_schemes", "known_schemes", "mimos"]
 
@@ -33,13 +35,13 @@ SCENE_FIELDS = {"equipped_share": "share of vehicles carrying a radar (interfere
 def check_scene(scene) -> None:
     """Validate scene overrides: known keys (`SCENE_FIELDS`), equipped_share in [0, 1]."""
     if not isinstance(scene, dict):
-        raise ValueError(f"scene must be a table of field = value, got {scene!r}")
+        raise BadInput(f"scene must be a table of field = value, got {scene!r}")
     bad = sorted(set(scene) - set(SCENE_FIELDS))
     if bad:
-        raise ValueError(f"unknown scene field(s) {bad}; known: {sorted(SCENE_FIELDS)}")
+        raise BadInput(f"unknown scene field(s) {bad}; known: {sorted(SCENE_FIELDS)}")
     share = scene.get("equipped_share", 0.0)
     if isinstance(share, bool) or not isinstance(share, (int, float)) or not 0 <= share <= 1:
-        raise ValueError(f"scene.equipped_share={share!r} must be in [0, 1]")
+        raise BadInput(f"scene.equipped_share={share!r} must be in [0, 1]")
 
 
 @dataclass(frozen=True)
@@ -92,16 +94,16 @@ def result_schemes(names=DEFAULT_SCHEMES) -> list[ResultScheme]:
         Empty list, duplicates or unknown names (naming them and the known ones).
     """
     if isinstance(names, str) or not all(isinstance(n, str) for n in names):
-        raise ValueError(f"schemes={names!r} must be a list of scheme names")
+        raise BadInput(f"schemes={names!r} must be a list of scheme names")
     names = list(names)
     if not names:
-        raise ValueError("schemes: the list is empty")
+        raise BadInput("schemes: the list is empty")
     if len(set(names)) != len(names):
-        raise ValueError(f"schemes={names!r} holds duplicates")
+        raise BadInput(f"schemes={names!r} holds duplicates")
     table = _scheme_table()
     bad = [n for n in names if n not in table]
     if bad:
-        raise ValueError(f"schemes: unknown scheme(s) {bad}; known: {list(table)}")
+        raise BadInput(f"schemes: unknown scheme(s) {bad}; known: {list(table)}")
     return [table[n] for n in names]
 
 
@@ -165,20 +167,20 @@ class CellSpec:
 
     def __post_init__(self) -> None:
         if not isinstance(self.scenario, str) or not self.scenario:
-            raise ValueError(f"scenario={self.scenario!r} must be a non-empty name")
+            raise BadInput(f"scenario={self.scenario!r} must be a non-empty name")
         check_scene(self.scene)
         object.__setattr__(self, "schemes", tuple(self.schemes))
         result_schemes(self.schemes)
         if not isinstance(self.baseline_scheme, str) or \
                 self.baseline_scheme not in known_schemes():
-            raise ValueError(f"baseline_scheme={self.baseline_scheme!r} is not one of "
-                             f"{known_schemes()}")
+            raise BadInput(f"baseline_scheme={self.baseline_scheme!r} is not one of "
+                           f"{known_schemes()}")
         if not isinstance(self.seed, (int, np.integer)) or self.seed < 0:
-            raise ValueError(f"seed={self.seed!r} must be an integer >= 0")
+            raise BadInput(f"seed={self.seed!r} must be an integer >= 0")
         if not isinstance(self.frame_stride, (int, np.integer)) or self.frame_stride < 1:
-            raise ValueError(f"frame_stride={self.frame_stride!r} must be an integer >= 1")
+            raise BadInput(f"frame_stride={self.frame_stride!r} must be an integer >= 1")
         if self.duration_s is not None and not self.duration_s > 0:
-            raise ValueError(f"duration_s={self.duration_s!r} must be > 0")
+            raise BadInput(f"duration_s={self.duration_s!r} must be > 0")
 
     def to_dict(self) -> dict[str, Any]:
         return dataclasses.asdict(self)

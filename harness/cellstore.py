@@ -32,7 +32,7 @@ from typing import Callable
 
 import numpy as np
 
-from scenarios.fileio import read_input_text
+from core.fileio import read_input_text
 
 __all__ = ["CELL_STATES", "code_version", "read_meta", "cell_state", "table_files",
            "write_cell_dir", "retire", "clean_temporaries", "TEMP_PREFIXES", "cell_dir",

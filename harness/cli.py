@@ -1,9 +1,11 @@
 """`radar-harness` command line: one sub-command per module, registered in `COMMANDS`.
 
 Each command module exposes `add_arguments(parser)` and `run(args) -> int`. Exit codes: 0 ok,
-1 a gate or check failed (or a sweep ended with missing cells), 2 bad input (one line naming the
-field, the value and the limit) or an output that cannot be written (full disk, read-only
-folder: one line naming the path), 130 interrupted (Ctrl-C: "rerun the same command to
+1 a gate or check failed (or a sweep ended with missing cells), 2 bad input
+(`core.errors.BadInput`: one line naming the field, the value and the limit) or a file the system
+refuses (an `OSError` naming its path: missing, unreadable, full disk, read-only folder: one line
+naming the path). Any other exception is a bug in this code or a library: it keeps its
+traceback and exits 1, never disguised as bad input. 130 interrupted (Ctrl-C: "rerun the same command to
 resume"), 143 / 129 stopped by SIGTERM / SIGHUP (handled like Ctrl-C: pool workers stopped,
 cells written so far kept, the same resume hint; `harness.runtime.terminate_on_signals`).
 Every process runs with one BLAS thread (`harness.runtime.prepare_process`), so every path gives
@@ -14,6 +16,8 @@ from __future__ import annotations
 import argparse
 import importlib
 import sys
+
+from core.errors import BadInput
 
 from .runtime import Terminated, prepare_process, terminate_on_signals
 
@@ -36,15 +40,15 @@ COMMANDS: dict[str, tuple[str, str]] = {
 }
 
 
-class UsageError(ValueError):
-    """Bad command-line input: reported with exit code 2."""
-
-
 #: Exit codes.
 EXIT_OK, EXIT_FAIL, EXIT_BAD_INPUT, EXIT_INTERRUPTED = 0, 1, 2, 130
-#: Errors that mean bad input (a file that is missing, unreadable, a directory, ...) or an
-#: output the system refuses (OSError: full disk, read-only file system), reported in one line.
-_BAD_INPUT = (UsageError, ValueError, OSError)
+
+
+def _is_bad_input(exc: BaseException) -> bool:
+    """Bad input: a validation's `BadInput`, or an `OSError` on a path the user named (missing,
+    unreadable, a directory, full disk, read-only folder). An `OSError` without a path is the
+    system failing us, not the user: a bug report, with its traceback."""
+    return isinstance(exc, BadInput) or (isinstance(exc, OSError) and exc.filename is not None)
 
 
 class _Parser(argparse.ArgumentParser):
@@ -98,7 +102,9 @@ def _main(argv: list[str] | None) -> int:
     runner = getattr(mod, f"run_{args.command}", getattr(mod, "run", None))
     try:
         return int(runner(args) or 0)
-    except _BAD_INPUT as exc:
+    except (BadInput, OSError) as exc:
+        if not _is_bad_input(exc):
+            raise  # a bug: Python prints the traceback, exit 1
         print(f"radar-harness {args.command}: error: {_one_line(exc)}", file=sys.stderr)
         return EXIT_BAD_INPUT
     except KeyboardInterrupt as exc:

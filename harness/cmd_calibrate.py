@@ -27,7 +27,8 @@ import argparse
 import sys
 from pathlib import Path
 
-from scenarios.fileio import atomic_write
+from core.errors import BadInput
+from core.fileio import atomic_write
 
 from .args import LAYOUTS, add_capture_reading, check_output_file, float_in
 
@@ -92,7 +93,7 @@ def with_identity_antenna_calib(text: str, n_pairs: int) -> str:
 
 
 def _write_text(path: Path, text: str) -> None:
-    """Atomically, a full disk named (`scenarios.fileio.atomic_write`)."""
+    """Atomically, a full disk named (`core.fileio.atomic_write`)."""
     atomic_write(path, lambda tmp: tmp.write_text(text))
 
 
@@ -105,8 +106,8 @@ def _target_and_window(args: argparse.Namespace, profile) -> tuple[float, float]
     target = args.target_range_m
     if target is None:
         if not on:
-            raise ValueError("--target-range-m is required: the profile has no enabled "
-                             "measureRangeBiasAndRxChanPhase line to take it from")
+            raise BadInput("--target-range-m is required: the profile has no enabled "
+                           "measureRangeBiasAndRxChanPhase line to take it from")
         target = float(measure[1])
     if args.search_window_m is not None:
         return target, args.search_window_m
@@ -124,14 +125,14 @@ def run(args: argparse.Namespace) -> int:
     from .ti_profile import load_profile, processing_from_profile
 
     if args.capture.is_dir():
-        raise ValueError(f"capture {str(args.capture)!r} is a directory, not a capture file")
+        raise BadInput(f"capture {str(args.capture)!r} is a directory, not a capture file")
     if args.write is not None:
         check_output_file(args.write, "--write")
     profile = load_profile(args.cfg)
     if profile.is_advanced:
-        raise ValueError(f"--cfg {str(args.cfg)!r} is an advanced-frame profile "
-                         f"({len(profile.subframes)} sub-frames): calibrate on a capture "
-                         "recorded with a one-frame profile (TI's procedure uses one)")
+        raise BadInput(f"--cfg {str(args.cfg)!r} is an advanced-frame profile "
+                       f"({len(profile.subframes)} sub-frames): calibrate on a capture "
+                       "recorded with a one-frame profile (TI's procedure uses one)")
     cfg = profile.radar
     proc = processing_from_profile(profile).replace(range_bias_m=0.0, channel_comp=None)
     target, window = _target_and_window(args, profile)
@@ -143,9 +144,9 @@ def run(args: argparse.Namespace) -> int:
     try:
         cal = measure_channel_calibration(cfg, frames, target, window, proc,
                                           azimuth_deg=args.azimuth_deg)
-    except ValueError as exc:
-        raise ValueError(f"--target-range-m {target:g} --search-window-m {window:g}: "
-                         f"{exc}") from None
+    except BadInput as exc:
+        raise BadInput(f"--target-range-m {target:g} --search-window-m {window:g}: "
+                       f"{exc}") from None
     print(cal.line)
     from radarsim.ti.families import DEMO_FAMILIES
     ddm = bool(profile.demo_family) and \

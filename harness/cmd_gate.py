@@ -30,7 +30,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> int:
     import pandas as pd
 
-    from scenarios.fileio import OutputError, atomic_write
+    from core.fileio import OutputError, atomic_write
 
     from . import gates as g
     from .provenance import version_line

@@ -13,7 +13,8 @@ from typing import NamedTuple
 
 import numpy as np
 
-from scenarios.fileio import atomic_write
+from core.errors import BadInput
+from core.fileio import atomic_write
 
 from .args import SEED, check_output_file, float_in, int_in
 
@@ -68,7 +69,7 @@ def run(args: argparse.Namespace) -> int:
     from radarsim.rcs import CLASS_RCS
     from radarsim.rcs_patterns import REFERENCES
     if args.actor_class not in CLASS_RCS:
-        raise ValueError(f"CLASS={args.actor_class!r} unknown; known: {sorted(CLASS_RCS)}")
+        raise BadInput(f"CLASS={args.actor_class!r} unknown; known: {sorted(CLASS_RCS)}")
     out = None
     if args.plot:
         out = check_output_file(args.out or f"rcs_{args.actor_class}.png", "--out")
@@ -104,6 +105,7 @@ def _plot(args, refs, out) -> None:
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+
     from radarsim.rcs import CLASS_RCS
 
     aspects = np.arange(0.0, 360.0, 5.0)

@@ -5,6 +5,8 @@ import argparse
 import sys
 from pathlib import Path
 
+from core.errors import BadInput
+
 from .args import MAX_CASES, check_output_file
 
 
@@ -22,8 +24,8 @@ def run(args: argparse.Namespace) -> int:
     from .report import build_report
     res = Path(args.results)
     if not res.is_dir():
-        raise ValueError(f"results {args.results!r}: not a results directory (run `radar-harness "
-                         "sweep` first)")
+        raise BadInput(f"results {args.results!r}: not a results directory (run `radar-harness "
+                       "sweep` first)")
     check_output_file(args.out if args.out is not None else res / "report.html", "--out")
     from .provenance import read_manifest, version_line
     line, warning = version_line(read_manifest(res))

@@ -10,6 +10,8 @@ import argparse
 import os
 from pathlib import Path
 
+from core.errors import BadInput
+
 from .args import SEED
 
 
@@ -45,19 +47,18 @@ def _resolve(case: str):
         for i, crit in enumerate(c.criteria):  # the metrics downstream define the names
             try:
                 check_criterion(crit.metric, crit.actor_id)
-            except ValueError as exc:
-                raise ValueError(f"{case}: criteria[{i}].metric: {exc}") from None
+            except BadInput as exc:
+                raise BadInput(f"{case}: criteria[{i}].metric: {exc}") from None
         return c
     return get_case(case)  # ValueError naming the known cases
 
 
 def run_show(args: argparse.Namespace) -> int:
+    from core.fileio import check_output_dir
     from scenarios import run_scenario
     from scenarios.plot import write_views
-
-    from scenarios.fileio import check_output_dir
     if Path(args.out).exists() and not Path(args.out).is_dir():
-        raise ValueError(f"--out {args.out!r} is a file; give a folder for the PNG and GIF")
+        raise BadInput(f"--out {args.out!r} is a file; give a folder for the PNG and GIF")
     check_output_dir(args.out, "--out")  # before the scenario runs
     run = run_scenario(_resolve(args.case), seed=args.seed)
     png, gif = write_views(run, args.out)

@@ -14,6 +14,8 @@ import re
 
 import numpy as np
 
+from core.errors import BadInput
+
 from .args import SEED, check_output_file, float_in, int_in
 
 #: Most chirps of the experiment: a (n_chirps, 4, 384) frame is 6 kB per chirp as int16 and
@@ -50,18 +52,22 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--plot", default=None, help="write the range-Doppler cut to this PNG")
 
 
-def _in_option_names(exc: ValueError) -> ValueError:
+def _in_option_names(exc: ValueError) -> BadInput:
     """The experiment's and calibration's message with internal names as option names."""
     text = str(exc)
     for name, opt in _OPTION_OF.items():
         text = re.sub(rf"(?<![\w-]){name}=", f"{opt} ", text)
-    return ValueError(text)
+    return BadInput(text)
 
 
 def run(args: argparse.Namespace) -> int:
     import radarsim
-    from harness.shifter_experiment import (check_phase_step, format_lines, phase_step_experiment,
-                                            plot_phase_step)
+    from harness.shifter_experiment import (
+        check_phase_step,
+        format_lines,
+        phase_step_experiment,
+        plot_phase_step,
+    )
     from radarsim import shifter as sh
 
     if args.plot:  # before the experiment, not after it
@@ -78,15 +84,15 @@ def run(args: argparse.Namespace) -> int:
         cfg = radarsim.presets.r79_ddma(phase_quantization="round",
                                         shifter_phase_error_deg=phase,
                                         shifter_gain_error_db=gain)
-    except ValueError as exc:
-        raise ValueError(f"--error-deg-rms {args.error_deg_rms:g} / --gain-error-db-rms "
-                         f"{args.gain_error_db_rms:g} (--distribution {args.distribution}, "
-                         f"--seed {args.seed}) draws an impossible table: {exc}") from None
+    except BadInput as exc:
+        raise BadInput(f"--error-deg-rms {args.error_deg_rms:g} / --gain-error-db-rms "
+                       f"{args.gain_error_db_rms:g} (--distribution {args.distribution}, "
+                       f"--seed {args.seed}) draws an impossible table: {exc}") from None
     try:
         check_phase_step(cfg, args.step_deg, args.tx, args.n_chirps)  # before the calibration
         cal = radarsim.calibrate_shifters(cfg, rng=np.random.default_rng(args.seed),
                                           range_m=args.range_m, full_output=True)
-    except ValueError as exc:
+    except BadInput as exc:
         raise _in_option_names(exc) from None
     kw = dict(step_deg=args.step_deg, tx=args.tx, range_m=args.range_m,
               n_chirps=args.n_chirps)

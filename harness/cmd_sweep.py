@@ -20,6 +20,8 @@ from pathlib import Path
 
 import pandas as pd
 
+from core.errors import BadInput
+
 from .args import DURATION_S, FRAME_STRIDE, SEED, TIMEOUT_S, WORKERS
 from .cellstore import failed_rows
 
@@ -71,9 +73,9 @@ def _check_baseline(schemes, baseline: str | None, explicit: bool) -> None:
     schemes = list(schemes if schemes is not None else DEFAULT_SCHEMES)
     baseline = baseline if baseline is not None else DEFAULT_BASELINE_SCHEME
     if (explicit or baseline != DEFAULT_BASELINE_SCHEME) and baseline not in schemes:
-        raise ValueError(f"--baseline-scheme {baseline} is not among the schemes run "
-                         f"{schemes}: the SNR gain of every scheme would be NaN; add it to "
-                         "--schemes or pick one of them")
+        raise BadInput(f"--baseline-scheme {baseline} is not among the schemes run "
+                       f"{schemes}: the SNR gain of every scheme would be NaN; add it to "
+                       "--schemes or pick one of them")
 
 
 def _scheme_kwargs(args: argparse.Namespace) -> dict:

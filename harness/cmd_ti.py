@@ -34,10 +34,19 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from .args import (DURATION_S, FRAMES, LAYOUTS, MAX_FRAMES, SEED, add_capture_reading,
-                   check_output_file, int_in)
-from .ti_profile import (cfar_config_from_ti, load_profile, processing_from_profile,
-                         simulation_radar)
+from core.errors import BadInput
+
+from .args import (
+    DURATION_S,
+    FRAMES,
+    LAYOUTS,
+    MAX_FRAMES,
+    SEED,
+    add_capture_reading,
+    check_output_file,
+    int_in,
+)
+from .ti_profile import cfar_config_from_ti, load_profile, processing_from_profile, simulation_radar
 
 __all__ = ["add_arguments_process", "run_process", "add_arguments_simulate", "run_simulate",
            "write_subframe_capture",
@@ -57,8 +66,8 @@ def write_table(df: pd.DataFrame, path: str | os.PathLike) -> Path:
     path = Path(path)
     writer = TABLE_WRITERS.get(path.suffix.lower())
     if writer is None:
-        raise ValueError(f"output {str(path)!r}: suffix {path.suffix!r} is not one of "
-                         f"{sorted(TABLE_WRITERS)}")
+        raise BadInput(f"output {str(path)!r}: suffix {path.suffix!r} is not one of "
+                       f"{sorted(TABLE_WRITERS)}")
     tmp = path.with_name(f".{path.name}.{os.getpid()}.{uuid.uuid4().hex}{path.suffix}")
     try:
         writer(df, tmp)
@@ -227,11 +236,11 @@ def _process_profile(args: argparse.Namespace):
         except (UnicodeDecodeError, OSError):
             one = False  # load_profile names the problem
         if one:
-            raise ValueError(f"--cfg {str(args.cfg)!r} has one chirp per frame: give "
-                             "--regroup-frames N to process N frames as one frame of N chirps")
+            raise BadInput(f"--cfg {str(args.cfg)!r} has one chirp per frame: give "
+                           "--regroup-frames N to process N frames as one frame of N chirps")
         return load_profile(args.cfg), None
     if Path(args.cfg).is_dir():
-        raise ValueError(f"--cfg {str(args.cfg)!r} is a directory, not a TI .cfg profile")
+        raise BadInput(f"--cfg {str(args.cfg)!r} is a directory, not a TI .cfg profile")
     profile = fr.regroup_profile(Path(args.cfg), n)
     return profile, fr.check_regroup(args.capture, profile.radar, n)
 
@@ -240,14 +249,14 @@ def run_process(args: argparse.Namespace) -> int:
     from radarsim.capture import capture_n_frames
 
     if args.frames is not None and args.frames < 1:
-        raise ValueError(f"--frames={args.frames} must be >= 1")
+        raise BadInput(f"--frames={args.frames} must be >= 1")
     if args.capture.is_dir():
-        raise ValueError(f"capture {str(args.capture)!r} is a directory, not a capture file")
+        raise BadInput(f"capture {str(args.capture)!r} is a directory, not a capture file")
     profile, _ = _process_profile(args)
     out = args.out if args.out is not None else args.capture.with_suffix(".parquet")
     if out.suffix.lower() not in TABLE_WRITERS:  # fail before the (long) processing
-        raise ValueError(f"--out {str(out)!r}: suffix {out.suffix!r} is not one of "
-                         f"{sorted(TABLE_WRITERS)}")
+        raise BadInput(f"--out {str(out)!r}: suffix {out.suffix!r} is not one of "
+                       f"{sorted(TABLE_WRITERS)}")
     check_output_file(out, "--out")
     if args.tracks is not None:
         check_output_file(args.tracks, "--tracks")
@@ -318,10 +327,10 @@ def write_subframe_capture(path, profile, run, seed: int, frames, comps) -> int:
     stream (``frame_rng(seed, frame, "<mimo>/subframe<k>")``); atomic. The sub-frames share the
     frame's scene (their start offsets within the frame, tens of ms, are not simulated).
     Returns the frame count."""
+    from core.fileio import atomic_write
     from harness.cell import frame_scatterers
     from harness.streams import frame_rng
     from radarsim.subframe_capture import encode_frame
-    from scenarios.fileio import atomic_write
 
     def write(tmp) -> None:
         with open(tmp, "wb") as fh:
@@ -340,9 +349,9 @@ def run_simulate(args: argparse.Namespace) -> int:
     from radarsim.capture import write_capture
 
     if args.seed < 0:
-        raise ValueError(f"--seed={args.seed} must be >= 0")
+        raise BadInput(f"--seed={args.seed} must be >= 0")
     if args.frames is not None and args.frames < 1:
-        raise ValueError(f"--frames={args.frames} must be >= 1")
+        raise BadInput(f"--frames={args.frames} must be >= 1")
     check_output_file(args.out, "--out")
     profile = load_profile(args.cfg)
     comps = _components()
@@ -352,7 +361,7 @@ def run_simulate(args: argparse.Namespace) -> int:
     try:
         run = comps.run_scenario(args.case, args.seed, args.duration_s, frame_rate_hz=rate_hz)
     except KeyError as exc:
-        raise ValueError(f"unknown scenario {args.case!r}: {exc}") from exc
+        raise BadInput(f"unknown scenario {args.case!r}: {exc}") from exc
     src = run.ego if getattr(run, "ego", None) is not None and len(run.ego) else run.truth
     frames = np.unique(src["frame"].to_numpy())
     if args.frames is not None:

@@ -7,8 +7,9 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from scenarios.checks import read_toml
-from scenarios.fileio import check_input_file
+from core.checks import read_toml
+from core.errors import BadInput
+from core.fileio import check_input_file
 
 from .worker import execute_cell
 
@@ -41,18 +42,18 @@ def dask_security(path: str | Path | None):
     try:
         data = read_toml(p, "--security")
     except (OSError, ValueError) as exc:
-        raise ValueError(f"--security {str(path)!r}: cannot read the file ({exc})") from None
+        raise BadInput(f"--security {str(path)!r}: cannot read the file ({exc})") from None
     keys = {"ca_file", "cert", "key"}
     bad, miss = sorted(set(data) - keys), sorted(keys - set(data))
     if bad or miss:
-        raise ValueError(f"--security {str(path)!r}: unknown key(s) {bad}, missing key(s) "
-                         f"{miss}; needs {sorted(keys)}")
+        raise BadInput(f"--security {str(path)!r}: unknown key(s) {bad}, missing key(s) "
+                       f"{miss}; needs {sorted(keys)}")
     files = {}
     for k in sorted(keys):
         v = data[k]
         f = (p.parent / v) if isinstance(v, str) else None
         if f is None or not f.is_file():
-            raise ValueError(f"--security {str(path)!r}: {k} = {v!r} is not a readable file")
+            raise BadInput(f"--security {str(path)!r}: {k} = {v!r} is not a readable file")
         check_input_file(f, f"--security {str(path)!r}: {k}")
         files[k] = str(f.resolve())
     _check_pem(str(path), files)
@@ -67,15 +68,15 @@ def _check_pem(path: str, files: dict[str, str]) -> None:
     try:
         ctx = ssl.create_default_context(cafile=files["ca_file"])
     except (ssl.SSLError, OSError) as exc:
-        raise ValueError(f"--security {path!r}: ca_file = {Path(files['ca_file']).name!r} is "
-                         f"not a PEM CA certificate ({getattr(exc, 'reason', None) or exc})"
-                         ) from None
+        raise BadInput(f"--security {path!r}: ca_file = {Path(files['ca_file']).name!r} is "
+                       f"not a PEM CA certificate ({getattr(exc, 'reason', None) or exc})"
+                       ) from None
     try:
         ctx.load_cert_chain(files["cert"], files["key"])
     except (ssl.SSLError, OSError) as exc:
-        raise ValueError(f"--security {path!r}: cert = {Path(files['cert']).name!r} and key = "
-                         f"{Path(files['key']).name!r} are not a PEM certificate and its "
-                         f"private key ({getattr(exc, 'reason', None) or exc})") from None
+        raise BadInput(f"--security {path!r}: cert = {Path(files['cert']).name!r} and key = "
+                       f"{Path(files['key']).name!r} are not a PEM certificate and its "
+                       f"private key ({getattr(exc, 'reason', None) or exc})") from None
 
 
 def _connect(scheduler, security, timeout_s: float):
@@ -84,21 +85,21 @@ def _connect(scheduler, security, timeout_s: float):
         return scheduler
     addr = str(scheduler)
     if "://" not in addr:
-        raise ValueError(f"--scheduler {addr!r}: give a protocol, tls://host:port (or tcp:// "
-                         "on a trusted network)")
+        raise BadInput(f"--scheduler {addr!r}: give a protocol, tls://host:port (or tcp:// "
+                       "on a trusted network)")
     proto = addr.split("://", 1)[0]
     if proto not in ("tls", "tcp", "inproc", "ws", "wss", "ucx"):
-        raise ValueError(f"--scheduler {addr!r}: unknown protocol {proto!r}")
+        raise BadInput(f"--scheduler {addr!r}: unknown protocol {proto!r}")
     if proto == "tls":
         security = security if security is not None else dask_security(None)
         if not getattr(security, "tls_ca_file", None):
-            raise ValueError(f"--scheduler {addr!r}: tls:// needs --security FILE (ca_file, "
-                             "cert, key) or Dask's distributed.comm.tls configuration")
+            raise BadInput(f"--scheduler {addr!r}: tls:// needs --security FILE (ca_file, "
+                           "cert, key) or Dask's distributed.comm.tls configuration")
     try:
         return Client(addr, timeout=f"{timeout_s}s", security=security)
     except (OSError, TimeoutError) as exc:
-        raise ValueError(f"--scheduler {addr!r}: no Dask scheduler answered within "
-                         f"{timeout_s:g} s ({type(exc).__name__}: {exc})") from None
+        raise BadInput(f"--scheduler {addr!r}: no Dask scheduler answered within "
+                       f"{timeout_s:g} s ({type(exc).__name__}: {exc})") from None
 
 
 def run_dask(pending, out, scheduler, components, bar, security=None,
@@ -110,8 +111,8 @@ def run_dask(pending, out, scheduler, components, bar, security=None,
         try:  # a scheduler without workers would leave every task waiting forever
             client.wait_for_workers(1, timeout=timeout_s)
         except (TimeoutError, OSError):
-            raise ValueError(f"--scheduler {client.scheduler.address!r}: no Dask worker joined "
-                             f"the scheduler within {timeout_s:g} s") from None
+            raise BadInput(f"--scheduler {client.scheduler.address!r}: no Dask worker joined "
+                           f"the scheduler within {timeout_s:g} s") from None
         futs = {client.submit(execute_cell, c, str(out), components, key=f"cell-{c.cell_id}",
                               pure=False): c for c in pending}
         res, lost = {}, []

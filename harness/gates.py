@@ -32,11 +32,11 @@ import numpy as np
 import pandas as pd
 
 import scenarios
+from core.checks import build_from_table, check_keys, one_of, read_toml, require
+from core.errors import BadInput
+from core.fileio import MAX_TABLE_FILE_BYTES, check_input_file
 from metrics.registry import METRICS, get_metric
 from scenarios.catalog import CASE_CLASSES
-from scenarios.checks import build_from_table, check_keys, one_of, read_toml, require
-
-from scenarios.fileio import MAX_TABLE_FILE_BYTES, check_input_file
 
 from .cellstore import failed_rows
 from .provenance import read_manifest
@@ -72,17 +72,17 @@ class Gate:
                        "description"), "str")
         require(self, "allow_missing", "bool")
         if not get_metric(self.metric).gate:
-            raise ValueError(f"metric={self.metric!r} cannot be gated (per actor, not a "
-                             "summary column): "
-                             f"{get_metric(self.metric).description}")
+            raise BadInput(f"metric={self.metric!r} cannot be gated (per actor, not a "
+                           "summary column): "
+                           f"{get_metric(self.metric).description}")
         if self.case_class != "*":
             one_of("case_class", self.case_class, CASE_CLASSES)
         if self.min is None and self.max is None:
-            raise ValueError(f"min/max: gate {self.name!r} needs min and/or max")
+            raise BadInput(f"min/max: gate {self.name!r} needs min and/or max")
         require(self, ("min", "max"), none_ok=True)
         if self.min is not None and self.max is not None and self.min > self.max:
-            raise ValueError(f"min/max: gate {self.name!r} has min={self.min!r} > "
-                             f"max={self.max!r}: no value can pass")
+            raise BadInput(f"min/max: gate {self.name!r} has min={self.min!r} > "
+                           f"max={self.max!r}: no value can pass")
         one_of("aggregate", self.aggregate, AGGREGATES)
 
     def check(self, value: float) -> bool:
@@ -140,14 +140,14 @@ def load_gates(path: str | Path | None = None) -> list[Gate]:
         check_keys(data, {"gate"})
         raw = data.get("gate")
         if not isinstance(raw, list) or not raw:
-            raise ValueError("no [[gate]] tables")
+            raise BadInput("no [[gate]] tables")
         gates = [build_from_table(Gate, g, f"gate[{i}].") for i, g in enumerate(raw)]
-    except ValueError as exc:
-        raise ValueError(f"{p}: {exc}") from None
+    except BadInput as exc:
+        raise BadInput(f"{p}: {exc}") from None
     names = [g.name for g in gates]
     dup = sorted({n for n in names if names.count(n) > 1})
     if dup:
-        raise ValueError(f"{p}: duplicate gate name(s) {dup}")
+        raise BadInput(f"{p}: duplicate gate name(s) {dup}")
     return gates
 
 
@@ -164,15 +164,15 @@ def load_summary(results: str | Path) -> tuple[pd.DataFrame, dict]:
     p = Path(results)
     f = p / "summary.parquet" if p.is_dir() else p
     if not f.exists():
-        raise FileNotFoundError(f"no results summary at {f} (run `radar-harness sweep` first)")
+        raise BadInput(f"no results summary at {f} (run `radar-harness sweep` first)")
     check_input_file(f, "summary table", max_bytes=MAX_TABLE_FILE_BYTES)
     try:
         summary = pd.read_parquet(f)
     except Exception as exc:  # noqa: BLE001 - pyarrow raises several types
-        raise ValueError(f"{f}: not a readable Parquet summary table: {exc}") from exc
+        raise BadInput(f"{f}: not a readable Parquet summary table: {exc}") from exc
     missing = [c for c in ("scenario", "scheme") if c not in summary.columns]
     if missing:
-        raise ValueError(f"{f}: summary lacks column(s) {missing}")
+        raise BadInput(f"{f}: summary lacks column(s) {missing}")
     return summary, read_manifest(f.parent)
 
 
@@ -192,14 +192,14 @@ def evaluate_gates(summary: pd.DataFrame, gates: list[Gate],
     unknown = sorted({g.metric for g in gates} - set(summary.columns))
     bad = [m for m in unknown if m not in METRICS]
     if bad:
-        raise ValueError(f"unknown metric(s) {bad}; known: {', '.join(sorted(METRICS))}")
+        raise BadInput(f"unknown metric(s) {bad}; known: {', '.join(sorted(METRICS))}")
     summary = summary.assign(**{m: np.nan for m in unknown})  # defined, not in this run
     summary = summary.assign(case_class=case_classes_of(summary))
     for g in gates:
         col = summary[g.metric]
         if not (pd.api.types.is_numeric_dtype(col) or col.isna().all()):
-            raise ValueError(f"gate {g.name!r}: metric {g.metric!r} is not numeric (dtype "
-                             f"{col.dtype}); a threshold cannot apply to it")
+            raise BadInput(f"gate {g.name!r}: metric {g.metric!r} is not numeric (dtype "
+                           f"{col.dtype}); a threshold cannot apply to it")
     out: list[GateResult] = []
     failed = failed_rows(summary)
     bad = summary[failed]

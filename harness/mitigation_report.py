@@ -19,6 +19,7 @@ import numpy as np
 import pandas as pd
 
 import scenarios
+from core.errors import BadInput
 
 from .cellstore import failed_rows
 
@@ -55,7 +56,7 @@ def mitigation_table(results: str | Path) -> pd.DataFrame:
     results = Path(results)
     methods = _methods(results)
     if not methods:
-        raise ValueError(f"{results}: no variant sets processing.intf_mitigation")
+        raise BadInput(f"{results}: no variant sets processing.intf_mitigation")
     summ = pd.read_parquet(results / "summary.parquet")
     summ = summ[~failed_rows(summ) & summ["variant"].isin(methods)].copy()
     summ["method"] = summ["variant"].map(methods)

@@ -12,7 +12,8 @@ import json
 from pathlib import Path
 from typing import NamedTuple
 
-from scenarios.fileio import read_input_text
+from core.errors import BadInput
+from core.fileio import read_input_text
 
 from . import cellstore as store
 
@@ -26,22 +27,22 @@ def read_manifest(folder: str | Path, *, required: bool = False) -> dict:
     ------
     ValueError
         ``{path}: damaged manifest (not JSON: ...)`` / ``(not a JSON object)``; the file is a
-        FIFO, a device, too large (`scenarios.fileio.read_input_text`).
+        FIFO, a device, too large (`core.fileio.read_input_text`).
     FileNotFoundError
         Absent and `required`.
     """
     mf = Path(folder) / "manifest.json"
     if not mf.exists() and not mf.is_symlink():
         if required:
-            raise FileNotFoundError(f"no manifest.json in {folder}")
+            raise BadInput(f"no manifest.json in {folder}")
         return {}
     text = read_input_text(mf, "manifest")
     try:
         data = json.loads(text)
     except json.JSONDecodeError as exc:
-        raise ValueError(f"{mf}: damaged manifest (not JSON: {exc})") from None
+        raise BadInput(f"{mf}: damaged manifest (not JSON: {exc})") from None
     if not isinstance(data, dict):
-        raise ValueError(f"{mf}: damaged manifest (not a JSON object)")
+        raise BadInput(f"{mf}: damaged manifest (not a JSON object)")
     return data
 
 

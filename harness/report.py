@@ -22,7 +22,8 @@ from typing import NamedTuple
 import numpy as np
 import pandas as pd
 
-from scenarios.fileio import MAX_TABLE_FILE_BYTES, atomic_write, check_input_file
+from core.errors import BadInput
+from core.fileio import MAX_TABLE_FILE_BYTES, atomic_write, check_input_file
 
 from .cellstore import failed_rows, read_meta
 from .figures import png_img as _img
@@ -470,7 +471,7 @@ def build_report(results: str | Path, out: str | Path | None = None, *, maps: bo
 
     res = Path(results)
     if not (res / "summary.parquet").exists():
-        raise FileNotFoundError(f"no summary.parquet in {res} (run `radar-harness sweep`)")
+        raise BadInput(f"no summary.parquet in {res} (run `radar-harness sweep`)")
     summary = _read(res, "summary")
     det = _read(res, "detections")
     actors = _read(res, "actors")

@@ -24,6 +24,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from core.errors import BadInput
+
 from . import cellstore as store
 from .assemble import assemble
 from .components import Components
@@ -51,15 +53,15 @@ def prepare_out(out: str | Path) -> Path:
     """
     p = Path(out).expanduser().resolve()
     if p.exists() and not p.is_dir():
-        raise ValueError(f"--out {str(out)!r}: exists and is not a directory")
+        raise BadInput(f"--out {str(out)!r}: exists and is not a directory")
     try:
         p.mkdir(parents=True, exist_ok=True)
         probe = p / f".tmp-probe-{os.getpid()}-{uuid.uuid4().hex[:6]}"
         probe.write_text("")
         probe.unlink()
     except OSError as exc:
-        raise ValueError(f"--out {str(out)!r}: cannot create or write the results directory "
-                         f"({exc.strerror or exc})") from None
+        raise BadInput(f"--out {str(out)!r}: cannot create or write the results directory "
+                       f"({exc.strerror or exc})") from None
     return p
 
 
@@ -134,11 +136,11 @@ def run_sweep(spec: SweepSpec, out: str | Path, *, workers: int = 1,
     """
     if isinstance(workers, bool) or not isinstance(workers, int) or \
             not 1 <= workers <= MAX_WORKERS:
-        raise ValueError(f"workers={workers!r} must be an integer in 1..{MAX_WORKERS}")
+        raise BadInput(f"workers={workers!r} must be an integer in 1..{MAX_WORKERS}")
     cells = spec.cells()
     ids = [c.cell_id for c in cells]
     if len(set(ids)) != len(ids):
-        raise ValueError("two sweep cells share an id (duplicate scenario or seed?)")
+        raise BadInput("two sweep cells share an id (duplicate scenario or seed?)")
     if components is None:
         validate_cells(spec)
     out = prepare_out(out)
@@ -180,10 +182,10 @@ def _resume(out: Path, cells: list, force: bool) -> tuple[set[str], list[str]]:
     if stale and not force:
         old = sorted({str((store.read_meta(out / "cells" / i) or {}).get("code_version", {})
                           .get("hash")) for i in stale})
-        raise ValueError(f"--out {str(out)!r}: {len(stale)} completed cell(s) were computed by "
-                         f"code version {', '.join(old)}, this is "
-                         f"{store.code_version()['hash']}: rerun with --force to recompute "
-                         "them, or use a new --out")
+        raise BadInput(f"--out {str(out)!r}: {len(stale)} completed cell(s) were computed by "
+                       f"code version {', '.join(old)}, this is "
+                       f"{store.code_version()['hash']}: rerun with --force to recompute "
+                       "them, or use a new --out")
     recompute = [i for i, st in states.items() if st in ("stale", "corrupt")]
     for i in recompute:
         store.retire(out / "cells" / i)

@@ -22,8 +22,9 @@ import numpy as np
 import pandas as pd
 
 import radarsim
+from core.errors import BadInput
+from core.fileio import atomic_write
 from radarsim import shifter as sh
-from scenarios.fileio import atomic_write
 
 __all__ = ["PhaseStepResult", "phase_step_experiment", "line_spectrum", "format_lines",
            "plot_phase_step"]
@@ -90,12 +91,12 @@ def check_phase_step(cfg: radarsim.RadarConfig, step_deg: float, tx: int,
     p_float = 360.0 / step_deg if step_deg > 0 else math.inf
     period = int(round(p_float))
     if not (math.isfinite(p_float) and abs(p_float - period) < 1e-9 and period >= 2):
-        raise ValueError(f"step_deg={step_deg!r}: 360 / step_deg must be an integer >= 2")
+        raise BadInput(f"step_deg={step_deg!r}: 360 / step_deg must be an integer >= 2")
     if not 1 <= tx <= cfg.n_tx:
-        raise ValueError(f"tx={tx!r} must be in 1..{cfg.n_tx}")
+        raise BadInput(f"tx={tx!r} must be in 1..{cfg.n_tx}")
     if not isinstance(n_chirps, int) or n_chirps < period or n_chirps % period:
-        raise ValueError(f"n_chirps={n_chirps!r} must be a positive multiple of the code "
-                         f"period {period}")
+        raise BadInput(f"n_chirps={n_chirps!r} must be a positive multiple of the code "
+                       f"period {period}")
     return period
 
 

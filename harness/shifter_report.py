@@ -25,6 +25,8 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from core.errors import BadInput
+
 from .cellstore import failed_rows
 from .figures import png_img, pyplot
 from .provenance import read_manifest
@@ -119,8 +121,8 @@ def shifter_table(results: str | Path, *, probe: bool = True) -> pd.DataFrame:
     out["ghost_rate"] = out["n_ghost"] / out["n_detections"].where(out["n_detections"] > 0)
     for col in ("n_velocity_resolution_failures", "azimuth_error_rmse_deg"):
         if col not in summ:
-            raise ValueError(f"{results}: summary lacks {col!r} (written before issue 21: "
-                             "re-run the sweep)")
+            raise BadInput(f"{results}: summary lacks {col!r} (written before issue 21: "
+                           "re-run the sweep)")
     out["velocity_resolution_failures_per_frame"] = \
         grp["n_velocity_resolution_failures"].sum() / out["n_frames"]
     # pooled over the variant's cells: sqrt of the sample-weighted mean square

@@ -11,6 +11,8 @@ import hashlib
 
 import numpy as np
 
+from core.errors import BadInput
+
 __all__ = ["SEED_STREAMS", "stream_id", "frame_rng"]
 
 
@@ -25,7 +27,7 @@ def stream_id(stream: str) -> int:
     if stream in SEED_STREAMS:
         return SEED_STREAMS[stream]
     if not isinstance(stream, str) or not stream:
-        raise ValueError(f"stream={stream!r} must be a non-empty name")
+        raise BadInput(f"stream={stream!r} must be a non-empty name")
     return 2 ** 16 + (int.from_bytes(hashlib.sha256(stream.encode()).digest()[:4], "big")
                       >> 1)
 

@@ -19,16 +19,22 @@ import itertools
 import math
 from pathlib import Path
 
+from core.checks import check_keys, read_toml
+from core.errors import BadInput
 from metrics.association import AssociationConfig
 from metrics.registry import check_criterion
-from scenarios.checks import check_keys, read_toml
 
 from .cellconfig import build_configs
-from .cellspec import (DEFAULT_BASELINE_SCHEME, DEFAULT_SCHEMES, CellSpec, check_scene,
-                       known_schemes)
+from .cellspec import DEFAULT_BASELINE_SCHEME, DEFAULT_SCHEMES, CellSpec, check_scene, known_schemes
 from .components import default_components
-from .sweepspec import (DEFAULT_SWEEP_PATH, MAX_CELLS, SECTIONS, SweepSpec, Variant,
-                        resolve_scenarios)
+from .sweepspec import (
+    DEFAULT_SWEEP_PATH,
+    MAX_CELLS,
+    SECTIONS,
+    SweepSpec,
+    Variant,
+    resolve_scenarios,
+)
 
 __all__ = ["load_sweep", "default_sweep", "validate_cells"]
 
@@ -40,30 +46,30 @@ _TOP_KEYS = {"name", "scenarios", "seeds", "frame_stride", "duration_s", "base",
 def _check_section(where: str, section: str, overrides: dict) -> None:
     """Reject unknown config fields early (before any worker starts)."""
     if section not in SECTIONS:
-        raise ValueError(f"{where}: unknown section {section!r}; use one of {list(SECTIONS)}")
+        raise BadInput(f"{where}: unknown section {section!r}; use one of {list(SECTIONS)}")
     if not isinstance(overrides, dict):
-        raise ValueError(f"{where}: [{section}] must be a table of field = value")
+        raise BadInput(f"{where}: [{section}] must be a table of field = value")
     if section == "radar" and overrides:
         from radarsim.config import RadarConfig
         names = {f.name for f in dataclasses.fields(RadarConfig)} | {"profile"}
         bad = sorted(set(overrides) - names)
         if bad:
-            raise ValueError(f"{where}: unknown radar field(s) {bad}")
+            raise BadInput(f"{where}: unknown radar field(s) {bad}")
         if "profile" in overrides:
             from .ti_profile import load_profile
             prof = overrides["profile"]
             if not isinstance(prof, str) or not Path(prof).is_file():
-                raise ValueError(f"{where}: radar.profile={prof!r} is not a TI .cfg file")
+                raise BadInput(f"{where}: radar.profile={prof!r} is not a TI .cfg file")
             try:
                 load_profile(Path(prof))
-            except ValueError as exc:
-                raise ValueError(f"{where}: radar.profile={prof!r}: {exc}") from None
+            except BadInput as exc:
+                raise BadInput(f"{where}: radar.profile={prof!r}: {exc}") from None
     if section == "processing" and overrides:
         import pipeline
         try:
             pipeline.ProcessingConfig().replace(**overrides)
         except (ValueError, TypeError) as exc:
-            raise ValueError(f"{where}: processing {overrides!r}: {exc}") from None
+            raise BadInput(f"{where}: processing {overrides!r}: {exc}") from None
     if section == "scene" and overrides:
         check_scene(overrides)
 
@@ -97,8 +103,8 @@ def validate_cells(spec: SweepSpec, source: str | Path | None = None) -> None:
         (which names the limit); or the case and its criterion's metric (unknown, with the
         known ones, or one that cannot be a criterion).
     """
-    from pipeline.mimo import chain_of
     import scenarios
+    from pipeline.mimo import chain_of
     from pipeline.tracking import TrackerConfig
     comps = default_components()
     where = f"{source}: " if source is not None else ""
@@ -107,8 +113,8 @@ def validate_cells(spec: SweepSpec, source: str | Path | None = None) -> None:
         for i, c in enumerate(getattr(case, "criteria", ()) or ()):
             try:
                 check_criterion(c.metric, c.actor_id)
-            except ValueError as exc:
-                raise ValueError(f"{where}case {name!r} criteria[{i}]: {exc}") from None
+            except BadInput as exc:
+                raise BadInput(f"{where}case {name!r} criteria[{i}]: {exc}") from None
 
     def check(cell: CellSpec) -> None:
         radar, procs = build_configs(cell, comps)
@@ -116,8 +122,8 @@ def validate_cells(spec: SweepSpec, source: str | Path | None = None) -> None:
             for r in radar.values():
                 proc.check_radar(r)
                 if proc.clutter_removal and not chain_of(r).removes_static_clutter:
-                    raise ValueError(f"clutter_removal=True (a profile's clutterRemoval): the "
-                                     f"{r.mimo} chain has no static clutter removal")
+                    raise BadInput(f"clutter_removal=True (a profile's clutterRemoval): the "
+                                   f"{r.mimo} chain has no static clutter removal")
 
     schemes = {"schemes": spec.schemes, "baseline_scheme": spec.baseline_scheme}
 
@@ -135,7 +141,7 @@ def validate_cells(spec: SweepSpec, source: str | Path | None = None) -> None:
             TrackerConfig(**v.tracker)
         except (ValueError, TypeError, KeyError) as exc:
             why = _culprit(v, build) or f"{type(exc).__name__}: {exc}"
-            raise ValueError(f"{where}variant {v.name!r}: {why}") from None
+            raise BadInput(f"{where}variant {v.name!r}: {why}") from None
 
 
 def _fmt(v) -> str:
@@ -172,18 +178,18 @@ def load_sweep(path: str | Path | None = None, *, check_scenarios: bool = True) 
     """
     p = Path(path) if path is not None else DEFAULT_SWEEP_PATH
     if p.is_dir():
-        raise ValueError(f"sweep file {str(p)!r} is a directory, not a TOML file")
+        raise BadInput(f"sweep file {str(p)!r} is a directory, not a TOML file")
     data = read_toml(p, "sweep file")
     try:
         check_keys(data, _TOP_KEYS)
-    except ValueError as exc:
-        raise ValueError(f"{p}: {exc}") from None
+    except BadInput as exc:
+        raise BadInput(f"{p}: {exc}") from None
     for key, kind, what in (("base", dict, "a table [base.<section>]"),
                             ("vary", dict, 'a table of "section.field" = [values]'),
                             ("variants", list, "an array of [[variants]] tables"),
                             ("name", str, "a string"), ("description", str, "a string")):
         if key in data and not isinstance(data[key], kind):
-            raise ValueError(f"{p}: {key} = {data[key]!r} must be {what}")
+            raise BadInput(f"{p}: {key} = {data[key]!r} must be {what}")
     base = data.get("base", {})
     _resolve_profiles(p, data)
     for sec, ov in base.items():
@@ -191,19 +197,19 @@ def load_sweep(path: str | Path | None = None, *, check_scenarios: bool = True) 
     variants: list[Variant] = []
     vary = data.get("vary", {})
     if not isinstance(vary, dict):
-        raise ValueError(f"{p}: [vary] must be a table of \"section.field\" = [values]")
+        raise BadInput(f"{p}: [vary] must be a table of \"section.field\" = [values]")
     keys = list(vary)
     for k in keys:
         if "." not in k or not isinstance(vary[k], list) or not vary[k]:
-            raise ValueError(f"{p}: vary key {k!r} must look like \"radar.field\" and map to "
-                             "a non-empty list")
+            raise BadInput(f"{p}: vary key {k!r} must look like \"radar.field\" and map to "
+                           "a non-empty list")
     # The product is bounded from the value counts, before any variant is built (a 10^12
     # product would otherwise allocate until MemoryError).
     counts = [len(vary[k]) for k in keys]
     if math.prod(counts) > MAX_CELLS:
-        raise ValueError(f"{p}: [vary] gives {math.prod(counts)} variants "
-                         f"({' x '.join(f'{n} {k}' for n, k in zip(counts, keys))}), more than "
-                         f"the limit {MAX_CELLS} cells of a sweep")
+        raise BadInput(f"{p}: [vary] gives {math.prod(counts)} variants "
+                       f"({' x '.join(f'{n} {k}' for n, k in zip(counts, keys))}), more than "
+                       f"the limit {MAX_CELLS} cells of a sweep")
     combos = list(itertools.product(*(vary[k] for k in keys))) if keys else [()]
     for combo in combos:
         ov = {s: dict(base.get(s, {})) for s in SECTIONS}
@@ -218,13 +224,13 @@ def load_sweep(path: str | Path | None = None, *, check_scenarios: bool = True) 
         try:
             check_keys(extra, {"name", *SECTIONS}, f"variants[{i}].")
             if "name" not in extra:
-                raise ValueError(f"variants[{i}].name: required key missing")
-        except ValueError as exc:
-            raise ValueError(f"{p}: {exc}") from None
+                raise BadInput(f"variants[{i}].name: required key missing")
+        except BadInput as exc:
+            raise BadInput(f"{p}: {exc}") from None
         for s in SECTIONS:
             if not isinstance(extra.get(s, {}), dict):
-                raise ValueError(f"{p}: [[variants]] {extra['name']!r}: {s} = {extra[s]!r} must "
-                                 "be a table of field = value")
+                raise BadInput(f"{p}: [[variants]] {extra['name']!r}: {s} = {extra[s]!r} must "
+                               "be a table of field = value")
         ov = {s: {**base.get(s, {}), **extra.get(s, {})} for s in SECTIONS}
         for s in SECTIONS:
             _check_section(f"{p} [[variants]] {extra['name']}", s, ov[s])
@@ -243,24 +249,24 @@ def load_sweep(path: str | Path | None = None, *, check_scenarios: bool = True) 
                          schemes=_schemes_key(p, data.get("schemes", list(DEFAULT_SCHEMES))),
                          baseline_scheme=data.get("baseline_scheme", DEFAULT_BASELINE_SCHEME),
                          association=_association_key(p, data.get("association", {})))
-    except ValueError as exc:
+    except BadInput as exc:
         msg = str(exc)
-        raise ValueError(msg if msg.startswith(f"{p}:") else f"{p}: {msg}") from None
+        raise BadInput(msg if msg.startswith(f"{p}:") else f"{p}: {msg}") from None
     if "baseline_scheme" in data and spec.baseline_scheme not in spec.schemes:
-        raise ValueError(f"{p}: baseline_scheme={spec.baseline_scheme!r} is not among the "
-                         f"schemes run {list(spec.schemes)}: the SNR gain of every scheme "
-                         "would be NaN; add it to schemes or pick one of them")
+        raise BadInput(f"{p}: baseline_scheme={spec.baseline_scheme!r} is not among the "
+                       f"schemes run {list(spec.schemes)}: the SNR gain of every scheme "
+                       "would be NaN; add it to schemes or pick one of them")
     validate_cells(spec, p)
     return spec
 
 
 def _association_key(p: Path, value) -> dict:
     if not isinstance(value, dict):
-        raise ValueError(f"{p}: [association] must be a table of AssociationConfig fields")
+        raise BadInput(f"{p}: [association] must be a table of AssociationConfig fields")
     try:
         AssociationConfig(**value)
     except TypeError as exc:
-        raise ValueError(f"{p}: [association]: {exc}") from None
+        raise BadInput(f"{p}: [association]: {exc}") from None
     return dict(value)
 
 
@@ -268,7 +274,7 @@ def _schemes_key(p: Path, value) -> tuple[str, ...]:
     if value == "all":  # every registered scheme and chain variant (harness.cellspec)
         return tuple(known_schemes())
     if not isinstance(value, list):
-        raise ValueError(f"{p}: schemes={value!r} must be a list of scheme names")
+        raise BadInput(f"{p}: schemes={value!r} must be a list of scheme names")
     return tuple(value)
 
 

@@ -32,6 +32,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from core.errors import BadInput
 from metrics.association import AssociationConfig
 
 from .args import MAX_DURATION_S, MAX_SEED
@@ -89,42 +90,42 @@ class SweepSpec:
 
     def __post_init__(self) -> None:
         if not isinstance(self.name, str) or not _NAME_RE.fullmatch(self.name):
-            raise ValueError(f"name={self.name!r} must be 1-100 letters, digits, '_', '-' or "
-                             "'.' (not first): it names a folder under the results directory")
+            raise BadInput(f"name={self.name!r} must be 1-100 letters, digits, '_', '-' or "
+                           "'.' (not first): it names a folder under the results directory")
         object.__setattr__(self, "schemes", tuple(self.schemes))
         AssociationConfig(**self.association)  # unknown keys / bad values fail here
         result_schemes(self.schemes)
         # CellSpec checks the baseline name; check it here too, before any cell is built.
         CellSpec(scenario="-", schemes=self.schemes, baseline_scheme=self.baseline_scheme)
         if not self.scenarios:
-            raise ValueError("scenarios: the sweep has no scenario")
+            raise BadInput("scenarios: the sweep has no scenario")
         dup = sorted({sc for sc in self.scenarios if list(self.scenarios).count(sc) > 1})
         if dup:
-            raise ValueError(f"scenarios: duplicate case(s) {dup}")
+            raise BadInput(f"scenarios: duplicate case(s) {dup}")
         if not self.seeds or any(isinstance(s, bool) or not isinstance(s, int)
                                  or not 0 <= s <= MAX_SEED for s in self.seeds):
-            raise ValueError(f"seeds={list(self.seeds)!r} must be a non-empty list of "
-                             f"integers in 0..{MAX_SEED}")
+            raise BadInput(f"seeds={list(self.seeds)!r} must be a non-empty list of "
+                           f"integers in 0..{MAX_SEED}")
         if len(set(self.seeds)) != len(self.seeds):
-            raise ValueError(f"seeds={list(self.seeds)!r}: duplicate seed")
+            raise BadInput(f"seeds={list(self.seeds)!r}: duplicate seed")
         if isinstance(self.frame_stride, bool) or not isinstance(self.frame_stride, int) or \
                 not 1 <= self.frame_stride <= MAX_FRAME_STRIDE:
-            raise ValueError(f"frame_stride={self.frame_stride!r} must be an integer in "
-                             f"1..{MAX_FRAME_STRIDE}")
+            raise BadInput(f"frame_stride={self.frame_stride!r} must be an integer in "
+                           f"1..{MAX_FRAME_STRIDE}")
         if self.duration_s is not None and (
                 isinstance(self.duration_s, bool)
                 or not isinstance(self.duration_s, (int, float))
                 or not 0 < self.duration_s <= MAX_DURATION_S):
-            raise ValueError(f"duration_s={self.duration_s!r} must be a number in "
-                             f"(0, {MAX_DURATION_S:g}] s")
+            raise BadInput(f"duration_s={self.duration_s!r} must be a number in "
+                           f"(0, {MAX_DURATION_S:g}] s")
         names = [v.name for v in self.variants]
         if len(set(names)) != len(names):
-            raise ValueError(f"variants: duplicate names {names}")
+            raise BadInput(f"variants: duplicate names {names}")
         n = len(self.scenarios) * len(self.variants) * len(self.seeds)
         if n > MAX_CELLS:
-            raise ValueError(f"the sweep has {n} cells ({len(self.scenarios)} scenarios x "
-                             f"{len(self.variants)} variants x {len(self.seeds)} seeds), more "
-                             f"than the limit {MAX_CELLS}")
+            raise BadInput(f"the sweep has {n} cells ({len(self.scenarios)} scenarios x "
+                           f"{len(self.variants)} variants x {len(self.seeds)} seeds), more "
+                           f"than the limit {MAX_CELLS}")
 
     def cells(self) -> list[CellSpec]:
         """Cells in a fixed order: scenario, then variant, then seed."""
@@ -184,10 +185,10 @@ def resolve_scenarios(value, check: bool = True) -> list[str]:
     if isinstance(value, str):
         value = [value]
     if not isinstance(value, list) or not all(isinstance(v, str) for v in value):
-        raise ValueError(f"scenarios={value!r} must be \"all\" or a list of case names")
+        raise BadInput(f"scenarios={value!r} must be \"all\" or a list of case names")
     if check:
         known = set(_catalogue())
         bad = [v for v in value if v not in known]
         if bad:
-            raise ValueError(f"scenarios: unknown case(s) {bad}; known: {sorted(known)}")
+            raise BadInput(f"scenarios: unknown case(s) {bad}; known: {sorted(known)}")
     return value

@@ -14,7 +14,8 @@ import functools
 import os
 from pathlib import Path
 
-from scenarios.fileio import check_input_file
+from core.errors import BadInput
+from core.fileio import check_input_file
 
 __all__ = ["load_profile", "profile_processing", "processing_from_profile",
            "cfar_config_from_ti", "simulation_radar", "sweep_profile_notes"]
@@ -166,10 +167,10 @@ def load_profile(path: str | os.PathLike):
     """
     p = Path(path)
     if p.is_dir():
-        raise ValueError(f"--cfg {str(p)!r} is a directory, not a TI .cfg profile")
+        raise BadInput(f"--cfg {str(p)!r} is a directory, not a TI .cfg profile")
     if not os.path.lexists(p):
-        raise FileNotFoundError(f"TI .cfg file {str(p)!r} not found")
-    if not p.is_file():  # a FIFO, device, socket or link loop: named (scenarios.fileio)
+        raise BadInput(f"TI .cfg file {str(p)!r} not found")
+    if not p.is_file():  # a FIFO, device, socket or link loop: named (core.fileio)
         check_input_file(p, "--cfg")
     st = p.stat()
     return _cached(str(p.resolve()), st.st_size, st.st_mtime_ns)

@@ -11,7 +11,7 @@ import time
 import traceback
 from pathlib import Path
 
-from scenarios.fileio import OutputError
+from core.fileio import OutputError
 
 from . import cellstore as store
 from .cell import run_cell

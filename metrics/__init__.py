@@ -15,11 +15,30 @@ scores tracks. `metrics.METRICS` (`metrics.registry`) defines every reported num
 the simulator or the pipeline: it only reads tables.
 """
 from . import association, detection, interference, r79, registry, scoring, tracks, velocity
-from .association import (CLUTTER, GHOST, LABELS, TRUE, VELOCITY_AMBIGUOUS, AssociationConfig,
-                          actor_frames, associate, detection_errors, scatterer_table)
-from .detection import (actor_detection, error_stats, ghost_stats, max_range_pd90, pd_vs_range,
-                        snr_gain_pairs, snr_gain_stats, summarize_scheme,
-                        target_first_detection_range_m, velocity_stats)
+from .association import (
+                          CLUTTER,
+                          GHOST,
+                          LABELS,
+                          TRUE,
+                          VELOCITY_AMBIGUOUS,
+                          AssociationConfig,
+                          actor_frames,
+                          associate,
+                          detection_errors,
+                          scatterer_table,
+)
+from .detection import (
+                          actor_detection,
+                          error_stats,
+                          ghost_stats,
+                          max_range_pd90,
+                          pd_vs_range,
+                          snr_gain_pairs,
+                          snr_gain_stats,
+                          summarize_scheme,
+                          target_first_detection_range_m,
+                          velocity_stats,
+)
 from .registry import METRICS, Metric, case_criteria, check_criterion, get_metric
 from .scoring import CASE_VERDICTS, CaseInfo, case_info, label_detections, score_scheme
 from .velocity import velocity_check

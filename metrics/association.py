@@ -45,7 +45,8 @@ import pandas as pd
 from scipy.optimize import linear_sum_assignment
 from scipy.spatial import cKDTree
 
-from scenarios.checks import require
+from core.checks import require
+from core.errors import BadInput
 
 from .joins import key_join, pair_index, pair_isin, sorted_join
 
@@ -145,7 +146,7 @@ class AssociationConfig:
 def _require(df: pd.DataFrame, columns, what: str) -> None:
     missing = [c for c in columns if c not in df.columns]
     if missing:
-        raise ValueError(f"{what} lacks column(s) {missing}; has {list(df.columns)}")
+        raise BadInput(f"{what} lacks column(s) {missing}; has {list(df.columns)}")
 
 
 def _gate_cost(det_x, det_y, ref_x, ref_y, cfg: AssociationConfig) -> np.ndarray:
@@ -284,7 +285,7 @@ def associate(detections: pd.DataFrame, truth: pd.DataFrame, *, velocity_span_mp
     _require(detections, _DET_COLUMNS, "detections")
     _require(truth, _TRUTH_COLUMNS, "truth")
     if not (velocity_span_mps > 0):
-        raise ValueError(f"velocity_span_mps={velocity_span_mps!r} must be > 0 (2 Vmax)")
+        raise BadInput(f"velocity_span_mps={velocity_span_mps!r} must be > 0 (2 Vmax)")
     out = detections.copy()
     n = len(out)
     label = np.full(n, GHOST, dtype=object)

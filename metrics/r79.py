@@ -28,8 +28,9 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from core.checks import require
+from core.errors import BadInput
 from scenarios.catalog import KMH  # m/s per km/h, the catalogue's one constant
-from scenarios.checks import require
 
 __all__ = ["R79Constants", "R79", "critical_distance_m", "r79_verdict", "KMH"]
 
@@ -96,11 +97,11 @@ def critical_distance_m(ego_speed_mps: float, approach_speed_mps: float | None =
     v_app = constants.approach_speed_mps if approach_speed_mps is None else approach_speed_mps
     for name, v in (("ego_speed_mps", ego_speed_mps), ("approach_speed_mps", v_app)):
         if not (isinstance(v, (int, float)) and math.isfinite(v) and v >= 0):
-            raise ValueError(f"{name}={v!r} must be a finite speed >= 0 m/s")
+            raise BadInput(f"{name}={v!r} must be a finite speed >= 0 m/s")
     dv = v_app - ego_speed_mps
     if dv < 0:
-        raise ValueError(f"approach_speed_mps={v_app:g} is below ego_speed_mps="
-                         f"{ego_speed_mps:g}: no vehicle approaches, S_crit does not apply")
+        raise BadInput(f"approach_speed_mps={v_app:g} is below ego_speed_mps="
+                       f"{ego_speed_mps:g}: no vehicle approaches, S_crit does not apply")
     return (dv * constants.reaction_time_s + dv * dv / (2 * constants.decel_mps2)
             + ego_speed_mps * constants.gap_time_s)
 

@@ -26,7 +26,8 @@ from typing import Callable, NamedTuple
 import numpy as np
 import pandas as pd
 
-from scenarios.registries import Registry
+from core.errors import BadInput
+from core.registry import Registry
 
 from . import detection as det
 from . import interference as itf
@@ -103,9 +104,9 @@ class Metric:
 
     def __post_init__(self) -> None:
         if self.better not in BETTER:
-            raise ValueError(f"better={self.better!r} is not one of {BETTER}")
+            raise BadInput(f"better={self.better!r} is not one of {BETTER}")
         if self.table not in TABLES:
-            raise ValueError(f"table={self.table!r} is not one of {TABLES}")
+            raise BadInput(f"table={self.table!r} is not one of {TABLES}")
 
     @property
     def source_name(self) -> str:
@@ -332,7 +333,7 @@ def _metrics() -> Registry[Metric]:
 
     def add(name, unit, better, table, source, description, **kw):
         if name in out:
-            raise ValueError(f"metric {name!r} defined twice")
+            raise BadInput(f"metric {name!r} defined twice")
         out.register(Metric(name=name, unit=unit, better=better, table=table, source=source,
                             description=description, **kw))
 
@@ -379,15 +380,15 @@ def check_criterion(metric: str, actor_id=None) -> Metric:
     'ghost_rate'
     >>> check_criterion("n_frames")  # doctest: +ELLIPSIS
     Traceback (most recent call last):
-    ValueError: criterion metric 'n_frames' cannot be a case criterion; criterion metrics: ...
+    core.errors.BadInput: criterion metric 'n_frames' cannot be a case criterion; criterion metrics: ...
     """
     m = get_metric(metric)
     if m.criterion is None:
-        raise ValueError(f"criterion metric {metric!r} cannot be a case criterion; criterion "
-                         f"metrics: {', '.join(criterion_metrics())}")
+        raise BadInput(f"criterion metric {metric!r} cannot be a case criterion; criterion "
+                       f"metrics: {', '.join(criterion_metrics())}")
     if m.per_actor is False and actor_id is not None:
-        raise ValueError(f"criterion metric {metric!r} is run-wide: actor_id={actor_id!r} "
-                         "must be left out")
+        raise BadInput(f"criterion metric {metric!r} is run-wide: actor_id={actor_id!r} "
+                       "must be left out")
     return m
 
 
@@ -437,7 +438,7 @@ def case_criteria(criteria, labelled: pd.DataFrame, actors: pd.DataFrame,
         aid = getattr(c, "actor_id", None)
         m = check_criterion(c.metric, aid)
         if c.op not in _OPS:
-            raise ValueError(f"criterion op {c.op!r} is not one of {sorted(_OPS)}")
+            raise BadInput(f"criterion op {c.op!r} is not one of {sorted(_OPS)}")
         v = float(m.criterion(ctx, aid))
         ok = bool(np.isfinite(v) and _OPS[c.op](v, c.value))
         out.setdefault(f"case_{m.name}", v)

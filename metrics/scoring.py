@@ -18,9 +18,17 @@ import pandas as pd
 
 from . import detection as det
 from . import r79
-from .association import (CLUTTER, GHOST, LABELS, STATIC_CLASSES, TRUE, VELOCITY_AMBIGUOUS,
-                          AssociationConfig, actor_frames, associate,
-                          detection_errors)
+from .association import (
+    CLUTTER,
+    GHOST,
+    STATIC_CLASSES,
+    TRUE,
+    VELOCITY_AMBIGUOUS,
+    AssociationConfig,
+    actor_frames,
+    associate,
+    detection_errors,
+)
 from .registry import case_criteria
 from .velocity import FAILURE, RIGHT, velocity_check
 

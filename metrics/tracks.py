@@ -34,7 +34,8 @@ import numpy as np
 import pandas as pd
 from scipy.optimize import linear_sum_assignment
 
-from scenarios.checks import require
+from core.checks import require
+from core.errors import BadInput
 
 from .joins import first_valid_rows, pair_isin
 
@@ -115,8 +116,8 @@ class TrackMetricsConfig:
         require(self, ("frame_period_s", "max_range_m"), gt=0, none_ok=True)
         require(self, "fov_azimuth_deg", gt=0, le=180, unit="deg", none_ok=True)
         if isinstance(self.confirmed_states, str) or not self.confirmed_states:
-            raise ValueError(f"confirmed_states={self.confirmed_states!r} must be a non-empty "
-                             "tuple of state names")
+            raise BadInput(f"confirmed_states={self.confirmed_states!r} must be a non-empty "
+                           "tuple of state names")
 
 
 # ---------------------------------------------------------------------------------------------
@@ -153,9 +154,9 @@ def gospa(truth_xy, track_xy, c_m: float = 10.0, p: float = 2.0) -> dict[str, fl
         On c_m <= 0, p < 1 or arrays not of shape (k, 2).
     """
     if not (math.isfinite(c_m) and c_m > 0):
-        raise ValueError(f"c_m={c_m!r} must be a finite number > 0")
+        raise BadInput(f"c_m={c_m!r} must be a finite number > 0")
     if not (math.isfinite(p) and p >= 1):
-        raise ValueError(f"p={p!r} must be a finite number >= 1")
+        raise BadInput(f"p={p!r} must be a finite number >= 1")
     x = np.asarray(truth_xy, dtype=float).reshape(-1, 2)
     y = np.asarray(track_xy, dtype=float).reshape(-1, 2)
     m, n = len(x), len(y)
@@ -180,10 +181,10 @@ def gospa(truth_xy, track_xy, c_m: float = 10.0, p: float = 2.0) -> dict[str, fl
 
 def _check(df: pd.DataFrame, name: str, needs: tuple[str, ...]) -> None:
     if not isinstance(df, pd.DataFrame):
-        raise ValueError(f"{name} must be a pandas DataFrame, got {type(df).__name__}")
+        raise BadInput(f"{name} must be a pandas DataFrame, got {type(df).__name__}")
     missing = [c for c in needs if c not in df.columns]
     if missing:
-        raise ValueError(f"{name} is missing columns {missing}")
+        raise BadInput(f"{name} is missing columns {missing}")
 
 
 def _prepare(tracks: pd.DataFrame, truth: pd.DataFrame, cfg: TrackMetricsConfig

@@ -38,6 +38,8 @@ import numpy as np
 import pandas as pd
 from scipy.spatial import cKDTree
 
+from core.errors import BadInput
+
 from .association import ROAD_USER_CLASSES, AssociationConfig, _rows_by_frame
 
 __all__ = ["VelocityCheck", "velocity_check", "RIGHT", "FAILURE", "UNMATCHED"]
@@ -116,8 +118,8 @@ def velocity_check(detections: pd.DataFrame, scatterers: pd.DataFrame, truth: pd
     """
     cfg = config or AssociationConfig()
     if not (np.isfinite(step_mps) and step_mps > 2 * cfg.velocity_gate_mps):
-        raise ValueError(f"step_mps={step_mps!r} must be finite and > 2 velocity_gate_mps = "
-                         f"{2 * cfg.velocity_gate_mps:g} m/s")
+        raise BadInput(f"step_mps={step_mps!r} must be finite and > 2 velocity_gate_mps = "
+                       f"{2 * cfg.velocity_gate_mps:g} m/s")
     n = len(detections)
     verdict = np.full(n, UNMATCHED, dtype=object)
     actor = np.full(n, -1, dtype=np.int64)

@@ -5,15 +5,32 @@
 from .numba_cache import install_cache_lock
 
 install_cache_lock()  # before any cache=True kernel compiles: concurrent workers share one cache
-from .cfar import CFAR_MODES, cfar_scale, noise_mean_factor
 from . import cfar_log  # noqa: F401  (registers TI's log-domain CFAR modes)
-from .chain import (MIMO_CHAINS, POINT_CLOUD_COLUMNS, detection_map, doppler_azimuth_map,
-                    frame_spectra, process_frame)
+from .cfar import CFAR_MODES, cfar_scale, noise_mean_factor
+from .chain import (
+                    MIMO_CHAINS,
+                    POINT_CLOUD_COLUMNS,
+                    detection_map,
+                    doppler_azimuth_map,
+                    frame_spectra,
+                    process_frame,
+)
 from .config import CfarConfig, ProcessingConfig
 from .mimo import DetectionMap, MimoChain, register_chain
-from .tracking import (EGO_MODELS, MOTION_MODELS, TRACK_COLUMNS, TRACK_STATES, EgoMotionConfig,
-                       EgoMotionEstimate, GroupTracker, TrackerConfig, estimate_ego_motion,
-                       ground_radial_velocity, static_mask, track_frames)
+from .tracking import (
+                    EGO_MODELS,
+                    MOTION_MODELS,
+                    TRACK_COLUMNS,
+                    TRACK_STATES,
+                    EgoMotionConfig,
+                    EgoMotionEstimate,
+                    GroupTracker,
+                    TrackerConfig,
+                    estimate_ego_motion,
+                    ground_radial_velocity,
+                    static_mask,
+                    track_frames,
+)
 
 __all__ = ["process_frame", "frame_spectra", "detection_map", "doppler_azimuth_map",
            "ProcessingConfig", "CfarConfig", "CFAR_MODES", "MIMO_CHAINS", "POINT_CLOUD_COLUMNS",

@@ -34,7 +34,8 @@ import numba
 import numpy as np
 from scipy import integrate, ndimage, optimize, special
 
-from scenarios.registries import Registry
+from core.errors import BadInput
+from core.registry import Registry
 
 from .gamma_law import Gamma
 
@@ -330,7 +331,7 @@ def cfar_mode(name: str) -> CfarMode:
     >>> cfar_mode("median")
     Traceback (most recent call last):
     ...
-    ValueError: mode='median' is not one of [...]
+    core.errors.BadInput: mode='median' is not one of [...]
     """
     return CFAR_MODES.lookup(name)
 
@@ -383,7 +384,7 @@ def cfar_scale(pfa: float, mode: str, n_cells: int, os_rank: int = 0, looks: int
     alpha = 16.29).
     """
     if not 0 < pfa < 1:
-        raise ValueError(f"pfa={pfa!r} must be in (0, 1)")
+        raise BadInput(f"pfa={pfa!r} must be in (0, 1)")
     target = np.log(pfa)
 
     def f(a: float) -> float:
@@ -393,7 +394,7 @@ def cfar_scale(pfa: float, mode: str, n_cells: int, os_rank: int = 0, looks: int
     while f(hi) > 0:
         hi *= 2.0
         if hi > 1e6:
-            raise ValueError(f"pfa={pfa!r} is unreachable for mode={mode}, N={n_cells}")
+            raise BadInput(f"pfa={pfa!r} is unreachable for mode={mode}, N={n_cells}")
     return float(optimize.brentq(f, 1e-9, hi, xtol=1e-10, rtol=1e-10))
 
 

@@ -16,11 +16,12 @@ from functools import lru_cache
 import numpy as np
 import pandas as pd
 
+from core.errors import BadInput
 from radarsim.config import RadarConfig
 
 from . import saturation
-from .fov import apply_fov
 from .config import ProcessingConfig
+from .fov import apply_fov
 from .mimo import MIMO_CHAINS, chain_of
 from .stages import POINT_CLOUD_COLUMNS, check_frame
 
@@ -36,12 +37,12 @@ def _inputs(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig | None):
     report = saturation.monitor(adc)
     proc = _default_processing() if proc is None else proc
     if not isinstance(proc, ProcessingConfig):
-        raise ValueError(f"proc must be a pipeline.ProcessingConfig, got {type(proc).__name__}")
+        raise BadInput(f"proc must be a pipeline.ProcessingConfig, got {type(proc).__name__}")
     chain = chain_of(cfg)
     proc.check_radar(cfg)
     if proc.clutter_removal and not chain.removes_static_clutter:
-        raise ValueError(f"clutter_removal=True: the {cfg.mimo} chain has no static clutter "
-                         "removal (TI's clutterRemoval belongs to the TDM/BPM demos)")
+        raise BadInput(f"clutter_removal=True: the {cfg.mimo} chain has no static clutter "
+                       "removal (TI's clutterRemoval belongs to the TDM/BPM demos)")
     return chain, proc, report
 
 
@@ -136,7 +137,7 @@ def doppler_azimuth_map(cfg: RadarConfig, adc: np.ndarray, range_bin: int,
     """
     chain, proc, _ = _inputs(cfg, adc, proc)
     if not 0 <= range_bin < cfg.n_range_bins:
-        raise ValueError(f"range_bin={range_bin} outside 0..{cfg.n_range_bins - 1}")
+        raise BadInput(f"range_bin={range_bin} outside 0..{cfg.n_range_bins - 1}")
     n_az = proc.n_azimuth_bins
     vel, power = chain.doppler_azimuth(cfg, adc, range_bin, proc)
     order = np.argsort(vel)

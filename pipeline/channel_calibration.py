@@ -49,6 +49,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from core.errors import BadInput
 from radarsim.config import RadarConfig
 
 from .chirp_level.stage import range_stage
@@ -190,19 +191,19 @@ def measure_channel_calibration(cfg: RadarConfig, frames: Iterable[np.ndarray],
     """
     proc = ProcessingConfig() if proc is None else proc
     if not (math.isfinite(target_range_m) and target_range_m > 0):
-        raise ValueError(f"target_range_m={target_range_m!r} must be a positive distance (m)")
+        raise BadInput(f"target_range_m={target_range_m!r} must be a positive distance (m)")
     if not (math.isfinite(search_window_m) and search_window_m > 0):
-        raise ValueError(f"search_window_m={search_window_m!r} must be > 0 m")
+        raise BadInput(f"search_window_m={search_window_m!r} must be > 0 m")
     if not (math.isfinite(azimuth_deg) and abs(azimuth_deg) < 90):
-        raise ValueError(f"azimuth_deg={azimuth_deg!r} must be within (-90, 90) deg")
+        raise BadInput(f"azimuth_deg={azimuth_deg!r} must be within (-90, 90) deg")
     dr = cfg.range_resolution_m
     bins = np.arange(cfg.n_range_bins)
     in_win = (np.abs(bins * dr - target_range_m) <= search_window_m) & \
         (bins >= max(proc.min_range_bin, 1)) & (bins < cfg.n_range_bins - 1)
     if not in_win.any():
-        raise ValueError(f"target_range_m={target_range_m:g} +/- {search_window_m:g} m holds no "
-                         f"range bin the radar reports ({max(proc.min_range_bin, 1) * dr:.3f}.."
-                         f"{(cfg.n_range_bins - 2) * dr:.3f} m, {dr:.4f} m per bin)")
+        raise BadInput(f"target_range_m={target_range_m:g} +/- {search_window_m:g} m holds no "
+                       f"range bin the radar reports ({max(proc.min_range_bin, 1) * dr:.3f}.."
+                       f"{(cfg.n_range_bins - 2) * dr:.3f} m, {dr:.4f} m per bin)")
     x_sum, p_sum, noise_sum, n = None, None, None, 0
     for adc in frames:
         x, noise = static_virtual_samples(cfg, range_stage(cfg, adc, proc))
@@ -212,16 +213,16 @@ def measure_channel_calibration(cfg: RadarConfig, frames: Iterable[np.ndarray],
         noise_sum = noise if noise_sum is None else noise_sum + noise
         n += 1
     if n == 0:
-        raise ValueError("the capture holds no frame to calibrate on")
+        raise BadInput("the capture holds no frame to calibrate on")
     idx = np.flatnonzero(in_win)
     b = int(idx[np.argmax(p_sum[idx])])
     lo, hi = idx[0], idx[-1]
     if not (p_sum[b] > p_sum[b - 1] and p_sum[b] > p_sum[b + 1]):
         edge = "near" if b == lo else "far"
-        raise ValueError(f"target not found: the strongest return within target_range_m="
-                         f"{target_range_m:g} +/- {search_window_m:g} m is at the window's "
-                         f"{edge} edge ({b * dr:.3f} m) and rises beyond it: no peak "
-                         f"in {lo * dr:.3f}..{hi * dr:.3f} m")
+        raise BadInput(f"target not found: the strongest return within target_range_m="
+                       f"{target_range_m:g} +/- {search_window_m:g} m is at the window's "
+                       f"{edge} edge ({b * dr:.3f} m) and rises beyond it: no peak "
+                       f"in {lo * dr:.3f}..{hi * dr:.3f} m")
     pos = float(interp_range(p_sum[None, b - 1: b + 2], np.array([b]), cfg.n_range_bins,
                              WINDOWS[proc.range_window])[0])
     measured = pos * dr
@@ -234,10 +235,10 @@ def measure_channel_calibration(cfg: RadarConfig, frames: Iterable[np.ndarray],
     snr_db = 10 * np.log10(np.maximum(snr, 1e-30))
     mean_snr_db = float(10 * np.log10(np.mean(snr)))
     if mean_snr_db < min_snr_db:
-        raise ValueError(f"target too weak or absent: calibration SNR {mean_snr_db:.1f} dB per "
-                         f"channel and frame at "
-                         f"{measured:.3f} m is below the limit {min_snr_db:g} dB: use a stronger "
-                         "or closer reflector")
+        raise BadInput(f"target too weak or absent: calibration SNR {mean_snr_db:.1f} dB per "
+                       f"channel and frame at "
+                       f"{measured:.3f} m is below the limit {min_snr_db:g} dB: use a stronger "
+                       "or closer reflector")
     coef = _steering(cfg, azimuth_deg) * np.conj(xs) / np.abs(xs) ** 2 * np.abs(xs).min()
     coef = coef * np.exp(-1j * np.angle(coef[0]))  # channel 0 real and positive
     return ChannelCalibration(range_bias_m=measured - target_range_m,

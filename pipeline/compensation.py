@@ -38,6 +38,7 @@ from functools import lru_cache
 
 import numpy as np
 
+from core.errors import BadInput
 from radarsim.config import RadarConfig
 
 __all__ = ["COMP_COMMAND", "Q15_SCALE", "q15", "n_chip_pairs", "ti_pair_index",
@@ -79,22 +80,22 @@ def check_comp_values(range_bias_m: float, channel_comp) -> tuple[tuple[float, f
     (re, im) float pairs (or None). Raises ValueError naming the value and the limit."""
     if not (isinstance(range_bias_m, (int, float, np.integer, np.floating))
             and not isinstance(range_bias_m, bool) and math.isfinite(range_bias_m)):
-        raise ValueError(f"range_bias_m={range_bias_m!r} must be a finite number (m)")
+        raise BadInput(f"range_bias_m={range_bias_m!r} must be a finite number (m)")
     if channel_comp is None:
         return None
     try:
         pairs = tuple((float(re), float(im)) for re, im in channel_comp)
     except (TypeError, ValueError):
-        raise ValueError(f"channel_comp={channel_comp!r} must be a sequence of (re, im) pairs")\
+        raise BadInput(f"channel_comp={channel_comp!r} must be a sequence of (re, im) pairs")\
             from None
     if not pairs or not all(math.isfinite(v) for p in pairs for v in p):
-        raise ValueError(f"channel_comp must hold finite (re, im) pairs, got {channel_comp!r}")
+        raise BadInput(f"channel_comp must hold finite (re, im) pairs, got {channel_comp!r}")
     bad = [v for p in pairs for v in p if not -1.0 <= v <= 1.0]
     if bad:
         # 1.0 itself is the demos' "no correction" (1 0 1 0 ...): Q15 saturates it to
         # 32767 / 32768. Beyond +/-1 the demo would clip silently: refused here.
-        raise ValueError(f"channel_comp value {bad[0]!r} is outside the Q15 range [-1, 1] of "
-                         f"{COMP_COMMAND} (the demo would saturate it)")
+        raise BadInput(f"channel_comp value {bad[0]!r} is outside the Q15 range [-1, 1] of "
+                       f"{COMP_COMMAND} (the demo would saturate it)")
     return pairs
 
 
@@ -105,10 +106,10 @@ def check_channel_comp(cfg: RadarConfig, channel_comp) -> None:
     want = n_chip_pairs(cfg)
     if len(channel_comp) != want:
         spec = cfg.chip_spec
-        raise ValueError(f"{COMP_COMMAND}: {len(channel_comp)} (re, im) coefficients "
-                         f"({1 + 2 * len(channel_comp)} values), the {spec.name} needs "
-                         f"{want} = {spec.n_tx} Tx x {spec.n_rx} Rx ({1 + 2 * want} values: "
-                         "rangeBias, then Re/Im per chip Tx x Rx pair)")
+        raise BadInput(f"{COMP_COMMAND}: {len(channel_comp)} (re, im) coefficients "
+                       f"({1 + 2 * len(channel_comp)} values), the {spec.name} needs "
+                       f"{want} = {spec.n_tx} Tx x {spec.n_rx} Rx ({1 + 2 * want} values: "
+                       "rangeBias, then Re/Im per chip Tx x Rx pair)")
 
 
 @lru_cache(maxsize=32)

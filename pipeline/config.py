@@ -5,13 +5,14 @@ import dataclasses
 from dataclasses import dataclass, field
 from typing import Any, NamedTuple
 
-from scenarios.checks import one_of, require
+from core.checks import one_of, require
+from core.errors import BadInput
 
 from .cfar import CFAR_MODES, cfar_scale
 from .compensation import check_channel_comp, check_comp_values
 from .dc_range_signature import DcRangeSignature
-from .fov import FOV_FIELDS, check_interval
 from .ege_format import ege_min_ratio
+from .fov import FOV_FIELDS, check_interval
 from .interference_repair import MITIGATIONS
 from .saturation import SATURATION_POLICIES
 
@@ -247,7 +248,7 @@ class ProcessingConfig:
 
     def __post_init__(self) -> None:
         if not isinstance(self.cfar, CfarConfig):
-            raise ValueError(f"cfar must be a CfarConfig, got {type(self.cfar).__name__}")
+            raise BadInput(f"cfar must be a CfarConfig, got {type(self.cfar).__name__}")
         one_of("range_window", self.range_window, WINDOWS)
         one_of("doppler_window", self.doppler_window, WINDOWS)
         require(self, "n_azimuth_bins", "integer", ge=16)
@@ -270,16 +271,16 @@ class ProcessingConfig:
         require(self, "compression_ratio", ge=0.25, lt=1)
         if self.dc_range_signature is not None:
             if not isinstance(self.dc_range_signature, DcRangeSignature):
-                raise ValueError(f"dc_range_signature must be a DcRangeSignature or None, got "
-                                 f"{type(self.dc_range_signature).__name__}")
+                raise BadInput(f"dc_range_signature must be a DcRangeSignature or None, got "
+                               f"{type(self.dc_range_signature).__name__}")
         object.__setattr__(self, "channel_comp",
                            check_comp_values(self.range_bias_m, self.channel_comp))
         for name in FOV_FIELDS:
             object.__setattr__(self, name, check_interval(name, getattr(self, name)))
         b = self.compression_range_bins_per_block
         if isinstance(b, bool) or not isinstance(b, int) or b not in (1, 2, 4, 8, 16, 32):
-            raise ValueError(f"compression_range_bins_per_block={b!r} must be a power of 2 "
-                             "in 1..32")
+            raise BadInput(f"compression_range_bins_per_block={b!r} must be a power of 2 "
+                           "in 1..32")
 
     def check_doppler_axis(self, n_doppler_bins: int) -> None:
         """Raise if the CFAR's cyclic window does not fit the Doppler axis of a radar.
@@ -291,9 +292,9 @@ class ProcessingConfig:
         c = self.cfar
         span = 2 * (c.guard_cells + c.window_cells * c.training_stride) + 1
         if span > n_doppler_bins:
-            raise ValueError(f"cfar window_cells={c.window_cells} (guard_cells={c.guard_cells}, "
-                             f"training_stride={c.training_stride}) spans {span} Doppler bins, "
-                             f"more than the {n_doppler_bins} bins of the radar's Doppler axis")
+            raise BadInput(f"cfar window_cells={c.window_cells} (guard_cells={c.guard_cells}, "
+                           f"training_stride={c.training_stride}) spans {span} Doppler bins, "
+                           f"more than the {n_doppler_bins} bins of the radar's Doppler axis")
 
     def check_compression(self, n_rx: int, n_range_bins: int) -> None:
         """Raise if EGE compression cannot run on a radar's range-FFT cube: the blocks must
@@ -303,13 +304,13 @@ class ProcessingConfig:
             return
         b = self.compression_range_bins_per_block
         if n_range_bins % b:
-            raise ValueError(f"compression_range_bins_per_block={b} does not divide the "
-                             f"radar's {n_range_bins} range bins")
+            raise BadInput(f"compression_range_bins_per_block={b} does not divide the "
+                           f"radar's {n_range_bins} range bins")
         lo = ege_min_ratio(n_rx, b)
         if self.compression_ratio < lo:
-            raise ValueError(f"compression_ratio={self.compression_ratio:g} is below {lo:.4f}, "
-                             f"the smallest a block of {n_rx} Rx x {b} range bins fits with "
-                             "the demo's EG k-array (k >= 3: at least 5 bits per I/Q value)")
+            raise BadInput(f"compression_ratio={self.compression_ratio:g} is below {lo:.4f}, "
+                           f"the smallest a block of {n_rx} Rx x {b} range bins fits with "
+                           "the demo's EG k-array (k >= 3: at least 5 bits per I/Q value)")
 
     def check_radar(self, cfg) -> None:
         """Raise if these settings cannot process `cfg`'s frames (`check_doppler_axis`,
@@ -327,10 +328,10 @@ class ProcessingConfig:
         schemes without a verifying map)."""
         w = self.fast_slow_search_bins
         if 2 * w + 1 > separation_bins:
-            raise ValueError(f"fast_slow_search_bins={w}: the search window (2 x {w} + 1 bins) "
-                             f"exceeds the {separation_bins:.3g} slow Doppler bins between two "
-                             f"unfolding candidates of the radar (limit "
-                             f"{int((separation_bins - 1) // 2)})")
+            raise BadInput(f"fast_slow_search_bins={w}: the search window (2 x {w} + 1 bins) "
+                           f"exceeds the {separation_bins:.3g} slow Doppler bins between two "
+                           f"unfolding candidates of the radar (limit "
+                           f"{int((separation_bins - 1) // 2)})")
 
     def replace(self, **changes: Any) -> "ProcessingConfig":
         """Copy with changes; `cfar_<field>` keys change the CFAR sub-config."""
@@ -339,7 +340,7 @@ class ProcessingConfig:
         names = {f.name for f in dataclasses.fields(self)}
         unknown = sorted(set(rest) - names)
         if unknown:
-            raise ValueError(f"unknown ProcessingConfig field(s) {unknown}")
+            raise BadInput(f"unknown ProcessingConfig field(s) {unknown}")
         if cfar_changes:
             rest["cfar"] = _replace_cfar(rest.get("cfar", self.cfar), cfar_changes)
         return dataclasses.replace(self, **rest)
@@ -355,16 +356,16 @@ def _replace_cfar(cfar: CfarConfig, changes: dict[str, Any]) -> CfarConfig:
     names = {f.name for f in dataclasses.fields(CfarConfig)}
     unknown = sorted(set(changes) - names)
     if unknown:
-        raise ValueError(f"unknown CfarConfig field(s) {['cfar_' + u for u in unknown]}; known: "
-                         f"{sorted('cfar_' + n for n in names)}")
+        raise BadInput(f"unknown CfarConfig field(s) {['cfar_' + u for u in unknown]}; known: "
+                       f"{sorted('cfar_' + n for n in names)}")
     changes = dict(changes)
     if "window_cells" in changes and "os_rank" not in changes and \
             changes["window_cells"] != cfar.window_cells:
         if cfar.os_rank == default_os_rank(cfar.n_training):
             changes["os_rank"] = None
         else:
-            raise ValueError(f"cfar_window_cells={changes['window_cells']!r} changes the training "
-                             f"window, but os_rank={cfar.os_rank} was chosen for window_cells="
-                             f"{cfar.window_cells}: give cfar_os_rank too (None: 3/4 of the "
-                             "training cells)")
+            raise BadInput(f"cfar_window_cells={changes['window_cells']!r} changes the training "
+                           f"window, but os_rank={cfar.os_rank} was chosen for window_cells="
+                           f"{cfar.window_cells}: give cfar_os_rank too (None: 3/4 of the "
+                           "training cells)")
     return dataclasses.replace(cfar, **changes)

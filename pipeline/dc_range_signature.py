@@ -29,6 +29,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from core.errors import BadInput
+
 __all__ = ["DcRangeSignature", "DcSignatureCalibrator", "signature_bins"]
 
 
@@ -60,10 +62,10 @@ class DcRangeSignature:
 
     def __post_init__(self) -> None:
         if self.mean.ndim != 3 or self.mean.shape[2] != self.bins.size:
-            raise ValueError(f"mean shape {self.mean.shape} must be (n_slots, n_rx, "
-                             f"{self.bins.size} bins)")
+            raise BadInput(f"mean shape {self.mean.shape} must be (n_slots, n_rx, "
+                           f"{self.bins.size} bins)")
         if self.first_loop < 0:
-            raise ValueError(f"first_loop={self.first_loop} must be >= 0")
+            raise BadInput(f"first_loop={self.first_loop} must be >= 0")
 
     def subtract(self, rf: np.ndarray) -> np.ndarray:
         """(C, R, B) range-FFT frame with the signature subtracted from its bins, from loop
@@ -77,9 +79,9 @@ class DcRangeSignature:
         n_slots, n_rx, _ = self.mean.shape
         c, r, b = rf.shape
         if c % n_slots or r != n_rx or self.bins.max() >= b:
-            raise ValueError(f"a ({c}, {r}, {b}) range-FFT frame does not fit a DC range "
-                             f"signature of {n_slots} slots x {n_rx} Rx up to bin "
-                             f"{self.bins.max()}")
+            raise BadInput(f"a ({c}, {r}, {b}) range-FFT frame does not fit a DC range "
+                           f"signature of {n_slots} slots x {n_rx} Rx up to bin "
+                           f"{self.bins.max()}")
         out = np.array(rf, copy=True)
         loops = out.reshape(c // n_slots, n_slots, r, b)
         sel = loops[self.first_loop:, :, :, self.bins]

@@ -10,6 +10,8 @@ import math
 import numpy as np
 import pandas as pd
 
+from core.errors import BadInput
+
 __all__ = ["FOV_FIELDS", "check_interval", "apply_fov"]
 
 #: ProcessingConfig field -> the point-cloud column it bounds.
@@ -30,10 +32,10 @@ def check_interval(name: str, value) -> tuple[float, float] | None:
     try:
         lo, hi = (float(v) for v in value)
     except (TypeError, ValueError):
-        raise ValueError(f"{name}={value!r} must be a (min, max) pair of numbers or None") \
+        raise BadInput(f"{name}={value!r} must be a (min, max) pair of numbers or None") \
             from None
     if not (math.isfinite(lo) and math.isfinite(hi)) or lo > hi:
-        raise ValueError(f"{name}={value!r} must be finite with min <= max")
+        raise BadInput(f"{name}={value!r} must be finite with min <= max")
     return (lo, hi)
 
 

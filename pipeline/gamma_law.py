@@ -17,6 +17,8 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import special
 
+from core.errors import BadInput
+
 __all__ = ["Gamma"]
 
 
@@ -47,9 +49,9 @@ class Gamma:
 
     def __post_init__(self) -> None:
         if not self.a > 0:
-            raise ValueError(f"a={self.a!r} must be > 0")
+            raise BadInput(f"a={self.a!r} must be > 0")
         if not self.scale > 0:
-            raise ValueError(f"scale={self.scale!r} must be > 0")
+            raise BadInput(f"scale={self.scale!r} must be > 0")
 
     def _x(self, y):
         return np.asarray(y, dtype=np.float64) / self.scale

@@ -61,6 +61,8 @@ from typing import NamedTuple
 import numba
 import numpy as np
 
+from core.errors import BadInput
+
 from .threads import run_parts, spans
 
 __all__ = ["FastTimeBasis", "fast_time_basis", "lowrank_fill", "burst_fill", "BurstFill",
@@ -249,7 +251,7 @@ def _fit_rows(x, rhs, vec_c, lt, run_s, run_e, n_runs, r0, r1, y, c):
     nr = r1 - r0
     nr4 = (nr + 3) // 4 * 4
     if y.shape[0] < nr4 or c.shape[1] < nr4:
-        raise ValueError("_fit_rows: y and c must hold the burst's rows rounded up to 4")
+        raise BadInput("_fit_rows: y and c must hold the burst's rows rounded up to 4")
     for r in range(nr):
         for i in range(kp):
             y[r, i] = rhs[r0 + r, i] if i < uk else 0

@@ -58,10 +58,16 @@ from typing import NamedTuple
 import numpy as np
 import scipy.signal
 
-from scenarios.registries import Registry
+from core.errors import BadInput
+from core.registry import Registry
 
-from .interference_lowrank import (BurstFill, FastTimeBasis, GramOperands, burst_fill,
-                                   fast_time_basis)
+from .interference_lowrank import (
+    BurstFill,
+    FastTimeBasis,
+    GramOperands,
+    burst_fill,
+    fast_time_basis,
+)
 
 __all__ = ["Mitigation", "MITIGATIONS", "get_mitigation", "widen", "close_gaps", "repair",
            "lowrank_bursts", "frame_basis", "frame_has_reference", "FrameRows",
@@ -199,20 +205,20 @@ class Mitigation:
 
     def __post_init__(self) -> None:
         if self.fill not in FILLS:
-            raise ValueError(f"fill={self.fill!r} is not one of {', '.join(FILLS)}")
+            raise BadInput(f"fill={self.fill!r} is not one of {', '.join(FILLS)}")
         for f in ("rank_snr_gate_db", "grow_sigma"):
             v = getattr(self, f)
             if isinstance(v, bool) or not isinstance(v, (int, float)) or not np.isfinite(v) \
                     or v < 0:
-                raise ValueError(f"{f}={v!r} must be a finite number >= 0")
+                raise BadInput(f"{f}={v!r} must be a finite number >= 0")
         if not isinstance(self.recentre, bool) or not isinstance(self.compensate, bool):
-            raise ValueError(f"recentre={self.recentre!r} and compensate="
-                             f"{self.compensate!r} must be true or false")
+            raise BadInput(f"recentre={self.recentre!r} and compensate="
+                           f"{self.compensate!r} must be true or false")
         for f in ("close_gap_samples", "extend_samples", "ar_order", "taper_samples",
                   "cancel_tones", "rank_max", "grow_reach_samples"):
             v = getattr(self, f)
             if isinstance(v, bool) or not isinstance(v, int) or v < 0:
-                raise ValueError(f"{f}={v!r} must be an integer >= 0")
+                raise BadInput(f"{f}={v!r} must be an integer >= 0")
 
     def mask(self, flags: np.ndarray, hysteresis: int) -> np.ndarray:
         """(R, n) bool of the samples to repair: the flags closed over `close_gap_samples`,

@@ -37,6 +37,8 @@ from typing import NamedTuple
 import numpy as np
 import pandas as pd
 
+from core.errors import BadInput
+
 __all__ = ["SaturationReport", "SaturationPolicy", "SATURATION_POLICIES", "monitor", "apply_policy",
            "ADC_MIN_CODE", "ADC_MAX_CODE"]
 
@@ -117,8 +119,8 @@ def monitor(adc: np.ndarray) -> SaturationReport:
     the int16 samples.
     """
     if adc.dtype not in (np.int16, np.complex64) or adc.ndim != 3:
-        raise ValueError(f"adc must be a (n_chirps, n_rx, n_samples) int16 (or complex64 I/Q) "
-                         f"array, got {adc.dtype} with shape {adc.shape}")
+        raise BadInput(f"adc must be a (n_chirps, n_rx, n_samples) int16 (or complex64 I/Q) "
+                       f"array, got {adc.dtype} with shape {adc.shape}")
     n_c, n_r, n_s = adc.shape
     if adc.dtype == np.complex64:  # I/Q: a sample saturates when its I or Q part does
         parts = adc.view(np.float32).reshape(n_c, n_r, 2 * n_s)
@@ -141,10 +143,10 @@ def _non_finite(adc: np.ndarray) -> None:
     bad = ~np.isfinite(adc)
     c, r, s = (int(i[0]) for i in np.nonzero(bad))
     n = int(np.count_nonzero(bad))
-    raise ValueError(f"ADC frame {adc.shape} {adc.dtype} has {n} non-finite sample"
-                     f"{'s' if n > 1 else ''} (NaN or inf) of {adc.size}, first at chirp {c}, "
-                     f"Rx {r}, sample {s}: no ADC delivers them (a damaged capture or a bug "
-                     "upstream)")
+    raise BadInput(f"ADC frame {adc.shape} {adc.dtype} has {n} non-finite sample"
+                   f"{'s' if n > 1 else ''} (NaN or inf) of {adc.size}, first at chirp {c}, "
+                   f"Rx {r}, sample {s}: no ADC delivers them (a damaged capture or a bug "
+                   "upstream)")
 
 
 def apply_policy(points: pd.DataFrame, report: SaturationReport, policy: str, *,
@@ -173,8 +175,8 @@ def apply_policy(points: pd.DataFrame, report: SaturationReport, policy: str, *,
         of it, not into `points`.
     """
     if policy not in SATURATION_POLICIES:
-        raise ValueError(f"saturation_policy={policy!r} is not one of "
-                         f"{sorted(SATURATION_POLICIES)}")
+        raise BadInput(f"saturation_policy={policy!r} is not one of "
+                       f"{sorted(SATURATION_POLICIES)}")
     if owned and not report.saturated and _all_false(points):
         # The frame below would be a copy of `points` with the same values: 0.15-0.25 ms of
         # pandas calls inside a frame (shallow copy, column setter), saved.

@@ -18,6 +18,7 @@ from typing import NamedTuple
 import numpy as np
 import pandas as pd
 
+from core.errors import BadInput
 from radarsim.config import C_MPS, RadarConfig
 
 from .cfar import noise_mean_factor
@@ -42,16 +43,16 @@ _FROM_ARRAYS = getattr(pd.DataFrame, "_from_arrays", None)
 
 def check_frame(cfg: RadarConfig, adc: np.ndarray) -> None:
     if not isinstance(cfg, RadarConfig):
-        raise ValueError(f"cfg must be a radarsim.RadarConfig, got {type(cfg).__name__}")
+        raise BadInput(f"cfg must be a radarsim.RadarConfig, got {type(cfg).__name__}")
     if not isinstance(adc, np.ndarray):
-        raise ValueError(f"adc must be a numpy.ndarray, got {type(adc).__name__}")
+        raise BadInput(f"adc must be a numpy.ndarray, got {type(adc).__name__}")
     if adc.dtype != cfg.adc_dtype:
-        raise ValueError(f"adc dtype must be {cfg.adc_dtype} ({cfg.adc_mode} ADC samples), got "
-                         f"{adc.dtype}")
+        raise BadInput(f"adc dtype must be {cfg.adc_dtype} ({cfg.adc_mode} ADC samples), got "
+                       f"{adc.dtype}")
     want = (cfg.n_chirps, cfg.n_rx, cfg.n_samples)
     if adc.shape != want:
-        raise ValueError(f"adc shape {adc.shape} does not match the config "
-                         f"(n_chirps, n_rx, n_samples) = {want}")
+        raise BadInput(f"adc shape {adc.shape} does not match the config "
+                       f"(n_chirps, n_rx, n_samples) = {want}")
 
 
 def power_of(x: np.ndarray, consume: bool = False) -> np.ndarray:

@@ -5,14 +5,24 @@
 """
 from . import mimo_fast_slow, presets, shifter  # noqa: F401  (mimo_fast_slow registers)
 from .boards import BOARDS, Board, register_board
-from .calibration import (ShifterCalibration, calibrate_shifters, measure_shifters,
-                          resolve_calibration)
+from .calibration import (
+                          ShifterCalibration,
+                          calibrate_shifters,
+                          measure_shifters,
+                          resolve_calibration,
+)
 from .chips import CHIPS, Chip, register_chip
-from .radar_config import RadarConfig
+from .frontend import (
+                          ADCSaturationWarning,
+                          expected_sample_snr_db,
+                          received_power_w,
+                          saturation_fraction,
+                          simulate_frame,
+                          simulate_frame_weights,
+                          transmit_phasors,
+)
 from .mimo import MIMO_SCHEMES, MimoScheme, register_scheme
-from .frontend import (ADCSaturationWarning, expected_sample_snr_db, received_power_w,
-                       saturation_fraction, simulate_frame, simulate_frame_weights,
-                       transmit_phasors)
+from .radar_config import RadarConfig
 from .scatterers import Scatterers
 from .shifter import ShifterErrorSpec
 

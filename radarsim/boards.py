@@ -61,7 +61,8 @@ import math
 from dataclasses import dataclass
 from typing import Any
 
-from scenarios.registries import Registry
+from core.errors import BadInput
+from core.registry import Registry
 
 from .chips import get_chip
 
@@ -102,7 +103,7 @@ class Board:
 
     def __post_init__(self) -> None:
         if not isinstance(self.name, str) or not self.name:
-            raise ValueError(f"board name={self.name!r} must be a non-empty string")
+            raise BadInput(f"board name={self.name!r} must be a non-empty string")
         chip = get_chip(self.chip)
         object.__setattr__(self, "tx_positions_wl", _positions(
             self.tx_positions_wl, chip.n_tx, f"board {self.name}: tx_positions_wl"))
@@ -111,12 +112,12 @@ class Board:
         for fld in ("pattern_exponent_az", "pattern_exponent_el"):
             v = getattr(self, fld)
             if not (isinstance(v, (int, float)) and 0 <= v < math.inf):
-                raise ValueError(f"board {self.name}: {fld}={v!r} must be a finite number >= 0")
+                raise BadInput(f"board {self.name}: {fld}={v!r} must be a finite number >= 0")
         if not (isinstance(self.fov_deg, (int, float)) and 0 < self.fov_deg <= 90):
-            raise ValueError(f"board {self.name}: fov_deg={self.fov_deg!r} must be in (0, 90]")
+            raise BadInput(f"board {self.name}: fov_deg={self.fov_deg!r} must be in (0, 90]")
         if not isinstance(self.ti_platform, str):
-            raise ValueError(f"board {self.name}: ti_platform={self.ti_platform!r} must be a "
-                             "string (a TI Visualizer '% Platform:' name, or '')")
+            raise BadInput(f"board {self.name}: ti_platform={self.ti_platform!r} must be a "
+                           "string (a TI Visualizer '% Platform:' name, or '')")
 
     # ------------------------------------------------------------------ configs
     def validate(self, cfg) -> None:
@@ -129,8 +130,8 @@ class Board:
             Naming the field, the value and the rule.
         """
         if self.chip != cfg.chip:
-            raise ValueError(f"board={self.name!r} carries a {self.chip}, not chip="
-                             f"{cfg.chip!r}")
+            raise BadInput(f"board={self.name!r} carries a {self.chip}, not chip="
+                           f"{cfg.chip!r}")
         self.defaults(cfg)
 
     def defaults(self, cfg) -> dict[str, Any]:
@@ -159,11 +160,11 @@ def _positions(value, n: int, name: str) -> tuple[tuple[float, float], ...]:
     try:
         pos = tuple((float(y), float(z)) for y, z in value)
     except (TypeError, ValueError):
-        raise ValueError(f"{name}={value!r} must be a sequence of (y, z) pairs in "
-                         "wavelengths") from None
+        raise BadInput(f"{name}={value!r} must be a sequence of (y, z) pairs in "
+                       "wavelengths") from None
     if len(pos) != n or not all(math.isfinite(c) for p in pos for c in p):
-        raise ValueError(f"{name} must hold {n} finite (y, z) pairs (one per chip channel), "
-                         f"got {value!r}")
+        raise BadInput(f"{name} must hold {n} finite (y, z) pairs (one per chip channel), "
+                       f"got {value!r}")
     return pos
 
 

@@ -30,8 +30,10 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .radar_config import RadarConfig
+from core.errors import BadInput
+
 from .frontend import programmed_codes, received_power_w, wanted_phase_deg
+from .radar_config import RadarConfig
 from .scatterers import Scatterers
 from .shifter import coupling_matrix, phase_residual_deg, shifter_factor, wrap_deg
 
@@ -100,14 +102,14 @@ CALIBRATION_PHASE_FRACTION_OF_LSB = 0.25
 def _check_args(range_m: float, rcs_m2: float, n_repeats: int) -> None:
     if not (isinstance(range_m, (int, float)) and not isinstance(range_m, bool)
             and math.isfinite(range_m) and range_m > 0):
-        raise ValueError(f"range_m={range_m!r} must be a finite distance > 0 m")
+        raise BadInput(f"range_m={range_m!r} must be a finite distance > 0 m")
     if not (isinstance(rcs_m2, (int, float)) and not isinstance(rcs_m2, bool)
             and math.isfinite(rcs_m2) and rcs_m2 > 0):
-        raise ValueError(f"rcs_m2={rcs_m2!r} must be > 0")
+        raise BadInput(f"rcs_m2={rcs_m2!r} must be > 0")
     if not isinstance(n_repeats, (int, np.integer)) or isinstance(n_repeats, bool) or \
             not 1 <= n_repeats <= MAX_CALIBRATION_REPEATS:
-        raise ValueError(f"n_repeats={n_repeats!r} must be an integer in "
-                         f"1..{MAX_CALIBRATION_REPEATS}")
+        raise BadInput(f"n_repeats={n_repeats!r} must be an integer in "
+                       f"1..{MAX_CALIBRATION_REPEATS}")
 
 
 def min_calibration_snr_db(cfg: RadarConfig, n_repeats: int) -> float:
@@ -137,7 +139,7 @@ def _check_snr(cfg: RadarConfig, range_m: float, rcs_m2: float, n_repeats: int) 
     snr_db = 10 * math.log10(max(_measurement_snr(cfg, range_m, rcs_m2), 1e-300))
     need = min_calibration_snr_db(cfg, n_repeats)
     if snr_db < need:
-        raise ValueError(
+        raise BadInput(
             f"shifter calibration: measurement SNR {snr_db:.1f} dB per chirp (reflector "
             f"range_m={range_m:g} m, rcs_m2={rcs_m2:g}, {n_repeats} repeats) is below the "
             f"{need:.1f} dB needed for a per-code phase error of "
@@ -178,9 +180,9 @@ def measure_shifters(cfg: RadarConfig, *, rng: np.random.Generator, range_m: flo
         one that refuses to use a noisy one).
     """
     if not isinstance(cfg, RadarConfig):
-        raise ValueError(f"cfg must be a RadarConfig, got {type(cfg).__name__}")
+        raise BadInput(f"cfg must be a RadarConfig, got {type(cfg).__name__}")
     if not isinstance(rng, np.random.Generator):
-        raise ValueError(f"rng must be a numpy.random.Generator, got {type(rng).__name__}")
+        raise BadInput(f"rng must be a numpy.random.Generator, got {type(rng).__name__}")
     _check_args(range_m, rcs_m2, n_repeats)
     n_tx, n_codes = cfg.n_tx, 2 ** cfg.phase_shifter_bits
     snr = _measurement_snr(cfg, range_m, rcs_m2)
@@ -241,7 +243,7 @@ def calibrate_shifters(cfg: RadarConfig, *, rng: np.random.Generator, range_m: f
         76.7 deg rms); or `cfg.phase_quantization == "none"` (no codes to choose).
     """
     if not isinstance(cfg, RadarConfig):
-        raise ValueError(f"cfg must be a RadarConfig, got {type(cfg).__name__}")
+        raise BadInput(f"cfg must be a RadarConfig, got {type(cfg).__name__}")
     _check_args(range_m, rcs_m2, n_repeats)
     if thermal_noise:  # before any measurement: a table measured on noise is never used
         _check_snr(cfg, range_m, rcs_m2, n_repeats)
@@ -309,25 +311,25 @@ def resolve_calibration(cfg: RadarConfig, request: Mapping | None) -> RadarConfi
     >>> radarsim.presets.r79_ddma(shifter_calibration_deg={"seed": 0})
     Traceback (most recent call last):
     ...
-    ValueError: shifter_calibration_deg={'seed': 0} is a calibration request, not a measured ...
+    core.errors.BadInput: shifter_calibration_deg={'seed': 0} is a calibration request, not a measured ...
     """
     if request is None:
         return cfg
     if not isinstance(request, Mapping):
-        raise ValueError(f"shifter_calibration_deg: a calibration request is a table "
-                         f"{{seed, ...}}, got {request!r}")
+        raise BadInput(f"shifter_calibration_deg: a calibration request is a table "
+                       f"{{seed, ...}}, got {request!r}")
     kw = dict(request)
     seed = kw.pop("seed", 0)
     if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
-        raise ValueError(f"shifter_calibration_deg: seed={seed!r} must be an integer >= 0")
+        raise BadInput(f"shifter_calibration_deg: seed={seed!r} must be an integer >= 0")
     bad = sorted(set(kw) - set(CALIBRATION_REQUEST_KEYS))
     if bad:
-        raise ValueError(f"shifter_calibration_deg: bad calibration spec {dict(request)!r} "
-                         f"(unknown key(s) {bad}; known: {list(CALIBRATION_REQUEST_KEYS)})")
+        raise BadInput(f"shifter_calibration_deg: bad calibration spec {dict(request)!r} "
+                       f"(unknown key(s) {bad}; known: {list(CALIBRATION_REQUEST_KEYS)})")
     try:
         return calibrate_shifters(cfg, rng=np.random.default_rng(seed), **kw)
     except TypeError as exc:
-        raise ValueError(f"shifter_calibration_deg: bad calibration spec {dict(request)!r} "
-                         f"({exc})") from None
+        raise BadInput(f"shifter_calibration_deg: bad calibration spec {dict(request)!r} "
+                       f"({exc})") from None
     except ValueError as exc:
-        raise ValueError(f"shifter_calibration_deg: {exc}") from None
+        raise BadInput(f"shifter_calibration_deg: {exc}") from None

@@ -45,7 +45,8 @@ from typing import Callable, Iterable, Iterator, Mapping, NamedTuple
 
 import numpy as np
 
-from scenarios.fileio import check_input_file
+from core.errors import BadInput
+from core.fileio import check_input_file
 
 from .radar_config import RadarConfig
 
@@ -141,7 +142,7 @@ CAPTURE_LAYOUTS: Mapping[str, CaptureLayout] = MappingProxyType({
 def _radar(cfg) -> RadarConfig:
     radar = getattr(cfg, "radar", cfg)  # a radarsim.ti.TiProfile carries its RadarConfig
     if not isinstance(radar, RadarConfig):
-        raise ValueError(f"cfg must be a RadarConfig or TiProfile, got {type(cfg).__name__}")
+        raise BadInput(f"cfg must be a RadarConfig or TiProfile, got {type(cfg).__name__}")
     return radar
 
 
@@ -157,16 +158,16 @@ def layout_of(cfg, interleaved: bool | None = None) -> CaptureLayout:
         # 4-lane front ends (xWR1243/1443/2243): each lane carries one Rx; TI's reader assumes
         # all four lanes ("unused lanes are populated with 0").
         if radar.n_rx != 4:
-            raise ValueError(f"n_rx={radar.n_rx}: the 4-lane complex capture layout is modelled "
-                             "for 4 Rx (TI fills unused lanes with zeros)")
+            raise BadInput(f"n_rx={radar.n_rx}: the 4-lane complex capture layout is modelled "
+                           "for 4 Rx (TI fills unused lanes with zeros)")
         return CAPTURE_LAYOUTS["complex_4lane"]
     if radar.is_complex:
         if il:
-            raise ValueError("interleaved complex captures are not modelled (the xWR16/18/68 "
-                             "SDK demos stream only the non-interleaved ADC buffer)")
+            raise BadInput("interleaved complex captures are not modelled (the xWR16/18/68 "
+                           "SDK demos stream only the non-interleaved ADC buffer)")
         if radar.n_samples % 2:
-            raise ValueError(f"n_samples={radar.n_samples}: the 2-lane complex layout packs "
-                             "sample pairs (I0 I1 Q0 Q1), so n_samples must be even")
+            raise BadInput(f"n_samples={radar.n_samples}: the 2-lane complex layout packs "
+                           "sample pairs (I0 I1 Q0 Q1), so n_samples must be even")
         return CAPTURE_LAYOUTS["complex_noninterleaved"]
     return CAPTURE_LAYOUTS["real_interleaved" if il else "real_noninterleaved"]
 
@@ -188,19 +189,19 @@ def _as_frame(frame: np.ndarray, shape: tuple[int, int, int] | None, is_complex:
     arr = np.asarray(frame)
     if is_complex:
         if not np.iscomplexobj(arr):
-            raise ValueError(f"frame {index}: dtype {arr.dtype} is not complex (complex ADC "
-                             "profile)")
+            raise BadInput(f"frame {index}: dtype {arr.dtype} is not complex (complex ADC "
+                           "profile)")
         parts = arr.view(arr.real.dtype)
         if not np.array_equal(parts, np.clip(np.rint(parts), -32768, 32767)):
-            raise ValueError(f"frame {index}: I/Q parts are not int16 values; captures are "
-                             "written bit-exact")
+            raise BadInput(f"frame {index}: I/Q parts are not int16 values; captures are "
+                           "written bit-exact")
     elif arr.dtype != np.int16:
-        raise ValueError(f"frame {index}: dtype {arr.dtype} is not int16 (ADC samples); "
-                         "convert explicitly, captures are written bit-exact")
+        raise BadInput(f"frame {index}: dtype {arr.dtype} is not int16 (ADC samples); "
+                       "convert explicitly, captures are written bit-exact")
     if arr.ndim != 3:
-        raise ValueError(f"frame {index}: shape {arr.shape} is not (n_chirps, n_rx, n_samples)")
+        raise BadInput(f"frame {index}: shape {arr.shape} is not (n_chirps, n_rx, n_samples)")
     if shape is not None and arr.shape != shape:
-        raise ValueError(f"frame {index}: shape {arr.shape} differs from the expected {shape}")
+        raise BadInput(f"frame {index}: shape {arr.shape} differs from the expected {shape}")
     return arr
 
 
@@ -209,8 +210,8 @@ def _iter_frames(frames: np.ndarray | Iterable[np.ndarray]) -> Iterator[np.ndarr
         if frames.ndim == 3:
             frames = frames[None]
         if frames.ndim != 4:
-            raise ValueError(f"frames shape {frames.shape} is not (n_frames, n_chirps, n_rx, "
-                             "n_samples)")
+            raise BadInput(f"frames shape {frames.shape} is not (n_frames, n_chirps, n_rx, "
+                           "n_samples)")
         yield from frames
     else:
         yield from frames
@@ -269,7 +270,7 @@ def write_capture(path: str | os.PathLike, frames: np.ndarray | Iterable[np.ndar
             fh.flush()
             os.fsync(fh.fileno())
         if n == 0:
-            raise ValueError("no frames to write")
+            raise BadInput("no frames to write")
         os.replace(tmp, path)
     except BaseException:
         Path(tmp).unlink(missing_ok=True)
@@ -296,9 +297,9 @@ def capture_n_frames(path: str | os.PathLike, cfg) -> int:
     n_c, n_r, n_s = frame_shape(cfg)
     words = 2 if _radar(cfg).is_complex else 1
     if size == 0:
-        raise ValueError(f"capture {str(path)!r} is empty")
+        raise BadInput(f"capture {str(path)!r} is empty")
     if rest:
-        raise ValueError(
+        raise BadInput(
             f"capture {str(path)!r} has {size} bytes, not a whole number of frames of "
             f"{per_frame} bytes ({n_c} chirps x {n_r} Rx x {n_s} samples x {2 * words} bytes): "
             f"{n_frames} whole frame(s) and {rest} stray bytes; the file is truncated or the "
@@ -319,8 +320,8 @@ def open_capture(path: str | os.PathLike, cfg, *, interleaved: bool | None = Non
 def _layout(cfg, interleaved, layout) -> CaptureLayout:
     lay = CAPTURE_LAYOUTS[layout] if layout is not None else layout_of(cfg, interleaved)
     if lay.is_complex != _radar(cfg).is_complex:
-        raise ValueError(f"layout {lay.name!r} does not match the profile's "
-                         f"{_radar(cfg).adc_mode} ADC")
+        raise BadInput(f"layout {lay.name!r} does not match the profile's "
+                       f"{_radar(cfg).adc_mode} ADC")
     return lay
 
 

@@ -49,7 +49,8 @@ from typing import Any, Mapping, NamedTuple
 
 import numpy as np
 
-from scenarios.registries import Registry
+from core.errors import BadInput
+from core.registry import Registry
 
 from .config_rules import integers
 
@@ -154,34 +155,34 @@ class Chip:
         # A lab's own chip is checked as the shipped ones were written: the limits a config is
         # validated against must themselves be sane.
         if not isinstance(self.name, str) or not self.name:
-            raise ValueError(f"chip name={self.name!r} must be a non-empty string")
+            raise BadInput(f"chip name={self.name!r} must be a non-empty string")
         if not 0 < self.band_min_hz < self.band_max_hz < math.inf:
-            raise ValueError(f"chip {self.name}: band_min_hz={self.band_min_hz:g} and "
-                             f"band_max_hz={self.band_max_hz:g} must be finite, > 0, min < max")
+            raise BadInput(f"chip {self.name}: band_min_hz={self.band_min_hz:g} and "
+                           f"band_max_hz={self.band_max_hz:g} must be finite, > 0, min < max")
         for fld in ("n_tx", "n_rx", "max_adc_samples", "max_chirp_defs", "max_loops",
                     "max_profiles", "lvds_lanes"):
             v = getattr(self, fld)
             if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or v < 1:
-                raise ValueError(f"chip {self.name}: {fld}={v!r} must be an integer >= 1")
+                raise BadInput(f"chip {self.name}: {fld}={v!r} must be an integer >= 1")
         bad = sorted(set(self.adc) - set(ADC_MODES))
         if not self.adc or bad:
-            raise ValueError(f"chip {self.name}: adc modes {sorted(self.adc)} must be a "
-                             f"non-empty subset of {sorted(ADC_MODES)}")
+            raise BadInput(f"chip {self.name}: adc modes {sorted(self.adc)} must be a "
+                           f"non-empty subset of {sorted(ADC_MODES)}")
         for fld in ("if_bandwidth_hz", "if_lowpass_hz"):
             v = getattr(self, fld)
             if not (isinstance(v, (int, float)) and 0 < v < math.inf):
-                raise ValueError(f"chip {self.name}: {fld}={v!r} must be a finite number > 0")
+                raise BadInput(f"chip {self.name}: {fld}={v!r} must be a finite number > 0")
         if self.phase_shifter_bits is not None and (
                 isinstance(self.phase_shifter_bits, bool)
                 or not isinstance(self.phase_shifter_bits, (int, np.integer))
                 or not 1 <= self.phase_shifter_bits <= 16):
-            raise ValueError(f"chip {self.name}: phase_shifter_bits="
-                             f"{self.phase_shifter_bits!r} must be None or an integer in 1..16")
+            raise BadInput(f"chip {self.name}: phase_shifter_bits="
+                           f"{self.phase_shifter_bits!r} must be None or an integer in 1..16")
         if not self.adcbuf_interleave or self.adcbuf_interleaved_default not in \
                 self.adcbuf_interleave:
-            raise ValueError(f"chip {self.name}: adcbuf_interleaved_default="
-                             f"{self.adcbuf_interleaved_default!r} must be one of "
-                             f"adcbuf_interleave={sorted(self.adcbuf_interleave)}")
+            raise BadInput(f"chip {self.name}: adcbuf_interleaved_default="
+                           f"{self.adcbuf_interleaved_default!r} must be one of "
+                           f"adcbuf_interleave={sorted(self.adcbuf_interleave)}")
 
     @property
     def max_chirps(self) -> int:
@@ -204,21 +205,21 @@ class Chip:
             Naming the field, the value and this chip's limit.
         """
         if not self.supports(cfg.adc_mode):
-            raise ValueError(f"adc_mode={cfg.adc_mode!r}: the {self.name} supports "
-                             f"{sorted(self.adc)} ({self.datasheet}, receive subsystem)")
+            raise BadInput(f"adc_mode={cfg.adc_mode!r}: the {self.name} supports "
+                           f"{sorted(self.adc)} ({self.datasheet}, receive subsystem)")
         for name, hi in (("n_tx", self.n_tx), ("n_rx", self.n_rx)):
             val = getattr(cfg, name)
             if not isinstance(val, (int, np.integer)) or not 1 <= val <= hi:
-                raise ValueError(f"{name}={val!r} must be an integer in 1..{hi} ({self.name})")
+                raise BadInput(f"{name}={val!r} must be an integer in 1..{hi} ({self.name})")
         self.channels(cfg.tx_channels, cfg.n_tx, "tx")
         self.channels(cfg.rx_channels, cfg.n_rx, "rx")
         if cfg.n_samples > self.max_adc_samples:
-            raise ValueError(f"n_samples={cfg.n_samples} exceeds the {self.name} limit of "
-                             f"{self.max_adc_samples} ADC samples per chirp")
+            raise BadInput(f"n_samples={cfg.n_samples} exceeds the {self.name} limit of "
+                           f"{self.max_adc_samples} ADC samples per chirp")
         if cfg.n_chirps > self.max_chirps:
-            raise ValueError(f"n_chirps={cfg.n_chirps} exceeds the {self.name} limit of "
-                             f"{self.max_chirps} chirps per frame ({self.max_chirp_defs} chirp "
-                             f"definitions x {self.max_loops} loops)")
+            raise BadInput(f"n_chirps={cfg.n_chirps} exceeds the {self.name} limit of "
+                           f"{self.max_chirps} chirps per frame ({self.max_chirp_defs} chirp "
+                           f"definitions x {self.max_loops} loops)")
         self._validate_rf(cfg)
         self.shifter_bits(cfg.phase_shifter_bits)
         self.adcbuf_interleaved(cfg.adcbuf_interleaved)
@@ -227,25 +228,25 @@ class Chip:
         """ADC rate, IF band and RF band of a config (DESIGN 4.4)."""
         max_rate = self.adc[cfg.adc_mode].max_rate_sps
         if cfg.adc_rate_sps > max_rate:
-            raise ValueError(f"adc_rate_sps={cfg.adc_rate_sps:g} exceeds the {self.name} "
-                             f"limit {max_rate:g} sps ({cfg.adc_mode} ADC)")
+            raise BadInput(f"adc_rate_sps={cfg.adc_rate_sps:g} exceeds the {self.name} "
+                           f"limit {max_rate:g} sps ({cfg.adc_mode} ADC)")
         if not cfg.is_complex and \
                 cfg.max_beat_frequency_hz > self.if_bandwidth_hz * (1 + 1e-9):
-            raise ValueError(f"adc_rate_sps={cfg.adc_rate_sps:g}: beat (IF) frequency span "
-                             f"{cfg.max_beat_frequency_hz:g} Hz exceeds the {self.name} IF "
-                             f"bandwidth limit {self.if_bandwidth_hz:g} Hz")
+            raise BadInput(f"adc_rate_sps={cfg.adc_rate_sps:g}: beat (IF) frequency span "
+                           f"{cfg.max_beat_frequency_hz:g} Hz exceeds the {self.name} IF "
+                           f"bandwidth limit {self.if_bandwidth_hz:g} Hz")
         if cfg.start_freq_hz < self.band_min_hz:
-            raise ValueError(f"start_freq_hz={cfg.start_freq_hz:g} is below the {self.name} "
-                             f"band limit {self.band_min_hz:g} Hz")
+            raise BadInput(f"start_freq_hz={cfg.start_freq_hz:g} is below the {self.name} "
+                           f"band limit {self.band_min_hz:g} Hz")
         ramp_top = cfg.start_freq_hz + cfg.slope_hz_per_s * cfg.ramp_end_time_s
         # TI profiles give the ramp end time to 10 ns (two decimals in us), so a ramp sized to
         # the band edge may pass it by up to one slope x 10 ns (TI Visualizer's 60 GHz
         # "profileCfg 0 60 ... 114.29 ... 35 ..." ends 0.15 MHz above 64 GHz).
         if ramp_top > self.band_max_hz * (1 + 1e-12) + cfg.slope_hz_per_s * 10e-9:
-            raise ValueError(f"start_freq_hz={cfg.start_freq_hz:g} + slope_hz_per_s="
-                             f"{cfg.slope_hz_per_s:g} x ramp_end_time_s="
-                             f"{cfg.ramp_end_time_s:g}: ramp end frequency {ramp_top:g} Hz "
-                             f"exceeds the {self.name} band limit {self.band_max_hz:g} Hz")
+            raise BadInput(f"start_freq_hz={cfg.start_freq_hz:g} + slope_hz_per_s="
+                           f"{cfg.slope_hz_per_s:g} x ramp_end_time_s="
+                           f"{cfg.ramp_end_time_s:g}: ramp end frequency {ramp_top:g} Hz "
+                           f"exceeds the {self.name} band limit {self.band_max_hz:g} Hz")
 
     def channels(self, value, n: int, side: str) -> tuple[int, ...]:
         """Chip channels (1-based) of the `n` active Tx or Rx (`side` "tx" / "rx"): `value`,
@@ -262,8 +263,8 @@ class Chip:
         chans = integers(value, f"{side}_channels",
                          f"{n} distinct channel numbers in 1..{n_chip}")
         if len(chans) != n or len(set(chans)) != n or not all(1 <= c <= n_chip for c in chans):
-            raise ValueError(f"{side}_channels={value!r} must list {n} distinct channel numbers "
-                             f"in 1..{n_chip} ({self.name})")
+            raise BadInput(f"{side}_channels={value!r} must list {n} distinct channel numbers "
+                           f"in 1..{n_chip} ({self.name})")
         return chans
 
     def shifter_bits(self, value) -> int:
@@ -280,7 +281,7 @@ class Chip:
             return bits
         if not isinstance(value, (int, np.integer)) or isinstance(value, bool) or value != bits:
             have = "has no phase shifter" if not bits else f"phase shifter has {bits} bits"
-            raise ValueError(f"phase_shifter_bits={value!r}: the {self.name} {have}")
+            raise BadInput(f"phase_shifter_bits={value!r}: the {self.name} {have}")
         return int(value)
 
     def adcbuf_interleaved(self, value) -> bool:
@@ -294,10 +295,10 @@ class Chip:
         if value is None:
             return self.adcbuf_interleaved_default
         if bool(value) not in self.adcbuf_interleave:
-            raise ValueError(f"adcbuf_interleaved={value!r}: the {self.name} "
-                             "demo firmware accepts only a "
-                             f"{'non-' if False in self.adcbuf_interleave else ''}interleaved "
-                             "ADC buffer")
+            raise BadInput(f"adcbuf_interleaved={value!r}: the {self.name} "
+                           "demo firmware accepts only a "
+                           f"{'non-' if False in self.adcbuf_interleave else ''}interleaved "
+                           "ADC buffer")
         return bool(value)
 
     def defaults(self, cfg) -> dict[str, Any]:

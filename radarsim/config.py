@@ -10,10 +10,22 @@ Modules inside `radarsim` import `radarsim.radar_config`, never this module.
 """
 from __future__ import annotations
 
-from .radar_config import (ADC_FULL_SCALE_CODE, ADC_MODES, ANTENNA_PATTERNS, BAND_MAX_HZ,
-                           BAND_MIN_HZ, C_MPS, K_BOLTZMANN, MAX_ADC_RATE_SPS,
-                           MAX_IF_BANDWIDTH_HZ, MAX_N_RX, MAX_N_TX, MIMO_SCHEMES,
-                           PHASE_QUANTIZATIONS, RadarConfig)
+from .radar_config import (
+                           ADC_FULL_SCALE_CODE,
+                           ADC_MODES,
+                           ANTENNA_PATTERNS,
+                           BAND_MAX_HZ,
+                           BAND_MIN_HZ,
+                           C_MPS,
+                           K_BOLTZMANN,
+                           MAX_ADC_RATE_SPS,
+                           MAX_IF_BANDWIDTH_HZ,
+                           MAX_N_RX,
+                           MAX_N_TX,
+                           MIMO_SCHEMES,
+                           PHASE_QUANTIZATIONS,
+                           RadarConfig,
+)
 from .ti import from_ti_cfg, to_ti_cfg
 
 __all__ = ["RadarConfig", "from_ti_cfg", "to_ti_cfg", "MIMO_SCHEMES", "PHASE_QUANTIZATIONS",

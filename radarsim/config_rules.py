@@ -14,7 +14,8 @@ import math
 
 import numpy as np
 
-from scenarios.checks import require
+from core.checks import require
+from core.errors import BadInput
 
 __all__ = ["RF_BUDGET_LIMITS", "TX_ERROR_LIMITS", "MAX_RANGE_BIAS_M", "ADC_FULL_SCALE_CODE",
            "check_numbers", "check_values", "check_timing", "channel_errors", "integers"]
@@ -54,7 +55,7 @@ def check_numbers(cfg) -> None:
     for f in dataclasses.fields(cfg):
         v = getattr(cfg, f.name)
         if _is_number(f.default) and not _is_number(v):
-            raise ValueError(f"{f.name}={v!r} must be a number")
+            raise BadInput(f"{f.name}={v!r} must be a number")
 
 
 def _check_rf_budget(cfg) -> None:
@@ -63,15 +64,15 @@ def _check_rf_budget(cfg) -> None:
     for name, (lo, hi) in RF_BUDGET_LIMITS.items():
         v = getattr(cfg, name)
         if not (math.isfinite(v) and lo <= v <= hi):
-            raise ValueError(f"{name}={v!r} is outside the plausible range [{lo:g}, {hi:g}]")
+            raise BadInput(f"{name}={v!r} is outside the plausible range [{lo:g}, {hi:g}]")
     for name, (lo, hi) in TX_ERROR_LIMITS.items():
         v = getattr(cfg, name)
         if v is None:
             continue
         if isinstance(v, (str, bytes)) or not hasattr(v, "__len__") or \
                 not all(_is_number(x) and math.isfinite(x) and lo <= x <= hi for x in v):
-            raise ValueError(f"{name}={v!r} must be a list of finite numbers in "
-                             f"[{lo:g}, {hi:g}] (one per {name[:2].capitalize()})")
+            raise BadInput(f"{name}={v!r} must be a list of finite numbers in "
+                           f"[{lo:g}, {hi:g}] (one per {name[:2].capitalize()})")
 
 
 def integers(value, name: str, what: str) -> tuple[int, ...]:
@@ -80,7 +81,7 @@ def integers(value, name: str, what: str) -> tuple[int, ...]:
     if isinstance(value, (str, bytes)) or not hasattr(value, "__iter__") or not all(
             isinstance(c, (int, np.integer)) and not isinstance(c, (bool, np.bool_))
             for c in value):
-        raise ValueError(f"{name}={value!r} must be a sequence of integers ({what})")
+        raise BadInput(f"{name}={value!r} must be a sequence of integers ({what})")
     return tuple(int(c) for c in value)
 
 
@@ -89,12 +90,12 @@ def check_values(cfg) -> None:
     leakage."""
     require(cfg, ("n_samples", "n_chirps"), "integer", ge=2)
     if cfg.n_samples % 2 and not cfg.is_complex:
-        raise ValueError(f"n_samples={cfg.n_samples} must be even (real ADC: "
-                         "n_samples/2 range bins)")
+        raise BadInput(f"n_samples={cfg.n_samples} must be even (real ADC: "
+                       "n_samples/2 range bins)")
     require(cfg, ("start_freq_hz", "slope_hz_per_s", "idle_time_s", "ramp_end_time_s",
                   "chirp_period_s", "adc_rate_sps", "temperature_k"), gt=0)
     if not (math.isfinite(cfg.adc_start_time_s) and cfg.adc_start_time_s >= 0):
-        raise ValueError(f"adc_start_time_s={cfg.adc_start_time_s!r} must be >= 0")
+        raise BadInput(f"adc_start_time_s={cfg.adc_start_time_s!r} must be >= 0")
     require(cfg, ("tx_power_dbm", "tx_antenna_gain_dbi", "rx_antenna_gain_dbi",
                   "adc_full_scale_dbm"))
     require(cfg, ("noise_figure_db", "system_loss_db", "phase_noise_deg_rms",
@@ -102,14 +103,14 @@ def check_values(cfg) -> None:
     _check_rf_budget(cfg)
     if not (math.isfinite(cfg.adc_dc_offset_lsb)
             and abs(cfg.adc_dc_offset_lsb) <= ADC_FULL_SCALE_CODE):
-        raise ValueError(f"adc_dc_offset_lsb={cfg.adc_dc_offset_lsb!r} must be finite and "
-                         f"within +/-{ADC_FULL_SCALE_CODE} LSB")
+        raise BadInput(f"adc_dc_offset_lsb={cfg.adc_dc_offset_lsb!r} must be finite and "
+                       f"within +/-{ADC_FULL_SCALE_CODE} LSB")
     if cfg.tx_leakage_dbfs is not None and not (math.isfinite(cfg.tx_leakage_dbfs)
                                                 and cfg.tx_leakage_dbfs <= 0):
-        raise ValueError(f"tx_leakage_dbfs={cfg.tx_leakage_dbfs!r} must be <= 0 dBFS or None")
+        raise BadInput(f"tx_leakage_dbfs={cfg.tx_leakage_dbfs!r} must be <= 0 dBFS or None")
     if not (math.isfinite(cfg.range_bias_m) and abs(cfg.range_bias_m) <= MAX_RANGE_BIAS_M):
-        raise ValueError(f"range_bias_m={cfg.range_bias_m!r} must be finite and within "
-                         f"+/-{MAX_RANGE_BIAS_M:g} m")
+        raise BadInput(f"range_bias_m={cfg.range_bias_m!r} must be finite and within "
+                       f"+/-{MAX_RANGE_BIAS_M:g} m")
 
 
 def channel_errors(cfg) -> dict[str, tuple[float, ...]]:
@@ -126,8 +127,8 @@ def channel_errors(cfg) -> dict[str, tuple[float, ...]]:
             continue
         val = tuple(float(v) for v in val)
         if len(val) != n or not all(math.isfinite(v) for v in val):
-            raise ValueError(f"{name} must hold {n} finite values (one per {what}), "
-                             f"got {val!r}")
+            raise BadInput(f"{name} must hold {n} finite values (one per {what}), "
+                           f"got {val!r}")
         out[name] = val
     return out
 
@@ -136,10 +137,10 @@ def check_timing(cfg) -> None:
     """The ADC window inside the ramp; the chirp period equal to idle + ramp end time."""
     adc_end = cfg.adc_start_time_s + cfg.n_samples / cfg.adc_rate_sps
     if adc_end > cfg.ramp_end_time_s * (1 + 1e-9):
-        raise ValueError(f"n_samples={cfg.n_samples}: ADC window ends at "
-                         f"adc_start_time_s + n_samples / adc_rate_sps = {adc_end:g} s, "
-                         f"after ramp_end_time_s={cfg.ramp_end_time_s:g} s")
+        raise BadInput(f"n_samples={cfg.n_samples}: ADC window ends at "
+                       f"adc_start_time_s + n_samples / adc_rate_sps = {adc_end:g} s, "
+                       f"after ramp_end_time_s={cfg.ramp_end_time_s:g} s")
     period = cfg.idle_time_s + cfg.ramp_end_time_s
     if not math.isclose(cfg.chirp_period_s, period, rel_tol=1e-6):
-        raise ValueError(f"chirp_period_s={cfg.chirp_period_s:g} must equal idle_time_s + "
-                         f"ramp_end_time_s = {period:g} s")
+        raise BadInput(f"chirp_period_s={cfg.chirp_period_s:g} must equal idle_time_s + "
+                       f"ramp_end_time_s = {period:g} s")

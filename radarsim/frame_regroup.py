@@ -22,7 +22,8 @@ import dataclasses
 import os
 from pathlib import Path
 
-from scenarios.fileio import check_input_file, read_input_bytes
+from core.errors import BadInput
+from core.fileio import check_input_file, read_input_bytes
 
 from .capture import MAX_CAPTURE_BYTES, frame_nbytes
 
@@ -87,13 +88,13 @@ def regroup_profile(path_or_text: str | os.PathLike, n_frames: int):
     from .ti import parse_ti_cfg
 
     if isinstance(n_frames, bool) or not isinstance(n_frames, int) or n_frames < 2:
-        raise ValueError(f"--regroup-frames={n_frames!r} must be an integer >= 2")
+        raise BadInput(f"--regroup-frames={n_frames!r} must be an integer >= 2")
     text = _text(path_or_text)
     k = chirps_per_frame(text)
     if k != 1:
-        raise ValueError(f"--regroup-frames {n_frames}: the profile's frames hold "
-                         f"{'no readable frameCfg' if k is None else f'{k} chirps'}; "
-                         "regrouping builds slow time from one-chirp frames only")
+        raise BadInput(f"--regroup-frames {n_frames}: the profile's frames hold "
+                       f"{'no readable frameCfg' if k is None else f'{k} chirps'}; "
+                       "regrouping builds slow time from one-chirp frames only")
     i, tok = _frame_cfg(text)
     tok = list(tok)
     tok[3] = "2"  # parse as a two-chirp frame (the chain's minimum), then set the real timing
@@ -103,13 +104,13 @@ def regroup_profile(path_or_text: str | os.PathLike, n_frames: int):
     period = prof.frame_period_s
     radar = prof.radar
     if period <= radar.ramp_end_time_s:
-        raise ValueError(f"framePeriodicity {period * 1e3:g} ms is not longer than the chirp's "
-                         f"ramp end time {radar.ramp_end_time_s * 1e6:g} us")
+        raise BadInput(f"framePeriodicity {period * 1e3:g} ms is not longer than the chirp's "
+                       f"ramp end time {radar.ramp_end_time_s * 1e6:g} us")
     try:
         radar = radar.replace(n_chirps=n_frames, chirp_period_s=period,
                               idle_time_s=period - radar.ramp_end_time_s)
     except ValueError as exc:
-        raise ValueError(f"--regroup-frames {n_frames}: {exc}") from None
+        raise BadInput(f"--regroup-frames {n_frames}: {exc}") from None
     n_out = prof.n_frames // n_frames if prof.n_frames else 0
     return dataclasses.replace(prof, radar=radar, frame_period_s=n_frames * period,
                                n_frames=n_out)
@@ -129,10 +130,10 @@ def check_regroup(path: str | os.PathLike, regrouped_radar, n_frames: int) -> in
     per_chirp = frame_nbytes(regrouped_radar) // n_frames
     n_recorded, rest = divmod(size, per_chirp)
     if size == 0 or rest:
-        raise ValueError(f"capture {str(path)!r}: {size} bytes is not a whole number of "
-                         f"{per_chirp}-byte one-chirp frames")
+        raise BadInput(f"capture {str(path)!r}: {size} bytes is not a whole number of "
+                       f"{per_chirp}-byte one-chirp frames")
     groups, left = divmod(n_recorded, n_frames)
     if left:
-        raise ValueError(f"--regroup-frames {n_frames} does not divide the capture's "
-                         f"{n_recorded} frames ({groups} x {n_frames} + {left})")
+        raise BadInput(f"--regroup-frames {n_frames} does not divide the capture's "
+                       f"{n_recorded} frames ({groups} x {n_frames} + {left})")
     return groups

@@ -38,9 +38,11 @@ from functools import lru_cache
 
 import numpy as np
 
+from core.errors import BadInput
+
 from .antenna import element_gain_linear
-from .radar_config import ADC_FULL_SCALE_CODE, C_MPS, RadarConfig
 from .interference import synthesize
+from .radar_config import ADC_FULL_SCALE_CODE, C_MPS, RadarConfig
 from .receiver import IF_LOWPASS_HZ, IF_LOWPASS_ORDER, if_corner_hz, if_filter_gain
 from .scatterers import Scatterers
 from .shifter import apply_coupling, coupling_matrix, select_codes, shifter_factor
@@ -189,7 +191,7 @@ def _tx_weights(cfg: RadarConfig, gain: np.ndarray, phase: np.ndarray,
     phase = phase + np.radians(np.asarray(cfg.tx_phase_error_deg))[:, None]
     if cfg.phase_noise_deg_rms > 0:
         if rng is None:
-            raise ValueError("rng is required when phase_noise_deg_rms > 0")
+            raise BadInput("rng is required when phase_noise_deg_rms > 0")
         phase = phase + np.radians(cfg.phase_noise_deg_rms) * rng.standard_normal(phase.shape)
     return gain * 10 ** (np.asarray(cfg.tx_gain_error_db)[:, None] / 20) * np.exp(1j * phase)
 
@@ -299,12 +301,12 @@ def simulate_frame(cfg: RadarConfig, scatterers: Scatterers,
     True
     """
     if not isinstance(cfg, RadarConfig):
-        raise ValueError(f"cfg must be a RadarConfig, got {type(cfg).__name__}")
+        raise BadInput(f"cfg must be a RadarConfig, got {type(cfg).__name__}")
     if not isinstance(scatterers, Scatterers):
-        raise ValueError(f"scatterers must be a radarsim.Scatterers, got "
-                         f"{type(scatterers).__name__}")
+        raise BadInput(f"scatterers must be a radarsim.Scatterers, got "
+                       f"{type(scatterers).__name__}")
     if not isinstance(rng, np.random.Generator):
-        raise ValueError(f"rng must be a numpy.random.Generator, got {type(rng).__name__}")
+        raise BadInput(f"rng must be a numpy.random.Generator, got {type(rng).__name__}")
     return simulate_frame_weights(cfg, scatterers, rng, transmit_phasors(cfg, rng),
                                   interferers=interferers)
 
@@ -331,7 +333,7 @@ def simulate_frame_weights(cfg: RadarConfig, scatterers: Scatterers, rng: np.ran
     """
     tx_w = np.asarray(tx_weights)
     if tx_w.ndim != 2 or tx_w.shape[0] != cfg.n_tx or tx_w.shape[1] < 1:
-        raise ValueError(f"tx_weights shape {tx_w.shape} must be (n_tx={cfg.n_tx}, n_chirps)")
+        raise BadInput(f"tx_weights shape {tx_w.shape} must be (n_tx={cfg.n_tx}, n_chirps)")
     n_c, n_r, n_s = tx_w.shape[1], cfg.n_rx, cfg.n_samples
     cplx = cfg.is_complex
     # Thermal noise first: the output buffer, to which the signal is added in place (complex:
@@ -346,8 +348,8 @@ def simulate_frame_weights(cfg: RadarConfig, scatterers: Scatterers, rng: np.ran
     has_dc = bool(cfg.adc_dc_offset_lsb) or cfg.tx_leakage_dbfs is not None
     if has_intf:
         if n_c != cfg.n_chirps:
-            raise ValueError(f"interferers need the config's {cfg.n_chirps} chirps, "
-                             f"tx_weights has {n_c}")
+            raise BadInput(f"interferers need the config's {cfg.n_chirps} chirps, "
+                           f"tx_weights has {n_c}")
         synthesize(cfg, interferers, out=out)
     if has_dc:
         dcl = _dc_leakage(cfg)

@@ -53,6 +53,8 @@ from dataclasses import dataclass
 import numpy as np
 import pandas as pd
 
+from core.errors import BadInput
+
 from .antenna import element_gain_linear
 from .chips import ADC_MODES
 from .radar_config import C_MPS, RadarConfig
@@ -107,16 +109,16 @@ MAX_INTERFERER_RANGE_M = 10_000.0
 def _vec(name: str, value, n: int | None, dtype=np.float64) -> np.ndarray:
     a = np.asarray(value, dtype=dtype).reshape(-1)
     if n is not None and a.size != n:
-        raise ValueError(f"{name} has {a.size} entries, expected {n} (one per interferer)")
+        raise BadInput(f"{name} has {a.size} entries, expected {n} (one per interferer)")
     if not np.all(np.isfinite(a)):
-        raise ValueError(f"{name} must be finite, got {a!r}")
+        raise BadInput(f"{name} must be finite, got {a!r}")
     if name in INTERFERER_BOUNDS:
         lo, hi, unit = INTERFERER_BOUNDS[name]
         bad = (a < lo) | (a > hi)
         if bad.any():
             i = int(np.argmax(bad))
-            raise ValueError(f"{name}={float(a[i])!r} (interferer {i}) is outside [{lo:g}, {hi:g}] "
-                             f"{unit}")
+            raise BadInput(f"{name}={float(a[i])!r} (interferer {i}) is outside [{lo:g}, {hi:g}] "
+                           f"{unit}")
     return a
 
 
@@ -172,7 +174,7 @@ class Interferers(PointGeometry):
                  phase_rad=None, visible=None) -> None:
         pos = np.asarray(position_m, dtype=np.float64).reshape(-1, 3)
         if not np.all(np.isfinite(pos)):
-            raise ValueError("position_m must be finite")
+            raise BadInput("position_m must be finite")
         n = pos.shape[0]
         set_ = lambda k, v: object.__setattr__(self, k, v)  # noqa: E731
         set_("position_m", pos)
@@ -186,14 +188,14 @@ class Interferers(PointGeometry):
         vis = np.ones(n, dtype=bool) if visible is None else \
             np.asarray(visible, dtype=bool).reshape(-1)
         if vis.size != n:
-            raise ValueError(f"visible has {vis.size} entries, expected {n}")
+            raise BadInput(f"visible has {vis.size} entries, expected {n}")
         set_("visible", vis)
         rng_m = np.linalg.norm(pos, axis=1)
         if n and not (0.1 <= rng_m.min() and rng_m.max() <= MAX_INTERFERER_RANGE_M):
-            raise ValueError(f"interferer range must be in [0.1, {MAX_INTERFERER_RANGE_M:g}] m "
-                             f"(position_m), got {rng_m.min():g}..{rng_m.max():g} m")
+            raise BadInput(f"interferer range must be in [0.1, {MAX_INTERFERER_RANGE_M:g}] m "
+                           f"(position_m), got {rng_m.min():g}..{rng_m.max():g} m")
         if np.any(self.ramp_time_s > self.chirp_period_s * (1 + 1e-9)):
-            raise ValueError("ramp_time_s must be <= chirp_period_s")
+            raise BadInput("ramp_time_s must be <= chirp_period_s")
 
     def __len__(self) -> int:
         return self.position_m.shape[0]
@@ -360,12 +362,12 @@ def synthesize(cfg: RadarConfig, itf: Interferers, out: np.ndarray | None = None
     if out is None:
         out = np.zeros((n_c * n_r, n_s), dtype=np.complex64 if cplx else np.float32)
     elif analytic:
-        raise ValueError("analytic=True builds its own output; pass out=None")
+        raise BadInput("analytic=True builds its own output; pass out=None")
     flat = out.view(np.complex64) if cplx and out.dtype == np.float32 else out
     if flat.shape != (n_c * n_r, n_s) or flat.dtype != (np.complex64 if cplx else np.float32):
-        raise ValueError(f"out has shape {out.shape} and dtype {out.dtype}; the "
-                         f"{cfg.adc_mode} ADC needs {n_c * n_r} rows of {n_s} "
-                         f"{'complex' if cplx else 'real'} samples")
+        raise BadInput(f"out has shape {out.shape} and dtype {out.dtype}; the "
+                       f"{cfg.adc_mode} ADC needs {n_c * n_r} rows of {n_s} "
+                       f"{'complex' if cplx else 'real'} samples")
     flat = flat.reshape(-1)
     if len(itf) == 0:
         return out
@@ -447,7 +449,7 @@ def interferers_from_truth(cfg: RadarConfig, truth_frame: pd.DataFrame,
 
     missing = [c for c in EQUIPMENT_COLUMNS if c not in equipment.columns]
     if missing:
-        raise ValueError(f"equipment lacks columns {missing}")
+        raise BadInput(f"equipment lacks columns {missing}")
     rows = truth_frame.merge(equipment, on="actor_id", how="inner").sort_values("actor_id")
     if rows.empty:
         return _empty()

@@ -22,7 +22,8 @@ from typing import Any, ClassVar, NamedTuple
 
 import numpy as np
 
-from scenarios.registries import Registry
+from core.errors import BadInput
+from core.registry import Registry
 
 __all__ = ["MimoScheme", "TransmitCode", "SlowTimeLayout", "TiFrame", "ChirpTiming", "MIMO_SCHEMES", "register_scheme",
            "scheme_of", "DdmaScheme", "TdmaScheme", "BpmScheme", "hadamard"]
@@ -159,8 +160,8 @@ class MimoScheme:
     def _check_divisible(self, cfg: ConfigLike, what: str) -> None:
         per = self.chirps_per_period(cfg)
         if cfg.n_chirps % per:
-            raise ValueError(f"n_chirps={cfg.n_chirps} must be divisible by {what}={per} for "
-                             f"{self.name.upper()}")
+            raise BadInput(f"n_chirps={cfg.n_chirps} must be divisible by {what}={per} for "
+                           f"{self.name.upper()}")
 
     # ------------------------------------------------------------------ transmit side
     def chirp_timing(self, cfg: ConfigLike) -> ChirpTiming:
@@ -215,7 +216,7 @@ class MimoScheme:
         ValueError
             If the scheme has no TI CLI form for this config.
         """
-        raise ValueError(f"mimo={self.name!r} has no TI mmWave SDK CLI form")
+        raise BadInput(f"mimo={self.name!r} has no TI mmWave SDK CLI form")
 
     def from_ti(self, tx_masks: tuple[int, ...], n_tx: int, tx_mask: int,
                 ddm_order: tuple[int, ...] | None) -> dict | None:
@@ -274,14 +275,14 @@ class DdmaScheme(MimoScheme):
         n_sb = cfg.n_subbands
         if self.empty_band:
             if not isinstance(n_sb, (int, np.integer)) or n_sb <= cfg.n_tx:
-                raise ValueError(f"n_subbands={n_sb!r} must be an integer > n_tx={cfg.n_tx} "
-                                 "(empty-band DDMA needs at least one empty band)")
+                raise BadInput(f"n_subbands={n_sb!r} must be an integer > n_tx={cfg.n_tx} "
+                               "(empty-band DDMA needs at least one empty band)")
         elif n_sb != cfg.n_tx:
-            raise ValueError(f"n_subbands={n_sb!r} must equal n_tx={cfg.n_tx} for "
-                             f"{self.name} (classic DDMA: one sub-band per Tx, no empty band)")
+            raise BadInput(f"n_subbands={n_sb!r} must equal n_tx={cfg.n_tx} for "
+                           f"{self.name} (classic DDMA: one sub-band per Tx, no empty band)")
         if cfg.n_chirps % n_sb:
-            raise ValueError(f"n_chirps={cfg.n_chirps} must be divisible by the number of "
-                             f"DDMA sub-bands n_subbands={n_sb}")
+            raise BadInput(f"n_chirps={cfg.n_chirps} must be divisible by the number of "
+                           f"DDMA sub-bands n_subbands={n_sb}")
 
     def transmit_code(self, cfg: ConfigLike) -> TransmitCode:
         c = np.arange(cfg.n_chirps)
@@ -334,8 +335,8 @@ class TdmaScheme(MimoScheme):
 
     def validate(self, cfg: ConfigLike) -> None:
         if cfg.n_chirps % cfg.n_tx:
-            raise ValueError(f"n_chirps={cfg.n_chirps} must be divisible by n_tx={cfg.n_tx} "
-                             "for TDMA")
+            raise BadInput(f"n_chirps={cfg.n_chirps} must be divisible by n_tx={cfg.n_tx} "
+                           "for TDMA")
 
     def transmit_code(self, cfg: ConfigLike) -> TransmitCode:
         c = np.arange(cfg.n_chirps)
@@ -389,11 +390,11 @@ class BpmScheme(MimoScheme):
 
     def validate(self, cfg: ConfigLike) -> None:
         if cfg.n_tx & (cfg.n_tx - 1):
-            raise ValueError(f"n_tx={cfg.n_tx} must be a power of 2 (1, 2, 4) for BPM "
-                             "(Hadamard code of Nt chirps)")
+            raise BadInput(f"n_tx={cfg.n_tx} must be a power of 2 (1, 2, 4) for BPM "
+                           "(Hadamard code of Nt chirps)")
         if cfg.n_chirps % cfg.n_tx:
-            raise ValueError(f"n_chirps={cfg.n_chirps} must be divisible by n_tx={cfg.n_tx} "
-                             "for BPM (whole Hadamard blocks)")
+            raise BadInput(f"n_chirps={cfg.n_chirps} must be divisible by n_tx={cfg.n_tx} "
+                           "for BPM (whole Hadamard blocks)")
 
     def code_matrix(self, cfg: ConfigLike) -> np.ndarray:
         """(n_tx, n_tx) signs: row = chirp of the block, column = position in `tx_order`."""
@@ -403,9 +404,9 @@ class BpmScheme(MimoScheme):
         """TI's SDK BPM (xwr16xx/18xx/68xx demos): two chirps enabling both Tx and
         ``bpmCfg -1 1 0 1`` (chirp 0: +,+; chirp 1: +,- on the lower, higher Tx)."""
         if cfg.n_tx != 2 or cfg.tx_order != (1, 2):
-            raise ValueError(f"mimo={self.name!r} with n_tx={cfg.n_tx}, tx_order="
-                             f"{cfg.tx_order} has no TI mmWave SDK CLI form (TI's bpmCfg codes "
-                             "two Tx in order (1, 2) only)")
+            raise BadInput(f"mimo={self.name!r} with n_tx={cfg.n_tx}, tx_order="
+                           f"{cfg.tx_order} has no TI mmWave SDK CLI form (TI's bpmCfg codes "
+                           "two Tx in order (1, 2) only)")
         return TiFrame(2, ("chirpCfg 0 1 0 0 0 0 0 3",), ("bpmCfg -1 1 0 1",))
 
     def transmit_code(self, cfg: ConfigLike) -> TransmitCode:
@@ -466,7 +467,7 @@ def scheme_of(name: str) -> MimoScheme:
     >>> scheme_of("fdma")
     Traceback (most recent call last):
     ...
-    ValueError: mimo='fdma' is not one of [...]
+    core.errors.BadInput: mimo='fdma' is not one of [...]
     """
     return MIMO_SCHEMES.lookup(name)
 

@@ -35,6 +35,8 @@ from typing import TYPE_CHECKING, NamedTuple
 
 import numpy as np
 
+from core.errors import BadInput
+
 from .mimo import ChirpTiming, SlowTimeLayout, TdmaScheme, TransmitCode, register_scheme
 
 if TYPE_CHECKING:
@@ -124,14 +126,14 @@ class FastSlowScheme(TdmaScheme):
         r = self.slow_period_ratio
         if isinstance(r, bool) or not isinstance(r, (int, float)) or not math.isfinite(r) \
                 or not 1 < r <= 4:
-            raise ValueError(f"slow_period_ratio={r!r} must be in (1, 4] (T_s / T_f; TI's SRR "
-                             "uses 70.8 / 59 = 1.2)")
+            raise BadInput(f"slow_period_ratio={r!r} must be in (1, 4] (T_s / T_f; TI's SRR "
+                           "uses 70.8 / 59 = 1.2)")
         u = self.unfold_factor
         if isinstance(u, bool) or not isinstance(u, int) or not 1 <= u <= 16:
-            raise ValueError(f"unfold_factor={u!r} must be an integer in 1..16 (native fast "
-                             "spans covered)")
+            raise BadInput(f"unfold_factor={u!r} must be an integer in 1..16 (native fast "
+                           "spans covered)")
         if not isinstance(self.slow_first, bool):
-            raise ValueError(f"slow_first={self.slow_first!r} must be true or false")
+            raise BadInput(f"slow_first={self.slow_first!r} must be true or false")
 
     # ------------------------------------------------------------------ timing
     def chirp_sets(self, cfg: "RadarConfig") -> ChirpSets:
@@ -171,17 +173,17 @@ class FastSlowScheme(TdmaScheme):
             Naming the field, its value and the limit.
         """
         if cfg.n_chirps % (2 * cfg.n_tx):
-            raise ValueError(f"n_chirps={cfg.n_chirps} must be divisible by 2 x n_tx="
-                             f"{2 * cfg.n_tx} for {self.name} (two chirp sets of equal count, "
-                             "whole TDMA cycles each: the association compares their peaks)")
+            raise BadInput(f"n_chirps={cfg.n_chirps} must be divisible by 2 x n_tx="
+                           f"{2 * cfg.n_tx} for {self.name} (two chirp sets of equal count, "
+                           "whole TDMA cycles each: the association compares their peaks)")
         idle_f, _ = self.idle_times_s(cfg)
         if idle_f <= 0:
-            raise ValueError(f"idle_time_s={cfg.idle_time_s:g} (mean of the two sets): the fast "
-                             f"chirp's idle time 2 T / (1 + slow_period_ratio) - ramp_end_time_s "
-                             f"= {idle_f:g} s must be > 0")
+            raise BadInput(f"idle_time_s={cfg.idle_time_s:g} (mean of the two sets): the fast "
+                           f"chirp's idle time 2 T / (1 + slow_period_ratio) - ramp_end_time_s "
+                           f"= {idle_f:g} s must be > 0")
         sep = self.candidate_separation_bins(cfg)
         if sep < 1.0:
-            raise ValueError(
+            raise BadInput(
                 f"slow_period_ratio={self.slow_period_ratio:g} makes the unfolding ambiguous "
                 f"over unfold_factor={self.unfold_factor} (+/-"
                 f"{self.max_unambiguous_velocity_mps(cfg):.4g} m/s): two candidates land "
@@ -234,9 +236,9 @@ class FastSlowScheme(TdmaScheme):
         """No single ``frameCfg`` loop: two chirp periods need two profiles, which
         `radarsim.ti.to_ti_cfg` writes as an advanced frame of two sub-frames
         (`radarsim.ti.fast_slow`)."""
-        raise ValueError(f"mimo={self.name!r} has no TI mmWave SDK CLI form as one frameCfg "
-                         "loop (two chirp periods: radarsim.ti.to_ti_cfg writes an advanced "
-                         "frame of two sub-frames)")
+        raise BadInput(f"mimo={self.name!r} has no TI mmWave SDK CLI form as one frameCfg "
+                       "loop (two chirp periods: radarsim.ti.to_ti_cfg writes an advanced "
+                       "frame of two sub-frames)")
 
     def from_ti(self, tx_masks, n_tx, tx_mask, ddm_order):
         """A one-profile loop is never a fast/slow frame (`radarsim.ti.fast_slow.pair_radar`

@@ -2,8 +2,8 @@
 timing for every registered MIMO scheme (`r79`)."""
 from __future__ import annotations
 
-from .radar_config import RadarConfig
 from .mimo import scheme_of
+from .radar_config import RadarConfig
 
 __all__ = ["r79", "r79_ddma", "r79_tdma", "PRESETS"]
 

@@ -20,13 +20,20 @@ from typing import Any
 
 import numpy as np
 
-from scenarios.checks import one_of
+from core.checks import one_of
+from core.errors import BadInput
 
 from . import shifter as _shifter
 from .boards import get_board
 from .chips import ADC_MODES, CHIPS, get_chip
-from .config_rules import (ADC_FULL_SCALE_CODE, channel_errors, check_numbers, check_timing,
-                           check_values, integers)
+from .config_rules import (
+    ADC_FULL_SCALE_CODE,
+    channel_errors,
+    check_numbers,
+    check_timing,
+    check_values,
+    integers,
+)
 from .mimo import MIMO_SCHEMES, MimoScheme, scheme_of
 
 __all__ = [
@@ -236,8 +243,8 @@ class RadarConfig:
         self._set(**chip.defaults(self))
         check_timing(self)
         if scheme.needs_phase_shifter and self.phase_shifter_bits == 0:
-            raise ValueError(f"mimo={self.mimo!r} needs per-Tx phase shifters; the {chip.name} "
-                             "has none")
+            raise BadInput(f"mimo={self.mimo!r} needs per-Tx phase shifters; the {chip.name} "
+                           "has none")
         one_of("phase_quantization", self.phase_quantization, PHASE_QUANTIZATIONS)
         one_of("antenna_pattern", self.antenna_pattern, ANTENNA_PATTERNS)
         self._resolve_schedule(scheme)
@@ -259,12 +266,12 @@ class RadarConfig:
         else:
             order = integers(self.tx_order, "tx_order", f"a permutation of Tx 1..{self.n_tx}")
         if sorted(order) != list(range(1, self.n_tx + 1)):
-            raise ValueError(f"tx_order={order!r} must be a permutation of Tx 1..{self.n_tx}")
+            raise BadInput(f"tx_order={order!r} must be a permutation of Tx 1..{self.n_tx}")
         self._set(tx_order=order)
         if self.n_subbands is None:
             self._set(n_subbands=scheme.default_n_subbands(self.n_tx))
         elif not isinstance(self.n_subbands, (int, np.integer)) or self.n_subbands < 1:
-            raise ValueError(f"n_subbands={self.n_subbands!r} must be an integer >= 1")
+            raise BadInput(f"n_subbands={self.n_subbands!r} must be an integer >= 1")
         scheme.validate(self)
 
     def _geometry_tx_order(self) -> tuple[int, ...]:
@@ -479,16 +486,16 @@ class RadarConfig:
 
     @classmethod
     def from_dict(cls, data: dict[str, Any]) -> "RadarConfig":
-        """Build from a dict; unknown keys raise ValueError naming them."""
+        """Build from a dict; unknown keys raise BadInput naming them."""
         names = {f.name for f in dataclasses.fields(cls)}
         unknown = sorted(set(data) - names)
         if unknown:
-            raise ValueError(f"unknown RadarConfig field(s) {unknown}; known: {sorted(names)}")
+            raise BadInput(f"unknown RadarConfig field(s) {unknown}; known: {sorted(names)}")
         kw = {k: _as_tuples(v) for k, v in data.items()}
         return cls(**kw)
 
     def replace(self, **changes: Any) -> "RadarConfig":
-        """A copy with some fields changed (validated again); unknown fields raise ValueError.
+        """A copy with some fields changed (validated again); unknown fields raise BadInput.
 
         Fields that follow another are re-derived when it changes and they are not given:
         `tx_order`, `n_subbands`, `tx_channels`, the per-Tx error tuples and the shifter and
@@ -498,7 +505,7 @@ class RadarConfig:
         names = {f.name for f in dataclasses.fields(self)}
         unknown = sorted(set(changes) - names)
         if unknown:
-            raise ValueError(f"unknown RadarConfig field(s) {unknown}")
+            raise BadInput(f"unknown RadarConfig field(s) {unknown}")
         data = {f.name: getattr(self, f.name) for f in dataclasses.fields(self)}
         for key in ("chip", "board", "n_tx", "n_rx", "mimo"):  # chip first: board follows it
             if key in changes and changes[key] != getattr(self, key):

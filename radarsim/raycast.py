@@ -19,7 +19,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from scenarios.checks import require
+from core.checks import require
+from core.errors import BadInput
 
 __all__ = ["RayGridConfig", "RayHits", "ray_box_intersect", "box_windows", "cast_rays",
            "segments_blocked", "FACE_NORMALS_LOCAL"]
@@ -57,12 +58,12 @@ class RayGridConfig:
     def __post_init__(self) -> None:
         require(self, ("azimuth_step_deg", "elevation_step_deg"), gt=0, le=5, unit="deg")
         if not 0 < self.azimuth_limit_deg <= 90:
-            raise ValueError(f"azimuth_limit_deg={self.azimuth_limit_deg!r} must be in (0, 90] "
-                             "deg")
+            raise BadInput(f"azimuth_limit_deg={self.azimuth_limit_deg!r} must be in (0, 90] "
+                           "deg")
         require(self, ("elevation_min_deg", "elevation_max_deg"), ge=-60, le=60, unit="deg")
         if self.elevation_min_deg >= self.elevation_max_deg:
-            raise ValueError(f"elevation_min_deg={self.elevation_min_deg!r} must be below "
-                             f"elevation_max_deg={self.elevation_max_deg!r}")
+            raise BadInput(f"elevation_min_deg={self.elevation_min_deg!r} must be below "
+                           f"elevation_max_deg={self.elevation_max_deg!r}")
 
     @property
     def n_azimuth(self) -> int:

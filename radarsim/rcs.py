@@ -70,13 +70,25 @@ from types import SimpleNamespace
 import numpy as np
 import pandas as pd
 
-from scenarios.checks import require
+from core.checks import require
+from core.errors import BadInput
 
 from .multipath import MULTIPATH_ACTOR_ID, rail_ghosts, two_ray_power_factor
 from .raycast import RayGridConfig, cast_rays
-from .rcs_classes import (CLASS_RCS, POST_SPACING_M, REQUIRED_COLUMNS,  # noqa: F401
-                          ActorBoxes, CentreIncidence, ClassRcs, actor_boxes, centre_incidence,
-                          class_param, geometric_total_rcs, radar_angles, strong_centres)
+from .rcs_classes import (  # noqa: F401
+    CLASS_RCS,
+    POST_SPACING_M,
+    REQUIRED_COLUMNS,
+    ActorBoxes,
+    CentreIncidence,
+    ClassRcs,
+    actor_boxes,
+    centre_incidence,
+    class_param,
+    geometric_total_rcs,
+    radar_angles,
+    strong_centres,
+)
 from .rcs_patterns import lognormal_mu_db
 from .road_clutter import GROUND_ACTOR_ID, ground_clutter
 from .scatterers import Scatterers
@@ -177,25 +189,25 @@ class RcsConfig:
 
     def __post_init__(self) -> None:
         if not isinstance(self.grid, RayGridConfig):
-            raise ValueError(f"grid must be a RayGridConfig, got {type(self.grid).__name__}")
+            raise BadInput(f"grid must be a RayGridConfig, got {type(self.grid).__name__}")
         if isinstance(self.ground_points, bool) or not isinstance(self.ground_points, int) \
                 or self.ground_points < 1:
-            raise ValueError(f"ground_points={self.ground_points!r} must be an integer >= 1")
+            raise BadInput(f"ground_points={self.ground_points!r} must be an integer >= 1")
         require(self, ("max_range_m", "merge_range_m", "merge_azimuth_deg",
                        "merge_elevation_deg", "ground_max_range_m"), gt=0)
         if self.centre_fluctuation_db < 0:
-            raise ValueError(f"centre_fluctuation_db={self.centre_fluctuation_db!r} must be "
-                             ">= 0")
+            raise BadInput(f"centre_fluctuation_db={self.centre_fluctuation_db!r} must be "
+                           ">= 0")
         if not 0 < self.guard_rail_reflectivity <= 1:
-            raise ValueError(f"guard_rail_reflectivity={self.guard_rail_reflectivity!r} must "
-                             "be in (0, 1]")
+            raise BadInput(f"guard_rail_reflectivity={self.guard_rail_reflectivity!r} must "
+                           "be in (0, 1]")
         if not self.clutter_merge_factor >= 1:
-            raise ValueError(f"clutter_merge_factor={self.clutter_merge_factor!r} must be >= 1")
+            raise BadInput(f"clutter_merge_factor={self.clutter_merge_factor!r} must be >= 1")
         if not self.cull_rcs_at_100m_m2 >= 0:
-            raise ValueError(f"cull_rcs_at_100m_m2={self.cull_rcs_at_100m_m2!r} must be >= 0")
+            raise BadInput(f"cull_rcs_at_100m_m2={self.cull_rcs_at_100m_m2!r} must be >= 0")
         if not -40 <= self.ground_gamma_db <= 0:
-            raise ValueError(f"ground_gamma_db={self.ground_gamma_db!r} must be within "
-                             "[-40, 0] dB")
+            raise BadInput(f"ground_gamma_db={self.ground_gamma_db!r} must be within "
+                           "[-40, 0] dB")
         require(self, "ground_reflection_coefficient", ge=-1, le=1)
         require(self, "wavelength_m", gt=0, le=0.1, unit="m")
 
@@ -476,7 +488,7 @@ def single_actor(actor_class: str, aspect_deg: float, *, range_m: float = 30.0,
     from scenarios.catalog import ACTOR_CLASSES, GUARD_RAIL
     sizes = {**ACTOR_CLASSES, GUARD_RAIL.name: GUARD_RAIL}
     if not isinstance(actor_class, str) or actor_class not in sizes:
-        raise ValueError(f"actor_class={actor_class!r} unknown; known: {sorted(sizes)}")
+        raise BadInput(f"actor_class={actor_class!r} unknown; known: {sorted(sizes)}")
     args = SimpleNamespace(aspect_deg=aspect_deg, range_m=range_m, mount_height_m=mount_height_m)
     require(args, "aspect_deg", unit="deg")
     require(args, "range_m", gt=0, unit="m")

@@ -15,7 +15,8 @@ from typing import NamedTuple
 import numpy as np
 import pandas as pd
 
-from scenarios.checks import require
+from core.checks import require
+from core.errors import BadInput
 
 from .raycast import FACE_NORMALS_LOCAL
 from .rcs_patterns import CYCLIST_PATTERN, HUMAN_TR38901, PATTERN_TYPES, VEHICLE_TR38901
@@ -73,8 +74,8 @@ class ClassRcs:
         require(self, ("diffuse_m2_per_m2", "specular_m2_per_m2", "wheel_rcs_m2",
                        "corner_rcs_m2", "plate_rcs_m2", "fluctuation_db"), ge=0)
         if self.pattern is not None and not isinstance(self.pattern, PATTERN_TYPES):
-            raise ValueError(f"pattern must be one of {[t.__name__ for t in PATTERN_TYPES]} or "
-                             f"None, got {self.pattern!r}")
+            raise BadInput(f"pattern must be one of {[t.__name__ for t in PATTERN_TYPES]} or "
+                           f"None, got {self.pattern!r}")
 
 
 #: Class registry of the facet model. Classes with a `pattern` take their level from it (the
@@ -130,11 +131,11 @@ def actor_boxes(truth_frame: pd.DataFrame) -> ActorBoxes:
     """
     missing = [c for c in REQUIRED_COLUMNS if c not in truth_frame.columns]
     if missing:
-        raise ValueError(f"truth_frame lacks columns {missing}")
+        raise BadInput(f"truth_frame lacks columns {missing}")
     cls = truth_frame["actor_class"].to_numpy(dtype=object)
     unknown = sorted(set(cls) - set(CLASS_RCS))
     if unknown:
-        raise ValueError(f"actor_class {unknown} unknown; known: {sorted(CLASS_RCS)}")
+        raise BadInput(f"actor_class {unknown} unknown; known: {sorted(CLASS_RCS)}")
     index = {name: i for i, name in enumerate(CLASS_RCS)}
     code = np.array([index[c] for c in cls], dtype=np.int64)
     col = {c: truth_frame[c].to_numpy(dtype=np.float64) for c in _NUMERIC_COLUMNS}

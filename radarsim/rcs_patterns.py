@@ -49,6 +49,8 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.interpolate import PchipInterpolator
 
+from core.errors import BadInput
+
 __all__ = ["Lobe", "Tr38901Pattern", "SectorPattern", "IncoherentSum", "PATTERN_TYPES",
            "Reference", "VEHICLE_TR38901", "HUMAN_TR38901", "BICYCLE_BELGIOVANE",
            "CYCLIST_PATTERN", "REFERENCES", "lognormal_mu_db", "aspect_mean_dbsm"]
@@ -177,11 +179,11 @@ class SectorPattern:
         a = np.asarray(self.aspects_deg, dtype=float)
         if a.size < 2 or a.size != len(self.values_dbsm) or a[0] != 0.0 or a[-1] != 180.0 \
                 or np.any(np.diff(a) <= 0):
-            raise ValueError(f"aspects_deg={self.aspects_deg!r} must rise strictly from 0 to "
-                             f"180 deg with one value each (values_dbsm={self.values_dbsm!r})")
+            raise BadInput(f"aspects_deg={self.aspects_deg!r} must rise strictly from 0 to "
+                           f"180 deg with one value each (values_dbsm={self.values_dbsm!r})")
         if not np.all(np.isfinite(self.values_dbsm)) or not self.sigma_s_db >= 0:
-            raise ValueError(f"values_dbsm={self.values_dbsm!r} must be finite and "
-                             f"sigma_s_db={self.sigma_s_db!r} >= 0")
+            raise BadInput(f"values_dbsm={self.values_dbsm!r} must be finite and "
+                           f"sigma_s_db={self.sigma_s_db!r} >= 0")
 
     def rcs_dbsm(self, phi_deg, theta_deg=90.0) -> np.ndarray:
         """RCS at azimuth `phi_deg` (0 front, 90 left, 180 rear; any zenith), dBsm; the
@@ -222,7 +224,7 @@ class IncoherentSum:
     def __post_init__(self) -> None:
         if not self.parts or not all(isinstance(p, (Tr38901Pattern, SectorPattern))
                                      for p in self.parts):
-            raise ValueError(f"parts={self.parts!r} must be Tr38901Pattern / SectorPattern")
+            raise BadInput(f"parts={self.parts!r} must be Tr38901Pattern / SectorPattern")
 
     def rcs_dbsm(self, phi_deg, theta_deg=90.0) -> np.ndarray:
         """Power sum of the parts' RCS, dBsm."""

@@ -10,6 +10,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from core.errors import BadInput
+
 __all__ = ["Scatterers", "PointGeometry", "MAX_RCS_M2", "MAX_SPEED_MPS"]
 
 #: Largest RCS of one scatterer, m^2 (90 dBsm, far above any real object: a large ship is about
@@ -26,16 +28,16 @@ def _as_float_array(name: str, value, shape_tail: tuple[int, ...]) -> np.ndarray
     # A boolean is a number to numpy (True -> 1.0), never to a user: `rcs_m2=[True]` is a bug
     # upstream, not 1 m^2.
     if np.asarray(value).dtype == np.bool_:
-        raise ValueError(f"{name} must hold real numbers, got booleans")
+        raise BadInput(f"{name} must hold real numbers, got booleans")
     try:
         arr = np.asarray(value, dtype=np.float64)
     except (TypeError, ValueError) as exc:
-        raise ValueError(f"{name} must hold real numbers: {exc}") from None
+        raise BadInput(f"{name} must hold real numbers: {exc}") from None
     if arr.ndim != 1 + len(shape_tail) or arr.shape[1:] != shape_tail:
         want = "(K, " + ", ".join(map(str, shape_tail)) + ")" if shape_tail else "(K,)"
-        raise ValueError(f"{name} must have shape {want}, got {arr.shape}")
+        raise BadInput(f"{name} must have shape {want}, got {arr.shape}")
     if not np.all(np.isfinite(arr)):
-        raise ValueError(f"{name} contains non-finite values")
+        raise BadInput(f"{name} contains non-finite values")
     return arr
 
 
@@ -93,26 +95,26 @@ class Scatterers(PointGeometry):
         rcs = _as_float_array("rcs_m2", rcs_m2, ())
         k = pos.shape[0]
         if vel.shape[0] != k or rcs.shape[0] != k:
-            raise ValueError(f"position_m, velocity_mps and rcs_m2 must have the same K, got "
-                             f"{pos.shape[0]}, {vel.shape[0]}, {rcs.shape[0]}")
+            raise BadInput(f"position_m, velocity_mps and rcs_m2 must have the same K, got "
+                           f"{pos.shape[0]}, {vel.shape[0]}, {rcs.shape[0]}")
         if np.any(rcs < 0):
-            raise ValueError(f"rcs_m2 must be >= 0, got min {rcs.min():g}")
+            raise BadInput(f"rcs_m2 must be >= 0, got min {rcs.min():g}")
         if np.any(rcs > MAX_RCS_M2):
-            raise ValueError(f"rcs_m2={rcs.max():g} exceeds the limit {MAX_RCS_M2:g} m^2 "
-                             "(90 dBsm)")
+            raise BadInput(f"rcs_m2={rcs.max():g} exceeds the limit {MAX_RCS_M2:g} m^2 "
+                           "(90 dBsm)")
         speed = np.linalg.norm(vel, axis=1) if k else np.zeros(0)
         if np.any(speed > MAX_SPEED_MPS):
-            raise ValueError(f"velocity_mps: speed {speed.max():g} m/s exceeds the limit "
-                             f"{MAX_SPEED_MPS:g} m/s")
+            raise BadInput(f"velocity_mps: speed {speed.max():g} m/s exceeds the limit "
+                           f"{MAX_SPEED_MPS:g} m/s")
         if k and np.min(np.linalg.norm(pos, axis=1)) < 1e-3:
-            raise ValueError("position_m: a scatterer sits at the radar (range < 1 mm)")
+            raise BadInput("position_m: a scatterer sits at the radar (range < 1 mm)")
         if actor_id is None:
             aid = np.full(k, -1, dtype=np.int64)
         else:
             aid = np.asarray(actor_id)
             if aid.shape != (k,) or not np.issubdtype(aid.dtype, np.integer):
-                raise ValueError(f"actor_id must be an integer array of shape ({k},), got "
-                                 f"{aid.dtype} {aid.shape}")
+                raise BadInput(f"actor_id must be an integer array of shape ({k},), got "
+                               f"{aid.dtype} {aid.shape}")
             aid = aid.astype(np.int64)
         for name, arr in (("position_m", pos), ("velocity_mps", vel), ("rcs_m2", rcs),
                           ("actor_id", aid)):

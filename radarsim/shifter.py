@@ -34,6 +34,8 @@ from typing import Any, Callable, NamedTuple
 
 import numpy as np
 
+from core.errors import BadInput
+
 __all__ = ["SHIFTER_ERROR_DISTRIBUTIONS", "ShifterErrorDistribution", "PHASE_QUANTIZATIONS",
            "PhaseQuantization", "ShifterErrorSpec", "MAX_SHIFTER_PHASE_ERROR_DEG",
            "MAX_SHIFTER_GAIN_ERROR_DB", "MAX_TX_COUPLING_DB", "shifter_factor",
@@ -144,16 +146,16 @@ class ShifterErrorSpec:
 
     def __post_init__(self) -> None:
         if self.distribution not in SHIFTER_ERROR_DISTRIBUTIONS:
-            raise ValueError(f"distribution={self.distribution!r} is not one of "
-                             f"{sorted(SHIFTER_ERROR_DISTRIBUTIONS)}")
+            raise BadInput(f"distribution={self.distribution!r} is not one of "
+                           f"{sorted(SHIFTER_ERROR_DISTRIBUTIONS)}")
         if not (isinstance(self.rms, (int, float)) and not isinstance(self.rms, bool)
                 and math.isfinite(self.rms) and self.rms >= 0):
-            raise ValueError(f"rms={self.rms!r} must be a finite number >= 0")
+            raise BadInput(f"rms={self.rms!r} must be a finite number >= 0")
         if not isinstance(self.seed, (int, np.integer)) or isinstance(self.seed, bool) or \
                 self.seed < 0:
-            raise ValueError(f"seed={self.seed!r} must be an integer >= 0")
+            raise BadInput(f"seed={self.seed!r} must be an integer >= 0")
         if not (isinstance(self.dnl_fraction, (int, float)) and 0 <= self.dnl_fraction <= 1):
-            raise ValueError(f"dnl_fraction={self.dnl_fraction!r} must be in 0..1")
+            raise BadInput(f"dnl_fraction={self.dnl_fraction!r} must be in 0..1")
 
     def draw(self, n_tx: int, n_codes: int) -> np.ndarray:
         """(n_tx, n_codes) float table, row k for Tx k+1, relative to code 0, rms `rms`."""
@@ -207,10 +209,10 @@ def resolve_table(name: str, value: Any, n_tx: int, n_codes: int,
         try:
             spec = ShifterErrorSpec(**dict(value))
         except TypeError as exc:
-            raise ValueError(f"{name}: bad error-table spec {dict(value)!r} ({exc}); keys: "
-                             "distribution, rms, seed, dnl_fraction") from exc
+            raise BadInput(f"{name}: bad error-table spec {dict(value)!r} ({exc}); keys: "
+                           "distribution, rms, seed, dnl_fraction") from exc
         except ValueError as exc:
-            raise ValueError(f"{name}: {exc}") from exc
+            raise BadInput(f"{name}: {exc}") from exc
         arr = spec.draw(n_tx, n_codes)
     else:
         arr = value
@@ -224,21 +226,21 @@ def check_table(name: str, value: Any, shape: tuple[int, int], limit: float,
     try:
         arr = np.asarray(value, dtype=float)
     except (TypeError, ValueError) as exc:
-        raise ValueError(f"{name} must be a numeric table of shape {shape}: {exc}") from exc
+        raise BadInput(f"{name} must be a numeric table of shape {shape}: {exc}") from exc
     if arr.shape != shape:
-        raise ValueError(f"{name} has shape {arr.shape}, expected {shape} "
-                         "(rows Tx1..Txn)")
+        raise BadInput(f"{name} has shape {arr.shape}, expected {shape} "
+                       "(rows Tx1..Txn)")
     bad = ~np.isfinite(arr)
     if allow_neg_inf:
         bad &= ~np.isneginf(arr)
     if bad.any():
         k, q = np.argwhere(bad)[0]
-        raise ValueError(f"{name}[{k}][{q}]={float(arr[k, q])!r} must be finite")
+        raise BadInput(f"{name}[{k}][{q}]={float(arr[k, q])!r} must be finite")
     fin = np.where(np.isfinite(arr), arr, 0.0)
     over = np.abs(fin) > limit
     if over.any():
         k, q = np.argwhere(over)[0]
-        raise ValueError(f"{name}[{k}][{q}]={float(arr[k, q])!r} exceeds the limit +/-{limit:g}")
+        raise BadInput(f"{name}[{k}][{q}]={float(arr[k, q])!r} exceeds the limit +/-{limit:g}")
     return arr
 
 
@@ -404,12 +406,12 @@ def resolve_config_tables(cfg) -> dict[str, Any]:
     ph = np.zeros((n_tx, n_tx)) if cfg.tx_coupling_deg is None else \
         check_table("tx_coupling_deg", cfg.tx_coupling_deg, (n_tx, n_tx), 360.0)
     if np.any(lvl[eye] != 0) or np.any(ph[eye] != 0):
-        raise ValueError(f"tx_coupling_db / tx_coupling_deg diagonal must be 0 dB and "
-                         f"0 deg (channel gains are tx_gain_error_db), got "
-                         f"{lvl[eye].tolist()} dB, {ph[eye].tolist()} deg")
+        raise BadInput(f"tx_coupling_db / tx_coupling_deg diagonal must be 0 dB and "
+                       f"0 deg (channel gains are tx_gain_error_db), got "
+                       f"{lvl[eye].tolist()} dB, {ph[eye].tolist()} deg")
     if np.any(lvl[~eye] > MAX_TX_COUPLING_DB):
-        raise ValueError(f"tx_coupling_db off-diagonal level {lvl[~eye].max():g} dB "
-                         f"exceeds the limit {MAX_TX_COUPLING_DB:g} dB")
+        raise BadInput(f"tx_coupling_db off-diagonal level {lvl[~eye].max():g} dB "
+                       f"exceeds the limit {MAX_TX_COUPLING_DB:g} dB")
     out["tx_coupling_db"] = tuple(tuple(float(v) for v in r) for r in lvl)
     out["tx_coupling_deg"] = tuple(tuple(float(v) for v in r) for r in ph)
     cal = cfg.shifter_calibration_deg
@@ -417,14 +419,14 @@ def resolve_config_tables(cfg) -> dict[str, Any]:
         out["shifter_calibration_deg"] = None
         return out
     if PHASE_QUANTIZATIONS[cfg.phase_quantization].ideal:
-        raise ValueError(f"shifter_calibration_deg is set but phase_quantization="
-                         f"{cfg.phase_quantization!r}: "
-                         "an ideal shifter has no codes to choose; use 'floor' or 'round'")
+        raise BadInput(f"shifter_calibration_deg is set but phase_quantization="
+                       f"{cfg.phase_quantization!r}: "
+                       "an ideal shifter has no codes to choose; use 'floor' or 'round'")
     if isinstance(cal, Mapping):
-        raise ValueError(f"shifter_calibration_deg={dict(cal)!r} is a calibration request, not "
-                         "a measured table: a config never runs a measurement; resolve it "
-                         "with radarsim.calibration.resolve_calibration(cfg, request) (a "
-                         "sweep's radar table does this per cell)")
+        raise BadInput(f"shifter_calibration_deg={dict(cal)!r} is a calibration request, not "
+                       "a measured table: a config never runs a measurement; resolve it "
+                       "with radarsim.calibration.resolve_calibration(cfg, request) (a "
+                       "sweep's radar table does this per cell)")
     out["shifter_calibration_deg"] = resolve_table(
         "shifter_calibration_deg", cal, n_tx, n_codes, MAX_SHIFTER_PHASE_ERROR_DEG)
     return out

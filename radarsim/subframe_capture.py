@@ -16,10 +16,10 @@ from typing import Iterator, NamedTuple
 
 import numpy as np
 
-from scenarios.fileio import check_input_file
+from core.errors import BadInput
+from core.fileio import check_input_file
 
-from .capture import (MAX_CAPTURE_BYTES, SAMPLE_DTYPE, frame_nbytes, frame_shape,
-                      layout_of)
+from .capture import MAX_CAPTURE_BYTES, SAMPLE_DTYPE, frame_nbytes, frame_shape, layout_of
 
 __all__ = ["SubFrameData", "advanced_frame_nbytes", "capture_n_advanced_frames",
            "iter_subframes", "encode_frame"]
@@ -36,8 +36,8 @@ class SubFrameData(NamedTuple):
 def _parts(profile) -> tuple:
     parts = getattr(profile, "parts", None)
     if parts is None:
-        raise ValueError(f"profile must be a radarsim.ti.TiProfile, got "
-                         f"{type(profile).__name__}")
+        raise BadInput(f"profile must be a radarsim.ti.TiProfile, got "
+                       f"{type(profile).__name__}")
     return parts
 
 
@@ -59,13 +59,13 @@ def capture_n_advanced_frames(path: str | os.PathLike, profile) -> int:
     per_frame = advanced_frame_nbytes(profile)
     n_frames, rest = divmod(size, per_frame)
     if size == 0:
-        raise ValueError(f"capture {str(path)!r} is empty")
+        raise BadInput(f"capture {str(path)!r} is empty")
     if rest:
         sizes = " + ".join(str(frame_nbytes(p.radar)) for p in _parts(profile))
-        raise ValueError(f"capture {str(path)!r} has {size} bytes, not a whole number of "
-                         f"frames of {per_frame} bytes (sub-frames {sizes}): {n_frames} whole "
-                         f"frame(s) and {rest} stray bytes; the file is truncated or the "
-                         "profile does not match the recording")
+        raise BadInput(f"capture {str(path)!r} has {size} bytes, not a whole number of "
+                       f"frames of {per_frame} bytes (sub-frames {sizes}): {n_frames} whole "
+                       f"frame(s) and {rest} stray bytes; the file is truncated or the "
+                       "profile does not match the recording")
     return n_frames
 
 
@@ -116,13 +116,13 @@ def encode_frame(profile, adcs, *, interleaved: bool | None = None) -> np.ndarra
     """
     parts = _parts(profile)
     if len(adcs) != len(parts):
-        raise ValueError(f"{len(adcs)} ADC blocks for a frame of {len(parts)} sub-frame(s)")
+        raise BadInput(f"{len(adcs)} ADC blocks for a frame of {len(parts)} sub-frame(s)")
     words = []
     for k, (part, adc) in enumerate(zip(parts, adcs)):
         adc = np.asarray(adc)
         if adc.shape != frame_shape(part.radar):
-            raise ValueError(f"sub-frame {k}: ADC block of shape {adc.shape}, expected "
-                             f"{frame_shape(part.radar)}")
+            raise BadInput(f"sub-frame {k}: ADC block of shape {adc.shape}, expected "
+                           f"{frame_shape(part.radar)}")
         words.append(np.asarray(layout_of(part.radar, interleaved).encode(adc[None]),
                                 dtype=SAMPLE_DTYPE).ravel())
     return np.concatenate(words)

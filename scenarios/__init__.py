@@ -12,35 +12,17 @@ radar beyond the mount pose (DESIGN 2).
 Where to add what: a case is a TOML file in ``scenarios/cases/``; a road layout or a random
 traffic environment is an entry of `scenarios.roads.ROAD_LAYOUTS` / `TRAFFIC_ENVS`; a road-user
 class an entry of `scenarios.catalog.ACTOR_CLASSES`.
-
-The public names are loaded on first use (PEP 562): `scenarios.checks`, the shared validation
-helper every package imports, must not pull in highway-env.
 """
 from __future__ import annotations
 
-import importlib
+from .catalog import ACTOR_CLASSES, CASE_CLASSES, MOUNTS, ActorSpec, Case, Criterion, Mount
+from .files import load_scenario_file, parse_scenario
+from .registry import SCENARIOS, get_case
+from .roads import ROAD_LAYOUTS, TRAFFIC_ENVS
+from .traffic import FrameTruth, ScenarioRun, run_scenario
+from .truth import EGO_COLUMNS, TRUTH_COLUMNS
 
-#: Public name -> submodule that defines it.
-_EXPORTS = {
-    "SCENARIOS": "registry", "get_case": "registry",
-    "ACTOR_CLASSES": "catalog", "CASE_CLASSES": "catalog", "MOUNTS": "catalog",
-    "ActorSpec": "catalog", "Case": "catalog", "Criterion": "catalog", "Mount": "catalog",
-    "ROAD_LAYOUTS": "roads", "TRAFFIC_ENVS": "roads",
-    "load_scenario_file": "files", "parse_scenario": "files",
-    "FrameTruth": "traffic", "ScenarioRun": "traffic", "run_scenario": "traffic",
-    "EGO_COLUMNS": "truth", "TRUTH_COLUMNS": "truth",
-}
-
-__all__ = sorted(_EXPORTS)
-
-
-def __getattr__(name: str):
-    if name not in _EXPORTS:
-        raise AttributeError(f"module 'scenarios' has no attribute {name!r}")
-    value = getattr(importlib.import_module(f".{_EXPORTS[name]}", __name__), name)
-    globals()[name] = value
-    return value
-
-
-def __dir__() -> list[str]:
-    return sorted(set(globals()) | set(_EXPORTS))
+__all__ = ["ACTOR_CLASSES", "CASE_CLASSES", "EGO_COLUMNS", "MOUNTS", "ROAD_LAYOUTS", "SCENARIOS",
+           "TRAFFIC_ENVS", "TRUTH_COLUMNS", "ActorSpec", "Case", "Criterion", "FrameTruth",
+           "Mount", "ScenarioRun", "get_case", "load_scenario_file", "parse_scenario",
+           "run_scenario"]

@@ -21,7 +21,9 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
-from .checks import one_of, require
+from core.checks import one_of, require
+from core.errors import BadInput
+
 from .equipment import RadarSpec
 from .roads import ROAD_LAYOUTS, TRAFFIC_ENVS
 
@@ -116,8 +118,8 @@ class Mount:
 
     def __post_init__(self) -> None:
         if self.name not in _MOUNT_NAMES:
-            raise ValueError(f"mount name={self.name!r} unknown; known: "
-                             f"{', '.join(_MOUNT_NAMES)}")
+            raise BadInput(f"mount name={self.name!r} unknown; known: "
+                           f"{', '.join(_MOUNT_NAMES)}")
         require(self, "x_m", ge=-10, le=10, unit="m", where="mount ")
         require(self, "y_m", ge=-3, le=3, unit="m", where="mount ")
         require(self, "z_m", gt=0, le=3, unit="m", where="mount ")
@@ -189,24 +191,24 @@ class ActorSpec:
                        "lane_change_duration_s", "brake_decel_mps2"))
         vmax = ACTOR_CLASSES[self.actor_class].max_speed_mps
         if self.speed_mps > vmax:
-            raise ValueError(f"speed_mps={self.speed_mps!r} exceeds the {self.actor_class} "
-                             f"limit {vmax:g} m/s")
+            raise BadInput(f"speed_mps={self.speed_mps!r} exceeds the {self.actor_class} "
+                           f"limit {vmax:g} m/s")
         if self.speed_mps < -5.0:
-            raise ValueError(f"speed_mps={self.speed_mps!r}: reversing is limited to -5 m/s")
+            raise BadInput(f"speed_mps={self.speed_mps!r}: reversing is limited to -5 m/s")
         if abs(self.lateral_offset_m) > 10:
-            raise ValueError(f"lateral_offset_m={self.lateral_offset_m!r} must be within "
-                             "+/-10 m")
+            raise BadInput(f"lateral_offset_m={self.lateral_offset_m!r} must be within "
+                           "+/-10 m")
         if abs(self.lane_change_left_m) > 12:
-            raise ValueError(f"lane_change_left_m={self.lane_change_left_m!r} must be within "
-                             "+/-12 m")
+            raise BadInput(f"lane_change_left_m={self.lane_change_left_m!r} must be within "
+                           "+/-12 m")
         require(self, ("lane_change_time_s", "brake_time_s"), ge=0, lt=1e4, unit="s",
                 none_ok=True)
         if not self.lane_change_duration_s > 0:
-            raise ValueError(f"lane_change_duration_s={self.lane_change_duration_s!r} must "
-                             "be > 0")
+            raise BadInput(f"lane_change_duration_s={self.lane_change_duration_s!r} must "
+                           "be > 0")
         if not 0 <= self.brake_decel_mps2 <= 12:
-            raise ValueError(f"brake_decel_mps2={self.brake_decel_mps2!r} must be in [0, 12] "
-                             "m/s^2")
+            raise BadInput(f"brake_decel_mps2={self.brake_decel_mps2!r} must be in [0, 12] "
+                           "m/s^2")
 
 
 #: Comparison operators of a criterion.
@@ -244,7 +246,7 @@ class Criterion:
     def __post_init__(self) -> None:
         require(self, "metric", "str")
         if not self.metric:
-            raise ValueError("metric='' must name a metric")
+            raise BadInput("metric='' must name a metric")
         one_of("op", self.op, CRITERION_OPS)
         require(self, "value")
         require(self, "actor_id", "integer", ge=0, none_ok=True)
@@ -367,53 +369,53 @@ class Case:
     def __post_init__(self) -> None:
         if not self.name or not all(ch.islower() or ch.isdigit() or ch == "_"
                                     for ch in self.name):
-            raise ValueError(f"name={self.name!r} must be lowercase letters, digits and _")
+            raise BadInput(f"name={self.name!r} must be lowercase letters, digits and _")
         if not isinstance(self.mount, Mount):
-            raise ValueError(f"mount must be a Mount, got {self.mount!r}")
+            raise BadInput(f"mount must be a Mount, got {self.mount!r}")
         require(self, "duration_s", gt=0, le=120, unit="s")
         one_of("road", self.road, ROAD_LAYOUTS)
         require(self, "lanes", "integer", ge=1, le=6)
         if self.traffic is not None:
             one_of("traffic", self.traffic, TRAFFIC_ENVS)
         if self.ego.actor_class != "car":
-            raise ValueError(f"ego.actor_class={self.ego.actor_class!r}: the ego is a car")
+            raise BadInput(f"ego.actor_class={self.ego.actor_class!r}: the ego is a car")
         if self.ego.meet_ego:
-            raise ValueError("ego.meet_ego must be false (it is the reference)")
+            raise BadInput("ego.meet_ego must be false (it is the reference)")
         paths = path_names(self.road, self.lanes)
         if self.traffic is None:
             for label, spec in [("ego", self.ego)] + [(f"actors[{i}]", a)
                                                       for i, a in enumerate(self.actors)]:
                 if spec.path not in paths:
-                    raise ValueError(f"{label}.path={spec.path!r} unknown for road "
-                                     f"{self.road!r}; known: {list(paths)}")
+                    raise BadInput(f"{label}.path={spec.path!r} unknown for road "
+                                   f"{self.road!r}; known: {list(paths)}")
         require(self, "vehicles_count", "integer", ge=0, le=60)
         require(self, "vehicles_density", gt=0, le=5)
         require(self, ("truck_fraction", "motorcycle_fraction"), ge=0, le=1)
         if self.truck_fraction + self.motorcycle_fraction > 1:
-            raise ValueError("truck_fraction + motorcycle_fraction must be <= 1")
+            raise BadInput("truck_fraction + motorcycle_fraction must be <= 1")
         n = len(self.actors)
         require(self, "equipped_share", ge=0, le=1)
         for r in self.radars:
             if not isinstance(r, RadarSpec):
-                raise ValueError(f"radars must hold RadarSpec objects, got {r!r}")
+                raise BadInput(f"radars must hold RadarSpec objects, got {r!r}")
             if self.traffic is None and r.actor_id >= n:
-                raise ValueError(f"radars: actor_id={r.actor_id} is not a scripted actor "
-                                 f"(0..{n - 1})")
+                raise BadInput(f"radars: actor_id={r.actor_id} is not a scripted actor "
+                               f"(0..{n - 1})")
         for i in self.must_detect:
             if not isinstance(i, int) or not 0 <= i < n:
-                raise ValueError(f"must_detect id {i!r} is not a scripted actor (0..{n - 1})")
+                raise BadInput(f"must_detect id {i!r} is not a scripted actor (0..{n - 1})")
         one_of("case_class", self.case_class, CASE_CLASSES)
         if CASE_CLASSES[self.case_class].needs_approaching_target and (
                 self.traffic is not None or not self.must_detect or
                 self.actors[self.must_detect[0]].speed_mps <= self.ego.speed_mps):
-            raise ValueError(f"case_class={self.case_class!r} needs scripted actors and a "
-                             "first must_detect actor approaching faster than the ego")
+            raise BadInput(f"case_class={self.case_class!r} needs scripted actors and a "
+                           "first must_detect actor approaching faster than the ego")
         for c in self.criteria:
             if not isinstance(c, Criterion):
-                raise ValueError(f"criteria must hold Criterion objects, got {c!r}")
+                raise BadInput(f"criteria must hold Criterion objects, got {c!r}")
             if c.actor_id is not None and c.actor_id >= n:
-                raise ValueError(f"criterion actor_id={c.actor_id} is not a scripted actor "
-                                 f"(0..{n - 1})")
+                raise BadInput(f"criterion actor_id={c.actor_id} is not a scripted actor "
+                               f"(0..{n - 1})")
 
     def summary(self) -> str:
         """One catalogue line: name, mount, duration, description."""

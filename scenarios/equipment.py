@@ -25,7 +25,8 @@ from dataclasses import dataclass, fields
 import numpy as np
 import pandas as pd
 
-from .checks import check_keys, check_types, require
+from core.checks import check_keys, check_types, require
+from core.errors import BadInput
 
 __all__ = ["RadarEquipment", "WaveformFamily", "WAVEFORM_FAMILIES", "RadarSpec",
            "EQUIPPED_CLASSES", "draw_equipment", "equipment_table", "FAMILY_WEIGHTS",
@@ -86,16 +87,16 @@ class RadarEquipment:
         require(self, "mount_z_m", gt=0, le=3, unit="m")
         require(self, "mount_yaw_deg", ge=-180, le=180, unit="deg")
         if not 1e12 <= abs(self.slope_hz_per_s) <= 2e14:
-            raise ValueError(f"slope_hz_per_s={self.slope_hz_per_s!r}: |slope| must be in "
-                             "[1e12, 2e14] Hz/s")
+            raise BadInput(f"slope_hz_per_s={self.slope_hz_per_s!r}: |slope| must be in "
+                           "[1e12, 2e14] Hz/s")
         require(self, ("chirp_period_s", "ramp_time_s"), gt=1e-6, le=1e-3, unit="s")
         if self.ramp_time_s > self.chirp_period_s:
-            raise ValueError(f"ramp_time_s={self.ramp_time_s!r} must be <= chirp_period_s="
-                             f"{self.chirp_period_s!r}")
+            raise BadInput(f"ramp_time_s={self.ramp_time_s!r} must be <= chirp_period_s="
+                           f"{self.chirp_period_s!r}")
         end = self.start_freq_hz + self.slope_hz_per_s * self.ramp_time_s
         if min(self.start_freq_hz, end) < 76e9 or max(self.start_freq_hz, end) > 81e9:
-            raise ValueError(f"start_freq_hz={self.start_freq_hz:g}: the ramp "
-                             f"{self.start_freq_hz:g}..{end:g} Hz leaves the 76-81 GHz band")
+            raise BadInput(f"start_freq_hz={self.start_freq_hz:g}: the ramp "
+                           f"{self.start_freq_hz:g}..{end:g} Hz leaves the 76-81 GHz band")
         require(self, "chirp_offset_s", ge=-1.0, le=1.0, unit="s")
         require(self, "tx_power_dbm", ge=-40, le=20, unit="dBm")
         require(self, "antenna_gain_dbi", ge=-10, le=35, unit="dBi")
@@ -191,34 +192,34 @@ class RadarSpec:
     def __post_init__(self) -> None:
         if isinstance(self.actor_id, bool) or not isinstance(self.actor_id, int) \
                 or self.actor_id < 0:
-            raise ValueError(f"radars: actor_id={self.actor_id!r} must be an integer >= 0")
+            raise BadInput(f"radars: actor_id={self.actor_id!r} must be an integer >= 0")
         if self.family is not None and self.family not in WAVEFORM_FAMILIES:
-            raise ValueError(f"radars: family={self.family!r} unknown; known: "
-                             f"{sorted(WAVEFORM_FAMILIES)}")
+            raise BadInput(f"radars: family={self.family!r} unknown; known: "
+                           f"{sorted(WAVEFORM_FAMILIES)}")
         names = {f.name for f in fields(RadarEquipment)}
         bad = sorted(k for k, _ in self.overrides if k not in names)
         if bad:
-            raise ValueError(f"radars: unknown RadarEquipment field(s) {bad}; known: "
-                             f"{sorted(names)}")
+            raise BadInput(f"radars: unknown RadarEquipment field(s) {bad}; known: "
+                           f"{sorted(names)}")
 
     @classmethod
     def from_table(cls, table: dict, where: str = "radars") -> "RadarSpec":
         """From a TOML table: actor_id, optional family, and RadarEquipment fields, under the
-        case-file policy of `scenarios.checks` (unknown keys, wrong units and types named)."""
+        case-file policy of `core.checks` (unknown keys, wrong units and types named)."""
         equipment = {f.name for f in fields(RadarEquipment)}
         t = check_keys(table, {"actor_id", "family", *equipment}, f"{where}.")
         check_types({k: v for k, v in t.items() if k in equipment}, RadarEquipment, f"{where}.")
         if "actor_id" not in t:
-            raise ValueError(f"{where}.actor_id: required key missing")
+            raise BadInput(f"{where}.actor_id: required key missing")
         actor_id = t.pop("actor_id")
         family = t.pop("family", None)
         try:
             spec = cls(actor_id=actor_id, family=family, overrides=tuple(sorted(t.items())))
             RadarEquipment(**dict(spec.overrides))  # values checked early (defaults elsewhere)
         except ValueError as exc:
-            raise ValueError(f"{where}: {exc}") from None
+            raise BadInput(f"{where}: {exc}") from None
         except TypeError as exc:
-            raise ValueError(f"{where}: {exc}") from None
+            raise BadInput(f"{where}: {exc}") from None
         return spec
 
 
@@ -294,11 +295,11 @@ def equipment_table(actors: pd.DataFrame, seed: int, *,
         ``actor_id`` then the `RadarEquipment` fields, sorted by actor_id.
     """
     if isinstance(equipped_share, bool) or not 0 <= equipped_share <= 1:
-        raise ValueError(f"equipped_share={equipped_share!r} must be in [0, 1]")
+        raise BadInput(f"equipped_share={equipped_share!r} must be in [0, 1]")
     weights = dict(FAMILY_WEIGHTS if family_weights is None else family_weights)
     unknown = sorted(set(weights) - set(WAVEFORM_FAMILIES))
     if unknown:
-        raise ValueError(f"family_weights: unknown families {unknown}")
+        raise BadInput(f"family_weights: unknown families {unknown}")
     names = list(weights)
     p = np.array([weights[n] for n in names], dtype=float)
     p = p / p.sum()
@@ -309,7 +310,7 @@ def equipment_table(actors: pd.DataFrame, seed: int, *,
     for spec in radars:
         r = by_id.get(spec.actor_id)
         if r is None:
-            raise ValueError(f"radars: actor_id={spec.actor_id} is not an actor of the run")
+            raise BadInput(f"radars: actor_id={spec.actor_id} is not an actor of the run")
         ov = dict(spec.overrides)
         if spec.family is None:
             eq = RadarEquipment(**ov)

@@ -17,8 +17,10 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from core.checks import UNIT_ALIASES, build_from_table, check_keys, check_types, read_toml
+from core.errors import BadInput
+
 from .catalog import MOUNTS, ActorSpec, Case, Criterion, Mount
-from .checks import UNIT_ALIASES, build_from_table, check_keys, check_types, read_toml
 from .equipment import RadarSpec
 
 __all__ = ["load_scenario_file", "load_case_directory", "parse_scenario", "UNIT_ALIASES"]
@@ -37,7 +39,7 @@ _NESTED = {"ego", "mount", *_ARRAYS}
 def _mount(value) -> Mount:
     if isinstance(value, str):
         if value not in MOUNTS:
-            raise ValueError(f"mount: unknown mount {value!r}; known: {sorted(MOUNTS)}")
+            raise BadInput(f"mount: unknown mount {value!r}; known: {sorted(MOUNTS)}")
         return MOUNTS[value]
     return build_from_table(Mount, value, "mount.")
 
@@ -45,7 +47,7 @@ def _mount(value) -> Mount:
 def _array(data: dict, name: str) -> tuple:
     items = data[name]
     if not isinstance(items, list):
-        raise ValueError(f"{name}: must be an array of tables ([[{name}]])")
+        raise BadInput(f"{name}: must be an array of tables ([[{name}]])")
     return tuple(_ARRAYS[name](t, f"{name}[{i}]") for i, t in enumerate(items))
 
 
@@ -56,7 +58,7 @@ def parse_scenario(data: dict, source: str = "<scenario>") -> Case:
     ------
     ValueError
         ``{source}: {key}: ...`` naming the key (with its position) on any unknown key, non-SI
-        unit, wrong type or impossible value (the file policy of `scenarios.checks`).
+        unit, wrong type or impossible value (the file policy of `core.checks`).
     """
     try:
         data = check_keys(data, {f for f in Case.__dataclass_fields__}, "")
@@ -74,7 +76,7 @@ def parse_scenario(data: dict, source: str = "<scenario>") -> Case:
             flat["must_detect"] = tuple(flat["must_detect"])
         return build_from_table(Case, flat, "", **nested)
     except ValueError as exc:
-        raise ValueError(f"{source}: {exc}") from None
+        raise BadInput(f"{source}: {exc}") from None
 
 
 def load_scenario_file(path) -> Case:
@@ -104,7 +106,7 @@ def load_case_directory(directory) -> dict[str, Case]:
     for path in sorted(Path(directory).glob("*.toml")):
         case = load_scenario_file(path)
         if path.stem != case.name:
-            raise ValueError(f"{path}: holds case {case.name!r}; name the file "
-                             f"{case.name}.toml")
+            raise BadInput(f"{path}: holds case {case.name!r}; name the file "
+                           f"{case.name}.toml")
         cases[case.name] = case
     return cases

@@ -18,7 +18,8 @@ from matplotlib.animation import FuncAnimation, PillowWriter  # noqa: E402
 from matplotlib.collections import PolyCollection  # noqa: E402
 from matplotlib.patches import Wedge  # noqa: E402
 
-from .fileio import atomic_write  # noqa: E402
+from core.fileio import atomic_write  # noqa: E402
+
 from .traffic import ScenarioRun  # noqa: E402
 
 __all__ = ["box_corners", "plot_birdseye", "animate_birdseye", "write_views", "CLASS_COLORS",

@@ -8,9 +8,10 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from core.registry import Registry
+
 from .catalog import Case
 from .files import load_case_directory
-from .registries import Registry
 
 __all__ = ["CASES_DIR", "SCENARIOS", "get_case"]
 
@@ -39,7 +40,7 @@ def get_case(name_or_case) -> Case:
     >>> get_case("nope")
     Traceback (most recent call last):
     ...
-    ValueError: unknown scenario 'nope'; known: [...]
+    core.errors.BadInput: unknown scenario 'nope'; known: [...]
     """
     if isinstance(name_or_case, Case):
         return name_or_case

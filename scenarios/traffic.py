@@ -34,17 +34,24 @@ from dataclasses import dataclass
 
 import numpy as np
 import pandas as pd
-from scipy.spatial import cKDTree
-
 from highway_env.road.road import Road
 from highway_env.vehicle.behavior import IDMVehicle
 from highway_env.vehicle.kinematics import Vehicle
+from scipy.spatial import cKDTree
+
+from core.errors import BadInput
 
 from .catalog import ACTOR_CLASSES, GUARD_RAIL, Case, Mount
 from .registry import get_case
 from .roads import LANE_WIDTH_M, ROAD_LAYOUTS, TRAFFIC_ENVS, Path, memoise_lanes
-from .truth import (RAW_ACTOR_COLUMNS, RAW_EGO_COLUMNS, build_tables, ego_yaw_rate_rps,
-                    iso_lateral_to_highway, radar_velocity_mps)
+from .truth import (
+    RAW_ACTOR_COLUMNS,
+    RAW_EGO_COLUMNS,
+    build_tables,
+    ego_yaw_rate_rps,
+    iso_lateral_to_highway,
+    radar_velocity_mps,
+)
 
 __all__ = ["ScenarioRun", "FrameTruth", "run_scenario", "Path", "ScriptedVehicle",
            "VEHICLE_CLASSES", "IDM_CLASSES", "LANE_WIDTH_M", "RANDOM_ID_BASE",
@@ -213,8 +220,8 @@ def _meet_s(ego_path: Path, ego_s: float, ego_v: float, ego_lat: float, path: Pa
     dist, j = cKDTree(pa).query(pe)
     i = int(np.argmin(dist))
     if dist[i] > 1.0 or ego_v == 0:
-        raise ValueError("meet_ego: the actor's path does not cross the ego's path ahead of "
-                         "the ego")
+        raise BadInput("meet_ego: the actor's path does not cross the ego's path ahead of "
+                       "the ego")
     t_meet = (se[i] - ego_s) / ego_v
     return float(sa[j[i]] - v * t_meet)
 
@@ -265,8 +272,8 @@ def _scripted(case: Case):
 def _random_traffic(case: Case, seed: int, frame_rate_hz: float, substeps: int):
     traffic = TRAFFIC_ENVS[case.traffic]
     if abs(frame_rate_hz - round(frame_rate_hz)) > 1e-9:
-        raise ValueError(f"frame_rate_hz={frame_rate_hz!r} must be a whole number of Hz for "
-                         "highway-env traffic environments")
+        raise BadInput(f"frame_rate_hz={frame_rate_hz!r} must be a whole number of Hz for "
+                       "highway-env traffic environments")
     config = {"simulation_frequency": int(round(frame_rate_hz)) * substeps,
               "policy_frequency": int(round(frame_rate_hz)),
               "observation": {"type": "Kinematics", "vehicles_count": 1,
@@ -362,17 +369,17 @@ def run_scenario(name_or_case, seed: int = 0, duration_s: float | None = None,
     """
     case = get_case(name_or_case)
     if not 0 < frame_rate_hz <= 100:
-        raise ValueError(f"frame_rate_hz={frame_rate_hz!r} must be in (0, 100] Hz")
+        raise BadInput(f"frame_rate_hz={frame_rate_hz!r} must be in (0, 100] Hz")
     if isinstance(substeps, bool) or not isinstance(substeps, int) or substeps < 1:
-        raise ValueError(f"substeps={substeps!r} must be an integer >= 1")
+        raise BadInput(f"substeps={substeps!r} must be an integer >= 1")
     sim_rate = frame_rate_hz * substeps
     if not 0 < decision_rate_hz <= sim_rate:
-        raise ValueError(f"decision_rate_hz={decision_rate_hz!r} must be in (0, {sim_rate:g}] "
-                         "Hz")
+        raise BadInput(f"decision_rate_hz={decision_rate_hz!r} must be in (0, {sim_rate:g}] "
+                       "Hz")
     stride = max(int(round(sim_rate / decision_rate_hz)), 1)
     duration = case.duration_s if duration_s is None else duration_s
     if not duration > 0:
-        raise ValueError(f"duration_s={duration!r} must be > 0")
+        raise BadInput(f"duration_s={duration!r} must be > 0")
     n_frames = max(int(round(duration * frame_rate_hz)), 1)
     with vehicle_class_state_restored():
         if case.traffic is None:

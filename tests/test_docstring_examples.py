@@ -13,7 +13,7 @@ import pytest
 
 #: Modules whose docstring examples run.
 MODULES = (
-    "scenarios.registries", "scenarios.registry", "radarsim.frontend", "radarsim.presets",
+    "core.registry", "scenarios.registry", "radarsim.frontend", "radarsim.presets",
     "radarsim.mimo", "radarsim.chips", "radarsim.boards", "radarsim.calibration",
     "pipeline.chain", "pipeline.cfar", "pipeline.mimo.base", "pipeline.tracking.parts",
     "metrics.detection", "radarsim.mimo_fast_slow", "pipeline.mimo.fast_slow",
@@ -32,7 +32,7 @@ PUBLIC_API = (
     "radarsim.calibration:resolve_calibration",
     "radarsim.calibration:shifter_phase_residual_deg",
     "pipeline.mimo.base:register_chain", "pipeline.mimo.base:chain_of",
-    "pipeline.cfar:cfar_mode", "scenarios.registry:get_case", "scenarios.registries",
+    "pipeline.cfar:cfar_mode", "scenarios.registry:get_case", "core.registry",
     "metrics.detection:ghost_stats", "metrics.detection:velocity_stats",
     "metrics.r79:critical_distance_m", "metrics.registry:check_criterion",
 )

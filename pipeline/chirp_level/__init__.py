@@ -26,8 +26,14 @@ References
        ``HWA_PreProcessing.interfMitigation``, ``HWA_AccelModeCompress``.
 """
 from .dc import remove_dc
-from .ege import (EGE_HEADER_BITS, EGE_K_ARRAY, HWA_OUTPUT_SCALE, ege_block_bits, ege_compress,
-                  ege_min_ratio)
+from .ege import (
+                  EGE_HEADER_BITS,
+                  EGE_K_ARRAY,
+                  HWA_OUTPUT_SCALE,
+                  ege_block_bits,
+                  ege_compress,
+                  ege_min_ratio,
+)
 from .interference import INTF_THRESHOLD_MODES, interference_flags, zero_flagged
 from .noise_floor import NOISE_FLOOR_FIELDS, NoiseFloor, noise_floor_rise
 from .stage import RANGE_STAGE_FIELDS, range_stage, shared_range_stage, windowed_range_stage

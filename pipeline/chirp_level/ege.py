@@ -39,8 +39,15 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-from ..ege_format import (EGE_HEADER_BITS, EGE_K_ARRAY, HWA_OUTPUT_SCALE, ege_budget_bits,
-                          ege_min_ratio)
+from core.errors import BadInput
+
+from ..ege_format import (
+    EGE_HEADER_BITS,
+    EGE_K_ARRAY,
+    HWA_OUTPUT_SCALE,
+    ege_budget_bits,
+    ege_min_ratio,
+)
 from ..threads import run_parts, spans
 
 __all__ = ["ege_compress", "ege_block_bits", "ege_min_ratio", "HWA_OUTPUT_SCALE", "EGE_K_ARRAY",
@@ -274,13 +281,13 @@ def ege_setup(n_rx: int, n_range: int, ratio: float,
         `ege_min_ratio`.
     """
     if n_range % range_bins_per_block:
-        raise ValueError(f"compression_range_bins_per_block={range_bins_per_block} does not "
-                         f"divide the {n_range} range bins")
+        raise BadInput(f"compression_range_bins_per_block={range_bins_per_block} does not "
+                       f"divide the {n_range} range bins")
     n_val = 2 * n_rx * range_bins_per_block
     budget = ege_budget_bits(n_rx, range_bins_per_block, ratio)
     if ratio < ege_min_ratio(n_rx, range_bins_per_block):
-        raise ValueError(f"compression_ratio={ratio:g} is below "
-                         f"{ege_min_ratio(n_rx, range_bins_per_block):.4f}: no EG code of the "
-                         f"k-array fits a block of {n_rx} Rx x {range_bins_per_block} bins")
+        raise BadInput(f"compression_ratio={ratio:g} is below "
+                       f"{ege_min_ratio(n_rx, range_bins_per_block):.4f}: no EG code of the "
+                       f"k-array fits a block of {n_rx} Rx x {range_bins_per_block} bins")
     kk = EGE_K_ARRAY[n_val * (2 + EGE_K_ARRAY) <= budget]  # only these can ever fit
     return 2 * range_bins_per_block, budget, kk, _cold_sum(n_val, budget)

@@ -39,11 +39,25 @@ from typing import NamedTuple
 import numba
 import numpy as np
 
+from core.errors import BadInput
+
 from ..config import INTF_THRESHOLD_MODES, ProcessingConfig
-from ..interference_lowrank import (FastTimeBasis, GramOperands, burst_row_start,
-                                   gram_operands, projections)
-from ..interference_repair import (FrameRows, Mitigation, frame_basis, frame_has_reference,
-                                   get_mitigation, lowrank_bursts, repair)
+from ..interference_lowrank import (
+    FastTimeBasis,
+    GramOperands,
+    burst_row_start,
+    gram_operands,
+    projections,
+)
+from ..interference_repair import (
+    FrameRows,
+    Mitigation,
+    frame_basis,
+    frame_has_reference,
+    get_mitigation,
+    lowrank_bursts,
+    repair,
+)
 from ..threads import inline, run_parts, spans
 
 __all__ = ["interference_flags", "zero_flagged", "flagged_rows", "repaired_rows", "RepairedRows",
@@ -71,8 +85,8 @@ def interference_flags(adc: np.ndarray, dc: np.ndarray | None, mag_snr_db: float
         Sample 0 has no difference; in "magdiff" mode it is never flagged.
     """
     if mode not in INTF_THRESHOLD_MODES:
-        raise ValueError(f"intf_threshold_mode={mode!r} is not one of "
-                         f"{sorted(INTF_THRESHOLD_MODES)}")
+        raise BadInput(f"intf_threshold_mode={mode!r} is not one of "
+                       f"{sorted(INTF_THRESHOLD_MODES)}")
     m = INTF_THRESHOLD_MODES[mode]
     n = adc.shape[-1]
     a2 = adc.reshape(-1, n)
@@ -276,8 +290,8 @@ class RepairedRows(NamedTuple):
         n_rx, n = adc.shape[1], adc.shape[-1]
         if out.shape != adc.shape or not out.flags.c_contiguous:
             # a reshape of a strided `out` would be a copy: the results would be lost
-            raise ValueError(f"out must be a C-contiguous {adc.shape} array, got {out.shape} "
-                             f"(C-contiguous: {out.flags.c_contiguous})")
+            raise BadInput(f"out must be a C-contiguous {adc.shape} array, got {out.shape} "
+                           f"(C-contiguous: {out.flags.c_contiguous})")
         lo, hi = np.searchsorted(self.rows, (c0 * n_rx, (c0 + len(adc)) * n_rx))
         _windowed_rows(adc.reshape(-1, n), self.samples, self.means, self.rows, self.window,
                        c0 * n_rx, lo, hi, out.reshape(-1, n))

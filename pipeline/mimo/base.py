@@ -12,8 +12,8 @@ from typing import Any, ClassVar, NamedTuple
 import numpy as np
 import pandas as pd
 
+from core.registry import Registry
 from radarsim.config import RadarConfig
-from scenarios.registries import Registry
 
 from ..config import ProcessingConfig
 

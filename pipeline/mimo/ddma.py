@@ -25,10 +25,15 @@ from ..compensation import apply_coefficients, compensate
 from ..config import WINDOWS, ProcessingConfig
 from ..config_cache import per_config
 from ..ddma_kernels import ddma_spectra_power
-from ..kernels import (cfar_peaks, estimate_angles, layout_of, rx_energy, slow_time_fft,
-                       window)
-from ..stages import (array_dft, empty_cloud, interp_azimuth, interp_doppler, interp_range,
-                      point_cloud)
+from ..kernels import cfar_peaks, estimate_angles, layout_of, rx_energy, slow_time_fft, window
+from ..stages import (
+    array_dft,
+    empty_cloud,
+    interp_azimuth,
+    interp_doppler,
+    interp_range,
+    point_cloud,
+)
 from .base import DetectionMap, DopplerAzimuth, MimoChain, register_chain
 from .ddma_order import DdmaDetections, ddma_virtual, resolve_tx_order
 

@@ -24,9 +24,9 @@ import pandas as pd
 from radarsim.config import RadarConfig
 
 from ..cfar import CFAR_MODES
+from ..compensation import compensate
 from ..config import ProcessingConfig
 from ..kernels import layout_of
-from ..compensation import compensate
 from ..stages import (
     array_dft,
     array_likelihood,

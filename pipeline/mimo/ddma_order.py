@@ -42,9 +42,9 @@ from radarsim.config import RadarConfig
 
 from ..cfar import noise_mean_factor
 from ..compensation import compensate, virtual_coefficients
-from ..kernels import layout_of
 from ..config import ProcessingConfig
 from ..config_cache import per_config
+from ..kernels import layout_of
 from ..stages import array_dft, interp_azimuth
 from .echo_law import echo_fit_quantile
 

@@ -49,8 +49,14 @@ from ..chirp_level import windowed_range_stage
 from ..compensation import compensate
 from ..config import WINDOWS, ProcessingConfig
 from ..kernels import slow_time_fft, window
-from ..stages import (RangeDopplerHits, array_dft, empty_cloud, hypothesis_cloud,
-                      noncoherent_hits, power_of)
+from ..stages import (
+    RangeDopplerHits,
+    array_dft,
+    empty_cloud,
+    hypothesis_cloud,
+    noncoherent_hits,
+    power_of,
+)
 from .base import DetectionMap, DopplerAzimuth, MimoChain, register_chain
 
 __all__ = ["FastSlowMaps", "FastSlowChain", "fast_slow_maps", "Unfolding", "unfold_peaks",

@@ -24,18 +24,38 @@ the few settings it reads as its own frozen dataclass (`GateConfig`, `Associatio
 `GroupUpdateConfig`, `AllocationConfig`, `MergeConfig`), built from a `TrackerConfig`'s
 same-named fields when given one.
 """
-from .association import (AssociationRules, Associator, GatedMaximumLikelihood,
-                          GatedNearestNeighbour)
-from .clustering import (AllocationConfig, Allocator, LeaderClusterAllocator, MergeConfig,
-                         leader_clusters, same_group)
+from .association import AssociationRules, Associator, GatedMaximumLikelihood, GatedNearestNeighbour
+from .clustering import (
+                          AllocationConfig,
+                          Allocator,
+                          LeaderClusterAllocator,
+                          MergeConfig,
+                          leader_clusters,
+                          same_group,
+)
 from .config import TrackerConfig
+from .ego_motion import (
+                          EGO_MODELS,
+                          EgoFrame,
+                          EgoMotionConfig,
+                          EgoMotionEstimate,
+                          EgoVelocity,
+                          RansacEgoMotion,
+                          estimate_ego_motion,
+                          ground_radial_velocity,
+                          static_mask,
+)
 from .hypothesis import GateConfig, GroupGateHypothesiser, Hypotheses, Hypothesiser
-from .parts import (ALLOCATORS, ASSOCIATORS, HYPOTHESISERS, PART_REGISTRIES, PREDICTORS,
-                    UPDATERS, TrackerPart)
-from .ego_motion import (EGO_MODELS, EgoFrame, EgoMotionConfig, EgoMotionEstimate,
-                         EgoVelocity, RansacEgoMotion, estimate_ego_motion,
-                         ground_radial_velocity, static_mask)
 from .models import MOTION_MODELS, MotionModel, RangeAzimuthDoppler, measurement_model
+from .parts import (
+                          ALLOCATORS,
+                          ASSOCIATORS,
+                          HYPOTHESISERS,
+                          PART_REGISTRIES,
+                          PREDICTORS,
+                          UPDATERS,
+                          TrackerPart,
+)
 from .state import Association, NewTracks, Points, Tracks
 from .tracker import TRACK_COLUMNS, TRACK_STATES, GroupTracker, track_frames
 from .update import GroupEkfUpdater, GroupUpdateConfig, KalmanPredictor, UpdateResult

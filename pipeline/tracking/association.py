@@ -22,7 +22,7 @@ from typing import Protocol
 
 import numpy as np
 
-from scenarios.checks import require
+from core.checks import require
 
 from .hypothesis import Hypotheses, part_config
 from .state import Association, Tracks

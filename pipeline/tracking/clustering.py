@@ -20,7 +20,7 @@ from typing import Protocol
 
 import numpy as np
 
-from scenarios.checks import one_of, require
+from core.checks import one_of, require
 
 from .ego_motion import EgoVelocity
 from .hypothesis import part_config

@@ -6,7 +6,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from scenarios.checks import one_of, require
+from core.checks import one_of, require
+from core.errors import BadInput
 
 from .ego_motion import EgoMotionConfig
 from .models import MOTION_MODELS
@@ -161,7 +162,7 @@ class TrackerConfig:
         for name, registry in PART_REGISTRIES.items():
             registry.lookup(getattr(self, name))
         if not isinstance(self.ego_motion, EgoMotionConfig):
-            raise ValueError(f"ego_motion={self.ego_motion!r} must be an EgoMotionConfig")
+            raise BadInput(f"ego_motion={self.ego_motion!r} must be an EgoMotionConfig")
 
     @property
     def n_state(self) -> int:

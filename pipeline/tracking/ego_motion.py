@@ -25,7 +25,8 @@ from typing import NamedTuple
 
 import numpy as np
 
-from scenarios.checks import one_of, require
+from core.checks import one_of, require
+from core.errors import BadInput
 
 __all__ = [
     "EgoModel", "EgoMotionConfig", "EgoMotionEstimate", "EGO_MODELS", "estimate_ego_motion",
@@ -152,9 +153,9 @@ class EgoMotionEstimate:
 def _as_1d(name: str, value) -> np.ndarray:
     arr = np.asarray(value, dtype=np.float64)
     if arr.ndim != 1:
-        raise ValueError(f"{name} must be one-dimensional, got shape {arr.shape}")
+        raise BadInput(f"{name} must be one-dimensional, got shape {arr.shape}")
     if not np.all(np.isfinite(arr)):
-        raise ValueError(f"{name} contains non-finite values")
+        raise BadInput(f"{name} contains non-finite values")
     return arr
 
 
@@ -249,10 +250,10 @@ def estimate_ego_motion(azimuth_deg, radial_velocity_mps, rng: np.random.Generat
     az = _as_1d("azimuth_deg", azimuth_deg)
     vr = _as_1d("radial_velocity_mps", radial_velocity_mps)
     if az.shape != vr.shape:
-        raise ValueError(f"azimuth_deg {az.shape} and radial_velocity_mps {vr.shape} must "
-                         "have the same shape")
+        raise BadInput(f"azimuth_deg {az.shape} and radial_velocity_mps {vr.shape} must "
+                       "have the same shape")
     if ego_speed_mps is not None and not math.isfinite(ego_speed_mps):
-        raise ValueError(f"ego_speed_mps={ego_speed_mps!r} must be finite or None")
+        raise BadInput(f"ego_speed_mps={ego_speed_mps!r} must be finite or None")
     n = az.size
     invalid = EgoMotionEstimate(math.nan, math.nan, np.zeros(n, dtype=bool), 0, False)
     need = max(cfg.min_inliers, math.ceil(cfg.min_inlier_fraction * n))
@@ -434,7 +435,7 @@ class RansacEgoMotion:
         velocity = previous
         if ego_speed_mps is not None:
             if not math.isfinite(ego_speed_mps):
-                raise ValueError(f"ego_speed_mps={ego_speed_mps!r} must be finite or None")
+                raise BadInput(f"ego_speed_mps={ego_speed_mps!r} must be finite or None")
             speed = float(ego_speed_mps)
             velocity = EgoVelocity(speed, 0.0)
             if EGO_MODELS[cfg.model].lateral:

@@ -26,7 +26,7 @@ from typing import NamedTuple, Protocol
 
 import numpy as np
 
-from scenarios.checks import require
+from core.checks import require
 
 from .models import RangeAzimuthDoppler, wrap_pi
 from .state import Points, Tracks

@@ -19,7 +19,7 @@ from __future__ import annotations
 
 from typing import Any, Callable, NamedTuple
 
-from scenarios.registries import Registry
+from core.registry import Registry
 
 from .association import GatedMaximumLikelihood, GatedNearestNeighbour
 from .clustering import LeaderClusterAllocator

@@ -13,6 +13,8 @@ from typing import NamedTuple
 import numpy as np
 import pandas as pd
 
+from core.errors import BadInput
+
 __all__ = ["Points", "Tracks", "Association", "NewTracks", "POINT_COLUMNS"]
 
 #: Point-cloud columns the tracker reads.
@@ -49,18 +51,18 @@ class Points(NamedTuple):
             Not a DataFrame, a missing column, non-finite values, a range <= 0.
         """
         if not isinstance(points, pd.DataFrame):
-            raise ValueError(f"points must be a pandas DataFrame, got {type(points).__name__}")
+            raise BadInput(f"points must be a pandas DataFrame, got {type(points).__name__}")
         if len(points) == 0:
             return cls(*(np.zeros(0) for _ in range(4)))
         missing = [c for c in POINT_COLUMNS if c not in points.columns]
         if missing:
-            raise ValueError(f"points is missing columns {missing}; needs {list(POINT_COLUMNS)}")
+            raise BadInput(f"points is missing columns {missing}; needs {list(POINT_COLUMNS)}")
         r, az, vr, snr = _point_columns(points)
         for name, arr in zip(POINT_COLUMNS, (r, az, vr, snr)):
             if not np.all(np.isfinite(arr)):
-                raise ValueError(f"points column {name} contains non-finite values")
+                raise BadInput(f"points column {name} contains non-finite values")
         if np.any(r <= 0):
-            raise ValueError("points column range_m must be > 0")
+            raise BadInput("points column range_m must be > 0")
         return cls(r, np.radians(az), vr, snr)
 
 

@@ -43,6 +43,8 @@ from collections.abc import Iterable, Sequence
 import numpy as np
 import pandas as pd
 
+from core.errors import BadInput
+
 from .association import Associator
 from .clustering import Allocator, MergeConfig, same_group
 from .config import TrackerConfig
@@ -95,7 +97,7 @@ class GroupTracker:
                  updater: Updater | None = None, allocator: Allocator | None = None) -> None:
         self.cfg = TrackerConfig() if cfg is None else cfg
         if not isinstance(self.cfg, TrackerConfig):
-            raise ValueError(f"cfg must be a TrackerConfig, got {type(self.cfg).__name__}")
+            raise BadInput(f"cfg must be a TrackerConfig, got {type(self.cfg).__name__}")
         cfg = self.cfg
         self._rng = np.random.default_rng(0) if rng is None else rng
         self._n_state = MOTION_MODELS[cfg.motion_model].n_state
@@ -239,13 +241,13 @@ class GroupTracker:
 
     def _time_step(self, time_s: float) -> float:
         if not math.isfinite(time_s):
-            raise ValueError(f"time_s={time_s!r} must be finite")
+            raise BadInput(f"time_s={time_s!r} must be finite")
         if self._last_time_s is None:
             return self.cfg.frame_period_s
         dt = float(time_s) - self._last_time_s
         if dt <= 0:
-            raise ValueError(f"time_s={time_s!r} must exceed the previous frame's time "
-                             f"{self._last_time_s!r}")
+            raise BadInput(f"time_s={time_s!r} must exceed the previous frame's time "
+                           f"{self._last_time_s!r}")
         return dt
 
     def _duplicates(self, tracks: Tracks) -> np.ndarray:

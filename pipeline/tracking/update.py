@@ -21,7 +21,7 @@ from typing import NamedTuple, Protocol
 
 import numpy as np
 
-from scenarios.checks import require
+from core.checks import require
 
 from .hypothesis import part_config
 from .models import MotionModel

@@ -102,7 +102,6 @@ References
 """
 from __future__ import annotations
 
-
 from .chip_inference import PLATFORMS
 from .codes import CFAR_AVERAGE_MODES
 from .commands import TI_COMMANDS

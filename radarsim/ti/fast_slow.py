@@ -28,9 +28,11 @@ from __future__ import annotations
 import dataclasses
 from decimal import Decimal
 
-from ..radar_config import RadarConfig
+from core.errors import BadInput
+
 from ..mimo import MIMO_SCHEMES, TdmaScheme
 from ..mimo_fast_slow import FastSlowScheme
+from ..radar_config import RadarConfig
 from .profile import DEFAULT_FRAME_PERIOD_S, TiProfile
 
 __all__ = ["advanced_profile", "pair_radar", "IDLE_STEP_S"]
@@ -84,8 +86,8 @@ def advanced_profile(cfg: RadarConfig, frame_period_s: float | None = None,
     bursts = [_s((i + ramp) * half) for i in idles]
     rest = period - bursts[0]
     if rest < bursts[1]:
-        raise ValueError(f"frame_period_s={period:g} is shorter than the two chirp sets "
-                         f"({bursts[0]:g} + {bursts[1]:g} s)")
+        raise BadInput(f"frame_period_s={period:g} is shorter than the two chirp sets "
+                       f"({bursts[0]:g} + {bursts[1]:g} s)")
     parts = tuple(TiProfile(radar=r, frame_period_s=period, n_frames=n_frames,
                             subframe_index=k, subframe_start_s=0.0 if k == 0 else bursts[0],
                             burst_period_s=b, subframe_period_s=b if k == 0 else rest)
@@ -113,11 +115,11 @@ def pair_radar(profile: TiProfile) -> RadarConfig | None:
             or isinstance(a.scheme, FastSlowScheme):
         return None  # not two TDMA loops differing in idle time only
     if a.n_chirps != b.n_chirps:
-        raise ValueError(f"subFrameCfg: sub-frames 0 and 1 are a fast/slow chirp pair (idle "
-                         f"{_us(a.idle_time_s)} and {_us(b.idle_time_s)} us) with n_chirps="
-                         f"{a.n_chirps} and {b.n_chirps}: the association compares the two "
-                         "sets' peaks, so their chirp counts (numOfChirps x numLoops) must be "
-                         "equal")
+        raise BadInput(f"subFrameCfg: sub-frames 0 and 1 are a fast/slow chirp pair (idle "
+                       f"{_us(a.idle_time_s)} and {_us(b.idle_time_s)} us) with n_chirps="
+                       f"{a.n_chirps} and {b.n_chirps}: the association compares the two "
+                       "sets' peaks, so their chirp counts (numOfChirps x numLoops) must be "
+                       "equal")
     slow_first = a.chirp_period_s > b.chirp_period_s
     fast, slow = (b, a) if slow_first else (a, b)
     mean_idle = _s((_us(a.idle_time_s) + _us(b.idle_time_s)) / 2)
@@ -135,8 +137,8 @@ def pair_radar(profile: TiProfile) -> RadarConfig | None:
                 abs(sch.slow_period_ratio * t_f - slow.chirp_period_s) <= tol:
             return RadarConfig(**{**merged, "mimo": sch.name})
     ratio = slow.chirp_period_s / fast.chirp_period_s
-    raise ValueError(f"profileCfg: sub-frames 0 and 1 are a fast/slow chirp pair with T_s / T_f "
-                     f"= {_us(slow.chirp_period_s)} / {_us(fast.chirp_period_s)} us = "
-                     f"{ratio:.6g}, which no registered fast/slow scheme "
-                     f"({', '.join(known) or 'none'}) matches within TI's 10 ns idle-time step; "
-                     f"register a FastSlowScheme with slow_period_ratio={ratio:.6g}")
+    raise BadInput(f"profileCfg: sub-frames 0 and 1 are a fast/slow chirp pair with T_s / T_f "
+                   f"= {_us(slow.chirp_period_s)} / {_us(fast.chirp_period_s)} us = "
+                   f"{ratio:.6g}, which no registered fast/slow scheme "
+                   f"({', '.join(known) or 'none'}) matches within TI's 10 ns idle-time step; "
+                   f"register a FastSlowScheme with slow_period_ratio={ratio:.6g}")

@@ -12,6 +12,7 @@ from .profile import TiCfar
 from .state import ParseState
 from .syntax import Line, LineError, channel_bits
 
+
 def dfe_output_mode(st: ParseState, ln: Line) -> None:
     """``dfeDataOutputMode <modeType>``: 1 frame, 3 advanced frame (sub-frames, read by
     `radarsim.ti.advanced`); 2 continuous and 4/5 advanced chirp have no RadarConfig."""

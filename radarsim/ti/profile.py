@@ -7,9 +7,16 @@ import dataclasses
 from dataclasses import dataclass
 from typing import Any
 
+from core.errors import BadInput
+
 from ..radar_config import RadarConfig
-from .codes import (CFAR_AVERAGE_MODES, CFAR_DIRECTIONS, CFAR_RANKED_MODES,
-                    MAX_CFAR_THRESHOLD_DB, cfar_code)
+from .codes import (
+    CFAR_AVERAGE_MODES,
+    CFAR_DIRECTIONS,
+    CFAR_RANKED_MODES,
+    MAX_CFAR_THRESHOLD_DB,
+    cfar_code,
+)
 from .syntax import fmt_decimal
 
 __all__ = ["TiCfar", "TiProfile", "DEFAULT_FRAME_PERIOD_S"]
@@ -67,22 +74,22 @@ class TiCfar:
 
     def __post_init__(self) -> None:
         if self.direction not in CFAR_DIRECTIONS.values():
-            raise ValueError(f"direction={self.direction!r} is not one of "
-                             f"{sorted(CFAR_DIRECTIONS.values())}")
+            raise BadInput(f"direction={self.direction!r} is not one of "
+                           f"{sorted(CFAR_DIRECTIONS.values())}")
         if self.mode not in CFAR_AVERAGE_MODES.values():
-            raise ValueError(f"mode={self.mode!r} is not one of "
-                             f"{sorted(CFAR_AVERAGE_MODES.values())}")
+            raise BadInput(f"mode={self.mode!r} is not one of "
+                           f"{sorted(CFAR_AVERAGE_MODES.values())}")
         if self.window_cells < 1:
-            raise ValueError(f"window_cells={self.window_cells} must be >= 1")
+            raise BadInput(f"window_cells={self.window_cells} must be >= 1")
         if self.guard_cells < 0:
-            raise ValueError(f"guard_cells={self.guard_cells} must be >= 0")
+            raise BadInput(f"guard_cells={self.guard_cells} must be >= 0")
         if not 0.0 <= self.threshold_db <= MAX_CFAR_THRESHOLD_DB:
-            raise ValueError(f"threshold_db={self.threshold_db:g} must be within 0.."
-                             f"{MAX_CFAR_THRESHOLD_DB:g} dB (TI CLI limit)")
+            raise BadInput(f"threshold_db={self.threshold_db:g} must be within 0.."
+                           f"{MAX_CFAR_THRESHOLD_DB:g} dB (TI CLI limit)")
         if self.mode in CFAR_RANKED_MODES:
             if self.os_rank is None or not 1 <= self.os_rank <= 2 * self.window_cells:
-                raise ValueError(f"os_rank={self.os_rank!r}: OS-CFAR needs 1 <= k <= 2 x "
-                                 f"window_cells = {2 * self.window_cells}")
+                raise BadInput(f"os_rank={self.os_rank!r}: OS-CFAR needs 1 <= k <= 2 x "
+                               f"window_cells = {2 * self.window_cells}")
 
     def to_cli(self, *, sdk3: bool = False) -> str:
         """The ``cfarCfg`` line: the R79 / MCU+ SDK demo's 11-argument syntax (12/13 with the
@@ -101,8 +108,8 @@ class TiCfar:
                 f"{int(self.peak_grouping)}")
         if sdk3:
             if self.mode in CFAR_RANKED_MODES:
-                raise ValueError(f"mode={self.mode!r}: the mmWave SDK 3.x cfarCfg (9 arguments) "
-                                 "has no OS-CFAR (osKvalue)")
+                raise BadInput(f"mode={self.mode!r}: the mmWave SDK 3.x cfarCfg (9 arguments) "
+                               "has no OS-CFAR (osKvalue)")
             return head
         line = f"{head} {self.os_rank or 0} {int(self.os_edge_k_scale)}"
         if not self.enabled or self.variable_threshold_mode is not None:  # AWR2x44P DDM form

@@ -10,7 +10,8 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Mapping
 
-from scenarios.fileio import read_input_bytes
+from core.errors import BadInput
+from core.fileio import read_input_bytes
 
 from ..chips import Chip, get_chip
 from ..radar_config import RadarConfig
@@ -49,13 +50,13 @@ def _read_source(path_or_text: str | os.PathLike) -> str:
     text = path_or_text
     if "\n" in text:
         if len(text) > MAX_PROFILE_BYTES:
-            raise ValueError(f"profile text of {len(text)} characters exceeds the "
-                             f"{MAX_PROFILE_BYTES} limit (a TI CLI profile is a few kB)")
+            raise BadInput(f"profile text of {len(text)} characters exceeds the "
+                           f"{MAX_PROFILE_BYTES} limit (a TI CLI profile is a few kB)")
         return text
     if os.path.lexists(text):  # a file, or a special one the input check names
         return _read_file(Path(text))
     if text.strip().endswith(".cfg") or not any(c.isspace() for c in text.strip()):
-        raise FileNotFoundError(f"TI .cfg file {text!r} not found")
+        raise BadInput(f"TI .cfg file {text!r} not found")
     return text
 
 
@@ -66,8 +67,8 @@ def _read_file(path: Path) -> str:
         return raw.decode("utf-8-sig")
     except UnicodeDecodeError as exc:
         line = raw[:exc.start].count(b"\n") + 1
-        raise ValueError(f"profile {str(path)!r} is not UTF-8 text: byte 0x{raw[exc.start]:02x} "
-                         f"at offset {exc.start} (line {line}); TI profiles are ASCII") from None
+        raise BadInput(f"profile {str(path)!r} is not UTF-8 text: byte 0x{raw[exc.start]:02x} "
+                       f"at offset {exc.start} (line {line}); TI profiles are ASCII") from None
 
 
 def _directive_value(field: dataclasses.Field, raw: str, ln: Line) -> Any:

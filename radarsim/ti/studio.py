@@ -42,8 +42,10 @@ import re
 from decimal import Decimal
 from typing import Any
 
-from .reader import _read_source, parse_ti_cfg
+from core.errors import BadInput
+
 from .profile import TiProfile
+from .reader import _read_source, parse_ti_cfg
 from .syntax import fmt_decimal
 
 __all__ = ["parse_studio_log", "parse_studio_json", "parse_setup", "is_studio_log"]
@@ -294,7 +296,7 @@ def _parse_lines(lines: list[tuple[str, str]], chip: str | None, kind: str,
             k = int(m.group(1)) - len(head) - 4
             where = lines[k][1] if 0 <= k < len(lines) else kind
             msg = f"{where}: {msg.split(': ', 1)[-1]}"
-        raise ValueError(f"mmWave Studio {kind}: {msg}") from None
+        raise BadInput(f"mmWave Studio {kind}: {msg}") from None
     note = f"read from an mmWave Studio {kind} (converted to CLI commands)"
     return _with_note(prof, note)
 

@@ -11,6 +11,8 @@ from dataclasses import dataclass
 from decimal import Decimal, InvalidOperation
 from typing import Any
 
+from core.errors import BadInput
+
 __all__ = ["Line", "LineError", "fmt_decimal", "channel_bits", "as_tuples", "DIRECTIVE_RE"]
 
 #: A ``% radarsim: field = value`` directive comment.
@@ -25,7 +27,7 @@ def fmt_decimal(value: float | int | Decimal, exponent: int = 0) -> str:
     return "0" if text in ("-0", "0") else text
 
 
-class LineError(ValueError):
+class LineError(BadInput):
     """A profile error, its message prefixed by "line N (command):"."""
 
 

@@ -6,12 +6,14 @@ import dataclasses
 import json
 from typing import Any, Iterable, Mapping
 
+from core.errors import BadInput
+
 from ..boards import get_board
 from ..chips import ADC_MODES
 from ..radar_config import RadarConfig
+from . import fast_slow
 from .families import DEMO_FAMILIES
 from .profile import DEFAULT_FRAME_PERIOD_S, TiCfar, TiProfile
-from . import fast_slow
 from .reader import parse_ti_cfg
 from .state import TI_DEFAULT_OVERRIDES, TI_FIELDS
 from .syntax import fmt_decimal
@@ -119,8 +121,8 @@ def to_ti_cfg(cfg: RadarConfig | TiProfile, *, frame_period_s: float | None = No
     if pair is not None:  # two chirp periods: an advanced frame of two sub-frames
         text = _advanced_text(pair, n_frames, extra_lines, comments)
         if parse_ti_cfg(text).radar != cfg:
-            raise ValueError(f"mimo={cfg.mimo!r}: idle times {cfg.scheme.idle_times_s(cfg)} s "
-                             "do not survive TI's 10 ns idle-time grid as this scheme's pair")
+            raise BadInput(f"mimo={cfg.mimo!r}: idle times {cfg.scheme.idle_times_s(cfg)} s "
+                           "do not survive TI's 10 ns idle-time grid as this scheme's pair")
         return text
     radar = profile.radar if profile else cfg
     if frame_period_s is None:
@@ -169,8 +171,8 @@ def _command_lines(radar: RadarConfig, frame_period_s: float, n_frames: int) -> 
     per_loop = ti_frame.chirps_per_loop
     loops = radar.n_chirps // per_loop
     if loops > chip.max_loops:
-        raise ValueError(f"n_chirps={radar.n_chirps}: {loops} loops of {per_loop} chirps "
-                         f"exceed the {chip.name} frame limit of {chip.max_loops} loops")
+        raise BadInput(f"n_chirps={radar.n_chirps}: {loops} loops of {per_loop} chirps "
+                       f"exceed the {chip.name} frame limit of {chip.max_loops} loops")
     rx_mask = sum(1 << (c - 1) for c in radar.rx_channels)
     tx_mask = sum(1 << (c - 1) for c in radar.tx_channels)  # logical Tx k -> TI txEnable bit
     mcu_plus = chip.mcu_plus_sdk
@@ -234,9 +236,9 @@ def _advanced_text(profile: TiProfile, n_frames: int | None, extra_lines: Iterab
         differ = [n for n in shared + ["tx_channels", "rx_channels", "adc_mode"]
                   if getattr(part.radar, n) != getattr(parts[0].radar, n)]
         if differ:
-            raise ValueError(f"sub-frame {part.subframe_index} differs from sub-frame 0 in "
-                             f"{differ}: sub-frames share the chip's channels, ADC format and "
-                             "model settings")
+            raise BadInput(f"sub-frame {part.subframe_index} differs from sub-frame 0 in "
+                           f"{differ}: sub-frames share the chip's channels, ADC format and "
+                           "model settings")
     n_frames = profile.n_frames if n_frames is None else n_frames
     head, body, tail = [], [], []
     next_chirp = 0

@@ -710,9 +710,9 @@ def _after_probe(ctx, mkdir: Path | None = None):
     the fault hits the real writes (a disk that fills during the run)."""
     if mkdir is not None:
         mkdir.mkdir(parents=True, exist_ok=True)
-    import scenarios.checks  # noqa: F401  (imports before the fault)
+    import core.checks  # noqa: F401  (imports before the fault)
     try:
-        from scenarios import fileio
+        from core import fileio
         probe_dir = fileio.check_output_dir
     except ImportError:
         fileio = None

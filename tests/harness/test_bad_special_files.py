@@ -12,11 +12,11 @@ import shutil
 
 import pytest
 
+from core.fileio import OutputError
 from harness import cellstore as store
 from harness.cellstore import cell_dir
 from harness.schedule import run_sweep
 from harness.sweepspec import SweepSpec
-from scenarios.fileio import OutputError
 from tests.harness.fakes import FAKE, assert_same_tables
 
 

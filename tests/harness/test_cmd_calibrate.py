@@ -2,7 +2,6 @@
 import numpy as np
 import pytest
 
-import radarsim
 from harness.cli import main
 from harness.cmd_calibrate import with_comp_line
 from radarsim.capture import write_capture

@@ -14,8 +14,6 @@ from radarsim.capture import read_capture, write_capture
 from radarsim.ti import R79_CFAR, parse_ti_cfg, r79_cfg_path, to_ti_cfg
 
 
-
-
 @pytest.fixture
 def r79_capture(tmp_path, make_scene):
     """Two R79 DDMA frames of a two-car scene, written as a capture."""

@@ -10,7 +10,6 @@ heat-map plot at range Bin of 38 and zero Doppler bin". The chirp slope and timi
 stated (our profile's are nominal), so the checks are in bins, in the static share and in what
 calibration must achieve by construction (reflector at the range it was told, on boresight).
 """
-import numpy as np
 import pandas as pd
 import pytest
 

@@ -226,6 +226,7 @@ def test_case_file_criterion_on_no_criterion_metric_exit_2(tmp_path, capsys, met
     """A user's case file names its criteria's metrics by metrics.METRICS: `show` refuses an
     unknown one and one that cannot be a criterion, in one line."""
     import re
+
     from scenarios.registry import CASES_DIR
     text = (CASES_DIR / "blind_spot_overtaking.toml").read_text().replace(
         'metric = "detection_probability"', f'metric = "{metric}"')

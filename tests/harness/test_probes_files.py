@@ -11,7 +11,6 @@ import pytest
 from tests.harness.probes import classify, probes_of
 
 
-
 @pytest.mark.parametrize("probe", probes_of("special_files"), ids=lambda p: p.name)
 def test_special_files_probe_is_clear(probe, tmp_path):
     cls, detail = classify(probe, tmp_path, time_limit_s=120.0)

@@ -1,18 +1,19 @@
 """Shifter sweep file, report metrics and the `radar-harness shifter` command (issue 12)."""
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 import pandas as pd
 import pytest
 
 import radarsim
-from harness.cli import main
 from harness.cellconfig import radar_config
 from harness.cellspec import known_schemes
-from radarsim.calibration import shifter_phase_residual_deg
+from harness.cli import main
 from harness.shifter_report import _psl_db, shifter_table
 from harness.sweepfile import load_sweep
-from pathlib import Path
+from radarsim.calibration import shifter_phase_residual_deg
 
 SWEEP = Path(__file__).resolve().parents[2] / "harness" / "shifter_sweep.toml"
 

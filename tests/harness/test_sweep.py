@@ -20,7 +20,6 @@ from tests.harness.fakes import FAKE, assert_same_tables
 from tests.harness.forked import fork_sweep, forked_children, wait_exit
 
 
-
 def small_spec(**kw) -> SweepSpec:
     base = dict(name="t", scenarios=("fast", "slow"), seeds=(0, 1), duration_s=0.4)
     base.update(kw)

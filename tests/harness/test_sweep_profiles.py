@@ -7,12 +7,12 @@ import pandas as pd
 import pytest
 
 import radarsim
-from metrics import detection as mdet
 from harness.cell import run_cell
 from harness.cellconfig import build_configs, cell_association, radar_config
 from harness.cellspec import CellSpec
 from harness.schedule import run_sweep
 from harness.sweepfile import load_sweep
+from metrics import detection as mdet
 from radarsim.ti import to_ti_cfg
 from tests.harness.fakes import FAKE
 

@@ -24,14 +24,19 @@ import pytest
 
 from harness import cellstore as store
 from harness import schedule, sweepfile, sweepspec
-from harness.cli import main
 from harness.cellstore import cell_dir, completed_cells
+from harness.cli import main
 from harness.schedule import run_sweep
 from harness.sweepspec import SweepSpec
 from harness.worker import execute_cell
 from tests.harness.fakes import FAILING, FAKE, TABLES, assert_same_tables
-from tests.harness.forked import (ctrl_c_at_the_next_fork, fork_sweep, forked_children,
-                                  wait_exit, wait_group_gone)
+from tests.harness.forked import (
+    ctrl_c_at_the_next_fork,
+    fork_sweep,
+    forked_children,
+    wait_exit,
+    wait_group_gone,
+)
 
 ROOT = Path(__file__).resolve().parents[2]
 

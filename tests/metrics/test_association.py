@@ -7,8 +7,16 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from metrics.association import (CLUTTER, GHOST, TRUE, VELOCITY_AMBIGUOUS, AssociationConfig,
-                                 actor_frames, associate, detection_errors)
+from metrics.association import (
+    CLUTTER,
+    GHOST,
+    TRUE,
+    VELOCITY_AMBIGUOUS,
+    AssociationConfig,
+    actor_frames,
+    associate,
+    detection_errors,
+)
 
 DDMA_SPAN = 2 * 40.88   # 2 Vmax of the R79 DDMA preset, m/s
 TDMA_SPAN = 2 * 10.22

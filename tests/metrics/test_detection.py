@@ -5,10 +5,19 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from metrics.association import CLUTTER, GHOST, TRUE, VELOCITY_AMBIGUOUS, AssociationConfig
-from metrics.detection import (actor_detection, error_stats, ghost_stats, max_range_pd90,
-                               pd_vs_range, snr_gain_pairs, snr_gain_stats, summarize_scheme,
-                               target_first_detection_range_m, velocity_stats)
+from metrics.association import CLUTTER, GHOST, TRUE, AssociationConfig
+from metrics.detection import (
+    actor_detection,
+    error_stats,
+    ghost_stats,
+    max_range_pd90,
+    pd_vs_range,
+    snr_gain_pairs,
+    snr_gain_stats,
+    summarize_scheme,
+    target_first_detection_range_m,
+    velocity_stats,
+)
 
 
 def labelled(labels, range_err=None, vel_err=None, v_true=None):

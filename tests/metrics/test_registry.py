@@ -10,8 +10,14 @@ import pytest
 from metrics import METRICS
 from metrics.association import GHOST, TRUE, VELOCITY_AMBIGUOUS
 from metrics.detection import actor_detection
-from metrics.registry import (BETTER, case_criteria, check_criterion, criterion_metrics,
-                              describe, get_metric)
+from metrics.registry import (
+    BETTER,
+    case_criteria,
+    check_criterion,
+    criterion_metrics,
+    describe,
+    get_metric,
+)
 from metrics.scoring import CASE_VERDICTS
 
 UNIT_OF_TOKEN = {"m": "m", "mps": "m/s", "db": "dB", "deg": "deg", "s": "s"}

@@ -7,7 +7,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from metrics.association import AssociationConfig, GHOST, TRUE, VELOCITY_AMBIGUOUS
+from metrics.association import TRUE, VELOCITY_AMBIGUOUS, AssociationConfig
 from metrics.r79 import KMH
 from metrics.scoring import CaseInfo, case_info, label_detections, score_scheme
 

@@ -7,10 +7,16 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from metrics.tracks import (TRACK_METRIC_COLUMNS, TrackMetricsConfig, gospa, gospa_per_frame,
-                            match_tracks, per_actor_track_metrics, track_metrics,
-                            track_metrics_long)
-
+from metrics.tracks import (
+    TRACK_METRIC_COLUMNS,
+    TrackMetricsConfig,
+    gospa,
+    gospa_per_frame,
+    match_tracks,
+    per_actor_track_metrics,
+    track_metrics,
+    track_metrics_long,
+)
 
 # ---------------------------------------------------------------------------------------------
 # GOSPA (Rahmathullah et al. 2017, alpha = 2)

@@ -3,8 +3,16 @@ import numpy as np
 import pytest
 from scipy import ndimage
 
-from pipeline.cfar import (CFAR_MODES, cfar_map, cfar_scale, noise_estimate,
-                           noise_mean_factor, pfa_numeric, pfa_of_scale, rohling_os_pfa)
+from pipeline.cfar import (
+    CFAR_MODES,
+    cfar_map,
+    cfar_scale,
+    noise_estimate,
+    noise_mean_factor,
+    pfa_numeric,
+    pfa_of_scale,
+    rohling_os_pfa,
+)
 from pipeline.kernels import candidate_cfar, cfar_peaks, local_max_mask
 
 

@@ -6,8 +6,14 @@ import pytest
 
 import pipeline
 import radarsim
-from pipeline.compensation import (check_channel_comp, comp_line, n_chip_pairs, q15,
-                                   ti_pair_index, virtual_coefficients)
+from pipeline.compensation import (
+    check_channel_comp,
+    comp_line,
+    n_chip_pairs,
+    q15,
+    ti_pair_index,
+    virtual_coefficients,
+)
 from tests.pipeline.test_chain import REGISTRY, best_near, scene_at_snr
 
 #: A board with every kind of imbalance (the first Tx and Rx are the reference).
@@ -142,8 +148,7 @@ def test_simulated_capture_of_an_aop_profile_reads_back_at_its_angle(tmp_path):
     """An IWR6843 antenna-on-package demo profile carries ``1 0 -1 0 ...`` (Rx2 and Rx4 fed
     in antiphase): `simulate` builds that board, `process` applies the line, and a target at
     20 deg azimuth is reported there (within 1.5 deg), as it would not be on an ideal board."""
-    from harness.ti_profile import simulation_radar
-    from harness.ti_profile import processing_from_profile
+    from harness.ti_profile import processing_from_profile, simulation_radar
     from radarsim.ti import parse_ti_cfg
     from tests.radarsim.profiles import profile_text
     prof = parse_ti_cfg(profile_text("xwr68_aop"))
@@ -167,6 +172,7 @@ def test_range_interpolation_is_unbiased_for_every_window(name):
     the window's table (`stages._offset_table`) the offset is recovered to 1e-3 bin, which is
     what lets a calibration's rangeBias equal the board's and the reflector land at R."""
     from scipy.signal import get_window
+
     from pipeline.config import WINDOWS
     from pipeline.stages import interp_range
     n = 256

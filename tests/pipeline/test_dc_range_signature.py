@@ -4,8 +4,7 @@ import numpy as np
 import pytest
 
 import pipeline
-from pipeline.dc_range_signature import (DcRangeSignature, DcSignatureCalibrator,
-                                         signature_bins)
+from pipeline.dc_range_signature import DcRangeSignature, DcSignatureCalibrator, signature_bins
 
 
 def test_bins_are_ti_order_positive_then_negative():

@@ -8,8 +8,7 @@ import pytest
 import scipy.fft
 
 import pipeline.threads as threads
-from pipeline.ddma_kernels import (ddma_coherent_power, ddma_gather, ddma_metric,
-                                   ddma_spectra_power)
+from pipeline.ddma_kernels import ddma_coherent_power, ddma_gather, ddma_metric, ddma_spectra_power
 from pipeline.kernels import doppler_fft, rx_energy, rx_energy_bins, slow_time_fft
 from pipeline.stages import power_of
 
@@ -150,6 +149,7 @@ def test_point_cloud_equals_the_frame_of_a_column_dict(n, public, monkeypatch):
     constructor and with the public one it falls back on; and the empty cloud is a new frame
     on every call."""
     import pandas as pd
+
     import radarsim
     from pipeline import ProcessingConfig, stages
     if public:

@@ -94,6 +94,7 @@ def test_apply_policy_on_an_owned_frame_gives_the_frame_of_a_copy(policy, satura
     `points` itself only where nothing but attrs changes (no saturation, an all-False bool
     column), else a new frame as before; with pandas' column reader and without it."""
     import pandas as pd
+
     import pipeline.saturation
     if not private_reader:
         monkeypatch.setattr(pipeline.saturation, "_COLUMN_VALUES", None)

@@ -4,11 +4,11 @@ board is ideal."""
 import numpy as np
 import pytest
 
+import pipeline
 import radarsim
 from pipeline.channel_calibration import static_virtual_samples
 from pipeline.chirp_level import range_stage
 from pipeline.stages import interp_range
-import pipeline
 from tests.pipeline.test_compensation import IMBALANCE, board_gain
 
 RAW = pipeline.ProcessingConfig(dc_removal=False, interference_mitigation=False,

@@ -8,8 +8,14 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from radarsim.capture import (capture_n_frames, frame_nbytes, iter_capture, open_capture,
-                              read_capture, write_capture)
+from radarsim.capture import (
+    capture_n_frames,
+    frame_nbytes,
+    iter_capture,
+    open_capture,
+    read_capture,
+    write_capture,
+)
 
 
 @pytest.fixture

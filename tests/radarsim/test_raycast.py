@@ -4,8 +4,13 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from radarsim.raycast import (FACE_NORMALS_LOCAL, RayGridConfig, box_windows, cast_rays,
-                              ray_box_intersect)
+from radarsim.raycast import (
+    FACE_NORMALS_LOCAL,
+    RayGridConfig,
+    box_windows,
+    cast_rays,
+    ray_box_intersect,
+)
 
 UNIT = np.array([[1.0, 1.0, 1.0]])
 

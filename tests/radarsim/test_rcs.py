@@ -6,8 +6,14 @@ import pandas as pd
 import pytest
 
 from radarsim import Scatterers
-from radarsim.rcs import (CLASS_RCS, GROUND_ACTOR_ID, MULTIPATH_ACTOR_ID, REQUIRED_COLUMNS,
-                          RcsConfig, scene_scatterers)
+from radarsim.rcs import (
+    CLASS_RCS,
+    GROUND_ACTOR_ID,
+    MULTIPATH_ACTOR_ID,
+    REQUIRED_COLUMNS,
+    RcsConfig,
+    scene_scatterers,
+)
 
 MOUNT_Z = 0.5
 SIZES = {"car": (5.0, 2.0, 1.5), "truck": (16.5, 2.55, 4.0), "motorcycle": (2.2, 0.8, 1.4),

@@ -8,9 +8,16 @@ from scipy import stats
 
 from radarsim.rcs import CLASS_RCS, RcsConfig, single_actor
 from radarsim.rcs_classes import ClassRcs
-from radarsim.rcs_patterns import (BICYCLE_BELGIOVANE, CYCLIST_PATTERN, HUMAN_TR38901,
-                                   REFERENCES, VEHICLE_TR38901, IncoherentSum, SectorPattern,
-                                   lognormal_mu_db)
+from radarsim.rcs_patterns import (
+    BICYCLE_BELGIOVANE,
+    CYCLIST_PATTERN,
+    HUMAN_TR38901,
+    REFERENCES,
+    VEHICLE_TR38901,
+    IncoherentSum,
+    SectorPattern,
+    lognormal_mu_db,
+)
 
 NO_FLUCT = RcsConfig(target_fluctuation=False)
 PATTERN_CLASSES = [c for c in CLASS_RCS if CLASS_RCS[c].pattern is not None]

@@ -14,12 +14,12 @@ import pytest
 
 import pipeline
 import radarsim
+from core.registry import Registry
 from pipeline.cfar import CFAR_MODES
 from pipeline.mimo.base import MIMO_CHAINS
 from radarsim.boards import BOARDS, Board
 from radarsim.chips import ADC_MODES, CHIPS
 from scenarios import SCENARIOS
-from scenarios.registries import Registry
 
 # ----------------------------------------------------------------------------- the helper
 

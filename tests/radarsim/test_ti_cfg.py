@@ -7,9 +7,17 @@ from pathlib import Path
 import pytest
 
 import radarsim
+from core.errors import BadInput
 from radarsim import ti
-from radarsim.ti import (R79_CFAR, TiCfar, from_ti_cfg, parse_ti_cfg, r79_cfg_path, r79_cfg_text,
-                         to_ti_cfg)
+from radarsim.ti import (
+    R79_CFAR,
+    TiCfar,
+    from_ti_cfg,
+    parse_ti_cfg,
+    r79_cfg_path,
+    r79_cfg_text,
+    to_ti_cfg,
+)
 
 R79_TI_LINES = ("profileCfg 0 77 5 5 18.81 0 0 8.883 0 384 30000 0 0 42",
                 "chirpCfg 0 5 0 0 0 0 0 15", "frameCfg 0 5 128 0 384 250 1 0",
@@ -148,7 +156,7 @@ def test_path_and_text_inputs(tmp_path):
     path = tmp_path / "p.cfg"
     path.write_text(r79_cfg_text())
     assert from_ti_cfg(str(path)) == from_ti_cfg(path) == from_ti_cfg(r79_cfg_text())
-    with pytest.raises(FileNotFoundError, match="missing.cfg"):
+    with pytest.raises(BadInput, match="missing.cfg"):
         from_ti_cfg(str(tmp_path / "missing.cfg"))
 
 

@@ -128,6 +128,7 @@ def test_process_unfolds_a_fast_slow_capture(tmp_path, capsys):
     frame's two sub-frame blocks are one fast/slow frame, so a -25 m/s target (three native
     spans of 8.25 m/s out) comes back at -25 m/s, tracked as one radar."""
     import pandas as pd
+
     from radarsim.subframe_capture import encode_frame
     text = profile_text("xwr18_fast_slow_srr")
     (tmp_path / "fs.cfg").write_text(text)

@@ -8,8 +8,13 @@ import pytest
 
 import scenarios
 from radarsim.interference import EQUIPMENT_COLUMNS
-from scenarios.equipment import (WAVEFORM_FAMILIES, RadarEquipment, RadarSpec, draw_equipment,
-                                 equipment_table)
+from scenarios.equipment import (
+    WAVEFORM_FAMILIES,
+    RadarEquipment,
+    RadarSpec,
+    draw_equipment,
+    equipment_table,
+)
 from scenarios.files import parse_scenario
 
 ACTORS = pd.DataFrame({"actor_id": range(40), "actor_class": ["car", "truck", "motorcycle",

@@ -164,8 +164,8 @@ def test_deferred_repair_is_the_repair_in_any_chirp_order(cfg, monkeypatch, part
     from pipeline import interference_repair, threads
     from pipeline.chirp_level.interference import repaired_rows
     from pipeline.chirp_level.stage import _chirp_statistics
-    from pipeline.threads import run_queue
     from pipeline.kernels import window
+    from pipeline.threads import run_queue
     if few_clean_rows:
         monkeypatch.setattr(interference_repair, "MIN_REFERENCE_ROWS", 10 ** 9)
     monkeypatch.setattr(threads, "N_PARTS", parts)

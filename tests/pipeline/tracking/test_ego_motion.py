@@ -4,8 +4,12 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from pipeline.tracking.ego_motion import (EgoMotionConfig, estimate_ego_motion, ground_radial_velocity,
-                                 static_mask)
+from pipeline.tracking.ego_motion import (
+    EgoMotionConfig,
+    estimate_ego_motion,
+    ground_radial_velocity,
+    static_mask,
+)
 
 
 def _static_scene(rng, ego_mps, yaw_deg, n=80, az_std_deg=1.0, vr_std_mps=0.1):

@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 from scipy import stats
 
-from pipeline.tracking import GroupTracker, Tracks, TrackerConfig
+from pipeline.tracking import GroupTracker, TrackerConfig, Tracks
 from pipeline.tracking.models import measurement_model
 from pipeline.tracking.state import Association, Points
 

@@ -9,11 +9,25 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from pipeline.tracking import (ASSOCIATORS, MOTION_MODELS, AllocationConfig, Association,
-                               AssociationRules, GatedMaximumLikelihood, GatedNearestNeighbour,
-                               GateConfig, GroupGateHypothesiser, GroupTracker,
-                               GroupUpdateConfig, Hypotheses, KalmanPredictor,
-                               LeaderClusterAllocator, Points, Tracks, TrackerConfig)
+from pipeline.tracking import (
+    ASSOCIATORS,
+    MOTION_MODELS,
+    AllocationConfig,
+    Association,
+    AssociationRules,
+    GateConfig,
+    GatedMaximumLikelihood,
+    GatedNearestNeighbour,
+    GroupGateHypothesiser,
+    GroupTracker,
+    GroupUpdateConfig,
+    Hypotheses,
+    KalmanPredictor,
+    LeaderClusterAllocator,
+    Points,
+    TrackerConfig,
+    Tracks,
+)
 from pipeline.tracking.hypothesis import part_config
 
 from .test_tracker import _cfg, synth_points

@@ -9,8 +9,15 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from pipeline.tracking import (MOTION_MODELS, TRACK_COLUMNS, GroupTracker, TrackerConfig,
-                              leader_clusters, measurement_model, track_frames)
+from pipeline.tracking import (
+    MOTION_MODELS,
+    TRACK_COLUMNS,
+    GroupTracker,
+    TrackerConfig,
+    leader_clusters,
+    measurement_model,
+    track_frames,
+)
 
 SIG_R, SIG_AZ, SIG_VR = 0.2, 1.0, 0.1
 

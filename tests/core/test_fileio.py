@@ -1,4 +1,4 @@
-"""The shared input check and atomic write (`scenarios.fileio`, issue 25): one rule per test."""
+"""The shared input check and atomic write (`core.fileio`, issue 25): one rule per test."""
 from __future__ import annotations
 
 import errno
@@ -9,7 +9,7 @@ import sys
 
 import pytest
 
-from scenarios import fileio as fio
+from core import fileio as fio
 
 
 def _fifo(p):

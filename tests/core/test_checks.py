@@ -1,4 +1,4 @@
-"""The shared field checks and TOML file policy (scenarios.checks): one message shape per rule."""
+"""The shared field checks and TOML file policy (core.checks): one message shape per rule."""
 from __future__ import annotations
 
 import subprocess
@@ -8,7 +8,7 @@ from dataclasses import dataclass
 import numpy as np
 import pytest
 
-from scenarios.checks import build_from_table, check_keys, one_of, read_toml, require
+from core.checks import build_from_table, check_keys, one_of, read_toml, require
 
 
 @dataclass(frozen=True)
@@ -83,8 +83,8 @@ def test_read_toml_malformed_names_the_file(tmp_path):
 
 
 def test_checks_import_pulls_in_no_highway_env():
-    """Every package imports scenarios.checks: it must stay free of the traffic simulator."""
-    code = "import sys, scenarios.checks; print('highway_env' in sys.modules)"
+    """Every package imports core.checks: it must stay free of the traffic simulator."""
+    code = "import sys, core.checks; print('highway_env' in sys.modules)"
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                          check=True).stdout
     assert out.strip() == "False"

@@ -6,12 +6,12 @@ parts, scenario cases, ...) is a `Registry`: a read-only mapping from name to ob
 ``registry[name] = obj`` registers too, replacing),
 `lookup` (a `ValueError` that names the field, the value and every known name) and `freeze`
 (no more registrations: for closed vocabularies such as TI's ADC output formats). It lives in
-`scenarios`, the package every other one may import (data flows scenarios -> radarsim ->
-pipeline -> metrics), so a lab registers its own board exactly as it registers a scheme.
+`core`, below every package, so a lab registers its own board exactly as it registers a
+scheme.
 
 Examples
 --------
->>> from scenarios.registries import Registry
+>>> from core.registry import Registry
 >>> WINDOWS = Registry("window", field="window")
 >>> WINDOWS.register("hann", name="hann")
 'hann'
@@ -20,12 +20,14 @@ Examples
 >>> WINDOWS.lookup("kaiser")
 Traceback (most recent call last):
 ...
-ValueError: window='kaiser' is not one of ['hann']
+core.errors.BadInput: window='kaiser' is not one of ['hann']
 """
 from __future__ import annotations
 
 from collections.abc import Iterable, Iterator, Mapping
 from typing import Any, Generic, TypeVar
+
+from .errors import BadInput
 
 __all__ = ["Registry", "unknown_name_message"]
 
@@ -111,17 +113,17 @@ class Registry(Mapping[str, T], Generic[T]):
             without ``replace``.
         """
         if self._frozen:
-            raise ValueError(f"the {self.what} registry is frozen: {list(self._items)}")
+            raise BadInput(f"the {self.what} registry is frozen: {list(self._items)}")
         if self.kind is not None and not isinstance(obj, self.kind):
-            raise ValueError(f"{self.what} must be a {self.kind.__name__}, got "
-                             f"{type(obj).__name__}")
+            raise BadInput(f"{self.what} must be a {self.kind.__name__}, got "
+                           f"{type(obj).__name__}")
         name = getattr(obj, "name", None) if name is None else name
         if not isinstance(name, str) or not name or \
                 (self.identifier and not name.isidentifier()):
             need = "a non-empty identifier" if self.identifier else "a non-empty string"
-            raise ValueError(f"{self.what} name={name!r} must be {need}")
+            raise BadInput(f"{self.what} name={name!r} must be {need}")
         if name in self._items and not replace:
-            raise ValueError(f"{self.what} name={name!r} is already registered")
+            raise BadInput(f"{self.what} name={name!r} is already registered")
         self._items[name] = obj
         return obj
 
@@ -140,7 +142,7 @@ class Registry(Mapping[str, T], Generic[T]):
             Frozen registry or unknown name.
         """
         if self._frozen:
-            raise ValueError(f"the {self.what} registry is frozen: {list(self._items)}")
+            raise BadInput(f"the {self.what} registry is frozen: {list(self._items)}")
         obj = self.lookup(name)
         del self._items[name]
         return obj
@@ -163,7 +165,7 @@ class Registry(Mapping[str, T], Generic[T]):
         try:
             return self._items[name]
         except (KeyError, TypeError):  # TypeError: an unhashable value is simply not found
-            raise ValueError(self.missing_message(name)) from None
+            raise BadInput(self.missing_message(name)) from None
 
     def missing_message(self, name: Any) -> str:
         """The message `lookup` raises for an unknown `name`."""

@@ -13,9 +13,7 @@ a half-written file and a full disk or a read-only folder leaves nothing truncat
 raises `OutputError` (a ValueError) naming the path and the system's reason.
 `check_output_dir` / `check_output_path` are the checks a command runs before long work.
 
-Why it lives here: like `scenarios.checks`, it is standard library only and sits at the head
-of the one-way package chain (scenarios -> radarsim -> pipeline -> metrics), so every package
-can use it.
+It is standard library only and lives in `core`, so every package can use it.
 """
 from __future__ import annotations
 
@@ -25,6 +23,8 @@ import stat
 import uuid
 from collections.abc import Callable
 from pathlib import Path
+
+from .errors import BadInputFile, OutputError
 
 __all__ = ["BadInputFile", "OutputError", "check_input_file", "read_input_text",
            "read_input_bytes", "atomic_write", "check_output_dir", "check_output_path",
@@ -36,14 +36,6 @@ __all__ = ["BadInputFile", "OutputError", "check_input_file", "read_input_text",
 MAX_TEXT_FILE_BYTES = 16 << 20
 #: Largest result table (Parquet) read back: a 10 000-cell sweep's detections stay far below.
 MAX_TABLE_FILE_BYTES = 64 << 30
-
-
-class BadInputFile(ValueError):
-    """An input path that is not a readable regular file of bounded size."""
-
-
-class OutputError(ValueError):
-    """An output that could not be written (full disk, read-only folder, ...)."""
 
 
 def _kind(mode: int) -> str:

@@ -7,12 +7,8 @@ every TOML file (case files, sweeps, gates) is read by `read_toml` and checked b
 its position (``actors[0].speed_kmh``), and what is wrong (unknown key with the known ones,
 wrong unit with the SI key to use, wrong type, impossible value).
 
-Why it lives here: data flows one way, scenarios -> radarsim -> pipeline -> metrics (harness
-wires them), and a package may import only the packages upstream of it. The one place every
-package can import from without a loop is the head of that chain, `scenarios`. This module uses
-only the standard library, and `scenarios/__init__` loads its highway-env parts lazily, so
-``from scenarios.checks import require`` in `radarsim` or `pipeline` costs no highway-env import
-and does not make them depend on traffic simulation.
+It lives in `core` (standard library only), below every package, so `radarsim` and `pipeline`
+validate with it without importing traffic simulation.
 """
 from __future__ import annotations
 
@@ -23,8 +19,9 @@ import tomllib
 from collections.abc import Iterable, Mapping
 from pathlib import Path
 
+from .errors import BadInput
 from .fileio import read_input_text
-from .registries import unknown_name_message
+from .registry import unknown_name_message
 
 __all__ = ["require", "one_of", "read_toml", "check_keys", "check_types", "build_from_table",
            "UNIT_ALIASES"]
@@ -96,7 +93,7 @@ def require(obj, names: str | Iterable[str], kind: str = "number", *, gt=None, g
         in (0, 5] deg | >= 0 | finite and >= 0 | finite | true or false}``.
     """
     if kind not in _KINDS:
-        raise ValueError(f"kind={kind!r} is not one of {sorted(_KINDS)}")
+        raise BadInput(f"kind={kind!r} is not one of {sorted(_KINDS)}")
     for name in (names,) if isinstance(names, str) else names:
         value = getattr(obj, name)
         if value is None and none_ok:
@@ -106,8 +103,8 @@ def require(obj, names: str | Iterable[str], kind: str = "number", *, gt=None, g
             and (lt is None or value < lt) and (le is None or value <= le))
         if not ok:
             what = _requirement(kind, _is_kind(value, "number"), gt, ge, lt, le, unit)
-            raise ValueError(f"{where}{name}={value!r} must be {what}"
-                             + (" or None" if none_ok else ""))
+            raise BadInput(f"{where}{name}={value!r} must be {what}"
+                           + (" or None" if none_ok else ""))
 
 
 def one_of(name: str, value, known: Iterable, what: str = "") -> None:
@@ -115,7 +112,7 @@ def one_of(name: str, value, known: Iterable, what: str = "") -> None:
     `known` (a registry); `what` prefixes the field name (e.g. "cfar ")."""
     known = list(known)  # a list: an unhashable value is simply not found
     if value not in known:
-        raise ValueError(unknown_name_message(f"{what}{name}", value, known))
+        raise BadInput(unknown_name_message(f"{what}{name}", value, known))
 
 
 # ----------------------------------------------------------------------------- TOML files
@@ -130,7 +127,7 @@ UNIT_ALIASES: dict[str, str] = {
 
 def read_toml(path: str | Path, what: str = "TOML file") -> dict:
     """Parse a TOML file, checked first to be a regular file of bounded size
-    (`scenarios.fileio.read_input_text`).
+    (`core.fileio.read_input_text`).
 
     Raises
     ------
@@ -145,7 +142,7 @@ def read_toml(path: str | Path, what: str = "TOML file") -> dict:
     try:
         return tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
-        raise ValueError(f"{p}: malformed TOML: {exc}") from None
+        raise BadInput(f"{p}: malformed TOML: {exc}") from None
 
 
 def _unit_hint(key: str, known: set[str]) -> str | None:
@@ -171,16 +168,16 @@ def check_keys(table, known: Iterable[str], where: str = "") -> dict:
         known: [...]``.
     """
     if not isinstance(table, Mapping):
-        raise ValueError(f"{where.rstrip('.') or 'file'}: must be a table, got {table!r}")
+        raise BadInput(f"{where.rstrip('.') or 'file'}: must be a table, got {table!r}")
     known = set(known)
     for key in table:
         if key in known:
             continue
         hint = _unit_hint(key, known)
         if hint is not None:
-            raise ValueError(f"{where}{key}: wrong unit; give {where}{hint} in SI units "
-                             f"({hint.rsplit('_', 1)[-1]})")
-        raise ValueError(f"{where}{key}: unknown key; known: {sorted(known)}")
+            raise BadInput(f"{where}{key}: wrong unit; give {where}{hint} in SI units "
+                           f"({hint.rsplit('_', 1)[-1]})")
+        raise BadInput(f"{where}{key}: unknown key; known: {sorted(known)}")
     return dict(table)
 
 
@@ -222,10 +219,10 @@ def check_types(table: Mapping, cls: type, where: str = "") -> None:
         if kind in ("number", "integer"):
             if isinstance(value, bool) or not isinstance(value, (int, float)):
                 unit = key.rsplit("_", 1)[-1] if "_" in key else ""
-                raise ValueError(f"{where}{key}: must be a number in {unit or 'SI units'} "
-                                 f"(wrong unit or type), got {value!r}")
+                raise BadInput(f"{where}{key}: must be a number in {unit or 'SI units'} "
+                               f"(wrong unit or type), got {value!r}")
         elif not _is_kind(value, kind):
-            raise ValueError(f"{where}{key}: must be {_KINDS[kind]}, got {value!r}")
+            raise BadInput(f"{where}{key}: must be {_KINDS[kind]}, got {value!r}")
 
 
 def build_from_table(cls: type, table, where: str = "", **extra):
@@ -243,9 +240,9 @@ def build_from_table(cls: type, table, where: str = "", **extra):
                 and f.default is dataclasses.MISSING and f.default_factory is dataclasses.MISSING]
     for name in required:
         if name not in table and name not in extra:
-            raise ValueError(f"{where}{name}: required key missing")
+            raise BadInput(f"{where}{name}: required key missing")
     try:
         return cls(**{**table, **extra})
     except ValueError as exc:
-        raise ValueError(f"{where}{exc}") from None
+        raise BadInput(f"{where}{exc}") from None
 
