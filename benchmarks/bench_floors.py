@@ -106,9 +106,9 @@ def interference_row() -> str:
 
 def cell_row() -> str:
     """A sweep cell frame (wall, both cores) / its stage floor."""
-    from harness.cell import run_cell
-    from harness.cellspec import CellSpec
-    from harness.components import default_components
+    from harness.cell.components import default_components
+    from harness.cell.run import run_cell
+    from harness.cell.spec import CellSpec
     comps = default_components()
     spec = CellSpec(scenario=CELL_CASE, duration_s=CELL_DURATION_S)
     sc = _scene()

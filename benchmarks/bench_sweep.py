@@ -15,11 +15,11 @@ DURATION_S = 1.0
 
 def run() -> list[str]:
     import pipeline
-    from harness.cell import frame_scatterers, run_cell
-    from harness.cellconfig import build_configs
-    from harness.cellspec import CellSpec, result_schemes
-    from harness.components import default_components
-    from harness.streams import frame_rng
+    from harness.cell.components import default_components
+    from harness.cell.config import build_configs
+    from harness.cell.run import frame_scatterers, run_cell
+    from harness.cell.spec import CellSpec, result_schemes
+    from harness.sweep.streams import frame_rng
 
     comps = default_components()
     spec = CellSpec(scenario=CASE, duration_s=DURATION_S)
@@ -52,8 +52,8 @@ def run() -> list[str]:
 def _ghosts_versus_phase_error(comps) -> list[str]:
     """Ghosts per frame and ghost rate on realistic traffic (dense highway, guard rails, 2 s)
     versus the random per-chirp phase error of the transmit chain (issue 3)."""
-    from harness.cell import run_cell
-    from harness.cellspec import CellSpec
+    from harness.cell.run import run_cell
+    from harness.cell.spec import CellSpec
 
     out = ["ghosts vs random per-chirp phase error, dense_highway 2 s (40 frames):"]
     for err in (0.0, 2.0, 5.0, 10.0, 20.0):

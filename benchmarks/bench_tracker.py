@@ -69,7 +69,11 @@ def _run(frames, ego: float | None) -> GroupTracker:
 
 def _scenario_frames(n_frames: int = 30):
     """DDMA point clouds, ego speeds and mount of the dense_highway case."""
-    from harness import cell, cellconfig, cellspec, components, streams
+    from harness.cell import components
+    from harness.cell import config as cellconfig
+    from harness.cell import run as cell
+    from harness.cell import spec as cellspec
+    from harness.sweep import streams
     comps = components.default_components()
     run = comps.run_scenario("dense_highway", 0, None)
     radar, procs = cellconfig.build_configs(cellspec.CellSpec(scenario="dense_highway"), comps)

@@ -158,7 +158,7 @@ class ProcessingConfig:
         How the flagged samples are repaired: a key of
         `pipeline.interference_repair.MITIGATIONS`. Default "lowrank" (the gap predicted from
         the chirp's kept samples by the frame's fast-time signal subspace), chosen by the
-        benchmark of issue 21 (`harness/mitigation_sweep.toml`, README): on the head-on case
+        benchmark of issue 21 (`harness/sweeps/mitigation.toml`, README): on the head-on case
         it recovers 91 % (DDMA) / 94 % (TDMA) of the floor rise and adds no ghosts, where "ar"
         recovers 65 % / 69 % and adds 0.035 / 0.067, and the chip's "zero", whose slow-time
         modulation of every echo manufactures ghosts, 17 % / 20 % and adds 0.16 / 0.21.

@@ -9,7 +9,7 @@ the whole pass computes at its indices and the results are assembled in index or
 output is the same bits whatever the number of parts (tests/pipeline/test_threads.py runs every
 chain with one and with two parts).
 
-A sweep already keeps the cores busy (worker processes, `harness.cell` frame threads); the
+A sweep already keeps the cores busy (worker processes, `harness.cell.run` frame threads); the
 parts then queue for the one helper thread and the caller runs its own part meanwhile, so
 nothing waits on an idle core and nothing deadlocks (a part never submits parts itself).
 """

@@ -87,7 +87,7 @@ class Board:
         Cosine power-pattern exponents (one way).
     fov_deg : float
         Azimuth field of view the user guide states, +/- deg (the association's visibility
-        cone, `harness.cellconfig.cell_association`).
+        cone, `harness.cell.config.cell_association`).
     """
 
     name: str

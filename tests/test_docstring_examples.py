@@ -19,7 +19,7 @@ MODULES = (
     "metrics.detection", "radarsim.mimo_fast_slow", "pipeline.mimo.fast_slow",
     "metrics.registry", "metrics.velocity", "metrics.r79", "metrics.interference",
     "pipeline.mimo.echo_law", "pipeline.mimo.ddma_order", "pipeline.mimo.extension",
-    "pipeline.gamma_law", "harness.runtime",
+    "pipeline.gamma_law", "harness.runtime", "harness.report.sections",
 )
 
 #: Public entry points that must show a runnable example: "module:qualified name".

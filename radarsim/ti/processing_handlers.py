@@ -47,7 +47,7 @@ def multi_obj_beamforming(st: ParseState, ln: Line) -> None:
     (SDK 3.x AoAProcHWA compares magnitudes), i.e. within -20 log10(threshold) dB in power:
     `ProcessingConfig.azimuth_sidelobe_db`. Disabled: the strongest peak only (`ONE_PEAK_DB`).
     Chains that report one peak per cell anyway (`pipeline.MimoChain.multi_azimuth_peaks`
-    False) cannot follow "enabled": ``harness.ti_profile`` notes it."""
+    False) cannot follow "enabled": ``harness.cell.ti_profile`` notes it."""
     k = _sub(ln)
     enabled = ln.flag(k, "enabled")
     thr = float(ln.dec(k + 1, "threshold"))

@@ -27,7 +27,7 @@ DEFAULT_FRAME_PERIOD_S = 0.25
 
 @dataclass(frozen=True, kw_only=True, slots=True)
 class TiCfar:
-    """One ``cfarCfg`` line, pipeline-independent (harness.cmd_ti maps it onto the pipeline).
+    """One ``cfarCfg`` line, pipeline-independent (harness.cli.cmd_ti maps it onto the pipeline).
 
     Parameters
     ----------

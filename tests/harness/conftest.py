@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import pytest
 
-from harness.schedule import run_sweep
-from harness.sweepspec import SweepSpec
+from harness.sweep.schedule import run_sweep
+from harness.sweep.spec import SweepSpec
 from tests.harness import real_sweep
 from tests.harness.fakes import FAKE
 

@@ -17,7 +17,7 @@ import numpy as np
 import pandas as pd
 
 import radarsim
-from harness.components import Components
+from harness.cell.components import Components
 
 FRAME_DT_S = 0.05
 #: The result tables sweep tests compare between runs.

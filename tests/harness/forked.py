@@ -36,7 +36,7 @@ def fork_sweep(spec, out: Path, report: Path | None = None, env: dict | None = N
             if own_group:
                 os.setpgid(0, 0)
             os.environ.update(env or {})
-            from harness.schedule import run_sweep
+            from harness.sweep.schedule import run_sweep
             from tests.harness.fakes import FAKE
             o = run_sweep(spec, out, workers=2, components=FAKE, progress=False)
             if report is not None:

@@ -233,8 +233,8 @@ def fake_results(tmp: Path) -> Path:
     import tempfile
 
     try:
-        from harness.schedule import run_sweep
-        from harness.sweepspec import SweepSpec
+        from harness.sweep.schedule import run_sweep
+        from harness.sweep.spec import SweepSpec
     except ImportError:  # before the sweep module was split
         from harness.sweep import SweepSpec, run_sweep
     from tests.harness.fakes import FAKE

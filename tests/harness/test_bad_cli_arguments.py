@@ -12,8 +12,8 @@ import time
 
 import pytest
 
-from harness import sweepspec
 from harness.cli import main
+from harness.sweep import spec as sweepspec
 from radarsim.ti import r79_cfg_path
 
 CI = str(sweepspec.CI_SWEEP_PATH)

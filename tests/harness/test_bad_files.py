@@ -13,8 +13,8 @@ import textwrap
 import pandas as pd
 import pytest
 
-from harness import gates as g
 from harness.cli import main
+from harness.gates import check as g
 
 HEAD = 'name = "x"\nscenarios = ["head_on_aliasing"]\n'
 

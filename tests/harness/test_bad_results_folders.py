@@ -12,8 +12,8 @@ import shutil
 import pandas as pd
 import pytest
 
-from harness import sweepspec
 from harness.cli import main
+from harness.sweep import spec as sweepspec
 
 
 def _folder(tmp, fake_results, kind):

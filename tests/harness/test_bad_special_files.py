@@ -13,10 +13,10 @@ import shutil
 import pytest
 
 from core.fileio import OutputError
-from harness import cellstore as store
-from harness.cellstore import cell_dir
-from harness.schedule import run_sweep
-from harness.sweepspec import SweepSpec
+from harness.sweep import store
+from harness.sweep.schedule import run_sweep
+from harness.sweep.spec import SweepSpec
+from harness.sweep.store import cell_dir
 from tests.harness.fakes import FAKE, assert_same_tables
 
 

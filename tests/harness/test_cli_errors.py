@@ -13,7 +13,8 @@ import numpy as np
 import pytest
 
 from core.errors import BadInput
-from harness import cli, cmd_scenarios
+from harness import cli
+from harness.cli import cmd_scenarios
 
 
 def _numpy_value_error(args):
@@ -51,7 +52,7 @@ def test_a_missing_file_is_bad_input(tmp_path, capsys):
 
 
 def test_the_console_script_prints_a_bugs_traceback_and_exits_1():
-    code = ("import sys; from harness import cli, cmd_scenarios\n"
+    code = ("import sys; from harness import cli; from harness.cli import cmd_scenarios\n"
             "cmd_scenarios.run_scenarios = lambda args: 1 / 0\n"
             "sys.exit(cli.main(['scenarios']))\n")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,

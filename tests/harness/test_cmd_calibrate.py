@@ -3,7 +3,7 @@ import numpy as np
 import pytest
 
 from harness.cli import main
-from harness.cmd_calibrate import with_comp_line
+from harness.cli.cmd_calibrate import with_comp_line
 from radarsim.capture import write_capture
 from tests.pipeline.test_channel_calibration import BIAS_M, _board, _frames
 from tests.radarsim.profiles import PROFILE_DIR

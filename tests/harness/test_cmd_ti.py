@@ -8,8 +8,7 @@ import pandas as pd
 import pytest
 
 import radarsim
-from harness import cmd_ti
-from harness.cli import main
+from harness.cli import cmd_ti, main
 from radarsim.capture import read_capture, write_capture
 from radarsim.ti import R79_CFAR, parse_ti_cfg, r79_cfg_path, to_ti_cfg
 
@@ -97,7 +96,7 @@ def test_process_bad_profile_line_exits_2(tmp_path, r79_capture, capsys):
 @pytest.fixture
 def fake_components(monkeypatch):
     """Fast stand-in scenario and RCS model, the real front end."""
-    from harness import components
+    from harness.cell import components
     from tests.harness import fakes
 
     comps = components.Components(run_scenario=fakes.fake_run_scenario,
@@ -117,7 +116,7 @@ def small_cfg_file(tmp_path):
 
 
 def test_simulate_writes_the_scenario_frames(tmp_path, fake_components, small_cfg_file, capsys):
-    from harness import streams
+    from harness.sweep import streams
     from tests.harness import fakes
 
     cfg_path, cfg = small_cfg_file
@@ -277,7 +276,7 @@ def test_process_advanced_capture_of_wrong_size_exits_2(tmp_path, capsys):
 
 
 def test_process_takes_an_mmwave_studio_logfile_as_profile(tmp_path, capsys):
-    """--cfg accepts the LogFile a Studio capture comes with (harness.ti_profile.load_profile):
+    """--cfg accepts the LogFile a Studio capture comes with (harness.cell.ti_profile.load_profile):
     its frame is 256 chirps x 4 Rx x 256 complex samples x 4 bytes = 1048576 bytes."""
     from tests.radarsim.profiles import PROFILE_DIR
 

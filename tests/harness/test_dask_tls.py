@@ -13,7 +13,8 @@ import subprocess
 import pandas as pd
 import pytest
 
-from harness import dask_cluster, schedule, sweepspec
+from harness.sweep import dask_cluster, schedule
+from harness.sweep import spec as sweepspec
 from tests.harness.fakes import FAKE
 
 pytestmark = pytest.mark.skipif(shutil.which("openssl") is None, reason="needs openssl")

@@ -26,7 +26,10 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from harness import components, schedule, sweepfile, sweepspec, worker
+from harness.cell import components
+from harness.sweep import file as sweepfile
+from harness.sweep import schedule, worker
+from harness.sweep import spec as sweepspec
 from radarsim.capture import read_capture
 from radarsim.ti import parse_ti_cfg, r79_cfg_path
 from tests.harness import real_sweep
@@ -89,7 +92,7 @@ def test_run_gives_the_same_bits_as_the_sweep(tmp_path, real_pool_sweep):
 def _pool_frames(case: str, seed: int, duration_s: float, n: int) -> np.ndarray:
     """ADC frames of the R79 profile simulated inside a sweep pool worker, the scene sampled at
     the profile's frame period as `simulate` does."""
-    from harness.cmd_ti import simulate_frames
+    from harness.cli.cmd_ti import simulate_frames
     comps = components.default_components()
     profile = parse_ti_cfg(r79_cfg_path())
     cfg = profile.radar

@@ -7,8 +7,8 @@ import xml.etree.ElementTree as ET
 import pandas as pd
 import pytest
 
-from harness import gates as g
 from harness.cli import main
+from harness.gates import check as g
 
 
 def write(tmp_path, text, name="g.toml"):
@@ -152,7 +152,7 @@ def test_shipped_gates_file_is_valid():
 ])
 def test_gates_file_messages_follow_the_shared_file_policy(tmp_path, text, match):
     """Same message shape as case files and sweeps: file, key with its position, what."""
-    from harness.gates import load_gates
+    from harness.gates.check import load_gates
     p = tmp_path / "g.toml"
     p.write_text(text)
     with pytest.raises(ValueError, match=rf"g\.toml: {match}"):

@@ -5,9 +5,9 @@ import math
 
 import pytest
 
-from harness.cell import run_cell
-from harness.cellspec import CellSpec, check_scene
-from harness.sweepfile import load_sweep
+from harness.cell.run import run_cell
+from harness.cell.spec import CellSpec, check_scene
+from harness.sweep.file import load_sweep
 
 
 @pytest.mark.parametrize("scene, match", [
@@ -31,7 +31,7 @@ def test_scene_enters_the_cell_id_only_when_used():
 
 
 def test_shipped_interference_sweep():
-    spec = load_sweep("harness/interference_sweep.toml")
+    spec = load_sweep("harness/sweeps/interference.toml")
     shares = {c.scene["equipped_share"] for c in spec.cells()}
     mitig = {c.processing["interference_mitigation"] for c in spec.cells()}
     assert shares == {0.0, 0.25, 0.5, 1.0} and mitig == {True, False}
@@ -59,7 +59,7 @@ def test_interference_case_summary_columns():
 def test_report_interference_section():
     import pandas as pd
 
-    from harness.report import interference_section
+    from harness.report.interference import html_section as interference_section
     summary = pd.DataFrame({
         "scenario": ["interference_x"] * 4, "variant": ["a", "a", "b", "b"],
         "seed": 0, "scheme": ["ddma", "tdma"] * 2, "noise_floor_rise_db": [0.1, 0.1, 5.0, 4.8],
@@ -82,7 +82,9 @@ def test_noise_floor_is_shared_only_by_equal_chirp_level_settings():
     import dataclasses
 
     import pipeline
-    from harness import cell, cellspec, components
+    from harness.cell import components
+    from harness.cell import run as cell
+    from harness.cell import spec as cellspec
     calls = []
     comps = dataclasses.replace(components.default_components(),
                                 noise_floor=lambda cfg, adc, p: calls.append(p) or (0.0, 0.0))

@@ -78,9 +78,10 @@ def test_report_renders_in_headless_chromium(report, tmp_path):
 def test_report_panels_follow_the_schemes_in_the_tables(tmp_path):
     """A sweep of other schemes (BPM against a TDMA baseline) gets panels for exactly those:
     no fixed DDMA/TDMA list in the report."""
-    from harness.report import _schemes, build_report
-    from harness.schedule import run_sweep
-    from harness.sweepspec import SweepSpec
+    from harness.report.figures import scheme_order as _schemes
+    from harness.report.page import build_report
+    from harness.sweep.schedule import run_sweep
+    from harness.sweep.spec import SweepSpec
     from tests.harness.fakes import FAKE
 
     spec = SweepSpec(name="bpm", scenarios=("fast",), seeds=(0,), duration_s=0.5,
@@ -107,7 +108,7 @@ def _case_section_args(results) -> tuple:
 def test_case_sections_drawn_in_worker_processes_equal_inline(fake_results, monkeypatch):
     """Case sections drawn in a process pool (a report with many cases): the same HTML, in
     the same order, as drawn inline."""
-    from harness import report as rp
+    from harness.report import page as rp
     args = _case_section_args(fake_results)
     keys = args[4]
     monkeypatch.setattr(rp, "PARALLEL_MIN_CASES", 10 ** 9)
@@ -124,7 +125,7 @@ def test_ctrl_c_while_the_case_pool_forks_stops_the_report(fake_results, monkeyp
     Python (raised inside os.fork's at-fork hooks) and the report ran on: it must stop it."""
     import multiprocessing
 
-    from harness import report as rp
+    from harness.report import page as rp
     from tests.harness.forked import ctrl_c_at_the_next_fork
     if multiprocessing.get_start_method() != "fork":
         pytest.skip("this Python starts pool workers without forking: no at-fork hook runs")

@@ -5,9 +5,9 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from harness.cell import run_cell
-from harness.cellspec import DEFAULT_SCHEMES, CellSpec, result_schemes
-from harness.streams import SEED_STREAMS, frame_rng, stream_id
+from harness.cell.run import run_cell
+from harness.cell.spec import DEFAULT_SCHEMES, CellSpec, result_schemes
+from harness.sweep.streams import SEED_STREAMS, frame_rng, stream_id
 from tests.harness.fakes import FAKE
 
 
@@ -137,6 +137,6 @@ def test_cell_id_depends_on_overrides():
 def test_random_traffic_runs_at_a_slow_profile_frame_rate():
     # The R79 profile's 250 ms frames (4 Hz) are below the drivers' 10 Hz decisions: the
     # traffic is integrated in substeps instead of being refused.
-    from harness import components
+    from harness.cell import components
     run = components.default_components().run_scenario("dense_highway", 0, 0.5, frame_rate_hz=4.0)
     assert run.ego["frame"].nunique() == 2

@@ -8,14 +8,14 @@ import pandas as pd
 import pytest
 
 import radarsim
-from harness.cellconfig import radar_config
-from harness.cellspec import known_schemes
+from harness.cell.config import radar_config
+from harness.cell.spec import known_schemes
 from harness.cli import main
-from harness.shifter_report import _psl_db, shifter_table
-from harness.sweepfile import load_sweep
+from harness.report.shifter import _psl_db, shifter_table
+from harness.sweep.file import load_sweep
 from radarsim.calibration import shifter_phase_residual_deg
 
-SWEEP = Path(__file__).resolve().parents[2] / "harness" / "shifter_sweep.toml"
+SWEEP = Path(__file__).resolve().parents[2] / "harness" / "sweeps" / "shifter.toml"
 
 
 def test_psl_of_uniform_array_is_the_dirichlet_sidelobe():

@@ -121,7 +121,7 @@ def test_exit_with_parent_arms_prctl_on_linux():
 def test_stop_signal_takes_the_ctrl_c_path(monkeypatch, capsys, sig):
     """In process: the signal becomes `Terminated` (a KeyboardInterrupt) inside the command;
     main exits 128 + signum with the resume hint and restores the previous handlers."""
-    import harness.cmd_scenarios as cs
+    import harness.cli.cmd_scenarios as cs
 
     def run(args):
         os.kill(os.getpid(), sig)

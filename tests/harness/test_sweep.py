@@ -12,10 +12,10 @@ import pandas as pd
 import pytest
 
 import radarsim
-from harness.cellstore import completed_cells
-from harness.schedule import run_sweep
-from harness.sweepfile import load_sweep
-from harness.sweepspec import SCHEMES_SWEEP_PATH, SweepSpec, Variant
+from harness.sweep.file import load_sweep
+from harness.sweep.schedule import run_sweep
+from harness.sweep.spec import SCHEMES_SWEEP_PATH, SweepSpec, Variant
+from harness.sweep.store import completed_cells
 from tests.harness.fakes import FAKE, assert_same_tables
 from tests.harness.forked import fork_sweep, forked_children, wait_exit
 
@@ -177,7 +177,7 @@ def test_variants_reach_the_cells(tmp_path):
 ])
 def test_sweep_file_messages_follow_the_shared_file_policy(tmp_path, text, match):
     """Same message shape as case files and gates: file, key with its position, what is wrong."""
-    from harness.sweepfile import load_sweep
+    from harness.sweep.file import load_sweep
     p = tmp_path / "s.toml"
     p.write_text(text)
     with pytest.raises(ValueError, match=rf"s\.toml: {match}"):

@@ -7,11 +7,11 @@ import pandas as pd
 import pytest
 
 import radarsim
-from harness.cell import run_cell
-from harness.cellconfig import build_configs, cell_association, radar_config
-from harness.cellspec import CellSpec
-from harness.schedule import run_sweep
-from harness.sweepfile import load_sweep
+from harness.cell.config import build_configs, cell_association, radar_config
+from harness.cell.run import run_cell
+from harness.cell.spec import CellSpec
+from harness.sweep.file import load_sweep
+from harness.sweep.schedule import run_sweep
 from metrics import detection as mdet
 from radarsim.ti import to_ti_cfg
 from tests.harness.fakes import FAKE
@@ -149,12 +149,12 @@ def test_run_cell_uses_the_cell_association(monkeypatch):
 
 
 def test_sweep_cell_and_process_read_a_profile_into_the_same_configs(tmp_path):
-    """One function (harness.ti_profile) for both: the cell's TDMA radar and processing are
+    """One function (harness.cell.ti_profile) for both: the cell's TDMA radar and processing are
     exactly what `radar-harness process` runs for the profile (its cfarCfg as the CFAR, no
     compression / mitigation / extension, its fields of view); the sweep's [processing] still
     overrides."""
-    from harness.components import default_components
-    from harness.ti_profile import load_profile, processing_from_profile
+    from harness.cell.components import default_components
+    from harness.cell.ti_profile import load_profile, processing_from_profile
     from tests.radarsim.profiles import PROFILE_DIR
 
     path = PROFILE_DIR / "xwr68_tx13.cfg"
@@ -222,7 +222,7 @@ def test_sweep_names_what_its_profile_asks_and_cells_do_not_run(tmp_path, capsys
     """A sweep prints, once per profile, the notes `process` prints (here the xwr68_tx13
     profile's CQRxSatMonitor, read but not modelled) and the capture-level calibDcRangeSig a
     cell does not run: nothing a profile asks for is dropped silently."""
-    from harness.cmd_sweep import _print_profile_notes
+    from harness.cli.cmd_sweep import _print_profile_notes
     from tests.radarsim.profiles import profile_text
     off = "calibDcRangeSig -1 0 -5 8 256"
     text = profile_text("xwr68_tx13")

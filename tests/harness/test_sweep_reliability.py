@@ -22,13 +22,14 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from harness import cellstore as store
-from harness import schedule, sweepfile, sweepspec
-from harness.cellstore import cell_dir, completed_cells
 from harness.cli import main
-from harness.schedule import run_sweep
-from harness.sweepspec import SweepSpec
-from harness.worker import execute_cell
+from harness.sweep import file as sweepfile
+from harness.sweep import schedule, store
+from harness.sweep import spec as sweepspec
+from harness.sweep.schedule import run_sweep
+from harness.sweep.spec import SweepSpec
+from harness.sweep.store import cell_dir, completed_cells
+from harness.sweep.worker import execute_cell
 from tests.harness.fakes import FAILING, FAKE, TABLES, assert_same_tables
 from tests.harness.forked import (
     ctrl_c_at_the_next_fork,

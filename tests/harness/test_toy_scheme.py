@@ -13,9 +13,10 @@ import pytest
 
 import pipeline
 import radarsim
-from harness import components, streams
-from harness.cell import run_cell
-from harness.cellspec import CellSpec
+from harness.cell import components
+from harness.cell.run import run_cell
+from harness.cell.spec import CellSpec
+from harness.sweep import streams
 from pipeline.mimo import MIMO_CHAINS
 from pipeline.mimo.tdma import TdmaChain
 from radarsim.mimo import MIMO_SCHEMES, TdmaScheme

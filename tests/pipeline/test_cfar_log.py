@@ -71,7 +71,7 @@ def test_theory_matches_monte_carlo_of_the_statistic():
 
 
 def test_profile_cfar_runs_the_log_statistic():
-    from harness.cmd_ti import processing_from_profile
+    from harness.cli.cmd_ti import processing_from_profile
     from radarsim.ti import parse_ti_cfg
     proc = processing_from_profile(parse_ti_cfg(profile_text("xwr18_visualizer")))
     assert proc.cfar.mode == "ti_log_ca" and proc.cfar.threshold_db == 15.0
@@ -103,7 +103,7 @@ def test_awr1843_profile_misses_only_what_the_chip_statistic_implies(snr_lo, snr
     included) by Monte Carlo of that statistic; the chain's misses lie within 3 sigma of the
     expected count. Reading 15 dB on linear power instead (the harness's earlier CFAR) misses
     more."""
-    from harness.cmd_ti import processing_from_profile
+    from harness.cli.cmd_ti import processing_from_profile
     from radarsim.ti import parse_ti_cfg
     prof = parse_ti_cfg(profile_text("xwr18_visualizer"))
     cfg = prof.radar.replace(antenna_pattern="isotropic")

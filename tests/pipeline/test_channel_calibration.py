@@ -27,7 +27,7 @@ def x68():
     """IWR6843 3-Tx TDM profile (TI Visualizer, SDK 3.5: 48 chirps, 240 complex samples) and
     its processing (the profile's own CFAR, no compression, without the profile's own
     compRangeBiasAndRxChanPhase: the board here is uncalibrated)."""
-    from harness.cmd_ti import processing_from_profile
+    from harness.cli.cmd_ti import processing_from_profile
     from radarsim.ti import parse_ti_cfg
     prof = parse_ti_cfg(profile_text("xwr68_aop"))
     # The profile has no extendedMaxVelocity (the demo's default: off); these tests ask for it,

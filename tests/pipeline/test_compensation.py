@@ -148,7 +148,7 @@ def test_simulated_capture_of_an_aop_profile_reads_back_at_its_angle(tmp_path):
     """An IWR6843 antenna-on-package demo profile carries ``1 0 -1 0 ...`` (Rx2 and Rx4 fed
     in antiphase): `simulate` builds that board, `process` applies the line, and a target at
     20 deg azimuth is reported there (within 1.5 deg), as it would not be on an ideal board."""
-    from harness.ti_profile import processing_from_profile, simulation_radar
+    from harness.cell.ti_profile import processing_from_profile, simulation_radar
     from radarsim.ti import parse_ti_cfg
     from tests.radarsim.profiles import profile_text
     prof = parse_ti_cfg(profile_text("xwr68_aop"))

@@ -77,8 +77,8 @@ def test_policy_registry_and_bad_policy():
 
 def test_sweep_frame_table_counts_saturated_frames(tmp_path):
     """The runner carries the per-frame count into frames.parquet and the summary."""
-    from harness.cell import run_cell
-    from harness.cellspec import CellSpec
+    from harness.cell.run import run_cell
+    from harness.cell.spec import CellSpec
     from tests.harness.fakes import FAKE
     res = run_cell(CellSpec(scenario="fast", duration_s=0.2), FAKE)
     assert (res.tables["frames"]["n_saturated_chirp_rx"] == 0).all()

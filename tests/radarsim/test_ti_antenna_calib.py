@@ -6,7 +6,7 @@ import pytest
 
 import pipeline
 import radarsim
-from harness.ti_profile import processing_from_profile
+from harness.cell.ti_profile import processing_from_profile
 from radarsim.ti import parse_ti_cfg, to_ti_cfg
 from tests.pipeline.test_compensation import IMBALANCE, board_gain, inverse_comp
 from tests.radarsim.profiles import profile_text

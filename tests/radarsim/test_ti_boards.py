@@ -6,7 +6,7 @@ import pytest
 
 import pipeline
 import radarsim
-from harness.ti_profile import processing_from_profile, simulation_radar
+from harness.cell.ti_profile import processing_from_profile, simulation_radar
 from radarsim.ti import parse_ti_cfg, to_ti_cfg
 from tests.radarsim.profiles import profile_text
 

@@ -81,7 +81,7 @@ def test_multi_obj_beamforming_disabled_keeps_one_peak_and_enabled_on_tdma_is_no
     """Disabled: the strongest azimuth peak only (TI's one object per cell), modelled, no
     note. Enabled on the TDMA chain (one peak per cell by construction): listed on the one
     'read but not modelled' line, with the saturation monitor."""
-    from harness.ti_profile import processing_from_profile
+    from harness.cell.ti_profile import processing_from_profile
     from radarsim.ti.processing_handlers import ONE_PEAK_DB
     on = "multiObjBeamForming -1 1 0.5"
     off = parse_ti_cfg(profile_text("xwr68_tx13").replace(on, "multiObjBeamForming -1 0 0.5"))

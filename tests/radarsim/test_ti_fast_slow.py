@@ -110,7 +110,7 @@ def test_bad_fast_slow_profile_in_a_sweep_exits_2(tmp_path, capsys, edit):
 
 def test_fast_slow_profile_runs_in_a_sweep_cell(tmp_path):
     """The SRR-style profile as a sweep variant builds the fast/slow radar of the file."""
-    from harness.cellconfig import radar_config
+    from harness.cell.config import radar_config
     path = tmp_path / "fs.cfg"
     path.write_text(profile_text("xwr18_fast_slow_srr"))
     cfg = radar_config({"profile": str(path)}, "fast_slow")

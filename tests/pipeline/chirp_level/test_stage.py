@@ -47,7 +47,7 @@ def test_demo_defaults_and_sweep_key():
 
 
 def test_cfg_intf_and_compression_commands_reach_the_processing_config():
-    from harness.cmd_ti import processing_from_profile
+    from harness.cli.cmd_ti import processing_from_profile
     from radarsim.ti import parse_ti_cfg, r79_cfg_text
     text = r79_cfg_text().replace("intfMitigCfg -1 15 18", "intfMitigCfg -1 12 20") \
         .replace("compressionCfg -1 1 0 0.5 8", "compressionCfg -1 0 0 0.5 8")

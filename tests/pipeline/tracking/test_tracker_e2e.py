@@ -6,7 +6,11 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from harness import cell, cellconfig, cellspec, components, streams
+from harness.cell import components
+from harness.cell import config as cellconfig
+from harness.cell import run as cell
+from harness.cell import spec as cellspec
+from harness.sweep import streams
 from metrics.tracks import per_actor_track_metrics, track_metrics
 from pipeline.tracking import TrackerConfig, track_frames
 
