@@ -136,7 +136,7 @@ def scene_and_tracker_rows() -> list[str]:
     import scenarios
     from radarsim.rcs import RcsConfig, scene_scatterers
 
-    from .bench_tracker import EGO_SPEED_MPS, _run, dense_highway_frames
+    from .bench_tracker import EGO_SPEED_MPS, dense_highway_frames, run_tracker
     sim = scenarios.run_scenario("dense_highway", seed=0)
     frames = list(sim.frames())
     traffic = median_time_s(lambda: scenarios.run_scenario("dense_highway", seed=0), 3, 0) \
@@ -147,7 +147,7 @@ def scene_and_tracker_rows() -> list[str]:
                                                   mount_height_m=f.mount_height_m)
                                  for f in frames], 3, 1) / len(frames)
     tf = dense_highway_frames(np.random.default_rng(0))
-    track = median_time_s(lambda: _run(tf, EGO_SPEED_MPS), 5, 1) / len(tf)
+    track = median_time_s(lambda: run_tracker(tf, EGO_SPEED_MPS), 5, 1) / len(tf)
     return [f"| dense-highway scene: traffic + ray cast + RCS | {1e3 * (traffic + rcs):.1f} ms "
             f"per frame ({1e3 * traffic:.1f} + {1e3 * rcs:.1f}) | - | - | <= 10 ms |",
             f"| tracker, 30 actors, 240 points | {1e3 * track:.1f} ms per frame | - | - | "

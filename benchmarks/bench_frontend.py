@@ -14,7 +14,7 @@ import numpy as np
 
 import radarsim
 from benchmarks._timing import median_time_s
-from radarsim.frontend import _gaussian_noise
+from radarsim.frontend import gaussian_noise
 
 TARGET_S = 25e-3
 N_SCATTERERS = 100
@@ -44,7 +44,7 @@ def run(repeats: int = 21, warmup: int = 3) -> list[str]:
     rng = np.random.default_rng(0)
     cfg = radarsim.presets.r79_ddma()
     shape = (cfg.n_chirps * cfg.n_rx, cfg.n_samples)
-    t_noise = median_time_s(lambda: _gaussian_noise(rng, shape, 7.0), repeats, warmup)
+    t_noise = median_time_s(lambda: gaussian_noise(rng, shape, 7.0), repeats, warmup)
     t_zig = median_time_s(lambda: rng.standard_normal(shape, dtype=np.float32), repeats, warmup)
     lhs = rng.standard_normal((shape[0], 2 * N_SCATTERERS), dtype=np.float32)
     rhs = rng.standard_normal((2 * N_SCATTERERS, shape[1]), dtype=np.float32)

@@ -59,7 +59,7 @@ def dense_highway_frames(rng: np.random.Generator, n_frames: int = N_FRAMES
     return frames
 
 
-def _run(frames, ego: float | None) -> GroupTracker:
+def run_tracker(frames, ego: float | None) -> GroupTracker:
     tracker = GroupTracker(TrackerConfig(frame_period_s=FRAME_PERIOD_S),
                            rng=np.random.default_rng(0))
     for t, pc in frames:
@@ -92,8 +92,8 @@ def run() -> list[str]:
     n_pts = int(np.median([len(pc) for _, pc in frames]))
     lines = []
     for label, ego in (("ego speed given", EGO_SPEED_MPS), ("ego speed by RANSAC", None)):
-        tracker = _run(frames, ego)
-        t_frame = median_time_s(lambda: _run(frames, ego), repeats=5, warmup=1) / len(frames)
+        tracker = run_tracker(frames, ego)
+        t_frame = median_time_s(lambda: run_tracker(frames, ego), repeats=5, warmup=1) / len(frames)
         lines.append(f"tracker, {N_ACTORS} actors, {n_pts} points/frame, {label}: "
                      f"{t_frame * 1e3:.2f} ms per frame (target <= 5 ms), "
                      f"{tracker.n_tracks} live tracks at the end")

@@ -48,7 +48,7 @@ from scipy.spatial import cKDTree
 from core.checks import require
 from core.errors import BadInput
 
-from .joins import key_join, pair_index, pair_isin, sorted_join
+from .joins import key_join, pair_index, pair_isin, rows_by_frame, sorted_join
 
 __all__ = [
     "AssociationConfig", "LABELS", "TRUE", "VELOCITY_AMBIGUOUS", "GHOST", "CLUTTER",
@@ -339,14 +339,6 @@ def associate(detections: pd.DataFrame, truth: pd.DataFrame, *, velocity_span_mp
     return out
 
 
-def _rows_by_frame(frame: np.ndarray) -> dict:
-    """Frame -> (m,) rows of `frame` holding it, ascending (one stable sort, not one scan of
-    every row per frame)."""
-    order = np.argsort(frame, kind="stable")
-    keys, starts = np.unique(frame[order], return_index=True)
-    return dict(zip(keys.tolist(), np.split(order, starts[1:])))
-
-
 def _ground_match(detections: pd.DataFrame, scatterers: pd.DataFrame,
                   cfg: AssociationConfig) -> np.ndarray:
     """(D,) bool: detection in a range-Doppler cell occupied by modelled ground clutter.
@@ -366,7 +358,7 @@ def _ground_match(detections: pd.DataFrame, scatterers: pd.DataFrame,
     det_frame = detections["frame"].to_numpy()
     pts = np.column_stack([detections["range_m"], detections["radial_velocity_mps"] * scale])
     ref_all = np.column_stack([g["range_m"], g["radial_velocity_mps"] * scale])
-    det_rows = _rows_by_frame(det_frame)
+    det_rows = rows_by_frame(det_frame)
     for frame, at in g.groupby("frame", sort=False).indices.items():
         rows = det_rows.get(frame)
         if rows is None:

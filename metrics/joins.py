@@ -7,7 +7,8 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["pair_index", "pair_isin", "key_join", "sorted_join", "first_valid_rows"]
+__all__ = ["pair_index", "pair_isin", "key_join", "sorted_join", "first_valid_rows",
+           "rows_by_frame"]
 
 
 def _keys(frame: np.ndarray, actor: np.ndarray, q_frame: np.ndarray,
@@ -71,3 +72,11 @@ def first_valid_rows(grp: np.ndarray, valid: np.ndarray) -> np.ndarray:
     named, at = np.unique(grp[valid], return_index=True)
     rows[named] = np.flatnonzero(valid)[at]
     return rows
+
+
+def rows_by_frame(frame: np.ndarray) -> dict:
+    """Frame -> (m,) rows of `frame` holding it, ascending (one stable sort, not one scan of
+    every row per frame)."""
+    order = np.argsort(frame, kind="stable")
+    keys, starts = np.unique(frame[order], return_index=True)
+    return dict(zip(keys.tolist(), np.split(order, starts[1:])))

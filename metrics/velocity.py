@@ -40,7 +40,8 @@ from scipy.spatial import cKDTree
 
 from core.errors import BadInput
 
-from .association import ROAD_USER_CLASSES, AssociationConfig, _rows_by_frame
+from .association import ROAD_USER_CLASSES, AssociationConfig
+from .joins import rows_by_frame
 
 __all__ = ["VelocityCheck", "velocity_check", "RIGHT", "FAILURE", "UNMATCHED"]
 
@@ -155,7 +156,7 @@ def _best_matches(sc: pd.DataFrame, det_frame: np.ndarray, det_r: np.ndarray,
     sc_r = sc["range_m"].to_numpy(dtype=float)
     sc_v = sc["radial_velocity_mps"].to_numpy(dtype=float)
     sc_actor = sc["actor_id"].to_numpy()
-    det_rows = _rows_by_frame(det_frame)
+    det_rows = rows_by_frame(det_frame)
     for frame, at in sc.groupby("frame", sort=False).indices.items():
         rows = det_rows.get(frame)
         if rows is None:

@@ -49,7 +49,8 @@ from .shifter import apply_coupling, coupling_matrix, select_codes, shifter_fact
 
 __all__ = ["simulate_frame", "simulate_frame_weights", "received_power_w", "if_filter_gain",
            "transmit_phasors", "programmed_codes",
-           "ADCSaturationWarning", "IF_LOWPASS_HZ", "IF_LOWPASS_ORDER", "if_corner_hz"]
+           "ADCSaturationWarning", "IF_LOWPASS_HZ", "IF_LOWPASS_ORDER", "if_corner_hz",
+           "gaussian_noise"]
 
 class ADCSaturationWarning(UserWarning):
     """Some ADC samples were clipped at the int16 full scale."""
@@ -338,7 +339,7 @@ def simulate_frame_weights(cfg: RadarConfig, scatterers: Scatterers, rng: np.ran
     cplx = cfg.is_complex
     # Thermal noise first: the output buffer, to which the signal is added in place (complex:
     # I and Q interleaved along the last axis, each with the real channel's noise).
-    out = _gaussian_noise(rng, (n_c * n_r, 2 * n_s if cplx else n_s), cfg.noise_rms_lsb)
+    out = gaussian_noise(rng, (n_c * n_r, 2 * n_s if cplx else n_s), cfg.noise_rms_lsb)
     power = received_power_w(cfg, scatterers) if len(scatterers) else np.zeros(0)
     keep = power > 0  # only scatterers in front of the radar with non-zero power contribute
     if np.any(keep):
@@ -388,7 +389,7 @@ def _dc_leakage(cfg: RadarConfig) -> np.ndarray:
     return x.astype(np.complex64 if cfg.is_complex else np.float32)
 
 
-def _gaussian_noise(rng: np.random.Generator, shape: tuple[int, int],
+def gaussian_noise(rng: np.random.Generator, shape: tuple[int, int],
                     sigma: float) -> np.ndarray:
     """Zero-mean Gaussian noise of standard deviation `sigma`, float32, by Box-Muller.
 

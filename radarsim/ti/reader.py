@@ -26,7 +26,7 @@ from .schedule import frame_masks, schedule
 from .state import TI_DEFAULT_OVERRIDES, TI_FIELDS, ParseState
 from .syntax import DIRECTIVE_RE, Line, LineError, as_tuples
 
-__all__ = ["parse_ti_cfg", "from_ti_cfg", "MAX_PROFILE_BYTES"]
+__all__ = ["parse_ti_cfg", "from_ti_cfg", "read_source", "MAX_PROFILE_BYTES"]
 
 
 #: Largest profile read, bytes. A TI CLI profile is a few kB (the demos' CLI reads lines of
@@ -39,7 +39,7 @@ MAX_SUGGESTIONS = 64
 MAX_UNKNOWN_NOTES = 20
 
 
-def _read_source(path_or_text: str | os.PathLike) -> str:
+def read_source(path_or_text: str | os.PathLike) -> str:
     """The profile text: a path is read as UTF-8 (a BOM is skipped), any str with a newline is
     the text itself."""
     if isinstance(path_or_text, os.PathLike):
@@ -201,7 +201,7 @@ def parse_ti_cfg(path_or_text: str | os.PathLike) -> TiProfile:
     >>> prof.radar.mimo, prof.radar.n_chirps, prof.frame_period_s
     ('ddma', 768, 0.25)
     """
-    lines = _read_source(path_or_text).splitlines()
+    lines = read_source(path_or_text).splitlines()
     chip_name, how = infer_chip(lines)
     try:
         chip = get_chip(chip_name)

@@ -45,7 +45,7 @@ from typing import Any
 from core.errors import BadInput
 
 from .profile import TiProfile
-from .reader import _read_source, parse_ti_cfg
+from .reader import parse_ti_cfg, read_source
 from .syntax import fmt_decimal
 
 __all__ = ["parse_studio_log", "parse_studio_json", "parse_setup", "is_studio_log"]
@@ -106,7 +106,7 @@ def parse_studio_log(path_or_text: str | os.PathLike) -> TiProfile:
         Naming the LogFile line (and the call) of a malformed or refused value, or the call
         that is missing.
     """
-    text = _read_source(path_or_text)
+    text = read_source(path_or_text)
     calls: list[tuple[int, str, list[int]]] = []
     chip = None
     for no, raw in enumerate(text.splitlines(), start=1):
@@ -175,7 +175,7 @@ def parse_studio_json(path_or_text: str | os.PathLike, chip: str | None = None) 
         Naming the JSON key of a missing or malformed value; for a cascade setup (several
         devices), which has no single-chip `RadarConfig`.
     """
-    text = _read_source(path_or_text)
+    text = read_source(path_or_text)
     try:
         data = json.loads(text)
     except json.JSONDecodeError as exc:
@@ -326,7 +326,7 @@ def parse_setup(path_or_text: str | os.PathLike) -> TiProfile:
     >>> prof.radar.chip, prof.radar.n_chirps, round(prof.radar.slope_hz_per_s / 1e12, 3)
     ('AWR2243', 64, 60.012)
     """
-    text = _read_source(path_or_text)
+    text = read_source(path_or_text)
     if text.lstrip().startswith("{"):
         return parse_studio_json(text)
     if is_studio_log(text):

@@ -150,7 +150,14 @@ def test_gates_directory_is_bad_input(tmp_path, fake_results, capsys):
 N_KINDS = len(SWEEP_CASES) + 3 + len(CASE_CASES) + len(GATE_CASES) + 2
 
 
-def test_probe_texts_are_well_formed():
-    # The TOML texts above are bad on purpose; the good baseline parses.
-    import tomllib
-    tomllib.loads(textwrap.dedent(HEAD))
+def test_the_probes_good_baselines_are_accepted(tmp_path):
+    """Each probe is a good baseline plus one bad piece: the baselines themselves must pass the
+    same validation, or a probe could fail for the baseline's fault, not its own."""
+    from harness.sweep.file import load_sweep
+    sweep = tmp_path / "sweep.toml"
+    sweep.write_text(HEAD)
+    spec = load_sweep(sweep)
+    assert spec.scenarios == ("head_on_aliasing",)
+    gates = tmp_path / "gates.toml"
+    gates.write_text(GATE + "max = 1.0\n")
+    assert [x.name for x in g.load_gates(gates)] == ["g"]

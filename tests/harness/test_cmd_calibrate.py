@@ -5,7 +5,7 @@ import pytest
 from harness.cli import main
 from harness.cli.cmd_calibrate import with_comp_line
 from radarsim.capture import write_capture
-from tests.pipeline.test_channel_calibration import BIAS_M, _board, _frames
+from tests.pipeline.test_channel_calibration import BIAS_M, imbalanced_board, reflector_frames
 from tests.radarsim.profiles import PROFILE_DIR
 
 PROFILE = PROFILE_DIR / "xwr68_aop.cfg"
@@ -17,7 +17,7 @@ def capture(tmp_path_factory):
     cfg = parse_ti_cfg(PROFILE).radar
     r = 40 * cfg.range_resolution_m - BIAS_M
     path = tmp_path_factory.mktemp("cal") / "reflector.bin"
-    write_capture(path, _frames(_board(cfg), r, 0.0, 1e-4, 3, 7), cfg=cfg)
+    write_capture(path, reflector_frames(imbalanced_board(cfg), r, 0.0, 1e-4, 3, 7), cfg=cfg)
     return path, r
 
 
@@ -124,7 +124,7 @@ def test_ddm_profile_gets_the_antenna_calib_form_and_one_correction(tmp_path, ca
     cfg = parse_ti_cfg(text).radar
     r = 12 * cfg.range_resolution_m
     cap = tmp_path / "ddm.bin"
-    write_capture(cap, _frames(_board(cfg), r, 0.0, 1.0, 2, 3), cfg=cfg)
+    write_capture(cap, reflector_frames(imbalanced_board(cfg), r, 0.0, 1.0, 2, 3), cfg=cfg)
     out = tmp_path / "cal.cfg"
     assert main(["calibrate", str(cap), "--cfg", str(prof_path), "--target-range-m", f"{r}",
                  "--write", str(out)]) == 0

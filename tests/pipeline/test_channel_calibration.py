@@ -41,13 +41,13 @@ def x68():
                                               velocity_fov_mps=None)
 
 
-def _board(cfg):
+def imbalanced_board(cfg):
     n = cfg.n_tx
     kw = {k: v[:n] if k.startswith("tx") else v for k, v in IMBALANCE.items()}
     return cfg.replace(range_bias_m=BIAS_M, **kw)
 
 
-def _frames(board, r, az_deg, rcs, n, seed):
+def reflector_frames(board, r, az_deg, rcs, n, seed):
     sc = radarsim.Scatterers.from_spherical(np.array([r]), np.array([az_deg]), np.zeros(1),
                                             np.zeros(1), np.array([rcs]))
     rng = np.random.default_rng(seed)
@@ -69,9 +69,9 @@ def test_recovers_bias_and_channels_within_crb(x68):
     """Reflector at a range-bin centre (where the interpolator has no bias) on boresight,
     about 28 dB per channel and frame."""
     cfg, proc = x68
-    board = _board(cfg)
+    board = imbalanced_board(cfg)
     r = 40 * cfg.range_resolution_m - BIAS_M
-    cal = measure_channel_calibration(cfg, _frames(board, r, 0.0, 3e-5, 3, 1), r, 0.2, proc)
+    cal = measure_channel_calibration(cfg, reflector_frames(board, r, 0.0, 3e-5, 3, 1), r, 0.2, proc)
     assert 22 < cal.snr_db.mean() < 34
     _check_recovery(cfg, board, cal)
     assert cal.line.startswith("compRangeBiasAndRxChanPhase 0.07")
@@ -86,9 +86,9 @@ def test_applied_calibration_reports_reflector_at_its_range_and_azimuth(x68, az_
     asin(2/48)/4 = 0.6 deg: the interpolator's resolution, far above the CRB here) and at 0 m/s
     with extension on; without it, the imbalance moves the azimuth by degrees."""
     cfg, proc = x68
-    board = _board(cfg)
+    board = imbalanced_board(cfg)
     r = 52.3 * cfg.range_resolution_m
-    frames = _frames(board, r, az_deg, 1e-4, 4, 2)
+    frames = reflector_frames(board, r, az_deg, 1e-4, 4, 2)
     cal = measure_channel_calibration(cfg, frames[:3], r, 0.2, proc, azimuth_deg=az_deg)
     _check_recovery(cfg, board, cal)
     applied = proc.replace(range_bias_m=cal.range_bias_m,
@@ -114,16 +114,16 @@ def test_every_scheme_demodulates_the_static_reflector(name, frac, make_config):
     Hadamard): R79 waveforms of the AWR2944 with the same board, the reflector on a bin
     centre and 0.3 bin off it (where a plain log-parabola would be 0.016 bin = 2 cm biased)."""
     cfg = make_config(name, antenna_pattern="isotropic")
-    board = _board(cfg)
+    board = imbalanced_board(cfg)
     r = (20 + frac) * cfg.range_resolution_m - BIAS_M
-    cal = measure_channel_calibration(cfg, _frames(board, r, 0.0, 1.0, 2, 3), r, 2.0)
+    cal = measure_channel_calibration(cfg, reflector_frames(board, r, 0.0, 1.0, 2, 3), r, 2.0)
     _check_recovery(cfg, board, cal)
 
 
 def test_target_outside_window_is_not_found(x68):
     cfg, proc = x68
     r = 40 * cfg.range_resolution_m
-    frames = _frames(_board(cfg), r, 0.0, 1e-3, 1, 4)
+    frames = reflector_frames(imbalanced_board(cfg), r, 0.0, 1e-3, 1, 4)
     with pytest.raises(ValueError, match="target not found: the strongest return within "
                                          r"target_range_m=1\.63\d* \+/- 0\.1 m is at the "
                                          "window's far edge"):
@@ -133,7 +133,7 @@ def test_target_outside_window_is_not_found(x68):
 def test_weak_reflector_is_refused(x68):
     cfg, proc = x68
     r = 40 * cfg.range_resolution_m
-    frames = _frames(_board(cfg), r, 0.0, 3e-8, 1, 5)
+    frames = reflector_frames(imbalanced_board(cfg), r, 0.0, 3e-8, 1, 5)
     with pytest.raises(ValueError, match=r"calibration SNR [\d.-]+ dB per channel and frame "
                                          r"at 1\.\d+ m is below the limit 20 dB"):
         measure_channel_calibration(cfg, frames, r, 0.2, proc)

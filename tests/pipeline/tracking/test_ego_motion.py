@@ -62,14 +62,21 @@ def test_known_speed_fits_lateral_only(rng):
 def test_standing_ego_takes_no_crossing_vehicle_for_the_world(rng):
     # Ego at rest, a few static points, and a vehicle crossing at 6 m/s whose radial
     # velocity -6 sin(theta) looks like a lateral ego motion of -6 m/s: bounded out.
-    az_s, vr_s = _static_scene(rng, 0.0, 0.0, n=6)
-    az_m = rng.uniform(20, 60, 10)
-    vr_m = 6.0 * np.sin(np.radians(az_m))
-    az, vr = np.concatenate([az_s, az_m]), np.concatenate([vr_s, vr_m])
-    for speed in (None, 0.0):
-        est = estimate_ego_motion(az, vr, rng, ego_speed_mps=speed)
-        assert not est.valid or abs(est.ego_lateral_mps) < 0.1
-        assert not est.static[6:].any()
+    # An estimate may also be refused (valid False): over ten scenes some must be accepted,
+    # so the accepted ones' lateral speed is actually checked.
+    accepted = 0
+    for _ in range(10):
+        az_s, vr_s = _static_scene(rng, 0.0, 0.0, n=20)
+        az_m = rng.uniform(20, 60, 10)
+        vr_m = 6.0 * np.sin(np.radians(az_m))
+        az, vr = np.concatenate([az_s, az_m]), np.concatenate([vr_s, vr_m])
+        for speed in (None, 0.0):
+            est = estimate_ego_motion(az, vr, rng, ego_speed_mps=speed)
+            assert not est.static[20:].any()
+            if est.valid:
+                accepted += 1
+                assert abs(est.ego_lateral_mps) < 0.1
+    assert accepted >= 3
 
 
 def test_separates_moving_points(rng):

@@ -30,7 +30,7 @@ from pipeline.tracking import (
 )
 from pipeline.tracking.hypothesis import part_config
 
-from .test_tracker import _cfg, synth_points
+from .test_tracker import tracker_cfg, synth_points
 
 CAR = (30.0, 5.0, -4.0, 0.0, 4.5, 1.8)
 
@@ -50,7 +50,7 @@ class NoAssociation:
 
 
 def test_swapped_associator_is_used(rng):
-    cfg = _cfg(merge_tracks=False)
+    cfg = tracker_cfg(merge_tracks=False)
     part = NoAssociation()
     tracker = GroupTracker(cfg, associator=part)
     for i in range(4):
@@ -62,7 +62,7 @@ def test_swapped_associator_is_used(rng):
 
 def test_swapped_motion_model_through_the_predictor(rng):
     """A predictor with a different process-noise intensity changes the covariance only."""
-    cfg = _cfg()
+    cfg = tracker_cfg()
     loose = GroupTracker(cfg, predictor=KalmanPredictor(MOTION_MODELS["cv"], 30.0))
     tight = GroupTracker(cfg)
     for i in range(6):
@@ -130,7 +130,7 @@ def test_a_sweep_picks_the_associator_by_name(rng):
     """TrackerConfig(associator=...) (a sweep's tracker section) builds the registered part;
     an unknown name is refused naming the known ones."""
     assert sorted(ASSOCIATORS) == ["max_likelihood", "nearest"]
-    near = GroupTracker(_cfg(associator="nearest"))
+    near = GroupTracker(tracker_cfg(associator="nearest"))
     assert isinstance(near.associator, GatedNearestNeighbour)
     tab = None
     for i in range(5):

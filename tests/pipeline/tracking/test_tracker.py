@@ -49,7 +49,7 @@ def synth_points(rng, actors, mount=(0.0, 0.0, 0.0), k=5, snr_db=20.0, noise=Tru
     return pd.DataFrame({n: np.concatenate(v) if v else np.zeros(0) for n, v in cols.items()})
 
 
-def _cfg(**kw):
+def tracker_cfg(**kw):
     base = dict(frame_period_s=0.05, range_std_m=SIG_R, azimuth_std_deg=SIG_AZ,
                 radial_velocity_std_mps=SIG_VR)
     base.update(kw)
@@ -68,7 +68,7 @@ def test_cv_target_filter_beats_per_point_noise(rng):
     """A point-like target on a crossing course: after convergence the track's position
     error is well below the per-point Cartesian error sqrt(sR^2 + (r sAz)^2) (~0.6 m at 35 m)
     and the unobserved cross-range velocity is learned."""
-    cfg = _cfg(alloc_min_points=1, group_depth_m=0.5, group_width_m=0.5)
+    cfg = tracker_cfg(alloc_min_points=1, group_depth_m=0.5, group_width_m=0.5)
     tracker = GroupTracker(cfg)
     p0, v = np.array([40.0, -10.0]), np.array([-5.0, 3.0])
     pt_err, trk_err, vel_err = [], [], []
@@ -91,7 +91,7 @@ def test_cv_target_filter_beats_per_point_noise(rng):
 
 
 def test_track_covariance_shrinks_and_is_consistent(rng):
-    tracker = GroupTracker(_cfg(alloc_min_points=1))
+    tracker = GroupTracker(tracker_cfg(alloc_min_points=1))
     var = []
     for i in range(60):
         t = i * 0.05
@@ -111,7 +111,7 @@ def test_track_covariance_shrinks_and_is_consistent(rng):
     ((40.0, -15.0, 0.0, 6.0, 4.5, 1.8), (75.0, 0.0, -10.0, 0.0, 4.5, 1.8)),
 ], ids=["oncoming", "overtaking", "intersection"])
 def test_crossing_vehicles_keep_their_ids(rng, a, b):
-    tracker = GroupTracker(_cfg())
+    tracker = GroupTracker(tracker_cfg())
     ids = {0: set(), 1: set()}
     for i in range(100):
         t = i * 0.05
@@ -127,7 +127,7 @@ def test_crossing_vehicles_keep_their_ids(rng, a, b):
 
 @pytest.mark.parametrize("misses", [10, 4])
 def test_vehicle_leaving_fov_is_freed_after_configured_misses(rng, misses):
-    tracker = GroupTracker(_cfg(misses_to_free_active=misses))
+    tracker = GroupTracker(tracker_cfg(misses_to_free_active=misses))
     car = (30.0, 3.5, -5.0, 0.0, 4.5, 1.8)
     last_seen = 29
     for i in range(60):
@@ -145,7 +145,7 @@ def test_vehicle_leaving_fov_is_freed_after_configured_misses(rng, misses):
 
 
 def test_detect_track_freed_after_three_misses(rng):
-    tracker = GroupTracker(_cfg())
+    tracker = GroupTracker(tracker_cfg())
     car = (30.0, 3.5, -5.0, 0.0, 4.5, 1.8)
     lens = []
     for i in range(8):
@@ -157,7 +157,7 @@ def test_detect_track_freed_after_three_misses(rng):
 
 
 def test_confirmation_needs_consecutive_hits(rng):
-    cfg = _cfg(hits_to_confirm=3)
+    cfg = tracker_cfg(hits_to_confirm=3)
     tracker = GroupTracker(cfg)
     car = (30.0, 3.5, 0.0, 0.0, 4.5, 1.8)
     states = []
@@ -172,7 +172,7 @@ def test_one_track_per_vehicle_but_side_by_side_vehicles_stay_apart(rng):
     # Leader clusters much narrower than the car split its points into several clusters.
     car = (30.0, 3.5, -5.0, 0.0, 4.5, 1.8)
     for merge in (False, True):
-        tracker = GroupTracker(_cfg(alloc_range_m=1.0, alloc_azimuth_deg=1.0,
+        tracker = GroupTracker(tracker_cfg(alloc_range_m=1.0, alloc_azimuth_deg=1.0,
                                     merge_tracks=merge))
         counts = [len(tracker.step(synth_points(rng, [(car[0] - 0.25 * i, *car[1:])], k=6),
                                    i * 0.05, 0.0)) for i in range(6)]
@@ -182,7 +182,7 @@ def test_one_track_per_vehicle_but_side_by_side_vehicles_stay_apart(rng):
             assert max(counts) >= 2
     # Two cars abreast in adjacent lanes (3.5 m apart, 20-25 deg at 10-8 m, gap between them
     # 10 deg or more: resolvable by a 9.6 deg array) at the same speed keep two tracks.
-    tracker = GroupTracker(_cfg())
+    tracker = GroupTracker(tracker_cfg())
     for i in range(40):
         t = i * 0.05
         cars = [(10.0 - 1 * t, 1.75, -1.0, 0.0, 4.5, 1.8),
@@ -195,7 +195,7 @@ def _clutter_alone(n_per_frame: int, min_points: int, n_frames: int) -> None:
     """Uniform false alarms over range, azimuth and radial velocity (the simulated chain
     gives about 2 moving ghosts per frame; 20 and 30 are 10-15 times that)."""
     rng = np.random.default_rng(7)
-    tracker = GroupTracker(_cfg(alloc_min_points=min_points))
+    tracker = GroupTracker(tracker_cfg(alloc_min_points=min_points))
     for i in range(n_frames):
         n = int(rng.integers(n_per_frame * 2 // 3, n_per_frame * 4 // 3 + 1))
         pc = pd.DataFrame({"range_m": rng.uniform(3, 150, n),
@@ -230,7 +230,7 @@ def test_static_points_start_no_track_unless_allowed(rng):
     # A parked car 30 m ahead-left: relative velocity -ego along x.
     parked = [(30.0, 4.0, -ego, 0.0, 4.5, 1.8)]
     for allow, want in ((False, 0), (True, 1)):
-        tracker = GroupTracker(_cfg(allow_static_tracks=allow))
+        tracker = GroupTracker(tracker_cfg(allow_static_tracks=allow))
         for i in range(10):
             t = i * 0.05
             tab = tracker.step(synth_points(rng, [(30.0 - ego * t, 4.0, -ego, 0.0, 4.5, 1.8)]),
@@ -242,16 +242,16 @@ def test_static_points_start_no_track_unless_allowed(rng):
 def test_allocation_thresholds(rng):
     car = [(30.0, 3.0, -5.0, 0.0, 4.5, 1.8)]
     # Summed SNR of 5 points at 5 dB is 12 dB < 15 dB: no track.
-    tracker = GroupTracker(_cfg(alloc_min_snr_db=15.0))
+    tracker = GroupTracker(tracker_cfg(alloc_min_snr_db=15.0))
     assert tracker.step(synth_points(rng, car, snr_db=5.0), 0.0, 0.0).empty
     # Too few points.
-    tracker = GroupTracker(_cfg(alloc_min_points=6, alloc_azimuth_deg=10.0))
+    tracker = GroupTracker(tracker_cfg(alloc_min_points=6, alloc_azimuth_deg=10.0))
     assert tracker.step(synth_points(rng, car, k=5), 0.0, 0.0).empty
-    tracker = GroupTracker(_cfg(alloc_min_points=5, alloc_azimuth_deg=10.0))
+    tracker = GroupTracker(tracker_cfg(alloc_min_points=5, alloc_azimuth_deg=10.0))
     assert len(tracker.step(synth_points(rng, car, k=5), 0.0, 0.0)) == 1
     # Too slow over ground (ego still): radial 0.2 m/s < 0.5 m/s.
     slow = [(30.0, 0.0, 0.2, 0.0, 4.5, 1.8)]
-    tracker = GroupTracker(_cfg(alloc_min_speed_mps=0.5))
+    tracker = GroupTracker(tracker_cfg(alloc_min_speed_mps=0.5))
     assert tracker.step(synth_points(rng, slow, noise=False), 0.0, 0.0).empty
 
 
@@ -260,7 +260,7 @@ def test_ransac_ego_motion_keeps_guard_rail_out_and_gives_ground_velocity(rng):
     no track; the car's ground velocity (relative + ego) is recovered."""
     ego, car_ground = 25.0, np.array([30.0, 0.0])
     car_rel = car_ground - [ego, 0.0]
-    tracker = GroupTracker(_cfg(), rng=np.random.default_rng(1))
+    tracker = GroupTracker(tracker_cfg(), rng=np.random.default_rng(1))
     for i in range(60):
         t = i * 0.05
         rail = [(x, -6.0, -ego, 0.0, 0.3, 0.3) for x in np.arange(5.0, 100.0, 6.0)]
@@ -274,7 +274,7 @@ def test_ransac_ego_motion_keeps_guard_rail_out_and_gives_ground_velocity(rng):
 
 
 def test_ca_model_estimates_acceleration(rng):
-    tracker = GroupTracker(_cfg(motion_model="ca", alloc_min_points=1))
+    tracker = GroupTracker(tracker_cfg(motion_model="ca", alloc_min_points=1))
     a = -3.0
     for i in range(100):
         t = i * 0.05
@@ -288,7 +288,7 @@ def test_mount_pose_rear_left_corner(rng):
     """Rear-left radar (x=-2 m, y=0.9 m, yaw 135 deg): a car approaching from behind in the
     left lane is tracked at its vehicle-frame position."""
     mount = (-2.0, 0.9, 135.0)
-    tracker = GroupTracker(_cfg(mount_x_m=mount[0], mount_y_m=mount[1],
+    tracker = GroupTracker(tracker_cfg(mount_x_m=mount[0], mount_y_m=mount[1],
                                 mount_yaw_deg=mount[2]))
     for i in range(40):
         t = i * 0.05
@@ -302,18 +302,18 @@ def test_mount_pose_rear_left_corner(rng):
 def test_output_table_and_track_frames(rng):
     frames = [(i * 0.05, synth_points(rng, [(30.0 - 0.25 * i, 3.0, -5.0, 0.0, 4.5, 1.8)]))
               for i in range(5)]
-    out = track_frames(frames, _cfg(), ego_speeds_mps=[0.0] * 5)
+    out = track_frames(frames, tracker_cfg(), ego_speeds_mps=[0.0] * 5)
     assert list(out.columns) == ["frame", *TRACK_COLUMNS]
     assert out.frame.tolist() == [0, 1, 2, 3, 4]
     assert out.state.tolist() == ["DETECT", "DETECT", "ACTIVE", "ACTIVE", "ACTIVE"]
     assert out.ax_mps2.isna().all()          # CV model: no acceleration state
     assert (out.n_points == 5).all()
-    empty = track_frames([], _cfg())
+    empty = track_frames([], tracker_cfg())
     assert list(empty.columns) == ["frame", *TRACK_COLUMNS] and empty.empty
 
 
 def test_empty_frames_are_accepted():
-    tracker = GroupTracker(_cfg())
+    tracker = GroupTracker(tracker_cfg())
     assert tracker.step(pd.DataFrame(), 0.0, 0.0).empty
     assert tracker.step(pd.DataFrame(), 0.05).empty
 
@@ -348,7 +348,7 @@ def test_leader_clusters():
 
 
 def test_step_input_validation(rng):
-    tracker = GroupTracker(_cfg())
+    tracker = GroupTracker(tracker_cfg())
     with pytest.raises(ValueError, match="missing columns"):
         tracker.step(pd.DataFrame({"range_m": [10.0]}), 0.0, 0.0)
     with pytest.raises(ValueError, match="non-finite"):
