@@ -8,7 +8,6 @@ max, boolean bounds, a non-numeric metric that then passed with allow_missing).
 from __future__ import annotations
 
 import re
-import textwrap
 
 import pandas as pd
 import pytest

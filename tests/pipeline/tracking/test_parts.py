@@ -30,7 +30,7 @@ from pipeline.tracking import (
 )
 from pipeline.tracking.hypothesis import part_config
 
-from .test_tracker import tracker_cfg, synth_points
+from .test_tracker import synth_points, tracker_cfg
 
 CAR = (30.0, 5.0, -4.0, 0.0, 4.5, 1.8)
 
