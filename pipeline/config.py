@@ -3,7 +3,7 @@ from __future__ import annotations
 
 import dataclasses
 from dataclasses import dataclass, field
-from typing import Any, NamedTuple
+from typing import Any
 
 from core.checks import one_of, require
 from core.errors import BadInput
@@ -13,7 +13,7 @@ from .compensation import check_channel_comp, check_comp_values
 from .dc_range_signature import DcRangeSignature
 from .ege_format import ege_min_ratio
 from .fov import FOV_FIELDS, check_interval
-from .interference_repair import MITIGATIONS
+from .interference import INTF_THRESHOLD_MODES, MITIGATIONS, IntfThresholdMode
 from .saturation import SATURATION_POLICIES
 
 __all__ = ["CfarConfig", "ProcessingConfig", "WINDOWS", "INTF_THRESHOLD_MODES", "IntfThresholdMode",
@@ -21,27 +21,6 @@ __all__ = ["CfarConfig", "ProcessingConfig", "WINDOWS", "INTF_THRESHOLD_MODES", 
 
 #: Windows by name (scipy.signal.get_window names).
 WINDOWS = {"hann": "hann", "hamming": "hamming", "blackman": "blackman", "rect": "boxcar"}
-class IntfThresholdMode(NamedTuple):
-    """One HWA interference localisation mode (HWA_INTERFTHRESH_MODE_*): which statistics
-    flag a sample and, with both, whether either or both must exceed their thresholds."""
-
-    description: str
-    magnitude: bool         # |x_n| > AbsThreshold
-    difference: bool        # |x_n - x_{n-1}| > AbsDiffThreshold
-    both_required: bool = False
-
-
-#: Interference localisation modes by name, see `chirp_level`.
-INTF_THRESHOLD_MODES = {
-    "magdiff": IntfThresholdMode("|x_n - x_{n-1}| > AbsDiffThreshold (the DDM demo's RangeProc)",
-                                 magnitude=False, difference=True),
-    "mag": IntfThresholdMode("|x_n| > AbsThreshold", magnitude=True, difference=False),
-    "mag_or_magdiff": IntfThresholdMode("either threshold", magnitude=True, difference=True),
-    "mag_and_magdiff": IntfThresholdMode("both thresholds", magnitude=True, difference=True,
-                                         both_required=True),
-}
-
-
 def default_os_rank(n_training: int) -> int:
     """Rohling's recommended OS rank: k = round(3/4 N) of N training cells (at least 1)."""
     return max(1, round(0.75 * n_training))
@@ -156,7 +135,7 @@ class ProcessingConfig:
         Samples zeroed on each side of a flagged run (the demo's hysteresis order 3), 0..32.
     intf_mitigation : str
         How the flagged samples are repaired: a key of
-        `pipeline.interference_repair.MITIGATIONS`. Default "lowrank" (the gap predicted from
+        `pipeline.interference.MITIGATIONS`. Default "lowrank" (the gap predicted from
         the chirp's kept samples by the frame's fast-time signal subspace), chosen by the
         benchmark of issue 21 (`harness/mitigation_sweep.toml`, README): on the head-on case
         it recovers 91 % (DDMA) / 94 % (TDMA) of the floor rise and adds no ghosts, where "ar"

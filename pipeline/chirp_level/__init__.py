@@ -8,8 +8,8 @@ decompresses first (section 5.3). Each step is switchable in `ProcessingConfig`
 (`dc_removal`, `interference_mitigation`, `compression`); `range_stage` is the hook the chains
 call instead of a bare range FFT.
 
-One step per module: `dc` (DC estimation and removal), `interference` (statistics, flags and
-zeroing), `ege` (EGE compression model; its block format in `pipeline.ege_format`),
+One step per module: `dc` (DC estimation and removal), interference statistics, flags and
+repair in their own package (`pipeline.interference`), `ege` (EGE compression model; its block format in `pipeline.ege_format`),
 `stage` (the steps in the demo's order; `shared_range_stage` runs them once per frame and
 setting for every chain and metric that reads the frame) and `noise_floor` (the floor-rise
 metric).
@@ -34,7 +34,7 @@ from .ege import (
                   ege_compress,
                   ege_min_ratio,
 )
-from .interference import INTF_THRESHOLD_MODES, interference_flags, zero_flagged
+from ..interference import INTF_THRESHOLD_MODES, interference_flags, zero_flagged
 from .noise_floor import NOISE_FLOOR_FIELDS, NoiseFloor, noise_floor_rise
 from .stage import RANGE_STAGE_FIELDS, range_stage, shared_range_stage, windowed_range_stage
 
