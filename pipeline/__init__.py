@@ -5,7 +5,6 @@
 from .numba_cache import install_cache_lock
 
 install_cache_lock()  # before any cache=True kernel compiles: concurrent workers share one cache
-from . import cfar_log  # noqa: F401  (registers TI's log-domain CFAR modes)
 from .cfar import CFAR_MODES, cfar_scale, noise_mean_factor
 from .chain import (
                     MIMO_CHAINS,
