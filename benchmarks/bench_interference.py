@@ -23,11 +23,10 @@ import pipeline
 import radarsim
 from benchmarks._timing import median_time_s
 from pipeline import chirp_level as cl
-from pipeline.interference import repaired_rows
 from pipeline.chirp_level.stage import _blockwise, _chirp_statistics
 from pipeline.config import WINDOWS
+from pipeline.interference import MITIGATIONS, FrameRows, repaired_rows
 from pipeline.interference.lowrank import FastTimeBasis, fast_time_basis, lowrank_fill
-from pipeline.interference import MITIGATIONS, FrameRows
 from pipeline.interference.masks import reference_rows
 from pipeline.kernels import window
 from pipeline.threads import inline

@@ -1,5 +1,6 @@
-"""Kernels of the signal chain: FFT stages, peak interpolation, local maxima, candidate CFAR
-and angle estimation (the DDMA demodulation and azimuth map: `pipeline.ddma_kernels`). Axis order: chirp/Doppler first, then Rx, then
+"""Kernels of the signal chain: FFT stages, peak interpolation, local maxima and angle
+estimation (the CFAR detector: `pipeline.cfar.peaks`; the DDMA demodulation and azimuth map:
+`pipeline.ddma_kernels`). Axis order: chirp/Doppler first, then Rx, then
 fast time / range (DESIGN 3), unless a docstring says otherwise.
 
 Mostly numpy; a pass that numpy can only express through full-size temporaries or index arrays
@@ -14,7 +15,6 @@ References
 """
 from __future__ import annotations
 
-from collections.abc import Callable
 from functools import lru_cache
 from typing import NamedTuple
 

@@ -10,10 +10,17 @@ and one `CFAR_MODES.register(mode)`.
 """
 from .base import CfarMode, training_offsets
 from .config import CfarConfig, default_os_rank
-from .log_law import (TI_DB_PER_CLI_DB, TI_LOG_MODES, LogCellAveraging, log_cfar_pfa,
-                      ti_log_mode)
-from .modes import (CFAR_MODES, cfar_map, cfar_mode, cfar_scale, noise_estimate,
-                    noise_mean_factor, pfa_numeric, pfa_of_scale)
+from .log_law import TI_DB_PER_CLI_DB, TI_LOG_MODES, LogCellAveraging, log_cfar_pfa, ti_log_mode
+from .modes import (
+                      CFAR_MODES,
+                      cfar_map,
+                      cfar_mode,
+                      cfar_scale,
+                      noise_estimate,
+                      noise_mean_factor,
+                      pfa_numeric,
+                      pfa_of_scale,
+)
 from .peaks import candidate_cfar, cfar_peaks, training_table
 from .square_law import CellAveraging, OrderStatistic, SideSelecting, rohling_os_pfa
 

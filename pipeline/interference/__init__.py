@@ -8,12 +8,27 @@ registry (`MITIGATIONS`), whose fills are in `fills` (taper, line, AR, tones) an
 (the fast-time subspace fill); `deferred` splits the "lowrank" repair into steps a queue runs
 beside the range FFT; `rows` gives the range stage the flagged rows, repaired.
 """
-from .detection import (INTF_THRESHOLD_MODES, IntfThresholdMode, flagged_rows,
-                        interference_flags, zero_flagged)
+from .detection import (
+                        INTF_THRESHOLD_MODES,
+                        IntfThresholdMode,
+                        flagged_rows,
+                        interference_flags,
+                        zero_flagged,
+)
 from .masks import FrameRows, close_gaps, widen
-from .methods import (CLOSE_GAP_SAMPLES, EXTEND_SAMPLES, MITIGATIONS, ArRepair,
-                      InterpolateRepair, LowrankRepair, RepairMethod, TaperRepair, ZeroRepair,
-                      get_mitigation, repair)
+from .methods import (
+                        CLOSE_GAP_SAMPLES,
+                        EXTEND_SAMPLES,
+                        MITIGATIONS,
+                        ArRepair,
+                        InterpolateRepair,
+                        LowrankRepair,
+                        RepairMethod,
+                        TaperRepair,
+                        ZeroRepair,
+                        get_mitigation,
+                        repair,
+)
 from .rows import RepairedRows, repaired_rows
 
 __all__ = ["INTF_THRESHOLD_MODES", "IntfThresholdMode", "flagged_rows", "interference_flags",

@@ -64,8 +64,14 @@ from core.registry import Registry
 from .deferred import DeferredLowrank
 from .fills import ar_fill, cancel_tones, linear_fill, taper_gain, tone_frequencies
 from .lowrank import BurstFill, FastTimeBasis, GramOperands, burst_fill, fast_time_basis
-from .masks import (FrameRows, close_gaps, frame_has_reference, frame_reference, reference_rows,
-                    widen)
+from .masks import (
+    FrameRows,
+    close_gaps,
+    frame_has_reference,
+    frame_reference,
+    reference_rows,
+    widen,
+)
 
 __all__ = ["RepairMethod", "ZeroRepair", "TaperRepair", "InterpolateRepair", "ArRepair",
            "LowrankRepair", "MITIGATIONS", "get_mitigation", "repair", "CLOSE_GAP_SAMPLES",

@@ -102,10 +102,10 @@ def repaired_rows(adc: np.ndarray, dc: np.ndarray | None, rows: np.ndarray,
     proc : ProcessingConfig
     deferred : bool
         Where the method defers (`RepairMethod.deferred`: the "lowrank" fill of real rows of a
-        frame with its reference rows), leave all of it to the caller: the DC removal, the flags and the basis to
-        ``fill.steps()`` (`DeferredLowrank`), then the per-chirp work and the rows' means to
-        `RepairedRows.repair_chirps` on every chirp once (so the steps run side by side and
-        a chirp's repair next to its range FFT); elsewhere ignored.
+        frame with its reference rows), leave all of it to the caller: the DC removal, the flags
+        and the basis to ``fill.steps()`` (`DeferredLowrank`), then the per-chirp work and the
+        rows' means to `RepairedRows.repair_chirps` on every chirp once (so the steps run side
+        by side and a chirp's repair next to its range FFT); elsewhere ignored.
 
     Returns
     -------

@@ -5,7 +5,9 @@ from scipy import ndimage
 
 from pipeline.cfar import (
     CFAR_MODES,
+    candidate_cfar,
     cfar_map,
+    cfar_peaks,
     cfar_scale,
     noise_estimate,
     noise_mean_factor,
@@ -13,7 +15,6 @@ from pipeline.cfar import (
     pfa_of_scale,
     rohling_os_pfa,
 )
-from pipeline.cfar import candidate_cfar, cfar_peaks
 from pipeline.kernels import local_max_mask
 
 

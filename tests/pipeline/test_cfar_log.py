@@ -7,8 +7,7 @@ from scipy import special
 
 import pipeline
 import radarsim
-from pipeline.cfar import cfar_map, cfar_scale
-from pipeline.cfar import TI_DB_PER_CLI_DB, candidate_cfar, log_cfar_pfa
+from pipeline.cfar import TI_DB_PER_CLI_DB, candidate_cfar, cfar_map, cfar_scale, log_cfar_pfa
 from tests.radarsim.profiles import profile_text
 
 LOG_MODES = {"ti_log_ca": "both", "ti_log_cago": "greatest", "ti_log_caso": "smallest"}

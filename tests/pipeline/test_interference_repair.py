@@ -9,10 +9,9 @@ import scipy.signal
 
 import pipeline
 from pipeline import threads
-from pipeline.interference import fills
+from pipeline.interference import FrameRows, close_gaps, fills, widen, zero_flagged
 from pipeline.interference import lowrank as lr
 from pipeline.interference import methods as ir
-from pipeline.interference import FrameRows, close_gaps, widen, zero_flagged
 
 N = 384
 T = np.arange(N)

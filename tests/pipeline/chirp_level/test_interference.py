@@ -134,9 +134,8 @@ def test_repaired_rows_window_the_repair_of_the_dc_removed_rows(cfg, method):
     """`repaired_rows(...).windowed()` is `repair` of the flagged rows (DC removed, numpy's
     float32 difference) times the window, bit for bit: "lowrank" leaves its rows' means to
     the window product, which must subtract exactly what the fill would have."""
-    from pipeline.interference import repaired_rows
     from pipeline.chirp_level.stage import _chirp_statistics
-    from pipeline.interference import FrameRows, get_mitigation, repair
+    from pipeline.interference import FrameRows, get_mitigation, repair, repaired_rows
     from pipeline.kernels import window
     adc = radarsim.simulate_frame(cfg.replace(adc_dc_offset_lsb=-120.0), empty(),
                                   np.random.default_rng(8), one_interferer())
@@ -162,9 +161,8 @@ def test_deferred_repair_is_the_repair_in_any_chirp_order(cfg, monkeypatch, part
     the frame's basis (it then comes from the repaired rows, after their flags) nothing is
     deferred."""
     from pipeline import threads
-    from pipeline.interference import masks
-    from pipeline.interference import repaired_rows
     from pipeline.chirp_level.stage import _chirp_statistics
+    from pipeline.interference import masks, repaired_rows
     from pipeline.kernels import window
     from pipeline.threads import run_queue
     if few_clean_rows:
