@@ -33,14 +33,11 @@ References
 """
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, NamedTuple
+from typing import NamedTuple
 
 import numpy as np
 
 from core.errors import BadInput
-
-if TYPE_CHECKING:
-    from ..config import ProcessingConfig
 
 __all__ = ["interference_flags", "zero_flagged", "flagged_rows", "INTF_THRESHOLD_MODES",
            "IntfThresholdMode", "diff_statistics"]
@@ -152,7 +149,7 @@ def zero_flagged(x: np.ndarray, flags: np.ndarray, hysteresis: int = 3) -> np.nd
     return x
 
 
-def flagged_rows(adc: np.ndarray, dc, proc: ProcessingConfig) -> tuple[np.ndarray, np.ndarray]:
+def flagged_rows(adc: np.ndarray, dc, proc) -> tuple[np.ndarray, np.ndarray]:
     """(chirp x Rx rows with a flagged sample, their (rows, n_samples) flags). A mode that
     uses the difference statistic alone (the demo's "magdiff") takes a fast path: a row is
     flagged iff its largest |dx| exceeds its threshold, and only those rows get their flags

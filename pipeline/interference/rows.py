@@ -4,7 +4,7 @@ window them."""
 from __future__ import annotations
 
 from collections.abc import Callable
-from typing import TYPE_CHECKING, NamedTuple
+from typing import NamedTuple
 
 import numba
 import numpy as np
@@ -15,9 +15,6 @@ from ..threads import run_parts, spans
 from .deferred import DeferredLowrank
 from .masks import FrameRows
 from .methods import get_mitigation, repair
-
-if TYPE_CHECKING:
-    from ..config import ProcessingConfig
 
 __all__ = ["RepairedRows", "repaired_rows"]
 
@@ -83,7 +80,7 @@ class RepairedRows(NamedTuple):
 
 def repaired_rows(adc: np.ndarray, dc: np.ndarray | None, rows: np.ndarray,
                   flags: np.ndarray | Callable[[], np.ndarray], win: np.ndarray,
-                  proc: ProcessingConfig, deferred: bool = False) -> RepairedRows:
+                  proc, deferred: bool = False) -> RepairedRows:
     """The flagged rows, DC removed and repaired by ``proc.intf_mitigation`` (the chip
     zeroes), with the window they are multiplied by.
 
@@ -99,7 +96,8 @@ def repaired_rows(adc: np.ndarray, dc: np.ndarray | None, rows: np.ndarray,
         another core, where its own passes run whole, `pipeline.threads.inline`).
     win : (n_samples,) float32
         The range window.
-    proc : ProcessingConfig
+    proc : pipeline.ProcessingConfig
+        Reads ``intf_mitigation`` and ``intf_hysteresis_samples``.
     deferred : bool
         Where the method defers (`RepairMethod.deferred`: the "lowrank" fill of real rows of a
         frame with its reference rows), leave all of it to the caller: the DC removal, the flags
