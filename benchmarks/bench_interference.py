@@ -4,7 +4,7 @@ Targets: synthesising 10 interferers costs at most 1x `simulate_frame`'s own tim
 scatterers; the chirp-level chain (DC removal, interference statistics and zeroing, EGE
 compression) adds at most 30 % to `process_frame` (R79 DDMA). Both are ratios measured in the
 same run. The bench also prints the noise-floor rise of one interferer with mitigation off and
-on, the range stage's time with each repair method (`pipeline.interference_repair.MITIGATIONS`)
+on, the range stage's time with each repair method (`pipeline.interference.MITIGATIONS`)
 on the 10-interferer frame with where the default ("lowrank") spends it, where the
 10-interferer DDMA frame of `benchmarks.bench_floors` (issue 20's "<= 1.3x the clean frame"
 row) spends what the clean frame does not (`dirty_frame_breakdown`), and the SNR loss EGE
@@ -23,11 +23,11 @@ import pipeline
 import radarsim
 from benchmarks._timing import median_time_s
 from pipeline import chirp_level as cl
-from pipeline.chirp_level.interference import repaired_rows
 from pipeline.chirp_level.stage import _blockwise, _chirp_statistics
 from pipeline.config import WINDOWS
-from pipeline.interference_lowrank import FastTimeBasis, fast_time_basis, lowrank_fill
-from pipeline.interference_repair import MITIGATIONS, FrameRows, _reference
+from pipeline.interference import MITIGATIONS, FrameRows, repaired_rows
+from pipeline.interference.lowrank import FastTimeBasis, fast_time_basis, lowrank_fill
+from pipeline.interference.masks import reference_rows
 from pipeline.kernels import window
 from pipeline.threads import inline
 from radarsim import interference as itf_mod
@@ -120,7 +120,7 @@ def _lowrank_work(cfg, adc: np.ndarray, stats, proc, remove_mean: bool) -> _Lowr
     gate = 10 ** (m.rank_snr_gate_db / 10)
 
     def reference_and_basis():
-        return fast_time_basis(_reference(
+        return fast_time_basis(reference_rows(
             y, frame, lambda: m.mask(flags, proc.intf_hysteresis_samples)), m.rank_max, gate)
     basis = reference_and_basis()
     bursts = rows // cfg.n_rx

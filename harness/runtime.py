@@ -14,6 +14,10 @@ a serial sweep, pool and Dask workers) therefore runs with one BLAS thread
 (`single_thread_blas`): same seed, same bits, whatever the worker count or scheduler. It is
 also the fast setting here: with one worker per core, BLAS threads only oversubscribe the cores.
 
+numba: the kernels' disk cache is shared by every process of a sweep, so `prepare_process`
+also puts numba's cache index under a file lock (`core.numba_cache.install_cache_lock`), an
+explicit call here rather than a patch made by importing the pipeline.
+
 Signals: a supervisor, ``Popen.terminate()`` or a batch system stops a run with SIGTERM (a
 closed terminal sends SIGHUP), to the main process only. `terminate_on_signals` turns both
 into `Terminated`, a KeyboardInterrupt, so they take Ctrl-C's path (pool workers stopped, cells
@@ -47,6 +51,8 @@ import sys
 import threading
 from collections.abc import Iterator
 from typing import NamedTuple
+
+from core.numba_cache import install_cache_lock
 
 __all__ = ["tune_allocator", "single_thread_blas", "prepare_process", "exit_with_parent",
            "prepare_worker", "Terminated", "terminate_on_signals", "StopSignals",
@@ -93,10 +99,12 @@ def single_thread_blas() -> None:
 
 
 def prepare_process() -> None:
-    """What every harness process applies before computing: one BLAS thread and the
-    allocator tuning."""
+    """What every harness process applies before computing: one BLAS thread, the allocator
+    tuning and the lock around numba's cache index (`core.numba_cache.install_cache_lock`:
+    the harness's processes compile kernels beside each other)."""
     single_thread_blas()
     tune_allocator()
+    install_cache_lock()
 
 
 _PR_SET_PDEATHSIG = 1

@@ -2,10 +2,8 @@
 
     pc = pipeline.process_frame(cfg, adc)          # pandas.DataFrame, one row per detection
 """
-from .numba_cache import install_cache_lock
+from core.numba_cache import install_cache_lock
 
-install_cache_lock()  # before any cache=True kernel compiles: concurrent workers share one cache
-from . import cfar_log  # noqa: F401  (registers TI's log-domain CFAR modes)
 from .cfar import CFAR_MODES, cfar_scale, noise_mean_factor
 from .chain import (
                     MIMO_CHAINS,
@@ -38,4 +36,4 @@ __all__ = ["process_frame", "frame_spectra", "detection_map", "doppler_azimuth_m
            "cfar_scale", "noise_mean_factor",
            "GroupTracker", "TrackerConfig", "track_frames", "MOTION_MODELS", "TRACK_COLUMNS",
            "TRACK_STATES", "EgoMotionConfig", "EgoMotionEstimate", "EGO_MODELS",
-           "estimate_ego_motion", "static_mask", "ground_radial_velocity"]
+           "estimate_ego_motion", "static_mask", "ground_radial_velocity", "install_cache_lock"]

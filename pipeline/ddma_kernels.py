@@ -18,7 +18,7 @@ import numba
 import numpy as np
 import scipy.fft
 
-from .kernels import _U, rx_energy_bins, slow_time_fft  # _U: unsigned loop indices
+from .kernels import UINT, rx_energy_bins, slow_time_fft
 from .threads import run_parts, spans
 
 __all__ = ["ddma_metric", "ddma_gather", "ddma_coherent_power", "ddma_spectra_power",
@@ -259,7 +259,7 @@ def _power_into(yv, out, col0):
     """out[:, col0 + j] = yv[:, 2j]^2 + yv[:, 2j + 1]^2: |y|^2 of a complex64 product seen as
     float32 (re, im) pairs, as `stages.power_of` (two rounded squares, a rounded sum)."""
     m, n2 = yv.shape
-    n, c0, one, two = _U(n2 // 2), _U(col0), _U(1), _U(2)
+    n, c0, one, two = UINT(n2 // 2), UINT(col0), UINT(1), UINT(2)
     for i in range(m):
         row = yv[i]
         dst = out[i]

@@ -1,5 +1,6 @@
-"""Kernels of the signal chain: FFT stages, peak interpolation, local maxima, candidate CFAR
-and angle estimation (the DDMA demodulation and azimuth map: `pipeline.ddma_kernels`). Axis order: chirp/Doppler first, then Rx, then
+"""Kernels of the signal chain: FFT stages, peak interpolation, local maxima and angle
+estimation (the CFAR detector: `pipeline.cfar.peaks`; the DDMA demodulation and azimuth map:
+`pipeline.ddma_kernels`). Axis order: chirp/Doppler first, then Rx, then
 fast time / range (DESIGN 3), unless a docstring says otherwise.
 
 Mostly numpy; a pass that numpy can only express through full-size temporaries or index arrays
@@ -14,7 +15,6 @@ References
 """
 from __future__ import annotations
 
-from collections.abc import Callable
 from functools import lru_cache
 from typing import NamedTuple
 
@@ -23,21 +23,19 @@ import numpy as np
 import scipy.fft
 from scipy.signal import get_window
 
-from .cfar import CFAR_MODES, noise_estimate, training_offsets
 from .config_cache import per_config
 from .threads import run_parts, spans
 
-#: Unsigned loop indices in the compiled loops (see `_rx_energy`; `ddma_kernels` too).
-_U = np.uint64
+#: Unsigned loop indices in the compiled loops (see `_rx_energy`; `ddma_kernels` too): they
+#: let LLVM vectorise the loops.
+UINT = np.uint64
 
 __all__ = ["window", "range_fft", "windowed", "samples_windowed", "doppler_fft", "slow_time_fft",
            "doppler_windowed",
            "rx_energy", "rx_energy_bins",
            "ArrayLayout",
-           "array_layout", "layout_of", "local_max_mask", "parabolic_offset", "candidate_cfar",
-           "cfar_peaks",
-           "training_table",
-           "estimate_angles"]
+           "array_layout", "layout_of", "local_max_mask", "parabolic_offset",
+           "estimate_angles", "UINT"]
 
 
 @lru_cache(maxsize=32)
@@ -201,7 +199,7 @@ def _rx_energy(v: np.ndarray, out: np.ndarray, b0: int, b1: int) -> None:
     n_c, n_r, _ = v.shape
     # Unsigned indices: numba wraps a negative signed index around, which keeps LLVM from
     # vectorising the loops (range(b0, b1) with signed b: 4x slower).
-    lo, hi, one, two = _U(b0), _U(b1), _U(1), _U(2)
+    lo, hi, one, two = UINT(b0), UINT(b1), UINT(1), UINT(2)
     for c in range(n_c):
         dst = out[c]
         row = v[c, 0]
@@ -340,117 +338,6 @@ def parabolic_offset(y_minus: np.ndarray, y0: np.ndarray, y_plus: np.ndarray) ->
     with np.errstate(divide="ignore", invalid="ignore"):
         off = np.where(den > 0, 0.5 * (y_plus - y_minus) / den, 0.0)
     return np.clip(off, -0.5, 0.5)
-
-
-@lru_cache(maxsize=32)
-def training_table(size: int, guard_cells: int, window_cells: int, stride: int = 1) -> np.ndarray:
-    """(size, 2 x window_cells) int: the cyclic training positions of every position along a
-    CFAR axis of `size` cells, lagging cells first (read-only, cached per configuration)."""
-    lag, lead = training_offsets(guard_cells, window_cells, stride)
-    table = (np.arange(size)[:, None] + np.concatenate([lag, lead])) % size
-    table.flags.writeable = False
-    return table
-
-
-def candidate_cfar(power: np.ndarray, cand: tuple[np.ndarray, ...], axis: int,
-                   guard_cells: int, window_cells: int, mode: str,
-                   os_rank: int, stride: int = 1) -> np.ndarray:
-    """Noise estimate of a CFAR along a cyclic `axis`, only at candidate cells.
-
-    The cyclic training positions of every position along `axis` come from a small
-    (size, 2 x window_cells) table, so each candidate's training cells are one flat `take`;
-    they are reduced with `cfar.noise_estimate`. Equals `cfar.cfar_map(...)[cand]`.
-
-    Parameters
-    ----------
-    power : (...) float
-    cand : tuple of (n,) int arrays
-        Indices of the candidate cells (as from np.nonzero).
-    axis : int
-        The cyclic CFAR axis.
-    stride : int
-        Training-cell spacing, bins.
-
-    Returns
-    -------
-    (n,) float
-    """
-    power = np.ascontiguousarray(power)
-    size = power.shape[axis]
-    step = int(np.prod(power.shape[axis + 1:], dtype=np.int64))  # flat step along `axis`
-    table = training_table(size, guard_cells, window_cells, stride)  # (size, 2W)
-    pos = cand[axis]
-    row_start = np.ravel_multi_index(cand, power.shape) - pos * step
-    train = power.reshape(-1)[row_start[:, None] + table[pos] * step]  # (n, 2W)
-    return noise_estimate(train, window_cells, mode, os_rank)
-
-
-def cfar_peaks(power: np.ndarray, mode: str, alpha: float, guard_cells: int,
-               window_cells: int, os_rank: int, stride: int, neighbours: dict[int, bool],
-               first_bin: int = 0, then: Callable | None = None) -> tuple:
-    """Detections of a cyclic CFAR along the last axis among local maxima.
-
-    A cell is a detection when it is a local maximum (`local_max_mask`) along the last axis
-    (cyclic) and along the other axes listed in `neighbours`, its index on axis 1 is at least
-    `first_bin`, and it exceeds `alpha` x the noise estimate of its training cells
-    (`candidate_cfar`). A mode with a compiled detector (`CfarMode.peaks`) runs it; the others
-    take `candidate_mask`, local maxima and gathered training cells; both give the same cells.
-
-    Parameters
-    ----------
-    power : (n0, n1, n_cfar) float32
-        Square-law map (DDMA: (azimuth, range, Doppler)); the compiled detector reads a
-        C-contiguous copy of a strided one.
-    mode : str
-        Key of `cfar.CFAR_MODES`.
-    neighbours : {axis: cyclic}
-        Axes 0 and/or 1 to check for a local maximum too (the last axis always is).
-    then : callable, optional
-        ``then(cells, noise, peak)`` of a consecutive share of the detections (C order), run
-        by each part of the compiled detector once its rows are done (per-detection work such
-        as gathers from the map, beside the other part's rows), once on all of them otherwise.
-
-    Returns
-    -------
-    cells : tuple of three (n,) int arrays
-        Indices of the detections, C order.
-    noise, peak : (n,) float32
-        Noise estimate (the mode's statistic) and power of each.
-    after : list
-        With `then` only: its results, in C order of the shares they cover.
-    """
-    cm = CFAR_MODES[mode]
-    if cm.compiled_peaks:
-        # Rows of axis 0 in parts on the cores (`pipeline.threads`), joined in C order. A
-        # strided map (the slot chains' range-Doppler sum is a view in their spectra's order)
-        # is copied first: the compiled loops read contiguous rows in about half the time
-        # (TDMA's 192 x 192 map: 0.25 -> 0.12 ms), the same values.
-        power = np.ascontiguousarray(power)
-        table = training_table(power.shape[-1], guard_cells, window_cells, stride)
-        flags = (0 in neighbours, neighbours.get(0, False), 1 in neighbours,
-                 neighbours.get(1, False))
-
-        def part(span):
-            idx, noise = cm.peaks(power, alpha, table, os_rank, flags, first_bin, span)
-            cells = tuple(idx)
-            peak = power[cells]
-            return idx, noise, peak, None if then is None else then(cells, noise, peak)
-
-        found = run_parts([lambda span=span: part(span) for span in spans(power.shape[0])])
-        cells = tuple(np.concatenate([f[0] for f in found], axis=1))
-        noise, peak = (np.concatenate([f[i] for f in found]) for i in (1, 2))
-        return (cells, noise, peak) if then is None else (cells, noise, peak,
-                                                          [f[3] for f in found])
-    mask = cm.candidate_mask(power, 2, alpha, os_rank)
-    mask[:, :first_bin] = False
-    local_max_mask(power, {**neighbours, 2: True}, mask=mask)
-    cand = np.unravel_index(np.flatnonzero(mask), power.shape)
-    noise = candidate_cfar(power, cand, 2, guard_cells, window_cells, mode, os_rank, stride)
-    peak = power[cand]
-    hit = peak > alpha * noise
-    cells, noise, peak = tuple(c[hit] for c in cand), noise[hit], peak[hit]
-    return (cells, noise, peak) if then is None else (cells, noise, peak,
-                                                      [then(cells, noise, peak)])
 
 
 def estimate_angles(virt: np.ndarray, sin_az_cos_el: np.ndarray, h_idx: np.ndarray,

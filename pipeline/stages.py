@@ -21,10 +21,10 @@ import pandas as pd
 from core.errors import BadInput
 from radarsim.config import C_MPS, RadarConfig
 
-from .cfar import noise_mean_factor
+from .cfar import cfar_peaks, noise_mean_factor
 from .config import WINDOWS, ProcessingConfig
 from .config_cache import per_config
-from .kernels import cfar_peaks, estimate_angles, layout_of, parabolic_offset
+from .kernels import estimate_angles, layout_of, parabolic_offset
 
 __all__ = ["POINT_CLOUD_COLUMNS", "check_frame", "power_of", "log_power", "point_cloud",
            "empty_cloud", "interp_azimuth", "interp_range", "interp_doppler", "array_dft",

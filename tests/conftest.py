@@ -7,7 +7,14 @@ import numpy as np
 import pytest
 
 import radarsim
+from core.numba_cache import install_cache_lock
 from tests import numba_warm
+
+
+def pytest_configure(config):
+    # The xdist workers and the CLI subprocesses of the tests compile kernels beside each
+    # other: numba's cache index under its file lock before any kernel compiles.
+    install_cache_lock()
 
 
 @pytest.fixture

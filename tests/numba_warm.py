@@ -9,7 +9,7 @@ session starts, each worker walks the modules (most signatures first) and takes 
 other worker holds (a non-blocking lock), compiling it (or loading it, if another worker
 already did); a module held by another worker is loaded after collecting, before the first
 test, waiting for that worker if it is still compiling. The modules so go to whichever worker
-is free (one module, `interference_lowrank`, takes about half of the compile time: a fixed
+is free (one module, `pipeline.interference.lowrank`, takes about half of the compile time: a fixed
 split by count left one worker idle for seconds). Every test, and every subprocess a test
 starts, then finds the kernels compiled.
 

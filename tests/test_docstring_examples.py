@@ -15,11 +15,11 @@ import pytest
 MODULES = (
     "core.registry", "scenarios.registry", "radarsim.frontend", "radarsim.presets",
     "radarsim.mimo", "radarsim.chips", "radarsim.boards", "radarsim.calibration",
-    "pipeline.chain", "pipeline.cfar", "pipeline.mimo.base", "pipeline.tracking.parts",
+    "pipeline.chain", "pipeline.cfar.modes", "pipeline.mimo.base", "pipeline.tracking.parts",
     "metrics.detection", "radarsim.mimo_fast_slow", "pipeline.mimo.fast_slow",
     "metrics.registry", "metrics.velocity", "metrics.r79", "metrics.interference",
     "pipeline.mimo.echo_law", "pipeline.mimo.ddma_order", "pipeline.mimo.extension",
-    "pipeline.gamma_law", "harness.runtime", "harness.report.sections",
+    "pipeline.cfar.gamma_law", "harness.runtime", "harness.report.sections",
 )
 
 #: Public entry points that must show a runnable example: "module:qualified name".

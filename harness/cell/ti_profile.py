@@ -25,13 +25,13 @@ def cfar_config_from_ti(ti_cfar):
     """`pipeline.CfarConfig` from a TI ``cfarCfg`` (`radarsim.ti.TiCfar`).
 
     averageMode -> mode (CA, CAGO, CASO: the TDM demos' log-magnitude statistic,
-    `pipeline.cfar_log`; OS as is), one-sided winLen/guardLen -> window_cells/guard_cells,
+    `pipeline.cfar.log_law`; OS as is), one-sided winLen/guardLen -> window_cells/guard_cells,
     osKvalue -> os_rank (OS only), thresholdScale (dB of that statistic over the noise
     estimate) -> threshold_db (so the design Pfa is not used). TI's fixed-point noise divisor
     has no counterpart (the demos set it to the window's log2: a mean).
     """
     import pipeline
-    from pipeline.cfar_log import ti_log_mode
+    from pipeline.cfar import ti_log_mode
     return pipeline.CfarConfig(mode=ti_log_mode(ti_cfar.mode),
                                guard_cells=int(ti_cfar.guard_cells),
                                window_cells=int(ti_cfar.window_cells),

@@ -12,6 +12,7 @@ import traceback
 from pathlib import Path
 
 from core.fileio import OutputError
+from core.numba_cache import install_cache_lock
 from harness.cell.components import Components
 from harness.cell.run import run_cell
 from harness.cell.spec import CellSpec
@@ -50,6 +51,7 @@ def execute_cell(spec: CellSpec, out: str, comps: Components | None = None) -> d
     says ``"written": "kept"``.
     """
     single_thread_blas()
+    install_cache_lock()  # a Dask worker runs no `prepare_process`: its kernels compile here
     out_p = Path(out)
     t0 = time.perf_counter()
     try:

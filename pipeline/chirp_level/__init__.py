@@ -8,11 +8,12 @@ decompresses first (section 5.3). Each step is switchable in `ProcessingConfig`
 (`dc_removal`, `interference_mitigation`, `compression`); `range_stage` is the hook the chains
 call instead of a bare range FFT.
 
-One step per module: `dc` (DC estimation and removal), `interference` (statistics, flags and
-zeroing), `ege` (EGE compression model; its block format in `pipeline.ege_format`),
+One step per module: `dc` (DC estimation and removal), `ege` (EGE compression model; its block
+format in `pipeline.ege_format`),
 `stage` (the steps in the demo's order; `shared_range_stage` runs them once per frame and
 setting for every chain and metric that reads the frame) and `noise_floor` (the floor-rise
-metric).
+metric). The interference statistics, flags and repair are a package of their own,
+`pipeline.interference`.
 
 References
 ----------
@@ -25,6 +26,7 @@ References
        ``hwaInterfMitigWindow`` (16-point Hann, Q5); MCU+ SDK HWA driver API
        ``HWA_PreProcessing.interfMitigation``, ``HWA_AccelModeCompress``.
 """
+from ..interference import INTF_THRESHOLD_MODES, interference_flags, zero_flagged
 from .dc import remove_dc
 from .ege import (
                   EGE_HEADER_BITS,
@@ -34,11 +36,10 @@ from .ege import (
                   ege_compress,
                   ege_min_ratio,
 )
-from .interference import INTF_THRESHOLD_MODES, interference_flags, zero_flagged
 from .noise_floor import NOISE_FLOOR_FIELDS, NoiseFloor, noise_floor_rise
 from .stage import RANGE_STAGE_FIELDS, range_stage, shared_range_stage, windowed_range_stage
 
-__all__ = ["range_stage", "windowed_range_stage", "remove_dc", "interference_flags", "zero_flagged", "ege_compress",
-           "ege_block_bits", "ege_min_ratio", "NoiseFloor", "noise_floor_rise",
+__all__ = ["range_stage", "windowed_range_stage", "remove_dc", "interference_flags", "zero_flagged",
+           "ege_compress", "ege_block_bits", "ege_min_ratio", "NoiseFloor", "noise_floor_rise",
            "NOISE_FLOOR_FIELDS", "INTF_THRESHOLD_MODES", "HWA_OUTPUT_SCALE", "EGE_K_ARRAY",
            "EGE_HEADER_BITS", "shared_range_stage", "RANGE_STAGE_FIELDS"]

@@ -120,7 +120,7 @@ def _block_shift(v: np.ndarray, budget: int, kk: np.ndarray, m: np.ndarray,
 def _hot_block(vv: np.ndarray, c: int, lo: int, bins2: int, scale: np.float32, budget: int,
                kk: np.ndarray, first: int, v: np.ndarray, m: np.ndarray,
                qa: np.ndarray) -> int:
-    """Encode + decode of the block vv[c, :, lo : lo + bins2] that is not cold (`_ege_blocks`),
+    """Encode + decode of the block vv[c, :, lo : lo + bins2] that is not cold (`ege_blocks`),
     in place: its scale factor s (`_block_shift`), then, if s > 0, every value requantised
     with the dither of its flat frame position first + j (j = rx x bins2 + t). v, m, qa
     (n_val,) float32 are scratch buffers. Returns s."""
@@ -144,7 +144,7 @@ def _hot_block(vv: np.ndarray, c: int, lo: int, bins2: int, scale: np.float32, b
 
 
 @numba.njit(cache=True, nogil=True)
-def _ege_blocks(vv: np.ndarray, bins2: int, scale: np.float32, budget: int, kk: np.ndarray,
+def ege_blocks(vv: np.ndarray, bins2: int, scale: np.float32, budget: int, kk: np.ndarray,
                 cold: float, shift: np.ndarray, c0: int, c1: int, c_base: int = 0) -> None:
     """EGE encode + decode of every block of `vv` in place (`ege_compress`).
 
@@ -263,7 +263,7 @@ def ege_compress(rf: np.ndarray, ratio: float = 0.5, range_bins_per_block: int =
     nb = n_b // range_bins_per_block
     shift = np.zeros((n_c, nb), dtype=np.int8)
     vv = rf.view(np.float32)
-    run_parts([lambda lo=lo, hi=hi: _ege_blocks(vv, bins2, np.float32(scale), budget, kk, cold,
+    run_parts([lambda lo=lo, hi=hi: ege_blocks(vv, bins2, np.float32(scale), budget, kk, cold,
                                                 shift, lo, hi)
                for lo, hi in spans(n_c)])  # chirps in parts on the cores (`pipeline.threads`)
     return rf, shift
@@ -271,7 +271,7 @@ def ege_compress(rf: np.ndarray, ratio: float = 0.5, range_bins_per_block: int =
 
 def ege_setup(n_rx: int, n_range: int, ratio: float,
               range_bins_per_block: int) -> tuple[int, int, np.ndarray, float]:
-    """(bins2, budget bits, usable k-array, cold-block sum) of `_ege_blocks` for a cube of
+    """(bins2, budget bits, usable k-array, cold-block sum) of `ege_blocks` for a cube of
     `n_rx` x `n_range` bins per chirp (`ege_compress`'s parameters).
 
     Raises

@@ -21,13 +21,13 @@ import scipy.fft
 
 from radarsim.config import RadarConfig
 
-from ..config import INTF_THRESHOLD_MODES, WINDOWS, ProcessingConfig
+from ..config import WINDOWS, ProcessingConfig
+from ..interference import INTF_THRESHOLD_MODES, RepairedRows, flagged_rows, repaired_rows
+from ..interference.row_statistics import row_flags, row_statistics
 from ..kernels import doppler_windowed, range_fft, samples_windowed, window, windowed
 from ..threads import n_parts, run_parts, run_queue, spans
 from .dc import remove_dc, window_spectrum
-from .ege import HWA_OUTPUT_SCALE, _ege_blocks, ege_compress, ege_setup
-from .interference import RepairedRows, flagged_rows, repaired_rows
-from .row_statistics import row_flags, row_statistics
+from .ege import HWA_OUTPUT_SCALE, ege_blocks, ege_compress, ege_setup
 
 __all__ = ["range_stage", "windowed_range_stage", "shared_range_stage", "RANGE_STAGE_FIELDS",
            "CHIRP_BLOCK"]
@@ -192,7 +192,7 @@ def _blockwise(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig, dc: np
         if ege is not None:
             bins2, budget, kk, cold = ege
             shift = np.zeros((c1 - c0, n_b * 2 // bins2), np.int8)
-            _ege_blocks(rf.view(np.float32), bins2, np.float32(HWA_OUTPUT_SCALE), budget, kk,
+            ege_blocks(rf.view(np.float32), bins2, np.float32(HWA_OUTPUT_SCALE), budget, kk,
                         cold, shift, 0, c1 - c0, c0)
         if keep is not None:
             keep[c0:c1] = rf

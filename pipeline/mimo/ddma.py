@@ -19,13 +19,13 @@ import pandas as pd
 
 from radarsim.config import RadarConfig
 
-from ..cfar import noise_mean_factor
+from ..cfar import cfar_peaks, noise_mean_factor
 from ..chirp_level.stage import windowed_range_stage
 from ..compensation import apply_coefficients, compensate
 from ..config import WINDOWS, ProcessingConfig
 from ..config_cache import per_config
 from ..ddma_kernels import ddma_spectra_power
-from ..kernels import cfar_peaks, estimate_angles, layout_of, rx_energy, slow_time_fft, window
+from ..kernels import estimate_angles, layout_of, rx_energy, slow_time_fft, window
 from ..stages import (
     array_dft,
     empty_cloud,

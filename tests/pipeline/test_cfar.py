@@ -5,7 +5,9 @@ from scipy import ndimage
 
 from pipeline.cfar import (
     CFAR_MODES,
+    candidate_cfar,
     cfar_map,
+    cfar_peaks,
     cfar_scale,
     noise_estimate,
     noise_mean_factor,
@@ -13,7 +15,7 @@ from pipeline.cfar import (
     pfa_of_scale,
     rohling_os_pfa,
 )
-from pipeline.kernels import candidate_cfar, cfar_peaks, local_max_mask
+from pipeline.kernels import local_max_mask
 
 
 def test_rohling_os_reference_values():
@@ -153,8 +155,8 @@ def test_every_ti_average_mode_code_names_a_registered_mode():
     for name, m in CFAR_MODES.items():
         assert m.name == name and m.description
     assert [n for n, m in CFAR_MODES.items() if m.ranked] == ["os"]  # only OS uses os_rank
-    # TI's demos run the CA family on the log statistic (pipeline.cfar_log), OS as is.
-    from pipeline.cfar_log import ti_log_mode
+    # TI's demos run the CA family on the log statistic (pipeline.cfar.log_law), OS as is.
+    from pipeline.cfar import ti_log_mode
     assert {c: ti_log_mode(n) for c, n in CFAR_AVERAGE_MODES.items()} == \
         {0: "ti_log_ca", 1: "ti_log_cago", 2: "ti_log_caso", 3: "os"}
 

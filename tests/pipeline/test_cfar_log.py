@@ -1,4 +1,4 @@
-"""TI's log-magnitude CFAR (`pipeline.cfar_log`): its false-alarm rate against the theory of
+"""TI's log-magnitude CFAR (`pipeline.cfar.log_law`): its false-alarm rate against the theory of
 the average-of-logs statistic, and the chip's detections on an AWR1843 profile's own cfarCfg
 against what that statistic implies."""
 import numpy as np
@@ -7,9 +7,7 @@ from scipy import special
 
 import pipeline
 import radarsim
-from pipeline.cfar import cfar_map, cfar_scale
-from pipeline.cfar_log import TI_DB_PER_CLI_DB, log_cfar_pfa
-from pipeline.kernels import candidate_cfar
+from pipeline.cfar import TI_DB_PER_CLI_DB, candidate_cfar, cfar_map, cfar_scale, log_cfar_pfa
 from tests.radarsim.profiles import profile_text
 
 LOG_MODES = {"ti_log_ca": "both", "ti_log_cago": "greatest", "ti_log_caso": "smallest"}

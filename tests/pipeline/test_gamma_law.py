@@ -1,4 +1,4 @@
-"""`pipeline.gamma_law.Gamma` is `scipy.stats.gamma` bit for bit (the CFAR threshold design
+"""`pipeline.cfar.gamma_law.Gamma` is `scipy.stats.gamma` bit for bit (the CFAR threshold design
 integrates it: a different last bit would move every threshold scale)."""
 from __future__ import annotations
 
@@ -7,7 +7,7 @@ import pytest
 from scipy import stats
 
 from pipeline import cfar
-from pipeline.gamma_law import Gamma
+from pipeline.cfar.gamma_law import Gamma
 
 #: Shapes of the CFAR estimates (looks, N x looks, N/2 x looks) and their scales (1, 1/N).
 SHAPES = (0.5, 1, 2, 3, 8, 12, 16, 24, 192, 384)

@@ -1,4 +1,4 @@
-"""Interference repair methods (pipeline.interference_repair), each against its analytic effect."""
+"""Interference repair methods (pipeline.interference.methods), each against its analytic effect."""
 from __future__ import annotations
 
 import dataclasses
@@ -8,10 +8,10 @@ import pytest
 import scipy.signal
 
 import pipeline
-from pipeline import interference_lowrank as lr
-from pipeline import interference_repair as ir
 from pipeline import threads
-from pipeline.chirp_level.interference import zero_flagged
+from pipeline.interference import FrameRows, close_gaps, fills, widen, zero_flagged
+from pipeline.interference import lowrank as lr
+from pipeline.interference import methods as ir
 
 N = 384
 T = np.arange(N)
@@ -44,13 +44,13 @@ def test_zero_is_the_chips_zeroing_bit_for_bit():
 def test_close_gaps_closes_short_inner_gaps_only():
     m = np.zeros((1, 40), dtype=bool)
     m[0, [5, 9, 30]] = True  # gaps of 3 and 20 samples
-    c = ir.close_gaps(m, 4)
+    c = close_gaps(m, 4)
     assert c[0, 5:10].all() and not c[0, 10:30].any() and not c[0, :5].any()
-    assert ir.close_gaps(m, 20)[0, 5:31].all() and not ir.close_gaps(m, 20)[0, 31:].any()
+    assert close_gaps(m, 20)[0, 5:31].all() and not close_gaps(m, 20)[0, 31:].any()
 
 
 def test_mask_closes_then_widens():
-    m = ir.Mitigation(name="x", description="", close_gap_samples=48, extend_samples=12)
+    m = ir.ZeroRepair(name="x", description="", close_gap_samples=48, extend_samples=12)
     mask = m.mask(burst_flags(), 3)
     assert np.flatnonzero(mask[0]).tolist() == list(range(150 - 15, 190 + 16))
 
@@ -77,7 +77,7 @@ def test_zero_compensated_restores_an_on_bin_echo():
 
 
 def test_windowed_zero_tapers_with_the_demos_hann_edges():
-    g = ir._taper_gain(ir.widen(burst_flags(at=(100,)), 0), 5)[0]
+    g = fills.taper_gain(widen(burst_flags(at=(100,)), 0), 5)[0]
     h16 = scipy.signal.get_window("hann", 16, fftbins=False)
     assert g[100] == 0 and (g[:94] == 1).all() and (g[107:] == 1).all()
     assert g[101:106] == pytest.approx(h16[2:7], rel=1e-6)
@@ -118,8 +118,8 @@ def test_ar_reconstructs_a_sum_of_tones(at):
     rows = np.stack([tones([0.031, 0.13, 0.31, 0.42], [1.0, 0.5, 2.0, 0.3], p) for p in ph])
     rows -= rows.mean(axis=-1, keepdims=True)  # as the chain's DC removal leaves them
     flags = burst_flags(16, at)
-    m = ir.Mitigation(name="ar24", description="", fill="ar", ar_order=24,
-                      close_gap_samples=ir.CLOSE_GAP_SAMPLES, extend_samples=ir.EXTEND_SAMPLES)
+    m = ir.ArRepair(name="ar24", description="", ar_order=24,
+                    close_gap_samples=ir.CLOSE_GAP_SAMPLES, extend_samples=ir.EXTEND_SAMPLES)
     y = ir.repair(rows.copy(), flags, HANN, 3, m)
     mask = m.mask(flags, 3)
     err = np.sqrt(np.mean((y - rows)[mask] ** 2)) / np.sqrt(np.mean(rows ** 2))
@@ -150,14 +150,14 @@ def test_processing_config_validates_the_method():
         pipeline.ProcessingConfig(intf_mitigation="median")
 
 
-@pytest.mark.parametrize("field, value", [("fill", "median"), ("close_gap_samples", -1),
-                                          ("extend_samples", 1.5), ("ar_order", True),
-                                          ("rank_max", -2), ("grow_reach_samples", 2.0),
-                                          ("rank_snr_gate_db", -3.0),
-                                          ("grow_sigma", float("nan"))])
-def test_method_fields_validated(field, value):
+@pytest.mark.parametrize("kind, field, value", [
+    (ir.ZeroRepair, "close_gap_samples", -1), (ir.InterpolateRepair, "extend_samples", 1.5),
+    (ir.ArRepair, "ar_order", True), (ir.TaperRepair, "taper_samples", -1),
+    (ir.LowrankRepair, "rank_max", -2), (ir.LowrankRepair, "grow_reach_samples", 2.0),
+    (ir.LowrankRepair, "rank_snr_gate_db", -3.0), (ir.LowrankRepair, "grow_sigma", float("nan"))])
+def test_method_fields_validated(kind, field, value):
     with pytest.raises(ValueError, match=field):
-        ir.Mitigation(name="x", description="", **{field: value})
+        kind(name="x", description="", **{field: value})
 
 
 @pytest.mark.parametrize("name", sorted(ir.MITIGATIONS))
@@ -172,7 +172,7 @@ def test_every_method_repairs_iq_rows(name):
     y = ir.repair(rows.copy(), flags, HANN, 3, m)
     mask = m.mask(flags, 3)
     assert np.isfinite(y).all()
-    if m.fill == "ar":
+    if isinstance(m, ir.ArRepair):
         assert np.max(np.abs(y - rows)[mask]) < 1e-2
 
 
@@ -180,7 +180,7 @@ def test_every_method_repairs_iq_rows(name):
 def frame_of(rows_clean, rows_hit, n_rx=4):
     """A FrameRows whose first len(rows_hit) rows are the hit ones (n_rx per chirp)."""
     samples = np.concatenate([rows_hit, rows_clean])
-    return ir.FrameRows(samples, np.arange(len(rows_hit)), n_rx)
+    return FrameRows(samples, np.arange(len(rows_hit)), n_rx)
 
 
 def echo_rows(n_rows, freqs, amps, rng, noise=0.0):
@@ -263,7 +263,7 @@ def test_burst_runs_are_the_closed_and_widened_flags():
     rng = np.random.default_rng(7)
     flags = rng.random((50, N)) < 0.01
     runs = lr.burst_runs(flags, 48, 15)
-    assert np.array_equal(lr.runs_mask(runs, 50, N), ir.widen(ir.close_gaps(flags, 48), 15))
+    assert np.array_equal(lr.runs_mask(runs, 50, N), widen(close_gaps(flags, 48), 15))
 
 
 @pytest.mark.parametrize("dtype", [np.float64, np.complex128])

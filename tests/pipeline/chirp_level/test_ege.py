@@ -187,7 +187,7 @@ def _reference_dither(index: np.ndarray) -> np.ndarray:
 @pytest.mark.parametrize("n_rx, bins, ratio", [(4, 8, 0.5), (2, 16, 0.7), (3, 4, 0.45)],
                          ids=["demo", "2rx-16bins", "3rx-4bins"])
 def test_ege_hot_blocks_equal_the_histogram_bounded_encoder_bit_for_bit(n_rx, bins, ratio):
-    """Blocks that are not cold (`_ege_blocks`' hot path: exact scale-factor search, then
+    """Blocks that are not cold (`ege_blocks`' hot path: exact scale-factor search, then
     the dithered requantisation) against the formulation it replaced, bit for bit, values and
     scale factors: noise at 2..3e4 LSB (scale factors 0..12), strong echoes, rail-to-rail
     blocks, blocks with values at and beyond 2^24 LSB (where float32 logarithms round and the
@@ -212,7 +212,7 @@ def test_ege_hot_blocks_equal_the_histogram_bounded_encoder_bit_for_bit(n_rx, bi
     bins2, budget, kk, cold = cl.ege.ege_setup(n_rx, nb * bins, ratio, bins)
     c_base = 37
     got, shift = vv.copy(), np.zeros((n_c, nb), np.int8)
-    cl.ege._ege_blocks(got, bins2, scale, budget, kk, cold, shift, 0, n_c, c_base)
+    cl.ege.ege_blocks(got, bins2, scale, budget, kk, cold, shift, 0, n_c, c_base)
 
     want, want_shift = vv.copy(), np.zeros((n_c, nb), np.int8)
     for c in range(n_c):

@@ -109,7 +109,7 @@ def test_windowed_block_is_the_windowed_samples_with_the_repaired_rows_in_place(
     repaired rows' `windowed()` (their means subtracted, then the window) in their place, bit
     for bit: repaired rows at the block's first and last row, rows of other blocks around it,
     a block without any."""
-    from pipeline.chirp_level.interference import RepairedRows
+    from pipeline.interference import RepairedRows
     g = np.random.default_rng(4)
     adc = g.integers(-3000, 3000, (10, 3, 32)).astype(np.int16)
     rows = np.array([2, 12, 14, 17, 26])  # chirp x 3 + Rx: chirps 0, 4, 4, 5, 8
@@ -134,9 +134,8 @@ def test_repaired_rows_window_the_repair_of_the_dc_removed_rows(cfg, method):
     """`repaired_rows(...).windowed()` is `repair` of the flagged rows (DC removed, numpy's
     float32 difference) times the window, bit for bit: "lowrank" leaves its rows' means to
     the window product, which must subtract exactly what the fill would have."""
-    from pipeline.chirp_level.interference import repaired_rows
     from pipeline.chirp_level.stage import _chirp_statistics
-    from pipeline.interference_repair import FrameRows, get_mitigation, repair
+    from pipeline.interference import FrameRows, get_mitigation, repair, repaired_rows
     from pipeline.kernels import window
     adc = radarsim.simulate_frame(cfg.replace(adc_dc_offset_lsb=-120.0), empty(),
                                   np.random.default_rng(8), one_interferer())
@@ -161,13 +160,13 @@ def test_deferred_repair_is_the_repair_in_any_chirp_order(cfg, monkeypatch, part
     repair's rows and means bit for bit, the flags made once. With too few clean rows for
     the frame's basis (it then comes from the repaired rows, after their flags) nothing is
     deferred."""
-    from pipeline import interference_repair, threads
-    from pipeline.chirp_level.interference import repaired_rows
+    from pipeline import threads
     from pipeline.chirp_level.stage import _chirp_statistics
+    from pipeline.interference import masks, repaired_rows
     from pipeline.kernels import window
     from pipeline.threads import run_queue
     if few_clean_rows:
-        monkeypatch.setattr(interference_repair, "MIN_REFERENCE_ROWS", 10 ** 9)
+        monkeypatch.setattr(masks, "MIN_REFERENCE_ROWS", 10 ** 9)
     monkeypatch.setattr(threads, "N_PARTS", parts)
     adc = radarsim.simulate_frame(cfg.replace(adc_dc_offset_lsb=-120.0), empty(),
                                   np.random.default_rng(8), one_interferer())

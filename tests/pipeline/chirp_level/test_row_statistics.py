@@ -7,9 +7,9 @@ import pytest
 import pipeline
 import radarsim
 from pipeline.chirp_level.dc import remove_dc
-from pipeline.chirp_level.interference import flagged_rows
-from pipeline.chirp_level.row_statistics import row_flags, row_statistics
 from pipeline.chirp_level.stage import _chirp_statistics
+from pipeline.interference import flagged_rows
+from pipeline.interference.row_statistics import row_flags, row_statistics
 
 from .helpers import empty, one_interferer
 

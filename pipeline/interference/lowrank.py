@@ -1,5 +1,5 @@
 """Low-rank fast-time reconstruction of the samples an interference burst destroys (the
-``lowrank`` fill of `pipeline.interference_repair`).
+``lowrank`` fill of `pipeline.interference.methods`).
 
 Within one frame every echo is the same beat tone in every chirp and Rx: only its complex
 amplitude changes from chirp to chirp (Doppler, the scheme's Tx code, the Rx phase). The
@@ -63,7 +63,7 @@ import numpy as np
 
 from core.errors import BadInput
 
-from .threads import run_parts, spans
+from ..threads import run_parts, spans
 
 __all__ = ["FastTimeBasis", "fast_time_basis", "lowrank_fill", "burst_fill", "BurstFill",
            "GramOperands", "gram_operands", "projections", "burst_row_start"]

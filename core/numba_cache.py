@@ -6,6 +6,14 @@ compiling different signatures of one kernel at once (two sweep or Dask workers 
 install) can both take data file 1, and the index can end up naming the other process's code
 for a signature: a later process runs a kernel compiled for other argument types (a segfault
 or wrong numbers). `install_cache_lock` serialises numba's index updates with ``flock``.
+
+It patches numba's private cache class, so nothing does it at import time: a process that may
+compile kernels beside other processes calls it once, before its first kernel call. The
+harness does in `harness.runtime.prepare_process` (the CLI and every pool worker) and in
+`harness.worker.execute_cell` (Dask workers), the test suite in ``tests/conftest.py``,
+``python -m benchmarks`` at its start; a program of its own that runs the pipeline in several
+processes calls ``core.numba_cache.install_cache_lock()`` (also ``pipeline.install_cache_lock``)
+in each. One process alone needs nothing.
 """
 from __future__ import annotations
 

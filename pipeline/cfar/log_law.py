@@ -44,9 +44,9 @@ from typing import ClassVar
 import numpy as np
 from scipy import ndimage, special
 
-from .cfar import CFAR_MODES, CfarMode
+from .base import CfarMode
 
-__all__ = ["LogCellAveraging", "TI_DB_PER_CLI_DB", "TI_LOG_MODES", "ti_log_mode",
+__all__ = ["LogCellAveraging", "LOG_MODES", "TI_DB_PER_CLI_DB", "TI_LOG_MODES", "ti_log_mode",
            "log_cfar_pfa"]
 
 #: Real dB of power per dB of the CLI threshold: the demo divides by 6 for one log2 unit of
@@ -159,14 +159,15 @@ class LogCellAveraging(CfarMode):
 #: DDM demo's HWA OS-CFAR stays linear).
 TI_LOG_MODES = {"ca": "ti_log_ca", "cago": "ti_log_cago", "caso": "ti_log_caso"}
 
-for _mode in (
-        LogCellAveraging(name="ti_log_ca", side="both",
-                         description="TI demos' CA on the average of log magnitudes"),
-        LogCellAveraging(name="ti_log_cago", side="greatest",
-                         description="TI demos' CAGO on the average of log magnitudes"),
-        LogCellAveraging(name="ti_log_caso", side="smallest",
-                         description="TI demos' CASO on the average of log magnitudes")):
-    CFAR_MODES.setdefault(_mode.name, _mode)
+#: TI's log-magnitude modes (`modes.CFAR_MODES` registers them).
+LOG_MODES = (
+    LogCellAveraging(name="ti_log_ca", side="both",
+                     description="TI demos' CA on the average of log magnitudes"),
+    LogCellAveraging(name="ti_log_cago", side="greatest",
+                     description="TI demos' CAGO on the average of log magnitudes"),
+    LogCellAveraging(name="ti_log_caso", side="smallest",
+                     description="TI demos' CASO on the average of log magnitudes"),
+)
 
 
 def ti_log_mode(mode: str) -> str:

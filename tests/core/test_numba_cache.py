@@ -7,7 +7,7 @@ interleaving numba's unlocked save allows: both load the empty index and pick da
 saves its index, B saves its index and its data, then A its data. The index then names A's
 float64 code for B's int64 signature and A's entry is gone. Each process then calls the other's
 signature, which it has not compiled, so its dispatcher loads it from the disk cache as a fresh
-process would: with `pipeline.numba_cache.install_cache_lock` both must load and sum right.
+process would: with `core.numba_cache.install_cache_lock` both must load and sum right.
 Run with the lock disabled (``methods = {}`` in `install_cache_lock`), the locked test fails:
 B's float64 signature is missing from the index (B compiles it again).
 """
@@ -21,7 +21,7 @@ from pathlib import Path
 
 import pytest
 
-import pipeline.numba_cache as numba_cache
+import core.numba_cache as numba_cache
 
 fcntl = pytest.importorskip("fcntl")  # flock: POSIX only
 
@@ -223,3 +223,15 @@ def test_a_read_only_lock_file_still_locks(tmp_path, monkeypatch):
     monkeypatch.setattr(numba_cache, "open", lambda *a, **k: no_write(a[0], "a"),
                         raising=False)
     assert numba_cache._open_lock_file(str(path)) is None
+
+
+def test_importing_the_packages_patches_nothing():
+    """The lock is an explicit call: importing the pipeline (and the harness's CLI, which
+    installs it only when a command runs) leaves numba's cache class as numba made it."""
+    code = ("import pipeline, harness.cli\n"
+            "from numba.core.caching import IndexDataCacheFile as C\n"
+            "import core.numba_cache as m\n"
+            "print(hasattr(C.save, m._MARK), hasattr(C.load, m._MARK))\n")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         check=True, cwd=MODULE.parents[1]).stdout.split()
+    assert out == ["False", "False"]

@@ -1,7 +1,7 @@
 """The per chirp and Rx statistics of the chirp-level chain in one compiled pass over an int16
-frame: the DC estimate (`dc.remove_dc`) and the interference difference statistic of the
-demo's "magdiff" mode (`interference.flagged_rows`), which numpy computes in five passes
-(sum, frame max and min, difference, its sum and its row maximum).
+frame: the DC estimate (`pipeline.chirp_level.dc.remove_dc`) and the interference difference
+statistic of the demo's "magdiff" mode (`detection.flagged_rows`), which numpy computes in
+five passes (sum, frame max and min, difference, its sum and its row maximum).
 
 Integer sums are exact in any order, and the float32 steps repeat numpy's (the row mean as
 float64 then float32, the threshold as float32(sum) x float32(scale)), so the DC estimates,
@@ -27,7 +27,7 @@ class RowStatistics(NamedTuple):
     Attributes
     ----------
     dc : (n_chirps, n_rx, 1) float32
-        Mean of the row's samples (`dc.remove_dc`).
+        Mean of the row's samples (`pipeline.chirp_level.dc.remove_dc`).
     flagged : (n_rows,) int
         Rows whose largest |x_n - x_{n-1}| exceeds their threshold (`flagged_rows`).
     threshold : (n_rows,) float32
