@@ -198,18 +198,10 @@ def apply_policy(points: pd.DataFrame, report: SaturationReport, policy: str, *,
     return points
 
 
-#: pandas' read-only view of a column's stored values (pandas 1.x to 3.x), or None where a
-#: pandas version drops it (`_all_false` then reads the column through ``iloc``).
-_COLUMN_VALUES = getattr(pd.DataFrame, "_get_column_array", None)
-
-
 def _all_false(points: pd.DataFrame) -> bool:
     """`points` has one bool ``saturated`` column and none of its values is True."""
     loc = points.columns.get_loc("saturated") if "saturated" in points.columns else None
     if not isinstance(loc, int):
         return False
-    # The stored values, read only: a Series of the column (``points["saturated"]``) costs
-    # ~0.2 ms inside a frame, as much as the copy this test saves.
-    values = (points.iloc[:, loc].to_numpy() if _COLUMN_VALUES is None
-              else _COLUMN_VALUES(points, loc))
+    values = points.iloc[:, loc].to_numpy()
     return values.dtype == np.bool_ and not values.any()
