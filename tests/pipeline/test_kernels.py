@@ -141,19 +141,15 @@ def test_samples_windowed_equals_numpy_casting_product_bit_for_bit():
     assert windowed(x, win, np.float32).tobytes() == want.tobytes()
 
 
-@pytest.mark.parametrize("public", [False, True], ids=["from_arrays", "dict"])
 @pytest.mark.parametrize("n", [0, 1, 57])
-def test_point_cloud_equals_the_frame_of_a_column_dict(n, public, monkeypatch):
+def test_point_cloud_equals_the_frame_of_a_column_dict(n):
     """`stages.point_cloud` builds the frame pandas builds from a dict of its columns: same
-    columns in order, dtypes, values (NaN included), RangeIndex, with pandas' internal
-    constructor and with the public one it falls back on; and the empty cloud is a new frame
-    on every call."""
+    columns in order, dtypes, values (NaN included), RangeIndex; and the empty cloud is a new
+    frame on every call."""
     import pandas as pd
 
     import radarsim
-    from pipeline import ProcessingConfig, stages
-    if public:
-        monkeypatch.setattr(stages, "_FROM_ARRAYS", None)
+    from pipeline import ProcessingConfig
     from pipeline.stages import POINT_CLOUD_COLUMNS, empty_cloud, point_cloud
     cfg, proc = radarsim.presets.r79("ddma"), ProcessingConfig()
     g = np.random.default_rng(n)

@@ -87,17 +87,13 @@ def test_sweep_frame_table_counts_saturated_frames(tmp_path):
 
 @pytest.mark.parametrize("policy", sorted(SATURATION_POLICIES))
 @pytest.mark.parametrize("saturated", [False, True])
-@pytest.mark.parametrize("private_reader", [True, False])
-def test_apply_policy_on_an_owned_frame_gives_the_frame_of_a_copy(policy, saturated,
-                                                                   private_reader, monkeypatch):
+def test_apply_policy_on_an_owned_frame_gives_the_frame_of_a_copy(policy, saturated):
     """``owned=True`` returns the frame the default returns (values, dtypes, columns, attrs);
     `points` itself only where nothing but attrs changes (no saturation, an all-False bool
-    column), else a new frame as before; with pandas' column reader and without it."""
+    column), else a new frame as before."""
     import pandas as pd
 
     import pipeline.saturation
-    if not private_reader:
-        monkeypatch.setattr(pipeline.saturation, "_COLUMN_VALUES", None)
     rep = monitor(np.full((2, 1, 4), 32767 if saturated else 0, np.int16))
     g = np.random.default_rng(2)
 
