@@ -25,6 +25,7 @@ from core.checks import one_of, require
 from core.errors import BadInput
 
 from .equipment import RadarSpec
+from .motion import Motion
 from .roads import ROAD_LAYOUTS, TRAFFIC_ENVS
 
 __all__ = ["ActorClass", "ACTOR_CLASSES", "GUARD_RAIL", "Mount", "MOUNTS", "ActorSpec",
@@ -343,6 +344,10 @@ class Case:
         Key of `CASE_CLASSES` (default "ordinary"). An "r79" case is judged on UN R79's
         critical distance from its ego speed and its first target's speed, so it needs
         scripted speeds and a target (``must_detect``) approaching faster than the ego.
+    motion : scenarios.motion.Motion or None
+        Recorded motion (a case read from an OpenSCENARIO file): the ego and the actors follow
+        it instead of their scripts; `ego` and `actors` then hold each entity's class and
+        initial speed (what the metrics read), one `actors` entry per `motion.actors` entry.
     """
 
     name: str
@@ -365,6 +370,7 @@ class Case:
     equipped_share: float = 0.0
     radars: tuple[RadarSpec, ...] = ()
     case_class: str = "ordinary"
+    motion: Motion | None = None
 
     def __post_init__(self) -> None:
         if not self.name or not all(ch.islower() or ch.isdigit() or ch == "_"
@@ -405,6 +411,10 @@ class Case:
             if not isinstance(i, int) or not 0 <= i < n:
                 raise BadInput(f"must_detect id {i!r} is not a scripted actor (0..{n - 1})")
         one_of("case_class", self.case_class, CASE_CLASSES)
+        if self.motion is not None and (self.traffic is not None or
+                                        len(self.motion.actors) != n):
+            raise ValueError("motion: a recorded case has no random traffic and one actor "
+                             f"per recorded entity ({len(self.motion.actors)}), got {n}")
         if CASE_CLASSES[self.case_class].needs_approaching_target and (
                 self.traffic is not None or not self.must_detect or
                 self.actors[self.must_detect[0]].speed_mps <= self.ego.speed_mps):

@@ -42,6 +42,7 @@ from scipy.spatial import cKDTree
 from core.errors import BadInput
 
 from .catalog import ACTOR_CLASSES, GUARD_RAIL, Case, Mount
+from .motion import TrajectoryVehicle
 from .registry import get_case
 from .roads import LANE_WIDTH_M, ROAD_LAYOUTS, TRAFFIC_ENVS, Path, memoise_lanes
 from .truth import (
@@ -269,6 +270,19 @@ def _scripted(case: Case):
     return road, ego, ids, rails, None
 
 
+def _recorded(case: Case, dt_s: float):
+    """The ego and actors of a recorded case (`Case.motion`) on its road."""
+    motion = case.motion
+    road = Road(network=motion.network(), np_random=np.random.RandomState(0),
+                record_history=False)
+    ego = TrajectoryVehicle(road, motion.ego, dt_s)
+    road.vehicles.append(ego)
+    actors = [TrajectoryVehicle(road, m, dt_s) for m in motion.actors]
+    road.vehicles.extend(actors)
+    rails = [float(iso_lateral_to_highway(y)) for y in motion.rails_y_m]
+    return road, ego, {id(v): i for i, v in enumerate(actors)}, rails, None
+
+
 def _random_traffic(case: Case, seed: int, frame_rate_hz: float, substeps: int):
     traffic = TRAFFIC_ENVS[case.traffic]
     if abs(frame_rate_hz - round(frame_rate_hz)) > 1e-9:
@@ -382,7 +396,9 @@ def run_scenario(name_or_case, seed: int = 0, duration_s: float | None = None,
         raise BadInput(f"duration_s={duration!r} must be > 0")
     n_frames = max(int(round(duration * frame_rate_hz)), 1)
     with vehicle_class_state_restored():
-        if case.traffic is None:
+        if case.motion is not None:
+            road, ego, ids, rails, _env = _recorded(case, 1.0 / sim_rate)
+        elif case.traffic is None:
             road, ego, ids, rails, _env = _scripted(case)
         else:
             road, ego, ids, rails, _env = _random_traffic(case, seed, frame_rate_hz, substeps)
@@ -399,8 +415,9 @@ def run_scenario(name_or_case, seed: int = 0, duration_s: float | None = None,
                     ids[key] = RANDOM_ID_BASE + len(ids)
                 cls = getattr(v, "ACTOR_CLASS", "car")
                 vel = v.velocity
-                actor_rows.append((frame, ids[key], cls, v.LENGTH, v.WIDTH,
-                                   ACTOR_CLASSES[cls].height_m, v.position[0], v.position[1],
+                height = getattr(v, "HEIGHT", ACTOR_CLASSES[cls].height_m)
+                actor_rows.append((frame, ids[key], cls, v.LENGTH, v.WIDTH, height,
+                                   v.position[0], v.position[1],
                                    v.heading, vel[0], vel[1]))
             if frame < n_frames - 1:
                 for sub in range(substeps):
