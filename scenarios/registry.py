@@ -11,7 +11,7 @@ from pathlib import Path
 from core.registry import Registry
 
 from .catalog import Case
-from .files import load_case_directory
+from .files import is_case_path, load_case_directory, load_case_file
 
 __all__ = ["CASES_DIR", "SCENARIOS", "get_case"]
 
@@ -25,7 +25,8 @@ SCENARIOS.register_all(load_case_directory(CASES_DIR).values())
 
 
 def get_case(name_or_case) -> Case:
-    """The `Case` itself, or the catalogue entry of that name.
+    """The `Case` itself, the catalogue entry of that name, or the case of a file (a path
+    ending in .toml or .xosc, or holding a folder: `scenarios.files.load_case_file`).
 
     Raises
     ------
@@ -44,4 +45,6 @@ def get_case(name_or_case) -> Case:
     """
     if isinstance(name_or_case, Case):
         return name_or_case
+    if isinstance(name_or_case, (str, Path)) and is_case_path(str(name_or_case)):
+        return load_case_file(name_or_case)
     return SCENARIOS.lookup(name_or_case)

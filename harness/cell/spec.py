@@ -119,7 +119,8 @@ class CellSpec:
     Parameters
     ----------
     scenario : str
-        Catalogue name (``scenarios.SCENARIOS``).
+        Catalogue name (``scenarios.SCENARIOS``) or the absolute path of a case file (.toml,
+        .xosc).
     seed : int
         Scenario and noise seed (>= 0).
     variant : str
@@ -202,5 +203,7 @@ class CellSpec:
             del d["association"]
         blob = json.dumps(d, sort_keys=True, default=str)
         h = hashlib.sha1(blob.encode()).hexdigest()[:8]
-        safe = re.sub(r"[^A-Za-z0-9_.=-]+", "-", f"{self.scenario}__{self.variant}")
+        # a case file is named by its stem here (the hash holds its whole path)
+        label = self.scenario.rsplit("/", 1)[-1] if "/" in self.scenario else self.scenario
+        safe = re.sub(r"[^A-Za-z0-9_.=-]+", "-", f"{label}__{self.variant}")
         return f"{safe}__s{self.seed}__{h}"

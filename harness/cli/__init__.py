@@ -34,6 +34,7 @@ COMMANDS: dict[str, tuple[str, str]] = {
     "simulate": ("harness.cli.cmd_ti", "write a scenario's ADC frames as a DCA1000 capture"),
     "rcs": ("harness.cli.cmd_rcs", "a class's RCS aspect pattern against published values"),
     "calibrate": ("harness.cli.cmd_calibrate", "measure range bias and channel phases on a capture"),
+    "export": ("harness.cli.cmd_export", "write a case as OpenSCENARIO (.xosc + .xodr)"),
     "shifter": ("harness.cli.cmd_shifter", "seed 000 figs 7-8: shifter spurs before/after "
                 "calibration"),
 }

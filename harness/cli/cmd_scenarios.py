@@ -2,12 +2,11 @@
 
 `show` writes `<CASE>.png` (bird's-eye view with the actors' tracks and the radar FOV) and
 `<CASE>.gif` (animation) into the current directory or `--out DIR`. CASE is a catalogue name or
-the path of a TOML scenario file.
+the path of a case file (a TOML case, or an OpenSCENARIO .xosc).
 """
 from __future__ import annotations
 
 import argparse
-import os
 from pathlib import Path
 
 from core.errors import BadInput
@@ -32,22 +31,21 @@ def run_scenarios(args: argparse.Namespace) -> int:
 
 
 def add_arguments_show(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("case", help="catalogue case name or TOML scenario file")
+    parser.add_argument("case", help="catalogue case name or case file (.toml, .xosc)")
     parser.add_argument("--out", default=".", help="output directory (default: current)")
     parser.add_argument("--seed", type=SEED, default=0)
 
 
-def _resolve(case: str):
-    from metrics.registry import check_criterion
-    from scenarios import get_case, load_scenario_file
+def resolve_case(case: str):
+    """The case a command line names: a catalogue name or a case file (.toml, .xosc), its
+    criteria checked against the metrics (a broken file is named, not taken for a case)."""
+    from scenarios import get_case
+    from scenarios.files import is_case_path
 
-    if case.endswith(".toml") or os.sep in case:  # a file (a broken one is named, not a case)
-        c = load_scenario_file(case)
-        for i, crit in enumerate(c.criteria):  # the metrics downstream define the names
-            try:
-                check_criterion(crit.metric, crit.actor_id)
-            except BadInput as exc:
-                raise BadInput(f"{case}: criteria[{i}].metric: {exc}") from None
+    from harness.sweep.file import check_case_criteria
+    if is_case_path(case):
+        c = get_case(case)
+        check_case_criteria(case, c)
         return c
     return get_case(case)  # ValueError naming the known cases
 
@@ -59,7 +57,7 @@ def run_show(args: argparse.Namespace) -> int:
     if Path(args.out).exists() and not Path(args.out).is_dir():
         raise BadInput(f"--out {args.out!r} is a file; give a folder for the PNG and GIF")
     check_output_dir(args.out, "--out")  # before the scenario runs
-    run = run_scenario(_resolve(args.case), seed=args.seed)
+    run = run_scenario(resolve_case(args.case), seed=args.seed)
     png, gif = write_views(run, args.out)
     print(f"wrote {png}")
     print(f"wrote {gif}")

@@ -1,6 +1,6 @@
 """`radar-harness run CASE` and `radar-harness sweep [SWEEP.toml]`.
 
-``run`` evaluates one catalogue case with the given schemes (``--schemes``: names of
+``run`` evaluates one case (a catalogue name or a case file: .toml, .xosc) with the given schemes (``--schemes``: names of
 ``radarsim.MIMO_SCHEMES`` or chain variants such as ``tdma_raw``; default DDMA, TDMA and
 TDMA-without-disambiguation) and prints the summary table (``--out DIR`` also writes its
 tables). ``sweep`` runs a suite (default: the
@@ -47,7 +47,8 @@ def format_summary(summary: pd.DataFrame, columns=None) -> str:
 
 
 def add_arguments_run(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("case", help="catalogue case name (see `radar-harness scenarios`)")
+    parser.add_argument("case", help="catalogue case name (see `radar-harness scenarios`) or "
+                        "case file (.toml, .xosc)")
     parser.add_argument("--seed", type=SEED, default=0)
     parser.add_argument("--duration-s", type=DURATION_S, default=None,
                         help="shorten the case (default: its own duration; at most 120 s)")
@@ -90,12 +91,14 @@ def _scheme_kwargs(args: argparse.Namespace) -> dict:
 def run_run(args: argparse.Namespace) -> int:
     from harness.cell.run import run_cell
     from harness.cell.spec import CellSpec
+    from harness.cli.cmd_scenarios import resolve_case
     from harness.sweep.assemble import write_atomic
     from harness.sweep.schedule import prepare_out
     from harness.sweep.spec import resolve_scenarios
-    resolve_scenarios([args.case])
+    ref = resolve_scenarios([args.case])[0]  # a case file: its absolute path, loaded
+    resolve_case(ref)  # and its criteria checked, before any work
     out = prepare_out(args.out) if args.out else None  # fail before the (long) run
-    spec = CellSpec(scenario=args.case, seed=args.seed, duration_s=args.duration_s,
+    spec = CellSpec(scenario=ref, seed=args.seed, duration_s=args.duration_s,
                     frame_stride=args.frame_stride, **_scheme_kwargs(args))
     res = run_cell(spec)
     print(format_summary(res.tables["summary"]))
@@ -134,7 +137,8 @@ def add_arguments_sweep(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--seeds", type=SEED, nargs="+", default=None,
                         help="seeds (override the sweep file)")
     parser.add_argument("--scenarios", nargs="+", default=None,
-                        help="only these cases (override the sweep file)")
+                        help="only these cases: names or case files (override the sweep "
+                             "file)")
     parser.add_argument("--progress", action=argparse.BooleanOptionalAction, default=None,
                         help="progress bar (default: only on a terminal)")
     _add_scheme_arguments(parser)

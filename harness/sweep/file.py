@@ -40,6 +40,7 @@ from harness.sweep.spec import (
 )
 from metrics.association import AssociationConfig
 from metrics.registry import check_criterion
+from scenarios.files import is_case_path
 
 __all__ = ["load_sweep", "default_sweep", "validate_cells"]
 
@@ -96,6 +97,22 @@ def _culprit(v: Variant, build) -> str:
     return ""
 
 
+def check_case_criteria(name: str, case, where: str = "") -> None:
+    """Every criterion of `case` names a metric that can be a criterion (the metrics
+    downstream define them).
+
+    Raises
+    ------
+    core.errors.BadInput
+        ``{where}case {name!r} criteria[i]: ...`` naming the metric and the known ones.
+    """
+    for i, c in enumerate(getattr(case, "criteria", ()) or ()):
+        try:
+            check_criterion(c.metric, c.actor_id)
+        except BadInput as exc:
+            raise BadInput(f"{where}case {name!r} criteria[{i}]: {exc}") from None
+
+
 def validate_cells(spec: SweepSpec, source: str | Path | None = None) -> None:
     """Build every variant's configs (both radar presets, the processing configs of every
     scheme, the tracker config) and check every case's criteria against `metrics.METRICS`
@@ -114,12 +131,9 @@ def validate_cells(spec: SweepSpec, source: str | Path | None = None) -> None:
     comps = default_components()
     where = f"{source}: " if source is not None else ""
     for name in spec.scenarios:
-        case = scenarios.SCENARIOS.get(name)
-        for i, c in enumerate(getattr(case, "criteria", ()) or ()):
-            try:
-                check_criterion(c.metric, c.actor_id)
-            except BadInput as exc:
-                raise BadInput(f"{where}case {name!r} criteria[{i}]: {exc}") from None
+        case = scenarios.get_case(name) if is_case_path(name) else \
+            scenarios.SCENARIOS.get(name)
+        check_case_criteria(name, case, where)
 
     def check(cell: CellSpec) -> None:
         radar, procs = build_configs(cell, comps)
@@ -246,7 +260,7 @@ def load_sweep(path: str | Path | None = None, *, check_scenarios: bool = True) 
     try:
         spec = SweepSpec(name=data.get("name", p.stem),
                          scenarios=tuple(resolve_scenarios(data.get("scenarios", "all"),
-                                                            check_scenarios)),
+                                                            check_scenarios, p.parent)),
                          seeds=tuple(seeds) if isinstance(seeds, list) else (seeds,),
                          variants=tuple(variants), frame_stride=data.get("frame_stride", 1),
                          duration_s=data.get("duration_s"),

@@ -36,6 +36,7 @@ from core.errors import BadInput
 from harness.cell.spec import DEFAULT_BASELINE_SCHEME, DEFAULT_SCHEMES, CellSpec, result_schemes
 from harness.cli.args import MAX_DURATION_S, MAX_SEED
 from metrics.association import AssociationConfig
+from scenarios.files import is_case_path
 
 __all__ = ["Variant", "SweepSpec", "resolve_scenarios", "SECTIONS", "DEFAULT_SWEEP_PATH",
            "CI_SWEEP_PATH", "SCHEMES_SWEEP_PATH", "MAX_DURATION_S", "MAX_CELLS",
@@ -180,16 +181,38 @@ def _catalogue() -> list[str]:
     return list(scenarios.SCENARIOS)
 
 
-def resolve_scenarios(value, check: bool = True) -> list[str]:
+def resolve_scenarios(value, check: bool = True, base_dir: str | Path | None = None
+                      ) -> list[str]:
+    """Case references of a sweep: ``"all"`` (the catalogue) or a list of catalogue names and
+    case files (.toml / .xosc; relative paths are relative to `base_dir`, default the current
+    folder, and become absolute). With `check`, every name must be in the catalogue and every
+    file must load (`scenarios.get_case`), before any work starts.
+
+    Raises
+    ------
+    ValueError
+        Naming the unknown cases (with the known ones), or the file and its error.
+    """
     if value == "all" or value == ["all"]:
         return _catalogue()
     if isinstance(value, str):
         value = [value]
     if not isinstance(value, list) or not all(isinstance(v, str) for v in value):
-        raise BadInput(f"scenarios={value!r} must be \"all\" or a list of case names")
+        raise BadInput(f"scenarios={value!r} must be \"all\" or a list of case names or "
+                         "case files")
+    import scenarios
+    base = Path(base_dir) if base_dir is not None else Path.cwd()
+    out = [str((base / v).resolve()) if is_case_path(v) else v for v in value]
     if check:
         known = set(_catalogue())
-        bad = [v for v in value if v not in known]
+        bad = [v for v in out if not is_case_path(v) and v not in known]
         if bad:
-            raise BadInput(f"scenarios: unknown case(s) {bad}; known: {sorted(known)}")
-    return value
+            raise BadInput(f"scenarios: unknown case(s) {bad}; known: {sorted(known)} "
+                             "(or a case file: .toml, .xosc)")
+        for v in out:
+            if is_case_path(v):
+                try:
+                    scenarios.get_case(v)
+                except (BadInput, OSError) as exc:
+                    raise BadInput(f"scenarios: case file {v}: {exc}") from None
+    return out

@@ -27,7 +27,7 @@ from ..catalog import ACTOR_CLASSES, Case
 from core.fileio import check_output_dir
 from ..motion import VELOCITY_PROBE_S
 from ..traffic import RAIL_ID_BASE, ScenarioRun, run_scenario
-from .road import case_road, write_xodr
+from .opendrive import case_road, write_xodr
 
 __all__ = ["OSC_MINOR_VERSION", "EGO_NAME", "CATEGORIES", "HARNESS_PARAMETERS", "export_case",
            "export_run", "world_states", "entity_name"]

@@ -26,7 +26,7 @@ from lxml import etree
 
 from ..catalog import ACTOR_CLASSES, MOUNTS, ActorSpec, Case, Criterion, Mount
 from ..equipment import RadarSpec
-from ..fileio import read_input_bytes
+from core.fileio import read_input_bytes
 from ..motion import EntityMotion, Motion
 from . import player
 from .road import OdrRoad, read_xodr
