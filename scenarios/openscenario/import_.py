@@ -367,7 +367,10 @@ def _entity_condition(doc: _Doc, by, roads, names: set[str]):
     for w in who:
         if w not in names:
             raise doc.refuse(trig, f"entityRef={w} is not an entity")
-    cond = doc.one(doc.one(by, {"EntityCondition"}, "element"),
+    doc.children(by, {"TriggeringEntities", "EntityCondition"}, "element")
+    if by.find("EntityCondition") is None:
+        raise doc.refuse(by, "a ByEntityCondition needs an EntityCondition")
+    cond = doc.one(by.find("EntityCondition"),
                    {"ReachPositionCondition", "RelativeDistanceCondition"}, "condition")
     combine = any if rule == "any" else all
     if cond.tag == "ReachPositionCondition":
