@@ -346,7 +346,11 @@ def _rule(doc: _Doc, elem) -> str:
 
 
 def _distance(a: player.Mover, b: player.Mover, kind: str, freespace: bool) -> float:
-    dx, dy = b.x_m - a.x_m, b.y_m - a.y_m
+    """Distance of `b` from `a` in `a`'s frame: between reference points, or (freespace)
+    between the bounding boxes (their centres less half their extents)."""
+    (ax, ay), (bx, by) = ((a.box_centre(), b.box_centre()) if freespace else
+                          ((a.x_m, a.y_m), (b.x_m, b.y_m)))
+    dx, dy = bx - ax, by - ay
     c, s = math.cos(a.yaw_rad), math.sin(a.yaw_rad)
     lon, lat = abs(c * dx + s * dy), abs(-s * dx + c * dy)
     if kind == "longitudinal":
@@ -576,7 +580,8 @@ def read_xosc(path: str | Path, *, name: str | None = None, description: str | N
     if ego not in names:
         raise doc.refuse(root.find("Entities"), f"no entity named {ego!r} (the ego); "
                          f"entities: {sorted(names)}")
-    movers = {n: player.Mover(n, size[0], size[1]) for n, _, size, _ in ents}
+    movers = {n: player.Mover(n, size[0], size[1], centre[0], centre[1])
+              for n, _, size, centre in ents}
     board = root.find("Storyboard")
     if board is None or board.find("Init") is None:
         raise doc.refuse(root, "no Storyboard with an Init")

@@ -87,11 +87,15 @@ class Mover:
         Road coordinates when on a road.
     direction : int
         +1 along the road's s, -1 against it.
+    centre_x_m, centre_y_m : float
+        Bounding-box centre from the reference point, vehicle frame, m.
     """
 
     name: str
     length_m: float
     width_m: float
+    centre_x_m: float = 0.0
+    centre_y_m: float = 0.0
     x_m: float = 0.0
     y_m: float = 0.0
     yaw_rad: float = 0.0
@@ -110,6 +114,12 @@ class Mover:
         self.road, self.s_m, self.t_m, self.direction = road, s, t, direction
         self.x_m, self.y_m, h = road.point(s, t)
         self.yaw_rad = h + (math.pi if direction < 0 else 0.0)
+
+    def box_centre(self) -> tuple[float, float]:
+        """World position of the bounding-box centre."""
+        c, s = math.cos(self.yaw_rad), math.sin(self.yaw_rad)
+        return (self.x_m + c * self.centre_x_m - s * self.centre_y_m,
+                self.y_m + s * self.centre_x_m + c * self.centre_y_m)
 
     def lane_t(self) -> float:
         """Centre t of the lane the entity is on (nearest centre)."""
