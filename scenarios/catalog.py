@@ -413,7 +413,7 @@ class Case:
         one_of("case_class", self.case_class, CASE_CLASSES)
         if self.motion is not None and (self.traffic is not None or
                                         len(self.motion.actors) != n):
-            raise ValueError("motion: a recorded case has no random traffic and one actor "
+            raise BadInput("motion: a recorded case has no random traffic and one actor "
                              f"per recorded entity ({len(self.motion.actors)}), got {n}")
         if CASE_CLASSES[self.case_class].needs_approaching_target and (
                 self.traffic is not None or not self.must_detect or

@@ -24,6 +24,8 @@ from highway_env.road.lane import CircularLane, StraightLane
 from highway_env.road.road import Road, RoadNetwork
 from highway_env.vehicle.kinematics import Vehicle
 
+from core.errors import BadInput
+
 __all__ = ["TimedTrajectory", "EntityMotion", "LaneGeometry", "Motion", "TrajectoryVehicle",
            "VELOCITY_PROBE_S", "TIME_TOLERANCE_S"]
 
@@ -59,12 +61,12 @@ class TimedTrajectory:
                   for n in ("time_s", "x_m", "y_m", "yaw_rad")]
         n = arrays[0].size
         if n < 1 or any(a.size != n for a in arrays):
-            raise ValueError(f"trajectory: time_s, x_m, y_m and yaw_rad need the same length "
+            raise BadInput(f"trajectory: time_s, x_m, y_m and yaw_rad need the same length "
                              f">= 1, got {[a.size for a in arrays]}")
         if not all(np.isfinite(a).all() for a in arrays):
-            raise ValueError("trajectory: samples must be finite")
+            raise BadInput("trajectory: samples must be finite")
         if n > 1 and not (np.diff(arrays[0]) > 0).all():
-            raise ValueError("trajectory: time_s must be strictly increasing")
+            raise BadInput("trajectory: time_s must be strictly increasing")
         arrays[3] = np.unwrap(arrays[3])
         for name, a in zip(("time_s", "x_m", "y_m", "yaw_rad"), arrays):
             a.setflags(write=False)
@@ -119,7 +121,7 @@ class EntityMotion:
         for n in ("length_m", "width_m", "height_m"):
             v = getattr(self, n)
             if not (isinstance(v, (int, float)) and np.isfinite(v) and v > 0):
-                raise ValueError(f"entity {self.name!r}: {n}={v!r} must be a finite number > 0")
+                raise BadInput(f"entity {self.name!r}: {n}={v!r} must be a finite number > 0")
 
 
 @dataclass(frozen=True, kw_only=True, slots=True)
@@ -186,7 +188,7 @@ class Motion:
 
     def __post_init__(self) -> None:
         if not self.lanes:
-            raise ValueError("motion: the road has no lane")
+            raise BadInput("motion: the road has no lane")
 
     def network(self) -> RoadNetwork:
         """The road as a highway-env network, one edge per lane."""

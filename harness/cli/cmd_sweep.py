@@ -1,6 +1,7 @@
 """`radar-harness run CASE` and `radar-harness sweep [SWEEP.toml]`.
 
-``run`` evaluates one case (a catalogue name or a case file: .toml, .xosc) with the given schemes (``--schemes``: names of
+``run`` evaluates one case (a catalogue name or a case file: .toml, .xosc) with the given
+schemes (``--schemes``: names of
 ``radarsim.MIMO_SCHEMES`` or chain variants such as ``tdma_raw``; default DDMA, TDMA and
 TDMA-without-disambiguation) and prints the summary table (``--out DIR`` also writes its
 tables). ``sweep`` runs a suite (default: the

@@ -23,8 +23,9 @@ from pathlib import Path
 import numpy as np
 from scenariogeneration import xosc
 
-from ..catalog import ACTOR_CLASSES, Case
 from core.fileio import check_output_dir
+
+from ..catalog import ACTOR_CLASSES, Case
 from ..motion import VELOCITY_PROBE_S
 from ..traffic import RAIL_ID_BASE, ScenarioRun, run_scenario
 from .opendrive import case_road, write_xodr

@@ -24,9 +24,11 @@ from pathlib import Path
 import numpy as np
 from lxml import etree
 
-from ..catalog import ACTOR_CLASSES, MOUNTS, ActorSpec, Case, Criterion, Mount
-from ..equipment import RadarSpec
+from core.errors import BadInput
 from core.fileio import read_input_bytes
+
+from ..catalog import MOUNTS, ActorSpec, Case, Criterion, Mount
+from ..equipment import RadarSpec
 from ..motion import EntityMotion, Motion
 from . import player
 from .road import OdrRoad, read_xodr
@@ -558,7 +560,7 @@ def read_xosc(path: str | Path, *, name: str | None = None, description: str | N
     ------
     scenarios.openscenario.subset.Unsupported
         An element outside the supported subset, or invalid (naming it and its line).
-    ValueError
+    core.errors.BadInput
         A harness field the case refuses (naming it).
     """
     path = Path(path)
@@ -591,7 +593,7 @@ def read_xosc(path: str | Path, *, name: str | None = None, description: str | N
     if duration is None:
         duration = float(_harness(doc, "harness_duration_s", DEFAULT_DURATION_S))
     if not 0 < duration <= 120:
-        raise ValueError(f"{source}: duration_s={duration:g} must be in (0, 120] s")
+        raise BadInput(f"{source}: duration_s={duration:g} must be in (0, 120] s")
     trajectories = player.play(movers, acts, duration)
     motion = _motion(doc, ents, trajectories, ego, roads, _harness(doc, "harness_rails_y_m",
                                                                     []))
@@ -608,8 +610,8 @@ def read_xosc(path: str | Path, *, name: str | None = None, description: str | N
     try:
         specs = {n: ActorSpec(actor_class=cls, path="lane_0", speed_mps=speeds[n])
                  for n, cls, _, _ in ents}
-    except ValueError as exc:
-        raise ValueError(f"{source}: {exc}") from None
+    except BadInput as exc:
+        raise BadInput(f"{source}: {exc}") from None
     return Case(name=name or case_name_of(path),
                 description=description or doc.params.get(
                     "harness_description", f"OpenSCENARIO file {path.name}"),

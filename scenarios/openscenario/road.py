@@ -15,6 +15,7 @@ import numpy as np
 from lxml import etree
 
 from core.fileio import read_input_bytes
+
 from ..motion import LaneGeometry
 from .subset import refuse
 

@@ -8,6 +8,8 @@ Performance, Axles, road marks, links, objects) are read past.
 """
 from __future__ import annotations
 
+from core.errors import BadInput
+
 __all__ = ["SUPPORTED", "Unsupported", "refuse", "subset_table_markdown", "line_of"]
 
 #: (element family, what is played) rows of the supported subset.
@@ -36,7 +38,7 @@ SUPPORTED: tuple[tuple[str, str], ...] = (
 )
 
 
-class Unsupported(ValueError):
+class Unsupported(BadInput):
     """An element of an OpenSCENARIO / OpenDRIVE file outside `SUPPORTED` (or invalid).
 
     The message names the file, the line, the element and what is supported instead.

@@ -181,7 +181,8 @@ def _routing_instead_of_lane_change(text: str, routing: str) -> str:
 
 
 def test_untimed_polyline_is_refused(scene_dir):
-    text = _routing_instead_of_lane_change(scene_dir.text, "<RoutingAction><FollowTrajectoryAction><TrajectoryRef>"
+    text = _routing_instead_of_lane_change(
+        scene_dir.text, "<RoutingAction><FollowTrajectoryAction><TrajectoryRef>"
         "<Trajectory name=\"t\" closed=\"false\"><Shape><Polyline>"
         "<Vertex><Position><WorldPosition x=\"0\" y=\"0\"/></Position></Vertex>"
         "<Vertex><Position><WorldPosition x=\"9\" y=\"0\"/></Position></Vertex>"
