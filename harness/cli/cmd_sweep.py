@@ -22,6 +22,7 @@ from pathlib import Path
 import pandas as pd
 
 from core.errors import BadInput
+from core.fileio import check_output_dir
 from harness.cli.args import DURATION_S, FRAME_STRIDE, SEED, TIMEOUT_S, WORKERS
 from harness.sweep.store import failed_rows
 
@@ -142,6 +143,9 @@ def add_arguments_sweep(parser: argparse.ArgumentParser) -> None:
                              "file)")
     parser.add_argument("--progress", action=argparse.BooleanOptionalAction, default=None,
                         help="progress bar (default: only on a terminal)")
+    parser.add_argument("--export-xosc", default=None, metavar="DIR",
+                        help="also write every case the sweep ran (its duration, each seed) "
+                             "as OpenSCENARIO .xosc + .xodr into DIR")
     _add_scheme_arguments(parser)
 
 
@@ -153,6 +157,20 @@ def _print_profile_notes(spec) -> None:
     for path in paths:
         for note in sweep_profile_notes(load_profile(Path(path))):
             print(f"note: radar.profile={path}: {note}", file=sys.stderr)
+
+
+def _export_cases(spec, folder: str) -> None:
+    """Write every case of a sweep as OpenSCENARIO (one file per case and seed; the seed is in
+    the name when the sweep has several)."""
+    from scenarios import get_case, run_scenario
+    from scenarios.openscenario.export import export_run
+    for ref in spec.scenarios:
+        case = get_case(ref)
+        for seed in spec.seeds:
+            run = run_scenario(case, seed=seed, duration_s=spec.duration_s)
+            name = case.name if len(spec.seeds) == 1 else f"{case.name}_s{seed}"
+            xosc, _ = export_run(run, folder, name)
+            print(f"wrote {xosc}", file=sys.stderr)
 
 
 def run_sweep(args: argparse.Namespace) -> int:
@@ -169,6 +187,8 @@ def run_sweep(args: argparse.Namespace) -> int:
     workers = args.workers if args.workers is not None else (os.cpu_count() or 1)
     security = dask_cluster.dask_security(args.security) if args.security else None
     out = schedule.prepare_out(out)
+    if args.export_xosc is not None:
+        check_output_dir(args.export_xosc, "--export-xosc")  # before the sweep
     _print_profile_notes(spec)
     n = len(spec.cells())
     print(f"sweep {spec.name}: {n} cells ({len(spec.scenarios)} scenarios x "
@@ -180,6 +200,8 @@ def run_sweep(args: argparse.Namespace) -> int:
                                  scheduler_timeout_s=args.scheduler_timeout_s)
     summary = pd.read_parquet(out / "summary.parquet")
     print(format_summary(summary))
+    if args.export_xosc is not None:
+        _export_cases(spec, args.export_xosc)
     print(f"{outcome.n_ok} cells computed, {outcome.n_skipped} resumed, "
           f"{outcome.n_recomputed} recomputed (other code version or damaged), "
           f"{outcome.n_error} failed, {outcome.n_missing} missing -> {out}/")

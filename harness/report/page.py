@@ -330,12 +330,14 @@ def _draw_case(c: _CaseInputs) -> list[str]:
     if len(c.truth):
         parts.append(_img(_birdseye(c.truth, c.det, c.frame, sc)))
     if c.spec is not None:
-        if sc in scenarios.SCENARIOS:
+        # a case file is re-simulated from its path while it is still there
+        if sc in scenarios.SCENARIOS or (scenarios.files.is_case_path(sc) and
+                                         Path(sc).is_file()):
             parts.append(f"<h3>Range-Doppler and Doppler-azimuth maps, frame {c.frame}</h3>"
                          + _img(_maps(c.spec, c.frame, c.det)))
         else:
-            parts.append(f"<p>maps not drawn: {html.escape(sc)} is not a catalogue case, so "
-                         "its frame cannot be re-simulated here.</p>")
+            parts.append(f"<p>maps not drawn: {html.escape(sc)} is neither a catalogue case "
+                         "nor a case file here, so its frame cannot be re-simulated.</p>")
     return parts
 
 
