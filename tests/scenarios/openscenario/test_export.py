@@ -87,3 +87,11 @@ def test_cli_export_out_is_a_file_exits_2(tmp_path, capsys):
     assert main(["export", "zero_relative_follower", "--format", "xosc", "--out",
                  str(f)]) == 2
     assert "exists and is not a folder" in capsys.readouterr().err
+
+
+def test_readme_lists_the_supported_subset():
+    from pathlib import Path
+
+    from scenarios.openscenario.subset import subset_table_markdown
+    readme = (Path(__file__).resolve().parents[3] / "README.md").read_text()
+    assert subset_table_markdown() in readme
