@@ -6,8 +6,9 @@
     for f in run.frames(): ...   # truth rows + radar velocity per frame (for radarsim.rcs)
 
 The catalogue `SCENARIOS` holds the shipped cases, one TOML file each in ``scenarios/cases/``;
-`load_scenario_file` reads a user's case file the same way. This package knows nothing of the
-radar beyond the mount pose (DESIGN 2).
+`load_scenario_file` reads a user's case file the same way, and `load_case_file` also reads an
+OpenSCENARIO file (``scenarios.openscenario``: export and import of OpenSCENARIO 1.x). This
+package knows nothing of the radar beyond the mount pose (DESIGN 2).
 
 Where to add what: a case is a TOML file in ``scenarios/cases/``; a road layout or a random
 traffic environment is an entry of `scenarios.roads.ROAD_LAYOUTS` / `TRAFFIC_ENVS`; a road-user
@@ -16,7 +17,7 @@ class an entry of `scenarios.catalog.ACTOR_CLASSES`.
 from __future__ import annotations
 
 from .catalog import ACTOR_CLASSES, CASE_CLASSES, MOUNTS, ActorSpec, Case, Criterion, Mount
-from .files import load_scenario_file, parse_scenario
+from .files import load_case_file, load_scenario_file, parse_scenario
 from .registry import SCENARIOS, get_case
 from .roads import ROAD_LAYOUTS, TRAFFIC_ENVS
 from .traffic import FrameTruth, ScenarioRun, run_scenario
@@ -24,5 +25,5 @@ from .truth import EGO_COLUMNS, TRUTH_COLUMNS
 
 __all__ = ["ACTOR_CLASSES", "CASE_CLASSES", "EGO_COLUMNS", "MOUNTS", "ROAD_LAYOUTS", "SCENARIOS",
            "TRAFFIC_ENVS", "TRUTH_COLUMNS", "ActorSpec", "Case", "Criterion", "FrameTruth",
-           "Mount", "ScenarioRun", "get_case", "load_scenario_file", "parse_scenario",
-           "run_scenario"]
+           "Mount", "ScenarioRun", "get_case", "load_case_file", "load_scenario_file",
+           "parse_scenario", "run_scenario"]

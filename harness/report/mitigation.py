@@ -39,7 +39,8 @@ def _methods(results: Path) -> dict[str, str]:
 
 
 def _targets(scenario: str) -> list[int] | None:
-    case = scenarios.SCENARIOS.get(scenario)
+    is_file = scenarios.files.is_case_path(scenario) and Path(scenario).is_file()
+    case = scenarios.get_case(scenario) if is_file else scenarios.SCENARIOS.get(scenario)
     must = list(getattr(case, "must_detect", ()) or ())
     return must or None
 
