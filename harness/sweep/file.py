@@ -104,13 +104,13 @@ def check_case_criteria(name: str, case, where: str = "") -> None:
     Raises
     ------
     core.errors.BadInput
-        ``{where}case {name!r} criteria[i]: ...`` naming the metric and the known ones.
+        ``{where}case {name}: criteria[i].metric: ...`` naming the metric and the known ones.
     """
     for i, c in enumerate(getattr(case, "criteria", ()) or ()):
         try:
             check_criterion(c.metric, c.actor_id)
         except BadInput as exc:
-            raise BadInput(f"{where}case {name!r} criteria[{i}]: {exc}") from None
+            raise BadInput(f"{where}case {name}: criteria[{i}].metric: {exc}") from None
 
 
 def validate_cells(spec: SweepSpec, source: str | Path | None = None) -> None:

@@ -73,7 +73,8 @@ def test_sweep_bad_case_entry_is_refused_before_work(case_files, entry, match):
 def test_sweep_case_file_with_a_bad_criterion_is_refused(case_files):
     toml = case_files / "cases" / "elk_bike.toml"
     toml.write_text(toml.read_text().replace("detection_probability", "not_a_metric"))
-    with pytest.raises(BadInput, match=r"case '.*elk_bike.toml' criteria\[0\]: .*not_a_metric"):
+    with pytest.raises(BadInput,
+                       match=r"case .*elk_bike.toml: criteria\[0\]\.metric: .*not_a_metric"):
         from harness.sweepfile import validate_cells
         validate_cells(load_sweep(case_files / "sweep.toml"))
 
