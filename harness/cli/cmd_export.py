@@ -26,9 +26,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     from core.fileio import check_output_dir
-    from scenarios.openscenario.export import export_case
-
     from harness.cli.cmd_scenarios import resolve_case
+    from scenarios.openscenario.export import export_case
     case = resolve_case(args.case)
     check_output_dir(args.out, "--out")  # before the case runs
     xosc_path, xodr_path = export_case(case, args.out, seed=args.seed)

@@ -39,10 +39,9 @@ def add_arguments_show(parser: argparse.ArgumentParser) -> None:
 def resolve_case(case: str):
     """The case a command line names: a catalogue name or a case file (.toml, .xosc), its
     criteria checked against the metrics (a broken file is named, not taken for a case)."""
+    from harness.sweep.file import check_case_criteria
     from scenarios import get_case
     from scenarios.files import is_case_path
-
-    from harness.sweep.file import check_case_criteria
     if is_case_path(case):
         c = get_case(case)
         check_case_criteria(case, c)

@@ -12,7 +12,7 @@ import pytest
 
 from core.errors import BadInput
 from harness.cli import main
-from harness.sweepfile import load_sweep
+from harness.sweep.file import load_sweep, validate_cells
 from tests.scenarios.openscenario.conftest import ALKS, ELK, ROAD
 
 CRITERION = """
@@ -75,7 +75,6 @@ def test_sweep_case_file_with_a_bad_criterion_is_refused(case_files):
     toml.write_text(toml.read_text().replace("detection_probability", "not_a_metric"))
     with pytest.raises(BadInput,
                        match=r"case .*elk_bike.toml: criteria\[0\]\.metric: .*not_a_metric"):
-        from harness.sweepfile import validate_cells
         validate_cells(load_sweep(case_files / "sweep.toml"))
 
 
@@ -141,8 +140,8 @@ def test_hand_written_files_run_through_a_sweep_with_criteria(case_files, capsys
 
 def test_exported_case_gives_the_catalogue_summary(tmp_path):
     """Round trip at the harness level: same truth, same seed -> the same summary."""
-    from harness.cell import run_cell
-    from harness.cellspec import CellSpec
+    from harness.cell.run import run_cell
+    from harness.cell.spec import CellSpec
     from scenarios.openscenario.export import export_case
     xosc, _ = export_case("r79_motorcycle_rear", tmp_path)
     kw = dict(seed=0, duration_s=0.3, schemes=("ddma",))
