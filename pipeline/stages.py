@@ -67,7 +67,8 @@ def point_cloud(cfg: RadarConfig, proc: ProcessingConfig, range_pos: np.ndarray,
                 velocity: np.ndarray, az: np.ndarray, el: np.ndarray, snr_db: np.ndarray,
                 bins: dict[str, np.ndarray]) -> pd.DataFrame:
     """Point cloud of n detections (`POINT_CLOUD_COLUMNS`, ``saturated`` False), sorted by
-    (range, Doppler, azimuth) bin.
+    (range, Doppler, azimuth) bin. range_m is the interpolated range less the profile's range
+    bias, clamped at 0 m as TI's SDK does (a detection at 0 m has x = y = z = 0).
 
     range_pos : (n,) fractional range bin; velocity (m/s), az, el (rad), snr_db : (n,);
     bins : "range_bin", "doppler_bin", "azimuth_bin" -> (n,) int."""
@@ -75,8 +76,11 @@ def point_cloud(cfg: RadarConfig, proc: ProcessingConfig, range_pos: np.ndarray,
     if proc.correct_range_doppler_coupling:
         # f_beat = 2 S R / c + f_D with f_D = -2 v / lambda: undo the Doppler shift.
         rng_m = rng_m + velocity * C_MPS / (cfg.slope_hz_per_s * cfg.wavelength_m)
-    # compRangeBiasAndRxChanPhase rangeBias (`pipeline.compensation`): an exact shift.
-    rng_m = rng_m - proc.range_bias_m
+    # compRangeBiasAndRxChanPhase rangeBias (`pipeline.compensation`): an exact shift. A
+    # return nearer than the bias (Tx-to-Rx leakage in range bin 0-1 once a positive bias is
+    # applied) would land at a negative range: the SDK's AoA DPU clamps it to 0 (``if (range
+    # < 0) range = 0``, DSP and HWA paths alike) and keeps the detection, so does the chain.
+    rng_m = np.maximum(rng_m - proc.range_bias_m, 0.0)
     order = np.lexsort((bins["azimuth_bin"], bins["doppler_bin"], bins["range_bin"]))
     rng_m, velocity, az, el, snr_db = (x[order] for x in (rng_m, velocity, az, el, snr_db))
     bins = {k: v[order] for k, v in bins.items()}

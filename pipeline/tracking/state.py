@@ -45,10 +45,13 @@ class Points(NamedTuple):
     def from_frame(cls, points: pd.DataFrame) -> "Points":
         """Checked arrays of a point-cloud DataFrame (columns `POINT_COLUMNS`).
 
+        Every row is kept, a range <= 0 included (the SDK reports a return nearer than the
+        profile's range bias at 0 m); `usable` says which rows the tracker can use.
+
         Raises
         ------
-        ValueError
-            Not a DataFrame, a missing column, non-finite values, a range <= 0.
+        core.errors.BadInput
+            Not a DataFrame, a missing column, non-finite values.
         """
         if not isinstance(points, pd.DataFrame):
             raise BadInput(f"points must be a pandas DataFrame, got {type(points).__name__}")
@@ -61,9 +64,17 @@ class Points(NamedTuple):
         for name, arr in zip(POINT_COLUMNS, (r, az, vr, snr)):
             if not np.all(np.isfinite(arr)):
                 raise BadInput(f"points column {name} contains non-finite values")
-        if np.any(r <= 0):
-            raise BadInput("points column range_m must be > 0")
         return cls(r, np.radians(az), vr, snr)
+
+    def usable(self) -> np.ndarray:
+        """(N,) bool: the points with a position, range_m > 0. A point at 0 m (a return
+        nearer than the range bias, clamped as TI's SDK clamps it) has no azimuth to place it
+        by and no group to join: the tracker skips it instead of failing the frame."""
+        return self.range_m > 0
+
+    def select(self, keep: np.ndarray) -> "Points":
+        """The points where `keep` (N,) bool is True."""
+        return Points(*(a[keep] for a in self))
 
 
 def _point_columns(points: pd.DataFrame) -> list[np.ndarray]:

@@ -145,7 +145,8 @@ class GroupTracker:
         points : pandas.DataFrame
             The frame's point cloud in the RADAR frame, columns at least range_m,
             azimuth_deg, radial_velocity_mps (relative to the radar) and snr_db; one row per
-            detection (may be empty).
+            detection (may be empty). A row with range_m <= 0 (the SDK's clamp of a return
+            nearer than the range bias) has no position and is skipped.
         time_s : float
             Frame time, s; must increase from call to call.
         ego_speed_mps : float, optional
@@ -188,8 +189,12 @@ class GroupTracker:
         """One frame: the track table's columns (`_columns`), the track id of every point
         (-1: none) and its static label (`step` skips building the labelled point table)."""
         cfg = self.cfg
-        pts = Points.from_frame(points)
+        every = Points.from_frame(points)
         dt = self._time_step(time_s)
+        # Points without a position (range <= 0: a return nearer than the range bias, which
+        # the SDK reports at 0 m) are skipped: labelled -1 / not static, the rest tracked.
+        usable = every.usable()
+        pts = every if usable.all() else every.select(usable)
 
         static, ego = self.ego_motion(np.degrees(pts.azimuth_rad), pts.radial_velocity_mps,
                                       ego_speed_mps, self._last_ego, self._rng)
@@ -235,6 +240,11 @@ class GroupTracker:
 
         self._tracks = tracks
         self._last_time_s = float(time_s)
+        if pts is not every:
+            assoc_all = np.full(every.size, -1, dtype=np.int64)
+            static_all = np.zeros(every.size, dtype=bool)
+            assoc_all[usable], static_all[usable] = assoc_id, static
+            assoc_id, static = assoc_all, static_all
         return _columns(tracks, n_pts, float(time_s), ego), assoc_id, static
 
     # -- stages ----------------------------------------------------------------------------------

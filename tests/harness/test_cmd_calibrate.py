@@ -138,3 +138,31 @@ def test_ddm_profile_gets_the_antenna_calib_form_and_one_correction(tmp_path, ca
     np.testing.assert_allclose(written.processing["channel_comp"],
                                np.reshape(re_im, (-1, 2)), atol=1e-12)
     assert ident in out.read_text()
+
+
+def test_calibrate_then_process_a_board_with_leakage_and_a_positive_bias(tmp_path, capsys):
+    """The lab loop on a board whose range bias (+0.3735 m) exceeds its Tx-to-Rx leakage path
+    (0.1 m): calibrate measures the bias, and process -- tracker included -- runs with the
+    written line on the same capture: the leakage at 0 m (TI's clamp), the reflector at R."""
+    import pandas as pd
+    from radarsim.ti import parse_ti_cfg
+    cfg = parse_ti_cfg(PROFILE).radar
+    board = imbalanced_board(cfg).replace(range_bias_m=0.3735, tx_leakage_dbfs=-20.0)
+    r = 40 * cfg.range_resolution_m - 0.3735
+    path = tmp_path / "leaky.bin"
+    write_capture(path, reflector_frames(board, r, 0.0, 1e-4, 3, 11), cfg=cfg)
+    prof = tmp_path / "calibrated.cfg"
+    assert main(["calibrate", str(path), "--cfg", str(PROFILE), "--target-range-m", f"{r}",
+                 "--search-window-m", "1.0", "--write", str(prof)]) == 0
+    bias = float(capsys.readouterr().out.split()[1])
+    assert abs(bias - 0.3735) < 2e-3
+    out = tmp_path / "points.csv"
+    assert main(["process", str(path), "--cfg", str(prof), "--out", str(out)]) == 0
+    pc = pd.read_csv(out)
+    assert (pc.range_m >= 0).all() and (pc.range_m == 0).any()
+    # The reflector's cell (the leakage's window sidelobes wrap to the last range bins).
+    cell = pc[np.abs(pc.range_bin - 40) <= 1]
+    best = cell.loc[cell.groupby("frame").snr_db.idxmax()]
+    assert len(best) == 3
+    assert np.all(np.abs(best.range_m - r) < 1e-3)
+    assert (tmp_path / "points_tracks.csv").exists()

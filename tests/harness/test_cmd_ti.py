@@ -343,3 +343,31 @@ def test_process_prints_the_read_but_not_modelled_line(tmp_path, capsys):
     # chip's saturation monitor and a second azimuth peak the TDMA chain does not report.
     assert len(lines) == 1 and "calibDcRangeSig" not in lines[0]
     assert "CQRxSatMonitor" in lines[0] and "multiObjBeamForming enabled" in lines[0]
+
+
+def test_process_a_positive_range_bias_clamps_the_leakage_and_tracks(tmp_path, fake_components,
+                                                                      capsys):
+    """compRangeBiasAndRxChanPhase rangeBias 0.5 m on a board with Tx-to-Rx leakage (a 0.1 m
+    path, `radarsim.frontend.LEAKAGE_PATH_M`): the leakage is reported at 0 m (TI's clamp,
+    x = y = z = 0), not at -0.4 m; every other detection is kept, and the tracker skips the
+    clamped point instead of refusing the run."""
+    from tests.radarsim.profiles import profile_text
+
+    text = profile_text("xwr68_aop").replace("compRangeBiasAndRxChanPhase 0.0 ",
+                                             "compRangeBiasAndRxChanPhase 0.5 ")
+    cfg = tmp_path / "bias.cfg"
+    cfg.write_text("% radarsim: tx_leakage_dbfs = -20\n" + text)
+    cap = tmp_path / "bias.bin"
+    assert main(["simulate", "straight", "--cfg", str(cfg), "--out", str(cap),
+                 "--frames", "3"]) == 0
+    out = tmp_path / "p.csv"
+    assert main(["process", str(cap), "--cfg", str(cfg), "--out", str(out)]) == 0
+    assert "3 frame(s)" in capsys.readouterr().out
+    pc = pd.read_csv(out)
+    assert (pc.range_m >= 0).all()
+    leak = pc[pc.range_bin <= 3]
+    assert len(leak) and (leak.range_m == 0).all()
+    assert (leak[["x_m", "y_m", "z_m"]] == 0).all().all()
+    far = pc[pc.range_bin > 3]
+    assert len(far) and (far.range_m > 0).all()
+    assert (tmp_path / "p_tracks.csv").exists()

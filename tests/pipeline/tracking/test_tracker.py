@@ -354,9 +354,6 @@ def test_step_input_validation(rng):
     with pytest.raises(ValueError, match="non-finite"):
         tracker.step(pd.DataFrame({"range_m": [10.0], "azimuth_deg": [np.nan],
                                    "radial_velocity_mps": [0.0], "snr_db": [20.0]}), 0.0, 0.0)
-    with pytest.raises(ValueError, match="range_m must be > 0"):
-        tracker.step(pd.DataFrame({"range_m": [0.0], "azimuth_deg": [0.0],
-                                   "radial_velocity_mps": [0.0], "snr_db": [20.0]}), 0.0, 0.0)
     tracker.step(synth_points(rng, []), 1.0, 0.0)
     with pytest.raises(ValueError, match="must exceed the previous"):
         tracker.step(synth_points(rng, []), 1.0, 0.0)
@@ -404,3 +401,22 @@ def test_config_defaults_are_ti_counters():
     cfg = TrackerConfig()
     assert (cfg.hits_to_confirm, cfg.misses_to_free_detect, cfg.misses_to_free_active) == (3, 3, 10)
     assert cfg.n_state == 4 and TrackerConfig(motion_model="ca").n_state == 6
+
+
+def test_points_without_a_position_are_skipped_not_refused(rng):
+    """A point at 0 m (TI's clamp of a return nearer than the range bias) or below is skipped:
+    the frame is tracked as without it, the point labelled track_id -1 and not static."""
+    near = pd.DataFrame({"range_m": [0.0, -0.3], "azimuth_deg": [90.0, 0.0],
+                         "radial_velocity_mps": [0.0, 0.0], "snr_db": [96.0, 80.0]})
+    plain, skipping = GroupTracker(tracker_cfg()), GroupTracker(tracker_cfg())
+    for k in range(4):
+        t = 0.05 * k
+        cloud = synth_points(rng, [(20.0 - 5.0 * t, 2.0, -5.0, 0.0, 4.5, 1.8)])
+        with_near = pd.concat([near, cloud], ignore_index=True)
+        want, want_pts = plain.step_with_points(cloud, t, 0.0)
+        got, got_pts = skipping.step_with_points(with_near, t, 0.0)
+        pd.testing.assert_frame_equal(got, want)
+        assert got_pts.track_id.iloc[:2].tolist() == [-1, -1]
+        assert not got_pts.is_static.iloc[:2].any()
+        np.testing.assert_array_equal(got_pts.track_id.iloc[2:], want_pts.track_id)
+    assert (got.state == "ACTIVE").any()
