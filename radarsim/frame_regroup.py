@@ -26,6 +26,8 @@ from core.errors import BadInput
 from core.fileio import check_input_file, read_input_bytes
 
 from .capture import MAX_CAPTURE_BYTES, frame_nbytes
+from .ti.studio import setup_kind
+from .ti.syntax import code_part
 
 __all__ = ["chirps_per_frame", "regroup_profile", "check_regroup", "one_chirp_frames"]
 
@@ -43,7 +45,7 @@ def _frame_cfg(text: str) -> tuple[int, list[str]] | None:
     """(line index, tokens) of the last ``frameCfg`` line, or None."""
     found = None
     for i, line in enumerate(text.splitlines()):
-        tok = line.split("%", 1)[0].split()
+        tok = code_part(line).split()
         if tok[:1] == ["frameCfg"]:
             found = (i, tok)
     return found
@@ -90,6 +92,11 @@ def regroup_profile(path_or_text: str | os.PathLike, n_frames: int):
     if isinstance(n_frames, bool) or not isinstance(n_frames, int) or n_frames < 2:
         raise BadInput(f"--regroup-frames={n_frames!r} must be an integer >= 2")
     text = _text(path_or_text)
+    kind = setup_kind(text)
+    if kind != "cli_profile":
+        raise ValueError(f"--regroup-frames {n_frames}: the profile is an mmWave Studio "
+                         f"{'setup JSON' if kind == 'studio_json' else 'LogFile'}; regrouping "
+                         "reads TI CLI profiles (.cfg)")
     k = chirps_per_frame(text)
     if k != 1:
         raise BadInput(f"--regroup-frames {n_frames}: the profile's frames hold "

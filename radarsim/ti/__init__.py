@@ -108,10 +108,10 @@ from .commands import TI_COMMANDS
 from .profile import DEFAULT_FRAME_PERIOD_S, TiCfar, TiProfile
 from .r79 import R79_CFAR, R79_DEMO_LINES, R79_FIRMWARE_LINES, r79_cfg_path, r79_cfg_text
 from .reader import from_ti_cfg, parse_ti_cfg
-from .studio import parse_setup, parse_studio_json, parse_studio_log
+from .studio import parse_setup, parse_studio_json, parse_studio_log, setup_kind
 from .writer import to_ti_cfg
 
 __all__ = ["TiCfar", "TiProfile", "parse_ti_cfg", "from_ti_cfg", "to_ti_cfg", "r79_cfg_path",
            "r79_cfg_text", "TI_COMMANDS", "CFAR_AVERAGE_MODES", "DEFAULT_FRAME_PERIOD_S",
            "R79_CFAR", "R79_DEMO_LINES", "R79_FIRMWARE_LINES", "PLATFORMS", "parse_setup",
-           "parse_studio_log", "parse_studio_json"]
+           "parse_studio_log", "parse_studio_json", "setup_kind"]

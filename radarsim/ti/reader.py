@@ -24,7 +24,7 @@ from .families import PROCESSING_COMMANDS, family_of
 from .profile import TiProfile
 from .schedule import frame_masks, schedule
 from .state import TI_DEFAULT_OVERRIDES, TI_FIELDS, ParseState
-from .syntax import DIRECTIVE_RE, Line, LineError, as_tuples
+from .syntax import DIRECTIVE_RE, Line, LineError, as_tuples, is_comment
 
 __all__ = ["parse_ti_cfg", "from_ti_cfg", "read_source", "MAX_PROFILE_BYTES"]
 
@@ -105,14 +105,14 @@ def _tokenize(lines: list[str], chip: Chip, n_subframes: int) -> _Tokens:
         text = raw.strip()
         if not text:
             continue
-        if text[0] in "%#":
+        if is_comment(text):
             m = DIRECTIVE_RE.match(text)
             if m:
                 tok.directives.append(Line(no, "% radarsim", (m.group(1), m.group(2))))
             continue
         cmd, *args = text.split()
         # A trailing "% ..." or "# ..." note after the arguments (seen in users' files).
-        cut = next((i for i, a in enumerate(args) if a[:1] in "%#"), len(args))
+        cut = next((i for i, a in enumerate(args) if is_comment(a)), len(args))
         ln = Line(no, cmd, tuple(args[:cut]))
         spec = TI_COMMANDS.get(cmd)
         if spec is None:

@@ -46,9 +46,10 @@ from core.errors import BadInput
 
 from .profile import TiProfile
 from .reader import parse_ti_cfg, read_source
-from .syntax import fmt_decimal
+from .syntax import code_part, fmt_decimal
 
-__all__ = ["parse_studio_log", "parse_studio_json", "parse_setup", "is_studio_log"]
+__all__ = ["parse_studio_log", "parse_studio_json", "parse_setup", "is_studio_log",
+           "setup_kind"]
 
 _API_RE = re.compile(r"API:(\w+),([^\r\n]*)")
 _LINE_RE = re.compile(r"^line (\d+)")
@@ -57,9 +58,31 @@ _LINE_RE = re.compile(r"^line (\d+)")
 _FREQ_STEP = {77: Decimal("3.6e9") / 2 ** 26, 60: Decimal("2.7e9") / 2 ** 26}
 
 
+def setup_kind(text: str) -> str:
+    r"""What a setup text is, decided here only and from what is read, never from comments:
+    ``"studio_json"`` (a JSON object), ``"studio_log"`` (a line that is no comment calls
+    ``API:ProfileConfig``) or ``"cli_profile"`` (a TI CLI .cfg). An SDK profile whose ``%``
+    comments quote the LogFile it was written from stays a CLI profile.
+
+    Examples
+    --------
+    >>> setup_kind("% API:ProfileConfig,0,1435384036 (source)\nsensorStop\n")
+    'cli_profile'
+    >>> setup_kind("10:00:00:003: API:ProfileConfig,0,1435384036,\n")
+    'studio_log'
+    """
+    if text.lstrip().startswith("{"):
+        return "studio_json"
+    for raw in text.splitlines():
+        m = _API_RE.search(code_part(raw))
+        if m and m.group(1) == "ProfileConfig":
+            return "studio_log"
+    return "cli_profile"
+
+
 def is_studio_log(text: str) -> bool:
-    """Whether a text is an mmWave Studio LogFile (it holds ``API:ProfileConfig`` calls)."""
-    return "API:ProfileConfig" in text
+    """Whether a text is an mmWave Studio LogFile (`setup_kind`)."""
+    return setup_kind(text) == "studio_log"
 
 
 def _ints(payload: str) -> list[int]:
@@ -110,7 +133,7 @@ def parse_studio_log(path_or_text: str | os.PathLike) -> TiProfile:
     calls: list[tuple[int, str, list[int]]] = []
     chip = None
     for no, raw in enumerate(text.splitlines(), start=1):
-        m = _API_RE.search(raw)
+        m = _API_RE.search(code_part(raw))  # a commented-out call is not a call
         if not m:
             continue
         name, payload = m.group(1), m.group(2)
@@ -327,8 +350,9 @@ def parse_setup(path_or_text: str | os.PathLike) -> TiProfile:
     ('AWR2243', 64, 60.012)
     """
     text = read_source(path_or_text)
-    if text.lstrip().startswith("{"):
-        return parse_studio_json(text)
-    if is_studio_log(text):
-        return parse_studio_log(text)
-    return parse_ti_cfg(text)
+    return _SETUP_READERS[setup_kind(text)](text)
+
+
+#: The reader of each `setup_kind`.
+_SETUP_READERS = {"studio_json": parse_studio_json, "studio_log": parse_studio_log,
+                  "cli_profile": parse_ti_cfg}

@@ -13,10 +13,29 @@ from typing import Any
 
 from core.errors import BadInput
 
-__all__ = ["Line", "LineError", "fmt_decimal", "channel_bits", "as_tuples", "DIRECTIVE_RE"]
+__all__ = ["Line", "LineError", "fmt_decimal", "channel_bits", "as_tuples", "DIRECTIVE_RE",
+           "COMMENT_START", "is_comment", "code_part"]
 
 #: A ``% radarsim: field = value`` directive comment.
 DIRECTIVE_RE = re.compile(r"^%\s*radarsim\s*:\s*(\w+)\s*=\s*(.*?)\s*$")
+#: First characters of a comment line, or of a trailing note after a command's arguments, in
+#: a TI CLI profile (TI's own files use ``%``; users' files also ``#``).
+COMMENT_START = "%#"
+
+
+def is_comment(stripped: str) -> bool:
+    """Whether a stripped, non-empty line is a comment (or a ``% radarsim:`` directive)."""
+    return stripped[:1] in COMMENT_START
+
+
+def code_part(line: str) -> str:
+    """The part of a line that is read: "" for a comment line, else its tokens before the
+    first one that starts a trailing note, joined by single spaces."""
+    tokens = line.split()
+    if not tokens or is_comment(tokens[0]):
+        return ""
+    cut = next((i for i, t in enumerate(tokens) if t[:1] in COMMENT_START), len(tokens))
+    return " ".join(tokens[:cut])
 
 
 def fmt_decimal(value: float | int | Decimal, exponent: int = 0) -> str:

@@ -371,3 +371,19 @@ def test_process_a_positive_range_bias_clamps_the_leakage_and_tracks(tmp_path, f
     far = pc[pc.range_bin > 3]
     assert len(far) and (far.range_m > 0).all()
     assert (tmp_path / "p_tracks.csv").exists()
+
+
+def test_simulate_and_process_a_profile_quoting_logfile_lines(tmp_path, fake_components):
+    """An SDK profile whose `%` comments document the LogFile it came from is read as the
+    .cfg it is by simulate and process alike (it used to be taken for a LogFile and refused)."""
+    from tests.radarsim.profiles import profile_text
+
+    cfg = tmp_path / "quoted.cfg"
+    cfg.write_text("% API:ChannelConfig,3,15,0 -> Tx mask 3\n"
+                   "% API:ProfileConfig,0,1435384036,700,600,5800,0,0,1243,0,256,10000,\n"
+                   + profile_text("xwr68_aop"))
+    cap = tmp_path / "q.bin"
+    assert main(["simulate", "straight", "--cfg", str(cfg), "--out", str(cap),
+                 "--frames", "2"]) == 0
+    assert main(["process", str(cap), "--cfg", str(cfg), "--out", str(tmp_path / "p.csv"),
+                 "--no-track"]) == 0

@@ -102,3 +102,16 @@ def test_count_that_does_not_divide_exits_2(vital, tmp_path, capsys):
            if not ln.startswith("note:")]
     assert err == ["radar-harness process: error: --regroup-frames 50 does not divide the "
                    "capture's 192 frames (3 x 50 + 42)"]
+
+
+def test_regrouping_reads_a_commented_profile_as_a_cfg_and_refuses_a_logfile():
+    """The kind decision is `radarsim.ti.setup_kind`'s, here as in `parse_setup`: LogFile lines
+    quoted in comments change nothing; a LogFile is refused by name."""
+    from tests.radarsim.profiles import PROFILE_DIR
+    quoted = "% API:ChannelConfig,3,15,0 -> Tx mask 3\n% frameCfg 0 0 64 0 50 1 0\n" + ONE_CHIRP
+    got, want = regroup_profile(quoted, 8), regroup_profile(ONE_CHIRP, 8)
+    assert (got.radar, got.frame_period_s) == (want.radar, want.frame_period_s)
+    log = (PROFILE_DIR / "awr2243_studio_LogFile.txt").read_text()
+    with pytest.raises(ValueError, match="--regroup-frames 8: the profile is an mmWave Studio "
+                                         "LogFile; regrouping reads TI CLI profiles"):
+        regroup_profile(log, 8)

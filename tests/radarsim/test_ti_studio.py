@@ -115,3 +115,32 @@ def test_setup_json_advanced_frame_gives_one_profile_per_subframe(tmp_path):
     s0, s1 = prof.subframes
     assert (s0.radar.n_tx, s0.radar.n_chirps, s1.radar.n_tx, s1.radar.n_chirps) == (2, 128, 1, 32)
     assert s1.radar.tx_channels == (2,) and s1.subframe_start_s == pytest.approx(0.025)
+
+
+#: `%` comments quoting the mmWave Studio LogFile a CLI profile was written from.
+QUOTED_LOG = ("% Written from the lab's mmWave Studio session:\n"
+              "% API:ChannelConfig,3,15,0 -> Tx mask 3\n"
+              "% 10:00:00:003: API:ProfileConfig,0,1435384036,700,600,5800 (start 77 GHz)\n")
+
+
+def test_a_cfg_quoting_logfile_lines_in_comments_is_a_cfg():
+    """A file's kind comes from the lines that are read: comment lines quoting LogFile calls
+    leave an SDK profile an SDK profile, read exactly as without them."""
+    from radarsim.ti import parse_ti_cfg, setup_kind
+    from tests.radarsim.profiles import profile_text
+    plain = profile_text("xwr68_aop")
+    quoted = QUOTED_LOG + plain + "sensorStart % API:ProfileConfig,0,1 trailing note\n"
+    assert setup_kind(quoted) == "cli_profile"
+    assert parse_setup(quoted).radar == parse_ti_cfg(plain).radar
+
+
+def test_a_commented_call_in_a_logfile_is_not_read():
+    """The LogFile stays a LogFile, and a commented-out call is not a call: the commented
+    ChannelConfig (1 Tx) after the real one does not become the last configuration."""
+    from radarsim.ti import setup_kind
+    text = LOG.read_text()
+    commented = text + "% 10:09:00:000: API:ChannelConfig,3,1,0,0,\n"
+    assert setup_kind(commented) == "studio_log"
+    assert parse_setup(commented).radar == parse_setup(LOG).radar
+    only_comments = "".join(f"% {ln}\n" for ln in text.splitlines())
+    assert setup_kind(only_comments) == "cli_profile"
