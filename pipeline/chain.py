@@ -102,7 +102,7 @@ def process_frame(cfg: RadarConfig, adc: np.ndarray,
     chain, proc, report = _inputs(cfg, adc, proc)
     points = saturation.apply_policy(chain.process(cfg, adc, proc), report,
                                      proc.saturation_policy, owned=True)
-    return apply_fov(points, proc)
+    return apply_fov(points, proc, chain.fov_fields)
 
 
 def detection_map(cfg: RadarConfig, adc: np.ndarray,

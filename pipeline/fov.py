@@ -2,6 +2,12 @@
 velocity, m/s) and ``aoaFovCfg`` (azimuth, elevation, deg) drop detections outside the given
 intervals after detection and angle estimation (mmWave SDK 3.x user guide, sec. "Configuration
 (.cfg) File Format"). All four limits are `ProcessingConfig` fields; None keeps everything.
+
+The SDK's CFAR DPU applies the Doppler limits to the detection's Doppler index, i.e. to the
+aliased velocity, before the AoA DPU extends it beyond +/-Vmax (``extendedMaxVelocity``): a
+chain with velocity extension applies `velocity_fov_mps` itself, in its CFAR step
+(`in_interval`), and leaves it out of the fields it has `apply_fov` apply
+(`pipeline.mimo.MimoChain.fov_fields`).
 """
 from __future__ import annotations
 
@@ -12,7 +18,7 @@ import pandas as pd
 
 from core.errors import BadInput
 
-__all__ = ["FOV_FIELDS", "check_interval", "apply_fov"]
+__all__ = ["FOV_FIELDS", "check_interval", "apply_fov", "in_interval"]
 
 #: ProcessingConfig field -> the point-cloud column it bounds.
 FOV_FIELDS = {"range_fov_m": "range_m", "velocity_fov_mps": "radial_velocity_mps",
@@ -39,8 +45,8 @@ def check_interval(name: str, value) -> tuple[float, float] | None:
     return (lo, hi)
 
 
-def apply_fov(points: pd.DataFrame, proc) -> pd.DataFrame:
-    """The detections of `points` inside every interval `proc` sets (`FOV_FIELDS`).
+def apply_fov(points: pd.DataFrame, proc, fields=tuple(FOV_FIELDS)) -> pd.DataFrame:
+    """The detections of `points` inside every interval `proc` sets among `fields`.
 
     Parameters
     ----------
@@ -48,6 +54,9 @@ def apply_fov(points: pd.DataFrame, proc) -> pd.DataFrame:
         Point cloud with the columns of `FOV_FIELDS` (range_m m, radial_velocity_mps m/s,
         azimuth_deg and elevation_deg deg).
     proc : ProcessingConfig
+    fields : iterable of str
+        The `FOV_FIELDS` to apply (default all; a chain that applies one itself, earlier in
+        its steps, leaves it out: `pipeline.mimo.MimoChain.fov_fields`).
 
     Returns
     -------
@@ -56,7 +65,8 @@ def apply_fov(points: pd.DataFrame, proc) -> pd.DataFrame:
     """
     keep = np.ones(len(points), dtype=bool)
     limited = False
-    for field, column in FOV_FIELDS.items():
+    for field in fields:
+        column = FOV_FIELDS[field]
         bounds = getattr(proc, field)
         if bounds is not None:
             values = points[column].to_numpy()
@@ -67,3 +77,10 @@ def apply_fov(points: pd.DataFrame, proc) -> pd.DataFrame:
     out = points[keep].reset_index(drop=True)
     out.attrs = dict(points.attrs)
     return out
+
+
+def in_interval(values: np.ndarray, bounds: tuple[float, float] | None) -> np.ndarray:
+    """(n,) bool: `values` (n,) inside [lo, hi]; all True when `bounds` is None."""
+    if bounds is None:
+        return np.ones(np.shape(values), dtype=bool)
+    return (values >= bounds[0]) & (values <= bounds[1])

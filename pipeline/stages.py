@@ -281,6 +281,10 @@ class RangeDopplerHits(NamedTuple):
     doppler_offset: np.ndarray
     looks: int
 
+    def select(self, keep: np.ndarray) -> "RangeDopplerHits":
+        """The hits where `keep` (n,) bool is True."""
+        return RangeDopplerHits(*(a[keep] for a in self[:5]), self.looks)
+
 
 def noncoherent_hits(rd: np.ndarray, looks: int, proc: ProcessingConfig) -> RangeDopplerHits:
     """Detect on a non-coherent range-Doppler map: local maximum along Doppler (and range when

@@ -16,6 +16,7 @@ from core.registry import Registry
 from radarsim.config import RadarConfig
 
 from ..config import ProcessingConfig
+from ..fov import FOV_FIELDS
 
 __all__ = ["MimoChain", "DetectionMap", "DopplerAzimuth", "MIMO_CHAINS", "register_chain",
            "chain_of"]
@@ -72,12 +73,17 @@ class MimoChain:
         Whether the chain can report several azimuth peaks of one (range, Doppler) cell
         (`ProcessingConfig.azimuth_sidelobe_db`, TI's ``multiObjBeamForming``); the others
         report the strongest only (TI's "disabled").
+    fov_fields : tuple of str
+        The field-of-view limits (`pipeline.fov.FOV_FIELDS`) `pipeline.process_frame`
+        applies to the chain's point cloud; a chain that applies one itself, where TI's demo
+        does (the velocity limit on the aliased Doppler, before extension), leaves it out.
     """
 
     name: ClassVar[str] = ""
     variants: ClassVar[dict[str, dict[str, Any]]] = {}
     removes_static_clutter: ClassVar[bool] = False
     multi_azimuth_peaks: ClassVar[bool] = False
+    fov_fields: ClassVar[tuple[str, ...]] = tuple(FOV_FIELDS)
 
     def process(self, cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) -> pd.DataFrame:
         """(n_chirps, n_rx, n_samples) int16 (real) or complex64 (I/Q) frame -> point cloud

@@ -36,6 +36,7 @@ from ..cfar import CFAR_MODES, noise_mean_factor
 from ..chirp_level.stage import range_stage, windowed_range_stage
 from ..compensation import compensate
 from ..config import WINDOWS, ProcessingConfig
+from ..fov import FOV_FIELDS, in_interval
 from ..kernels import doppler_fft, layout_of, slow_time_fft, window
 from ..stages import (
     array_dft,
@@ -116,6 +117,8 @@ class SlotChain(MimoChain):
     """
 
     removes_static_clutter = True
+    #: ``cfarFovCfg`` Doppler applies to the aliased velocity, in the CFAR step (`process`).
+    fov_fields = tuple(f for f in FOV_FIELDS if f != "velocity_fov_mps")
 
     def noise_gain_of(self, cfg: RadarConfig) -> float:
         """Noise power of a separated virtual channel over that of one slot channel."""
@@ -138,13 +141,17 @@ class SlotChain(MimoChain):
         rd, virt_all = maps.power, maps.virt
 
         hits = noncoherent_hits(rd, cfg.n_virtual, proc)
+        d_signed = (hits.doppler_bin + hits.doppler_offset + n_dop / 2) % n_dop - n_dop / 2
+        t_slot = n_tx * cfg.chirp_period_s
+        v_est = -d_signed / (n_dop * t_slot) * cfg.wavelength_m / 2
+        # cfarFovCfg Doppler, where TI's CFAR DPU applies it: on the aliased Doppler, before
+        # the hypotheses (a target at 1.6 m/s aliased to -0.5 m/s passes a +/-1 m/s limit).
+        in_fov = in_interval(v_est, proc.velocity_fov_mps)
+        if not in_fov.all():
+            hits, d_signed, v_est = hits.select(in_fov), d_signed[in_fov], v_est[in_fov]
         if hits.range_bin.size == 0:
             return empty_cloud()
         r, d = hits.range_bin, hits.doppler_bin
-        d_frac = d + hits.doppler_offset
-        d_signed = (d_frac + n_dop / 2) % n_dop - n_dop / 2
-        t_slot = n_tx * cfg.chirp_period_s
-        v_est = -d_signed / (n_dop * t_slot) * cfg.wavelength_m / 2
         v_max = cfg.max_unambiguous_velocity_mps
         if self.disambiguate(proc):
             # Hypotheses v_est + 2 k Vmax covering the full +/- lambda / (4 Tc) span (seed 001

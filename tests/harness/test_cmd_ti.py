@@ -387,3 +387,43 @@ def test_simulate_and_process_a_profile_quoting_logfile_lines(tmp_path, fake_com
                  "--frames", "2"]) == 0
     assert main(["process", str(cap), "--cfg", str(cfg), "--out", str(tmp_path / "p.csv"),
                  "--no-track"]) == 0
+
+
+#: Radial velocities of the Doppler field-of-view test, m/s: inside +/-1 m/s, and beyond it
+#: but aliased inside it by Vmax = 1.001 m/s (1.6 -> -0.40, 2.5 -> 0.50 m/s).
+FOV_VELOCITIES = (-2.5, -1.6, -0.5, 0.5, 1.6, 2.5)
+
+
+@pytest.mark.parametrize("extended", [True, False], ids=["extended", "not_extended"])
+def test_doppler_fov_applies_to_the_aliased_doppler_before_extension(tmp_path, make_scene,
+                                                                     extended):
+    """xWR18xx Visualizer profile (Vmax 1.001 m/s, 3 Tx: +/-3.0 m/s extended) with
+    ``cfarFovCfg -1 1 -1 1.00``: TI's CFAR step bounds the aliased Doppler, so with
+    extendedMaxVelocity 1 all six targets are kept and reported at their true velocity (the
+    limit applied to the extended velocity kept 2 of 6); without extension each is reported
+    at its aliased velocity, inside the limit, as before."""
+    from tests.radarsim.profiles import profile_text
+
+    text = profile_text("xwr18_visualizer")
+    if extended:
+        text = text.replace("extendedMaxVelocity -1 0", "extendedMaxVelocity -1 1")
+    cfg_path = tmp_path / "x18.cfg"
+    cfg_path.write_text(text)
+    radar = parse_ti_cfg(text).radar
+    v_max = radar.max_unambiguous_velocity_mps
+    ranges = np.arange(len(FOV_VELOCITIES)) * 1.3 + 2.0
+    scene = make_scene([(r, 20.0 - 8.0 * k, 0.0, v, 1.0)
+                        for k, (r, v) in enumerate(zip(ranges, FOV_VELOCITIES))])
+    rng = np.random.default_rng(5)
+    cap = tmp_path / "fov.bin"
+    write_capture(cap, [radarsim.simulate_frame(radar, scene, rng) for _ in range(2)],
+                  cfg=radar)
+    out = tmp_path / "p.csv"
+    assert main(["process", str(cap), "--cfg", str(cfg_path), "--out", str(out),
+                 "--no-track"]) == 0
+    pc = pd.read_csv(out)
+    for r, v in zip(ranges, FOV_VELOCITIES):
+        near = pc[np.abs(pc.range_m - r) < 2 * radar.range_resolution_m]
+        want = v if extended else (v + v_max) % (2 * v_max) - v_max
+        assert np.any(np.abs(near.radial_velocity_mps - want)
+                      < 2 * radar.velocity_resolution_mps), (r, v, near)
