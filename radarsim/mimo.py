@@ -104,11 +104,16 @@ class TiFrame(NamedTuple):
         ``chirpCfg`` commands of the loop.
     extra_lines : tuple of str
         Further scheme commands after ``frameCfg`` (``ddmPhaseShiftAntOrder``, ``bpmCfg``).
+    repeatable : bool
+        Whether a loop may hold the sequence several times (chirps k x chirps_per_loop + i
+        as chirp i), as TI's demo profiles do when the frame needs more loops than the chip
+        counts (xWR18xx occupancy-detection profile: Tx1, Tx3, Tx1, Tx3 x 128 loops).
     """
 
     chirps_per_loop: int
     chirp_lines: tuple[str, ...]
     extra_lines: tuple[str, ...] = ()
+    repeatable: bool = False
 
 
 @dataclass(frozen=True)
@@ -352,7 +357,7 @@ class TdmaScheme(MimoScheme):
     def to_ti(self, cfg: ConfigLike, n_tx_chip: int) -> TiFrame:
         """One ``chirpCfg`` per slot enabling the slot's Tx."""
         return TiFrame(cfg.n_tx, tuple(f"chirpCfg {i} {i} 0 0 0 0 0 {1 << (t - 1)}"
-                                       for i, t in enumerate(cfg.tx_order)))
+                                       for i, t in enumerate(cfg.tx_order)), repeatable=True)
 
     def from_ti(self, tx_masks, n_tx, tx_mask, ddm_order):
         """One Tx per chirp; the loop repeats a sequence in which each Tx fires once (e.g.

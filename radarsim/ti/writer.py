@@ -10,6 +10,7 @@ from core.errors import BadInput
 
 from ..boards import get_board
 from ..chips import ADC_MODES
+from ..mimo import TiFrame
 from ..radar_config import RadarConfig
 from . import fast_slow
 from .families import DEMO_FAMILIES
@@ -167,7 +168,7 @@ def _command_lines(radar: RadarConfig, frame_period_s: float, n_frames: int) -> 
     chip = radar.chip_spec
     # The scheme's loop over the logical Tx 1..n_tx (radarsim.mimo), mapped onto the chip
     # channels `tx_channels` below.
-    ti_frame = radar.scheme.to_ti(radar, radar.n_tx)
+    ti_frame = _fitted_loop(radar, radar.scheme.to_ti(radar, radar.n_tx))
     per_loop = ti_frame.chirps_per_loop
     loops = radar.n_chirps // per_loop
     if loops > chip.max_loops:
@@ -207,6 +208,29 @@ def _command_lines(radar: RadarConfig, frame_period_s: float, n_frames: int) -> 
     if geometry is not None and mcu_plus:
         out.append(geometry)
     return out
+
+
+def _fitted_loop(radar: RadarConfig, frame: TiFrame) -> TiFrame:
+    """`frame` with its sequence repeated the fewest times per loop that bring the loop count
+    within the chip's (`TiFrame.repeatable` schemes only; 512 TDMA chirps of 2 Tx: 4 chirps x
+    128 loops, the form of TI's own xWR18xx occupancy-detection profile)."""
+    chip = radar.chip_spec
+    per_loop = frame.chirps_per_loop
+    if not frame.repeatable or radar.n_chirps // per_loop <= chip.max_loops:
+        return frame
+    fits = [k for k in range(2, chip.max_chirp_defs // per_loop + 1)
+            if radar.n_chirps % (k * per_loop) == 0
+            and radar.n_chirps // (k * per_loop) <= chip.max_loops]
+    if not fits:
+        return frame
+    k = fits[0]
+    lines = []
+    for rep in range(k):
+        for line in frame.chirp_lines:
+            cmd, start, end, *rest = line.split()
+            lines.append(" ".join([cmd, str(int(start) + rep * per_loop),
+                                   str(int(end) + rep * per_loop), *rest]))
+    return frame._replace(chirps_per_loop=k * per_loop, chirp_lines=tuple(lines))
 
 
 def _with_directives(radar: RadarConfig, out: list[str]) -> str:

@@ -427,3 +427,22 @@ def test_doppler_fov_applies_to_the_aliased_doppler_before_extension(tmp_path, m
         want = v if extended else (v + v_max) % (2 * v_max) - v_max
         assert np.any(np.abs(near.radial_velocity_mps - want)
                       < 2 * radar.velocity_resolution_mps), (r, v, near)
+
+
+def test_simulate_and_process_the_written_back_occupancy_profile(tmp_path, fake_components):
+    """The xWR18xx occupancy form (128 loops of 4 chirps) written back by to_ti_cfg drives
+    simulate and process like the profile it came from: the same capture bytes."""
+    from tests.radarsim.profiles import PROFILE_DIR
+
+    own = PROFILE_DIR / "xwr18_occupancy_4zone.cfg"
+    back = tmp_path / "back.cfg"
+    back.write_text(to_ti_cfg(parse_ti_cfg(own)))
+    caps = []
+    for cfg in (own, back):
+        cap = tmp_path / f"{cfg.stem}.bin"
+        assert main(["simulate", "straight", "--cfg", str(cfg), "--out", str(cap),
+                     "--frames", "1"]) == 0
+        caps.append(cap.read_bytes())
+    assert caps[0] == caps[1]
+    assert main(["process", str(tmp_path / "back.bin"), "--cfg", str(back), "--out",
+                 str(tmp_path / "p.csv"), "--no-track"]) == 0

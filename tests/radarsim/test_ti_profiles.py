@@ -328,3 +328,31 @@ def test_written_profile_means_the_same(name):
     for a, b in zip(prof.parts, back.parts, strict=True):
         assert (a.radar, a.cfar, a.processing, a.demo_family) == \
             (b.radar, b.cfar, b.processing, b.demo_family)
+
+
+def test_occupancy_profile_of_128_loops_of_four_chirps_is_written_in_its_own_form():
+    """TI's xWR18xx occupancy-detection form: Tx1, Tx3, Tx1, Tx3 per loop, 128 loops (512
+    chirps). Written back with one Tx per slot it would need 256 loops of 2 (the AWR1843
+    counts 255): the writer repeats the slot sequence per loop, as the profile does."""
+    prof = parse_ti_cfg(profile_text("xwr18_occupancy_4zone"))
+    r = prof.radar
+    assert (r.chip, r.mimo, r.n_tx, r.tx_channels, r.n_chirps) == ("AWR1843", "tdma", 2,
+                                                                   (1, 3), 512)
+    text = to_ti_cfg(prof)
+    lines = text.splitlines()
+    assert [ln for ln in lines if ln.startswith("chirpCfg")] == [
+        "chirpCfg 0 0 0 0 0 0 0 1", "chirpCfg 1 1 0 0 0 0 0 4",
+        "chirpCfg 2 2 0 0 0 0 0 1", "chirpCfg 3 3 0 0 0 0 0 4"]
+    assert "frameCfg 0 3 128 0 150 1 0" in lines
+    assert parse_ti_cfg(text).radar == r
+    # A bare config of the same frame is written the same way.
+    assert "frameCfg 0 3 128 0 150 1 0" in to_ti_cfg(r, frame_period_s=0.15)
+
+
+def test_a_frame_no_loop_repetition_fits_is_refused():
+    """514 TDMA chirps of 2 Tx: 257 loops of 2, and 257 is prime: no repetition of the
+    sequence fits the 512 chirp definitions and 255 loops."""
+    r = parse_ti_cfg(profile_text("xwr18_occupancy_4zone")).radar.replace(n_chirps=514)
+    with pytest.raises(ValueError, match="n_chirps=514: 257 loops of 2 chirps exceed the "
+                                         "AWR1843 frame limit of 255 loops"):
+        to_ti_cfg(r)
