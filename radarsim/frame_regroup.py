@@ -94,9 +94,9 @@ def regroup_profile(path_or_text: str | os.PathLike, n_frames: int):
     text = _text(path_or_text)
     kind = setup_kind(text)
     if kind != "cli_profile":
-        raise ValueError(f"--regroup-frames {n_frames}: the profile is an mmWave Studio "
-                         f"{'setup JSON' if kind == 'studio_json' else 'LogFile'}; regrouping "
-                         "reads TI CLI profiles (.cfg)")
+        raise BadInput(f"--regroup-frames {n_frames}: the profile is an mmWave Studio "
+                       f"{'setup JSON' if kind == 'studio_json' else 'LogFile'}; regrouping "
+                       "reads TI CLI profiles (.cfg)")
     k = chirps_per_frame(text)
     if k != 1:
         raise BadInput(f"--regroup-frames {n_frames}: the profile's frames hold "
