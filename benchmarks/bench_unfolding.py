@@ -20,6 +20,12 @@ the scheme reports an unfolded velocity (`MimoScheme.latency_frames`). First lin
 fast/slow chain's `process_frame` as a ratio to the FFT floor of its frame, measured in the
 same run.
 
+A second table holds the slot-coded schemes (TDMA, BPM) at fixed azimuths near boresight,
+where BPM's code decides whether velocity beyond +/-Vmax can be resolved at all
+(`radarsim.mimo.BpmScheme`): 20 single targets per azimuth, one per range cell, |v| up to
+40 m/s, reference SNR 25 dB; wrong velocities and misses of 20, and whether the scheme
+declares the direction blind (`MimoScheme.velocity_blind`: BPM's documented limit at 30 deg).
+
     python -m benchmarks unfolding
 """
 from __future__ import annotations
@@ -40,6 +46,11 @@ AZ_SPACING_DEG = 25.0
 AZ_GATE_DEG = 6.0
 HANN_LOSS_DB = 1.76
 SEED = 23
+#: Near-boresight table: azimuths (deg), targets per azimuth, reference SNR (dB), schemes.
+BORESIGHT_AZ_DEG = (0.0, 0.5, 1.0, 2.0, 30.0)
+BORESIGHT_TARGETS = 20
+BORESIGHT_SNR_DB = 25.0
+BORESIGHT_SCHEMES = ("tdma", "bpm")
 
 
 def _reference_gain_db(tdma: radarsim.RadarConfig) -> float:
@@ -116,6 +127,43 @@ def run_schemes(n_frames: int = N_FRAMES, seed: int = SEED) -> pd.DataFrame:
     return pd.concat(results, ignore_index=True)
 
 
+def near_boresight(seed: int = SEED) -> pd.DataFrame:
+    """Wrong velocities and misses of `BORESIGHT_TARGETS` single targets per azimuth of
+    `BORESIGHT_AZ_DEG`, per scheme of `BORESIGHT_SCHEMES` (the same targets for each), with
+    the scheme's `velocity_blind` flag for the direction."""
+    tdma = radarsim.presets.r79("tdma", antenna_pattern="isotropic")
+    n = BORESIGHT_TARGETS
+    rows = []
+    for a_id, az in enumerate(BORESIGHT_AZ_DEG):
+        rng = np.random.default_rng([seed, a_id])
+        t = pd.DataFrame({"range_m": 20.0 + 7.0 * np.arange(n) + rng.uniform(0, 2, n),
+                          "az_deg": np.full(n, az), "v_mps": rng.uniform(-40.0, 40.0, n),
+                          "snr_db": np.full(n, BORESIGHT_SNR_DB)})
+        scene = _scene(tdma, t)
+        for s_id, name in enumerate(BORESIGHT_SCHEMES):
+            cfg = radarsim.presets.r79(name, antenna_pattern="isotropic")
+            adc = radarsim.simulate_frame(cfg, scene, np.random.default_rng([seed, a_id, s_id]))
+            m = measure(cfg, pipeline.process_frame(cfg, adc), t)
+            wrong = m.detected & ((m.v_meas_mps - t.v_mps).abs() > 2 * cfg.velocity_resolution_mps)
+            rows.append({"scheme": name, "azimuth (deg)": az, "wrong": int(wrong.sum()),
+                         "missed": int((~m.detected).sum()),
+                         "blind": bool(cfg.scheme.velocity_blind(cfg, az))})
+    return pd.DataFrame(rows)
+
+
+def boresight_markdown(table: pd.DataFrame) -> list[str]:
+    """The near-boresight table as markdown: one row per scheme, "wrong/missed" per azimuth,
+    a blind direction marked "(blind)"."""
+    azs = list(dict.fromkeys(table["azimuth (deg)"]))
+    lines = ["| scheme | " + " | ".join(f"{a:g} deg" for a in azs) + " |",
+             "|" + "---|" * (len(azs) + 1)]
+    for name, g in table.groupby("scheme", sort=False):
+        cells = [f"{r.wrong}/{r.missed}" + (" (blind)" if r.blind else "")
+                 for r in g.itertuples()]
+        lines.append(f"| `{name}` | " + " | ".join(cells) + " |")
+    return lines
+
+
 def summary_table(res: pd.DataFrame) -> pd.DataFrame:
     """One row per result scheme: P(correct velocity | detected) by reference SNR, speed and
     crowding; Pd by reference SNR; detection-SNR difference to TDMA; latency."""
@@ -181,3 +229,6 @@ def run():
            f"+/-{SPAN_MPS} m/s; P(correct velocity | detected) and Pd (machine shared: "
            "figures, not times)")
     yield from markdown(summary_table(res))
+    yield (f"Near boresight: wrong velocities / misses of {BORESIGHT_TARGETS} single targets "
+           f"per azimuth, reference SNR {BORESIGHT_SNR_DB:g} dB, |v| up to 40 m/s")
+    yield from boresight_markdown(near_boresight())

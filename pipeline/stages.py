@@ -28,7 +28,7 @@ from .kernels import estimate_angles, layout_of, parabolic_offset
 
 __all__ = ["POINT_CLOUD_COLUMNS", "check_frame", "power_of", "log_power", "point_cloud",
            "empty_cloud", "interp_azimuth", "interp_range", "interp_doppler", "array_dft",
-           "array_likelihood", "hypothesis_cloud"]
+           "array_likelihood", "refined_likelihood", "hypothesis_cloud"]
 
 #: Columns of every point cloud, in order.
 POINT_CLOUD_COLUMNS = ["range_m", "azimuth_deg", "elevation_deg", "radial_velocity_mps",
@@ -220,6 +220,42 @@ def array_likelihood(cfg: RadarConfig, virt: np.ndarray, az_pow: np.ndarray,
         return _multi_row_likelihood(cfg, virt, heights, rows)
     a_v = np.abs(virt @ array_dft(cfg, n_az, "raised"))  # (n, H, A)
     return ((np.sqrt(az_pow) + a_v) ** 2).max(axis=-1)
+
+
+def refined_likelihood(cfg: RadarConfig, virt: np.ndarray, az_pow: np.ndarray,
+                       v_idx: np.ndarray) -> np.ndarray:
+    """`array_likelihood` at each hypothesis' interpolated peak instead of its grid maximum,
+    (n, H): the decision between hypotheses no longer depends on where the echo falls on
+    the n_az-point azimuth grid (the off-grid loss of a 4x zero-padded 12-element grid, up to
+    about 5 %, exceeds the margin of a wrong hypothesis near a blind azimuth of BPM,
+    `radarsim.mimo.BpmScheme`).
+
+    The grid statistic's peak bin k and its neighbours give the parabolic offset on the log
+    statistic (seed 000 table 14's interpolation); the statistic is then evaluated exactly at
+    wx = 2 pi (k + offset) / n_az and the larger of the two kept. Arrays with several raised
+    rows keep the grid statistic of `array_likelihood`.
+
+    virt : (n, H, n_virtual) samples of each hypothesis; az_pow : (n, H, n_az) |A_h|^2 on the
+    grid; v_idx : raised-row elements.
+    """
+    n_az = az_pow.shape[-1]
+    heights, _ = raised_row_dfts(cfg, n_az) if v_idx.size else (np.zeros(0), None)
+    if heights.size > 1:
+        return array_likelihood(cfg, virt, az_pow, v_idx)
+    if v_idx.size:
+        a_v = np.abs(virt @ array_dft(cfg, n_az, "raised"))
+        grid = (np.sqrt(az_pow) + a_v) ** 2  # (n, H, A)
+    else:
+        grid = az_pow
+    k = np.argmax(grid, axis=-1)[..., None]  # (n, H, 1)
+    y = log_power(np.take_along_axis(grid, (k + np.arange(-1, 2)) % n_az, axis=-1))
+    wx = 2 * np.pi * (k[..., 0] + parabolic_offset(y[..., 0], y[..., 1], y[..., 2])) / n_az
+    h_idx, h_pos, _, v_pos, _ = layout_of(cfg)
+    a_h = np.abs(np.einsum("nhm,nhm->nh", virt[..., h_idx],
+                           np.exp(-1j * wx[..., None] * h_pos)))
+    a_r = np.abs(np.einsum("nhm,nhm->nh", virt[..., v_idx],
+                           np.exp(-1j * wx[..., None] * v_pos))) if v_idx.size else 0.0
+    return np.maximum((a_h + a_r) ** 2, grid.max(axis=-1))
 
 
 #: sin(elevation) grid of the multi-row likelihood: 0.03 steps keep the phase error of a

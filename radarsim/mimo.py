@@ -25,8 +25,9 @@ import numpy as np
 from core.errors import BadInput
 from core.registry import Registry
 
-__all__ = ["MimoScheme", "TransmitCode", "SlowTimeLayout", "TiFrame", "ChirpTiming", "MIMO_SCHEMES", "register_scheme",
-           "scheme_of", "DdmaScheme", "TdmaScheme", "BpmScheme", "hadamard"]
+__all__ = ["MimoScheme", "TransmitCode", "SlowTimeLayout", "TiFrame", "ChirpTiming",
+           "MIMO_SCHEMES", "register_scheme", "scheme_of", "DdmaScheme", "TdmaScheme",
+           "BpmScheme", "hadamard", "BPM_COLUMN_SIGNS", "BPM_BLIND_SHARE"]
 
 #: A `radarsim.RadarConfig`: schemes read its fields and properties but do not import the
 #: class (the config imports this module to validate and describe its scheme).
@@ -212,6 +213,12 @@ class MimoScheme:
         unambiguous span 2 Vmax of one transmitter's sequence (TDMA, BPM)."""
         return 2 * self.max_unambiguous_velocity_mps(cfg)
 
+    def velocity_blind(self, cfg: ConfigLike, azimuth_deg, elevation_deg=0.0) -> np.ndarray:
+        """Whether the scheme cannot resolve velocity beyond its Vmax for an echo from that
+        direction (bool, the shape of the broadcast angles): never, unless a scheme says
+        otherwise (`BpmScheme`)."""
+        return np.zeros(np.broadcast(azimuth_deg, elevation_deg).shape, dtype=bool)
+
     # ------------------------------------------------------------------ TI CLI
     def to_ti(self, cfg: ConfigLike, n_tx_chip: int) -> TiFrame:
         """The ``chirpCfg``/``frameCfg`` loop and scheme commands of `cfg` (TI mmWave SDK).
@@ -384,14 +391,48 @@ def hadamard(n: int) -> np.ndarray:
     return h
 
 
+#: Column signs of the 4-Tx BPM code over the Sylvester matrix (`BpmScheme.code_matrix`):
+#: Tx3 (code column 1) negated, so that no row of the code is the echo's transmit phase
+#: vector at boresight.
+BPM_COLUMN_SIGNS = (1, -1, 1, 1)
+#: Share of an echo's transmit energy in one chirp of the BPM block from which the velocity
+#: beyond +/-Vmax counts as unresolved (`BpmScheme.velocity_blind`): the other chirps carry
+#: the phase that separates the hypotheses, and 10 % of the energy is 10 dB less SNR for it.
+BPM_BLIND_SHARE = 0.9
+
+
 @dataclass(frozen=True)
 class BpmScheme(MimoScheme):
     """Slow-time binary phase modulation (BPM): all Tx every chirp, signs from an Nt x Nt
-    Hadamard matrix over blocks of Nt chirps (TI xwr16xx SDK ``bpmCfg``: 2 Tx with
-    (+,+), (+,-); 4 Tx with the 4 x 4 Sylvester matrix). Chirp s of a block carries
-    H[s, i] on Tx `tx_order[i]`; the receiver decodes x = H^T y / Nt after removing the
-    Doppler phase of each chirp of the block, so each Tx keeps the full transmit energy
-    (gain 10 log10 Nt over TDMA) and Vmax = lambda / (4 Nt Tc), as TDMA."""
+    Hadamard code C over blocks of Nt chirps (TI xwr16xx SDK ``bpmCfg``: 2 Tx with (+,+),
+    (+,-); 4 Tx: `code_matrix`). Chirp s of a block carries C[s, i] on Tx `tx_order[i]`;
+    the receiver decodes x = C^T y / Nt after removing the Doppler phase of each chirp of the
+    block, so each Tx keeps the full transmit energy (gain 10 log10 Nt over TDMA) and
+    Vmax = lambda / (4 Nt Tc), as TDMA.
+
+    Velocity beyond +/-Vmax and the code. Hypotheses k apart leave the per-chirp residual
+    r_s = exp(j pi k s / 2) (Nt = 4): the decoded array is C^T diag(r) C x / Nt. Whether any
+    score can reject a wrong k at an azimuth depends on the echo's transmit superposition
+    C e, e_i the phase of Tx `tx_order[i]` towards the target: when e is proportional to a ROW
+    of C, only one chirp of each block carries the echo, slow time is sampled at Nt Tc and
+    every hypothesis fits equally (a blind azimuth). With the Sylvester matrix (all rows of
+    even parity) the R79 array is blind at boresight, e = (1, 1, 1, 1): the wrong hypothesis
+    k = 2 is a pure permutation of the Tx channels. Negating Tx3's column (`BPM_COLUMN_SIGNS`)
+    makes every row odd: at boresight the echo spreads over all four chirps and a wrong
+    hypothesis explains at most 66 % of the array's energy within +/-3 deg (TDMA: 84 % at
+    every angle).
+
+    Limit: every 4 x 4 Hadamard code is Sylvester's up to row and column permutations and
+    signs, so its rows all share one parity, and the R79 array's e is (1, 1, 1, 1) at
+    sin(az) = 0 or +/-1 and (1, 1, 1, -1) at sin(az) = +/-1/2 (elevation 0): some azimuth is
+    blind for every code. This code puts it at +/-30 deg (elevation 0; a wrong hypothesis
+    fits better than 93 % within about +/-3 deg of it) instead of boresight. Detections there
+    may carry a velocity off by a multiple of 2 Vmax, which the metrics count as velocity-
+    resolution failures (`velocity_failure_step_mps`); `velocity_blind` names such
+    directions and the unfolding benchmark flags its 30 deg row with it. A 2-Tx code (TI's)
+    is blind wherever the two Tx are in phase or in antiphase, boresight included: extension
+    beyond +/-Vmax with 2-Tx BPM is unreliable there.
+    """
 
     def validate(self, cfg: ConfigLike) -> None:
         if cfg.n_tx & (cfg.n_tx - 1):
@@ -402,8 +443,33 @@ class BpmScheme(MimoScheme):
                            "for BPM (whole Hadamard blocks)")
 
     def code_matrix(self, cfg: ConfigLike) -> np.ndarray:
-        """(n_tx, n_tx) signs: row = chirp of the block, column = position in `tx_order`."""
-        return hadamard(cfg.n_tx)
+        """(n_tx, n_tx) signs: row = chirp of the block, column = position in `tx_order`.
+        The Sylvester matrix with `BPM_COLUMN_SIGNS` for 4 Tx (class docstring: boresight is
+        not blind), TI's (+,+), (+,-) for 2 Tx."""
+        h = hadamard(cfg.n_tx)
+        return h * np.asarray(BPM_COLUMN_SIGNS) if cfg.n_tx == 4 else h
+
+    def velocity_blind(self, cfg: ConfigLike, azimuth_deg, elevation_deg=0.0) -> np.ndarray:
+        """Directions where the code leaves velocity beyond +/-Vmax unresolved: the echo's
+        transmit superposition C e (class docstring) puts at least `BPM_BLIND_SHARE` of its
+        energy in one chirp of the block (R79: 28-32 deg at elevation 0; exactly one chirp
+        at 30 deg), so at most a tenth carries the intra-block phase that tells the
+        hypotheses apart.
+
+        Examples
+        --------
+        >>> import radarsim
+        >>> cfg = radarsim.presets.r79("bpm")
+        >>> cfg.scheme.velocity_blind(cfg, [0.0, 1.0, 29.0, 30.0, -30.0, 45.0]).tolist()
+        [False, False, True, True, True, False]
+        """
+        az, el = np.broadcast_arrays(np.radians(np.asarray(azimuth_deg, dtype=float)),
+                                     np.radians(np.asarray(elevation_deg, dtype=float)))
+        u = np.stack([np.cos(el) * np.cos(az), np.cos(el) * np.sin(az), np.sin(el)], axis=-1)
+        pos = cfg.tx_positions_m[np.array(cfg.tx_order) - 1]  # (n_tx, 3)
+        e = np.exp(2j * np.pi / cfg.wavelength_m * (u @ pos.T))  # (..., n_tx)
+        p = np.abs(e @ self.code_matrix(cfg).T) ** 2  # (..., n_tx) energy per chirp
+        return p.max(axis=-1) >= BPM_BLIND_SHARE * p.sum(axis=-1)
 
     def to_ti(self, cfg: ConfigLike, n_tx_chip: int) -> TiFrame:
         """TI's SDK BPM (xwr16xx/18xx/68xx demos): two chirps enabling both Tx and

@@ -18,6 +18,7 @@ import numpy as np
 
 from radarsim.config import RadarConfig
 
+from ..stages import refined_likelihood
 from .base import register_chain
 from .tdma import SlotChain
 
@@ -51,6 +52,13 @@ class BpmChain(SlotChain):
 
     def separate(self, cfg: RadarConfig, slots: np.ndarray) -> np.ndarray:
         return bpm_decode(cfg.scheme.code_matrix(cfg), slots)
+
+    def score(self, cfg: RadarConfig, virt: np.ndarray, az_pow: np.ndarray,
+              v_idx: np.ndarray) -> np.ndarray:
+        """Hypotheses scored at their interpolated azimuth peak (`stages.refined_likelihood`):
+        near the code's blind azimuth (`radarsim.mimo.BpmScheme`) a wrong hypothesis comes
+        within a few per cent of the true one, less than the azimuth grid's off-grid loss."""
+        return refined_likelihood(cfg, virt, az_pow, v_idx)
 
     def noise_gain_of(self, cfg: RadarConfig) -> float:
         return 1.0 / cfg.n_tx

@@ -128,6 +128,13 @@ class SlotChain(MimoChain):
         """Whether to test velocity hypotheses beyond +/-Vmax."""
         return proc.tdma_disambiguation
 
+    def score(self, cfg: RadarConfig, virt: np.ndarray, az_pow: np.ndarray,
+              v_idx: np.ndarray) -> np.ndarray:
+        """(n, H) likelihood of each velocity hypothesis (`stages.array_likelihood`, on the
+        azimuth grid: TDMA's wrong hypotheses explain at most 84 % of the array's energy on
+        the R79 array at any azimuth, far below the grid's off-grid loss)."""
+        return array_likelihood(cfg, virt, az_pow, v_idx)
+
     def separate(self, cfg: RadarConfig, slots: np.ndarray) -> np.ndarray:
         """(..., n_slots, n_rx) Doppler-compensated slot samples -> (..., n_tx, n_rx) virtual
         channels in `tx_order` (TDMA: the slots are the channels)."""
@@ -172,7 +179,7 @@ class SlotChain(MimoChain):
             .reshape(r.size, v_hyp.shape[1], -1)  # (n, H, 16)
         virt_h = compensate(cfg, proc, virt_h)  # compRangeBiasAndRxChanPhase, before scoring
         az_pow = np.abs(virt_h @ array_dft(cfg, n_az, "horizontal")) ** 2  # (n, H, A)
-        score = array_likelihood(cfg, virt_h, az_pow, v_idx)
+        score = self.score(cfg, virt_h, az_pow, v_idx)
         best = np.argmax(np.where(valid, score, -np.inf), axis=1)
         if self.disambiguate(proc):
             # A return of the radar's own hardware and mount (Tx-to-Rx leakage, DC residue,

@@ -145,6 +145,7 @@ def test_calibrate_then_process_a_board_with_leakage_and_a_positive_bias(tmp_pat
     (0.1 m): calibrate measures the bias, and process -- tracker included -- runs with the
     written line on the same capture: the leakage at 0 m (TI's clamp), the reflector at R."""
     import pandas as pd
+
     from radarsim.ti import parse_ti_cfg
     cfg = parse_ti_cfg(PROFILE).radar
     board = imbalanced_board(cfg).replace(range_bias_m=0.3735, tx_leakage_dbfs=-20.0)

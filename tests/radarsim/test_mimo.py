@@ -123,3 +123,50 @@ def test_ti_cli_round_trip_or_named_refusal(name):
         assert "has no TI mmWave SDK CLI form" in str(exc)
         return
     assert from_ti_cfg(text) == cfg
+
+
+def _tx_phases(cfg, sin_az):
+    """(n_tx,) phase of each Tx in `tx_order` towards azimuth asin(sin_az), elevation 0."""
+    pos = cfg.tx_positions_m[np.array(cfg.tx_order) - 1]
+    return np.exp(2j * np.pi / cfg.wavelength_m * pos[:, 1] * sin_az)
+
+
+def test_bpm_code_spreads_a_boresight_echo_over_the_block():
+    """The 4-Tx code's rows all have odd parity (the Sylvester rows negated in Tx3's column):
+    a boresight echo's transmit superposition C e, e = (1, 1, 1, 1), lands on every chirp of
+    the block (|C e| = 2 each; Sylvester: 4, 0, 0, 0, so one chirp per block and every
+    velocity hypothesis alike), and the wrong hypothesis two slots apart (per-chirp residual
+    (1, -1, 1, -1)) decodes the boresight array to a signed permutation that is no plane wave."""
+    cfg = radarsim.presets.r79("bpm")
+    c = cfg.scheme.code_matrix(cfg)
+    np.testing.assert_array_equal(c @ c.T, 4 * np.eye(4))
+    assert np.all(np.prod(c, axis=1) == -1)
+    e0 = _tx_phases(cfg, 0.0)
+    np.testing.assert_allclose(np.abs(c @ e0), [2, 2, 2, 2], atol=1e-9)
+    np.testing.assert_allclose(np.abs(hadamard(4) @ e0), [4, 0, 0, 0], atol=1e-9)
+    m = c.T @ np.diag([1, -1, 1, -1]) @ c / 4
+    assert np.all(np.isin(np.abs(m), (0, 1))) and not np.allclose(m @ e0, e0) \
+        and not np.allclose(m @ e0, -e0)
+
+
+def test_bpm_code_blind_azimuth_is_the_documented_one():
+    """`BpmScheme`'s limit: at sin(az) = 1/2 (30 deg, elevation 0) the R79 Tx phases are
+    (1, 1, 1, -1) in tx_order (Tx1, Tx3, Tx4 four elements apart, Tx2 two), proportional to
+    a row of the code: the echo sits in one chirp of each block."""
+    cfg = radarsim.presets.r79("bpm")
+    c = cfg.scheme.code_matrix(cfg)
+    e = _tx_phases(cfg, 0.5)
+    np.testing.assert_allclose(e, [1, 1, 1, -1], atol=1e-9)
+    np.testing.assert_allclose(np.sort(np.abs(c @ e)), [0, 0, 0, 4], atol=1e-9)
+
+
+def test_velocity_blind_directions():
+    """TDMA resolves every direction; BPM flags the band where one chirp carries >= 90 % of
+    the echo (28-32 deg at elevation 0: +/-2 deg around the blind 30 deg), both signs, and
+    not boresight; angles broadcast."""
+    tdma, bpm = radarsim.presets.r79("tdma"), radarsim.presets.r79("bpm")
+    az = np.array([0.0, 2.0, 27.0, 28.0, 30.0, 32.0, 33.0, -30.0])
+    assert not tdma.scheme.velocity_blind(tdma, az).any()
+    np.testing.assert_array_equal(bpm.scheme.velocity_blind(bpm, az),
+                                  [False, False, False, True, True, True, False, True])
+    assert bpm.scheme.velocity_blind(bpm, 30.0, np.zeros((2, 3))).shape == (2, 3)
