@@ -1,9 +1,16 @@
-"""AWR2944 corner-radar front-end model: configuration, presets, scatterers, ADC synthesis.
+"""77 GHz radar simulator: configuration, scene, MIMO schemes, front end, captures, TI profiles.
 
     cfg = radarsim.presets.r79_ddma()
     adc = radarsim.simulate_frame(cfg, radarsim.Scatterers(P, V, S), rng=np.random.default_rng(0))
+
+Subpackages: `scene` (scatterers, the RCS model, ray cast, multipath, road clutter; its model
+is also published as `radarsim.rcs`), `mimo` (the scheme registry and schemes), `capture`
+(DCA1000 raw files, advanced-frame captures, frame regrouping) and `ti` (TI profiles and
+mmWave Studio setups). The modules at this level describe the radar (`radar_config`, `chips`,
+`boards`, `presets`) and synthesise its ADC frames (`frontend`, `antenna`, `receiver`,
+`shifter`, `calibration`, `interference`).
 """
-from . import mimo_fast_slow, presets, shifter  # noqa: F401  (mimo_fast_slow registers)
+from . import mimo, presets, shifter  # noqa: F401  (importing mimo registers fast_slow)
 from .boards import BOARDS, Board, register_board
 from .calibration import (
                           ShifterCalibration,
@@ -21,9 +28,9 @@ from .frontend import (
                           simulate_frame_weights,
                           transmit_phasors,
 )
-from .mimo import MIMO_SCHEMES, MimoScheme, register_scheme
+from .mimo.schemes import MIMO_SCHEMES, MimoScheme, register_scheme
 from .radar_config import RadarConfig
-from .scatterers import Scatterers
+from .scene.scatterers import Scatterers
 from .shifter import ShifterErrorSpec
 
 __all__ = ["RadarConfig", "MIMO_SCHEMES", "MimoScheme", "register_scheme", "Scatterers",

@@ -34,7 +34,7 @@ from core.errors import BadInput
 
 from .frontend import programmed_codes, received_power_w, wanted_phase_deg
 from .radar_config import RadarConfig
-from .scatterers import Scatterers
+from .scene.scatterers import Scatterers
 from .shifter import coupling_matrix, phase_residual_deg, shifter_factor, wrap_deg
 
 __all__ = ["calibrate_shifters", "measure_shifters", "ShifterCalibration", "ShifterMeasurement",

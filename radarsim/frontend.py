@@ -44,7 +44,7 @@ from .antenna import element_gain_linear
 from .interference import synthesize
 from .radar_config import ADC_FULL_SCALE_CODE, C_MPS, RadarConfig
 from .receiver import IF_LOWPASS_HZ, IF_LOWPASS_ORDER, if_corner_hz, if_filter_gain
-from .scatterers import Scatterers
+from .scene.scatterers import Scatterers
 from .shifter import apply_coupling, coupling_matrix, select_codes, shifter_factor
 
 __all__ = ["simulate_frame", "simulate_frame_weights", "received_power_w", "if_filter_gain",

@@ -59,7 +59,7 @@ from .antenna import element_gain_linear
 from .chips import ADC_MODES
 from .radar_config import C_MPS, RadarConfig
 from .receiver import IF_LOWPASS_ORDER, if_corner_hz
-from .scatterers import PointGeometry
+from .scene.scatterers import PointGeometry
 
 __all__ = ["Interferers", "received_power_w", "interference_to_noise_db", "synthesize",
            "burst_windows", "interferers_from_truth", "EQUIPMENT_COLUMNS", "PASSBAND_FACTOR",
@@ -445,7 +445,7 @@ def interferers_from_truth(cfg: RadarConfig, truth_frame: pd.DataFrame,
     Interferers
         One per equipped actor present in the frame, in ``actor_id`` order.
     """
-    from .raycast import ray_box_intersect
+    from .scene.raycast import ray_box_intersect
 
     missing = [c for c in EQUIPMENT_COLUMNS if c not in equipment.columns]
     if missing:

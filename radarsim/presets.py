@@ -2,7 +2,7 @@
 timing for every registered MIMO scheme (`r79`)."""
 from __future__ import annotations
 
-from .mimo import scheme_of
+from .mimo.schemes import scheme_of
 from .radar_config import RadarConfig
 
 __all__ = ["r79", "r79_ddma", "r79_tdma", "PRESETS"]

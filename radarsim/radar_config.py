@@ -34,7 +34,7 @@ from .config_rules import (
     check_values,
     integers,
 )
-from .mimo import MIMO_SCHEMES, MimoScheme, scheme_of
+from .mimo.schemes import MIMO_SCHEMES, MimoScheme, scheme_of
 
 __all__ = [
     "RadarConfig", "MIMO_SCHEMES", "PHASE_QUANTIZATIONS", "ANTENNA_PATTERNS", "ADC_MODES",

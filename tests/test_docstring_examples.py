@@ -14,9 +14,10 @@ import pytest
 #: Modules whose docstring examples run.
 MODULES = (
     "core.registry", "scenarios.registry", "radarsim.frontend", "radarsim.presets",
-    "radarsim.mimo", "radarsim.chips", "radarsim.boards", "radarsim.calibration",
+    "radarsim.mimo", "radarsim.mimo.schemes", "radarsim.chips", "radarsim.boards",
+    "radarsim.calibration",
     "pipeline.chain", "pipeline.cfar.modes", "pipeline.mimo.base", "pipeline.tracking.parts",
-    "metrics.detection", "radarsim.mimo_fast_slow", "pipeline.mimo.fast_slow",
+    "metrics.detection", "radarsim.mimo.fast_slow", "pipeline.mimo.fast_slow",
     "metrics.registry", "metrics.velocity", "metrics.r79", "metrics.interference",
     "pipeline.mimo.echo_law", "pipeline.mimo.ddma_order", "pipeline.mimo.extension",
     "pipeline.cfar.gamma_law", "harness.runtime", "harness.report.sections",
@@ -26,7 +27,7 @@ MODULES = (
 PUBLIC_API = (
     "radarsim.frontend:simulate_frame", "pipeline.chain:process_frame",
     "radarsim.presets:r79", "radarsim.presets:r79_ddma", "radarsim.presets:r79_tdma",
-    "radarsim.mimo:register_scheme", "radarsim.mimo:scheme_of",
+    "radarsim.mimo.schemes:register_scheme", "radarsim.mimo.schemes:scheme_of",
     "radarsim.chips:get_chip", "radarsim.chips:register_chip",
     "radarsim.boards:get_board", "radarsim.boards:register_board",
     "radarsim.calibration:resolve_calibration",

@@ -3,7 +3,7 @@
 The model's pattern is `radarsim.rcs.single_actor` (one actor alone on boresight, exactly as the
 scene model makes it) summed over its scatterers (the incoherent sum: the expected value of the
 coherent sum over random phases), averaged over `--draws` frames with the aspect jittered by
-+/-1 deg; the references are `radarsim.rcs_patterns.REFERENCES` with their citations. `--plot`
++/-1 deg; the references are `radarsim.scene.rcs_patterns.REFERENCES` with their citations. `--plot`
 writes a PNG of the pattern (model mean, its 10-90 % fluctuation band, references).
 """
 from __future__ import annotations
@@ -66,7 +66,7 @@ def _fmt(v) -> str:
 
 def run(args: argparse.Namespace) -> int:
     from radarsim.rcs import CLASS_RCS
-    from radarsim.rcs_patterns import REFERENCES
+    from radarsim.scene.rcs_patterns import REFERENCES
     if args.actor_class not in CLASS_RCS:
         raise BadInput(f"CLASS={args.actor_class!r} unknown; known: {sorted(CLASS_RCS)}")
     out = None

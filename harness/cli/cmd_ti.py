@@ -91,7 +91,7 @@ def process_capture(capture, profile, proc=None, *, interleaved: bool | None = N
     ----------
     capture : path-like
         DCA1000 capture (`radarsim.capture` layout; sub-frames back to back,
-        `radarsim.subframe_capture`).
+        `radarsim.capture.subframes`).
     profile : radarsim.ti.TiProfile
         The profile it was recorded with (frame time = frame index x frame period + the
         sub-frame's start).
@@ -103,7 +103,7 @@ def process_capture(capture, profile, proc=None, *, interleaved: bool | None = N
     chirp has the signature subtracted (`pipeline.dc_range_signature`).
     """
     import pipeline
-    from radarsim.subframe_capture import iter_subframes
+    from radarsim.capture.subframes import iter_subframes
 
     if profile.is_joined:
         return _process_joined(capture, profile, proc, interleaved, max_frames)
@@ -154,7 +154,7 @@ def _process_joined(capture, profile, proc, interleaved, max_frames) -> pd.DataF
     """`process_capture` of a joined profile: each frame's sub-frame blocks, in order, are the
     chirps of one frame of `profile.radar`."""
     import pipeline
-    from radarsim.subframe_capture import iter_subframes
+    from radarsim.capture.subframes import iter_subframes
 
     if isinstance(proc, (list, tuple)):
         proc = proc[0]
@@ -224,14 +224,14 @@ def add_arguments_process(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--regroup-frames", type=int_in(2, MAX_FRAMES), default=None,
                         metavar="N", help="one-chirp-per-frame recordings (vital signs, "
                         "vibration): read N frames as one frame of N chirps at the frame "
-                        "period (radarsim.frame_regroup)")
+                        "period (radarsim.capture.regroup)")
 
 
 def _process_profile(args: argparse.Namespace):
     """(profile, regrouped frame count or None) of ``process``: the profile, or with
-    ``--regroup-frames N`` the profile of N one-chirp frames as one (`radarsim.frame_regroup`);
+    ``--regroup-frames N`` the profile of N one-chirp frames as one (`radarsim.capture.regroup`);
     a one-chirp profile without the option is refused with a pointer to it."""
-    from radarsim import frame_regroup as fr
+    from radarsim.capture import regroup as fr
 
     n = args.regroup_frames
     if n is None:
@@ -265,7 +265,7 @@ def run_process(args: argparse.Namespace) -> int:
     if args.tracks is not None:
         check_output_file(args.tracks, "--tracks")
     if profile.is_advanced:
-        from radarsim.subframe_capture import capture_n_advanced_frames
+        from radarsim.capture.subframes import capture_n_advanced_frames
         n_frames = capture_n_advanced_frames(args.capture, profile)
     else:
         # Regrouped: check_regroup has checked that N divides the recorded frames.
@@ -327,14 +327,14 @@ def simulate_frames(cfg, run, seed: int, frames, comps):
 
 def write_subframe_capture(path, profile, run, seed: int, frames, comps) -> int:
     """Write an advanced-frame capture: per frame, every sub-frame's ADC block of the frame's
-    scene (`radarsim.subframe_capture.encode_frame`), each sub-frame with its own random
+    scene (`radarsim.capture.subframes.encode_frame`), each sub-frame with its own random
     stream (``frame_rng(seed, frame, "<mimo>/subframe<k>")``); atomic. The sub-frames share the
     frame's scene (their start offsets within the frame, tens of ms, are not simulated).
     Returns the frame count."""
     from core.fileio import atomic_write
     from harness.cell.run import frame_scatterers
     from harness.sweep.streams import frame_rng
-    from radarsim.subframe_capture import encode_frame
+    from radarsim.capture.subframes import encode_frame
 
     def write(tmp) -> None:
         with open(tmp, "wb") as fh:

@@ -1,6 +1,6 @@
 """Fast/slow chirp chain (seed 001 section 3): velocity unfolding by a second chirp period.
 
-The frame holds a fast and a slow TDMA chirp set (`radarsim.mimo_fast_slow`). Range FFT ->
+The frame holds a fast and a slow TDMA chirp set (`radarsim.mimo.fast_slow`). Range FFT ->
 Doppler FFT per set and slot (n_dop = n_chirps / (2 n_tx) chirps at n_tx T) -> non-coherent
 range-Doppler map of each set summed over the virtual channels -> CFAR on the fast map, then
 the seed's eight steps for every fast peak:

@@ -1,4 +1,4 @@
-"""Fast/slow chirp frames (`radarsim.mimo_fast_slow`) as TI profiles: an advanced frame of two
+"""Fast/slow chirp frames (`radarsim.mimo.fast_slow`) as TI profiles: an advanced frame of two
 sub-frames, each a TDMA loop on its own ``profileCfg``, the two profiles differing only in
 their idle time (seed 001 table 2: TI's SRR chirps of 59 and 70.8 us share a 56 us ramp, idle
 3 and 14.8 us).
@@ -30,8 +30,8 @@ from decimal import Decimal
 
 from core.errors import BadInput
 
-from ..mimo import MIMO_SCHEMES, TdmaScheme
-from ..mimo_fast_slow import FastSlowScheme
+from ..mimo.fast_slow import FastSlowScheme
+from ..mimo.schemes import MIMO_SCHEMES, TdmaScheme
 from ..radar_config import RadarConfig
 from .profile import DEFAULT_FRAME_PERIOD_S, TiProfile
 

@@ -2,7 +2,7 @@
 scheme (`radarsim.mimo.MIMO_SCHEMES`), the Tx channels and their order."""
 from __future__ import annotations
 
-from ..mimo import MIMO_SCHEMES
+from ..mimo.schemes import MIMO_SCHEMES
 from .handlers import TI_SCHEME_COMMANDS
 from .state import ParseState
 from .syntax import Line, channel_bits

@@ -75,9 +75,9 @@ def test_full_disk_mid_sweep_stops_it_and_keeps_written_cells(tmp_path, monkeypa
 @pytest.mark.timeout(30)
 @pytest.mark.parametrize("kind", ["fifo", "dev_zero"])
 def test_regrouped_capture_that_is_a_special_file_is_named(tmp_path, kind):
-    """`--regroup-frames` sizes the capture itself (radarsim.frame_regroup.check_regroup)."""
+    """`--regroup-frames` sizes the capture itself (radarsim.capture.regroup.check_regroup)."""
     import radarsim
-    from radarsim.frame_regroup import check_regroup
+    from radarsim.capture.regroup import check_regroup
     f = tmp_path / "a.bin"
     os.mkfifo(f) if kind == "fifo" else os.symlink("/dev/zero", f)
     with pytest.raises(ValueError, match=r"capture '.*a\.bin': is a (FIFO|character device)"):

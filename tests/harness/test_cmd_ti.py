@@ -239,7 +239,7 @@ def test_process_advanced_frame_per_subframe(tmp_path, make_scene, capsys):
     sub-frame): reflectors at 6 m and 20 m are each reported by their sub-frame only, in that
     sub-frame's range cell (0.117 / 0.156 m), with a `subframe` column and the sub-frame's start
     time (40 ms into the 100 ms frame)."""
-    from radarsim.subframe_capture import encode_frame
+    from radarsim.capture.subframes import encode_frame
     from tests.radarsim.profiles import PROFILE_DIR
 
     cfg_path = PROFILE_DIR / "xwr68_advanced_subframes.cfg"

@@ -6,7 +6,7 @@ import pytest
 import radarsim
 from harness.cli import main
 from radarsim.mimo import MIMO_SCHEMES, register_scheme
-from radarsim.mimo_fast_slow import FastSlowScheme
+from radarsim.mimo.fast_slow import FastSlowScheme
 from radarsim.ti import from_ti_cfg, parse_ti_cfg, to_ti_cfg
 from tests.radarsim.profiles import profile_text
 
@@ -129,7 +129,7 @@ def test_process_unfolds_a_fast_slow_capture(tmp_path, capsys):
     spans of 8.25 m/s out) comes back at -25 m/s, tracked as one radar."""
     import pandas as pd
 
-    from radarsim.subframe_capture import encode_frame
+    from radarsim.capture.subframes import encode_frame
     text = profile_text("xwr18_fast_slow_srr")
     (tmp_path / "fs.cfg").write_text(text)
     profile = parse_ti_cfg(text)

@@ -37,10 +37,10 @@ import numpy as np
 
 from core.errors import BadInput
 
-from .mimo import ChirpTiming, SlowTimeLayout, TdmaScheme, TransmitCode, register_scheme
+from .schemes import ChirpTiming, SlowTimeLayout, TdmaScheme, TransmitCode, register_scheme
 
 if TYPE_CHECKING:
-    from .radar_config import RadarConfig
+    from ..radar_config import RadarConfig
 
 __all__ = ["FastSlowScheme", "ChirpSets", "hypothesis_separation_bins"]
 

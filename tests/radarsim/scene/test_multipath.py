@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 
 from radarsim import Scatterers
-from radarsim.multipath import MULTIPATH_ACTOR_ID, rail_ghosts, two_ray_power_factor
-from radarsim.raycast import segments_blocked
+from radarsim.scene.multipath import MULTIPATH_ACTOR_ID, rail_ghosts, two_ray_power_factor
+from radarsim.scene.raycast import segments_blocked
 
 # Boxes: 0 a rail along x at y = 5 (road-side face y = 4.85), 1 the target car.
 RAIL = ([20.0, 5.0, 0.0], [8.0, 0.15, 0.375], 0.0)

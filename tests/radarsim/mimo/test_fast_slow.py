@@ -5,7 +5,7 @@ import pytest
 
 import radarsim
 from radarsim.mimo import MIMO_SCHEMES, TdmaScheme, register_scheme
-from radarsim.mimo_fast_slow import FastSlowScheme, hypothesis_separation_bins
+from radarsim.mimo.fast_slow import FastSlowScheme, hypothesis_separation_bins
 
 LAMBDA_M = 299_792_458.0 / 77e9
 

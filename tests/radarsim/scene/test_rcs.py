@@ -6,7 +6,7 @@ import pandas as pd
 import pytest
 
 from radarsim import Scatterers
-from radarsim.rcs import (
+from radarsim.scene.rcs import (
     CLASS_RCS,
     GROUND_ACTOR_ID,
     MULTIPATH_ACTOR_ID,
@@ -206,3 +206,11 @@ def test_returns_scatterers_in_range():
 def test_config_validation(kwargs, match):
     with pytest.raises(ValueError, match=match):
         RcsConfig(**kwargs)
+
+
+def test_radarsim_rcs_is_the_scene_model_under_its_published_name():
+    import radarsim.rcs
+    import radarsim.scene.rcs
+    for name in radarsim.rcs.__all__:
+        assert getattr(radarsim.rcs, name) is getattr(radarsim.scene.rcs, name), name
+    assert set(radarsim.rcs.__all__) == set(radarsim.scene.rcs.__all__)

@@ -286,7 +286,7 @@ CYCLIST_PATTERN = IncoherentSum(
     source="rider: 3GPP TR 38.901 Table 7.9.2.1-3 (human, model 2) + bicycle: Belgiovane & "
            "Chen 2016 sector means (MathWorks bicyclistrcs.m), power sum")
 
-#: Pattern types a class may carry (`radarsim.rcs_classes.ClassRcs.pattern`).
+#: Pattern types a class may carry (`radarsim.scene.rcs_classes.ClassRcs.pattern`).
 PATTERN_TYPES = (Tr38901Pattern, SectorPattern, IncoherentSum)
 
 

@@ -4,7 +4,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from radarsim.raycast import (
+from radarsim.scene.raycast import (
     FACE_NORMALS_LOCAL,
     RayGridConfig,
     box_windows,

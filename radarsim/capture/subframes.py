@@ -19,7 +19,7 @@ import numpy as np
 from core.errors import BadInput
 from core.fileio import check_input_file
 
-from .capture import MAX_CAPTURE_BYTES, SAMPLE_DTYPE, frame_nbytes, frame_shape, layout_of
+from .dca1000 import MAX_CAPTURE_BYTES, SAMPLE_DTYPE, frame_nbytes, frame_shape, layout_of
 
 __all__ = ["SubFrameData", "advanced_frame_nbytes", "capture_n_advanced_frames",
            "iter_subframes", "encode_frame"]

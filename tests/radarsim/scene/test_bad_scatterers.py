@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 import radarsim
-from radarsim.scatterers import MAX_RCS_M2, MAX_SPEED_MPS
+from radarsim.scene.scatterers import MAX_RCS_M2, MAX_SPEED_MPS
 
 P, V = [[10.0, 0.0, 0.0]], [[0.0, 0.0, 0.0]]
 

@@ -6,9 +6,9 @@ import numpy as np
 import pytest
 from scipy import stats
 
-from radarsim.rcs import CLASS_RCS, RcsConfig, single_actor
-from radarsim.rcs_classes import ClassRcs
-from radarsim.rcs_patterns import (
+from radarsim.scene.rcs import CLASS_RCS, RcsConfig, single_actor
+from radarsim.scene.rcs_classes import ClassRcs
+from radarsim.scene.rcs_patterns import (
     BICYCLE_BELGIOVANE,
     CYCLIST_PATTERN,
     HUMAN_TR38901,

@@ -25,9 +25,9 @@ from pathlib import Path
 from core.errors import BadInput
 from core.fileio import check_input_file, read_input_bytes
 
-from .capture import MAX_CAPTURE_BYTES, frame_nbytes
-from .ti.studio import setup_kind
-from .ti.syntax import code_part
+from ..ti.studio import setup_kind
+from ..ti.syntax import code_part
+from .dca1000 import MAX_CAPTURE_BYTES, frame_nbytes
 
 __all__ = ["chirps_per_frame", "regroup_profile", "check_regroup", "one_chirp_frames"]
 
@@ -87,7 +87,7 @@ def regroup_profile(path_or_text: str | os.PathLike, n_frames: int):
         The profile's frames hold more than one chirp, N < 2, or the regrouped frame breaks a
         limit of the radar (e.g. the chip's chirps per frame), each naming value and limit.
     """
-    from .ti import parse_ti_cfg
+    from ..ti import parse_ti_cfg
 
     if isinstance(n_frames, bool) or not isinstance(n_frames, int) or n_frames < 2:
         raise BadInput(f"--regroup-frames={n_frames!r} must be an integer >= 2")

@@ -48,7 +48,7 @@ import numpy as np
 from core.errors import BadInput
 from core.fileio import check_input_file
 
-from .radar_config import RadarConfig
+from ..radar_config import RadarConfig
 
 __all__ = ["SAMPLE_DTYPE", "CaptureLayout", "CAPTURE_LAYOUTS", "layout_of", "frame_shape",
            "frame_nbytes", "write_capture", "read_capture", "open_capture", "iter_capture",

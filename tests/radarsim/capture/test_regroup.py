@@ -1,5 +1,5 @@
 """One chirp per frame (vital signs, vibration): N frames regrouped into one frame of N chirps
-at the frame period (`radarsim.frame_regroup`, ``process --regroup-frames``)."""
+at the frame period (`radarsim.capture.regroup`, ``process --regroup-frames``)."""
 import re
 
 import numpy as np
@@ -8,7 +8,7 @@ import pytest
 import radarsim
 from harness.cli import main
 from radarsim.capture import write_capture
-from radarsim.frame_regroup import chirps_per_frame, regroup_profile
+from radarsim.capture.regroup import chirps_per_frame, regroup_profile
 from tests.radarsim.profiles import profile_text
 
 #: A vital-signs style profile: the AWR1843 Visualizer profile with one Tx and one chirp per

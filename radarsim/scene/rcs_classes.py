@@ -4,7 +4,7 @@
 rows into yawed boxes; `strong_centres` lists each box's candidate scattering centres (wheels,
 corner dihedrals, plates, guard-rail posts); `geometric_total_rcs` is the closed-form facet
 total of an unoccluded box, which `radarsim.rcs` divides out to put each actor on its
-published pattern (`radarsim.rcs_patterns`). Angles and the model itself are described in
+published pattern (`radarsim.scene.rcs_patterns`). Angles and the model itself are described in
 `radarsim.rcs`.
 """
 from __future__ import annotations

@@ -45,9 +45,9 @@ def ground_clutter(hits, grid, az_grid: np.ndarray, *, mount_height_m: float,
 
     Parameters
     ----------
-    hits : radarsim.raycast.RayHits
+    hits : radarsim.scene.raycast.RayHits
         The frame's ray hits (shadows).
-    grid : radarsim.raycast.RayGridConfig
+    grid : radarsim.scene.raycast.RayGridConfig
     az_grid : (n_azimuth,) float
         The frame's (dithered) ray azimuths, rad.
     mount_height_m : float

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from radarsim.canonical import plate_rcs_po, trihedral_rcs_sbr
+from radarsim.scene.canonical import plate_rcs_po, trihedral_rcs_sbr
 
 LAM = 299_792_458.0 / 77e9
 
