@@ -29,11 +29,20 @@ from .frontend import (
                           transmit_phasors,
 )
 from .mimo.schemes import MIMO_SCHEMES, MimoScheme, register_scheme
-from .radar_config import RadarConfig
+from .radar_config import (
+                          ArrayConfig,
+                          Impairments,
+                          MimoSchedule,
+                          RadarConfig,
+                          RfBudget,
+                          ShifterConfig,
+                          Waveform,
+)
 from .scene.scatterers import Scatterers
 from .shifter import ShifterErrorSpec
 
-__all__ = ["RadarConfig", "MIMO_SCHEMES", "MimoScheme", "register_scheme", "Scatterers",
+__all__ = ["RadarConfig", "Waveform", "ArrayConfig", "MimoSchedule", "ShifterConfig",
+           "Impairments", "RfBudget", "MIMO_SCHEMES", "MimoScheme", "register_scheme", "Scatterers",
            "presets", "simulate_frame",
            "received_power_w", "expected_sample_snr_db", "saturation_fraction",
            "transmit_phasors", "ADCSaturationWarning", "shifter", "calibrate_shifters",

@@ -249,7 +249,7 @@ def calibrate_shifters(cfg: RadarConfig, *, rng: np.random.Generator, range_m: f
         _check_snr(cfg, range_m, rcs_m2, n_repeats)
     meas = measure_shifters(cfg, rng=rng, range_m=range_m, rcs_m2=rcs_m2, n_repeats=n_repeats,
                             thermal_noise=thermal_noise)
-    out = cfg.replace(shifter_calibration_deg=meas.phase_error_deg)
+    out = cfg.replace_fields(shifter_calibration_deg=meas.phase_error_deg)
     if not full_output:
         return out
     res, before = shifter_phase_residual_deg(out), shifter_phase_residual_deg(cfg)

@@ -24,11 +24,19 @@ from .radar_config import (
                            MAX_N_TX,
                            MIMO_SCHEMES,
                            PHASE_QUANTIZATIONS,
+                           ArrayConfig,
+                           Impairments,
+                           MimoSchedule,
                            RadarConfig,
+                           RfBudget,
+                           ShifterConfig,
+                           Waveform,
 )
 from .ti import from_ti_cfg, to_ti_cfg
 
-__all__ = ["RadarConfig", "from_ti_cfg", "to_ti_cfg", "MIMO_SCHEMES", "PHASE_QUANTIZATIONS",
+__all__ = ["RadarConfig", "Waveform", "ArrayConfig", "MimoSchedule", "ShifterConfig",
+           "Impairments", "RfBudget", "from_ti_cfg", "to_ti_cfg", "MIMO_SCHEMES",
+           "PHASE_QUANTIZATIONS",
            "ANTENNA_PATTERNS", "ADC_MODES", "ADC_FULL_SCALE_CODE", "C_MPS", "K_BOLTZMANN",
            "MAX_ADC_RATE_SPS", "MAX_IF_BANDWIDTH_HZ", "BAND_MIN_HZ", "BAND_MAX_HZ", "MAX_N_TX",
            "MAX_N_RX"]

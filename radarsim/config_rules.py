@@ -1,5 +1,6 @@
-"""The chip-independent rules of a `radarsim.RadarConfig`: numbers, timing, RF budget, DC
-offset and leakage, per-channel errors.
+"""The chip-independent limits of a `radarsim.RadarConfig` and the rules that join its parts:
+numbers, ramp timing, per-channel errors. Each part checks its own values with these limits
+(`radarsim.radar_parts`).
 
 The chip's and the board's own rules live with them (`radarsim.chips.Chip.validate`,
 `radarsim.boards.Board.validate`), the MIMO scheme's with the scheme (`radarsim.mimo`) and the
@@ -14,11 +15,10 @@ import math
 
 import numpy as np
 
-from core.checks import require
 from core.errors import BadInput
 
 __all__ = ["RF_BUDGET_LIMITS", "TX_ERROR_LIMITS", "MAX_RANGE_BIAS_M", "ADC_FULL_SCALE_CODE",
-           "check_numbers", "check_values", "check_timing", "channel_errors", "integers"]
+           "check_numbers", "check_timing", "channel_errors", "integers", "is_number"]
 
 #: Full-scale code of the signed 16-bit ADC samples.
 ADC_FULL_SCALE_CODE = 32767
@@ -45,7 +45,7 @@ TX_ERROR_LIMITS = {"tx_gain_error_db": (-400.0, 40.0), "tx_phase_error_deg": (-3
 MAX_RANGE_BIAS_M = 10.0
 
 
-def _is_number(v) -> bool:
+def is_number(v) -> bool:
     return isinstance(v, (int, float, np.integer, np.floating)) and not isinstance(v, bool)
 
 
@@ -54,25 +54,8 @@ def check_numbers(cfg) -> None:
     name)."""
     for f in dataclasses.fields(cfg):
         v = getattr(cfg, f.name)
-        if _is_number(f.default) and not _is_number(v):
+        if is_number(f.default) and not is_number(v):
             raise BadInput(f"{f.name}={v!r} must be a number")
-
-
-def _check_rf_budget(cfg) -> None:
-    """The RF budget lies within `RF_BUDGET_LIMITS`; per-Tx errors hold numbers within
-    `TX_ERROR_LIMITS`."""
-    for name, (lo, hi) in RF_BUDGET_LIMITS.items():
-        v = getattr(cfg, name)
-        if not (math.isfinite(v) and lo <= v <= hi):
-            raise BadInput(f"{name}={v!r} is outside the plausible range [{lo:g}, {hi:g}]")
-    for name, (lo, hi) in TX_ERROR_LIMITS.items():
-        v = getattr(cfg, name)
-        if v is None:
-            continue
-        if isinstance(v, (str, bytes)) or not hasattr(v, "__len__") or \
-                not all(_is_number(x) and math.isfinite(x) and lo <= x <= hi for x in v):
-            raise BadInput(f"{name}={v!r} must be a list of finite numbers in "
-                           f"[{lo:g}, {hi:g}] (one per {name[:2].capitalize()})")
 
 
 def integers(value, name: str, what: str) -> tuple[int, ...]:
@@ -83,34 +66,6 @@ def integers(value, name: str, what: str) -> tuple[int, ...]:
             for c in value):
         raise BadInput(f"{name}={value!r} must be a sequence of integers ({what})")
     return tuple(int(c) for c in value)
-
-
-def check_values(cfg) -> None:
-    """Chip-independent value checks: integers, positive timing, RF budget, DC offset and
-    leakage."""
-    require(cfg, ("n_samples", "n_chirps"), "integer", ge=2)
-    if cfg.n_samples % 2 and not cfg.is_complex:
-        raise BadInput(f"n_samples={cfg.n_samples} must be even (real ADC: "
-                       "n_samples/2 range bins)")
-    require(cfg, ("start_freq_hz", "slope_hz_per_s", "idle_time_s", "ramp_end_time_s",
-                  "chirp_period_s", "adc_rate_sps", "temperature_k"), gt=0)
-    if not (math.isfinite(cfg.adc_start_time_s) and cfg.adc_start_time_s >= 0):
-        raise BadInput(f"adc_start_time_s={cfg.adc_start_time_s!r} must be >= 0")
-    require(cfg, ("tx_power_dbm", "tx_antenna_gain_dbi", "rx_antenna_gain_dbi",
-                  "adc_full_scale_dbm"))
-    require(cfg, ("noise_figure_db", "system_loss_db", "phase_noise_deg_rms",
-                  "pattern_exponent_az", "pattern_exponent_el"), ge=0)
-    _check_rf_budget(cfg)
-    if not (math.isfinite(cfg.adc_dc_offset_lsb)
-            and abs(cfg.adc_dc_offset_lsb) <= ADC_FULL_SCALE_CODE):
-        raise BadInput(f"adc_dc_offset_lsb={cfg.adc_dc_offset_lsb!r} must be finite and "
-                       f"within +/-{ADC_FULL_SCALE_CODE} LSB")
-    if cfg.tx_leakage_dbfs is not None and not (math.isfinite(cfg.tx_leakage_dbfs)
-                                                and cfg.tx_leakage_dbfs <= 0):
-        raise BadInput(f"tx_leakage_dbfs={cfg.tx_leakage_dbfs!r} must be <= 0 dBFS or None")
-    if not (math.isfinite(cfg.range_bias_m) and abs(cfg.range_bias_m) <= MAX_RANGE_BIAS_M):
-        raise BadInput(f"range_bias_m={cfg.range_bias_m!r} must be finite and within "
-                       f"+/-{MAX_RANGE_BIAS_M:g} m")
 
 
 def channel_errors(cfg) -> dict[str, tuple[float, ...]]:

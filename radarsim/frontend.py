@@ -112,8 +112,8 @@ def wanted_phase_deg(cfg: RadarConfig) -> tuple[np.ndarray, np.ndarray]:
     gain : (n_tx, n_chirps) float
         The scheme's ideal gain (0 where a Tx is silent).
     """
-    return _wanted_phase_deg(cfg.replace(phase_quantization="none",
-                                         shifter_calibration_deg=None))
+    return _wanted_phase_deg(cfg.replace_fields(phase_quantization="none",
+                                                shifter_calibration_deg=None))
 
 
 @lru_cache(maxsize=32)

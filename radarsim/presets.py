@@ -3,14 +3,16 @@ timing for every registered MIMO scheme (`r79`)."""
 from __future__ import annotations
 
 from .mimo.schemes import scheme_of
-from .radar_config import RadarConfig
+from .radar_config import MimoSchedule, RadarConfig
 
 __all__ = ["r79", "r79_ddma", "r79_tdma", "PRESETS"]
 
 
 def r79(name: str, **overrides) -> RadarConfig:
     """The R79 frame timing (768 chirps of 23.81 us, 4 Tx, 4 Rx, seed 000 table 2) for the
-    registered MIMO scheme `name` (`radarsim.MIMO_SCHEMES`); keyword arguments override fields.
+    registered MIMO scheme `name` (`radarsim.MIMO_SCHEMES`); keyword arguments override fields as
+`RadarConfig.replace` takes them: a part's table (``array={"n_rx": 2}``) or dotted keys
+(``**{"array.n_rx": 2}``); a flat key (``n_rx=2``) works and warns for one release.
 
     Raises
     ------
@@ -22,11 +24,11 @@ def r79(name: str, **overrides) -> RadarConfig:
     >>> import radarsim
     >>> [round(radarsim.presets.r79(s).max_unambiguous_velocity_mps, 2) for s in ("ddma", "tdma")]
     [40.88, 10.22]
-    >>> radarsim.presets.r79("tdma", n_rx=2).n_virtual
+    >>> radarsim.presets.r79("tdma", array={"n_rx": 2}).n_virtual
     8
     """
     scheme_of(name)
-    base = RadarConfig(mimo=name)
+    base = RadarConfig(schedule=MimoSchedule(mimo=name))
     return base.replace(**overrides) if overrides else base
 
 

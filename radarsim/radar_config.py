@@ -15,31 +15,37 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import operator
 from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
-from core.checks import one_of
+from core.config import dotted_changes
 from core.errors import BadInput
 
 from . import shifter as _shifter
 from .boards import get_board
 from .chips import ADC_MODES, CHIPS, get_chip
-from .config_rules import (
-    ADC_FULL_SCALE_CODE,
-    channel_errors,
-    check_numbers,
-    check_timing,
-    check_values,
-    integers,
-)
+from .config_rules import ADC_FULL_SCALE_CODE, channel_errors, check_timing, integers
 from .mimo.schemes import MIMO_SCHEMES, MimoScheme, scheme_of
+from .radar_parts import (
+    ANTENNA_PATTERNS,
+    FIELD_PART,
+    PARTS,
+    ArrayConfig,
+    Impairments,
+    MimoSchedule,
+    RfBudget,
+    ShifterConfig,
+    Waveform,
+)
 
 __all__ = [
-    "RadarConfig", "MIMO_SCHEMES", "PHASE_QUANTIZATIONS", "ANTENNA_PATTERNS", "ADC_MODES",
-    "C_MPS", "K_BOLTZMANN", "MAX_ADC_RATE_SPS", "MAX_IF_BANDWIDTH_HZ", "BAND_MIN_HZ",
-    "BAND_MAX_HZ",
+    "RadarConfig", "Waveform", "ArrayConfig", "MimoSchedule", "ShifterConfig", "Impairments",
+    "RfBudget", "FLAT_KEYS", "radar_paths", "radar_fields", "MIMO_SCHEMES", "PHASE_QUANTIZATIONS",
+    "ANTENNA_PATTERNS", "ADC_MODES", "C_MPS", "K_BOLTZMANN", "MAX_ADC_RATE_SPS",
+    "MAX_IF_BANDWIDTH_HZ", "BAND_MIN_HZ", "BAND_MAX_HZ",
 ]
 
 C_MPS = 299_792_458.0
@@ -54,11 +60,8 @@ MAX_N_RX = CHIPS["AWR2944"].n_rx
 
 #: How a programmed phase is mapped onto the shifter's codes (`radarsim.shifter`).
 PHASE_QUANTIZATIONS = _shifter.PHASE_QUANTIZATIONS
-#: Element gain patterns.
-ANTENNA_PATTERNS = {
-    "cosine": "power gain G0 cos(az)^n_az cos(el)^n_el inside +/-90 deg, 0 behind",
-    "isotropic": "G0 in every direction (tests)",
-}
+#: Flat key of the previous release -> its dotted path (``"n_chirps"`` -> ``"waveform.n_chirps"``).
+FLAT_KEYS = {name: f"{part}.{name}" for name, part in FIELD_PART.items()}
 
 # Fields re-derived by `replace` when the field they depend on changes and they are not given.
 _DEPENDENT_FIELDS = {
@@ -74,12 +77,34 @@ _DEPENDENT_FIELDS = {
 }
 
 
-@dataclass(frozen=True, kw_only=True, slots=True)
+# Not slotted: the fields' read-only properties are set on the class after it is made, and a
+# slotted frozen class of Python 3.11 raises TypeError, not FrozenInstanceError, on them.
+@dataclass(frozen=True, kw_only=True)
 class RadarConfig:
     """One radar: chip, board, waveform, ADC mode, MIMO schedule, antenna and RF budget.
 
-    Parameters (all SI, unit in the name)
+    Parameters
     ----------
+    waveform : Waveform
+        Ramp, timing, ADC sampling and frame length.
+    array : ArrayConfig
+        Chip, board, active channels, element positions and pattern.
+    schedule : MimoSchedule
+        MIMO scheme, DDMA sub-bands, Tx order.
+    shifter : ShifterConfig
+        Phase-shifter resolution, quantisation, per-code errors and calibration.
+    impairments : Impairments
+        Static channel errors, range bias, phase noise, Tx coupling, DC offset, leakage.
+    budget : RfBudget
+        Tx power, element gains, noise figure, losses, temperature, ADC full scale.
+
+    Build one from parts (``RadarConfig(waveform=Waveform(n_chirps=256))``), from fields by
+    their own names (`from_fields`), or change one (`replace`, dotted keys such as
+    ``"waveform.n_chirps"``). Every field below is read by its own name too
+    (``cfg.n_chirps`` is ``cfg.waveform.n_chirps``).
+
+    Fields (all SI, unit in the name)
+    ------
     chip : str
         Chip name, see `radarsim.chips.CHIPS`; every limit below is this chip's.
     board : str or None
@@ -182,79 +207,59 @@ class RadarConfig:
         the message names the field, the value and the limit.
     """
 
-    chip: str = "AWR2944"
-    board: str | None = None
-    adc_mode: str = "real"
-    mimo: str = "ddma"
-    n_tx: int = 4
-    n_rx: int = 4
-    start_freq_hz: float = 77e9
-    slope_hz_per_s: float = 8.883e12
-    idle_time_s: float = 5e-6
-    adc_start_time_s: float = 5e-6
-    ramp_end_time_s: float = 18.81e-6
-    chirp_period_s: float = 23.81e-6
-    n_samples: int = 384
-    adc_rate_sps: float = 30e6
-    n_chirps: int = 768
-    n_subbands: int | None = None
-    tx_order: tuple[int, ...] | None = None
-    tx_channels: tuple[int, ...] | None = None
-    rx_channels: tuple[int, ...] | None = None
-    tx_positions_wl: tuple[tuple[float, float], ...] | None = None
-    rx_positions_wl: tuple[tuple[float, float], ...] | None = None
-    adcbuf_interleaved: bool | None = None
-    phase_shifter_bits: int | None = None
-    phase_quantization: str = "floor"
-    tx_phase_error_deg: tuple[float, ...] | None = None
-    tx_gain_error_db: tuple[float, ...] | None = None
-    rx_phase_error_deg: tuple[float, ...] | None = None
-    rx_gain_error_db: tuple[float, ...] | None = None
-    range_bias_m: float = 0.0
-    phase_noise_deg_rms: float = 0.0
-    shifter_phase_error_deg: Any = None
-    shifter_gain_error_db: Any = None
-    tx_coupling_db: Any = None
-    tx_coupling_deg: Any = None
-    shifter_calibration_deg: Any = None
-    tx_power_dbm: float = 12.0
-    tx_antenna_gain_dbi: float = 10.0
-    rx_antenna_gain_dbi: float = 10.0
-    antenna_pattern: str = "cosine"
-    pattern_exponent_az: float | None = None
-    pattern_exponent_el: float | None = None
-    noise_figure_db: float = 12.0
-    system_loss_db: float = 3.0
-    temperature_k: float = 290.0
-    adc_full_scale_dbm: float = -20.0
-    adc_dc_offset_lsb: float = 0.0
-    tx_leakage_dbfs: float | None = None
+    waveform: Waveform = Waveform()
+    array: ArrayConfig = ArrayConfig()
+    schedule: MimoSchedule = MimoSchedule()
+    shifter: ShifterConfig = ShifterConfig()
+    impairments: Impairments = Impairments()
+    budget: RfBudget = RfBudget()
 
     def __post_init__(self) -> None:
-        check_numbers(self)
+        for part, cls in PARTS.items():
+            if not isinstance(getattr(self, part), cls):
+                raise BadInput(f"{part}={getattr(self, part)!r} must be a {cls.__name__}")
         scheme = scheme_of(self.mimo)
         chip = get_chip(self.chip)
         board = get_board(chip.default_board if self.board is None else self.board)
         board.validate(self)
         self._set(board=board.name, **board.defaults(self))
-        one_of("adc_mode", self.adc_mode, ADC_MODES)
-        check_values(self)
         chip.validate(self)
         self._set(**chip.defaults(self))
         check_timing(self)
         if scheme.needs_phase_shifter and self.phase_shifter_bits == 0:
             raise BadInput(f"mimo={self.mimo!r} needs per-Tx phase shifters; the {chip.name} "
                            "has none")
-        one_of("phase_quantization", self.phase_quantization, PHASE_QUANTIZATIONS)
-        one_of("antenna_pattern", self.antenna_pattern, ANTENNA_PATTERNS)
         self._resolve_schedule(scheme)
         self._set(**channel_errors(self))
         self._set(**_shifter.resolve_config_tables(self))
 
     def _set(self, **fields: Any) -> None:
-        """Set resolved fields while the frozen instance is being built."""
+        """Set resolved fields (by their own names) while the frozen instance is being built:
+        each part is replaced by a copy, which checks its values again."""
+        by_part: dict[str, dict[str, Any]] = {}
         for name, value in fields.items():
-            object.__setattr__(self, name, value)
+            by_part.setdefault(FIELD_PART[name], {})[name] = value
+        for part, changes in by_part.items():
+            object.__setattr__(self, part, dataclasses.replace(getattr(self, part), **changes))
+
+    @classmethod
+    def from_fields(cls, **fields: Any) -> "RadarConfig":
+        """Build from fields given by their own names (``n_chirps=256``), each sent to its part:
+        the bridge for a vocabulary that names the fields (TI profiles, `to_dict`).
+
+        Raises
+        ------
+        BadInput
+            An unknown field name (with the known ones), or a value its part refuses.
+        """
+        unknown = sorted(set(fields) - set(FIELD_PART))
+        if unknown:
+            raise BadInput(f"unknown RadarConfig field(s) {unknown}; known: "
+                           f"{sorted(FIELD_PART)}")
+        by_part: dict[str, dict[str, Any]] = {}
+        for name, value in fields.items():
+            by_part.setdefault(FIELD_PART[name], {})[name] = value
+        return cls(**{part: PARTS[part](**kw) for part, kw in by_part.items()})
 
     def _resolve_schedule(self, scheme: MimoScheme) -> None:
         """Tx order and sub-bands (the scheme's defaults when None), then the scheme's rules."""
@@ -473,46 +478,99 @@ class RadarConfig:
 
     # ------------------------------------------------------------------ (de)serialisation
     def to_dict(self) -> dict[str, Any]:
-        """Plain dict of the fields (tuples as lists, tables as lists of lists), suitable for
-        TOML/JSON; a field that is None (no shifter calibration) is left out. Absent coupling
-        is -inf dB (TOML `-inf`)."""
+        """Plain dict of the fields by their own names (tuples as lists, tables as lists of
+        lists), suitable for TOML/JSON; a field that is None (no shifter calibration) is left
+        out. Absent coupling is -inf dB (TOML `-inf`)."""
         out = {}
-        for f in dataclasses.fields(self):
-            v = getattr(self, f.name)
+        for name in FIELD_PART:
+            v = getattr(self, name)
             if v is None:
                 continue
-            out[f.name] = _as_lists(v)
+            out[name] = _as_lists(v)
         return out
 
     @classmethod
     def from_dict(cls, data: dict[str, Any]) -> "RadarConfig":
-        """Build from a dict; unknown keys raise BadInput naming them."""
-        names = {f.name for f in dataclasses.fields(cls)}
-        unknown = sorted(set(data) - names)
-        if unknown:
-            raise BadInput(f"unknown RadarConfig field(s) {unknown}; known: {sorted(names)}")
-        kw = {k: _as_tuples(v) for k, v in data.items()}
-        return cls(**kw)
+        """Build from a dict of fields by their own names (`to_dict`); unknown keys raise
+        BadInput naming them."""
+        return cls.from_fields(**{k: _as_tuples(v) for k, v in data.items()})
 
     def replace(self, **changes: Any) -> "RadarConfig":
-        """A copy with some fields changed (validated again); unknown fields raise BadInput.
+        """A copy with some fields changed (validated again), by dotted key
+        (``**{"waveform.n_chirps": 256}``), by part (``waveform={"n_chirps": 256}`` or a
+        `Waveform`); the flat keys of the previous release (``n_chirps=256``) still work and
+        warn (`DeprecationWarning`) with the new key. Unknown fields raise BadInput.
 
         Fields that follow another are re-derived when it changes and they are not given:
         `tx_order`, `n_subbands`, `tx_channels`, the per-Tx error tuples and the shifter and
         coupling tables follow `n_tx`; `tx_order` and `n_subbands` follow `mimo` (the new
         scheme's defaults); `rx_channels` follows `n_rx`; the board and its geometry and
         pattern follow `chip`."""
-        names = {f.name for f in dataclasses.fields(self)}
-        unknown = sorted(set(changes) - names)
+        return self.replace_fields(**_fields_of(radar_paths(changes, stacklevel=4)))
+
+    def replace_fields(self, **changes: Any) -> "RadarConfig":
+        """`replace` with fields given by their own names, without a warning: the bridge for a
+        vocabulary that names the fields (a TI profile's board, a chain's own settings)."""
+        unknown = sorted(set(changes) - set(FIELD_PART))
         if unknown:
             raise BadInput(f"unknown RadarConfig field(s) {unknown}")
-        data = {f.name: getattr(self, f.name) for f in dataclasses.fields(self)}
+        data = {name: getattr(self, name) for name in FIELD_PART}
         for key in ("chip", "board", "n_tx", "n_rx", "mimo"):  # chip first: board follows it
             if key in changes and changes[key] != getattr(self, key):
                 for k in _DEPENDENT_FIELDS[key]:
                     data[k] = None
         data.update(changes)
-        return RadarConfig(**data)
+        return RadarConfig.from_fields(**data)
+
+
+def radar_paths(changes: dict[str, Any], *, warn: bool = True,
+                stacklevel: int = 3) -> dict[str, Any]:
+    """`RadarConfig` changes as dotted paths and whole parts (`core.config.dotted_changes`):
+    a part's table becomes its dotted keys, a flat key its dotted path (with a
+    `DeprecationWarning` unless `warn` is False).
+
+    Raises
+    ------
+    BadInput
+        A key that names no part, field of a part, or flat field.
+    """
+    paths = dotted_changes(changes, PARTS, FLAT_KEYS, "RadarConfig", warn=warn,
+                           stacklevel=stacklevel)
+    for path in paths:
+        part, _, name = path.partition(".")
+        if name and FIELD_PART.get(name) != part:
+            raise BadInput(f"unknown RadarConfig field(s) [{path!r}]; {part} holds "
+                           f"{sorted(f.name for f in dataclasses.fields(PARTS[part]))}")
+    return paths
+
+
+def radar_fields(changes: dict[str, Any], *, warn: bool = True) -> dict[str, Any]:
+    """`RadarConfig` changes in any accepted form (dotted keys, part tables, whole parts, flat
+    keys) as fields by their own names: how a reader of a sweep's radar table finds a field
+    whatever form the file used (``radar_fields(v)["phase_noise_deg_rms"]``)."""
+    return _fields_of(radar_paths(changes, warn=warn, stacklevel=4))
+
+
+def _fields_of(paths: dict[str, Any]) -> dict[str, Any]:
+    """Dotted paths and whole parts (`radar_paths`) as fields by their own names."""
+    out: dict[str, Any] = {}
+    for path, value in paths.items():
+        part, _, name = path.partition(".")
+        if name:
+            out[name] = value
+        else:
+            out.update({f.name: getattr(value, f.name) for f in dataclasses.fields(value)})
+    return out
+
+
+def _flat_property(part: str, name: str) -> property:
+    return property(operator.attrgetter(f"{part}.{name}"),
+                    doc=f"``{part}.{name}`` (read-only; set it by `RadarConfig.replace`).")
+
+
+# Every field of a part is also read by its own name: cfg.n_chirps is cfg.waveform.n_chirps.
+for _name, _part in FIELD_PART.items():
+    setattr(RadarConfig, _name, _flat_property(_part, _name))
 
 
 def _as_lists(v: Any) -> Any:

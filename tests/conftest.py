@@ -48,10 +48,10 @@ def make_x18():
     corner 5.5 MHz real, 11 MHz I/Q), isotropic elements: a second chip family and the
     complex ADC modes next to the R79 preset."""
     def _make(adc_mode: str = "complex1x") -> radarsim.RadarConfig:
-        return radarsim.RadarConfig(chip="AWR1843", adc_mode=adc_mode, mimo="tdma", n_tx=3,
-                                    n_chirps=96, n_samples=128, adc_rate_sps=10e6,
-                                    slope_hz_per_s=30e12, ramp_end_time_s=18.81e-6,
-                                    idle_time_s=5e-6, antenna_pattern="isotropic")
+        return radarsim.RadarConfig.from_fields(
+            chip="AWR1843", adc_mode=adc_mode, mimo="tdma", n_tx=3, n_chirps=96, n_samples=128,
+            adc_rate_sps=10e6, slope_hz_per_s=30e12, ramp_end_time_s=18.81e-6, idle_time_s=5e-6,
+            antenna_pattern="isotropic")
     return _make
 
 

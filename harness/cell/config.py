@@ -30,10 +30,12 @@ def radar_config(overrides: dict, mimo: str):
     """
     import radarsim
     from radarsim.calibration import resolve_calibration
+    from radarsim.radar_config import radar_paths
     ov = dict(overrides)
-    request = ov.pop("shifter_calibration_deg") \
-        if isinstance(ov.get("shifter_calibration_deg"), Mapping) else None
     path = ov.pop("profile", None)
+    ov = radar_paths(ov)  # dotted keys; a flat key of the previous release warns
+    cal = "shifter.shifter_calibration_deg"
+    request = ov.pop(cal) if isinstance(ov.get(cal), Mapping) else None
     if path is None:
         return resolve_calibration(radarsim.presets.r79(mimo, **ov), request)
     prof = load_profile(Path(path))
@@ -43,7 +45,7 @@ def radar_config(overrides: dict, mimo: str):
                        "`radar-harness process` for it, or a profile of one sub-frame")
     base = simulation_radar(prof)  # on the board its compRangeBiasAndRxChanPhase calibrates
     try:
-        cfg = base.replace(**{"mimo": mimo, **ov}) if base.mimo != mimo or ov else base
+        cfg = base.replace(**{"schedule.mimo": mimo, **ov}) if base.mimo != mimo or ov else base
     except BadInput as exc:
         raise BadInput(f"radar.profile={str(path)!r} ({base.chip}, {base.mimo}) as scheme "
                        f"{mimo!r}: {exc}") from exc

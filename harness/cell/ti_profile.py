@@ -131,7 +131,7 @@ def simulation_radar(profile):
     from pipeline.compensation import implied_board
     proc = profile.processing
     board = implied_board(profile.radar, proc.get("channel_comp"), proc.get("range_bias_m", 0.0))
-    return profile.radar.replace(**board) if board else profile.radar
+    return profile.radar.replace_fields(**board) if board else profile.radar
 
 
 def processing_from_profile(profile, notes: list[str] | None = None):

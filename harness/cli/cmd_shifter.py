@@ -80,9 +80,9 @@ def run(args: argparse.Namespace) -> int:
     gain = {"distribution": args.distribution, "rms": args.gain_error_db_rms,
             "seed": args.seed + 1}
     try:
-        cfg = radarsim.presets.r79_ddma(phase_quantization="round",
-                                        shifter_phase_error_deg=phase,
-                                        shifter_gain_error_db=gain)
+        cfg = radarsim.presets.r79_ddma(shifter={"phase_quantization": "round",
+                                                 "shifter_phase_error_deg": phase,
+                                                 "shifter_gain_error_db": gain})
     except BadInput as exc:
         raise BadInput(f"--error-deg-rms {args.error_deg_rms:g} / --gain-error-db-rms "
                        f"{args.gain_error_db_rms:g} (--distribution {args.distribution}, "

@@ -90,14 +90,16 @@ def angle_sidelobe_db(radar_overrides: dict, scheme: str) -> float:
 
 
 def _variant_info(results: Path) -> dict[str, dict]:
+    from radarsim.radar_config import radar_fields
     man = read_manifest(results, required=True)
     info = {}
     for v in man["sweep"]["variants"]:
         radar = v.get("radar", {})
-        err = radar.get("shifter_phase_error_deg")
+        fields = radar_fields({k: x for k, x in radar.items() if k != "profile"}, warn=False)
+        err = fields.get("shifter_phase_error_deg")
         rms = float(err["rms"]) if isinstance(err, dict) else (0.0 if err is None else np.nan)
-        info[v["name"]] = {"radar": radar, "shifter_error_deg_rms": rms,
-                           "calibrated": radar.get("shifter_calibration_deg") is not None}
+        info[v["name"]] = {"radar": radar, "fields": fields, "shifter_error_deg_rms": rms,
+                           "calibrated": fields.get("shifter_calibration_deg") is not None}
     return info
 
 
@@ -152,7 +154,7 @@ def html_section(results: str | Path, *, probe: bool = True) -> str:
     except (OSError, KeyError, ValueError):
         return ""
     if not any(np.isfinite(v["shifter_error_deg_rms"]) and
-               v["radar"].get("shifter_phase_error_deg") is not None for v in info.values()):
+               v["fields"].get("shifter_phase_error_deg") is not None for v in info.values()):
         return ""
     tab = shifter_table(results, probe=probe)
     plt = pyplot()

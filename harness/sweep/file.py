@@ -14,7 +14,6 @@ the key and the value.
 """
 from __future__ import annotations
 
-import dataclasses
 import itertools
 import math
 from pathlib import Path
@@ -56,11 +55,17 @@ def _check_section(where: str, section: str, overrides: dict) -> None:
     if not isinstance(overrides, dict):
         raise BadInput(f"{where}: [{section}] must be a table of field = value")
     if section == "radar" and overrides:
-        from radarsim.config import RadarConfig
-        names = {f.name for f in dataclasses.fields(RadarConfig)} | {"profile"}
-        bad = sorted(set(overrides) - names)
+        from radarsim.radar_config import radar_paths
+        bad = []
+        for key, value in overrides.items():
+            if key == "profile":
+                continue
+            try:
+                radar_paths({key: value}, warn=False)
+            except BadInput:
+                bad.append(key)
         if bad:
-            raise BadInput(f"{where}: unknown radar field(s) {bad}")
+            raise BadInput(f"{where}: unknown radar field(s) {sorted(bad)}")
         if "profile" in overrides:
             from harness.cell.ti_profile import load_profile
             prof = overrides["profile"]

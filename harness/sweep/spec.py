@@ -10,12 +10,13 @@ A sweep is usually read from a TOML file (`harness.sweep.file.load_sweep`)::
     schemes = ["ddma", "tdma", "bpm"]  # optional: radarsim.MIMO_SCHEMES names (or chain
                                   # variants such as "tdma_raw"); default ddma, tdma, tdma_raw
     baseline_scheme = "tdma"      # optional: the SNR gain is each scheme minus this one
-    [base.radar]                  # RadarConfig overrides for every cell (both schemes)
-    tx_phase_error_deg = [0.0, 3.0, -2.0, 1.0]
+    [base.radar.impairments]      # RadarConfig overrides for every cell (both schemes), by
+    tx_phase_error_deg = [0.0, 3.0, -2.0, 1.0]  # part (waveform, array, schedule, shifter,
+                                  # impairments, budget); flat names warn (one release)
     [base.processing]             # ProcessingConfig overrides; cfar_<field> for the CFAR
     cfar_threshold_db = 14.0
     [vary]                        # cartesian product -> one variant per combination
-    "radar.phase_noise_deg_rms" = [0.0, 2.0, 10.0]
+    "radar.impairments.phase_noise_deg_rms" = [0.0, 2.0, 10.0]
     "processing.cfar_mode" = ["os", "ca"]
     [association]                 # optional AssociationConfig overrides (e.g. fov_deg = 60.0)
 

@@ -114,8 +114,8 @@ def regroup_profile(path_or_text: str | os.PathLike, n_frames: int):
         raise BadInput(f"framePeriodicity {period * 1e3:g} ms is not longer than the chirp's "
                        f"ramp end time {radar.ramp_end_time_s * 1e6:g} us")
     try:
-        radar = radar.replace(n_chirps=n_frames, chirp_period_s=period,
-                              idle_time_s=period - radar.ramp_end_time_s)
+        radar = radar.replace_fields(n_chirps=n_frames, chirp_period_s=period,
+                                     idle_time_s=period - radar.ramp_end_time_s)
     except ValueError as exc:
         raise BadInput(f"--regroup-frames {n_frames}: {exc}") from None
     n_out = prof.n_frames // n_frames if prof.n_frames else 0

@@ -33,6 +33,7 @@ from core.errors import BadInput
 from ..mimo.fast_slow import FastSlowScheme
 from ..mimo.schemes import MIMO_SCHEMES, TdmaScheme
 from ..radar_config import RadarConfig
+from ..radar_parts import FIELDS
 from .profile import DEFAULT_FRAME_PERIOD_S, TiProfile
 
 __all__ = ["advanced_profile", "pair_radar", "IDLE_STEP_S"]
@@ -81,8 +82,8 @@ def advanced_profile(cfg: RadarConfig, frame_period_s: float | None = None,
     half = cfg.n_chirps // 2
     idles = (idle_s, idle_f) if sch.slow_first else (idle_f, idle_s)
     # Each set is read back as the registry's TDMA loop (the pattern TdmaScheme.from_ti claims).
-    subs = [cfg.replace(mimo="tdma", n_chirps=half, tx_order=cfg.tx_order,
-                        idle_time_s=_s(i), chirp_period_s=_s(i + ramp)) for i in idles]
+    subs = [cfg.replace_fields(mimo="tdma", n_chirps=half, tx_order=cfg.tx_order,
+                               idle_time_s=_s(i), chirp_period_s=_s(i + ramp)) for i in idles]
     bursts = [_s((i + ramp) * half) for i in idles]
     rest = period - bursts[0]
     if rest < bursts[1]:
@@ -109,7 +110,7 @@ def pair_radar(profile: TiProfile) -> RadarConfig | None:
     if len(profile.subframes) != 2:
         return None
     a, b = (p.radar for p in profile.subframes)
-    same = all(getattr(a, f.name) == getattr(b, f.name) for f in dataclasses.fields(RadarConfig)
+    same = all(getattr(a, f.name) == getattr(b, f.name) for f in FIELDS.values()
                if f.name not in _SET_FIELDS + ("n_chirps",))
     if not same or a.idle_time_s == b.idle_time_s or not isinstance(a.scheme, TdmaScheme) \
             or isinstance(a.scheme, FastSlowScheme):
@@ -124,7 +125,7 @@ def pair_radar(profile: TiProfile) -> RadarConfig | None:
     fast, slow = (b, a) if slow_first else (a, b)
     mean_idle = _s((_us(a.idle_time_s) + _us(b.idle_time_s)) / 2)
     mean_period = _s((_us(a.chirp_period_s) + _us(b.chirp_period_s)) / 2)
-    merged = {f.name: getattr(a, f.name) for f in dataclasses.fields(RadarConfig)}
+    merged = {f.name: getattr(a, f.name) for f in FIELDS.values()}
     merged.update(n_chirps=2 * a.n_chirps, idle_time_s=mean_idle, chirp_period_s=mean_period)
     tol = IDLE_STEP_S / 2 * (1 + 1e-6)
     known = []
@@ -135,7 +136,7 @@ def pair_radar(profile: TiProfile) -> RadarConfig | None:
         t_f = 2 * mean_period / (1 + sch.slow_period_ratio)
         if abs(t_f - fast.chirp_period_s) <= tol and \
                 abs(sch.slow_period_ratio * t_f - slow.chirp_period_s) <= tol:
-            return RadarConfig(**{**merged, "mimo": sch.name})
+            return RadarConfig.from_fields(**{**merged, "mimo": sch.name})
     ratio = slow.chirp_period_s / fast.chirp_period_s
     raise BadInput(f"profileCfg: sub-frames 0 and 1 are a fast/slow chirp pair with T_s / T_f "
                    f"= {_us(slow.chirp_period_s)} / {_us(fast.chirp_period_s)} us = "

@@ -15,6 +15,7 @@ from core.fileio import read_input_bytes
 
 from ..chips import Chip, get_chip
 from ..radar_config import RadarConfig
+from ..radar_parts import FIELDS
 from . import advanced, fast_slow
 from .advanced import MAX_SUBFRAMES
 from .calibration import antenna_calib_pairs, is_identity
@@ -231,7 +232,7 @@ def _read_pass(commands: list[Line], tok: _Tokens, chip: Chip, n_lines: int,
                     advanced=sub is not None)
     st.ignored, st.notes = list(tok.ignored), list(tok.notes)
     st.board = tok.board
-    fields_by_name = {f.name: f for f in dataclasses.fields(RadarConfig)}
+    fields_by_name = {f.name: f for f in FIELDS.values()}
     for ln in tok.directives:
         name = ln.args[0]
         if name not in fields_by_name:
@@ -313,7 +314,7 @@ def _finish(st: ParseState, n_lines: int) -> TiProfile:
         kw["chirp_period_s"] = st.directives["chirp_period_s"]
     lines = {**st.field_lines, **st.directive_lines}
     try:
-        radar = RadarConfig(**kw)
+        radar = RadarConfig.from_fields(**kw)
     except (ValueError, TypeError) as exc:
         raise _relabel(exc, lines, st) from exc
     burst_s = radar.n_chirps * radar.chirp_period_s

@@ -2,7 +2,6 @@
 ``from_ti_cfg(to_ti_cfg(cfg)) == cfg`` exactly; what TI cannot say travels as directives."""
 from __future__ import annotations
 
-import dataclasses
 import json
 from typing import Any, Iterable, Mapping
 
@@ -12,6 +11,7 @@ from ..boards import get_board
 from ..chips import ADC_MODES
 from ..mimo import TiFrame
 from ..radar_config import RadarConfig
+from ..radar_parts import FIELDS
 from . import fast_slow
 from .families import DEMO_FAMILIES
 from .profile import DEFAULT_FRAME_PERIOD_S, TiCfar, TiProfile
@@ -41,7 +41,7 @@ def to_channel_bits(line: str, radar: RadarConfig) -> str:
 def _ti_default(name: str) -> Any:
     if name in TI_DEFAULT_OVERRIDES:
         return TI_DEFAULT_OVERRIDES[name]
-    f = next(f for f in dataclasses.fields(RadarConfig) if f.name == name)
+    f = next(f for f in FIELDS.values() if f.name == name)
     return f.default
 
 
@@ -239,7 +239,7 @@ def _with_directives(radar: RadarConfig, out: list[str]) -> str:
     body = out + ["sensorStart"]
     plain = parse_ti_cfg("\n".join(body) + "\n").parts[0].radar  # advanced: sub-frame 0's
     directives = []
-    for f in dataclasses.fields(RadarConfig):
+    for f in FIELDS.values():
         if f.name in TI_FIELDS:
             continue
         if getattr(plain, f.name) != getattr(radar, f.name):
@@ -254,7 +254,7 @@ def _advanced_text(profile: TiProfile, n_frames: int | None, extra_lines: Iterab
     profileCfg k, its chirps follow the previous sub-frames' in the chirp table, its
     ``subFrameCfg`` keeps its burst and sub-frame periods, its CFAR lines carry index k."""
     parts = profile.parts
-    shared = [f.name for f in dataclasses.fields(RadarConfig)
+    shared = [f.name for f in FIELDS.values()
               if f.name not in TI_FIELDS | _SUBFRAME_FIELDS]
     for part in parts[1:]:
         differ = [n for n in shared + ["tx_channels", "rx_channels", "adc_mode"]

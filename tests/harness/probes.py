@@ -494,7 +494,7 @@ def _readonly_dir(d: Path):
 
 def _radar(**kw):
     import radarsim
-    return radarsim.RadarConfig(**kw)
+    return radarsim.RadarConfig.from_fields(**kw)
 
 
 def _calibration_request(request):

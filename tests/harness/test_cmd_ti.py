@@ -215,8 +215,9 @@ def test_simulate_complex_profile_writes_the_public_layout(tmp_path, fake_compon
     """A complex xWR18xx profile: the capture holds I I Q Q words per Rx, read back complex."""
     from radarsim.capture import layout_of
 
-    cfg = radarsim.RadarConfig(chip="AWR1843", adc_mode="complex1x", mimo="tdma", n_tx=3,
-                               n_chirps=48, n_samples=64, adc_rate_sps=10e6)  # 16 Doppler bins
+    cfg = radarsim.RadarConfig.from_fields(
+        chip="AWR1843", adc_mode="complex1x", mimo="tdma", n_tx=3, n_chirps=48, n_samples=64,
+        adc_rate_sps=10e6)  # 16 Doppler bins
     cfg_path = tmp_path / "x18.cfg"
     # The xWR18xx demo's Doppler CFAR (cfarCfg -1 1 0 4 2 3 1 15 1): it fits 16 Doppler bins.
     cfg_path.write_text(to_ti_cfg(cfg, frame_period_s=0.1,

@@ -51,9 +51,32 @@ def test_load_sweep_vary_product(tmp_path):
     assert spec.with_overrides(seeds=[7]).seeds == (7,)
 
 
+def test_radar_keys_by_part_build_the_cell_radar(tmp_path):
+    """A part's table (``[base.radar.impairments]``) and a dotted key
+    (``"radar.waveform.n_chirps"``) reach the cell's RadarConfig; a flat key still does and
+    warns with the new key."""
+    from harness.cell.config import radar_config
+    f = tmp_path / "s.toml"
+    f.write_text(textwrap.dedent("""
+        scenarios = ["a"]
+        [base.radar.impairments]
+        phase_noise_deg_rms = 2.0
+        [vary]
+        "radar.waveform.n_chirps" = [384]
+    """))
+    v = load_sweep(f, check_scenarios=False).variants[0]
+    assert v.radar == {"impairments": {"phase_noise_deg_rms": 2.0}, "waveform.n_chirps": 384}
+    cfg = radar_config(v.radar, "tdma")
+    assert (cfg.phase_noise_deg_rms, cfg.n_chirps, cfg.mimo) == (2.0, 384, "tdma")
+    with pytest.warns(DeprecationWarning, match=r"use 'impairments.phase_noise_deg_rms'"):
+        assert radar_config({"phase_noise_deg_rms": 2.0}, "tdma").phase_noise_deg_rms == 2.0
+
+
 @pytest.mark.parametrize("text,match", [
     ('scenarios = ["a"]\nbogus = 1', "unknown key"),
     ('scenarios = ["a"]\n[vary]\n"radar.not_a_field" = [1]', "unknown radar field"),
+    ('scenarios = ["a"]\n[vary]\n"radar.waveform.n_tx" = [1]', "unknown radar field"),
+    ('scenarios = ["a"]\n[base.radar.waveform]\nbogus = 1', "unknown radar field"),
     ('scenarios = ["a"]\n[vary]\n"sonar.x" = [1]', "unknown section"),
     ('scenarios = ["a"]\n[vary]\n"radar.phase_noise_deg_rms" = []', "non-empty list"),
     ('scenarios = ["a"]\nseeds = [-1]', "seeds"),

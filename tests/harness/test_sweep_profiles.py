@@ -21,8 +21,9 @@ from tests.harness.fakes import FAKE
 def x18_profile(tmp_path):
     """An xWR18xx TDMA complex profile (3 Tx, 384 chirps: 128 Doppler bins as TDMA, 96 as
     DDMA, room for the default CFAR window), written next to the sweep file."""
-    cfg = radarsim.RadarConfig(chip="AWR1843", adc_mode="complex1x", mimo="tdma", n_tx=3,
-                               n_chirps=384, n_samples=64, adc_rate_sps=10e6)
+    cfg = radarsim.RadarConfig.from_fields(
+        chip="AWR1843", adc_mode="complex1x", mimo="tdma", n_tx=3, n_chirps=384, n_samples=64,
+        adc_rate_sps=10e6)
     (tmp_path / "profiles").mkdir()
     path = tmp_path / "profiles" / "x18.cfg"
     path.write_text(to_ti_cfg(cfg, frame_period_s=0.1))
@@ -86,8 +87,9 @@ def test_bad_profile_in_a_sweep_is_named(tmp_path):
 
 
 def test_profile_that_cannot_run_a_scheme_names_it(tmp_path):
-    cfg = radarsim.RadarConfig(chip="AWR1642", adc_mode="complex1x", mimo="tdma", n_tx=2,
-                               n_chirps=32, n_samples=64, adc_rate_sps=5e6)
+    cfg = radarsim.RadarConfig.from_fields(
+        chip="AWR1642", adc_mode="complex1x", mimo="tdma", n_tx=2, n_chirps=32, n_samples=64,
+        adc_rate_sps=5e6)
     path = tmp_path / "x16.cfg"
     path.write_text(to_ti_cfg(cfg))
     assert radar_config({"profile": str(path)}, "tdma") == cfg
@@ -201,8 +203,9 @@ def test_profile_clutter_removal_with_a_ddma_scheme_is_refused_before_the_sweep(
     """clutterRemoval 1 belongs to the TDM demos; the DDMA chain has none: the sweep names it
     at validation, not at the first frame."""
     path = tmp_path / "x18.cfg"
-    cfg = radarsim.RadarConfig(chip="AWR1843", adc_mode="complex1x", mimo="tdma", n_tx=3,
-                               n_chirps=384, n_samples=64, adc_rate_sps=10e6)
+    cfg = radarsim.RadarConfig.from_fields(
+        chip="AWR1843", adc_mode="complex1x", mimo="tdma", n_tx=3, n_chirps=384, n_samples=64,
+        adc_rate_sps=10e6)
     path.write_text(to_ti_cfg(cfg, frame_period_s=0.1, extra_lines=["clutterRemoval -1 1"]))
     f = _sweep_file(tmp_path, f"""
         name = "p"

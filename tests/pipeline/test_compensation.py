@@ -51,9 +51,9 @@ def test_chip_order_follows_tx_channels_and_order():
     r79 = radarsim.presets.r79_ddma()  # tx_order (1, 3, 4, 2)
     np.testing.assert_array_equal(ti_pair_index(r79), [0, 1, 2, 3, 8, 9, 10, 11, 12, 13, 14, 15,
                                                        4, 5, 6, 7])
-    x18 = radarsim.RadarConfig(chip="AWR1843", adc_mode="complex1x", mimo="tdma", n_tx=2,
-                               tx_channels=(1, 3), n_rx=2, rx_channels=(2, 4), n_chirps=96,
-                               n_samples=128, adc_rate_sps=10e6, slope_hz_per_s=30e12)
+    x18 = radarsim.RadarConfig.from_fields(
+        chip="AWR1843", adc_mode="complex1x", mimo="tdma", n_tx=2, tx_channels=(1, 3), n_rx=2,
+        rx_channels=(2, 4), n_chirps=96, n_samples=128, adc_rate_sps=10e6, slope_hz_per_s=30e12)
     np.testing.assert_array_equal(ti_pair_index(x18), [1, 3, 9, 11])
     assert n_chip_pairs(x18) == 12 and n_chip_pairs(r79) == 16
 

@@ -21,7 +21,7 @@ def _cfg(chip: str, **kw) -> radarsim.RadarConfig:
     if "real" not in spec.adc:
         base["adc_mode"] = "complex1x"
     base.update(kw)
-    return radarsim.RadarConfig(**base)
+    return radarsim.RadarConfig.from_fields(**base)
 
 
 def test_registries_are_consistent():
@@ -106,7 +106,7 @@ def test_each_chip_limit(kind):
 
 def test_unknown_chip_is_named():
     with pytest.raises(ValueError, match=r"chip='AWR9999' is not one of \['AWR1243'"):
-        radarsim.RadarConfig(chip="AWR9999")
+        radarsim.RadarConfig.from_fields(chip="AWR9999")
 
 
 def test_limits_are_the_chips_not_the_awr2944s():
@@ -184,9 +184,10 @@ def test_complex_and_real_frames_give_the_same_detections(chip, f0):
     common = dict(chip=chip, mimo="tdma", n_tx=3, start_freq_hz=f0, slope_hz_per_s=30e12,
                   idle_time_s=10e-6, adc_start_time_s=5e-6, ramp_end_time_s=40e-6,
                   chirp_period_s=50e-6, n_chirps=3 * 64)
-    cplx = radarsim.RadarConfig(**common, adc_mode="complex1x", n_samples=256,
-                                adc_rate_sps=10e6)
-    real = radarsim.RadarConfig(**common, adc_mode="real", n_samples=512, adc_rate_sps=20e6)
+    cplx = radarsim.RadarConfig.from_fields(**common, adc_mode="complex1x", n_samples=256,
+                                            adc_rate_sps=10e6)
+    real = radarsim.RadarConfig.from_fields(
+        **common, adc_mode="real", n_samples=512, adc_rate_sps=20e6)
     assert cplx.range_resolution_m == real.range_resolution_m
     assert cplx.max_range_m == real.max_range_m == pytest.approx(10e6 * 299792458 / 60e12)
     assert cplx.n_range_bins == 256 == real.n_range_bins

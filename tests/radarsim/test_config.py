@@ -179,7 +179,7 @@ for _name in ("noise_figure_db", "system_loss_db", "phase_noise_deg_rms",
                          ids=list(VALIDATION_CASES))
 def test_validation_rule_raises_naming_field(overrides, match):
     with pytest.raises(ValueError, match=match):
-        RadarConfig(**overrides)
+        RadarConfig.from_fields(**overrides)
 
 
 def test_r79_preset_sits_inside_every_limit(make_config):
@@ -194,22 +194,22 @@ def test_r79_preset_sits_inside_every_limit(make_config):
 def test_limits_are_inclusive_at_the_boundary():
     """Exactly 37.5 Msps is allowed by the ADC check (the IF check then binds at 30 Msps),
     and an ADC window ending exactly at the ramp end is allowed."""
-    RadarConfig(adc_rate_sps=30e6)
+    RadarConfig.from_fields(adc_rate_sps=30e6)
     with pytest.raises(ValueError, match="IF"):
-        RadarConfig(adc_rate_sps=37.5e6)
+        RadarConfig.from_fields(adc_rate_sps=37.5e6)
     # 5 us + 384 / 30 Msps = 17.8 us: set the ramp end there (chirp period follows).
-    RadarConfig(ramp_end_time_s=17.8e-6, chirp_period_s=22.8e-6)
+    RadarConfig.from_fields(ramp_end_time_s=17.8e-6, chirp_period_s=22.8e-6)
     with pytest.raises(ValueError, match="n_samples=384"):
-        RadarConfig(ramp_end_time_s=17.7e-6, chirp_period_s=22.7e-6)
+        RadarConfig.from_fields(ramp_end_time_s=17.7e-6, chirp_period_s=22.7e-6)
 
 
 def test_default_subbands_follow_empty_band_rule():
     """Seed 000 3.3: N = Nt + 2 for Nt = 4, Nt + 1 otherwise; Tx order restricted to active Tx."""
-    assert RadarConfig(n_tx=4).n_subbands == 6
-    cfg3 = RadarConfig(n_tx=3)
+    assert RadarConfig.from_fields(n_tx=4).n_subbands == 6
+    cfg3 = RadarConfig.from_fields(n_tx=3)
     assert cfg3.n_subbands == 4 and cfg3.tx_order == (1, 3, 2)
-    assert RadarConfig(n_tx=2).n_subbands == 3
-    assert RadarConfig(n_tx=1).n_subbands == 2
+    assert RadarConfig.from_fields(n_tx=2).n_subbands == 3
+    assert RadarConfig.from_fields(n_tx=1).n_subbands == 2
 
 
 # ----------------------------------------------------------------------------- (de)serialisation

@@ -1,7 +1,6 @@
 """FMCW-FMCW interference synthesis against analytic references (DESIGN 6 and 8)."""
 from __future__ import annotations
 
-import dataclasses
 import math
 import os
 from pathlib import Path
@@ -295,6 +294,6 @@ def test_iq_frames_carry_interference_and_the_dc_term(make_x18):
         np.mean(np.abs(clean.astype(np.complex128)) ** 2)
     synth = np.mean(np.abs(itf_mod.synthesize(cfg, itf).astype(np.complex128)) ** 2)
     assert extra == pytest.approx(synth, rel=0.05)
-    dc = radarsim.simulate_frame(dataclasses.replace(cfg, adc_dc_offset_lsb=200),
+    dc = radarsim.simulate_frame(cfg.replace_fields(adc_dc_offset_lsb=200),
                                  empty, np.random.default_rng(3))
     assert np.mean(dc - clean) == pytest.approx(200 + 200j, abs=1)

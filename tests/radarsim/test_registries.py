@@ -160,7 +160,7 @@ def test_a_boards_ti_platform_must_be_a_string():
 def test_a_board_of_another_chip_is_refused(lab_board):
     with pytest.raises(ValueError, match=r"board='LAB_AWR2944_LOWRISE' carries a AWR2944, "
                                          r"not chip='AWR1843'"):
-        radarsim.RadarConfig(chip="AWR1843", board=lab_board.name, mimo="tdma", n_tx=3)
+        radarsim.RadarConfig.from_fields(chip="AWR1843", board=lab_board.name, mimo="tdma", n_tx=3)
 
 
 def test_a_labs_chip_limits_its_configs(lab_chip):

@@ -13,11 +13,11 @@ def test_range_fft_gain_over_the_sample_snr(mode, gain):
     thermal noise): bin SNR - sample SNR = 10 log10(gain x N), rectangular window. Tolerance:
     the noise estimate averages 4 frames x 64 chirps x 48 bins (12 288 exponential cells,
     0.04 dB) and the tone 256 cells at ~22 dB (0.03 dB): 0.3 dB."""
-    cfg = radarsim.RadarConfig(chip="AWR1843", adc_mode=mode, mimo="tdma", n_tx=1,
-                               tx_channels=(1,), n_rx=1, rx_channels=(1,), n_chirps=64,
-                               n_samples=256, adc_rate_sps=10e6, slope_hz_per_s=30e12,
-                               ramp_end_time_s=40e-6, chirp_period_s=45e-6,
-                               antenna_pattern="isotropic")
+    cfg = radarsim.RadarConfig.from_fields(chip="AWR1843", adc_mode=mode, mimo="tdma", n_tx=1,
+                                           tx_channels=(1,), n_rx=1, rx_channels=(1,), n_chirps=64,
+                                           n_samples=256, adc_rate_sps=10e6, slope_hz_per_s=30e12,
+                                           ramp_end_time_s=40e-6, chirp_period_s=45e-6,
+                                           antenna_pattern="isotropic")
     n = cfg.n_samples
     r = (n // 8) * cfg.adc_rate_sps / n * C_MPS / (2 * cfg.slope_hz_per_s)
     sc = radarsim.Scatterers.from_spherical(np.array([r]), np.zeros(1), np.zeros(1),

@@ -27,9 +27,9 @@ XWR18_SMALL = profile_text("xwr18_small")
 
 
 def _tiny(chip: str, adc_mode: str, interleaved: bool | None = None) -> radarsim.RadarConfig:
-    return radarsim.RadarConfig(chip=chip, adc_mode=adc_mode, mimo="tdma", n_tx=1, n_rx=2,
-                                n_samples=4, n_chirps=2, adc_rate_sps=10e6,
-                                adcbuf_interleaved=interleaved)
+    return radarsim.RadarConfig.from_fields(
+        chip=chip, adc_mode=adc_mode, mimo="tdma", n_tx=1, n_rx=2, n_samples=4, n_chirps=2,
+        adc_rate_sps=10e6, adcbuf_interleaved=interleaved)
 
 
 def _values() -> np.ndarray:
@@ -87,7 +87,7 @@ FAMILY_CFGS = {
 @pytest.mark.parametrize("name", sorted(FAMILY_CFGS))
 def test_every_family_round_trips(tmp_path, name):
     kw = dict(n_samples=32, n_chirps=24, **FAMILY_CFGS[name])
-    cfg = radarsim.RadarConfig(**kw)
+    cfg = radarsim.RadarConfig.from_fields(**kw)
     sc = radarsim.Scatterers(position_m=[[10.0, 1.0, 0.0]], velocity_mps=[[-2.0, 0, 0]],
                              rcs_m2=[1.0])
     frames = np.stack([radarsim.simulate_frame(cfg, sc, np.random.default_rng(i))
@@ -164,8 +164,9 @@ def test_layout_registry_and_refusals():
     # complex_4lane (4 Rx only): test_four_lane_complex_layout_is_ti_readers_order.
     assert set(CAPTURE_LAYOUTS) == set(HAND_MADE) | {"complex_4lane"}
     with pytest.raises(ValueError, match="n_samples=5: the 2-lane complex layout"):
-        layout_of(radarsim.RadarConfig(chip="AWR1843", adc_mode="complex1x", mimo="tdma",
-                                       n_tx=1, n_samples=5, n_chirps=2, adc_rate_sps=10e6))
+        layout_of(radarsim.RadarConfig.from_fields(
+            chip="AWR1843", adc_mode="complex1x", mimo="tdma", n_tx=1, n_samples=5, n_chirps=2,
+            adc_rate_sps=10e6))
     with pytest.raises(ValueError, match="interleaved complex captures are not modelled"):
         layout_of(_tiny("AWR1843", "complex1x"), interleaved=True)
 

@@ -99,7 +99,7 @@ def test_changing_mimo_rederives_the_scheme_defaults():
         "bpm_power_of_two", "bpm_chirps", "unknown", "subbands_positive"])
 def test_scheme_validation_rules(kw, match):
     with pytest.raises(ValueError, match=match):
-        RadarConfig(**kw)
+        RadarConfig.from_fields(**kw)
 
 
 def test_register_scheme_rules():
