@@ -237,7 +237,7 @@ def register_board(board: Board, *, replace: bool = False) -> Board:
     ...                        ((0, 0), (1, 0.5), (2, 0), (4, 0)),
     ...                        ((0, 0), (0.5, 0), (1, 0), (1.5, 0)), 1.2, 4.0, "a lab's board")
     >>> _ = radarsim.register_board(board)
-    >>> cfg = radarsim.presets.r79_ddma(board="LAB_LOWRISE")
+    >>> cfg = radarsim.presets.r79_ddma(**{"array.board": "LAB_LOWRISE"})
     >>> round(float(cfg.tx_positions_m[1, 2] / cfg.wavelength_m), 2)
     0.5
     >>> _ = radarsim.BOARDS.unregister("LAB_LOWRISE")

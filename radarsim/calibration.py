@@ -303,12 +303,12 @@ def resolve_calibration(cfg: RadarConfig, request: Mapping | None) -> RadarConfi
     --------
     >>> import radarsim
     >>> from radarsim.calibration import resolve_calibration
-    >>> cfg = radarsim.presets.r79_ddma(
-    ...     shifter_phase_error_deg={"distribution": "inl_dnl", "rms": 10.0, "seed": 5})
+    >>> cfg = radarsim.presets.r79_ddma(shifter={
+    ...     "shifter_phase_error_deg": {"distribution": "inl_dnl", "rms": 10.0, "seed": 5}})
     >>> cal = resolve_calibration(cfg, {"seed": 0})
     >>> cal.shifter_calibration_deg is not None and cfg.shifter_calibration_deg is None
     True
-    >>> radarsim.presets.r79_ddma(shifter_calibration_deg={"seed": 0})
+    >>> radarsim.presets.r79_ddma(**{"shifter.shifter_calibration_deg": {"seed": 0}})
     Traceback (most recent call last):
     ...
     core.errors.BadInput: shifter_calibration_deg={'seed': 0} is a calibration request, not a measured ...

@@ -414,7 +414,7 @@ def register_chip(chip: Chip, *, replace: bool = False) -> Chip:
     >>> _ = radarsim.register_chip(lab)
     >>> _ = radarsim.register_board(dataclasses.replace(radarsim.BOARDS["AWR2944EVM"],
     ...                                                 name="AWR2944EVM_LAB", chip="LAB2944"))
-    >>> radarsim.presets.r79_ddma(chip="LAB2944").board
+    >>> radarsim.presets.r79_ddma(**{"array.chip": "LAB2944"}).board
     'AWR2944EVM_LAB'
     >>> _ = radarsim.BOARDS.unregister("AWR2944EVM_LAB"), radarsim.CHIPS.unregister("LAB2944")
     """

@@ -236,10 +236,7 @@ class RadarConfig:
     def _set(self, **fields: Any) -> None:
         """Set resolved fields (by their own names) while the frozen instance is being built:
         each part is replaced by a copy, which checks its values again."""
-        by_part: dict[str, dict[str, Any]] = {}
-        for name, value in fields.items():
-            by_part.setdefault(FIELD_PART[name], {})[name] = value
-        for part, changes in by_part.items():
+        for part, changes in _by_part(fields).items():
             object.__setattr__(self, part, dataclasses.replace(getattr(self, part), **changes))
 
     @classmethod
@@ -256,10 +253,7 @@ class RadarConfig:
         if unknown:
             raise BadInput(f"unknown RadarConfig field(s) {unknown}; known: "
                            f"{sorted(FIELD_PART)}")
-        by_part: dict[str, dict[str, Any]] = {}
-        for name, value in fields.items():
-            by_part.setdefault(FIELD_PART[name], {})[name] = value
-        return cls(**{part: PARTS[part](**kw) for part, kw in by_part.items()})
+        return cls(**{part: PARTS[part](**kw) for part, kw in _by_part(fields).items()})
 
     def _resolve_schedule(self, scheme: MimoScheme) -> None:
         """Tx order and sub-bands (the scheme's defaults when None), then the scheme's rules."""
@@ -549,6 +543,14 @@ def radar_fields(changes: dict[str, Any], *, warn: bool = True) -> dict[str, Any
     keys) as fields by their own names: how a reader of a sweep's radar table finds a field
     whatever form the file used (``radar_fields(v)["phase_noise_deg_rms"]``)."""
     return _fields_of(radar_paths(changes, warn=warn, stacklevel=4))
+
+
+def _by_part(fields: dict[str, Any]) -> dict[str, dict[str, Any]]:
+    """Fields by their own names, grouped by the part that holds them."""
+    out: dict[str, dict[str, Any]] = {}
+    for name, value in fields.items():
+        out.setdefault(FIELD_PART[name], {})[name] = value
+    return out
 
 
 def _fields_of(paths: dict[str, Any]) -> dict[str, Any]:
