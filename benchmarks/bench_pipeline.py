@@ -53,7 +53,7 @@ def _spur_dbc(cfg, tx: int) -> float:
     ~90 dB over the noise after the FFTs (DESIGN 8: -34.5 dBc for the 60/120 deg-step Tx, none
     for the 0 and 180 deg ones)."""
     gains = tuple(0.0 if t == tx else -300.0 for t in range(1, cfg.n_tx + 1))
-    one = cfg.replace(tx_gain_error_db=gains)
+    one = cfg.replace(**{"impairments.tx_gain_error_db": gains})
     sc = _scene([[20.0, 0.0, 0.0, 0.0, 2e5]])  # ~2000 LSB: ADC rounding far below -34 dBc
     adc = radarsim.simulate_frame(one, sc, np.random.default_rng(0))
     # Hann in range keeps the real ADC's mirror tone (whose Doppler line is the conjugate,
@@ -125,8 +125,8 @@ def run() -> list[str]:
     out.append(f"empty-band demodulation noise-floor bias: {bias:.2f} dB (mean power)")
 
     for q in ("floor", "round"):
-        spurs = ", ".join(f"Tx{t} {_spur_dbc(d.replace(phase_quantization=q), t):6.1f}"
-                          for t in (1, 3, 4, 2))
+        dq = d.replace(shifter={"phase_quantization": q})
+        spurs = ", ".join(f"Tx{t} {_spur_dbc(dq, t):6.1f}" for t in (1, 3, 4, 2))
         out.append(f"6-bit shifter ({q}) empty-band spur, dBc of the Tx line: {spurs} "
                    "(about -80: the noise floor)")
     for label, key, values in [("random per-chirp phase error", "phase_noise_deg_rms",
@@ -135,7 +135,7 @@ def run() -> list[str]:
                                 (0.0, 2.0, 10.0, 20.0))]:
         for err in values:
             value = err if key == "phase_noise_deg_rms" else (0.0, err, -err, 0.5 * err)
-            g, m = _ghosts_and_misses(d.replace(**{key: value}), 8, np.random.default_rng(1))
+            g, m = _ghosts_and_misses(d.replace_fields(**{key: value}), 8, np.random.default_rng(1))
             out.append(f"{label} {err:4.1f} deg: {g:5.2f} ghosts/frame, {m:4.2f} of 4 weak "
                        "targets missed/frame (strong + 4 weak in one range bin, 8 frames)")
     return out

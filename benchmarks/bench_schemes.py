@@ -67,7 +67,7 @@ def _crb(cfg, snr_db: float) -> tuple[float, float, float]:
 
 
 def _scheme_row(name: str, rng) -> dict:
-    cfg = radarsim.presets.r79(name, antenna_pattern="isotropic")
+    cfg = radarsim.presets.r79(name, array={"antenna_pattern": "isotropic"})
     step = cfg.scheme.velocity_failure_step_mps(cfg)
     row = {"scheme": name, "vmax": cfg.max_unambiguous_velocity_mps}
     for snr in SNRS_DB:
@@ -96,7 +96,7 @@ def _scheme_row(name: str, rng) -> dict:
 
 def timing(name: str) -> dict[str, float]:
     """process_frame against the FFT floor on a five-target scene of scheme `name`."""
-    cfg = radarsim.presets.r79(name, antenna_pattern="isotropic")
+    cfg = radarsim.presets.r79(name, array={"antenna_pattern": "isotropic"})
     sc = _scene(cfg, [[15, 20, 0, -12, 40], [45, -30, 2, 15, 40], [90, 5, 0, -30, 30],
                       [150, 40, -3, 5, 25], [60, -10, 0, 8, 30]])
     adc = radarsim.simulate_frame(cfg, sc, np.random.default_rng(0))
@@ -128,7 +128,7 @@ def _chain_and_floor_s(cfg, adc, rounds: int = 7) -> dict[str, float]:
 def _snr_gain_over(base: str, names, rng, n: int = 30) -> dict[str, float]:
     """Median snr_db(scheme) - snr_db(base) over the same noise-limited targets (base at
     17-24 dB), each scheme its own noise."""
-    cfgs = {m: radarsim.presets.r79(m, antenna_pattern="isotropic") for m in names}
+    cfgs = {m: radarsim.presets.r79(m, array={"antenna_pattern": "isotropic"}) for m in names}
     gains = {m: [] for m in names}
     for _ in range(n):
         tg = [rng.uniform(20, 200), rng.uniform(-45, 45), 0.0, rng.uniform(-9, 9),
@@ -148,7 +148,7 @@ def bpm_leakage_dbc(v_mps: float, rng, compensate: bool = True) -> float:
     radial speed `v_mps` (20 deg azimuth, 5 deg elevation, 50 m), dBc: energy off the array's
     steering vector over the energy on it. Decoded after removing the Doppler phase at the
     velocity the chain reports (its disambiguation), or without compensation."""
-    cfg = radarsim.presets.r79("bpm", antenna_pattern="isotropic")
+    cfg = radarsim.presets.r79("bpm", array={"antenna_pattern": "isotropic"})
     r = 50.0
     sc = radarsim.Scatterers.from_spherical(np.array([r]), np.array([20.0]), np.array([5.0]),
                                             np.array([v_mps]), np.array([1e5]))

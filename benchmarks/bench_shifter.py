@@ -70,8 +70,9 @@ def _monte_carlo(kind: str, n: int) -> list[str]:
     drop, err, after_gap, before_m, after_m, floors = [], [], [], [], [], []
     for seed in range(n):
         ph, gn = _tables(kind, seed)
-        cfg = radarsim.presets.r79_ddma(phase_quantization="round",
-                                        shifter_phase_error_deg=ph, shifter_gain_error_db=gn)
+        cfg = radarsim.presets.r79_ddma(shifter={"phase_quantization": "round",
+                                                 "shifter_phase_error_deg": ph,
+                                                 "shifter_gain_error_db": gn})
         b, a, _ = _pair(cfg, seed)
         before_m.append(_mirror(b, "measured_dbc"))
         after_m.append(_mirror(a, "measured_dbc"))
@@ -92,8 +93,9 @@ def _monte_carlo(kind: str, n: int) -> list[str]:
 
 def _headline(kind: str, title: str, figure: Path | None) -> tuple[list[str], object]:
     ph, gn = _tables(kind, 0)
-    cfg = radarsim.presets.r79_ddma(phase_quantization="round", shifter_phase_error_deg=ph,
-                                    shifter_gain_error_db=gn)
+    cfg = radarsim.presets.r79_ddma(shifter={"phase_quantization": "round",
+                                             "shifter_phase_error_deg": ph,
+                                             "shifter_gain_error_db": gn})
     e = np.asarray(cfg.shifter_phase_error_deg)
     before, after, cal = _pair(cfg, 0)
     lines = [f"-- {title}: Tx1 phase error {e[0].min():+.1f}..{e[0].max():+.1f} deg "

@@ -105,11 +105,11 @@ def run_schemes(n_frames: int = N_FRAMES, seed: int = SEED) -> pd.DataFrame:
     """Every registered scheme and chain variant on the same targets: one row per (result
     scheme, target), with the target's truth and the scheme's measurement."""
     targets = draw_targets(np.random.default_rng(seed), n_frames)
-    tdma = radarsim.presets.r79("tdma", antenna_pattern="isotropic")
+    tdma = radarsim.presets.r79("tdma", array={"antenna_pattern": "isotropic"})
     scenes = [_scene(tdma, t) for _, t in targets.groupby("frame")]
     results = []
     for s_id, name in enumerate(sorted(radarsim.MIMO_SCHEMES)):
-        cfg = radarsim.presets.r79(name, antenna_pattern="isotropic")
+        cfg = radarsim.presets.r79(name, array={"antenna_pattern": "isotropic"})
         chain = pipeline.MIMO_CHAINS[name]
         procs = {name: pipeline.ProcessingConfig(),
                  **{v: pipeline.ProcessingConfig().replace(**kw)
@@ -131,7 +131,7 @@ def near_boresight(seed: int = SEED) -> pd.DataFrame:
     """Wrong velocities and misses of `BORESIGHT_TARGETS` single targets per azimuth of
     `BORESIGHT_AZ_DEG`, per scheme of `BORESIGHT_SCHEMES` (the same targets for each), with
     the scheme's `velocity_blind` flag for the direction."""
-    tdma = radarsim.presets.r79("tdma", antenna_pattern="isotropic")
+    tdma = radarsim.presets.r79("tdma", array={"antenna_pattern": "isotropic"})
     n = BORESIGHT_TARGETS
     rows = []
     for a_id, az in enumerate(BORESIGHT_AZ_DEG):
@@ -141,7 +141,7 @@ def near_boresight(seed: int = SEED) -> pd.DataFrame:
                           "snr_db": np.full(n, BORESIGHT_SNR_DB)})
         scene = _scene(tdma, t)
         for s_id, name in enumerate(BORESIGHT_SCHEMES):
-            cfg = radarsim.presets.r79(name, antenna_pattern="isotropic")
+            cfg = radarsim.presets.r79(name, array={"antenna_pattern": "isotropic"})
             adc = radarsim.simulate_frame(cfg, scene, np.random.default_rng([seed, a_id, s_id]))
             m = measure(cfg, pipeline.process_frame(cfg, adc), t)
             wrong = m.detected & ((m.v_meas_mps - t.v_mps).abs() > 2 * cfg.velocity_resolution_mps)

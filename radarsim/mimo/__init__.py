@@ -10,6 +10,8 @@ scheme (registered on import). A new scheme is one module here plus one `registe
 """
 from .fast_slow import ChirpSets, FastSlowScheme, hypothesis_separation_bins
 from .schemes import (
+    BPM_BLIND_SHARE,
+    BPM_COLUMN_SIGNS,
     MIMO_SCHEMES,
     BpmScheme,
     ChirpTiming,
@@ -26,4 +28,5 @@ from .schemes import (
 
 __all__ = ["MimoScheme", "TransmitCode", "SlowTimeLayout", "TiFrame", "ChirpTiming",
            "MIMO_SCHEMES", "register_scheme", "scheme_of", "DdmaScheme", "TdmaScheme",
-           "BpmScheme", "hadamard", "FastSlowScheme", "ChirpSets", "hypothesis_separation_bins"]
+           "BpmScheme", "hadamard", "BPM_COLUMN_SIGNS", "BPM_BLIND_SHARE", "FastSlowScheme",
+           "ChirpSets", "hypothesis_separation_bins"]
