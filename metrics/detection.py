@@ -68,40 +68,56 @@ def error_stats(labelled: pd.DataFrame) -> dict[str, float]:
 
 
 def velocity_stats(labelled: pd.DataFrame, window_mps: float) -> dict[str, float]:
-    """Velocity resolution of the run's detections (`metrics.velocity`).
+    """Velocity resolution of the run's detections (`metrics.velocity`), road users and
+    infrastructure apart.
 
-    From the columns ``velocity_check`` (`velocity.RIGHT` / `velocity.FAILURE` / "") and
-    ``velocity_truth_mps`` (radial velocity of the matching scatterer) that
-    `metrics.scoring.label_detections` adds: ``velocity_unambiguity_rate`` = n_right /
-    (n_right + n_failures) over every detection at a road user's range, whatever its 2D label;
-    ``velocity_unambiguity_rate_in_span`` the same over detections whose truth |radial
-    velocity| <= ``window_mps`` (what a scheme promises to report unaliased);
+    From the columns ``velocity_check`` (`velocity.RIGHT` / `velocity.FAILURE` / ""),
+    ``velocity_truth_mps`` (radial velocity of the matching scatterer) and
+    ``velocity_on_infrastructure`` (the match is a guard rail, not a road user) that
+    `metrics.scoring.label_detections` adds. Over the detections matched to a road user
+    (whatever their 2D label): ``velocity_unambiguity_rate`` = n_right / (n_right +
+    n_failures); ``velocity_unambiguity_rate_in_span`` the same over detections whose truth
+    |radial velocity| <= ``window_mps`` (what a scheme promises to report unaliased);
     ``n_velocity_right`` = n_right and ``n_velocity_resolution_failures`` = n_failures (the
-    weights that pool the rate over runs). Rates are NaN without either kind.
+    weights that pool the rate over runs). Over the detections matched to modelled
+    infrastructure (a guard rail, checked with the unambiguous span): the same rate and counts
+    as ``infrastructure_velocity_unambiguity_rate``, ``n_infrastructure_velocity_right`` and
+    ``n_infrastructure_velocity_failures``; a static world inside the span is always right,
+    so pooling it with the road users hides their aliasing. Rates are NaN without either kind.
+    A table without ``velocity_on_infrastructure`` counts every verdict as a road user's.
 
     Examples
     --------
     >>> import pandas as pd
-    >>> lab = pd.DataFrame({"velocity_check": ["right", "right", "failure", ""],
-    ...                     "velocity_truth_mps": [-5.0, 12.0, 50.0, float("nan")]})
+    >>> lab = pd.DataFrame({"velocity_check": ["right", "right", "failure", "", "right"],
+    ...                     "velocity_truth_mps": [-5.0, 12.0, 50.0, float("nan"), -25.0],
+    ...                     "velocity_on_infrastructure": [False] * 4 + [True]})
     >>> s = velocity_stats(lab, window_mps=40.9)
     >>> round(s["velocity_unambiguity_rate"], 3), s["velocity_unambiguity_rate_in_span"]
     (0.667, 1.0)
+    >>> s["infrastructure_velocity_unambiguity_rate"], s["n_infrastructure_velocity_right"]
+    (1.0, 1)
     """
     chk = labelled["velocity_check"].to_numpy() if "velocity_check" in labelled \
         else np.zeros(0, dtype=object)
     vt = labelled["velocity_truth_mps"].to_numpy(dtype=float) if "velocity_truth_mps" in \
         labelled else np.zeros(0)
+    infra = labelled["velocity_on_infrastructure"].to_numpy(dtype=bool) \
+        if "velocity_on_infrastructure" in labelled else np.zeros(len(chk), dtype=bool)
+    right, fail = chk == RIGHT, chk == FAILURE
 
     def rate(sel: np.ndarray) -> float:
-        n_r, n_f = int(np.sum(sel & (chk == RIGHT))), int(np.sum(sel & (chk == FAILURE)))
+        n_r, n_f = int(np.sum(sel & right)), int(np.sum(sel & fail))
         return n_r / (n_r + n_f) if n_r + n_f else float("nan")
 
-    every = np.ones(len(chk), dtype=bool)
-    return {"velocity_unambiguity_rate": rate(every),
-            "velocity_unambiguity_rate_in_span": rate(np.abs(vt) <= window_mps),
-            "n_velocity_right": int(np.sum(chk == RIGHT)),
-            "n_velocity_resolution_failures": int(np.sum(chk == FAILURE))}
+    road = ~infra
+    return {"velocity_unambiguity_rate": rate(road),
+            "velocity_unambiguity_rate_in_span": rate(road & (np.abs(vt) <= window_mps)),
+            "n_velocity_right": int(np.sum(road & right)),
+            "n_velocity_resolution_failures": int(np.sum(road & fail)),
+            "infrastructure_velocity_unambiguity_rate": rate(infra),
+            "n_infrastructure_velocity_right": int(np.sum(infra & right)),
+            "n_infrastructure_velocity_failures": int(np.sum(infra & fail))}
 
 
 def ghost_stats(labelled: pd.DataFrame, n_frames: int) -> dict[str, float]:

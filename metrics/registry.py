@@ -187,7 +187,8 @@ def _accuracy_metrics(add) -> None:
     add("velocity_unambiguity_rate", "", "higher", "detections", det.velocity_stats,
         "detections at a road user's range with the right radial velocity / those with the "
         "right one or one off by whole resolution steps (one DDMA sub-band, a TDMA/BPM "
-        "slot span), whatever the 2D association said; no velocity window",
+        "slot span), whatever the 2D association said; no velocity window; road users only "
+        "(infrastructure: infrastructure_velocity_unambiguity_rate)",
         criterion=_actor_velocity_rate, per_actor=None)
     add("velocity_unambiguity_rate_in_span", "", "higher", "detections", det.velocity_stats,
         "velocity_unambiguity_rate over the detections whose truth |radial velocity| is "
@@ -200,6 +201,17 @@ def _accuracy_metrics(add) -> None:
         "detections at a road user's range whose radial velocity is off by a non-zero "
         "multiple of the scheme's resolution step (demodulation, assignment, "
         "disambiguation failures, aliasing)")
+    add("infrastructure_velocity_unambiguity_rate", "", "higher", "detections",
+        det.velocity_stats,
+        "velocity_unambiguity_rate over the detections matched to modelled static "
+        "infrastructure (guard rails; right or off by whole unambiguous spans), apart from "
+        "the road users")
+    add("n_infrastructure_velocity_right", "", "none", "detections", det.velocity_stats,
+        "detections on modelled infrastructure with the right radial velocity (the weight of "
+        "the pooled infrastructure_velocity_unambiguity_rate)")
+    add("n_infrastructure_velocity_failures", "", "lower", "detections", det.velocity_stats,
+        "detections on modelled infrastructure whose radial velocity is off by a non-zero "
+        "multiple of the unambiguous span")
 
 
 def _actor_and_case_metrics(add) -> None:

@@ -138,7 +138,9 @@ def label_detections(points: pd.DataFrame, truth: pd.DataFrame, scatterers: pd.D
     DataFrame
         ``points`` with the association's columns plus ``velocity_check`` ("right",
         "failure", ""), ``velocity_actor_id``, ``velocity_step_k`` (steps of the check that
-        matched), ``velocity_truth_mps`` and ``velocity_resolution_failure`` (bool).
+        matched), ``velocity_truth_mps``, ``velocity_resolution_failure`` (bool) and
+        ``velocity_on_infrastructure`` (bool: the verdict refers to modelled static
+        infrastructure, a guard rail, not to a road user).
     """
     lab = associate(points, truth, velocity_span_mps=velocity_span_mps, config=config,
                     scatterers=scatterers)
@@ -183,6 +185,9 @@ def label_detections(points: pd.DataFrame, truth: pd.DataFrame, scatterers: pd.D
     lab["velocity_step_k"] = k
     lab["velocity_truth_mps"] = v_true
     lab["velocity_resolution_failure"] = verdict == FAILURE
+    # which verdicts were checked against infrastructure (guard rails), not road users: the
+    # road-user velocity metrics leave them out, the infrastructure columns count them
+    lab["velocity_on_infrastructure"] = found
     return lab
 
 

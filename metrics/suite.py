@@ -14,7 +14,11 @@ import pandas as pd
 
 from .detection import NOISE_LIMITED_SNR_DB, snr_gain_pairs
 
-__all__ = ["headline_table", "suite_snr_gain_db"]
+__all__ = ["headline_table", "suite_snr_gain_db", "aliased_runs"]
+
+#: A run whose road users' velocity-unambiguity rate is below this shows aliasing (most of
+#: its road-user detections are off by whole steps: a road user beyond the scheme's span).
+ALIASED_BELOW = 0.5
 
 #: Static infrastructure is clutter, not an actor to detect (DESIGN 7).
 _NOT_ACTORS = ("guard_rail",)
@@ -71,8 +75,9 @@ def headline_table(summary: pd.DataFrame, actor_summary: pd.DataFrame,
         Columns scheme; ``pd_<class>`` (detected / visible actor-frames) and
         ``first_detection_range_<class>_m`` (median over the actors detected at all) per actor
         class present; range_rmse_m, radial_velocity_rmse_mps (pooled by error samples);
-        velocity_unambiguity_rate (right / (right + failures) velocities over every run,
-        `metrics.velocity`); ghost_rate (ghosts / detections); snr_gain_over_<baseline>_db (median of noise-limited pairs) and
+        velocity_unambiguity_rate (right / (right + failures) road-user velocities over every
+        run, `metrics.velocity`); infrastructure_velocity_unambiguity_rate (the same over
+        guard-rail detections, when the summary has its counts); ghost_rate (ghosts / detections); snr_gain_over_<baseline>_db (median of noise-limited pairs) and
         snr_gain_pairs; gates.
     """
     ok = summary[summary["error"].fillna("") == ""] if "error" in summary else summary
@@ -94,6 +99,10 @@ def headline_table(summary: pd.DataFrame, actor_summary: pd.DataFrame,
                                                        sm["n_error_samples"])
         row["velocity_unambiguity_rate"] = _ratio(
             sm["n_velocity_right"], sm["n_velocity_right"] + sm["n_velocity_resolution_failures"])
+        if "n_infrastructure_velocity_right" in sm:
+            row["infrastructure_velocity_unambiguity_rate"] = _ratio(
+                sm["n_infrastructure_velocity_right"],
+                sm["n_infrastructure_velocity_right"] + sm["n_infrastructure_velocity_failures"])
         row["ghost_rate"] = _ratio(sm["n_ghost"], sm["n_detections"])
         if actors is not None and len(actors):
             gains = (suite_snr_gain_db(actors, s, baseline) if s != baseline
@@ -105,3 +114,38 @@ def headline_table(summary: pd.DataFrame, actor_summary: pd.DataFrame,
             row["gates"] = verdicts.get(s, "-")
         rows.append(row)
     return pd.DataFrame(rows)
+
+
+def aliased_runs(summary: pd.DataFrame, below: float = ALIASED_BELOW) -> pd.DataFrame:
+    """Runs whose road users alias: velocity_unambiguity_rate below `below`.
+
+    Parameters
+    ----------
+    summary : DataFrame
+        The sweep's summary (rows with an ``error`` are left out).
+    below : float
+        Rate under which a run counts as aliased (default `ALIASED_BELOW`).
+
+    Returns
+    -------
+    DataFrame
+        Columns scenario, variant, seed, scheme, velocity_unambiguity_rate,
+        n_velocity_resolution_failures, in summary order.
+
+    Examples
+    --------
+    >>> import pandas as pd
+    >>> s = pd.DataFrame({"scenario": ["head_on", "head_on"], "variant": ["", ""],
+    ...                   "seed": [0, 0], "scheme": ["ddma", "tdma"],
+    ...                   "velocity_unambiguity_rate": [0.0, 0.9],
+    ...                   "n_velocity_resolution_failures": [52, 3]})
+    >>> aliased_runs(s)["scheme"].tolist()
+    ['ddma']
+    """
+    cols = ["scenario", "variant", "seed", "scheme", "velocity_unambiguity_rate",
+            "n_velocity_resolution_failures"]
+    ok = summary[summary["error"].fillna("") == ""] if "error" in summary else summary
+    if "velocity_unambiguity_rate" not in ok:
+        return pd.DataFrame(columns=cols)
+    rate = ok["velocity_unambiguity_rate"].to_numpy(float)
+    return ok.loc[rate < below, [c for c in cols if c in ok]].reset_index(drop=True)

@@ -246,9 +246,28 @@ def _ghost_map(det: pd.DataFrame):
 _HEADLINE_LABELS = {
     "scheme": "scheme", "range_rmse_m": "range RMSE, m",
     "radial_velocity_rmse_mps": "velocity RMSE, m/s",
-    "velocity_unambiguity_rate": "velocity unambiguous", "ghost_rate": "ghost rate",
+    "velocity_unambiguity_rate": "velocity unambiguous (road users)",
+    "infrastructure_velocity_unambiguity_rate": "velocity unambiguous (guard rails)",
+    "ghost_rate": "ghost rate",
     "snr_gain_pairs": "SNR-gain pairs", "gates": "gates",
 }
+
+
+def _aliasing_line(summary: pd.DataFrame) -> str:
+    """The headline's sentence on velocity aliasing: the runs whose road users alias (a road
+    user beyond the scheme's unambiguous span), with their rates, or that none do."""
+    from metrics.suite import ALIASED_BELOW, aliased_runs
+    al = aliased_runs(summary)
+    if al.empty:
+        return (f"<p>Velocity aliasing: no run's road users below "
+                f"{ALIASED_BELOW:g} velocity unambiguous.</p>")
+    items = [f"{r.scenario}{'/' + str(r.variant) if r.variant else ''} seed {r.seed} "
+             f"{r.scheme} {r.velocity_unambiguity_rate:.2f} "
+             f"({int(r.n_velocity_resolution_failures)} aliased)"
+             for r in al.itertuples()]
+    return ("<p><b>Velocity aliasing shown</b> (road users' velocity unambiguous below "
+            f"{ALIASED_BELOW:g}, guard rails apart): " + html.escape("; ".join(items))
+            + ".</p>")
 
 
 def _headline_label(column: str) -> str:
@@ -425,7 +444,10 @@ def build_report(results: str | Path, out: str | Path | None = None, *, maps: bo
                  " on the same actor and frame; gates: the shipped thresholds on that scheme's "
                  "rows.</p>")
     parts.append(table_html(head.rename(columns=_headline_label)))
-    parts.append(_legend(["velocity_unambiguity_rate", "ghost_rate", "range_error_rmse_m",
+    parts.append(_aliasing_line(summary))
+    parts.append(_legend(["velocity_unambiguity_rate",
+                          "infrastructure_velocity_unambiguity_rate", "ghost_rate",
+                          "range_error_rmse_m",
                           "radial_velocity_error_rmse_mps", "first_detection_range_m",
                           "detection_probability", "snr_gain_noise_limited_median_db"]))
     if len(gate_verdicts):

@@ -45,8 +45,10 @@ def test_report_leads_with_the_answer(report):
     assert order == sorted(order)
     head = page[order[0]:order[1]]
     for col in ("Pd car", "first detection car, m", "range RMSE, m", "velocity RMSE, m/s",
-                "velocity unambiguous", "ghost rate", "gates"):
+                "velocity unambiguous (road users)", "ghost rate", "gates"):
         assert f"<th>{col}</th>" in head
+    # the headline says which runs' road users alias (or that none do)
+    assert "Velocity aliasing" in head
     assert page.rstrip().endswith("</details></body></html>")
 
 

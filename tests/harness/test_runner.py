@@ -19,8 +19,9 @@ def test_cell_tables_and_scheme_rows():
     # 30 m/s exceeds TDMA's 10.2 m/s: raw TDMA is aliased, disambiguated TDMA and DDMA are not.
     assert s.loc["ddma", "velocity_unambiguity_rate"] == 1.0
     assert s.loc["tdma", "velocity_unambiguity_rate"] == 1.0
-    # raw TDMA: every car echo aliased, every guard-rail echo (0 m/s) right
-    assert s.loc["tdma_raw", "velocity_unambiguity_rate"] == 0.5
+    # raw TDMA: every car echo aliased; every guard-rail echo (0 m/s) right, counted apart
+    assert s.loc["tdma_raw", "velocity_unambiguity_rate"] == 0.0
+    assert s.loc["tdma_raw", "infrastructure_velocity_unambiguity_rate"] == 1.0
     # The stand-in chain adds 6 dB to DDMA: the SNR gain sits on the DDMA row only.
     assert s.loc["ddma", "snr_gain_median_db"] == pytest.approx(6.0)
     assert np.isnan(s.loc["tdma", "snr_gain_median_db"])
@@ -50,7 +51,8 @@ def test_velocity_resolution_failures_counted_per_scheme():
     res = run_cell(CellSpec(scenario="fast", seed=0, duration_s=1.0), FAKE)
     s = res.tables["summary"].set_index("scheme")
     assert s.loc["tdma_raw", "n_velocity_resolution_failures"] == 20
-    assert s.loc["tdma_raw", "velocity_unambiguity_rate"] == 0.5  # the rail's echoes: right
+    assert s.loc["tdma_raw", "velocity_unambiguity_rate"] == 0.0  # road users only
+    assert s.loc["tdma_raw", "n_infrastructure_velocity_right"] == 20  # the rail: right
     assert s.loc["ddma", "n_velocity_resolution_failures"] == 0
     assert s.loc["tdma", "velocity_unambiguity_rate"] == 1.0
     det = res.tables["detections"]

@@ -56,6 +56,19 @@ def test_velocity_stats_count_every_checked_detection_and_the_window():
     assert np.isnan(velocity_stats(none, 40.8)["velocity_unambiguity_rate"])
 
 
+def test_velocity_stats_keep_infrastructure_out_of_the_road_user_rate():
+    lab = labelled([TRUE, TRUE, CLUTTER, CLUTTER, CLUTTER], v_true=np.zeros(5))
+    lab["velocity_check"] = ["failure", "right", "right", "right", "failure"]
+    lab["velocity_truth_mps"] = [50.0, 10.0, -25.0, -25.0, -25.0]
+    lab["velocity_on_infrastructure"] = [False, False, True, True, True]
+    s = velocity_stats(lab, 40.8)
+    assert s["velocity_unambiguity_rate"] == 0.5
+    assert (s["n_velocity_right"], s["n_velocity_resolution_failures"]) == (1, 1)
+    assert s["infrastructure_velocity_unambiguity_rate"] == pytest.approx(2 / 3)
+    assert (s["n_infrastructure_velocity_right"], s["n_infrastructure_velocity_failures"]) \
+        == (2, 1)
+
+
 def test_ghost_stats():
     lab = labelled([TRUE, GHOST, GHOST, CLUTTER, TRUE])
     s = ghost_stats(lab, n_frames=4)
@@ -140,6 +153,7 @@ def test_summarize_scheme_columns_have_units():
     assert row["target_first_detection_range_m"] == 98.0
     assert row["detection_probability_min"] == 0.0
     unitless = {"velocity_unambiguity_rate", "velocity_unambiguity_rate_in_span", "ghost_rate",
+                "infrastructure_velocity_unambiguity_rate",
                 "ghosts_per_frame",
                 "clutter_per_frame", "detections_per_frame", "detection_probability_mean",
                 "detection_probability_min"}

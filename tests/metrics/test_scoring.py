@@ -90,9 +90,40 @@ def test_aliased_static_clutter_is_clutter_and_a_velocity_failure():
     assert last["label"] == "CLUTTER" and last["actor_id"] == 5
     assert last["velocity_check"] == "failure" and last["velocity_step_k"] == 1
     assert (lab["label"].iloc[:-1] == TRUE).all()
+    assert last["velocity_on_infrastructure"] and not lab["velocity_on_infrastructure"].iloc[
+        :-1].any()
     s = score_scheme(lab, truth, sc, 4, cfg, CaseInfo(target_ids=[0]))
-    assert s.row["n_ghost"] == 0 and s.row["n_velocity_resolution_failures"] == 1
-    assert s.row["velocity_unambiguity_rate"] == pytest.approx(4 / 5)
+    # the rail's failure is infrastructure's, not a road user's
+    assert s.row["n_ghost"] == 0 and s.row["n_velocity_resolution_failures"] == 0
+    assert s.row["velocity_unambiguity_rate"] == 1.0
+    assert s.row["n_infrastructure_velocity_failures"] == 1
+    assert s.row["infrastructure_velocity_unambiguity_rate"] == 0.0
+
+
+def test_right_guard_rail_points_do_not_hide_an_aliased_road_user():
+    """Head-on beyond the span: the car's echoes all alias while many guard-rail points,
+    static inside the span, are right. The road users' rate shows the aliasing; the rail's
+    right velocities are counted in the infrastructure columns only."""
+    det, truth, sc = tables(aliased=True)
+    rail = {**truth_row(0, 30.0, -20.0), "actor_id": 5, "actor_class": "guard_rail",
+            "length_m": 16.0, "width_m": 0.3, "y_radar_m": 5.0}
+    truth = pd.concat([truth, pd.DataFrame([rail])], ignore_index=True)
+    sc = pd.concat([sc, pd.DataFrame({"frame": [0], "actor_id": [5], "x_m": [29.6],
+                                      "y_m": [5.0], "z_m": [0.5], "range_m": [30.0],
+                                      "radial_velocity_mps": [-20.0], "rcs_m2": [1.0]})],
+                   ignore_index=True)
+    n_rail = 40
+    rails = pd.DataFrame({"frame": 0, "range_m": np.linspace(29.8, 30.2, n_rail),
+                          "azimuth_deg": 9.5, "x_m": 29.6, "y_m": 5.0,
+                          "radial_velocity_mps": -20.0, "snr_db": 15.0})
+    cfg = AssociationConfig()
+    lab = label_detections(pd.concat([det, rails], ignore_index=True), truth, sc,
+                           velocity_span_mps=81.8, failure_step_mps=20.44, config=cfg)
+    s = score_scheme(lab, truth, sc, 4, cfg, CaseInfo(target_ids=[0])).row
+    assert s["velocity_unambiguity_rate"] == 0.0 and s["n_velocity_resolution_failures"] == 4
+    assert s["n_velocity_right"] == 0
+    assert s["n_infrastructure_velocity_right"] == n_rail
+    assert s["infrastructure_velocity_unambiguity_rate"] == 1.0
 
 
 def _joined_gain_pairs(af, a, b):

@@ -7,7 +7,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from metrics.suite import headline_table
+from metrics.suite import aliased_runs, headline_table
 
 
 def _summary():
@@ -47,6 +47,19 @@ def test_pooling_weights():
     # right / (right + failures) velocities over every run
     assert t.loc["tdma", "velocity_unambiguity_rate"] == pytest.approx((60 + 30) / 110)
     assert t.loc["ddma", "gates"] == "PASS" and t.loc["tdma", "gates"] == "-"
+
+
+def test_infrastructure_rate_pooled_apart_and_aliased_runs_listed():
+    s = _summary().assign(n_infrastructure_velocity_right=[100, 10, 0, 30, 0],
+                          n_infrastructure_velocity_failures=[0, 30, 0, 10, 0])
+    t = headline_table(s, _actor_summary(), baseline="tdma").set_index("scheme")
+    assert t.loc["tdma", "infrastructure_velocity_unambiguity_rate"] == pytest.approx(40 / 80)
+    # the road users' rate is unchanged by the rail counts
+    assert t.loc["tdma", "velocity_unambiguity_rate"] == pytest.approx((60 + 30) / 110)
+    s.loc[1, "velocity_unambiguity_rate"] = 0.2
+    al = aliased_runs(s)
+    assert al[["scenario", "scheme"]].values.tolist() == [["a", "tdma"]]
+    assert aliased_runs(s, below=0.1).empty
 
 
 def test_snr_gain_is_median_of_noise_limited_pairs():
