@@ -38,7 +38,7 @@ def _coherent_gain_db(cfg) -> float:
             - 2 * HANN_LOSS_DB)
 
 
-def _scene(cfg, t) -> radarsim.Scatterers:
+def scene_at_detection_snr(cfg, t) -> radarsim.Scatterers:
     """Targets (range_m, az_deg, el_deg, v_mps, detection_snr_db) -> Scatterers at that SNR."""
     t = np.atleast_2d(np.asarray(t, float))
     unit = radarsim.Scatterers.from_spherical(*t[:, :4].T, np.ones(len(t)))
@@ -58,7 +58,7 @@ def _targets(rng, n, snr_db):
                             np.full(n, snr_db)])
 
 
-def _crb(cfg, snr_db: float) -> tuple[float, float, float]:
+def crb(cfg, snr_db: float) -> tuple[float, float, float]:
     """DESIGN 8 (rectangular window): sigma_R = dR sqrt(3) / (pi sqrt(2 SNR)), the same form
     for velocity (dv) and for sin(az) of the 12-element lambda/2 row (2/12), m, m/s, deg."""
     k = np.sqrt(3) / (np.pi * np.sqrt(2 * 10 ** (snr_db / 10)))
@@ -74,7 +74,8 @@ def _scheme_row(name: str, rng) -> dict:
         fails = found = 0
         err = []
         for r, az, el, v, s in _targets(rng, N_TARGETS, snr):
-            adc = radarsim.simulate_frame(cfg, _scene(cfg, [r, az, el, v, s]), rng)
+            adc = radarsim.simulate_frame(cfg, scene_at_detection_snr(cfg, [r, az, el, v, s]),
+                                          rng)
             b = _best(pipeline.process_frame(cfg, adc), r)
             if b is None:
                 continue
@@ -97,8 +98,9 @@ def _scheme_row(name: str, rng) -> dict:
 def timing(name: str) -> dict[str, float]:
     """process_frame against the FFT floor on a five-target scene of scheme `name`."""
     cfg = radarsim.presets.r79(name, array={"antenna_pattern": "isotropic"})
-    sc = _scene(cfg, [[15, 20, 0, -12, 40], [45, -30, 2, 15, 40], [90, 5, 0, -30, 30],
-                      [150, 40, -3, 5, 25], [60, -10, 0, 8, 30]])
+    sc = scene_at_detection_snr(cfg, [[15, 20, 0, -12, 40], [45, -30, 2, 15, 40],
+                                      [90, 5, 0, -30, 30], [150, 40, -3, 5, 25],
+                                      [60, -10, 0, 8, 30]])
     adc = radarsim.simulate_frame(cfg, sc, np.random.default_rng(0))
     return _chain_and_floor_s(cfg, adc)
 
@@ -133,7 +135,7 @@ def _snr_gain_over(base: str, names, rng, n: int = 30) -> dict[str, float]:
     for _ in range(n):
         tg = [rng.uniform(20, 200), rng.uniform(-45, 45), 0.0, rng.uniform(-9, 9),
               rng.uniform(17, 24)]
-        sc = _scene(cfgs[base], tg)
+        sc = scene_at_detection_snr(cfgs[base], tg)
         snr = {}
         for m, c in cfgs.items():
             b = _best(pipeline.process_frame(c, radarsim.simulate_frame(c, sc, rng)), tg[0])
@@ -174,12 +176,12 @@ def run() -> list[str]:
     base = "tdma"
     gain = _snr_gain_over(base, names, rng)
     rows = [_scheme_row(m, rng) for m in names]
-    crb = _crb(radarsim.presets.r79(base), 20.0)
+    bound = crb(radarsim.presets.r79(base), 20.0)
     out = [f"{N_TARGETS} random targets per SNR (10-200 m, az +/-60 deg, el +/-15 deg, "
            "v +/-40.5 m/s), isotropic elements; failure = velocity off by a non-zero "
            "multiple of the scheme's step (of the detected targets)",
-           f"CRB at 20 dB (DESIGN 8): range {100 * crb[0]:.1f} cm, velocity "
-           f"{1e3 * crb[1]:.1f} mm/s, azimuth {crb[2]:.2f} deg",
+           f"CRB at 20 dB (DESIGN 8): range {100 * bound[0]:.1f} cm, velocity "
+           f"{1e3 * bound[1]:.1f} mm/s, azimuth {bound[2]:.2f} deg",
            f"{'scheme':<13}{'Vmax m/s':>9}{'gain dB':>9}{'fail@14':>9}{'fail@17':>9}"
            f"{'fail@20':>9}{'dR cm':>8}{'dv mm/s':>9}{'daz deg':>9}{'ms':>7}{'floor':>7}"
            f"{'ratio':>7}{'cpu ms':>8}{'cpu fl':>8}{'cpu ratio':>10}"]

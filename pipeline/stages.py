@@ -25,10 +25,11 @@ from .cfar import cfar_peaks, noise_mean_factor
 from .config import WINDOWS, ProcessingConfig
 from .config_cache import per_config
 from .kernels import estimate_angles, layout_of, parabolic_offset
+from .peak_refinement import neighbour_bins, refine_peaks_2d
 
 __all__ = ["POINT_CLOUD_COLUMNS", "check_frame", "power_of", "log_power", "point_cloud",
            "empty_cloud", "interp_azimuth", "interp_range", "interp_doppler", "array_dft",
-           "array_likelihood", "refined_likelihood", "hypothesis_cloud"]
+           "refine_hits", "array_likelihood", "refined_likelihood", "hypothesis_cloud"]
 
 #: Columns of every point cloud, in order.
 POINT_CLOUD_COLUMNS = ["range_m", "azimuth_deg", "elevation_deg", "radial_velocity_mps",
@@ -352,6 +353,35 @@ def noncoherent_hits(rd: np.ndarray, looks: int, proc: ProcessingConfig) -> Rang
     doppler_off = interp_doppler(rd[r[:, None], (d[:, None] + np.arange(-1, 2)) % n_dop],
                                  WINDOWS[proc.doppler_window], n_dop)
     return RangeDopplerHits(r, d, noise, range_pos, doppler_off, looks)
+
+
+def refine_hits(hits: RangeDopplerHits, cube: np.ndarray, n_range_fft: int) -> RangeDopplerHits:
+    """The hits' range and Doppler at the maximum of their windowed spectra over the channels
+    of `cube` (`pipeline.peak_refinement`), the 3-point estimates as starts.
+
+    Parameters
+    ----------
+    hits : RangeDopplerHits
+    cube : (n_range, n_dop, C) complex
+        The channels' range-Doppler spectra the map was summed from (Doppler cyclic).
+    n_range_fft : int
+        Length of the range FFT (no zero padding: n_samples).
+
+    Returns
+    -------
+    RangeDopplerHits
+        ``range_pos`` and ``doppler_offset`` refined; the rest unchanged.
+    """
+    r, d = hits.range_bin, hits.doppler_bin
+    if r.size == 0:
+        return hits
+    n_range, n_dop = cube.shape[:2]
+    r_idx, on = neighbour_bins(r, n_range, cyclic=False)
+    d_idx, _ = neighbour_bins(d, n_dop, cyclic=True)
+    patch = np.moveaxis(cube[r_idx[:, :, None], d_idx[:, None, :]], 3, 1)  # (n, C, Mr, Md)
+    r_off, d_off = refine_peaks_2d(patch, on, hits.range_pos - r, hits.doppler_offset,
+                                   n_range_fft, n_dop)
+    return hits._replace(range_pos=r + r_off, doppler_offset=d_off)
 
 
 def hits_snr_db(hits: RangeDopplerHits, peak: np.ndarray, proc: ProcessingConfig,

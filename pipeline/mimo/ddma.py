@@ -26,6 +26,7 @@ from ..config import WINDOWS, ProcessingConfig
 from ..config_cache import per_config
 from ..ddma_kernels import ddma_spectra_power
 from ..kernels import estimate_angles, layout_of, rx_energy, slow_time_fft, window
+from ..peak_refinement import neighbour_bins, refine_peaks_2d
 from ..stages import (
     array_dft,
     empty_cloud,
@@ -37,7 +38,8 @@ from ..stages import (
 from .base import DetectionMap, DopplerAzimuth, MimoChain, register_chain
 from .ddma_order import DdmaDetections, ddma_virtual, resolve_tx_order
 
-__all__ = ["DdmaMaps", "DdmaChain", "full_doppler_spectrum", "ddma_maps", "ddma_virtual"]
+__all__ = ["DdmaMaps", "DdmaChain", "full_doppler_spectrum", "ddma_maps", "ddma_virtual",
+           "refine_ddma_peaks"]
 
 
 class DdmaMaps(NamedTuple):
@@ -121,6 +123,40 @@ def doppler_velocity_mps(cfg: RadarConfig, k: np.ndarray) -> np.ndarray:
     return -k_signed / (cfg.n_chirps * cfg.chirp_period_s) * cfg.wavelength_m / 2
 
 
+def refine_ddma_peaks(cfg: RadarConfig, spec: np.ndarray, r: np.ndarray, k_true: np.ndarray,
+                      range_pos: np.ndarray, k_frac: np.ndarray
+                      ) -> tuple[np.ndarray, np.ndarray]:
+    """Range and Doppler of DDMA detections at the maximum of their windowed spectra
+    (`pipeline.peak_refinement`), over the n_tx x n_rx channels: Tx p of a detection sits at
+    chirp-bin k_true + n_dop p.
+
+    Parameters
+    ----------
+    cfg : RadarConfig
+    spec : (n_chirps, n_rx, n_range) complex64
+        Doppler spectra over all chirps (`DdmaMaps.spec`).
+    r, k_true : (n,) int
+        Range bin and unwrapped Doppler bin (Tx1's) of each detection.
+    range_pos, k_frac : (n,) float
+        3-point estimates (fractional range bin, fractional Doppler bin): the starts.
+
+    Returns
+    -------
+    range_pos, k_frac : (n,) float64
+    """
+    n_chirps, n_rx, n_range = spec.shape
+    n_dop = n_chirps // cfg.n_subbands
+    r_idx, on = neighbour_bins(r, n_range, cyclic=False)                      # (n, Mr)
+    d_idx, _ = neighbour_bins(k_true, n_chirps, cyclic=True)                  # (n, Md)
+    d_idx = (d_idx[:, None, :] + n_dop * np.arange(cfg.n_tx)[None, :, None]) % n_chirps
+    rx = np.arange(n_rx)[None, None, :, None, None]
+    patch = spec[d_idx[:, :, None, None, :], rx, r_idx[:, None, None, :, None]]  # (n,T,R,Mr,Md)
+    patch = patch.reshape(r.size, cfg.n_tx * n_rx, r_idx.shape[1], d_idx.shape[2])
+    r_off, d_off = refine_peaks_2d(patch, on, range_pos - r, k_frac - k_true, cfg.n_samples,
+                                   n_chirps)
+    return r + r_off, k_true + d_off
+
+
 def coherent_detections(power: np.ndarray, proc: ProcessingConfig):
     """CFAR (cyclic, along Doppler) and local maxima on (n_az, n_range, n_dop) coherent maps.
 
@@ -196,6 +232,9 @@ class DdmaChain(MimoChain):
                 + n_dop * np.arange(n_tx)[None, None, :]) % cfg.n_chirps
         k_frac = k_true + interp_doppler(energy[offs, r[:, None, None]].sum(axis=-1),
                                          WINDOWS[proc.doppler_window], cfg.n_chirps)
+        # Both refined to the maximum of the windowed spectrum of every Tx x Rx channel: the
+        # 3-point estimates start the search.
+        range_pos, k_frac = refine_ddma_peaks(cfg, maps.spec, r, k_true, range_pos, k_frac)
         velocity = doppler_velocity_mps(cfg, k_frac)
         # Angles.
         h_idx, h_pos, v_idx, v_pos, v_h = layout_of(cfg)

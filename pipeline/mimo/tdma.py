@@ -44,6 +44,7 @@ from ..stages import (
     empty_cloud,
     hypothesis_cloud,
     noncoherent_hits,
+    refine_hits,
 )
 from ..threads import run_parts, spans
 from .base import DetectionMap, DopplerAzimuth, MimoChain, register_chain
@@ -158,6 +159,8 @@ class SlotChain(MimoChain):
             hits, d_signed, v_est = hits.select(in_fov), d_signed[in_fov], v_est[in_fov]
         if hits.range_bin.size == 0:
             return empty_cloud()
+        # range and Doppler at the maximum of the slot channels' windowed spectra
+        hits = refine_hits(hits, virt_all, cfg.n_samples)
         r, d = hits.range_bin, hits.doppler_bin
         v_max = cfg.max_unambiguous_velocity_mps
         if self.disambiguate(proc):
