@@ -17,11 +17,19 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-__all__ = ["floor_summary", "mitigation_stats", "MIN_RISE_TO_RECOVER_DB"]
+__all__ = ["floor_summary", "mitigation_stats", "worst_window_recovery", "MIN_RISE_TO_RECOVER_DB",
+           "WINDOW_S", "WINDOW_MIN_RISE_DB"]
 
 #: Below this unmitigated floor rise, dB, there is nothing to recover: the recovered fraction
 #: is NaN (a 0.1 dB rise measured to +/- 0.05 dB would make the fraction noise).
 MIN_RISE_TO_RECOVER_DB = 0.5
+#: Length of the windows the worst recovery is taken over, s: 20 frames at 20 Hz, long enough
+#: for a window median, short enough to resolve an interferer's approach (the head-on case's
+#: in-burst INR grows 5 dB in 3 s).
+WINDOW_S = 1.0
+#: A window counts for the worst recovery if its median unmitigated rise is at least this, dB
+#: (twice `MIN_RISE_TO_RECOVER_DB`: a window has 10-20 frames, not a whole case).
+WINDOW_MIN_RISE_DB = 1.0
 
 
 def floor_summary(floors: pd.DataFrame) -> dict[str, float]:
@@ -41,9 +49,10 @@ def floor_summary(floors: pd.DataFrame) -> dict[str, float]:
         Medians over frames: ``noise_floor_rise_db``, ``noise_floor_rise_range_db``,
         ``interference_to_noise_db`` (over frames with interferers; NaN if none); with the
         unmitigated column also ``noise_floor_rise_unmitigated_db``,
-        ``mitigation_floor_recovery_db`` (unmitigated minus mitigated median) and
+        ``mitigation_floor_recovery_db`` (unmitigated minus mitigated median),
         ``mitigation_floor_recovery_fraction`` (that over the unmitigated rise; NaN below
-        `MIN_RISE_TO_RECOVER_DB`).
+        `MIN_RISE_TO_RECOVER_DB`) and ``mitigation_floor_recovery_fraction_worst_1s``
+        (`worst_window_recovery`; NaN without a ``time_s`` column).
 
     Examples
     --------
@@ -66,8 +75,62 @@ def floor_summary(floors: pd.DataFrame) -> dict[str, float]:
         rec = raw - out["noise_floor_rise_db"]
         out.update({"noise_floor_rise_unmitigated_db": raw, "mitigation_floor_recovery_db": rec,
                     "mitigation_floor_recovery_fraction": rec / raw
-                    if raw >= MIN_RISE_TO_RECOVER_DB else float("nan")})
+                    if raw >= MIN_RISE_TO_RECOVER_DB else float("nan"),
+                    "mitigation_floor_recovery_fraction_worst_1s":
+                    worst_window_recovery(floors) if "time_s" in floors else float("nan")})
     return out
+
+
+def worst_window_recovery(floors: pd.DataFrame, window_s: float = WINDOW_S,
+                          min_rise_db: float = WINDOW_MIN_RISE_DB) -> float:
+    """The least recovered fraction of the floor rise over the run's `window_s` windows.
+
+    A window starts at every processed frame and holds the frames within `window_s` of it; only
+    windows the run covers whole count (the last frame at least `window_s` minus one frame
+    spacing after the first), and of those the ones whose median unmitigated rise is at least
+    `min_rise_db`. A window's recovery is (median unmitigated - median mitigated rise) /
+    median unmitigated rise, in dB as `floor_summary`'s whole-run fraction.
+
+    Parameters
+    ----------
+    floors : DataFrame
+        ``time_s``, ``noise_floor_rise_db`` and ``noise_floor_rise_unmitigated_db`` per frame.
+    window_s : float
+        Window length, s.
+    min_rise_db : float
+        Least median unmitigated rise of a counted window, dB.
+
+    Returns
+    -------
+    float
+        NaN when no window counts.
+
+    Examples
+    --------
+    >>> import pandas as pd
+    >>> f = pd.DataFrame({"time_s": [0.0, 0.5, 1.0, 1.5],
+    ...                   "noise_floor_rise_unmitigated_db": [3.0, 3.0, 3.0, 0.2],
+    ...                   "noise_floor_rise_db": [2.0, 2.0, 0.0, 0.0]})
+    >>> round(worst_window_recovery(f), 3)   # [0, 1) s: 1 dB of 3 recovered
+    0.333
+    """
+    f = floors.sort_values("time_s")
+    t = f["time_s"].to_numpy(dtype=float)
+    raw = f["noise_floor_rise_unmitigated_db"].to_numpy(dtype=float)
+    mit = f["noise_floor_rise_db"].to_numpy(dtype=float)
+    if t.size < 2:
+        return float("nan")
+    dt = float(np.median(np.diff(t)))
+    # frames of the window starting at frame i: [i, end[i]) (sorted times; a small tolerance
+    # for times written as sums of frame periods)
+    end = np.searchsorted(t, t + window_s - 1e-6 * window_s, side="left")
+    whole = t + window_s - dt <= t[-1] + 1e-6 * window_s
+    worst = float("nan")
+    for i in np.flatnonzero(whole):  # one window per frame: tens, not samples or chirps
+        u, m = float(np.median(raw[i:end[i]])), float(np.median(mit[i:end[i]]))
+        if u >= min_rise_db:
+            worst = min(worst, (u - m) / u) if np.isfinite(worst) else (u - m) / u
+    return worst
 
 
 def mitigation_stats(ghost_rate: float, ghost_rate_unmitigated: float) -> dict[str, float]:

@@ -295,6 +295,11 @@ def _snr_and_front_end_metrics(add) -> None:
     add("mitigation_floor_recovery_fraction", "", "higher", "frames", nf,
         "mitigation_floor_recovery_db / noise_floor_rise_unmitigated_db (NaN when the "
         "unmitigated rise is below 0.5 dB: nothing to recover)")
+    add("mitigation_floor_recovery_fraction_worst_1s", "", "higher", "frames",
+        itf.worst_window_recovery,
+        "the least mitigation_floor_recovery_fraction of the run's 1-second windows (window "
+        "medians; windows whose median unmitigated rise is >= 1 dB): what a case median hides "
+        "while an interferer is still weak")
     add("ghost_rate_unmitigated", "", "none", "detections", itf.mitigation_stats,
         "ghost_rate of the same frames processed with interference mitigation off")
     add("mitigation_ghost_rate_added", "", "lower", "detections", itf.mitigation_stats,

@@ -211,7 +211,8 @@ def run_cell(spec: CellSpec, comps: Components | None = None,
             fl = pd.DataFrame([r for r in out.floor_rows if r["scheme"] == s]) \
                 .drop(columns="scheme")
             fc = fc.merge(fl, on="frame", how="left")
-            rows_out[-1].update(floor_summary(fl))
+            rows_out[-1].update(floor_summary(fl.assign(
+                time_s=times.reindex(fl["frame"]).to_numpy())))
         parts["frames"].append(fc)
         parts["actors"].append(sc.actor_frames.assign(scheme=s))
 

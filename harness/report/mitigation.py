@@ -7,7 +7,10 @@ it recovers (dB and fraction of the rise), the ghost rate with it and the ghosts
 the same frames processed without mitigation (all summary columns, `metrics.interference`),
 and the SNR of the case's target: the median over the frames in which it is detected of its
 strongest TRUE detection's SNR (``actors.max_snr_db``; every road user of a traffic case).
-`html_section(results)` renders it for the report.
+`recovery_vs_inr(results)` gives each method's recovered fraction of the floor rise per frame,
+binned by the frame's in-burst INR (the interferer's approach: weak bursts, which the chip's
+fixed threshold partly misses, at the low end). `html_section(results)` renders both for the
+report.
 """
 from __future__ import annotations
 
@@ -20,14 +23,19 @@ import pandas as pd
 
 import scenarios
 from core.errors import BadInput
+from harness.report.figures import png_img, pyplot
 from harness.sweep.store import failed_rows
+from metrics.interference import MIN_RISE_TO_RECOVER_DB
 
-__all__ = ["mitigation_table", "html_section", "COLUMNS"]
+__all__ = ["mitigation_table", "recovery_vs_inr", "html_section", "COLUMNS", "INR_BIN_DB"]
 
 COLUMNS = ["scenario", "method", "scheme", "noise_floor_rise_unmitigated_db",
            "noise_floor_rise_db", "mitigation_floor_recovery_db",
-           "mitigation_floor_recovery_fraction", "ghost_rate_unmitigated", "ghost_rate",
-           "mitigation_ghost_rate_added", "target_snr_db", "target_pd"]
+           "mitigation_floor_recovery_fraction", "mitigation_floor_recovery_fraction_worst_1s",
+           "ghost_rate_unmitigated", "ghost_rate", "mitigation_ghost_rate_added",
+           "target_snr_db", "target_pd"]
+#: Width of the in-burst INR bins of `recovery_vs_inr`, dB.
+INR_BIN_DB = 1.0
 
 
 def _methods(results: Path) -> dict[str, str]:
@@ -84,6 +92,72 @@ def mitigation_table(results: str | Path) -> pd.DataFrame:
     return out[COLUMNS].reset_index(drop=True)
 
 
+def recovery_vs_inr(results: str | Path, bin_db: float = INR_BIN_DB) -> pd.DataFrame:
+    """Recovered fraction of the floor rise versus the frame's in-burst INR, per method.
+
+    Per frame of a mitigation sweep (``frames.parquet``: ``interference_to_noise_db``,
+    ``noise_floor_rise_unmitigated_db``, ``noise_floor_rise_db``), the frames whose
+    unmitigated rise is at least `MIN_RISE_TO_RECOVER_DB` binned by INR (`bin_db` wide bins,
+    centred on multiples of `bin_db`).
+
+    Returns
+    -------
+    DataFrame
+        Columns scenario, method, scheme, inr_db (bin centre), n_frames,
+        noise_floor_rise_unmitigated_db and noise_floor_rise_db (bin medians),
+        recovery_fraction (1 - median mitigated / median unmitigated rise of the bin).
+
+    Raises
+    ------
+    BadInput
+        The results hold no variant that sets ``processing.intf_mitigation``.
+    """
+    results = Path(results)
+    methods = _methods(results)
+    if not methods:
+        raise BadInput(f"{results}: no variant sets processing.intf_mitigation")
+    cols = ["scenario", "method", "scheme", "inr_db", "n_frames",
+            "noise_floor_rise_unmitigated_db", "noise_floor_rise_db", "recovery_fraction"]
+    fr = pd.read_parquet(results / "frames.parquet")
+    need = {"interference_to_noise_db", "noise_floor_rise_unmitigated_db", "noise_floor_rise_db"}
+    if not need <= set(fr.columns):
+        return pd.DataFrame(columns=cols)
+    fr = fr[fr["variant"].isin(methods)
+            & (fr["noise_floor_rise_unmitigated_db"] >= MIN_RISE_TO_RECOVER_DB)
+            & fr["interference_to_noise_db"].notna()].copy()
+    fr["method"] = fr["variant"].map(methods)
+    fr["inr_db"] = np.round(fr["interference_to_noise_db"] / bin_db) * bin_db
+    g = fr.groupby(["scenario", "method", "scheme", "inr_db"], sort=False)
+    out = g.agg(n_frames=("noise_floor_rise_db", "size"),
+                noise_floor_rise_unmitigated_db=("noise_floor_rise_unmitigated_db", "median"),
+                noise_floor_rise_db=("noise_floor_rise_db", "median")).reset_index()
+    out["recovery_fraction"] = 1 - out["noise_floor_rise_db"] / \
+        out["noise_floor_rise_unmitigated_db"]
+    order = {m: i for i, m in enumerate(dict.fromkeys(methods.values()))}
+    out = out.assign(_o=out["method"].map(order)).sort_values(
+        ["scenario", "scheme", "_o", "inr_db"], kind="stable")
+    return out[cols].reset_index(drop=True)
+
+
+def _recovery_figure(curve: pd.DataFrame) -> str:
+    """One panel per (case, scheme): recovered fraction versus in-burst INR, a line per
+    method."""
+    plt = pyplot()
+    keys = list(dict.fromkeys(zip(curve["scenario"], curve["scheme"])))
+    fig, axes = plt.subplots(1, len(keys), figsize=(4.4 * len(keys), 3.6), sharey=True,
+                             squeeze=False)
+    for ax, (sc, scheme) in zip(axes[0], keys):
+        c = curve[(curve["scenario"] == sc) & (curve["scheme"] == scheme)]
+        for m, g in c.groupby("method", sort=False):
+            ax.plot(g["inr_db"], g["recovery_fraction"], marker="o", ms=3, label=m)
+        ax.axhline(2 / 3, color="0.6", lw=0.8, ls="--")
+        ax.set_title(f"{sc}, {scheme}", fontsize=9)
+        ax.set_xlabel("in-burst INR, dB")
+    axes[0][0].set_ylabel("floor rise recovered (fraction)")
+    axes[0][-1].legend(fontsize=7)
+    return png_img(fig)
+
+
 def html_section(results: str | Path) -> str:
     """HTML of the mitigation benchmark, or "" when no variant sets the method."""
     try:
@@ -92,7 +166,15 @@ def html_section(results: str | Path) -> str:
         return ""
     body = tab.to_html(index=False, float_format=lambda x: f"{x:.3g}", border=0, na_rep="-",
                        classes="tbl")
-    return ("<h2>Interference mitigation: the methods compared</h2>"
-            f"<p>{html.escape(__doc__.splitlines()[0])} Floor: median over frames after the "
-            "Doppler FFT, dB over thermal; ghosts added: ghost rate minus the same frames' "
-            "without mitigation.</p>" + body)
+    out = ("<h2>Interference mitigation: the methods compared</h2>"
+           f"<p>{html.escape(__doc__.splitlines()[0])} Floor: median over frames after the "
+           "Doppler FFT, dB over thermal; worst 1 s: the least recovered fraction of the "
+           "case's 1-second windows; ghosts added: ghost rate minus the same frames' without "
+           "mitigation.</p>" + body)
+    curve = recovery_vs_inr(results)
+    if len(curve):
+        out += ("<h3>Recovered floor rise versus in-burst INR</h3><p>Per frame with an "
+                f"unmitigated rise of at least {MIN_RISE_TO_RECOVER_DB:g} dB, binned by "
+                f"in-burst INR ({INR_BIN_DB:g} dB bins, bin medians); dashed: two thirds."
+                "</p>" + _recovery_figure(curve))
+    return out
