@@ -23,6 +23,7 @@ from radarsim.config import RadarConfig
 
 from ..config import WINDOWS, ProcessingConfig
 from ..interference import INTF_THRESHOLD_MODES, RepairedRows, flagged_rows, repaired_rows
+from ..interference.residual import with_weak_bursts
 from ..interference.row_statistics import row_flags, row_statistics
 from ..kernels import doppler_windowed, range_fft, samples_windowed, window, windowed
 from ..threads import n_parts, run_parts, run_queue, spans
@@ -37,7 +38,8 @@ __all__ = ["range_stage", "windowed_range_stage", "shared_range_stage", "RANGE_S
 RANGE_STAGE_FIELDS = ("range_window", "dc_removal", "interference_mitigation", "intf_mag_snr_db",
                       "intf_magdiff_snr_db", "intf_threshold_mode", "intf_hysteresis_samples",
                       "intf_mitigation", "compression", "compression_ratio",
-                      "compression_range_bins_per_block", "dc_range_signature")
+                      "compression_range_bins_per_block", "dc_range_signature",
+                      "intf_weak_burst_snr_db", "intf_weak_burst_window_samples")
 
 #: Range cubes of the current `shared_range_stage` scope by (frame id, n_samples, settings);
 #: each entry keeps its frame alive, so an id cannot be reused while the scope lasts.
@@ -237,9 +239,22 @@ def _dc_signature(rf: np.ndarray, proc: ProcessingConfig) -> np.ndarray:
 
 def _chirp_statistics(adc: np.ndarray, proc: ProcessingConfig, lazy_flags: bool = False):
     """(DC estimate or None, flagged chirp x Rx rows, their flags or None) as `proc` switches
-    them: `remove_dc` and `flagged_rows`, both per chirp and Rx, run on blocks of chirps on the
-    cores (`pipeline.threads`) and joined in row order (the same values). With `lazy_flags`
-    the flags may come as a function that makes them (`repaired_rows` takes either)."""
+    them: the chip's (`_chip_statistics`), then, where it flagged a row, the weak bursts it
+    missed (``proc.intf_weak_burst_snr_db``, `with_weak_bursts`). With `lazy_flags` the flags
+    may come as a function that makes them (`repaired_rows` takes either)."""
+    dc, rows, flags = _chip_statistics(adc, proc, lazy_flags)
+    if proc.intf_weak_burst_snr_db is None or not proc.interference_mitigation or not rows.size:
+        return dc, rows, flags
+    rows, flags = with_weak_bursts(adc, dc, rows, flags() if callable(flags) else flags,
+                                   proc.intf_weak_burst_snr_db,
+                                   proc.intf_weak_burst_window_samples)
+    return dc, rows, flags
+
+
+def _chip_statistics(adc: np.ndarray, proc: ProcessingConfig, lazy_flags: bool = False):
+    """The chip's (DC estimate or None, flagged chirp x Rx rows, their flags or None) as `proc`
+    switches them: `remove_dc` and `flagged_rows`, both per chirp and Rx, run on blocks of
+    chirps on the cores (`pipeline.threads`) and joined in row order (the same values)."""
     n_rx = adc.shape[1]
     if not (proc.dc_removal or proc.interference_mitigation):  # nothing to measure
         return None, np.zeros(0, dtype=np.intp), None
@@ -263,7 +278,7 @@ def _chirp_statistics(adc: np.ndarray, proc: ProcessingConfig, lazy_flags: bool 
 
 
 def _fused_statistics(adc: np.ndarray, proc: ProcessingConfig, lazy_flags: bool = False):
-    """`_chirp_statistics` from one compiled pass (`row_statistics`) where it gives
+    """`_chip_statistics` from one compiled pass (`row_statistics`) where it gives
     `remove_dc`'s and the magdiff `flagged_rows`' values bit for bit (an int16 frame, a
     difference-only threshold mode), else None. The flags of the flagged rows are
     `flagged_rows`' (`row_flags`)."""

@@ -7,7 +7,7 @@ import pytest
 import pipeline
 import radarsim
 from pipeline.chirp_level.dc import remove_dc
-from pipeline.chirp_level.stage import _chirp_statistics
+from pipeline.chirp_level.stage import _chip_statistics
 from pipeline.interference import flagged_rows
 from pipeline.interference.row_statistics import row_flags, row_statistics
 
@@ -25,7 +25,7 @@ def test_row_statistics_equal_remove_dc_and_magdiff_flagged_rows(cfg, itf, snr_d
     rows, flags = flagged_rows(adc, dc, proc)
     assert st.dc.tobytes() == dc.tobytes()
     assert np.array_equal(st.flagged, rows) and (rows.size > 0) == (itf or snr_db < 10)
-    dc2, rows2, flags2 = _chirp_statistics(adc, proc)
+    dc2, rows2, flags2 = _chip_statistics(adc, proc)
     assert dc2.tobytes() == dc.tobytes() and np.array_equal(rows2, rows)
     assert flags2.tobytes() == flags.tobytes()
 
@@ -36,7 +36,7 @@ def test_row_statistics_leave_frames_spanning_more_than_int16_to_numpy(cfg):
     adc[3, 1, 7], adc[9, 0, 2] = 32767, -32768
     assert row_statistics(adc, 18.0) is None
     proc = pipeline.ProcessingConfig()
-    dc, rows, flags = _chirp_statistics(adc, proc)
+    dc, rows, flags = _chip_statistics(adc, proc)
     want_rows, want_flags = flagged_rows(adc, remove_dc(adc), proc)
     assert np.array_equal(rows, want_rows) and flags.tobytes() == want_flags.tobytes()
 

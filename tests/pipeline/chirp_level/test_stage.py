@@ -32,10 +32,24 @@ def test_switches_off_is_the_plain_range_fft(cfg):
     (dict(intf_hysteresis_samples=-1), "intf_hysteresis_samples"),
     (dict(compression_ratio=1.0), "compression_ratio"),
     (dict(compression_range_bins_per_block=6), "compression_range_bins_per_block"),
+    (dict(intf_weak_burst_snr_db=0.0), r"intf_weak_burst_snr_db=0\.0 must be in \(0, 60\]"),
+    (dict(intf_weak_burst_snr_db=float("nan")), "intf_weak_burst_snr_db=nan"),
+    (dict(intf_weak_burst_snr_db="11"), "intf_weak_burst_snr_db='11'"),
+    (dict(intf_weak_burst_window_samples=2), "intf_weak_burst_window_samples=2"),
+    (dict(intf_weak_burst_window_samples=256), "intf_weak_burst_window_samples=256"),
+    (dict(intf_weak_burst_window_samples=30.0), "intf_weak_burst_window_samples=30.0"),
+    (dict(intf_weak_burst_window_samples=30), "intf_weak_burst_window_samples=30 must be a "
+                                              "multiple of 4"),
 ])
 def test_processing_config_validation(kw, match):
     with pytest.raises(ValueError, match=match):
         pipeline.ProcessingConfig(**kw)
+
+
+def test_weak_burst_detection_on_by_default_and_switchable():
+    p = pipeline.ProcessingConfig()
+    assert (p.intf_weak_burst_snr_db, p.intf_weak_burst_window_samples) == (11.0, 32)
+    assert pipeline.ProcessingConfig(intf_weak_burst_snr_db=None).intf_weak_burst_snr_db is None
 
 
 def test_demo_defaults_and_sweep_key():
