@@ -20,13 +20,13 @@ from the 3-point estimate converge to the maximum.
 
 References
 ----------
-.. [1] S. M. Kay, Fundamentals of Statistical Signal Processing: Estimation Theory, 1993,
-       sections 3.11 and 7.10 (the CRB of a sinusoid's frequency; the periodogram maximum as
-       its maximum-likelihood estimate).
-.. [2] D. C. Rife and R. R. Boorstyn, "Single-tone parameter estimation from discrete-time
-       observations", IEEE Trans. Information Theory 20(5), 1974.
-.. [3] F. J. Harris, "On the use of windows for harmonic analysis with the discrete Fourier
-       transform", Proc. IEEE 66(1), 1978 (Hann leakage roll-off).
+.. [1] [Kay1993] S. M. Kay, Fundamentals of Statistical Signal Processing: Estimation Theory,
+       1993, sections 3.11 and 7.10 (the CRB of a sinusoid's frequency; the periodogram
+       maximum as its maximum-likelihood estimate).
+.. [2] [Rife1974] D. C. Rife and R. R. Boorstyn, "Single-tone parameter estimation from
+       discrete-time observations", IEEE Trans. Information Theory 20(5), 1974.
+.. [3] [Harris1978] F. J. Harris, "On the use of windows for harmonic analysis with the
+       discrete Fourier transform", Proc. IEEE 66(1), 1978 (Hann leakage roll-off).
 """
 from __future__ import annotations
 

@@ -35,11 +35,11 @@ takes the chip's flags (and widens, closes and grows them as it does those).
 
 References
 ----------
-.. [1] TI SWRA725, "Interference Mitigation for AWR294x" (2021), sections 3.1-3.3.
-.. [2] S. M. Kay, Fundamentals of Statistical Signal Processing: Detection Theory, 1998,
-       chapter 7 (energy detector; the noise subspace of a known signal subspace).
-.. [3] J. Bechter, C. Waldschmidt, "Automotive radar interference mitigation by reconstruction
-       and cancellation of interference component", IEEE ICMIM 2015.
+.. [1] [SWRA725] TI, "Interference Mitigation for AWR294x" (2021), sections 3.1-3.3.
+.. [2] [Kay1998] S. M. Kay, Fundamentals of Statistical Signal Processing: Detection Theory,
+       1998, chapter 7 (energy detector in the complement of a known signal subspace).
+.. [3] [Bechter2015] J. Bechter, C. Waldschmidt, "Automotive radar interference mitigation by
+       reconstruction and cancellation of interference component", IEEE ICMIM 2015.
 """
 from __future__ import annotations
 
