@@ -3,14 +3,14 @@
 Monte Carlo on the R79 frame: single point targets (isotropic elements), each at a random
 sub-bin range and velocity offset, azimuth uniform in +/-20 deg, elevation 0, at a set
 detection SNR (the coherent range x Doppler x 12-element azimuth gain of the scheme minus two
-Hann losses, DESIGN 8: what the scheme's detector sees at a bin centre). Several targets share
+Hann losses, design.md 8: what the scheme's detector sees at a bin centre). Several targets share
 a frame, 20 range bins and 12+ Doppler bins apart (a Hann sidelobe there is below -60 dB
 of the target, far under the thermal noise at these SNRs), each measured by its strongest
 detection within 1 m and 0.5 m/s (a velocity off by more is a resolution failure, counted, not
 an accuracy sample). The truth is exact: the front end puts no range migration in the frame
 and the chain removes the range-Doppler coupling.
 
-The bound (DESIGN 8, rectangular window) at the detection SNR S: sigma_R = dR sqrt(3) / (pi
+The bound (design.md 8, rectangular window) at the detection SNR S: sigma_R = dR sqrt(3) / (pi
 sqrt(2 S)), the same form for velocity with dv. It is the bound of the data the detector's
 SNR describes, so a window that lowers the SNR also raises the bound: the table is a test of
 the estimator on the peak, not of the window. A single tone's windowed periodogram maximum
@@ -94,7 +94,7 @@ def run() -> list[str]:
     rng = np.random.default_rng(SEED)
     rows = [measure(s, snr, rng) for s in SCHEMES for snr in SNRS_DB]
     out = [f"{TARGETS_PER_FRAME} targets x {N_FRAMES} frames per scheme and SNR: sub-bin range "
-           "and velocity offsets, azimuth +/-20 deg, isotropic elements; bound = DESIGN 8 CRB "
+           "and velocity offsets, azimuth +/-20 deg, isotropic elements; bound = design.md 8 CRB "
            "at the detection SNR; bias z = mean error / its standard error",
            f"{'scheme':<7}{'SNR dB':>7}{'n':>5}{'fail':>5}{'CRB_R mm':>9}{'RMSE_R/CRB':>11}"
            f"{'bias_R mm':>10}{'z_R':>6}{'CRB_v mm/s':>11}{'RMSE_v/CRB':>11}{'bias_v mm/s':>12}"

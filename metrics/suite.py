@@ -77,7 +77,8 @@ def headline_table(summary: pd.DataFrame, actor_summary: pd.DataFrame,
         class present; range_rmse_m, radial_velocity_rmse_mps (pooled by error samples);
         velocity_unambiguity_rate (right / (right + failures) road-user velocities over every
         run, `metrics.velocity`); infrastructure_velocity_unambiguity_rate (the same over
-        guard-rail detections, when the summary has its counts); ghost_rate (ghosts / detections); snr_gain_over_<baseline>_db (median of noise-limited pairs) and
+        guard-rail detections, when the summary has its counts); ghost_rate (ghosts /
+        detections); snr_gain_over_<baseline>_db (median of noise-limited pairs) and
         snr_gain_pairs; gates.
     """
     ok = summary[summary["error"].fillna("") == ""] if "error" in summary else summary

@@ -18,20 +18,21 @@ Where to look for what the threshold misses:
   (`lowrank`), so the frame's fast-time subspace holds them all, beating or not, and what is
   left of a row outside it is noise plus interference. A burst is a local excess of it.
 
-So, per chirp x Rx row the chip did not flag: the residual r = x - V V^H x (V the frame's
-basis from its unflagged rows, `lowrank.fast_time_basis`, at most `RANK_MAX` components
+So, per chirp x Rx row the chip did not flag: the residual r = x - V V^H x (V the frame's basis
+from its unflagged rows, `lowrank.fast_time_basis`, at most `RANK_MAX` components
 `RANK_SNR_GATE_DB` over the noise), and its energy over a sliding `window` of samples over the
-noise, E_j = mean |r|^2 / sigma^2 (windows `BLOCK` samples apart). A window holds a burst where E_j exceeds the threshold times
-max(1, the row's median E): the median takes up what the subspace does not hold but lies along
-the whole row (an extended clutter's residual, a same-slope radar's tone), a burst does not.
-The window is the shortest burst of interest, 2 B_IF / |S_v - S_i| = 1 us (32 samples at
-30 Msps) for a 30 MHz/us slope difference across the 15 MHz IF band (DESIGN 6). Noise alone
-exceeds 3.5 (5.4 dB) in one window of 10^10 (chi-square of 32 degrees of freedom over 32):
-the threshold is set instead by the residual structure of frames without bursts, up to 9.9 dB
-over their row median on the dense-highway and same-slope interference frames, plus 1 dB:
-11 dB. Only frames in which the chip flagged something are searched (`with_weak_bursts`).
-The flagged samples are the burst windows' extents; the repair method takes them as it
-takes the chip's flags (and widens, closes and grows them as it does those).
+noise, E_j = mean |r|^2 / sigma^2 (windows `BLOCK` samples apart). A window holds a burst where
+E_j exceeds the threshold times max(1, the row's median E): the median takes up what the
+subspace does not hold but lies along the whole row (an extended clutter's residual, a same-
+slope radar's tone), a burst does not. The window is the shortest burst of interest, 2 B_IF /
+|S_v - S_i| = 1 us (32 samples at 30 Msps) for a 30 MHz/us slope difference across the 15 MHz IF
+band (design.md 6). Noise alone exceeds 3.5 (5.4 dB) in one window of 10^10 (chi-square of 32
+degrees of freedom over 32): the threshold is set instead by the residual structure of frames
+without bursts, up to 9.9 dB over their row median on the dense-highway and same-slope
+interference frames, plus 1 dB: 11 dB. Only frames in which the chip flagged something are
+searched (`with_weak_bursts`). The flagged samples are the burst windows' extents; the repair
+method takes them as it takes the chip's flags (and widens, closes and grows them as it does
+those).
 
 References
 ----------

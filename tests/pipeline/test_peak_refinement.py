@@ -6,8 +6,13 @@ import numpy as np
 import pytest
 from scipy.signal import get_window
 
-from pipeline.peak_refinement import (HALF_WIDTH, combine_channels, neighbour_bins,
-                                      refine_offset, refine_peaks_2d)
+from pipeline.peak_refinement import (
+    HALF_WIDTH,
+    combine_channels,
+    neighbour_bins,
+    refine_offset,
+    refine_peaks_2d,
+)
 
 N = 384
 
