@@ -149,6 +149,8 @@ class SlotChain(MimoChain):
         rd, virt_all = maps.power, maps.virt
 
         hits = noncoherent_hits(rd, cfg.n_virtual, proc)
+        # range and Doppler at the maximum of the slot channels' windowed spectra
+        hits = refine_hits(hits, virt_all, cfg.n_samples)
         d_signed = (hits.doppler_bin + hits.doppler_offset + n_dop / 2) % n_dop - n_dop / 2
         t_slot = n_tx * cfg.chirp_period_s
         v_est = -d_signed / (n_dop * t_slot) * cfg.wavelength_m / 2
@@ -159,8 +161,6 @@ class SlotChain(MimoChain):
             hits, d_signed, v_est = hits.select(in_fov), d_signed[in_fov], v_est[in_fov]
         if hits.range_bin.size == 0:
             return empty_cloud()
-        # range and Doppler at the maximum of the slot channels' windowed spectra
-        hits = refine_hits(hits, virt_all, cfg.n_samples)
         r, d = hits.range_bin, hits.doppler_bin
         v_max = cfg.max_unambiguous_velocity_mps
         if self.disambiguate(proc):
