@@ -31,6 +31,8 @@ def run(args: argparse.Namespace) -> int:
     print(line)
     if warning:  # the maps are re-simulated with today's code
         print(f"radar-harness report: {warning}", file=sys.stderr)
-    path = build_report(args.results, args.out, maps=args.maps, max_cases=args.max_cases)
+    path = build_report(args.results, args.out, maps=args.maps, max_cases=args.max_cases,
+                        notify=lambda gap: print(f"radar-harness report: warning: {gap}",
+                                                 file=sys.stderr))
     print(f"report written to {path}")
     return 0

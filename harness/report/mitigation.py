@@ -15,7 +15,6 @@ report.
 from __future__ import annotations
 
 import html
-import json
 from pathlib import Path
 
 import numpy as np
@@ -24,6 +23,7 @@ import pandas as pd
 import scenarios
 from core.errors import BadInput
 from harness.report.figures import png_img, pyplot
+from harness.sweep.results_schema import read_manifest
 from harness.sweep.store import failed_rows
 from metrics.interference import MIN_RISE_TO_RECOVER_DB
 
@@ -40,7 +40,7 @@ INR_BIN_DB = 1.0
 
 def _methods(results: Path) -> dict[str, str]:
     """Variant name -> its ``intf_mitigation`` (variants that set it)."""
-    man = json.loads((results / "manifest.json").read_text())
+    man = read_manifest(results)
     return {v["name"]: v["processing"]["intf_mitigation"]
             for v in man.get("sweep", {}).get("variants", [])
             if "intf_mitigation" in v.get("processing", {})}

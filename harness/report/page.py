@@ -16,6 +16,7 @@ from __future__ import annotations
 import fnmatch
 import html
 import os
+from collections.abc import Callable
 from pathlib import Path
 from typing import NamedTuple
 
@@ -23,13 +24,15 @@ import numpy as np
 import pandas as pd
 
 from core.errors import BadInput
-from core.fileio import MAX_TABLE_FILE_BYTES, atomic_write, check_input_file
+from core.fileio import atomic_write
 from harness.report.figures import png_img as _img
 from harness.report.figures import pyplot as _plt
 from harness.report.figures import scheme_order, table_html
 from harness.report.sections import REPORT_SECTIONS, ReportInputs
 from harness.runtime import prepare_worker, stoppable_pool
-from harness.sweep.provenance import read_manifest, version_line
+from harness.sweep.provenance import version_line
+from harness.sweep.results_schema import (HEADLINE_INPUTS, read_manifest, read_table,
+                                          results_gaps)
 from harness.sweep.store import failed_rows, read_meta
 
 __all__ = ["build_report", "doppler_azimuth_map", "choose_frame"]
@@ -59,12 +62,10 @@ def _legend(columns) -> str:
             + t.to_html(index=False, border=0, classes="tbl") + "</details>")
 
 
-def _read(results: Path, name: str) -> pd.DataFrame:
-    f = results / f"{name}.parquet"
-    if not f.exists():
-        return pd.DataFrame()
-    check_input_file(f, f"{name} table", max_bytes=MAX_TABLE_FILE_BYTES)
-    return pd.read_parquet(f)
+def _count(manifest: dict, field: str) -> str:
+    """A manifest's cell count for the page, "?" when not recorded (null, NaN, absent)."""
+    v = manifest.get(field)
+    return str(v) if isinstance(v, int) else "?"
 
 
 def choose_frame(detections: pd.DataFrame, scenario: str, variant: str, seed: int) -> int | None:
@@ -392,7 +393,8 @@ def _drawn_in_pool(inputs: list, workers: int) -> list:
 
 
 def build_report(results: str | Path, out: str | Path | None = None, *, maps: bool = True,
-                 max_cases: int | None = None) -> Path:
+                 max_cases: int | None = None,
+                 notify: Callable[[str], object] | None = None) -> Path:
     """Write ``report.html`` for a results directory and return its path.
 
     Parameters
@@ -405,35 +407,45 @@ def build_report(results: str | Path, out: str | Path | None = None, *, maps: bo
         Re-simulate one frame per catalogue case for the range-Doppler / Doppler-azimuth maps.
     max_cases : int, optional
         Limit the per-case sections.
+    notify : callable(str), optional
+        Called with each gap of the results (`harness.sweep.results_schema.results_gaps`: a
+        baseline scheme not run, counts not recorded, metric columns without values), which
+        the page states under its title too.
 
     Raises
     ------
-    FileNotFoundError
-        No summary.parquet in ``results``.
+    core.errors.BadInput
+        No summary.parquet in ``results``; a damaged manifest or table
+        (`harness.sweep.results_schema`), naming the file and the field.
     """
     from metrics.suite import headline_table
 
     res = Path(results)
     if not (res / "summary.parquet").exists():
         raise BadInput(f"no summary.parquet in {res} (run `radar-harness sweep`)")
-    summary = _read(res, "summary")
-    det = _read(res, "detections")
-    actors = _read(res, "actors")
-    actor_summary = _read(res, "actor_summary")
-    truth = _read(res, "truth")
     manifest = read_manifest(res)
+    summary, det, actors, actor_summary, truth = (
+        read_table(res, t, manifest)
+        for t in ("summary", "detections", "actors", "actor_summary", "truth"))
     from harness.cell.spec import DEFAULT_BASELINE_SCHEME
-    base = manifest.get("baseline_scheme", DEFAULT_BASELINE_SCHEME)
+    base = manifest.get("baseline_scheme") or DEFAULT_BASELINE_SCHEME
+    gaps = results_gaps(summary, manifest, base)
+    for gap in gaps if notify is not None else ():
+        notify(gap)
+    summary = summary.assign(**{c: np.nan for c in HEADLINE_INPUTS if c not in summary})
     parts = [f"<h1>Corner-radar evaluation: {html.escape(str(manifest.get('run_id', res.name)))}"
              "</h1>"]
-    git = manifest.get("git", {})
+    git = manifest.get("git") or {}
     line, warning = version_line(manifest)
     parts.append(f"<p>{html.escape(line)}" + (f"; <b>{html.escape(warning)}</b>" if warning
                                               else "") + "</p>")
     parts.append(f"<p>git {html.escape(str(git.get('commit')))} (dirty: {git.get('dirty')}), "
-                 f"{manifest.get('n_ok', '?')} of {manifest.get('n_cells', '?')} cells ok, "
-                 f"{manifest.get('n_error', 0)} failed; written "
+                 f"{_count(manifest, 'n_ok')} of {_count(manifest, 'n_cells')} cells ok, "
+                 f"{_count(manifest, 'n_error')} failed; written "
                  f"{html.escape(str(manifest.get('written_utc', '')))}.</p>")
+    if gaps:
+        parts.append("<p><b>Missing from these results:</b></p><ul>"
+                     + "".join(f"<li>{html.escape(g)}</li>" for g in gaps) + "</ul>")
     verdicts, gate_table, gate_verdicts = _gate_verdicts(summary, manifest)
     head = headline_table(summary, actor_summary, actors if len(actors) else None,
                           baseline=base, verdicts=verdicts)

@@ -8,41 +8,12 @@ it is not today's (`harness.sweep.store.code_version`).
 """
 from __future__ import annotations
 
-import json
-from pathlib import Path
 from typing import NamedTuple
 
-from core.errors import BadInput
-from core.fileio import read_input_text
 from harness.sweep import store
+from harness.sweep.results_schema import read_manifest
 
 __all__ = ["read_manifest", "ResultsVersion", "results_version", "version_line"]
-
-
-def read_manifest(folder: str | Path, *, required: bool = False) -> dict:
-    """``manifest.json`` of a results folder ({} when absent and not `required`).
-
-    Raises
-    ------
-    ValueError
-        ``{path}: damaged manifest (not JSON: ...)`` / ``(not a JSON object)``; the file is a
-        FIFO, a device, too large (`core.fileio.read_input_text`).
-    FileNotFoundError
-        Absent and `required`.
-    """
-    mf = Path(folder) / "manifest.json"
-    if not mf.exists() and not mf.is_symlink():
-        if required:
-            raise BadInput(f"no manifest.json in {folder}")
-        return {}
-    text = read_input_text(mf, "manifest")
-    try:
-        data = json.loads(text)
-    except json.JSONDecodeError as exc:
-        raise BadInput(f"{mf}: damaged manifest (not JSON: {exc})") from None
-    if not isinstance(data, dict):
-        raise BadInput(f"{mf}: damaged manifest (not a JSON object)")
-    return data
 
 
 class ResultsVersion(NamedTuple):

@@ -6,6 +6,7 @@ A damaged cell inside a results folder is recomputed by the next sweep
 """
 from __future__ import annotations
 
+import json
 import re
 import shutil
 
@@ -68,4 +69,98 @@ def test_default_out_stays_under_results(tmp_path, monkeypatch):
             sweepspec.SweepSpec(name=bad, scenarios=("a",))
 
 
-N_KINDS = len(KINDS) + 2 + 5
+
+def _copy(fake_results, tmp):
+    d = tmp / "res"
+    shutil.copytree(fake_results, d, ignore=shutil.ignore_patterns("cells", "*.html", "*.md"))
+    return d
+
+
+def _manifest(d, **fields):
+    man = json.loads((d / "manifest.json").read_text())
+    man.update(fields)
+    (d / "manifest.json").write_text(json.dumps(man))
+
+
+#: Damaged manifests: (fields set, or the file's text) -> the one-line answer.
+DAMAGED_MANIFESTS = {
+    "cells_string": ({"cells": "abc"}, r"cells='abc' must be a list of cell records"),
+    "cells_numbers": ({"cells": [1, 2]}, r"cells\[0\]=1 must be an object"),
+    "cell_without_id": ({"cells": [{"status": "missing"}]},
+                        r"cells\[0\]\.cell_id=None must be a string"),
+    "git_string": ({"git": "abc"}, r"git='abc' must be an object"),
+    "git_commit_number": ({"git": {"commit": 5}}, r"git\.commit=5 must be a string"),
+    "baseline_number": ({"baseline_scheme": 5}, r"baseline_scheme=5 must be a string"),
+    "n_ok_string": ({"n_ok": "x"}, r"n_ok='x' must be a non-negative integer"),
+    "n_cells_negative": ({"n_cells": -1}, r"n_cells=-1 must be a non-negative integer"),
+    "schemes_string": ({"schemes": "ddma"}, r"schemes='ddma' must be a list"),
+    "tables_list": ({"tables": ["x"]}, r"tables=\['x'\] must be an object"),
+    "sweep_string": ({"sweep": "x"}, r"sweep='x' must be an object"),
+    "variant_number": ({"sweep": {"variants": [5]}}, r"sweep\.variants\[0\]=5 must be"),
+    "nested_200000": ("[" * 200_000 + "]" * 200_000, r"nested deeper than a manifest can be"),
+}
+
+
+@pytest.mark.parametrize("cmd", ["gate", "report"])
+@pytest.mark.parametrize("kind", list(DAMAGED_MANIFESTS))
+def test_damaged_manifest_exits_2_naming_the_field(tmp_path, fake_results, capsys, cmd, kind):
+    d = _copy(fake_results, tmp_path)
+    change, match = DAMAGED_MANIFESTS[kind]
+    if isinstance(change, str):
+        (d / "manifest.json").write_text(change)
+    else:
+        _manifest(d, **change)
+    argv = [cmd, str(d)] + (["--no-maps"] if cmd == "report" else
+                            ["--markdown", str(tmp_path / "g.md")])
+    assert main(argv) == 2
+    err = [ln for ln in capsys.readouterr().err.splitlines() if "error" in ln]
+    assert len(err) == 1 and re.search(r"manifest\.json: damaged manifest \(" + match,
+                                       err[0]), err
+
+
+def _drop(table, column):
+    def change(d):
+        f = d / f"{table}.parquet"
+        pd.read_parquet(f).drop(columns=column).to_parquet(f)
+    return change
+
+
+#: Damaged tables the report reads -> the one-line answer (the file and the column).
+DAMAGED_TABLES = {
+    "actors_without_detected": (_drop("actors", "detected"),
+                                r"actors\.parquet: the actors table lacks column\(s\) "
+                                r"\['detected'\]"),
+    "detections_without_label": (_drop("detections", "label"),
+                                 r"detections\.parquet: .* lacks column\(s\) \['label'\]"),
+    "summary_without_variant": (_drop("summary", "variant"),
+                                r"summary\.parquet: .* lacks column\(s\) \['variant'\]"),
+    "actor_summary_without_class": (_drop("actor_summary", "actor_class"),
+                                    r"actor_summary\.parquet: .*\['actor_class'\]"),
+    "truth_without_yaw": (_drop("truth", "yaw_radar_deg"), r"truth\.parquet: .*yaw_radar_deg"),
+    "detections_missing": (lambda d: (d / "detections.parquet").unlink(),
+                           r"detections\.parquet: missing \(manifest\.json lists"),
+    "actors_torn": (lambda d: (d / "actors.parquet").write_bytes(b"PAR1 torn"),
+                    r"actors\.parquet: not a readable Parquet actors table"),
+}
+
+
+@pytest.mark.parametrize("kind", list(DAMAGED_TABLES))
+def test_report_on_a_damaged_table_exits_2_naming_file_and_column(tmp_path, fake_results,
+                                                                    capsys, kind):
+    d = _copy(fake_results, tmp_path)
+    change, match = DAMAGED_TABLES[kind]
+    change(d)
+    assert main(["report", str(d), "--no-maps"]) == 2
+    err = [ln for ln in capsys.readouterr().err.splitlines() if "error" in ln]
+    assert len(err) == 1 and re.search(match, err[0]), err
+
+
+def test_report_without_a_manifest_reads_absent_tables_as_empty(tmp_path, fake_results):
+    """No manifest lists the tables (an older or hand-made folder): absent ones are empty."""
+    d = _copy(fake_results, tmp_path)
+    for name in ("manifest.json", "detections.parquet", "actors.parquet", "truth.parquet"):
+        (d / name).unlink()
+    assert main(["report", str(d), "--no-maps"]) == 0
+
+
+N_KINDS = len(KINDS) + 2 + 5 + 2 * len(DAMAGED_MANIFESTS) + len(DAMAGED_TABLES) + 1

@@ -137,3 +137,50 @@ def test_ctrl_c_while_the_case_pool_forks_stops_the_report(fake_results, monkeyp
     with ctrl_c_at_the_next_fork() as ctrl_c, pytest.raises(KeyboardInterrupt):
         rp._case_sections(*args)
     assert ctrl_c["fired"]
+
+
+def _damaged_copy(fake_results, tmp_path, manifest=None, summary=None):
+    import json
+    import shutil
+
+    import pandas as pd
+    d = tmp_path / "res"
+    shutil.copytree(fake_results, d, ignore=shutil.ignore_patterns("cells", "*.html", "*.md"))
+    if manifest:
+        man = json.loads((d / "manifest.json").read_text())
+        (d / "manifest.json").write_text(json.dumps({**man, **manifest}))
+    if summary:
+        f = d / "summary.parquet"
+        summary(pd.read_parquet(f)).to_parquet(f)
+    return d
+
+
+#: What a results folder may lack -> what the page and stderr must say.
+GAPS = {
+    "baseline_not_run": ({"baseline_scheme": "bpm"}, None,
+                         r"baseline scheme 'bpm' was not run \(schemes \['ddma', 'tdma'"),
+    "n_ok_nan": ({"n_ok": float("nan")}, None, r"records no n_ok \(nan\)"),
+    "n_cells_null": ({"n_cells": None}, None, r"records no n_cells \(None\)"),
+    "metric_column_missing": (None, lambda s: s.drop(columns=["n_ghost", "ghost_rate"]),
+                              r"has no column\(s\) \['n_ghost', 'ghost_rate'\]"),
+    "metric_column_all_nan": (None, lambda s: s.assign(range_error_rmse_m=np.nan),
+                              r"column\(s\) \['range_error_rmse_m'\] hold no finite value"),
+}
+
+
+@pytest.mark.parametrize("kind", list(GAPS))
+def test_report_says_what_the_results_lack_in_the_page_and_on_stderr(fake_results, tmp_path,
+                                                                     capsys, kind):
+    manifest, summary, match = GAPS[kind]
+    d = _damaged_copy(fake_results, tmp_path, manifest, summary)
+    assert main(["report", str(d), "--no-maps"]) == 0
+    warned = [ln for ln in capsys.readouterr().err.splitlines() if re.search(match, ln)]
+    assert len(warned) == 1 and warned[0].startswith("radar-harness report: warning: ")
+    page = (d / "report.html").read_text()
+    assert "Missing from these results" in page
+    assert re.search(match, page.replace("&#x27;", "'"))
+    assert "nan of" not in page
+
+
+def test_report_of_a_complete_run_lacks_nothing(report):
+    assert "Missing from these results" not in report.read_text()
