@@ -40,6 +40,7 @@ import numpy as np
 
 from core.errors import BadInput
 from radarsim.config import RadarConfig
+from radarsim.config_rules import MAX_RANGE_BIAS_M
 
 __all__ = ["COMP_COMMAND", "Q15_SCALE", "q15", "n_chip_pairs", "ti_pair_index",
            "virtual_coefficients", "compensate", "apply_coefficients", "check_channel_comp", "comp_line",
@@ -77,10 +78,16 @@ def ti_pair_index(cfg: RadarConfig) -> np.ndarray:
 
 def check_comp_values(range_bias_m: float, channel_comp) -> tuple[tuple[float, float], ...] | None:
     """Validate the values of a compensation line; returns the coefficients as a tuple of
-    (re, im) float pairs (or None). Raises ValueError naming the value and the limit."""
+    (re, im) float pairs (or None). Raises BadInput naming the value and the limit: the range
+    bias within +/- `radarsim.config_rules.MAX_RANGE_BIAS_M` (the bound a simulated board's
+    bias has, so a profile a sweep refuses is refused here too), coefficients in the Q15 range
+    and not all zero (that erases every channel)."""
     if not (isinstance(range_bias_m, (int, float, np.integer, np.floating))
             and not isinstance(range_bias_m, bool) and math.isfinite(range_bias_m)):
         raise BadInput(f"range_bias_m={range_bias_m!r} must be a finite number (m)")
+    if abs(range_bias_m) > MAX_RANGE_BIAS_M:
+        raise BadInput(f"range_bias_m={range_bias_m!r} is outside +/-{MAX_RANGE_BIAS_M:g} m, "
+                       "the largest range bias a board has")
     if channel_comp is None:
         return None
     try:
@@ -96,20 +103,33 @@ def check_comp_values(range_bias_m: float, channel_comp) -> tuple[tuple[float, f
         # 32767 / 32768. Beyond +/-1 the demo would clip silently: refused here.
         raise BadInput(f"channel_comp value {bad[0]!r} is outside the Q15 range [-1, 1] of "
                        f"{COMP_COMMAND} (the demo would saturate it)")
+    if not any(v for p in pairs for v in p):
+        raise BadInput(f"channel_comp is all zero ({len(pairs)} coefficients 0 + 0j): it "
+                       "would erase every channel (no correction is 1 + 0j)")
     return pairs
 
 
 def check_channel_comp(cfg: RadarConfig, channel_comp) -> None:
-    """Raise if a coefficient list does not fit `cfg`'s chip (`n_chip_pairs`)."""
+    """Raise if a coefficient list does not fit `cfg`'s chip (`n_chip_pairs`) or gives a
+    virtual channel the radar uses a zero coefficient (that channel would be erased: SNR
+    -inf, angles from the others' leakage)."""
     if channel_comp is None:
         return
     want = n_chip_pairs(cfg)
+    spec = cfg.chip_spec
     if len(channel_comp) != want:
-        spec = cfg.chip_spec
         raise BadInput(f"{COMP_COMMAND}: {len(channel_comp)} (re, im) coefficients "
                        f"({1 + 2 * len(channel_comp)} values), the {spec.name} needs "
                        f"{want} = {spec.n_tx} Tx x {spec.n_rx} Rx ({1 + 2 * want} values: "
                        "rangeBias, then Re/Im per chip Tx x Rx pair)")
+    used = ti_pair_index(cfg)
+    zero = [int(i) for i in used if not any(channel_comp[i])]
+    if zero:
+        i = zero[0]
+        raise BadInput(f"{COMP_COMMAND}: the coefficient of chip Tx{i // spec.n_rx + 1} "
+                       f"Rx{i % spec.n_rx + 1} is 0 + 0j ({len(zero)} of the radar's "
+                       f"{len(used)} virtual channels): it would erase a channel the profile "
+                       "enables (no correction is 1 + 0j)")
 
 
 @lru_cache(maxsize=32)

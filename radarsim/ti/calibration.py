@@ -32,6 +32,7 @@ take the Q15 step of ``compRangeBiasAndRxChanPhase`` (< 3.1e-5 per part), and th
 """
 from __future__ import annotations
 
+from ..config_rules import MAX_RANGE_BIAS_M
 from .state import ParseState
 from .syntax import Line
 
@@ -51,8 +52,12 @@ def comp_range_bias_and_rx_chan_phase(st: ParseState, ln: Line) -> None:
                       f"then Re, Im of each of its {st.chip.n_tx} Tx x {st.chip.n_rx} Rx "
                       "pairs, Tx major)")
     bias = float(ln.dec(0, "rangeBias"))
+    if not abs(bias) <= MAX_RANGE_BIAS_M:
+        raise ln.fail(f"rangeBias = {bias:g} m is outside +/-{MAX_RANGE_BIAS_M:g} m, the "
+                      "largest range bias a board has")
     parts = _unit_values(ln, 1, ("Re", "Im"), st.chip.n_rx,
                          "the Q15 range [-1, 1] (the demo would saturate it)")
+    _refuse_all_zero(ln, parts)
     st.processing.update(range_bias_m=bias, channel_comp=tuple(zip(parts[0::2], parts[1::2])))
     st.processing_origin.update(range_bias_m=ln.cmd, channel_comp=ln.cmd)
     st.processing_commands[ln.cmd] = ln
@@ -72,6 +77,13 @@ def _unit_values(ln: Line, first: int, names: tuple[str, str], n_rx: int,
             raise ln.fail(f"value {i + 1} = {v:g} is outside {limit}")
         vals.append(v)
     return vals
+
+
+def _refuse_all_zero(ln: Line, values: list[float]) -> None:
+    """Every coefficient 0 + 0j erases every channel: refused (no correction is 1 + 0j)."""
+    if not any(values):
+        raise ln.fail(f"every coefficient is 0 + 0j: it would erase every channel (no "
+                      "correction is 1 + 0j, i.e. Re 1, Im 0)")
 
 
 def is_identity(pairs) -> bool:
@@ -103,5 +115,6 @@ def antenna_calib_pairs(ln: Line, chip) -> tuple[tuple[float, float], ...] | Non
     vals = _unit_values(ln, 0, ("Im", "Re"), chip.n_rx,
                         "[-1, 1] (a calibration coefficient never amplifies; the "
                         "fixed-point path would saturate)")
+    _refuse_all_zero(ln, vals)
     pairs = tuple(zip(vals[1::2], vals[0::2]))
     return None if is_identity(pairs) else pairs

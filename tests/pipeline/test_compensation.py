@@ -73,10 +73,39 @@ def test_wrong_coefficient_count_is_refused(make_config):
     (dict(channel_comp=((float("nan"), 0.0),)), "must hold finite"),
     (dict(channel_comp=((1.0,),)), r"sequence of \(re, im\) pairs"),
     (dict(range_bias_m=float("inf")), "range_bias_m=inf must be a finite number"),
+    (dict(range_bias_m=1e300), r"range_bias_m=1e\+300 is outside \+/-10 m"),
+    (dict(range_bias_m=-1e6), r"range_bias_m=-1000000.0 is outside \+/-10 m"),
+    (dict(channel_comp=((0.0, 0.0),) * 16), r"channel_comp is all zero \(16 coefficients"),
 ])
 def test_bad_compensation_values(kw, match):
     with pytest.raises(ValueError, match=match):
         pipeline.ProcessingConfig(**kw)
+
+
+def test_process_and_sweep_share_one_range_bias_bound():
+    """A profile's rangeBias and a simulated board's bias obey the same limit: what a sweep
+    cell refuses, `process` refuses."""
+    from radarsim.config_rules import MAX_RANGE_BIAS_M
+    pipeline.ProcessingConfig(range_bias_m=MAX_RANGE_BIAS_M)
+    radarsim.presets.r79_ddma(range_bias_m=MAX_RANGE_BIAS_M)
+    with pytest.raises(ValueError, match=r"range_bias_m=10\.5 must be finite and within"):
+        radarsim.presets.r79_ddma(range_bias_m=MAX_RANGE_BIAS_M + 0.5)
+    with pytest.raises(ValueError, match=r"range_bias_m=10\.5 is outside \+/-10 m"):
+        pipeline.ProcessingConfig(range_bias_m=MAX_RANGE_BIAS_M + 0.5)
+
+
+def test_a_zero_coefficient_on_a_used_channel_is_refused(make_config):
+    """0 + 0j erases the channel (SNR -inf, azimuth from the others' leakage); the chip's
+    pairs the radar does not use may hold anything."""
+    cfg = make_config("tdma")
+    comp = [(1.0, 0.0)] * 16
+    comp[5] = (0.0, 0.0)  # chip order: Tx2 Rx2
+    with pytest.raises(ValueError, match=r"coefficient of chip Tx2 Rx2 is 0 \+ 0j \(1 of the "
+                                         r"radar's 16 virtual channels\)"):
+        check_channel_comp(cfg, tuple(comp))
+    with pytest.raises(ValueError, match=r"Tx2 Rx2 is 0 \+ 0j"):
+        pipeline.process_frame(cfg, np.zeros((cfg.n_chirps, 4, cfg.n_samples), np.int16),
+                               pipeline.ProcessingConfig(channel_comp=tuple(comp)))
 
 
 def test_lists_become_tuples():

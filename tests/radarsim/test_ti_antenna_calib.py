@@ -61,10 +61,33 @@ def test_written_back_and_read_again():
     ("antennaCalibParams 0 1.5 " + " ".join(["0 1"] * 15),
      r"line \d+ \(antennaCalibParams\): value 2 = 1.5 is outside \[-1, 1\]"),
     ("antennaCalibParams 0 x " + " ".join(["0 1"] * 15), r"line \d+ \(antennaCalibParams\)"),
+    ("antennaCalibParams " + " ".join(["0 0"] * 16),
+     r"line \d+ \(antennaCalibParams\): every coefficient is 0 \+ 0j: it would erase every "
+     r"channel"),
 ])
 def test_malformed_lines_are_refused(line, match):
     with pytest.raises(ValueError, match=match):
         parse_ti_cfg(_ddm(line))
+
+
+COMP_IDENTITY = "compRangeBiasAndRxChanPhase 0.0 " + " ".join(["1 0"] * 12)
+
+
+@pytest.mark.parametrize("line, match", [
+    ("compRangeBiasAndRxChanPhase 1e300 " + " ".join(["1 0"] * 12),
+     r"line 29 \(compRangeBiasAndRxChanPhase\): rangeBias = 1e\+300 m is outside \+/-10 m"),
+    ("compRangeBiasAndRxChanPhase -1e6 " + " ".join(["1 0"] * 12),
+     r"rangeBias = -1e\+06 m is outside \+/-10 m"),
+    ("compRangeBiasAndRxChanPhase 0.0 " + " ".join(["0 0"] * 12),
+     r"line 29 \(compRangeBiasAndRxChanPhase\): every coefficient is 0 \+ 0j"),
+])
+def test_comp_lines_beyond_a_board_are_refused(line, match):
+    """The bound a sweep cell's board has (+/-10 m) and coefficients that would erase every
+    channel, refused on the line (`process` used to put detections at -1e300 m)."""
+    text = profile_text("xwr18_visualizer")
+    assert COMP_IDENTITY in text
+    with pytest.raises(ValueError, match=match):
+        parse_ti_cfg(text.replace(COMP_IDENTITY, line))
 
 
 def test_doubling_compRangeBiasAndRxChanPhase_is_refused():
