@@ -55,15 +55,22 @@ from radarsim.config import RadarConfig
 from .chirp_level.stage import range_stage
 from .compensation import chip_order_coefficients, comp_line
 from .config import WINDOWS, ProcessingConfig
+from .saturation import monitor
 from .stages import interp_range
 
 __all__ = ["ChannelCalibration", "measure_channel_calibration", "static_virtual_samples",
-           "MIN_CALIBRATION_SNR_DB"]
+           "MIN_CALIBRATION_SNR_DB", "SECOND_RETURN_DB"]
 
 #: Per-channel, per-frame SNR a calibration needs, dB: below it one frame's phase error
 #: 1 / sqrt(2 SNR) exceeds 4 deg and the range-bias CRB 2 % of a bin for 12 channels
 #: (a corner reflector at a few metres gives 40-60 dB).
 MIN_CALIBRATION_SNR_DB = 20.0
+#: A second return this close to the reflector's power (dB below it) near the peak makes the
+#: measurement ambiguous: beyond what one point target gives through the range window's kernel,
+#: it either is the strongest return (the wrong reflector, bins off) or merges with the
+#: reflector's main lobe and drags the interpolated range (two equal returns 1.5 bins apart
+#: move it by 0.7 bin).
+SECOND_RETURN_DB = 10.0
 
 
 class ChannelCalibration(NamedTuple):
@@ -153,6 +160,38 @@ def _steering(cfg: RadarConfig, azimuth_deg: float) -> np.ndarray:
     return np.exp(1j * 2 * np.pi / cfg.wavelength_m * (cfg.virtual_positions_m @ u))
 
 
+def _kernel_power(window: str, offsets: np.ndarray, n: int = 512) -> np.ndarray:
+    """Power of an `n`-point `window` (scipy name) FFT kernel at fractional bin `offsets`
+    from the tone: what one point target puts into its neighbouring range bins."""
+    from scipy.signal import get_window
+    w = get_window(window, n, fftbins=True)
+    x = (w * np.exp(2j * np.pi * offsets[:, None] * np.arange(n) / n)).sum(axis=-1)
+    return np.abs(x) ** 2
+
+
+def _refuse_second_return(p: np.ndarray, b: int, pos: float, window_bins: np.ndarray,
+                          window: str, dr: float) -> None:
+    """Raise when the power near the peak (the search window and 3 bins on each side of the
+    peak) exceeds what one point target at `pos` gives through the range window's kernel by
+    more than `SECOND_RETURN_DB` below the peak: a second return makes the reflector
+    ambiguous.
+
+    p : (n_range,) summed power; b : peak bin; pos : interpolated peak, bins."""
+    near = np.union1d(window_bins, np.arange(b - 3, b + 4))
+    near = near[(near >= 0) & (near < len(p)) & (np.abs(near - b) >= 2)]
+    if not len(near):
+        return
+    k = _kernel_power(window, np.r_[b, near] - pos)
+    excess = p[near] - p[b] * k[1:] / k[0]
+    i = int(np.argmax(excess))
+    if excess[i] > p[b] * 10 ** (-SECOND_RETURN_DB / 10):
+        rel = 10 * math.log10(p[near[i]] / p[b])
+        raise BadInput(f"ambiguous reflector: a second return at {near[i] * dr:.3f} m "
+                       f"({rel:+.1f} dB from the strongest at {b * dr:.3f} m) lies beyond "
+                       f"what one point target gives, within {SECOND_RETURN_DB:g} dB of "
+                       "it: clear the scene around the reflector or narrow the search window")
+
+
 def measure_channel_calibration(cfg: RadarConfig, frames: Iterable[np.ndarray],
                                 target_range_m: float, search_window_m: float,
                                 proc: ProcessingConfig | None = None, *,
@@ -184,10 +223,11 @@ def measure_channel_calibration(cfg: RadarConfig, frames: Iterable[np.ndarray],
 
     Raises
     ------
-    ValueError
-        No frame; the window holds no range bin; no peak in the window (its strongest bin
-        is at an edge of the window); the SNR is below `min_snr_db`. Each names the value and
-        the limit.
+    core.errors.BadInput
+        No frame; a frame with samples at the ADC rails (clipped); the window holds no range
+        bin; no peak in the window (its strongest bin is at an edge of the window); a second
+        return near the peak within `SECOND_RETURN_DB` of it (ambiguous reflector); the SNR is
+        below `min_snr_db`. Each names the value and the limit.
     """
     proc = ProcessingConfig() if proc is None else proc
     if not (math.isfinite(target_range_m) and target_range_m > 0):
@@ -205,7 +245,11 @@ def measure_channel_calibration(cfg: RadarConfig, frames: Iterable[np.ndarray],
                        f"range bin the radar reports ({max(proc.min_range_bin, 1) * dr:.3f}.."
                        f"{(cfg.n_range_bins - 2) * dr:.3f} m, {dr:.4f} m per bin)")
     x_sum, p_sum, noise_sum, n = None, None, None, 0
+    clipped = []
     for adc in frames:
+        sat = monitor(adc)
+        if sat.saturated:
+            clipped.append(sat.n_saturated_samples / sat.counts.size / sat.n_samples)
         x, noise = static_virtual_samples(cfg, range_stage(cfg, adc, proc))
         x_sum = x if x_sum is None else x_sum + x
         p = (np.abs(x) ** 2).sum(axis=(0, 1))
@@ -214,6 +258,11 @@ def measure_channel_calibration(cfg: RadarConfig, frames: Iterable[np.ndarray],
         n += 1
     if n == 0:
         raise BadInput("the capture holds no frame to calibrate on")
+    if clipped:
+        raise BadInput(f"the capture is clipped: {len(clipped)} of {n} frame(s) have samples at "
+                       f"the ADC rails (up to {100 * max(clipped):.3g} % of a frame's samples);"
+                       " clipping compresses and mixes the channels, so a calibration on it "
+                       "is wrong: lower the Rx gain or move the reflector farther")
     idx = np.flatnonzero(in_win)
     b = int(idx[np.argmax(p_sum[idx])])
     lo, hi = idx[0], idx[-1]
@@ -239,6 +288,7 @@ def measure_channel_calibration(cfg: RadarConfig, frames: Iterable[np.ndarray],
                        f"channel and frame at "
                        f"{measured:.3f} m is below the limit {min_snr_db:g} dB: use a stronger "
                        "or closer reflector")
+    _refuse_second_return(p_sum, b, pos, idx, WINDOWS[proc.range_window], dr)
     coef = _steering(cfg, azimuth_deg) * np.conj(xs) / np.abs(xs) ** 2 * np.abs(xs).min()
     coef = coef * np.exp(-1j * np.angle(coef[0]))  # channel 0 real and positive
     return ChannelCalibration(range_bias_m=measured - target_range_m,

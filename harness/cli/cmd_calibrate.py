@@ -19,11 +19,14 @@ bias; `radarsim.ti.calibration`): a second stdout line gives the coefficients in
 ``compRangeBiasAndRxChanPhase`` now carries them (one correction per board).
 
 Bad input (exit 2, one line): no peak within R +/- W, a measurement below
-`pipeline.channel_calibration.MIN_CALIBRATION_SNR_DB`, a window outside the radar's range.
+`pipeline.channel_calibration.MIN_CALIBRATION_SNR_DB`, a window outside the radar's range, a
+clipped capture (samples at the ADC rails), a second return near the reflector (ambiguous),
+``--write`` naming the capture or the profile (an input is never written over).
 """
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 from pathlib import Path
 
@@ -96,6 +99,19 @@ def _write_text(path: Path, text: str) -> None:
     atomic_write(path, lambda tmp: tmp.write_text(text))
 
 
+def _refuse_writing_over_an_input(args: argparse.Namespace) -> None:
+    """``--write`` naming the capture or the profile (itself, a link to it, another spelling)
+    would replace an input with the written profile: refused."""
+    for opt, path in (("CAPTURE", args.capture), ("--cfg", args.cfg)):
+        try:
+            same = os.path.samefile(args.write, path)
+        except OSError:  # one of them does not exist (yet): not the same file
+            same = False
+        if same:
+            raise BadInput(f"--write {str(args.write)!r} is the {opt} file being read; "
+                           "write the profile to another path")
+
+
 def _target_and_window(args: argparse.Namespace, profile) -> tuple[float, float]:
     """Target range and search half-window: the options, else the profile's enabled
     ``measureRangeBiasAndRxChanPhase <1> <targetDistance> <searchWin>`` (TI searches
@@ -125,6 +141,7 @@ def run(args: argparse.Namespace) -> int:
     if args.capture.is_dir():
         raise BadInput(f"capture {str(args.capture)!r} is a directory, not a capture file")
     if args.write is not None:
+        _refuse_writing_over_an_input(args)
         check_output_file(args.write, "--write")
     profile = load_profile(args.cfg)
     if profile.is_advanced:

@@ -1,7 +1,10 @@
 """`radar-harness calibrate` end to end on a simulated IWR6843 capture with a known board."""
+import re
+
 import numpy as np
 import pytest
 
+import radarsim
 from harness.cli import main
 from harness.cli.cmd_calibrate import with_comp_line
 from radarsim.capture import write_capture
@@ -167,3 +170,54 @@ def test_calibrate_then_process_a_board_with_leakage_and_a_positive_bias(tmp_pat
     assert len(best) == 3
     assert np.all(np.abs(best.range_m - r) < 1e-3)
     assert (tmp_path / "points_tracks.csv").exists()
+
+
+def test_clipped_capture_exits_2(tmp_path, capsys):
+    """A reflector strong enough to clip half the samples (the old code printed a line with
+    'SNR 130 dB' and Rx gains of 0.0x dB where the unclipped capture gives the board's)."""
+    from radarsim.ti import parse_ti_cfg
+    cfg = parse_ti_cfg(PROFILE).radar
+    r = 40 * cfg.range_resolution_m - BIAS_M
+    path = tmp_path / "clipped.bin"
+    with pytest.warns(radarsim.ADCSaturationWarning):
+        write_capture(path, reflector_frames(imbalanced_board(cfg), r, 0.0, 1e4, 2, 7), cfg=cfg)
+    assert main(["calibrate", str(path), "--cfg", str(PROFILE), "--target-range-m", f"{r}"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and re.search(r"the capture is clipped: 2 of 2 frame\(s\) have samples "
+                                       r"at the ADC rails \(up to 50 % of a frame", err[0]), err
+
+
+def test_two_equal_reflectors_in_the_window_exit_2(tmp_path, capsys):
+    """Two equal reflectors 1.5 bins apart merge into one peak (the old code measured the bias
+    0.034 m off, half a bin)."""
+    from radarsim.ti import parse_ti_cfg
+    cfg = parse_ti_cfg(PROFILE).radar
+    dr = cfg.range_resolution_m
+    r = 40 * dr - BIAS_M
+    sc = radarsim.Scatterers.from_spherical(np.array([r, r + 1.5 * dr]), np.zeros(2),
+                                            np.zeros(2), np.zeros(2), np.array([1e-4, 1e-4]))
+    rng = np.random.default_rng(7)
+    path = tmp_path / "two.bin"
+    board = imbalanced_board(cfg)
+    write_capture(path, [radarsim.simulate_frame(board, sc, rng) for _ in range(3)], cfg=cfg)
+    assert main(["calibrate", str(path), "--cfg", str(PROFILE), "--target-range-m", f"{r}"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and re.search(r"ambiguous reflector: a second return at 1\.\d+ m "
+                                       r"\(-\d+\.\d dB from the strongest", err[0]), err
+
+
+@pytest.mark.parametrize("which", ["capture", "profile", "capture_via_link"])
+def test_write_never_replaces_an_input(capture, tmp_path, capsys, which):
+    path, r = capture
+    prof = tmp_path / "p.cfg"
+    prof.write_text(PROFILE.read_text())
+    target = {"capture": path, "profile": prof, "capture_via_link": tmp_path / "link.bin"}[which]
+    if which == "capture_via_link":
+        target.symlink_to(path)
+    before = path.read_bytes(), prof.read_text()
+    assert main(["calibrate", str(path), "--cfg", str(prof), "--target-range-m", f"{r}",
+                 "--write", str(target)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    what = "--cfg" if which == "profile" else "CAPTURE"
+    assert len(err) == 1 and re.search(rf"--write .* is the {what} file being read", err[0]), err
+    assert (path.read_bytes(), prof.read_text()) == before
