@@ -37,6 +37,7 @@ from __future__ import annotations
 
 import dataclasses
 import json
+import math
 import os
 import re
 from decimal import Decimal
@@ -44,6 +45,7 @@ from typing import Any
 
 from core.errors import BadInput
 
+from .chip_inference import PLATFORMS
 from .profile import TiProfile
 from .reader import parse_ti_cfg, read_source
 from .syntax import code_part, fmt_decimal
@@ -60,9 +62,10 @@ _FREQ_STEP = {77: Decimal("3.6e9") / 2 ** 26, 60: Decimal("2.7e9") / 2 ** 26}
 
 def setup_kind(text: str) -> str:
     r"""What a setup text is, decided here only and from what is read, never from comments:
-    ``"studio_json"`` (a JSON object), ``"studio_log"`` (a line that is no comment calls
-    ``API:ProfileConfig``) or ``"cli_profile"`` (a TI CLI .cfg). An SDK profile whose ``%``
-    comments quote the LogFile it was written from stays a CLI profile.
+    ``"studio_json"`` (a JSON object), ``"studio_log"`` (a line that is no comment makes an
+    ``API:<call>,`` call: a LogFile that lacks its ProfileConfig is still one, and
+    `parse_studio_log` names what it lacks) or ``"cli_profile"`` (a TI CLI .cfg). An SDK
+    profile whose ``%`` comments quote the LogFile it was written from stays a CLI profile.
 
     Examples
     --------
@@ -74,8 +77,7 @@ def setup_kind(text: str) -> str:
     if text.lstrip().startswith("{"):
         return "studio_json"
     for raw in text.splitlines():
-        m = _API_RE.search(code_part(raw))
-        if m and m.group(1) == "ProfileConfig":
+        if _API_RE.search(code_part(raw)):
             return "studio_log"
     return "cli_profile"
 
@@ -94,8 +96,8 @@ def _ints(payload: str) -> list[int]:
     return out
 
 
-def _fail(msg: str) -> ValueError:
-    return ValueError(msg)
+def _fail(msg: str) -> BadInput:
+    return BadInput(msg)
 
 
 def _get(obj: Any, key: str, where: str) -> Any:
@@ -106,14 +108,53 @@ def _get(obj: Any, key: str, where: str) -> Any:
         raise _fail(f"setup JSON: missing {where}.{key}") from None
 
 
-def _num(x: Any) -> int:
-    """A JSON integer, or a "0x..." hex string as Studio writes masks and codes."""
-    return int(x, 16) if isinstance(x, str) and x.lower().startswith("0x") else int(x)
+def _bad(where: str, key: str, value: Any, want: str) -> BadInput:
+    text = repr(value)
+    text = text if len(text) <= 40 else text[:37] + "..."
+    return _fail(f"setup JSON: {where}.{key}={text} must be {want}")
 
 
-def _dec(obj: Any, key: str, where: str) -> str:
-    """A JSON number as exact decimal text (no float rounding on the way to the reader)."""
-    return fmt_decimal(Decimal(str(_get(obj, key, where))))
+def _int(obj: Any, key: str, where: str, default: Any = None) -> int:
+    """``obj[key]``: a JSON integer (an integral number such as 10000.0 too) or a "0x..." hex
+    string as Studio writes masks and codes; anything else (null, a list, true, 64.7, "abc")
+    is refused naming the key, never truncated."""
+    x = _get(obj, key, where) if default is None else obj.get(key, default)
+    if isinstance(x, str) and re.fullmatch(r"0[xX][0-9a-fA-F]+", x.strip()):
+        return int(x, 16)
+    if isinstance(x, int) and not isinstance(x, bool):
+        return x
+    if isinstance(x, float) and math.isfinite(x) and x == int(x):
+        return int(x)
+    raise _bad(where, key, x, 'an integer (or a "0x..." hex string)')
+
+
+def _dec(obj: Any, key: str, where: str, default: Any = None) -> str:
+    """``obj[key]``, a finite JSON number, as exact decimal text (no float rounding on the
+    way to the reader); anything else is refused naming the key."""
+    x = _get(obj, key, where) if default is None else obj.get(key, default)
+    if isinstance(x, bool) or not isinstance(x, (int, float)) or not math.isfinite(x):
+        raise _bad(where, key, x, "a finite number")
+    return fmt_decimal(Decimal(str(x)))
+
+
+def _list(obj: Any, key: str, where: str) -> list:
+    """``obj[key]``, a JSON list (of the setup's profiles, chirps, sub-frames)."""
+    x = _get(obj, key, where)
+    if not isinstance(x, list):
+        raise _bad(where, key, x, "a list")
+    return x
+
+
+def _known_chip(name: str, where: str) -> str:
+    """The registered chip a setup names (Studio's ``select_chip_version`` spellings such as
+    AR1243 too, `radarsim.ti.chip_inference.PLATFORMS`); an unknown name is refused, never
+    replaced by a chip inferred from the commands."""
+    key = name.strip().lower()
+    chip = PLATFORMS.get(key) or PLATFORMS.get(key.split("_")[0])
+    if chip is None:
+        raise _fail(f"{where}: chip {name!r} is not one the harness knows (known: "
+                    f"{', '.join(sorted(set(PLATFORMS.values())))})")
+    return chip
 
 
 def _chip_header(chip: str | None) -> list[str]:
@@ -138,7 +179,8 @@ def parse_studio_log(path_or_text: str | os.PathLike) -> TiProfile:
             continue
         name, payload = m.group(1), m.group(2)
         if name.lower() in ("select_chip_version", "selectchipversion"):
-            chip = payload.split(",")[0].strip() or None
+            named = payload.split(",")[0].strip()
+            chip = _known_chip(named, f"LogFile line {no} (API:{name})") if named else None
             continue
         if name in ("ChannelConfig", "AdcOutConfig", "ProfileConfig", "ChirpConfig",
                     "FrameConfig", "DataFmtConfig"):
@@ -152,6 +194,12 @@ def parse_studio_log(path_or_text: str | os.PathLike) -> TiProfile:
     if not starts:
         raise _fail("LogFile: no API:ChannelConfig call (not an mmWave Studio setup log?)")
     calls = calls[starts[-1]:]
+    have = {name for _, name, _ in calls}
+    lacking = [n for n in ("ProfileConfig", "ChirpConfig", "FrameConfig") if n not in have]
+    if lacking:
+        first = calls[0][0]
+        raise _fail(f"LogFile: its last configuration (from line {first}, API:ChannelConfig) "
+                    f"has no {', '.join('API:' + n for n in lacking)} call")
     band = 60 if chip and "68" in chip else 77
     lines: list[tuple[str, str]] = []   # (CLI line, where it came from)
     for no, name, v in calls:
@@ -213,7 +261,7 @@ def parse_studio_json(path_or_text: str | os.PathLike, chip: str | None = None) 
     if len(devices) > 1:
         raise _fail(f"setup JSON: mmWaveDevices has {len(devices)} devices (a cascade); a "
                     "cascade of chips has no single-chip RadarConfig")
-    chip = chip or _json_chip(dev)
+    chip = _known_chip(chip, "chip") if chip else _json_chip(dev)
     lines = _json_channels(rf, dev) + _json_chirps(rf)
     if "rlAdvFrameCfg_t" in rf and ("rlFrameCfg_t" not in rf
                                     or "advanced" in str(rf.get("waveformType", "")).lower()):
@@ -221,7 +269,7 @@ def parse_studio_json(path_or_text: str | os.PathLike, chip: str | None = None) 
         return _parse_lines(lines, chip, "setup JSON", mode=3)
     f = _get(rf, "rlFrameCfg_t", "rfConfig")
     w = "rfConfig.rlFrameCfg_t"
-    counts = " ".join(str(_num(_get(f, key, w)))
+    counts = " ".join(str(_int(f, key, w))
                       for key in ("chirpStartIdx", "chirpEndIdx", "numLoops", "numFrames"))
     lines.append((f"frameCfg {counts} {_dec(f, 'framePeriodicity_msec', w)} 1 0", w))
     return _parse_lines(lines, chip, "setup JSON")
@@ -230,18 +278,20 @@ def parse_studio_json(path_or_text: str | os.PathLike, chip: str | None = None) 
 def _json_channels(rf: dict, dev: dict) -> list[tuple[str, str]]:
     """channelCfg, adcCfg, adcbufCfg (from ``rawDataCaptureConfig``) and the profiles."""
     ch = _get(rf, "rlChanCfg_t", "rfConfig")
-    out = [(f"channelCfg {_num(_get(ch, 'rxChannelEn', 'rlChanCfg_t'))} "
-            f"{_num(_get(ch, 'txChannelEn', 'rlChanCfg_t'))} 0", "rfConfig.rlChanCfg_t")]
+    out = [(f"channelCfg {_int(ch, 'rxChannelEn', 'rlChanCfg_t')} "
+            f"{_int(ch, 'txChannelEn', 'rlChanCfg_t')} 0", "rfConfig.rlChanCfg_t")]
     fmt = _get(_get(rf, "rlAdcOutCfg_t", "rfConfig"), "fmt", "rlAdcOutCfg_t")
-    adc_fmt = _num(_get(fmt, "b2AdcOutFmt", "fmt"))
-    out.append((f"adcCfg {_num(_get(fmt, 'b2AdcBits', 'fmt'))} {adc_fmt}",
+    adc_fmt = _int(fmt, "b2AdcOutFmt", "fmt")
+    out.append((f"adcCfg {_int(fmt, 'b2AdcBits', 'fmt')} {adc_fmt}",
                 "rfConfig.rlAdcOutCfg_t"))
-    data_fmt = (dev.get("rawDataCaptureConfig") or {}).get("rlDevDataFmtCfg_t")
+    capture = dev.get("rawDataCaptureConfig")
+    data_fmt = capture.get("rlDevDataFmtCfg_t") if isinstance(capture, dict) else None
     if isinstance(data_fmt, dict) and "chInterleave" in data_fmt:
+        w = "rlDevDataFmtCfg_t"
         out.append((f"adcbufCfg -1 {1 if adc_fmt == 0 else 0} "
-                    f"{_num(data_fmt.get('iqSwapSel', 0))} {_num(data_fmt['chInterleave'])} 1",
-                    "rlDevDataFmtCfg_t"))
-    for k, item in enumerate(_get(rf, "rlProfiles", "rfConfig")):
+                    f"{_int(data_fmt, 'iqSwapSel', w, 0)} {_int(data_fmt, 'chInterleave', w)} 1",
+                    w))
+    for k, item in enumerate(_list(rf, "rlProfiles", "rfConfig")):
         out.append(_json_profile(_get(item, "rlProfileCfg_t", f"rlProfiles[{k}]"),
                                  f"rlProfiles[{k}].rlProfileCfg_t"))
     return out
@@ -250,16 +300,16 @@ def _json_channels(rf: dict, dev: dict) -> list[tuple[str, str]]:
 def _json_chirps(rf: dict) -> list[tuple[str, str]]:
     """One chirpCfg per ``rlChirps[k].rlChirpCfg_t`` (per-chirp variations refused)."""
     out = []
-    for k, item in enumerate(_get(rf, "rlChirps", "rfConfig")):
+    for k, item in enumerate(_list(rf, "rlChirps", "rfConfig")):
         c = _get(item, "rlChirpCfg_t", f"rlChirps[{k}]")
         w = f"rlChirps[{k}].rlChirpCfg_t"
-        if any(Decimal(str(c.get(key, 0))) for key in (
+        if any(Decimal(_dec(c, key, w, 0)) for key in (
                 "startFreqVar_MHz", "freqSlopeVar_KHz_usec", "idleTimeVar_usec",
                 "adcStartTimeVar_usec")):
             raise _fail(f"setup JSON {w}: per-chirp variations are not modelled; use 0")
-        idx = " ".join(str(_num(_get(c, key, w)))
+        idx = " ".join(str(_int(c, key, w))
                        for key in ("chirpStartIdx", "chirpEndIdx", "profileId"))
-        out.append((f"chirpCfg {idx} 0 0 0 0 {_num(_get(c, 'txEnable', w))}", w))
+        out.append((f"chirpCfg {idx} 0 0 0 0 {_int(c, 'txEnable', w)}", w))
     return out
 
 
@@ -268,16 +318,16 @@ def _json_advanced_frame(adv: dict) -> list[tuple[str, str]]:
     advFrameCfg / subFrameCfg lines (`radarsim.ti.advanced`)."""
     w = "rlAdvFrameCfg_t.frameSeq"
     seq = _get(adv, "frameSeq", "rlAdvFrameCfg_t")
-    subs = _get(seq, "subFrameCfg", w)
-    n_sub = _num(seq.get("numOfSubFrames", len(subs)))
-    out = [(f"advFrameCfg {n_sub} {_num(seq.get('forceProfile', 0))} "
-            f"{_num(_get(seq, 'numFrames', w))} 1 0", w)]
+    subs = _list(seq, "subFrameCfg", w)
+    n_sub = _int(seq, "numOfSubFrames", w, len(subs))
+    out = [(f"advFrameCfg {n_sub} {_int(seq, 'forceProfile', w, 0)} "
+            f"{_int(seq, 'numFrames', w)} 1 0", w)]
     keys = ("forceProfileIdx", "chirpStartIdx", "numOfChirps", "numLoops")
     for k, item in enumerate(subs[:n_sub]):
         ws = f"{w}.subFrameCfg[{k}].rlSubFrameCfg_t"
         s = _get(item, "rlSubFrameCfg_t", f"{w}.subFrameCfg[{k}]")
-        head = " ".join(str(_num(_get(s, key, ws))) for key in keys)
-        bursts = " ".join(str(_num(_get(s, key, ws)))
+        head = " ".join(str(_int(s, key, ws)) for key in keys)
+        bursts = " ".join(str(_int(s, key, ws))
                           for key in ("chirpStartIdxOffset", "numOfBurst", "numOfBurstLoops"))
         out.append((f"subFrameCfg {k} {head} {_dec(s, 'burstPeriodicity_msec', ws)} {bursts} "
                     f"{_dec(s, 'subFramePeriodicity_msec', ws)}", ws))
@@ -286,21 +336,25 @@ def _json_advanced_frame(adv: dict) -> list[tuple[str, str]]:
 
 def _json_profile(p: dict, w: str) -> tuple[str, str]:
     """One ``rlProfileCfg_t`` (times in us, GHz, MHz/us, ksps) as a profileCfg line."""
-    ints = [_num(_get(p, key, w)) for key in ("profileId", "txOutPowerBackoffCode",
+    ints = [_int(p, key, w) for key in ("profileId", "txOutPowerBackoffCode",
                                                "txPhaseShifter", "numAdcSamples",
                                                "hpfCornerFreq1", "hpfCornerFreq2", "rxGain_dB")]
     return (f"profileCfg {ints[0]} {_dec(p, 'startFreqConst_GHz', w)} "
             f"{_dec(p, 'idleTimeConst_usec', w)} {_dec(p, 'adcStartTimeConst_usec', w)} "
             f"{_dec(p, 'rampEndTime_usec', w)} {ints[1]} {ints[2]} "
             f"{_dec(p, 'freqSlopeConst_MHz_usec', w)} {_dec(p, 'txStartTime_usec', w)} "
-            f"{ints[3]} {int(Decimal(str(_get(p, 'digOutSampleRate', w))))} "
+            f"{ints[3]} {_int(p, 'digOutSampleRate', w)} "
             f"{ints[4]} {ints[5]} {ints[6]}", w)
 
 
 def _json_chip(dev: dict) -> str | None:
     """A device name some setup writers add to the device entry (not TI's own field)."""
     val = dev.get("mmWaveDevice")
-    return val if isinstance(val, str) and val else None
+    if val is None or val == "":
+        return None
+    if not isinstance(val, str):
+        raise _bad("mmWaveDevices[0]", "mmWaveDevice", val, "a chip name")
+    return _known_chip(val, "setup JSON: mmWaveDevices[0].mmWaveDevice")
 
 
 def _parse_lines(lines: list[tuple[str, str]], chip: str | None, kind: str,
@@ -350,6 +404,11 @@ def parse_setup(path_or_text: str | os.PathLike) -> TiProfile:
     ('AWR2243', 64, 60.012)
     """
     text = read_source(path_or_text)
+    if not text.strip():
+        where = f"setup {os.fspath(path_or_text)!r}" if isinstance(path_or_text, os.PathLike) \
+            else "setup text"
+        raise _fail(f"{where} is empty: no TI CLI commands, mmWave Studio LogFile calls or "
+                    "setup JSON")
     return _SETUP_READERS[setup_kind(text)](text)
 
 

@@ -144,3 +144,101 @@ def test_a_commented_call_in_a_logfile_is_not_read():
     assert parse_setup(commented).radar == parse_setup(LOG).radar
     only_comments = "".join(f"% {ln}\n" for ln in text.splitlines())
     assert setup_kind(only_comments) == "cli_profile"
+
+
+def _json_with(tmp_path, path: tuple, value) -> "Path":
+    """The setup JSON with the value at `path` (keys and indices from the file's root)."""
+    import json
+    data = json.loads(JSON.read_text())
+    obj = data
+    for key in path[:-1]:
+        obj = obj[key]
+    obj[path[-1]] = value
+    out = tmp_path / "setup.mmwave.json"
+    out.write_text(json.dumps(data))
+    return out
+
+
+_RF = ("mmWaveDevices", 0, "rfConfig")
+_PROFILE = _RF + ("rlProfiles", 0, "rlProfileCfg_t")
+_FRAME = _RF + ("rlFrameCfg_t",)
+_INT = r'must be an integer \(or a "0x\.\.\." hex string\)'
+
+
+@pytest.mark.parametrize("path, value, pattern", [
+    (_FRAME + ("numLoops",), None, r"rfConfig\.rlFrameCfg_t\.numLoops=None " + _INT),
+    (_FRAME + ("numLoops",), [128], r"rfConfig\.rlFrameCfg_t\.numLoops=\[128\] " + _INT),
+    (_FRAME + ("numLoops",), 64.7, r"numLoops=64\.7 " + _INT),
+    (_FRAME + ("numLoops",), True, r"numLoops=True " + _INT),
+    (_FRAME + ("numLoops",), "abc", r"numLoops='abc' " + _INT),
+    (_PROFILE + ("startFreqConst_GHz",), "abc",
+     r"rlProfiles\[0\]\.rlProfileCfg_t\.startFreqConst_GHz='abc' must be a finite number"),
+    (_PROFILE + ("startFreqConst_GHz",), None, r"startFreqConst_GHz=None must be a finite"),
+    (_PROFILE + ("startFreqConst_GHz",), True, r"startFreqConst_GHz=True must be a finite"),
+    (_PROFILE + ("digOutSampleRate",), 9999.9, r"digOutSampleRate=9999\.9 " + _INT),
+    (_FRAME + ("framePeriodicity_msec",), float("inf"),
+     r"framePeriodicity_msec=inf must be a finite number"),
+    (_RF + ("rlChanCfg_t", "rxChannelEn"), True, r"rlChanCfg_t\.rxChannelEn=True " + _INT),
+    (_RF + ("rlChanCfg_t", "rxChannelEn"), "0xZZ", r"rxChannelEn='0xZZ' " + _INT),
+    (_RF + ("rlProfiles",), None, r"rfConfig\.rlProfiles=None must be a list"),
+    (_RF + ("rlChirps",), "abc", r"rfConfig\.rlChirps='abc' must be a list"),
+    (_RF + ("rlChirps", 0, "rlChirpCfg_t", "startFreqVar_MHz"), "abc",
+     r"rlChirps\[0\]\.rlChirpCfg_t\.startFreqVar_MHz='abc' must be a finite number"),
+    (("mmWaveDevices", 0, "mmWaveDevice"), "AWR9999",
+     r"mmWaveDevices\[0\]\.mmWaveDevice: chip 'AWR9999' is not one the harness knows "
+     r"\(known: AWR1243, "),
+])
+def test_setup_json_type_errors_name_the_key(tmp_path, path, value, pattern):
+    """Each was a TypeError / decimal.InvalidOperation traceback, a silent truncation (64.7
+    loops ran 64, 9999.9 ksps ran at 9999, true read as 1) or, for the chip, another chip
+    inferred without a word."""
+    with pytest.raises(ValueError, match=r"setup JSON: (\S*\.)?" + pattern):
+        parse_setup(_json_with(tmp_path, path, value))
+
+
+def test_integral_json_numbers_are_integers(tmp_path):
+    """Studio writes digOutSampleRate as 10000.0: an integral number is the integer."""
+    r = parse_setup(_json_with(tmp_path, _FRAME + ("numLoops",), 128.0)).radar
+    assert r.n_chirps == parse_setup(JSON).radar.n_chirps == 384
+
+
+def test_unknown_chip_argument_is_refused():
+    with pytest.raises(ValueError, match=r"chip: chip 'AWR9999' is not one the harness knows"):
+        parse_studio_json(JSON, chip="AWR9999")
+
+
+def test_logfile_select_chip_version_unknown_is_refused(tmp_path):
+    """It was replaced by a chip inferred from the commands without a word."""
+    text = LOG.read_text()
+    assert "select_chip_version,AWR2243" in text
+    path = tmp_path / "LogFile.txt"
+    path.write_text(text.replace("select_chip_version,AWR2243", "select_chip_version,AWR9999"))
+    with pytest.raises(ValueError, match=r"LogFile line \d+ \(API:select_chip_version\): chip "
+                                         r"'AWR9999' is not one the harness knows"):
+        parse_setup(path)
+
+
+def test_logfile_select_chip_version_studio_spelling(tmp_path):
+    text = LOG.read_text()
+    path = tmp_path / "LogFile.txt"
+    path.write_text(text.replace("select_chip_version,AWR2243", "select_chip_version,AR1243"))
+    assert parse_setup(path).radar.chip == "AWR1243"
+
+
+def test_logfile_without_profile_config_names_it(tmp_path):
+    """It was read as a CLI profile and blamed on a missing channelCfg."""
+    lines = [ln for ln in LOG.read_text().splitlines() if "API:ProfileConfig" not in ln]
+    path = tmp_path / "LogFile.txt"
+    path.write_text("\n".join(lines) + "\n")
+    with pytest.raises(ValueError, match=r"LogFile: its last configuration \(from line \d+, "
+                                         r"API:ChannelConfig\) has no API:ProfileConfig call"):
+        parse_setup(path)
+
+
+@pytest.mark.parametrize("text", ["", "\n\n  \n"], ids=["empty", "blank"])
+def test_empty_setup_file_says_it_is_empty(tmp_path, text):
+    """It said "TI .cfg file '' not found"."""
+    path = tmp_path / "LogFile.txt"
+    path.write_text(text)
+    with pytest.raises(ValueError, match=r"setup '.*LogFile\.txt' is empty: no TI CLI commands"):
+        parse_setup(path)
