@@ -149,12 +149,17 @@ def prepare_worker(parent_pid: int) -> None:
     the parent (a Ctrl-C lets the parent stop the pool), SIGTERM and SIGHUP at their default
     (a forked worker inherits the parent's `terminate_on_signals` or `stop_signals_recorded`
     handlers, which would turn the pool's own ``terminate()`` into an exception the worker
-    survives, or into nothing), then
-    `prepare_process`."""
+    survives, or into nothing), then `prepare_process`.
+
+    A stop signal the worker inherits ignored stays ignored: neither block installs a handler
+    for a signal ignored on entry, so an inherited SIG_IGN is the run's own (SIGHUP under
+    ``nohup``), and a hang-up sent to the process group must not kill the workers of a run
+    started to survive it."""
     exit_with_parent(parent_pid)
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     for sig in _STOP_SIGNALS:
-        signal.signal(sig, signal.SIG_DFL)
+        if signal.getsignal(sig) is not signal.SIG_IGN:
+            signal.signal(sig, signal.SIG_DFL)
     prepare_process()
 
 

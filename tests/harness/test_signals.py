@@ -166,6 +166,53 @@ def test_a_signal_ignored_on_entry_stays_ignored(sig):
 
 
 @pytest.mark.parametrize("sig", [signal.SIGTERM, signal.SIGHUP], ids=["SIGTERM", "SIGHUP"])
+def test_a_pool_worker_keeps_a_stop_signal_its_parent_ignored(sig):
+    """`prepare_worker` in a forked child that inherited `sig` ignored (and SIGINT handled):
+    the ignored one stays ignored, the other stop signal is reset to its default."""
+    other = signal.SIGHUP if sig == signal.SIGTERM else signal.SIGTERM
+    with _handler(sig, signal.SIG_IGN), _handler(other, _noop):
+        pid = os.fork()
+        if pid == 0:
+            code = 1
+            try:
+                runtime.prepare_worker(os.getppid())
+                code = 0 if (signal.getsignal(sig) is signal.SIG_IGN and
+                             signal.getsignal(other) is signal.SIG_DFL) else 3
+            finally:
+                os._exit(code)
+    _, status = os.waitpid(pid, 0)
+    assert os.waitstatus_to_exitcode(status) == 0
+
+
+@pytest.mark.slow  # a stand-in pool sweep in a forked child, ~3 s; the worker set-up test is fast
+@pytest.mark.parametrize("sig", [signal.SIGTERM, signal.SIGHUP], ids=["SIGTERM", "SIGHUP"])
+def test_a_pool_sweep_started_ignoring_a_stop_signal_survives_it(tmp_path, sig):
+    """``nohup radar-harness sweep ... &`` and the terminal closes: SIGHUP reaches the whole
+    process group. The pool workers reset SIGHUP to its default (against the parent's inherited
+    handlers), so a hang-up killed them and the run ended with "2 of 2 cells are missing (a
+    worker died ...)"; they now keep ignoring what their parent ignored on entry."""
+    import json
+
+    from harness.sweepspec import SweepSpec
+    from tests.harness.forked import fork_sweep, forked_children, wait_exit
+    spec = SweepSpec(name="nohup", scenarios=("slow", "fast"), seeds=(0,), duration_s=1.0)
+    report = tmp_path / "report.json"
+    with _handler(sig, signal.SIG_IGN):  # what nohup (SIGHUP) leaves the sweep with
+        pid = fork_sweep(spec, tmp_path / "r", report=report, own_group=True)
+    try:
+        deadline = time.monotonic() + 60
+        while len(forked_children(pid)) < 2 and time.monotonic() < deadline:
+            time.sleep(0.02)
+        assert len(forked_children(pid)) == 2, "the pool did not start its 2 workers"
+        os.killpg(pid, sig)
+        assert wait_exit(pid, 120) == 0
+    finally:
+        with contextlib.suppress(ProcessLookupError):
+            os.killpg(pid, signal.SIGKILL)
+    assert json.loads(report.read_text()) == {"ok": 2, "interrupted": 0}
+
+
+@pytest.mark.parametrize("sig", [signal.SIGTERM, signal.SIGHUP], ids=["SIGTERM", "SIGHUP"])
 def test_a_recorded_stop_signal_reaches_its_own_handler_when_the_block_ends(sig):
     """Inside `stop_signals_recorded` the signal is only recorded; `check` leaves the block,
     whose end delivers it to `terminate_on_signals`' handler: `Terminated`, not the check's
