@@ -66,7 +66,14 @@ from core.registry import Registry
 
 from .chips import get_chip
 
-__all__ = ["Board", "BOARDS", "get_board", "register_board", "cos_exponent_for_half_power"]
+__all__ = ["Board", "BOARDS", "get_board", "register_board", "cos_exponent_for_half_power",
+           "MAX_ELEMENT_OFFSET_WL"]
+
+#: Largest element coordinate of a board, wavelengths (about 39 cm at 77 GHz): a single board's
+#: array (TI's four-chip cascade spans about 43 wavelengths). Beyond it the element phases lose
+#: float precision (1e300 wavelengths put NaN into the ADC frame) and the far-field signal
+#: model stops holding at the ranges a corner radar sees.
+MAX_ELEMENT_OFFSET_WL = 100.0
 
 
 def cos_exponent_for_half_power(theta_deg: float) -> float:
@@ -165,6 +172,11 @@ def _positions(value, n: int, name: str) -> tuple[tuple[float, float], ...]:
     if len(pos) != n or not all(math.isfinite(c) for p in pos for c in p):
         raise BadInput(f"{name} must hold {n} finite (y, z) pairs (one per chip channel), "
                        f"got {value!r}")
+    far = [c for p in pos for c in p if abs(c) > MAX_ELEMENT_OFFSET_WL]
+    if far:
+        raise BadInput(f"{name}: element coordinate {far[0]:g} wavelengths is beyond "
+                       f"+/-{MAX_ELEMENT_OFFSET_WL:g} (an antenna array on one board; the "
+                       "far-field model needs it small against every range)")
     return pos
 
 

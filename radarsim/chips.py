@@ -54,7 +54,8 @@ from core.registry import Registry
 
 from .config_rules import integers
 
-__all__ = ["AdcMode", "ADC_MODES", "AdcLimits", "Chip", "CHIPS", "get_chip", "register_chip"]
+__all__ = ["AdcMode", "ADC_MODES", "AdcLimits", "Chip", "CHIPS", "get_chip", "register_chip",
+           "MAX_CHIP_ADC_SAMPLES"]
 
 
 class AdcMode(NamedTuple):
@@ -88,6 +89,19 @@ class AdcLimits(NamedTuple):
     """ADC limits of one output mode."""
 
     max_rate_sps: float
+
+
+#: ADC samples per chirp no chip exceeds: rlProfileCfg_t.numAdcSamples is a 16-bit field.
+MAX_CHIP_ADC_SAMPLES = 65535
+#: Upper limits of a chip record's counts: the mmWaveLink fields every device is programmed
+#: through (mmWave Radar Interface Control Document). Beyond them a "limit" would let a config
+#: allocate frames no chip can hold (max_loops=1e9 let n_chirps=1e9 through to a MemoryError).
+_COUNT_LIMITS = {
+    "max_loops": (255, "rlFrameCfg_t.numLoops is 1..255"),
+    "max_chirp_defs": (512, "the chirp RAM holds 512 rlChirpCfg_t entries"),
+    "max_profiles": (4, "RL_MAX_PROFILES_CNT"),
+    "max_adc_samples": (MAX_CHIP_ADC_SAMPLES, "rlProfileCfg_t.numAdcSamples is 16 bits"),
+}
 
 
 @dataclass(frozen=True, slots=True)
@@ -164,10 +178,23 @@ class Chip:
             v = getattr(self, fld)
             if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or v < 1:
                 raise BadInput(f"chip {self.name}: {fld}={v!r} must be an integer >= 1")
-        bad = sorted(set(self.adc) - set(ADC_MODES))
+        for fld, (hi, why) in _COUNT_LIMITS.items():
+            if getattr(self, fld) > hi:
+                raise BadInput(f"chip {self.name}: {fld}={getattr(self, fld)!r} exceeds {hi} "
+                               f"({why})")
+        if not isinstance(self.adc, Mapping):
+            raise BadInput(f"chip {self.name}: adc={self.adc!r} must map ADC mode names to "
+                           "AdcLimits")
+        bad = sorted(str(m) for m in set(self.adc) - set(ADC_MODES))
         if not self.adc or bad:
-            raise BadInput(f"chip {self.name}: adc modes {sorted(self.adc)} must be a "
-                           f"non-empty subset of {sorted(ADC_MODES)}")
+            raise BadInput(f"chip {self.name}: adc modes {sorted(map(str, self.adc))} must be "
+                           f"a non-empty subset of {sorted(ADC_MODES)}")
+        for mode, lim in self.adc.items():
+            rate = getattr(lim, "max_rate_sps", None)
+            if not (isinstance(lim, AdcLimits) and isinstance(rate, (int, float, np.number))
+                    and not isinstance(rate, bool) and 0 < rate < math.inf):
+                raise BadInput(f"chip {self.name}: adc[{mode!r}]={lim!r} must be AdcLimits with "
+                               "max_rate_sps a finite number > 0 (sps)")
         for fld in ("if_bandwidth_hz", "if_lowpass_hz"):
             v = getattr(self, fld)
             if not (isinstance(v, (int, float)) and 0 < v < math.inf):

@@ -60,6 +60,7 @@ import numpy as np
 
 from core.errors import BadInput
 from core.registry import Registry
+from radarsim.chips import MAX_CHIP_ADC_SAMPLES
 
 from .deferred import DeferredLowrank
 from .fills import ar_fill, cancel_tones, linear_fill, taper_gain, tone_frequencies
@@ -78,11 +79,28 @@ __all__ = ["RepairMethod", "ZeroRepair", "TaperRepair", "InterpolateRepair", "Ar
            "EXTEND_SAMPLES"]
 
 
+#: Upper limit of each method parameter, and why (beyond it: minutes per frame, an overflow).
+_LIMITS = {**dict.fromkeys(("close_gap_samples", "extend_samples", "taper_samples",
+                            "grow_reach_samples"), (MAX_CHIP_ADC_SAMPLES, "samples per chirp")),
+           "ar_order": (512, "half the samples of the longest shipped chirp"),
+           "cancel_tones": (64, "echoes per chirp"), "rank_max": (256, "fast-time components"),
+           "rank_snr_gate_db": (150.0, "96 dB of 16-bit range + 48 dB of row gain"),
+           "grow_sigma": (100.0, "noise standard deviations")}
+
+
 def _check_counts(obj, names: tuple[str, ...]) -> None:
     for f in names:
         v = getattr(obj, f)
         if isinstance(v, bool) or not isinstance(v, int) or v < 0:
             raise BadInput(f"{f}={v!r} must be an integer >= 0")
+        _check_limit(f, v)
+
+
+def _check_limit(name: str, value) -> None:
+    """`_LIMITS`: an AR order of 10**6 ran for minutes, a gate of 1e300 dB overflowed."""
+    hi, why = _LIMITS[name]
+    if value > hi:
+        raise BadInput(f"{name}={value!r} exceeds {hi:g} ({why})")
 
 
 @dataclass(frozen=True, kw_only=True, slots=True)
@@ -269,6 +287,7 @@ class LowrankRepair(RepairMethod):
             if isinstance(v, bool) or not isinstance(v, (int, float)) or not np.isfinite(v) \
                     or v < 0:
                 raise BadInput(f"{f}={v!r} must be a finite number >= 0")
+            _check_limit(f, v)
         RepairMethod.__post_init__(self)
         _check_counts(self, ("rank_max", "grow_reach_samples"))
 

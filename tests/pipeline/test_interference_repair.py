@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import dataclasses
+import re
 
 import numpy as np
 import pytest
@@ -157,6 +158,21 @@ def test_processing_config_validates_the_method():
     (ir.LowrankRepair, "rank_snr_gate_db", -3.0), (ir.LowrankRepair, "grow_sigma", float("nan"))])
 def test_method_fields_validated(kind, field, value):
     with pytest.raises(ValueError, match=field):
+        kind(name="x", description="", **{field: value})
+
+
+@pytest.mark.parametrize("kind, field, value, limit", [
+    (ir.LowrankRepair, "rank_snr_gate_db", 1e300, "150"), (ir.ArRepair, "ar_order", 10**6, "512"),
+    (ir.LowrankRepair, "grow_sigma", 1e9, "100"), (ir.ZeroRepair, "cancel_tones", 10**4, "64"),
+    (ir.LowrankRepair, "rank_max", 10**4, "256"),
+    (ir.ZeroRepair, "close_gap_samples", 10**7, "65535"),
+    (ir.InterpolateRepair, "extend_samples", 10**7, "65535"),
+    (ir.TaperRepair, "taper_samples", 10**7, "65535"),
+    (ir.LowrankRepair, "grow_reach_samples", 10**7, "65535")])
+def test_method_fields_bounded(kind, field, value, limit):
+    """rank_snr_gate_db=1e300 overflowed at the first interference frame; ar_order=10**6 ran
+    for minutes (one Levinson step per order)."""
+    with pytest.raises(ValueError, match=re.escape(f"{field}={value!r} exceeds {limit} (")):
         kind(name="x", description="", **{field: value})
 
 

@@ -181,3 +181,41 @@ def test_a_bad_chip_record_is_refused():
     with pytest.raises(ValueError, match=r"chip LAB: adc modes \['real8x'\] must be"):
         dataclasses.replace(base, name="LAB", adc={"real8x": base.adc["real"]})
     assert math.isfinite(base.band_max_hz)
+
+
+@pytest.mark.parametrize("limits", [float("nan"), "fast", -1.0, 0.0, float("inf"), True],
+                         ids=["nan", "string", "negative", "zero", "inf", "true"])
+def test_a_chip_records_adc_limits_are_checked(limits):
+    """NaN removed the rate limit, a string gave a TypeError at the first config, -1 made every
+    config fail while blaming the config."""
+    from radarsim.chips import AdcLimits
+    with pytest.raises(ValueError, match=r"chip LAB: adc\['real'\]=AdcLimits\(max_rate_sps=.*\) "
+                                         r"must be AdcLimits with max_rate_sps a finite number"):
+        dataclasses.replace(CHIPS["AWR2944"], name="LAB", adc={"real": AdcLimits(limits)})
+
+
+def test_a_chip_records_adc_mode_needs_adc_limits():
+    with pytest.raises(ValueError, match=r"adc\['real'\]=37500000\.0 must be AdcLimits"):
+        dataclasses.replace(CHIPS["AWR2944"], name="LAB", adc={"real": 37.5e6})
+
+
+@pytest.mark.parametrize("field, value, match", [
+    ("max_loops", 10**9, r"max_loops=1000000000 exceeds 255 \(rlFrameCfg_t\.numLoops"),
+    ("max_chirp_defs", 4096, r"max_chirp_defs=4096 exceeds 512"),
+    ("max_profiles", 5, r"max_profiles=5 exceeds 4"),
+    ("max_adc_samples", 10**6, r"max_adc_samples=1000000 exceeds 65535"),
+])
+def test_a_chip_records_counts_are_bounded(field, value, match):
+    """max_loops=1e9 let a config of 1e9 chirps through to a MemoryError."""
+    with pytest.raises(ValueError, match=r"chip LAB: " + match):
+        dataclasses.replace(CHIPS["AWR2944"], name="LAB", **{field: value})
+
+
+def test_a_board_element_far_away_is_refused():
+    """An element at 1e300 wavelengths put NaN into the int16 ADC frame (a RuntimeWarning)."""
+    far = ((0.0, 0.0), (1e300, 0.8), (2.0, 0.0), (4.0, 0.0))
+    with pytest.raises(ValueError, match=r"board LAB_FAR: tx_positions_wl: element coordinate "
+                                         r"1e\+300 wavelengths is beyond \+/-100"):
+        dataclasses.replace(LAB_BOARD, name="LAB_FAR", tx_positions_wl=far)
+    with pytest.raises(ValueError, match=r"tx_positions_wl: element coordinate 1e\+300"):
+        radarsim.presets.r79_ddma(tx_positions_wl=far)
