@@ -24,17 +24,18 @@ An advanced-frame profile's capture holds every sub-frame of each frame
 from __future__ import annotations
 
 import argparse
+import contextlib
 import dataclasses
 import os
 import sys
-import uuid
 import warnings
 from pathlib import Path
 
 import numpy as np
 import pandas as pd
 
-from core.errors import BadInput
+from core.errors import BadInput, OutputError
+from core.fileio import atomic_write
 from harness.cell.ti_profile import (
     cfar_config_from_ti,
     load_profile,
@@ -65,21 +66,26 @@ TABLE_WRITERS = {
 
 
 # ---------------------------------------------------------------------------- helpers
+@contextlib.contextmanager
+def _naming(option: str):
+    """An output that could not be written (a full disk, a read-only folder) named with the
+    option that chose it: ``--out: cannot write '...': no space left on the device``."""
+    try:
+        yield
+    except OutputError as exc:
+        raise OutputError(f"{option}: {exc}") from None
+
+
 def write_table(df: pd.DataFrame, path: str | os.PathLike) -> Path:
-    """Write a table atomically; the format follows the suffix (`TABLE_WRITERS`)."""
+    """Write a table atomically (`core.fileio.atomic_write`: a full disk or read-only folder is
+    an `core.errors.OutputError` naming `path`); the format follows the suffix
+    (`TABLE_WRITERS`)."""
     path = Path(path)
     writer = TABLE_WRITERS.get(path.suffix.lower())
     if writer is None:
         raise BadInput(f"output {str(path)!r}: suffix {path.suffix!r} is not one of "
                        f"{sorted(TABLE_WRITERS)}")
-    tmp = path.with_name(f".{path.name}.{os.getpid()}.{uuid.uuid4().hex}{path.suffix}")
-    try:
-        writer(df, tmp)
-        os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
-    return path
+    return atomic_write(path, lambda tmp: writer(df, tmp))
 
 
 def process_capture(capture, profile, proc=None, *, interleaved: bool | None = None,
@@ -285,12 +291,14 @@ def run_process(args: argparse.Namespace) -> int:
     points = process_capture(args.capture, profile, procs,
                              interleaved=LAYOUTS[args.layout],
                              max_frames=n_frames)
-    write_table(points, out)
+    with _naming("--out"):
+        write_table(points, out)
     print(f"{n_frames} frame(s), {len(points)} detection(s) -> {out}")
     if not args.no_track:
         tracks = _track(points, profile, n_frames)
         tpath = args.tracks or out.with_name(f"{out.stem}_tracks{out.suffix}")
-        write_table(tracks, tpath)
+        with _naming("--tracks" if args.tracks else "--out (its tracks table)"):
+            write_table(tracks, tpath)
         print(f"{len(tracks)} track row(s) -> {tpath}")
     return 0
 
@@ -375,12 +383,14 @@ def run_simulate(args: argparse.Namespace) -> int:
         # Saturation is a property of the scene (a car at 2 m), as in a sweep cell.
         warnings.simplefilter("ignore", category=ADCSaturationWarning)
         if profile.is_advanced:
-            n = write_subframe_capture(args.out, profile, run, args.seed, frames, comps)
+            with _naming("--out"):
+                n = write_subframe_capture(args.out, profile, run, args.seed, frames, comps)
             print(f"{n} frame(s) of {args.case} (seed {args.seed}, "
                   f"{len(profile.subframes)} sub-frames) -> {args.out}")
             return 0
-        n = write_capture(args.out, simulate_frames(simulation_radar(profile), run, args.seed,
-                                                    frames, comps),
-                          cfg=profile.radar)
+        with _naming("--out"):
+            n = write_capture(args.out, simulate_frames(simulation_radar(profile), run,
+                                                        args.seed, frames, comps),
+                              cfg=profile.radar)
     print(f"{n} frame(s) of {args.case} (seed {args.seed}) -> {args.out}")
     return 0

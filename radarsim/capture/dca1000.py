@@ -38,7 +38,6 @@ naming both sizes and no partial frame is returned.
 from __future__ import annotations
 
 import os
-import uuid
 from pathlib import Path
 from types import MappingProxyType
 from typing import Callable, Iterable, Iterator, Mapping, NamedTuple
@@ -46,7 +45,7 @@ from typing import Callable, Iterable, Iterator, Mapping, NamedTuple
 import numpy as np
 
 from core.errors import BadInput
-from core.fileio import check_input_file
+from core.fileio import atomic_write, check_input_file
 
 from ..radar_config import RadarConfig
 
@@ -244,18 +243,20 @@ def write_capture(path: str | os.PathLike, frames: np.ndarray | Iterable[np.ndar
 
     Raises
     ------
-    ValueError
+    core.errors.BadInput
         On a frame of the wrong dtype or shape; nothing is written then.
+    core.errors.OutputError
+        The file could not be written (``cannot write '{path}': no space left on the device``,
+        a read-only folder, ...); `path` is left as it was.
     """
     path = Path(path)
     shape = frame_shape(cfg) if cfg is not None else None
     lay = CAPTURE_LAYOUTS[layout] if layout is not None else \
         layout_of(cfg, interleaved) if cfg is not None else None
-    # A unique sibling (same file system, so os.replace is atomic), created with the usual
-    # permissions (mkstemp's would be 0600).
-    tmp = path.with_name(f".{path.name}.{os.getpid()}.{uuid.uuid4().hex}.tmp")
     n = 0
-    try:
+
+    def write(tmp: Path) -> None:  # `atomic_write`: a full disk is named with `path`
+        nonlocal n, lay, shape
         with open(tmp, "xb") as fh:
             for n, frame in enumerate(_iter_frames(frames), start=1):
                 if lay is None:
@@ -267,14 +268,10 @@ def write_capture(path: str | os.PathLike, frames: np.ndarray | Iterable[np.ndar
                 shape = arr.shape
                 words = lay.encode(arr[None])
                 fh.write(np.ascontiguousarray(words, dtype=SAMPLE_DTYPE).tobytes())
-            fh.flush()
-            os.fsync(fh.fileno())
         if n == 0:
             raise BadInput("no frames to write")
-        os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
+
+    atomic_write(path, write)
     return n
 
 

@@ -3,6 +3,7 @@ results folder. Skipped where the machine does not let the test mount one (needs
 user namespace); the fast set simulates the same faults (`test_probes_writes`)."""
 from __future__ import annotations
 
+import re
 import shutil
 import subprocess
 import uuid
@@ -89,3 +90,31 @@ def test_sweep_on_a_full_disk_exits_2_and_resumes(small_fs, tmp_path, capsys):
                "--no-progress"])
     err = [ln for ln in capsys.readouterr().err.splitlines() if ": error: " in ln]
     assert rc == 2 and len(err) == 1 and str(small_fs) in err[0], err
+
+
+def test_process_and_simulate_on_a_full_disk_exit_2_naming_out(small_fs, tmp_path, capsys):
+    """A full disk under ``--out`` of process and simulate: one line naming the option and the
+    file (was a bare "[Errno 28] No space left on device"), no temporary left behind."""
+    import numpy as np
+
+    from radarsim.capture import write_capture
+    from radarsim.ti import parse_ti_cfg
+    from tests.radarsim.profiles import PROFILE_DIR
+    profile = PROFILE_DIR / "xwr18_visualizer.cfg"
+    cfg = parse_ti_cfg(profile).radar
+    capture = tmp_path / "cap.bin"
+    write_capture(capture, [np.zeros((cfg.n_chirps, cfg.n_rx, cfg.n_samples), np.complex64)],
+                  cfg=cfg)
+    out = small_fs / "o"
+    out.mkdir()
+    _fill(small_fs)
+    for argv in (["simulate", "head_on_aliasing", "--cfg", str(profile), "--out",
+                  str(out / "c.bin"), "--frames", "1"],
+                 ["process", str(capture), "--cfg", str(profile), "--out", str(out / "p.csv"),
+                  "--no-track"]):
+        assert main(argv) == 2
+        err = [ln for ln in capsys.readouterr().err.splitlines() if "error" in ln]
+        name = "c.bin" if argv[0] == "simulate" else "p.csv"
+        assert len(err) == 1 and re.search(rf"--out: cannot write '.*/o/{name}': no space left "
+                                           "on the device", err[0]), err
+    assert list(out.iterdir()) == []

@@ -150,6 +150,65 @@ def test_simulate_rejects_bad_input(tmp_path, fake_components, small_cfg_file, c
     assert not out.exists()
 
 
+class _FullDisk:
+    """A file opened for writing on a disk that is full: the open succeeds, the first write
+    raises ENOSPC without a file name (what the OS gives a write(2) that finds no space)."""
+
+    def __init__(self, path, mode="r", *a, **k):
+        self.fh = open(path, mode, *a, **k)
+
+    def write(self, data):
+        import errno
+        import os
+        raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.fh.close()
+
+
+def test_simulate_on_a_full_disk_names_out(tmp_path, fake_components, small_cfg_file, capsys,
+                                           monkeypatch):
+    """A stand-in for a full disk (the slow set fills a real tmpfs): it was a bare "[Errno 28]
+    No space left on device" with a traceback."""
+    import radarsim.capture
+    monkeypatch.setattr(radarsim.capture, "open", _FullDisk, raising=False)
+    cfg_path, _ = small_cfg_file
+    out = tmp_path / "o" / "sim.bin"
+    out.parent.mkdir()
+    assert main(["simulate", "straight", "--cfg", str(cfg_path), "--out", str(out)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and re.search(r"simulate: error: --out: cannot write '.*/o/sim\.bin': "
+                                       r"no space left on the device", err[0]), err
+    assert list(out.parent.iterdir()) == []
+
+
+@pytest.mark.parametrize("track", [False, True], ids=["points", "tracks"])
+def test_process_on_a_full_disk_names_the_option(tmp_path, r79_capture, capsys, monkeypatch,
+                                                 track):
+    import errno
+    import os
+    path, _ = r79_capture
+    out = tmp_path / "o" / "points.csv"
+    out.parent.mkdir()
+    real = pd.DataFrame.to_csv
+
+    def to_csv(df, target, *a, **k):  # the points table fits, the tracks table does not
+        if "_tracks" in str(target) or not track:
+            raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
+        return real(df, target, *a, **k)
+    monkeypatch.setattr(pd.DataFrame, "to_csv", to_csv)
+    argv = ["process", str(path), "--cfg", str(r79_cfg_path()), "--out", str(out)]
+    assert main(argv + ([] if track else ["--no-track"])) == 2
+    err = [ln for ln in capsys.readouterr().err.splitlines() if ": error: " in ln]
+    want = (r"--out \(its tracks table\): cannot write '.*/points_tracks\.csv'" if track else
+            r"--out: cannot write '.*/o/points\.csv'")
+    assert len(err) == 1 and re.search(want + ": no space left on the device", err[0]), err
+    assert sorted(p.name for p in out.parent.iterdir()) == (["points.csv"] if track else [])
+
+
 def test_simulate_real_scenario_then_process(tmp_path, small_cfg_file):
     import scenarios
 
