@@ -248,8 +248,9 @@ def measure_channel_calibration(cfg: RadarConfig, frames: Iterable[np.ndarray],
     clipped = []
     for adc in frames:
         sat = monitor(adc)
-        if sat.saturated:
-            clipped.append(sat.n_saturated_samples / sat.counts.size / sat.n_samples)
+        if sat.saturated:  # the monitor counts a complex sample's I and Q apart
+            values = sat.counts.size * sat.n_samples * (2 if np.iscomplexobj(adc) else 1)
+            clipped.append(sat.n_saturated_samples / values)
         x, noise = static_virtual_samples(cfg, range_stage(cfg, adc, proc))
         x_sum = x if x_sum is None else x_sum + x
         p = (np.abs(x) ** 2).sum(axis=(0, 1))
@@ -260,7 +261,7 @@ def measure_channel_calibration(cfg: RadarConfig, frames: Iterable[np.ndarray],
         raise BadInput("the capture holds no frame to calibrate on")
     if clipped:
         raise BadInput(f"the capture is clipped: {len(clipped)} of {n} frame(s) have samples at "
-                       f"the ADC rails (up to {100 * max(clipped):.3g} % of a frame's samples);"
+                       f"the ADC rails (up to {100 * max(clipped):.3g} % of a frame's values);"
                        " clipping compresses and mixes the channels, so a calibration on it "
                        "is wrong: lower the Rx gain or move the reflector farther")
     idx = np.flatnonzero(in_win)

@@ -20,6 +20,7 @@ import time
 from pathlib import Path
 
 from tests.harness.probes import CLASSES, all_probes, classify
+from tests.harness.probes_surfaces import surface_probes
 
 
 def _warm_up() -> None:
@@ -54,7 +55,8 @@ def main(argv=None) -> int:
     args = ap.parse_args(argv)
     lim = int(args.memory_gib * (1 << 30))
     resource.setrlimit(resource.RLIMIT_AS, (lim, resource.getrlimit(resource.RLIMIT_AS)[1]))
-    probes = [p for p in all_probes() if (args.only is None or p.surface in args.only)
+    probes = [p for p in all_probes() + surface_probes()
+              if (args.only is None or p.surface in args.only)
               and (args.ids is None or p.id in args.ids) and p.id not in args.skip_ids]
     _warm_up()
     rows = []
