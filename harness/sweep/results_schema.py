@@ -115,10 +115,10 @@ def check_manifest(m: dict, path) -> None:
             raise _damaged(path, "git", git, "an object {commit, dirty}")
         if git.get("commit") is not None and not isinstance(git["commit"], str):
             raise _damaged(path, "git.commit", git["commit"], "a string")
-    for f in ("schemes",):
-        v = m.get(f)
-        if v is not None and not (isinstance(v, list) and all(isinstance(s, str) for s in v)):
-            raise _damaged(path, f, v, "a list of scheme names")
+    schemes = m.get("schemes")
+    if schemes is not None and not (isinstance(schemes, list)
+                                    and all(isinstance(s, str) for s in schemes)):
+        raise _damaged(path, "schemes", schemes, "a list of scheme names")
     tables = m.get("tables")
     if tables is not None and not (isinstance(tables, dict)
                                    and all(isinstance(v, str) for v in tables.values())):
