@@ -339,7 +339,6 @@ def write_subframe_capture(path, profile, run, seed: int, frames, comps) -> int:
     stream (``frame_rng(seed, frame, "<mimo>/subframe<k>")``); atomic. The sub-frames share the
     frame's scene (their start offsets within the frame, tens of ms, are not simulated).
     Returns the frame count."""
-    from core.fileio import atomic_write
     from harness.cell.run import frame_scatterers
     from harness.sweep.streams import frame_rng
     from radarsim.capture.subframes import encode_frame

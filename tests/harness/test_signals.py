@@ -193,7 +193,7 @@ def test_a_pool_sweep_started_ignoring_a_stop_signal_survives_it(tmp_path, sig):
     worker died ...)"; they now keep ignoring what their parent ignored on entry."""
     import json
 
-    from harness.sweepspec import SweepSpec
+    from harness.sweep.spec import SweepSpec
     from tests.harness.forked import fork_sweep, forked_children, wait_exit
     spec = SweepSpec(name="nohup", scenarios=("slow", "fast"), seeds=(0,), duration_s=1.0)
     report = tmp_path / "report.json"
