@@ -100,9 +100,10 @@ def _is_count(v) -> bool:
 
 
 def check_manifest(m: dict, path) -> None:
-    """Raise `core.errors.BadInput` ``{path}: damaged manifest (field=value must be ...)`` for a field of
-    the wrong type: every field a reader uses (`MANIFEST_COUNTS`, the text fields, ``git``,
-    ``schemes``, ``tables`` and each of ``cells``). Absent fields are allowed (older runs)."""
+    """Raise `core.errors.BadInput` ``{path}: damaged manifest (field=value must be ...)`` for
+    a field of the wrong type: every field a reader uses (`MANIFEST_COUNTS`, the text fields,
+    ``git``, ``schemes``, ``tables``, ``sweep.variants`` and each of ``cells``). Absent fields
+    are allowed (older runs)."""
     for f in _MANIFEST_TEXT:
         if m.get(f) is not None and not isinstance(m[f], str):
             raise _damaged(path, f, m[f], "a string")
@@ -123,36 +124,29 @@ def check_manifest(m: dict, path) -> None:
     if tables is not None and not (isinstance(tables, dict)
                                    and all(isinstance(v, str) for v in tables.values())):
         raise _damaged(path, "tables", tables, "an object of table file names")
-    _check_sweep(m.get("sweep"), path)
-    cells = m.get("cells")
-    if cells is None:
-        return
-    if not isinstance(cells, list):
-        raise _damaged(path, "cells", cells, "a list of cell records")
-    for i, c in enumerate(cells):
-        if not isinstance(c, dict):
-            raise _damaged(path, f"cells[{i}]", c, "an object {cell_id, status, ...}")
-        for f in ("cell_id", "status"):
-            if not isinstance(c.get(f), str):
-                raise _damaged(path, f"cells[{i}].{f}", c.get(f), "a string")
-
-
-def _check_sweep(sweep, path) -> None:
-    """The manifest's copy of the sweep file: the variants the readers look up."""
-    if sweep is None:
-        return
-    if not isinstance(sweep, dict):
+    sweep = m.get("sweep")
+    if sweep is not None and not isinstance(sweep, dict):
         raise _damaged(path, "sweep", sweep, "an object (the sweep file)")
-    variants = sweep.get("variants")
-    if variants is None:
+    _check_records((sweep or {}).get("variants"), path, "sweep.variants",
+                   {"name": (str, True), "processing": (dict, False)})
+    _check_records(m.get("cells"), path, "cells",
+                   {"cell_id": (str, True), "status": (str, True)})
+
+
+def _check_records(records, path, field: str, keys: dict) -> None:
+    """A list (None: absent) of objects whose `keys` (name -> (type, required)) have those
+    types; an optional key may be absent."""
+    if records is None:
         return
-    if not isinstance(variants, list):
-        raise _damaged(path, "sweep.variants", variants, "a list of variants")
-    for i, v in enumerate(variants):
-        if not (isinstance(v, dict) and isinstance(v.get("name"), str)
-                and isinstance(v.get("processing", {}), dict)):
-            raise _damaged(path, f"sweep.variants[{i}]", v,
-                           "an object {name, processing, ...}")
+    if not isinstance(records, list):
+        raise _damaged(path, field, records, "a list of records")
+    for i, r in enumerate(records):
+        if not isinstance(r, dict):
+            raise _damaged(path, f"{field}[{i}]", r, "an object {" + ", ".join(keys) + ", ...}")
+        for key, (kind, required) in keys.items():
+            if (required or key in r) and not isinstance(r.get(key), kind):
+                raise _damaged(path, f"{field}[{i}].{key}", r.get(key),
+                               "a string" if kind is str else "an object")
 
 
 def read_table(results: str | Path, name: str, manifest: dict) -> pd.DataFrame:

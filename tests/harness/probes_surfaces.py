@@ -27,7 +27,7 @@ import pandas as pd
 
 from tests.harness.probes import Probe, fake_results
 
-__all__ = ["surface_probes", "probes_of", "SURFACES"]
+__all__ = ["surface_probes", "probes_of", "SURFACES", "FullDisk"]
 
 PROFILES = Path(__file__).resolve().parents[1] / "radarsim" / "profiles"
 GATES = '[[gate]]\nname = "ghosts"\nmetric = "ghost_rate"\nmax = 1.0\n'

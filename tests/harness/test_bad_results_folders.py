@@ -84,7 +84,7 @@ def _manifest(d, **fields):
 
 #: Damaged manifests: (fields set, or the file's text) -> the one-line answer.
 DAMAGED_MANIFESTS = {
-    "cells_string": ({"cells": "abc"}, r"cells='abc' must be a list of cell records"),
+    "cells_string": ({"cells": "abc"}, r"cells='abc' must be a list of records"),
     "cells_numbers": ({"cells": [1, 2]}, r"cells\[0\]=1 must be an object"),
     "cell_without_id": ({"cells": [{"status": "missing"}]},
                         r"cells\[0\]\.cell_id=None must be a string"),

@@ -11,6 +11,7 @@ import radarsim
 from harness.cli import cmd_ti, main
 from radarsim.capture import read_capture, write_capture
 from radarsim.ti import R79_CFAR, parse_ti_cfg, r79_cfg_path, to_ti_cfg
+from tests.harness.probes_surfaces import FullDisk
 
 
 @pytest.fixture
@@ -150,31 +151,12 @@ def test_simulate_rejects_bad_input(tmp_path, fake_components, small_cfg_file, c
     assert not out.exists()
 
 
-class _FullDisk:
-    """A file opened for writing on a disk that is full: the open succeeds, the first write
-    raises ENOSPC without a file name (what the OS gives a write(2) that finds no space)."""
-
-    def __init__(self, path, mode="r", *a, **k):
-        self.fh = open(path, mode, *a, **k)
-
-    def write(self, data):
-        import errno
-        import os
-        raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
-
-    def __enter__(self):
-        return self
-
-    def __exit__(self, *exc):
-        self.fh.close()
-
-
 def test_simulate_on_a_full_disk_names_out(tmp_path, fake_components, small_cfg_file, capsys,
                                            monkeypatch):
     """A stand-in for a full disk (the slow set fills a real tmpfs): it was a bare "[Errno 28]
     No space left on device" with a traceback."""
     import radarsim.capture
-    monkeypatch.setattr(radarsim.capture, "open", _FullDisk, raising=False)
+    monkeypatch.setattr(radarsim.capture, "open", FullDisk, raising=False)
     cfg_path, _ = small_cfg_file
     out = tmp_path / "o" / "sim.bin"
     out.parent.mkdir()
