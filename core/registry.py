@@ -114,6 +114,8 @@ class Registry(Mapping[str, T], Generic[T]):
         """
         if self._frozen:
             raise BadInput(f"the {self.what} registry is frozen: {list(self._items)}")
+        if not isinstance(replace, bool):
+            raise BadInput(f"replace={replace!r} must be true or false")
         if self.kind is not None and not isinstance(obj, self.kind):
             raise BadInput(f"{self.what} must be a {self.kind.__name__}, got "
                            f"{type(obj).__name__}")

@@ -78,7 +78,7 @@ REPORT_SECTIONS: Registry[ReportSection] = Registry("report section", field="sec
 
 def register_report_section(section: ReportSection, *, replace: bool = False) -> ReportSection:
     """Add a section to every report (`REPORT_SECTIONS`); returns it."""
-    return REPORT_SECTIONS.register(section, name=section.name, replace=replace)
+    return REPORT_SECTIONS.register(section, replace=replace)  # the name after the type check
 
 
 def _interference(inputs: ReportInputs) -> str:

@@ -337,7 +337,30 @@ def registration_probes() -> list[Probe]:
         api("repair_grow_sigma_1e9", lambda: repair(grow_sigma=1e9), r"grow_sigma=.* exceeds"),
         api("repair_taper_1e7", lambda: repair("windowed_zero", taper_samples=10**7),
             r"taper_samples=.* exceeds"),
+        api("register_chip_string", lambda: __import__("radarsim").register_chip("AWR2944"),
+            r"chip must be a Chip, got str"),
+        api("register_board_dict", lambda: __import__("radarsim").register_board({"name": "x"}),
+            r"board must be a Board, got dict"),
+        api("register_scheme_none", lambda: __import__("radarsim").register_scheme(None),
+            r"scheme must be a MimoScheme, got NoneType"),
+        api("register_chain_object", lambda: chain_registration(object()),
+            r"chain must be a MimoChain, got object"),
+        api("register_report_section_object", lambda: section_registration(object()),
+            r"report section must be a ReportSection, got object"),
+        api("register_chip_replace_string",
+            lambda: __import__("radarsim").register_chip(chip(), replace="yes"),
+            r"replace='yes' must be true or false"),
     ]
+
+
+def chain_registration(obj):
+    from pipeline.mimo.base import register_chain
+    return register_chain(obj)
+
+
+def section_registration(obj):
+    from harness.report.sections import register_report_section
+    return register_report_section(obj)
 
 
 # ----------------------------------------------------------------------------- full disks

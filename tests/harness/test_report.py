@@ -184,3 +184,10 @@ def test_report_says_what_the_results_lack_in_the_page_and_on_stderr(fake_result
 
 def test_report_of_a_complete_run_lacks_nothing(report):
     assert "Missing from these results" not in report.read_text()
+
+
+def test_registering_a_wrong_object_as_a_section_names_the_type():
+    """register_report_section looked the name up before the type check: AttributeError."""
+    from harness.report.sections import register_report_section
+    with pytest.raises(ValueError, match=r"report section must be a ReportSection, got object"):
+        register_report_section(object())

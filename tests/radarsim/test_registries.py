@@ -219,3 +219,9 @@ def test_a_board_element_far_away_is_refused():
         dataclasses.replace(LAB_BOARD, name="LAB_FAR", tx_positions_wl=far)
     with pytest.raises(ValueError, match=r"tx_positions_wl: element coordinate 1e\+300"):
         radarsim.presets.r79_ddma(tx_positions_wl=far)
+
+
+def test_replace_must_be_a_bool():
+    """replace="yes" replaced a registered chip without a word."""
+    with pytest.raises(ValueError, match=r"replace='yes' must be true or false"):
+        radarsim.register_chip(CHIPS["AWR2944"], replace="yes")
