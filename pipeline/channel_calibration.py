@@ -192,6 +192,40 @@ def _refuse_second_return(p: np.ndarray, b: int, pos: float, window_bins: np.nda
                        "it: clear the scene around the reflector or narrow the search window")
 
 
+def _frame_sums(cfg: RadarConfig, frames: Iterable[np.ndarray], proc: ProcessingConfig):
+    """(x_sum (n_tx, n_rx, n_range), p_sum (n_range,), noise_sum (n_range,), n_frames): the
+    static virtual samples, their power summed over channels and the residual noise power,
+    summed over frames (`static_virtual_samples`).
+
+    Raises
+    ------
+    core.errors.BadInput
+        No frame; a frame with samples at the ADC rails (clipping compresses and mixes the
+        channels: the measurement would be wrong).
+    """
+    x_sum, p_sum, noise_sum, n = None, None, None, 0
+    clipped = []
+    for adc in frames:
+        sat = monitor(adc)
+        if sat.saturated:  # the monitor counts a complex sample's I and Q apart
+            values = sat.counts.size * sat.n_samples * (2 if np.iscomplexobj(adc) else 1)
+            clipped.append(sat.n_saturated_samples / values)
+        x, noise = static_virtual_samples(cfg, range_stage(cfg, adc, proc))
+        x_sum = x if x_sum is None else x_sum + x
+        p = (np.abs(x) ** 2).sum(axis=(0, 1))
+        p_sum = p if p_sum is None else p_sum + p
+        noise_sum = noise if noise_sum is None else noise_sum + noise
+        n += 1
+    if n == 0:
+        raise BadInput("the capture holds no frame to calibrate on")
+    if clipped:
+        raise BadInput(f"the capture is clipped: {len(clipped)} of {n} frame(s) have samples at "
+                       f"the ADC rails (up to {100 * max(clipped):.3g} % of a frame's values);"
+                       " clipping compresses and mixes the channels, so a calibration on it "
+                       "is wrong: lower the Rx gain or move the reflector farther")
+    return x_sum, p_sum, noise_sum, n
+
+
 def measure_channel_calibration(cfg: RadarConfig, frames: Iterable[np.ndarray],
                                 target_range_m: float, search_window_m: float,
                                 proc: ProcessingConfig | None = None, *,
@@ -244,26 +278,7 @@ def measure_channel_calibration(cfg: RadarConfig, frames: Iterable[np.ndarray],
         raise BadInput(f"target_range_m={target_range_m:g} +/- {search_window_m:g} m holds no "
                        f"range bin the radar reports ({max(proc.min_range_bin, 1) * dr:.3f}.."
                        f"{(cfg.n_range_bins - 2) * dr:.3f} m, {dr:.4f} m per bin)")
-    x_sum, p_sum, noise_sum, n = None, None, None, 0
-    clipped = []
-    for adc in frames:
-        sat = monitor(adc)
-        if sat.saturated:  # the monitor counts a complex sample's I and Q apart
-            values = sat.counts.size * sat.n_samples * (2 if np.iscomplexobj(adc) else 1)
-            clipped.append(sat.n_saturated_samples / values)
-        x, noise = static_virtual_samples(cfg, range_stage(cfg, adc, proc))
-        x_sum = x if x_sum is None else x_sum + x
-        p = (np.abs(x) ** 2).sum(axis=(0, 1))
-        p_sum = p if p_sum is None else p_sum + p
-        noise_sum = noise if noise_sum is None else noise_sum + noise
-        n += 1
-    if n == 0:
-        raise BadInput("the capture holds no frame to calibrate on")
-    if clipped:
-        raise BadInput(f"the capture is clipped: {len(clipped)} of {n} frame(s) have samples at "
-                       f"the ADC rails (up to {100 * max(clipped):.3g} % of a frame's values);"
-                       " clipping compresses and mixes the channels, so a calibration on it "
-                       "is wrong: lower the Rx gain or move the reflector farther")
+    x_sum, p_sum, noise_sum, n = _frame_sums(cfg, frames, proc)
     idx = np.flatnonzero(in_win)
     b = int(idx[np.argmax(p_sum[idx])])
     lo, hi = idx[0], idx[-1]

@@ -68,6 +68,25 @@ def _count(manifest: dict, field: str) -> str:
     return str(v) if isinstance(v, int) else "?"
 
 
+def _heading(res: Path, manifest: dict, gaps: list[str]) -> list[str]:
+    """HTML parts of the page's head: title, code version, git and cell counts, and what the
+    results lack (`harness.sweep.results_schema.results_gaps`)."""
+    parts = [f"<h1>Corner-radar evaluation: {html.escape(str(manifest.get('run_id', res.name)))}"
+             "</h1>"]
+    git = manifest.get("git") or {}
+    line, warning = version_line(manifest)
+    parts.append(f"<p>{html.escape(line)}" + (f"; <b>{html.escape(warning)}</b>" if warning
+                                              else "") + "</p>")
+    parts.append(f"<p>git {html.escape(str(git.get('commit')))} (dirty: {git.get('dirty')}), "
+                 f"{_count(manifest, 'n_ok')} of {_count(manifest, 'n_cells')} cells ok, "
+                 f"{_count(manifest, 'n_error')} failed; written "
+                 f"{html.escape(str(manifest.get('written_utc', '')))}.</p>")
+    if gaps:
+        parts.append("<p><b>Missing from these results:</b></p><ul>"
+                     + "".join(f"<li>{html.escape(g)}</li>" for g in gaps) + "</ul>")
+    return parts
+
+
 def choose_frame(detections: pd.DataFrame, scenario: str, variant: str, seed: int) -> int | None:
     """The frame with the most TRUE detections of a cell's first scheme (ties: the earliest)."""
     first = scheme_order(detections)[:1]
@@ -433,19 +452,7 @@ def build_report(results: str | Path, out: str | Path | None = None, *, maps: bo
     for gap in gaps if notify is not None else ():
         notify(gap)
     summary = summary.assign(**{c: np.nan for c in HEADLINE_INPUTS if c not in summary})
-    parts = [f"<h1>Corner-radar evaluation: {html.escape(str(manifest.get('run_id', res.name)))}"
-             "</h1>"]
-    git = manifest.get("git") or {}
-    line, warning = version_line(manifest)
-    parts.append(f"<p>{html.escape(line)}" + (f"; <b>{html.escape(warning)}</b>" if warning
-                                              else "") + "</p>")
-    parts.append(f"<p>git {html.escape(str(git.get('commit')))} (dirty: {git.get('dirty')}), "
-                 f"{_count(manifest, 'n_ok')} of {_count(manifest, 'n_cells')} cells ok, "
-                 f"{_count(manifest, 'n_error')} failed; written "
-                 f"{html.escape(str(manifest.get('written_utc', '')))}.</p>")
-    if gaps:
-        parts.append("<p><b>Missing from these results:</b></p><ul>"
-                     + "".join(f"<li>{html.escape(g)}</li>" for g in gaps) + "</ul>")
+    parts = _heading(res, manifest, gaps)
     verdicts, gate_table, gate_verdicts = _gate_verdicts(summary, manifest)
     head = headline_table(summary, actor_summary, actors if len(actors) else None,
                           baseline=base, verdicts=verdicts)
