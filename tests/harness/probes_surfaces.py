@@ -2,7 +2,8 @@
 the `Probe` record, `classify` and the first rounds' probes): damaged results folders under
 gate and report, what a report must say is missing, board calibration lines under process,
 calibrate on a bad capture, mmWave Studio setup files, a lab's chip / board / repair-method
-records, full disks under process and simulate, a nohup'ed pool sweep's hang-up.
+records and the registration calls, full disks under process and simulate, a nohup'ed pool
+sweep's hang-up, OpenSCENARIO files, case keys and the export command.
 
 Like the first rounds' probes they use only the CLI and public APIs; each builds its inputs
 under the probe's temporary folder. ``python -m tests.harness.probe_survey`` counts them with
@@ -447,13 +448,86 @@ def signal_probes() -> list[Probe]:
 
 def surface_probes() -> list[Probe]:
     return (results_probes() + calibration_line_probes() + calibrate_probes()
-            + studio_probes() + registration_probes() + full_disk_probes() + signal_probes())
+            + studio_probes() + registration_probes() + full_disk_probes() + signal_probes()
+            + openscenario_probes())
 
 
 #: Surfaces of this module's probes (the writes and signals surfaces are shared).
 SURFACES = ("results", "report_gaps", "board_calibration", "calibrate", "studio_setups",
-            "registrations", "writes", "signals")
+            "registrations", "writes", "signals", "openscenario")
 
 
 def probes_of(surface: str) -> list[Probe]:
     return [p for p in surface_probes() if p.surface == surface]
+
+
+# ----------------------------------------------------------------------------- OpenSCENARIO
+OSC_DATA = Path(__file__).resolve().parents[1] / "data" / "openscenario"
+#: Nested entities expanding to 34 x 10^8 characters ("billion laughs").
+_BOMB = ('<?xml version="1.0"?>\n<!DOCTYPE r [<!ENTITY a "' + "a" * 34 + '">'
+         + "".join(f'<!ENTITY {c} "' + f"&{p};" * 10 + '">'
+                   for p, c in zip("abcdefgh", "bcdefghi"))
+         + ']>\n<OpenSCENARIO>&i;</OpenSCENARIO>\n')
+
+
+def xosc_case(tmp: Path, text: str | None = None, name: str = "s.xosc") -> Path:
+    """A copy of the ELK test file (and its road) under `tmp`, or `text` written as `name`."""
+    for f in OSC_DATA.glob("*"):
+        if not (tmp / f.name).exists():
+            shutil.copy(f, tmp / f.name)
+    if text is None:
+        return tmp / "elk_overtaking_motorbike.xosc"
+    return write(tmp, name, text)
+
+
+def openscenario_probes() -> list[Probe]:
+    def show(make):
+        return lambda t: ["show", make(t), "--out", t / "v"]
+
+    def toml(body):
+        return show(lambda t: (xosc_case(t), write(t, "c.toml", body))[1])
+    ro = (lambda t: (["export", "head_on_aliasing", "--format", "xosc", "--out", t / "x"],
+                     _denied(t / "x", errno.EROFS)))
+    full = (lambda t: (["export", "head_on_aliasing", "--format", "xosc", "--out", t / "x"],
+                       _denied(t / "x", errno.ENOSPC)))
+    return [
+        Probe("openscenario", "export_out_is_a_file",
+              lambda t: ["export", "head_on_aliasing", "--format", "xosc", "--out",
+                         write(t, "f", "x")], r"--out '.*f': exists and is not a folder"),
+        Probe("openscenario", "export_unknown_format",
+              lambda t: ["export", "head_on_aliasing", "--format", "pdf", "--out", t / "x"],
+              r"invalid choice: 'pdf'"),
+        Probe("openscenario", "export_read_only", ro, r"read-only"),
+        Probe("openscenario", "export_full_disk", full, r"no space left"),
+        Probe("openscenario", "xosc_not_xml", show(lambda t: xosc_case(t, "not xml\n")),
+              r"s\.xosc"),
+        Probe("openscenario", "xosc_empty", show(lambda t: xosc_case(t, "")), r"s\.xosc"),
+        Probe("openscenario", "xosc_entity_bomb", show(lambda t: xosc_case(t, _BOMB)),
+              r"s\.xosc"),
+        Probe("openscenario", "xosc_deep_nesting",
+              show(lambda t: xosc_case(t, "<a>" * 100_000 + "</a>" * 100_000)), r"s\.xosc"),
+        Probe("openscenario", "xosc_is_a_directory",
+              show(lambda t: (t / "d.xosc").mkdir() or t / "d.xosc"), r"directory"),
+        Probe("openscenario", "toml_xosc_missing", toml('xosc = "missing.xosc"\n'),
+              r"missing\.xosc"),
+        Probe("openscenario", "toml_xosc_number", toml("xosc = 5\n"), r"xosc"),
+        Probe("openscenario", "toml_ego_unknown",
+              toml('xosc = "elk_overtaking_motorbike.xosc"\nego = "Nobody"\n'), r"Nobody"),
+        Probe("openscenario", "toml_duration_nan",
+              toml('xosc = "elk_overtaking_motorbike.xosc"\nduration_s = nan\n'),
+              r"duration_s"),
+        Probe("openscenario", "sweep_export_xosc_is_a_file",
+              lambda t: ["sweep", write(t, "s.toml", 'name = "p"\nscenarios = '
+                                                    '["head_on_aliasing"]\nduration_s = 0.2\n'),
+                         "--out", t / "r", "--workers", "1", "--export-xosc", write(t, "f", "x")],
+              r"--export-xosc '.*f': exists and is not a folder"),
+    ]
+
+
+@contextlib.contextmanager
+def _denied(folder: Path, err: int):
+    """Writes under `folder` fail with `err` once it exists (`tests.harness.probes`)."""
+    from tests.harness.probes import failing_writes
+    folder.mkdir(exist_ok=True)
+    with failing_writes(err, folder):
+        yield

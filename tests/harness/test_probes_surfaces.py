@@ -1,7 +1,7 @@
 """Probe set, third round: damaged results folders (gate, report), what a report must say is
 missing, board calibration lines (process), calibrate on bad captures, mmWave Studio setups, a
-lab's chip / board / repair-method records, full disks under process and simulate
-(`tests.harness.probes_surfaces`).
+lab's chip / board / repair-method records and registration calls, full disks under process
+and simulate, OpenSCENARIO files, case keys and export (`tests.harness.probes_surfaces`).
 
 Each probe is one bad input; it must get a clear answer: exit 2 with one stderr line (or a
 ValueError) naming the file or field, the value and the limit; for a report of incomplete
@@ -15,7 +15,7 @@ from tests.harness.probes import classify
 from tests.harness.probes_surfaces import probes_of
 
 SURFACES = ("results", "report_gaps", "board_calibration", "calibrate", "studio_setups",
-            "registrations")
+            "registrations", "openscenario")
 
 
 @pytest.mark.parametrize("probe", [p for s in SURFACES for p in probes_of(s)],
