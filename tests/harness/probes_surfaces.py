@@ -329,7 +329,7 @@ def registration_probes() -> list[Probe]:
         api("board_element_1e300", lambda: board(tx_positions_wl=far),
             r"element coordinate 1e\+300 wavelengths"),
         api("config_element_1e300",
-            lambda: __import__("radarsim").presets.r79_ddma(tx_positions_wl=far),
+            lambda: __import__("radarsim").presets.r79_ddma(**{"array.tx_positions_wl": far}),
             r"tx_positions_wl: element coordinate 1e\+300"),
         api("repair_rank_gate_1e300", lambda: repair(rank_snr_gate_db=1e300),
             r"rank_snr_gate_db=1e\+300 exceeds 150"),
@@ -397,11 +397,11 @@ def patched(obj, name: str, value):
 
 def full_disk_probes() -> list[Probe]:
     def simulate(t: Path):
-        import radarsim.capture
+        from radarsim.capture import dca1000  # the module that writes a capture
         (t / "o").mkdir()
         return (["simulate", "head_on_aliasing", "--cfg", PROFILES / "xwr18_visualizer.cfg",
                  "--out", t / "o" / "c.bin", "--frames", "1"],
-                patched(radarsim.capture, "open", FullDisk))
+                patched(dca1000, "open", FullDisk))
 
     def process(t: Path):
         prof = PROFILES / "xwr18_visualizer.cfg"

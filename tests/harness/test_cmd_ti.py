@@ -155,8 +155,8 @@ def test_simulate_on_a_full_disk_names_out(tmp_path, fake_components, small_cfg_
                                            monkeypatch):
     """A stand-in for a full disk (the slow set fills a real tmpfs): it was a bare "[Errno 28]
     No space left on device" with a traceback."""
-    import radarsim.capture
-    monkeypatch.setattr(radarsim.capture, "open", FullDisk, raising=False)
+    from radarsim.capture import dca1000  # the module that writes a capture
+    monkeypatch.setattr(dca1000, "open", FullDisk, raising=False)
     cfg_path, _ = small_cfg_file
     out = tmp_path / "o" / "sim.bin"
     out.parent.mkdir()

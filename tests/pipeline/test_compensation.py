@@ -87,9 +87,9 @@ def test_process_and_sweep_share_one_range_bias_bound():
     cell refuses, `process` refuses."""
     from radarsim.config_rules import MAX_RANGE_BIAS_M
     pipeline.ProcessingConfig(range_bias_m=MAX_RANGE_BIAS_M)
-    radarsim.presets.r79_ddma(range_bias_m=MAX_RANGE_BIAS_M)
+    radarsim.presets.r79_ddma(**{"impairments.range_bias_m": MAX_RANGE_BIAS_M})
     with pytest.raises(ValueError, match=r"range_bias_m=10\.5 must be finite and within"):
-        radarsim.presets.r79_ddma(range_bias_m=MAX_RANGE_BIAS_M + 0.5)
+        radarsim.presets.r79_ddma(**{"impairments.range_bias_m": MAX_RANGE_BIAS_M + 0.5})
     with pytest.raises(ValueError, match=r"range_bias_m=10\.5 is outside \+/-10 m"):
         pipeline.ProcessingConfig(range_bias_m=MAX_RANGE_BIAS_M + 0.5)
 

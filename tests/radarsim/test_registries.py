@@ -218,7 +218,7 @@ def test_a_board_element_far_away_is_refused():
                                          r"1e\+300 wavelengths is beyond \+/-100"):
         dataclasses.replace(LAB_BOARD, name="LAB_FAR", tx_positions_wl=far)
     with pytest.raises(ValueError, match=r"tx_positions_wl: element coordinate 1e\+300"):
-        radarsim.presets.r79_ddma(tx_positions_wl=far)
+        radarsim.presets.r79_ddma(**{"array.tx_positions_wl": far})
 
 
 def test_replace_must_be_a_bool():
