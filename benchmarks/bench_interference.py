@@ -34,7 +34,8 @@ from radarsim import interference as itf_mod
 
 N_SCATTERERS = 100
 N_INTERFERERS = 10
-CHAIN_OFF = dict(dc_removal=False, interference_mitigation=False, compression=False)
+CHAIN_OFF = {"range.dc_removal": False, "interference.repair": "off",
+             "compression.enabled": False}
 
 
 def _scene(k: int, seed: int = 0) -> radarsim.Scatterers:
@@ -265,9 +266,11 @@ def run(repeats: int = 15, warmup: int = 2) -> list[str]:
     t_stage = {k: median_time_s(lambda p=p: cl.range_stage(cfg, adc, p), repeats, warmup)
                for k, p in (("range FFT only", off),
                             ("+ DC removal", pipeline.ProcessingConfig().replace(
-                                interference_mitigation=False, compression=False)),
+                                **{"interference.repair": "off",
+                                   "compression.enabled": False})),
                             ("+ mitigation",
-                             pipeline.ProcessingConfig().replace(compression=False)),
+                             pipeline.ProcessingConfig().replace(
+                                 **{"compression.enabled": False})),
                             ("+ EGE compression (all)", on))}
     load = os.getloadavg()[0] if hasattr(os, "getloadavg") else float("nan")
     lines = [f"machine: {os.cpu_count()} cpus, 1-min load average {load:.2f}",
@@ -284,9 +287,10 @@ def run(repeats: int = 15, warmup: int = 2) -> list[str]:
              " (flagged chirps zeroed before the one range FFT; half the EGE blocks hot)"]
     lines += [f"  range stage {k}: {1e3 * v:.2f} ms" for k, v in t_stage.items()]
     # What each repair method costs on the same frame (the range stage without compression).
-    t_rep = {name: median_time_s(lambda p=pipeline.ProcessingConfig().replace(
-        compression=False, intf_mitigation=name): cl.range_stage(cfg, adc, p), repeats, warmup)
-        for name in MITIGATIONS}
+    base = pipeline.ProcessingConfig().replace(**{"compression.enabled": False})
+    t_rep = {name: median_time_s(
+        lambda p=base.replace(**{"interference.repair": name}): cl.range_stage(cfg, adc, p),
+        repeats, warmup) for name in MITIGATIONS}
     lines += [f"  range stage, mitigation {k!r}: {1e3 * v:.2f} ms (+{1e3 * (v - t_rep['zero']):.2f}"
               " ms over the chip's zero)" for k, v in t_rep.items()]
     lines += lowrank_breakdown(cfg, adc, repeats, warmup)
@@ -303,7 +307,7 @@ def run(repeats: int = 15, warmup: int = 2) -> list[str]:
         a = radarsim.simulate_frame(cfg, empty, np.random.default_rng(6), one)
         inr = itf_mod.interference_to_noise_db(cfg, one)
         f_off = cl.noise_floor_rise(cfg, a, pipeline.ProcessingConfig().replace(
-            interference_mitigation=False)).doppler_db
+            **{"interference.repair": "off"})).doppler_db
         f_on = cl.noise_floor_rise(cfg, a, on).doppler_db
         lines.append(f"one interferer at 15.8 m ({what}), INR {inr:.1f} dB: floor rise after "
                      f"the Doppler FFT {f_off:.1f} dB without mitigation, {f_on:.1f} dB with")
