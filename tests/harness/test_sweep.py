@@ -210,7 +210,7 @@ def test_sweep_file_messages_follow_the_shared_file_policy(tmp_path, text, match
 def test_processing_keys_address_nested_fields_and_flat_ones_warn(tmp_path):
     """``processing.cfar.pfa`` names the nested field; ``processing.cfar_mode`` (the flat key
     of the previous release) still works and warns with the new key."""
-    from harness.sweepfile import load_sweep
+    from harness.sweep.file import load_sweep
     path = tmp_path / "s.toml"
     path.write_text('name = "t"\nscenarios = ["r79_motorcycle_rear"]\nseeds = [0]\n[vary]\n'
                     '"processing.cfar.pfa" = [1e-5]\n"processing.cfar_mode" = ["ca"]\n')
