@@ -34,7 +34,8 @@ from radarsim import interference as itf_mod
 
 N_SCATTERERS = 100
 N_INTERFERERS = 10
-CHAIN_OFF = dict(dc_removal=False, interference_mitigation=False, compression=False)
+CHAIN_OFF = {"range.dc_removal": False, "interference.repair": "off",
+             "compression.enabled": False}
 
 
 def _scene(k: int, seed: int = 0) -> radarsim.Scatterers:
@@ -121,10 +122,11 @@ def _lowrank_work(cfg, adc: np.ndarray, stats, proc, remove_mean: bool) -> _Lowr
 
     def reference_and_basis():
         return fast_time_basis(reference_rows(
-            y, frame, lambda: m.mask(flags, proc.intf_hysteresis_samples)), m.rank_max, gate)
+            y, frame, lambda: m.mask(flags, proc.interference.hysteresis_samples)), m.rank_max,
+            gate)
     basis = reference_and_basis()
     bursts = rows // cfg.n_rx
-    hw = proc.intf_hysteresis_samples + m.extend_samples
+    hw = proc.interference.hysteresis_samples + m.extend_samples
 
     def fill(grow_sigma: float) -> None:
         lowrank_fill(y.copy(), flags, bursts, basis, m.close_gap_samples, hw, grow_sigma,
@@ -184,14 +186,14 @@ def dirty_frame_breakdown(repeats: int, warmup: int) -> list[str]:
               "dirty": radarsim.simulate_frame(cfg, sc, np.random.default_rng(0),
                                                interferers(N_INTERFERERS))}
     proc = pipeline.ProcessingConfig()
-    m = MITIGATIONS[proc.intf_mitigation]
+    m = MITIGATIONS[proc.interference.repair]
     n = cfg.n_samples
-    win = window(WINDOWS[proc.range_window], n)
-    w = window(WINDOWS[proc.doppler_window], cfg.n_chirps)
+    win = window(WINDOWS[proc.range.window], n)
+    w = window(WINDOWS[proc.doppler.window], cfg.n_chirps)
     stats = {k: _chirp_statistics(a, proc) for k, a in frames.items()}
     dc, rows, flags = stats["dirty"]
     adc = frames["dirty"]
-    rep = repaired_rows(adc, dc, rows, flags, win, proc)
+    rep = repaired_rows(adc, dc, rows, flags, win, proc.interference)
     # as repaired_rows calls the fill: the means left to the window pass
     work = _lowrank_work(cfg, adc, stats["dirty"], proc, remove_mean=False)
 
@@ -202,7 +204,7 @@ def dirty_frame_breakdown(repeats: int, warmup: int) -> list[str]:
         fns[f"stats {k}"] = lambda a=a: _chirp_statistics(a, proc)
         fns[f"blocks {k}"] = lambda a=a, d=stats[k][0], r=(rep if k == "dirty" else None): \
             _blockwise(cfg, a, proc, d, w, None, r)
-    fns["repaired rows"] = lambda: repaired_rows(adc, dc, rows, flags, win, proc)
+    fns["repaired rows"] = lambda: repaired_rows(adc, dc, rows, flags, win, proc.interference)
     fns["basis"] = work.reference_and_basis
     fns["fill"] = lambda: work.fill(m.grow_sigma)
     fns["fill, no growth"] = lambda: work.fill(0.0)
@@ -254,7 +256,7 @@ def run(repeats: int = 15, warmup: int = 2) -> list[str]:
     n_burst = int(itf_mod.burst_windows(cfg, itf)["n_samples"].sum())
     clean = radarsim.simulate_frame(cfg, sc, rng)
     adc = radarsim.simulate_frame(cfg, sc, rng, itf)
-    on, off = pipeline.ProcessingConfig(), pipeline.ProcessingConfig(**CHAIN_OFF)
+    on, off = pipeline.ProcessingConfig(), pipeline.ProcessingConfig().replace(**CHAIN_OFF)
     # The ratio is the figure with a target: twice the repeats, alternated (load hits both).
     t_off, t_on = _interleaved(lambda: pipeline.process_frame(cfg, clean, off),
                                lambda: pipeline.process_frame(cfg, clean, on), 2 * repeats + 1,
@@ -263,9 +265,12 @@ def run(repeats: int = 15, warmup: int = 2) -> list[str]:
                                  lambda: pipeline.process_frame(cfg, adc, on), repeats, warmup)
     t_stage = {k: median_time_s(lambda p=p: cl.range_stage(cfg, adc, p), repeats, warmup)
                for k, p in (("range FFT only", off),
-                            ("+ DC removal", pipeline.ProcessingConfig(
-                                interference_mitigation=False, compression=False)),
-                            ("+ mitigation", pipeline.ProcessingConfig(compression=False)),
+                            ("+ DC removal", pipeline.ProcessingConfig().replace(
+                                **{"interference.repair": "off",
+                                   "compression.enabled": False})),
+                            ("+ mitigation",
+                             pipeline.ProcessingConfig().replace(
+                                 **{"compression.enabled": False})),
                             ("+ EGE compression (all)", on))}
     load = os.getloadavg()[0] if hasattr(os, "getloadavg") else float("nan")
     lines = [f"machine: {os.cpu_count()} cpus, 1-min load average {load:.2f}",
@@ -282,9 +287,10 @@ def run(repeats: int = 15, warmup: int = 2) -> list[str]:
              " (flagged chirps zeroed before the one range FFT; half the EGE blocks hot)"]
     lines += [f"  range stage {k}: {1e3 * v:.2f} ms" for k, v in t_stage.items()]
     # What each repair method costs on the same frame (the range stage without compression).
-    t_rep = {name: median_time_s(lambda p=pipeline.ProcessingConfig(
-        compression=False, intf_mitigation=name): cl.range_stage(cfg, adc, p), repeats, warmup)
-        for name in MITIGATIONS}
+    base = pipeline.ProcessingConfig().replace(**{"compression.enabled": False})
+    t_rep = {name: median_time_s(
+        lambda p=base.replace(**{"interference.repair": name}): cl.range_stage(cfg, adc, p),
+        repeats, warmup) for name in MITIGATIONS}
     lines += [f"  range stage, mitigation {k!r}: {1e3 * v:.2f} ms (+{1e3 * (v - t_rep['zero']):.2f}"
               " ms over the chip's zero)" for k, v in t_rep.items()]
     lines += lowrank_breakdown(cfg, adc, repeats, warmup)
@@ -300,8 +306,8 @@ def run(repeats: int = 15, warmup: int = 2) -> list[str]:
                                   tx_power_dbm=[15.0])
         a = radarsim.simulate_frame(cfg, empty, np.random.default_rng(6), one)
         inr = itf_mod.interference_to_noise_db(cfg, one)
-        f_off = cl.noise_floor_rise(cfg, a, pipeline.ProcessingConfig(
-            interference_mitigation=False)).doppler_db
+        f_off = cl.noise_floor_rise(cfg, a, pipeline.ProcessingConfig().replace(
+            **{"interference.repair": "off"})).doppler_db
         f_on = cl.noise_floor_rise(cfg, a, on).doppler_db
         lines.append(f"one interferer at 15.8 m ({what}), INR {inr:.1f} dB: floor rise after "
                      f"the Doppler FFT {f_off:.1f} dB without mitigation, {f_on:.1f} dB with")

@@ -40,7 +40,7 @@ def _inputs(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig | None):
         raise BadInput(f"proc must be a pipeline.ProcessingConfig, got {type(proc).__name__}")
     chain = chain_of(cfg)
     proc.check_radar(cfg)
-    if proc.clutter_removal and not chain.removes_static_clutter:
+    if proc.doppler.clutter_removal and not chain.removes_static_clutter:
         raise BadInput(f"clutter_removal=True: the {cfg.mimo} chain has no static clutter "
                        "removal (TI's clutterRemoval belongs to the TDM/BPM demos)")
     return chain, proc, report
@@ -102,7 +102,7 @@ def process_frame(cfg: RadarConfig, adc: np.ndarray,
     chain, proc, report = _inputs(cfg, adc, proc)
     points = saturation.apply_policy(chain.process(cfg, adc, proc), report,
                                      proc.saturation_policy, owned=True)
-    return apply_fov(points, proc, chain.fov_fields)
+    return apply_fov(points, proc.fov, chain.fov_fields)
 
 
 def detection_map(cfg: RadarConfig, adc: np.ndarray,
@@ -138,7 +138,7 @@ def doppler_azimuth_map(cfg: RadarConfig, adc: np.ndarray, range_bin: int,
     chain, proc, _ = _inputs(cfg, adc, proc)
     if not 0 <= range_bin < cfg.n_range_bins:
         raise BadInput(f"range_bin={range_bin} outside 0..{cfg.n_range_bins - 1}")
-    n_az = proc.n_azimuth_bins
+    n_az = proc.angle.n_azimuth_bins
     vel, power = chain.doppler_azimuth(cfg, adc, range_bin, proc)
     order = np.argsort(vel)
     power = np.fft.fftshift(power[order], axes=1)

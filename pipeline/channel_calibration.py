@@ -273,10 +273,10 @@ def measure_channel_calibration(cfg: RadarConfig, frames: Iterable[np.ndarray],
     dr = cfg.range_resolution_m
     bins = np.arange(cfg.n_range_bins)
     in_win = (np.abs(bins * dr - target_range_m) <= search_window_m) & \
-        (bins >= max(proc.min_range_bin, 1)) & (bins < cfg.n_range_bins - 1)
+        (bins >= max(proc.range.min_bin, 1)) & (bins < cfg.n_range_bins - 1)
     if not in_win.any():
         raise BadInput(f"target_range_m={target_range_m:g} +/- {search_window_m:g} m holds no "
-                       f"range bin the radar reports ({max(proc.min_range_bin, 1) * dr:.3f}.."
+                       f"range bin the radar reports ({max(proc.range.min_bin, 1) * dr:.3f}.."
                        f"{(cfg.n_range_bins - 2) * dr:.3f} m, {dr:.4f} m per bin)")
     x_sum, p_sum, noise_sum, n = _frame_sums(cfg, frames, proc)
     idx = np.flatnonzero(in_win)
@@ -289,7 +289,7 @@ def measure_channel_calibration(cfg: RadarConfig, frames: Iterable[np.ndarray],
                        f"{edge} edge ({b * dr:.3f} m) and rises beyond it: no peak "
                        f"in {lo * dr:.3f}..{hi * dr:.3f} m")
     pos = float(interp_range(p_sum[None, b - 1: b + 2], np.array([b]), cfg.n_range_bins,
-                             WINDOWS[proc.range_window])[0])
+                             WINDOWS[proc.range.window])[0])
     measured = pos * dr
     xs = x_sum[:, :, b].reshape(-1) / n  # (n_virtual,) virtual-array order
     # Noise variance of one frame's demodulated sample: chirp-sample noise x (W* W^T)^-1_kk.

@@ -34,6 +34,7 @@ References
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 from functools import lru_cache
 
 import numpy as np
@@ -42,9 +43,12 @@ from core.errors import BadInput
 from radarsim.config import RadarConfig
 from radarsim.config_rules import MAX_RANGE_BIAS_M
 
+from .dc_range_signature import DcRangeSignature
+
 __all__ = ["COMP_COMMAND", "Q15_SCALE", "q15", "n_chip_pairs", "ti_pair_index",
-           "virtual_coefficients", "compensate", "apply_coefficients", "check_channel_comp", "comp_line",
-           "chip_order_coefficients", "check_comp_values", "implied_board"]
+           "virtual_coefficients", "compensate", "apply_coefficients", "check_channel_comp",
+           "comp_line", "chip_order_coefficients", "check_comp_values", "implied_board",
+           "CalibrationConfig"]
 
 #: The TI CLI command this module applies.
 COMP_COMMAND = "compRangeBiasAndRxChanPhase"
@@ -109,6 +113,39 @@ def check_comp_values(range_bias_m: float, channel_comp) -> tuple[tuple[float, f
     return pairs
 
 
+@dataclass(frozen=True, kw_only=True, slots=True)
+class CalibrationConfig:
+    """The board corrections the chains apply: TI's ``compRangeBiasAndRxChanPhase`` and
+    ``calibDcRangeSig``.
+
+    Parameters
+    ----------
+    range_bias_m : float
+        ``rangeBias``, m: subtracted from every reported range (default 0).
+    channel_comp : tuple of (re, im) or None
+        The line's coefficients, one per (Tx, Rx) pair of the chip in TI's chip channel order
+        (Tx major), each part in [-1, 1] (Q15 when applied); every chain multiplies its
+        virtual-antenna samples by them before angle estimation (`compensate`). None: no
+        correction (default).
+    dc_range_signature : pipeline.dc_range_signature.DcRangeSignature or None
+        TI's DC range signature, subtracted from the range-FFT output of every chain
+        (`pipeline.chirp_level.range_stage`); measured over a capture's first frames by
+        ``radar-harness process``. None: nothing subtracted (default).
+    """
+
+    range_bias_m: float = 0.0
+    channel_comp: tuple[tuple[float, float], ...] | None = None
+    dc_range_signature: DcRangeSignature | None = None
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "channel_comp",
+                           check_comp_values(self.range_bias_m, self.channel_comp))
+        if self.dc_range_signature is not None and \
+                not isinstance(self.dc_range_signature, DcRangeSignature):
+            raise BadInput(f"dc_range_signature must be a DcRangeSignature or None, got "
+                           f"{type(self.dc_range_signature).__name__}")
+
+
 def check_channel_comp(cfg: RadarConfig, channel_comp) -> None:
     """Raise if a coefficient list does not fit `cfg`'s chip (`n_chip_pairs`) or gives a
     virtual channel the radar uses a zero coefficient (that channel would be erased: SNR
@@ -151,13 +188,13 @@ def virtual_coefficients(cfg: RadarConfig, channel_comp) -> np.ndarray | None:
 
 def compensate(cfg: RadarConfig, proc, virt: np.ndarray,
                channels: np.ndarray | None = None) -> np.ndarray:
-    """Virtual-antenna samples times their coefficients (``proc.channel_comp``).
+    """Virtual-antenna samples times their coefficients (``proc.calibration.channel_comp``).
 
     Parameters
     ----------
     cfg : RadarConfig
     proc : pipeline.ProcessingConfig
-        Holds ``channel_comp`` (None: `virt` is returned unchanged, same object).
+        Its ``calibration.channel_comp`` (None: `virt` is returned unchanged, same object).
     virt : (..., n_ch) complex
         Samples; the last axis holds virtual channels (all of them, or `channels`).
     channels : (n_ch,) int, optional
@@ -167,7 +204,7 @@ def compensate(cfg: RadarConfig, proc, virt: np.ndarray,
     -------
     (..., n_ch) complex64 (a new array) or `virt` itself.
     """
-    return apply_coefficients(cfg, proc.channel_comp, virt, channels)
+    return apply_coefficients(cfg, proc.calibration.channel_comp, virt, channels)
 
 
 def apply_coefficients(cfg: RadarConfig, channel_comp, virt: np.ndarray,

@@ -74,14 +74,14 @@ def point_cloud(cfg: RadarConfig, proc: ProcessingConfig, range_pos: np.ndarray,
     range_pos : (n,) fractional range bin; velocity (m/s), az, el (rad), snr_db : (n,);
     bins : "range_bin", "doppler_bin", "azimuth_bin" -> (n,) int."""
     rng_m = range_pos * cfg.range_resolution_m
-    if proc.correct_range_doppler_coupling:
+    if proc.range.doppler_coupling_correction:
         # f_beat = 2 S R / c + f_D with f_D = -2 v / lambda: undo the Doppler shift.
         rng_m = rng_m + velocity * C_MPS / (cfg.slope_hz_per_s * cfg.wavelength_m)
     # compRangeBiasAndRxChanPhase rangeBias (`pipeline.compensation`): an exact shift. A
     # return nearer than the bias (Tx-to-Rx leakage in range bin 0-1 once a positive bias is
     # applied) would land at a negative range: the SDK's AoA DPU clamps it to 0 (``if (range
     # < 0) range = 0``, DSP and HWA paths alike) and keeps the detection, so does the chain.
-    rng_m = np.maximum(rng_m - proc.range_bias_m, 0.0)
+    rng_m = np.maximum(rng_m - proc.calibration.range_bias_m, 0.0)
     order = np.lexsort((bins["azimuth_bin"], bins["doppler_bin"], bins["range_bin"]))
     rng_m, velocity, az, el, snr_db = (x[order] for x in (rng_m, velocity, az, el, snr_db))
     bins = {k: v[order] for k, v in bins.items()}
@@ -325,7 +325,7 @@ class RangeDopplerHits(NamedTuple):
 
 def noncoherent_hits(rd: np.ndarray, looks: int, proc: ProcessingConfig) -> RangeDopplerHits:
     """Detect on a non-coherent range-Doppler map: local maximum along Doppler (and range when
-    `proc.range_peak_check`), cyclic CFAR along Doppler designed for `looks`-look cells, then
+    `proc.range.peak_check`), cyclic CFAR along Doppler designed for `looks`-look cells, then
     range and Doppler interpolation. Shared by the chains that detect before they separate the
     transmitters (TDMA and its slot family, classic DDMA).
 
@@ -346,12 +346,12 @@ def noncoherent_hits(rd: np.ndarray, looks: int, proc: ProcessingConfig) -> Rang
     cf = proc.cfar
     (_, r, d), noise, _ = cfar_peaks(rd[None], cf.mode, cf.scale(looks=looks), cf.guard_cells,
                                      cf.window_cells, cf.os_rank, cf.training_stride,
-                                     {1: False} if proc.range_peak_check else {},
-                                     proc.min_range_bin)
+                                     {1: False} if proc.range.peak_check else {},
+                                     proc.range.min_bin)
     range_pos = interp_range(rd[np.clip(r[:, None] + np.arange(-1, 2), 0, n_range - 1),
-                                d[:, None]], r, n_range, WINDOWS[proc.range_window])
+                                d[:, None]], r, n_range, WINDOWS[proc.range.window])
     doppler_off = interp_doppler(rd[r[:, None], (d[:, None] + np.arange(-1, 2)) % n_dop],
-                                 WINDOWS[proc.doppler_window], n_dop)
+                                 WINDOWS[proc.doppler.window], n_dop)
     return RangeDopplerHits(r, d, noise, range_pos, doppler_off, looks)
 
 

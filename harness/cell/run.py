@@ -15,6 +15,7 @@ information enters the tables (timings go to ``CellResult.elapsed_s``).
 """
 from __future__ import annotations
 
+import dataclasses
 import time
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
@@ -73,8 +74,8 @@ def _reference_procs(procs: dict, case: msc.CaseInfo) -> dict:
     it on, when the case's class asks for that reference (interference cases)."""
     if not msc.CASE_VERDICTS[case.case_class].mitigation_reference:
         return {}
-    return {s: p.replace(interference_mitigation=False) for s, p in procs.items()
-            if getattr(p, "interference_mitigation", False)}
+    return {s: p.replace(interference=dataclasses.replace(p.interference, repair="off"))
+            for s, p in procs.items() if p.interference.enabled}
 
 
 def _label(points: pd.DataFrame, truth: pd.DataFrame, scat: pd.DataFrame, cfg,
@@ -360,11 +361,11 @@ def _noise_floors(comps: Components, radar: dict, adc: dict, procs: dict, scheme
     of `refs` also the Doppler floor with their reference (mitigation-off) processing."""
     if comps.noise_floor is None:
         return []
-    from pipeline.chirp_level import NOISE_FLOOR_FIELDS
+    from pipeline.chirp_level import noise_floor_key
     out, cache = [], {}
 
     def floor(mimo, p):
-        key = (mimo, *(getattr(p, f) for f in NOISE_FLOOR_FIELDS))
+        key = (mimo, *noise_floor_key(p))
         if key not in cache:
             cache[key] = comps.noise_floor(radar[mimo], adc[mimo], p)
         return cache[key]

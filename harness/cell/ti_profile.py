@@ -53,7 +53,7 @@ def profile_processing(profile, notes: list[str] | None = None) -> dict:
     Returns
     -------
     dict
-        Field values for `pipeline.ProcessingConfig.replace` (``cfar`` a `CfarConfig`).
+        Dotted keys for `pipeline.ProcessingConfig.replace` (``cfar`` a `CfarConfig`).
     """
     import pipeline
     notes = [] if notes is None else notes
@@ -61,7 +61,7 @@ def profile_processing(profile, notes: list[str] | None = None) -> dict:
     # another demo family's commands, syntaxes kept and ignored.
     notes += [n for n in profile.notes if n.startswith("read but not modelled: ")
               or " is not a command of the " in n or n.endswith(" ignored")]
-    overrides = dict(profile.processing)
+    overrides = pipeline.config_keys.dotted_keys(profile.processing)
     _multi_peak_note(profile, notes)
     doppler = profile.cfar.get("doppler")
     if "range" in profile.cfar:

@@ -149,7 +149,8 @@ def run(args: argparse.Namespace) -> int:
                        f"({len(profile.subframes)} sub-frames): calibrate on a capture "
                        "recorded with a one-frame profile (TI's procedure uses one)")
     cfg = profile.radar
-    proc = processing_from_profile(profile).replace(range_bias_m=0.0, channel_comp=None)
+    proc = processing_from_profile(profile).replace(
+        **{"calibration.range_bias_m": 0.0, "calibration.channel_comp": None})
     target, window = _target_and_window(args, profile)
     n_frames = capture_n_frames(args.capture, cfg)
     if args.frames is not None:

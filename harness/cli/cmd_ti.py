@@ -153,7 +153,7 @@ def _with_dc_signature(calibrator, cfg, adc, proc):
         sig = calibrator.process(range_stage(cfg, adc, proc))
     else:
         sig = calibrator.signature
-    return proc if sig is None else proc.replace(dc_range_signature=sig)
+    return proc if sig is None else proc.replace(**{"calibration.dc_range_signature": sig})
 
 
 def _process_joined(capture, profile, proc, interleaved, max_frames) -> pd.DataFrame:

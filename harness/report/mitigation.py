@@ -1,7 +1,7 @@
 """Interference-mitigation benchmark: every repair method on the interference cases.
 
 `mitigation_table(results)` reads a results directory of a sweep whose variants set
-``processing.intf_mitigation`` (``harness/sweeps/mitigation.toml``) and returns one row per
+``processing.interference.repair`` (``harness/sweeps/mitigation.toml``) and returns one row per
 (case, method, scheme): the noise-floor rise without mitigation and with the method, the floor
 it recovers (dB and fraction of the rise), the ghost rate with it and the ghosts it adds over
 the same frames processed without mitigation (all summary columns, `metrics.interference`),
@@ -38,12 +38,21 @@ COLUMNS = ["scenario", "method", "scheme", "noise_floor_rise_unmitigated_db",
 INR_BIN_DB = 1.0
 
 
+#: The processing keys of a variant's repair method: the nested one, and the flat key of
+#: results written before the nested configs.
+_METHOD_KEYS = ("interference.repair", "intf_mitigation")
+
+
 def _methods(results: Path) -> dict[str, str]:
-    """Variant name -> its ``intf_mitigation`` (variants that set it)."""
+    """Variant name -> its repair method (variants that set one, `_METHOD_KEYS`)."""
     man = read_manifest(results)
-    return {v["name"]: v["processing"]["intf_mitigation"]
-            for v in man.get("sweep", {}).get("variants", [])
-            if "intf_mitigation" in v.get("processing", {})}
+    out = {}
+    for v in man.get("sweep", {}).get("variants", []):
+        proc = v.get("processing", {})
+        key = next((k for k in _METHOD_KEYS if k in proc), None)
+        if key is not None:
+            out[v["name"]] = proc[key]
+    return out
 
 
 def _targets(scenario: str) -> list[int] | None:
@@ -59,12 +68,12 @@ def mitigation_table(results: str | Path) -> pd.DataFrame:
     Raises
     ------
     ValueError
-        The results hold no variant that sets ``processing.intf_mitigation``.
+        The results hold no variant that sets ``processing.interference.repair``.
     """
     results = Path(results)
     methods = _methods(results)
     if not methods:
-        raise BadInput(f"{results}: no variant sets processing.intf_mitigation")
+        raise BadInput(f"{results}: no variant sets processing.interference.repair")
     summ = pd.read_parquet(results / "summary.parquet")
     summ = summ[~failed_rows(summ) & summ["variant"].isin(methods)].copy()
     summ["method"] = summ["variant"].map(methods)
@@ -110,12 +119,12 @@ def recovery_vs_inr(results: str | Path, bin_db: float = INR_BIN_DB) -> pd.DataF
     Raises
     ------
     BadInput
-        The results hold no variant that sets ``processing.intf_mitigation``.
+        The results hold no variant that sets ``processing.interference.repair``.
     """
     results = Path(results)
     methods = _methods(results)
     if not methods:
-        raise BadInput(f"{results}: no variant sets processing.intf_mitigation")
+        raise BadInput(f"{results}: no variant sets processing.interference.repair")
     cols = ["scenario", "method", "scheme", "inr_db", "n_frames",
             "noise_floor_rise_unmitigated_db", "noise_floor_rise_db", "recovery_fraction"]
     fr = pd.read_parquet(results / "frames.parquet")

@@ -109,7 +109,8 @@ def doppler_azimuth_map(cfg, adc: np.ndarray, range_bin: int, n_azimuth_bins: in
     power_db : (D, A) float
     """
     import pipeline
-    proc = pipeline.ProcessingConfig(n_azimuth_bins=n_azimuth_bins)
+    proc = pipeline.ProcessingConfig(
+        angle=pipeline.config.AngleConfig(n_azimuth_bins=n_azimuth_bins))
     return pipeline.doppler_azimuth_map(cfg, adc, range_bin, proc)
 
 

@@ -145,7 +145,7 @@ def validate_cells(spec: SweepSpec, source: str | Path | None = None) -> None:
         for proc in procs.values():  # CFAR window and EGE blocks must fit every radar
             for r in radar.values():
                 proc.check_radar(r)
-                if proc.clutter_removal and not chain_of(r).removes_static_clutter:
+                if proc.doppler.clutter_removal and not chain_of(r).removes_static_clutter:
                     raise BadInput(f"clutter_removal=True (a profile's clutterRemoval): the "
                                    f"{r.mimo} chain has no static clutter removal")
 

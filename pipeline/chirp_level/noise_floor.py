@@ -14,15 +14,16 @@ from radarsim.config import RadarConfig
 from ..config import WINDOWS, ProcessingConfig
 from ..kernels import doppler_windowed, window
 from ..threads import n_parts
-from .stage import RANGE_STAGE_FIELDS, range_stage
+from .stage import range_stage, range_stage_key
 
-__all__ = ["NoiseFloor", "noise_floor_rise", "NOISE_FLOOR_FIELDS"]
+__all__ = ["NoiseFloor", "noise_floor_rise", "noise_floor_key"]
 
 
-#: The `ProcessingConfig` fields `noise_floor_rise` reads (the range stage's and the Doppler
-#: window, the first range bin): two settings equal on these give the same floor for the same
-#: frame.
-NOISE_FLOOR_FIELDS = RANGE_STAGE_FIELDS + ("doppler_window", "min_range_bin")
+def noise_floor_key(proc) -> tuple:
+    """The settings `noise_floor_rise` reads, as values: the range stage's sub-configs
+    (`range_stage_key`, the first range bin among them) and the Doppler window's. Two settings
+    with equal keys give the same floor for the same frame."""
+    return (*range_stage_key(proc), proc.doppler)
 
 
 class NoiseFloor(NamedTuple):
@@ -37,7 +38,7 @@ def noise_floor_rise(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig |
     """Noise floor after the range and Doppler FFTs relative to the thermal floor, dB.
 
     The floor is the median cell power / ln 2 (the mean of exponential cells; echoes occupy
-    few cells and do not move it) over range bins >= `proc.min_range_bin`; the thermal
+    few cells and do not move it) over range bins >= `proc.range.min_bin`; the thermal
     reference is sigma^2 sum w_r^2 (x sum w_d^2 after the Doppler FFT), sigma =
     `cfg.noise_rms_lsb`. After the Doppler FFT a bursty interferer has spread over all
     Doppler bins, so that rise equals 10 log10(1 + burst energy / noise energy); after the
@@ -61,12 +62,12 @@ def noise_floor_rise(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig |
     proc = proc or ProcessingConfig()
     if rf is None:
         rf = range_stage(cfg, adc, proc)
-    wr = window(WINDOWS[proc.range_window], cfg.n_samples).astype(np.float64)
-    wd = window(WINDOWS[proc.doppler_window], cfg.n_chirps).astype(np.float64)
+    wr = window(WINDOWS[proc.range.window], cfg.n_samples).astype(np.float64)
+    wd = window(WINDOWS[proc.doppler.window], cfg.n_chirps).astype(np.float64)
     # Thermal noise variance per sample: sigma^2 (real), 2 sigma^2 (I and Q each sigma^2).
     sigma2 = cfg.noise_rms_lsb ** 2 * (2 if cfg.is_complex else 1)
     ref_r = sigma2 * np.sum(wr ** 2)
-    sub = rf[:, :, proc.min_range_bin::range_stride]
+    sub = rf[:, :, proc.range.min_bin::range_stride]
     floor_r = float(_power_median(sub)) / np.log(2)
     # The FFT on every core, or on this thread alone inside `pipeline.threads.inline` (a sweep
     # cell's frames already keep the cores busy): the same transforms either way.

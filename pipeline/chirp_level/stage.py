@@ -30,16 +30,15 @@ from ..threads import n_parts, run_parts, run_queue, spans
 from .dc import remove_dc, window_spectrum
 from .ege import HWA_OUTPUT_SCALE, ege_blocks, ege_compress, ege_setup
 
-__all__ = ["range_stage", "windowed_range_stage", "shared_range_stage", "RANGE_STAGE_FIELDS",
+__all__ = ["range_stage", "windowed_range_stage", "shared_range_stage", "range_stage_key",
            "CHIRP_BLOCK"]
 
-#: The `ProcessingConfig` fields the range stage reads: two settings equal on these give the
-#: same range cube for the same frame.
-RANGE_STAGE_FIELDS = ("range_window", "dc_removal", "interference_mitigation", "intf_mag_snr_db",
-                      "intf_magdiff_snr_db", "intf_threshold_mode", "intf_hysteresis_samples",
-                      "intf_mitigation", "compression", "compression_ratio",
-                      "compression_range_bins_per_block", "dc_range_signature",
-                      "intf_weak_burst_snr_db", "intf_weak_burst_window_samples")
+def range_stage_key(proc: ProcessingConfig) -> tuple:
+    """The settings the range stage reads, as values: its sub-configs (range window and DC
+    removal, interference, compression, the calibration's DC range signature). Two settings
+    with equal keys give the same range cube for the same frame."""
+    return (proc.range, proc.interference, proc.compression, proc.calibration)
+
 
 #: Range cubes of the current `shared_range_stage` scope by (frame id, n_samples, settings);
 #: each entry keeps its frame alive, so an id cannot be reused while the scope lasts.
@@ -48,7 +47,7 @@ _SHARED: ContextVar[dict | None] = ContextVar("pipeline_shared_range_stage", def
 
 @contextmanager
 def shared_range_stage() -> Iterator[None]:
-    """Within the block, `range_stage` computes each (frame, `RANGE_STAGE_FIELDS`) pair once and
+    """Within the block, `range_stage` computes each (frame, `range_stage_key`) pair once and
     returns the same read-only cube to every later caller (chains, `noise_floor_rise`).
 
     A frame is identified by its array object: the caller must not modify a frame in place
@@ -88,7 +87,7 @@ def range_stage(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) -> np
 
 
 def _memo_key(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) -> tuple:
-    return (id(adc), cfg.n_samples, *(getattr(proc, f) for f in RANGE_STAGE_FIELDS))
+    return (id(adc), cfg.n_samples, *range_stage_key(proc))
 
 
 def _memo_get(memo: dict, cfg: RadarConfig, adc: np.ndarray,
@@ -149,14 +148,15 @@ def windowed_range_stage(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConf
         hit = _memo_get(memo, cfg, adc, proc)
         if hit is not None:
             return doppler_windowed(hit, chirp_window)
-    if (np.iscomplexobj(adc) or proc.dc_range_signature is not None
-            or not (proc.dc_removal or proc.interference_mitigation or proc.compression)):
+    if (np.iscomplexobj(adc) or proc.calibration.dc_range_signature is not None
+            or not (proc.range.dc_removal or proc.interference.enabled
+                    or proc.compression.enabled)):
         return doppler_windowed(range_stage(cfg, adc, proc), chirp_window)
     dc, rows, flags = _chirp_statistics(adc, proc, lazy_flags=True)
     # Deferred repair (each block's repair next to it, in one queue): for parts on the cores;
     # inline, a whole repair costs less than the same in several calls.
-    rep = repaired_rows(adc, dc, rows, flags, window(WINDOWS[proc.range_window], cfg.n_samples),
-                        proc, deferred=n_parts() > 1) if rows.size else None
+    rep = repaired_rows(adc, dc, rows, flags, window(WINDOWS[proc.range.window], cfg.n_samples),
+                        proc.interference, deferred=n_parts() > 1) if rows.size else None
     keep = np.empty((adc.shape[0], adc.shape[1], cfg.n_samples // 2), np.complex64) \
         if memo is not None else None
     out = _blockwise(cfg, adc, proc, dc, chirp_window, keep, rep)
@@ -174,10 +174,10 @@ def _blockwise(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig, dc: np
     here, each block's before that block."""
     n_c, n_rx, n_s = adc.shape
     n_b = n_s // 2
-    win = window(WINDOWS[proc.range_window], n_s)
-    fix = window_spectrum(WINDOWS[proc.range_window], n_s, False) if dc is not None else ()
-    ege = ege_setup(n_rx, n_b, proc.compression_ratio, proc.compression_range_bins_per_block) \
-        if proc.compression else None
+    win = window(WINDOWS[proc.range.window], n_s)
+    fix = window_spectrum(WINDOWS[proc.range.window], n_s, False) if dc is not None else ()
+    ege = ege_setup(n_rx, n_b, proc.compression.ratio, proc.compression.range_bins_per_block) \
+        if proc.compression.enabled else None
     out = np.empty((n_c, n_rx, n_b), np.complex64)
 
     def block(c0: int, c1: int) -> None:
@@ -232,22 +232,23 @@ def _blockwise(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig, dc: np
 
 
 def _dc_signature(rf: np.ndarray, proc: ProcessingConfig) -> np.ndarray:
-    """`rf` minus ``proc.dc_range_signature`` (TI's ``calibDcRangeSig``), or `rf` itself."""
-    sig = proc.dc_range_signature
+    """`rf` minus ``proc.calibration.dc_range_signature`` (TI's ``calibDcRangeSig``), or `rf`
+    itself."""
+    sig = proc.calibration.dc_range_signature
     return rf if sig is None else sig.subtract(rf)
 
 
 def _chirp_statistics(adc: np.ndarray, proc: ProcessingConfig, lazy_flags: bool = False):
     """(DC estimate or None, flagged chirp x Rx rows, their flags or None) as `proc` switches
     them: the chip's (`_chip_statistics`), then, where it flagged a row, the weak bursts it
-    missed (``proc.intf_weak_burst_snr_db``, `with_weak_bursts`). With `lazy_flags` the flags
-    may come as a function that makes them (`repaired_rows` takes either)."""
+    missed (``proc.interference.weak_burst_snr_db``, `with_weak_bursts`). With `lazy_flags`
+    the flags may come as a function that makes them (`repaired_rows` takes either)."""
     dc, rows, flags = _chip_statistics(adc, proc, lazy_flags)
-    if proc.intf_weak_burst_snr_db is None or not proc.interference_mitigation or not rows.size:
+    intf = proc.interference
+    if intf.weak_burst_snr_db is None or not intf.enabled or not rows.size:
         return dc, rows, flags
     rows, flags = with_weak_bursts(adc, dc, rows, flags() if callable(flags) else flags,
-                                   proc.intf_weak_burst_snr_db,
-                                   proc.intf_weak_burst_window_samples)
+                                   intf.weak_burst_snr_db, intf.weak_burst_window_samples)
     return dc, rows, flags
 
 
@@ -256,7 +257,7 @@ def _chip_statistics(adc: np.ndarray, proc: ProcessingConfig, lazy_flags: bool =
     switches them: `remove_dc` and `flagged_rows`, both per chirp and Rx, run on blocks of
     chirps on the cores (`pipeline.threads`) and joined in row order (the same values)."""
     n_rx = adc.shape[1]
-    if not (proc.dc_removal or proc.interference_mitigation):  # nothing to measure
+    if not (proc.range.dc_removal or proc.interference.enabled):  # nothing to measure
         return None, np.zeros(0, dtype=np.intp), None
     fused = _fused_statistics(adc, proc, lazy_flags)
     if fused is not None:
@@ -264,16 +265,16 @@ def _chip_statistics(adc: np.ndarray, proc: ProcessingConfig, lazy_flags: bool =
 
     def block(lo: int, hi: int):
         a = adc[lo:hi]
-        dc = remove_dc(a) if proc.dc_removal else None
-        if not proc.interference_mitigation:
+        dc = remove_dc(a) if proc.range.dc_removal else None
+        if not proc.interference.enabled:
             return dc, np.zeros(0, dtype=np.intp), None
-        rows, flags = flagged_rows(a, dc, proc)
+        rows, flags = flagged_rows(a, dc, proc.interference)
         return dc, rows + lo * n_rx, flags
 
     parts = run_parts([lambda lo=lo, hi=hi: block(lo, hi) for lo, hi in spans(adc.shape[0])])
-    dc = np.concatenate([p[0] for p in parts]) if proc.dc_removal else None
+    dc = np.concatenate([p[0] for p in parts]) if proc.range.dc_removal else None
     rows = np.concatenate([p[1] for p in parts])
-    flags = np.concatenate([p[2] for p in parts]) if proc.interference_mitigation else None
+    flags = np.concatenate([p[2] for p in parts]) if proc.interference.enabled else None
     return dc, rows, flags
 
 
@@ -282,13 +283,13 @@ def _fused_statistics(adc: np.ndarray, proc: ProcessingConfig, lazy_flags: bool 
     `remove_dc`'s and the magdiff `flagged_rows`' values bit for bit (an int16 frame, a
     difference-only threshold mode), else None. The flags of the flagged rows are
     `flagged_rows`' (`row_flags`)."""
-    intf = proc.interference_mitigation
-    if intf and INTF_THRESHOLD_MODES[proc.intf_threshold_mode].magnitude:
+    intf = proc.interference.enabled
+    if intf and INTF_THRESHOLD_MODES[proc.interference.threshold_mode].magnitude:
         return None
-    st = row_statistics(adc, proc.intf_magdiff_snr_db)
+    st = row_statistics(adc, proc.interference.magdiff_snr_db)
     if st is None:
         return None
-    dc = st.dc if proc.dc_removal else None
+    dc = st.dc if proc.range.dc_removal else None
     if not intf:
         return dc, np.zeros(0, dtype=np.intp), None
     if lazy_flags:
@@ -298,8 +299,8 @@ def _fused_statistics(adc: np.ndarray, proc: ProcessingConfig, lazy_flags: bool 
 
 def _range_stage(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) -> np.ndarray:
     """`range_stage` without the sharing."""
-    win = window(WINDOWS[proc.range_window], cfg.n_samples)
-    if not (proc.dc_removal or proc.interference_mitigation or proc.compression):
+    win = window(WINDOWS[proc.range.window], cfg.n_samples)
+    if not (proc.range.dc_removal or proc.interference.enabled or proc.compression.enabled):
         return range_fft(adc, win)
     dc, rows, flags = _chirp_statistics(adc, proc)
     return _range_cube(cfg, adc, proc, dc, rows, flags)
@@ -309,14 +310,14 @@ def _range_cube(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig, dc: n
                 rows: np.ndarray, flags: np.ndarray | None) -> np.ndarray:
     """`_range_stage` after the chirp statistics (`_chirp_statistics`)."""
     cplx = np.iscomplexobj(adc)
-    win = window(WINDOWS[proc.range_window], cfg.n_samples)
+    win = window(WINDOWS[proc.range.window], cfg.n_samples)
     if rows.size == 0:
         rf = range_fft(adc, win)
     else:
         # One FFT of the whole frame, the flagged chirps (DC removed, repaired by the
-        # `proc.intf_mitigation` method; the chip zeroes) swapped in first.
+        # `proc.interference.repair` method; the chip zeroes) swapped in first.
         x = windowed(adc, win, np.complex64 if cplx else np.float32)
-        rep = repaired_rows(adc, dc, rows, flags, win, proc)
+        rep = repaired_rows(adc, dc, rows, flags, win, proc.interference)
         x.reshape(-1, cfg.n_samples)[rep.rows] = rep.windowed()
         if cplx:
             rf = scipy.fft.fft(x, axis=-1, workers=-1, overwrite_x=True)
@@ -329,8 +330,8 @@ def _range_cube(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig, dc: n
         if rows.size:
             m = m.copy()
             m.reshape(-1)[rows] = 0
-        for k, wk in window_spectrum(WINDOWS[proc.range_window], cfg.n_samples, cplx):
+        for k, wk in window_spectrum(WINDOWS[proc.range.window], cfg.n_samples, cplx):
             rf[..., k] -= m * wk
-    if proc.compression:
-        rf, _ = ege_compress(rf, proc.compression_ratio, proc.compression_range_bins_per_block)
+    if proc.compression.enabled:
+        rf, _ = ege_compress(rf, proc.compression.ratio, proc.compression.range_bins_per_block)
     return rf

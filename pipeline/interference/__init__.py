@@ -6,33 +6,35 @@ in one compiled pass; `masks` turns flags into the samples to repair and picks t
 reference rows; `methods` holds the repair methods, subclasses of `RepairMethod` in one
 registry (`MITIGATIONS`), whose fills are in `fills` (taper, line, AR, tones) and `lowrank`
 (the fast-time subspace fill); `deferred` splits the "lowrank" repair into steps a queue runs
-beside the range FFT; `rows` gives the range stage the flagged rows, repaired.
+beside the range FFT; `rows` gives the range stage the flagged rows, repaired; `config` holds
+the settings (`InterferenceConfig`: thresholds, mode, hysteresis, repair method or "off").
 """
+from .config import REPAIR_OFF, InterferenceConfig
 from .detection import (
-                        INTF_THRESHOLD_MODES,
-                        IntfThresholdMode,
-                        flagged_rows,
-                        interference_flags,
-                        zero_flagged,
+    INTF_THRESHOLD_MODES,
+    IntfThresholdMode,
+    flagged_rows,
+    interference_flags,
+    zero_flagged,
 )
 from .masks import FrameRows, close_gaps, widen
 from .methods import (
-                        CLOSE_GAP_SAMPLES,
-                        EXTEND_SAMPLES,
-                        MITIGATIONS,
-                        ArRepair,
-                        InterpolateRepair,
-                        LowrankRepair,
-                        RepairMethod,
-                        TaperRepair,
-                        ZeroRepair,
-                        get_mitigation,
-                        repair,
+    CLOSE_GAP_SAMPLES,
+    EXTEND_SAMPLES,
+    MITIGATIONS,
+    ArRepair,
+    InterpolateRepair,
+    LowrankRepair,
+    RepairMethod,
+    TaperRepair,
+    ZeroRepair,
+    get_mitigation,
+    repair,
 )
 from .rows import RepairedRows, repaired_rows
 
-__all__ = ["INTF_THRESHOLD_MODES", "IntfThresholdMode", "flagged_rows", "interference_flags",
-           "zero_flagged", "FrameRows", "close_gaps", "widen", "CLOSE_GAP_SAMPLES",
-           "EXTEND_SAMPLES", "MITIGATIONS", "RepairMethod", "ZeroRepair", "TaperRepair",
-           "InterpolateRepair", "ArRepair", "LowrankRepair", "get_mitigation", "repair",
-           "RepairedRows", "repaired_rows"]
+__all__ = ["InterferenceConfig", "REPAIR_OFF", "INTF_THRESHOLD_MODES", "IntfThresholdMode",
+           "flagged_rows", "interference_flags", "zero_flagged", "FrameRows", "close_gaps",
+           "widen", "CLOSE_GAP_SAMPLES", "EXTEND_SAMPLES", "MITIGATIONS", "RepairMethod",
+           "ZeroRepair", "TaperRepair", "InterpolateRepair", "ArRepair", "LowrankRepair",
+           "get_mitigation", "repair", "RepairedRows", "repaired_rows"]

@@ -149,20 +149,20 @@ def zero_flagged(x: np.ndarray, flags: np.ndarray, hysteresis: int = 3) -> np.nd
     return x
 
 
-def flagged_rows(adc: np.ndarray, dc, proc) -> tuple[np.ndarray, np.ndarray]:
+def flagged_rows(adc: np.ndarray, dc, intf) -> tuple[np.ndarray, np.ndarray]:
     """(chirp x Rx rows with a flagged sample, their (rows, n_samples) flags). A mode that
     uses the difference statistic alone (the demo's "magdiff") takes a fast path: a row is
     flagged iff its largest |dx| exceeds its threshold, and only those rows get their flags
-    built."""
+    built. `intf`: the `InterferenceConfig` (its thresholds and mode)."""
     n = adc.shape[-1]
     a2 = adc.reshape(-1, n)
-    if not INTF_THRESHOLD_MODES[proc.intf_threshold_mode].magnitude:
-        d, thr = diff_statistics(a2, proc.intf_magdiff_snr_db)
+    if not INTF_THRESHOLD_MODES[intf.threshold_mode].magnitude:
+        d, thr = diff_statistics(a2, intf.magdiff_snr_db)
         rows = np.flatnonzero(d.max(axis=-1) > thr)
         flags = np.zeros((rows.size, n), dtype=bool)
         np.greater(d[rows], thr[rows, None], out=flags[:, 1:])
         return rows, flags
-    flags = interference_flags(adc, dc, proc.intf_mag_snr_db, proc.intf_magdiff_snr_db,
-                               proc.intf_threshold_mode).reshape(-1, n)
+    flags = interference_flags(adc, dc, intf.mag_snr_db, intf.magdiff_snr_db,
+                               intf.threshold_mode).reshape(-1, n)
     rows = np.flatnonzero(flags.any(axis=-1))
     return rows, flags[rows]

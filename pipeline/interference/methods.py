@@ -1,6 +1,6 @@
 """Repair of the ADC samples the interference statistics flag: the chip's zeroing and better
 methods, as subclasses of `RepairMethod` in one registry (`MITIGATIONS`, chosen by
-``ProcessingConfig.intf_mitigation``): each method repairs by itself, nothing looks at its name.
+``ProcessingConfig.interference.repair``): each method repairs by itself, nothing looks at its name.
 
 The chip (TI SWRA725 sec. 3.3, the DDM demo's RangeProc) sets the flagged samples, widened by
 its hysteresis, to zero. Zeroing removes the burst but also a piece of every echo of that chirp:
@@ -386,7 +386,7 @@ CLOSE_GAP_SAMPLES = 48
 #: only where the sweep is fastest).
 EXTEND_SAMPLES = 12
 
-#: Repair methods by name (``ProcessingConfig.intf_mitigation``).
+#: Repair methods by name (``ProcessingConfig.interference.repair``).
 MITIGATIONS: Registry[RepairMethod] = Registry(
     "interference mitigation", field="intf_mitigation", kind=RepairMethod).register_all((
     ZeroRepair(name="zero", description="the chip: flagged samples and the hysteresis "

@@ -14,7 +14,7 @@ from core.errors import BadInput
 from ..threads import run_parts, spans
 from .deferred import DeferredLowrank
 from .masks import FrameRows
-from .methods import get_mitigation, repair
+from .methods import repair
 
 __all__ = ["RepairedRows", "repaired_rows"]
 
@@ -80,8 +80,8 @@ class RepairedRows(NamedTuple):
 
 def repaired_rows(adc: np.ndarray, dc: np.ndarray | None, rows: np.ndarray,
                   flags: np.ndarray | Callable[[], np.ndarray], win: np.ndarray,
-                  proc, deferred: bool = False) -> RepairedRows:
-    """The flagged rows, DC removed and repaired by ``proc.intf_mitigation`` (the chip
+                  intf, deferred: bool = False) -> RepairedRows:
+    """The flagged rows, DC removed and repaired by ``intf.method`` (the chip
     zeroes), with the window they are multiplied by.
 
     Parameters
@@ -96,8 +96,8 @@ def repaired_rows(adc: np.ndarray, dc: np.ndarray | None, rows: np.ndarray,
         another core, where its own passes run whole, `pipeline.threads.inline`).
     win : (n_samples,) float32
         The range window.
-    proc : pipeline.ProcessingConfig
-        Reads ``intf_mitigation`` and ``intf_hysteresis_samples``.
+    intf : pipeline.interference.InterferenceConfig
+        Its repair method and hysteresis (enabled).
     deferred : bool
         Where the method defers (`RepairMethod.deferred`: the "lowrank" fill of real rows of a
         frame with its reference rows), leave all of it to the caller: the DC removal, the flags
@@ -125,7 +125,7 @@ def repaired_rows(adc: np.ndarray, dc: np.ndarray | None, rows: np.ndarray,
             np.subtract(a2[rows[lo:hi]], dc.reshape(-1, 1)[rows[lo:hi]], out=y[lo:hi],
                         dtype=y.dtype)
 
-    method = get_mitigation(proc.intf_mitigation)
+    method = intf.method
     # a method may leave its rows' means to the window product (one pass less over the rows)
     centre = method.centres_rows and y.dtype == np.float32
     frame = FrameRows(a2, rows, n_rx)
@@ -133,12 +133,12 @@ def repaired_rows(adc: np.ndarray, dc: np.ndarray | None, rows: np.ndarray,
     means = np.zeros(len(rows), y.dtype)
     fill = None
     if deferred and centre and len(rows):
-        fill = method.deferred(y, frame, proc.intf_hysteresis_samples,
+        fill = method.deferred(y, frame, intf.hysteresis_samples,
                                lambda: dc_removed(0, len(rows)), make_flags)
     if fill is None:
         flags = make_flags()
         run_parts([lambda lo=lo, hi=hi: dc_removed(lo, hi) for lo, hi in parts])
-        repair(y, flags, win, proc.intf_hysteresis_samples, method, frame=frame,
+        repair(y, flags, win, intf.hysteresis_samples, method, frame=frame,
                remove_mean=not centre)
         if centre:
             run_parts([lambda lo=lo, hi=hi: y[lo:hi].mean(axis=-1, out=means[lo:hi])

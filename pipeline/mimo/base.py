@@ -65,13 +65,13 @@ class MimoChain:
         The `radarsim.MIMO_SCHEMES` name the chain processes.
     variants : dict
         Extra result schemes derived from this one by `ProcessingConfig` overrides on the same
-        ADC frame, e.g. ``{"tdma_raw": {"tdma_disambiguation": False}}``.
+        ADC frame, e.g. ``{"tdma_raw": {"velocity.tdma_disambiguation": False}}``.
     removes_static_clutter : bool
-        Whether the chain implements `ProcessingConfig.clutter_removal` (TI's
+        Whether the chain implements `ProcessingConfig.doppler.clutter_removal` (TI's
         ``clutterRemoval``); `pipeline.process_frame` refuses the setting for the others.
     multi_azimuth_peaks : bool
         Whether the chain can report several azimuth peaks of one (range, Doppler) cell
-        (`ProcessingConfig.azimuth_sidelobe_db`, TI's ``multiObjBeamForming``); the others
+        (`ProcessingConfig.angle.azimuth_sidelobe_db`, TI's ``multiObjBeamForming``); the others
         report the strongest only (TI's "disabled").
     fov_fields : tuple of str
         The field-of-view limits (`pipeline.fov.FOV_FIELDS`) `pipeline.process_frame`

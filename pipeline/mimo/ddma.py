@@ -76,7 +76,7 @@ def full_doppler_spectrum(cfg: RadarConfig, adc: np.ndarray,
         Summed over Rx.
     """
     # (C, R, B): chirp-level chain + range FFT, times the Doppler window
-    xw = windowed_range_stage(cfg, adc, proc, window(WINDOWS[proc.doppler_window], cfg.n_chirps))
+    xw = windowed_range_stage(cfg, adc, proc, window(WINDOWS[proc.doppler.window], cfg.n_chirps))
     spec = slow_time_fft(xw)  # (C, R, B)
     return spec, rx_energy(spec)
 
@@ -86,11 +86,11 @@ def ddma_maps(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) -> Ddma
     n_sb, n_tx = cfg.n_subbands, cfg.n_tx
     n_chirps = cfg.n_chirps
     n_dop = n_chirps // n_sb
-    n_az = proc.n_azimuth_bins
-    xw = windowed_range_stage(cfg, adc, proc, window(WINDOWS[proc.doppler_window], n_chirps))
+    n_az = proc.angle.n_azimuth_bins
+    xw = windowed_range_stage(cfg, adc, proc, window(WINDOWS[proc.doppler.window], n_chirps))
     n_range = xw.shape[2]
     # Zero-padded azimuth FFT over the horizontal row as one complex GEMM and the power map.
-    tx_h, dft = _map_dft(cfg, n_az, proc.channel_comp)
+    tx_h, dft = _map_dft(cfg, n_az, proc.calibration.channel_comp)
     # Doppler FFT (`full_doppler_spectrum`'s), Rx energy, demodulation (Tx p of Doppler bin d
     # sits at chirp-bin d + n_dop (band + p) mod N; only the transmitters of the horizontal row
     # enter the map), GEMM and power, by spans of range bins in one pass on the cores.
@@ -166,7 +166,8 @@ def coherent_detections(power: np.ndarray, proc: ProcessingConfig):
     bins r-1, r, r+1 (clipped) in its azimuth and Doppler bins, (n, 3)."""
     cf = proc.cfar
     n_range = power.shape[1]
-    level = None if proc.azimuth_sidelobe_db is None else 10 ** (-proc.azimuth_sidelobe_db / 10)
+    sidelobe_db = proc.angle.azimuth_sidelobe_db
+    level = None if sidelobe_db is None else 10 ** (-sidelobe_db / 10)
 
     def gathered(cells, noise, peak):
         # Per detection, in the CFAR's parts beside the other part's rows: the azimuth spectra
@@ -181,8 +182,8 @@ def coherent_detections(power: np.ndarray, proc: ProcessingConfig):
     # Figure 19: 4-neighbour maximum in (azimuth, Doppler), optionally also along range.
     (a, r, d), noise, peak, shares = cfar_peaks(
         power, cf.mode, cf.scale(looks=1), cf.guard_cells, cf.window_cells, cf.os_rank,
-        cf.training_stride, {0: True, 1: False} if proc.range_peak_check else {0: True},
-        proc.min_range_bin, then=gathered)
+        cf.training_stride, {0: True, 1: False} if proc.range.peak_check else {0: True},
+        proc.range.min_bin, then=gathered)
     spectra = np.concatenate([s[0] for s in shares], axis=1)
     pr = np.concatenate([s[1] for s in shares])
     if level is not None:
@@ -224,14 +225,14 @@ class DdmaChain(MimoChain):
             return empty_cloud()
 
         # Range: interpolate on the coherent map at the same (Doppler, azimuth) cell.
-        range_pos = interp_range(det.power_range, r, n_range, WINDOWS[proc.range_window])
+        range_pos = interp_range(det.power_range, r, n_range, WINDOWS[proc.range.window])
         # Doppler: true bin d + n_dop x (Tx1 band); interpolate on the Rx-summed energy of all
         # Tx.
         k_true = d + n_dop * band
         offs = (k_true[:, None, None] + np.arange(-1, 2)[None, :, None]
                 + n_dop * np.arange(n_tx)[None, None, :]) % cfg.n_chirps
         k_frac = k_true + interp_doppler(energy[offs, r[:, None, None]].sum(axis=-1),
-                                         WINDOWS[proc.doppler_window], cfg.n_chirps)
+                                         WINDOWS[proc.doppler.window], cfg.n_chirps)
         # Both refined to the maximum of the windowed spectrum of every Tx x Rx channel: the
         # 3-point estimates start the search.
         range_pos, k_frac = refine_ddma_peaks(cfg, maps.spec, r, k_true, range_pos, k_frac)

@@ -108,7 +108,8 @@ def assignment_scores(cfg: RadarConfig, bands: np.ndarray, n_az: int,
 def _assignment_arrays(cfg: RadarConfig, bands: np.ndarray, n_az: int,
                        proc: ProcessingConfig | None = None) -> tuple[np.ndarray, np.ndarray]:
     """`assignment_scores` without the likelihood: (virt, az_pow), the virtual channels
-    compensated by ``proc.channel_comp`` (`pipeline.compensation`) when `proc` is given."""
+    compensated by ``proc.calibration.channel_comp`` (`pipeline.compensation`) when `proc` is
+    given."""
     n_sb = cfg.n_subbands
     idx = (np.arange(n_sb)[:, None] + np.arange(cfg.n_tx)[None, :]) % n_sb  # (H, P)
     virt = bands[:, idx].reshape(bands.shape[0], n_sb, -1)  # (n, H, P*R)
@@ -141,7 +142,7 @@ class ClassicDdmaChain(MimoChain):
         bands = _band_samples(cfg, maps.spec, r, d)
         _, _, score = assignment_scores(cfg, bands, self.score_bins, proc)
         best = np.argmax(score, axis=1)
-        virt, az_pow = _assignment_arrays(cfg, bands, proc.n_azimuth_bins, proc)
+        virt, az_pow = _assignment_arrays(cfg, bands, proc.angle.n_azimuth_bins, proc)
         k_true = d + n_dop * best
         velocity = doppler_velocity_mps(cfg, k_true + hits.doppler_offset)
         return hypothesis_cloud(cfg, proc, hits, virt, az_pow, best, velocity,
@@ -160,7 +161,7 @@ class ClassicDdmaChain(MimoChain):
         r = np.full(n_dop, range_bin)
         bands = _band_samples(cfg, maps.spec, r, d)
         best = np.argmax(assignment_scores(cfg, bands, self.score_bins, proc)[2], axis=1)
-        _, az_pow = _assignment_arrays(cfg, bands, proc.n_azimuth_bins, proc)
+        _, az_pow = _assignment_arrays(cfg, bands, proc.angle.n_azimuth_bins, proc)
         return DopplerAzimuth(doppler_velocity_mps(cfg, d + n_dop * best),
                               az_pow[np.arange(n_dop), best])
 

@@ -129,7 +129,7 @@ def band_beams(cfg: RadarConfig, proc: ProcessingConfig, spec: np.ndarray, r: np
     x = spec[chirp_bin[:, None, :], np.arange(n_rx)[None, :, None], r[:, None, None]]
     y_rx = _geometry(cfg).y_rx  # (Rx,) lambda/2 units
     steer = np.exp(-1j * np.pi * sin_az_cos_el[:, None] * y_rx[None, :])  # (n, Rx)
-    coef = virtual_coefficients(cfg, proc.channel_comp)
+    coef = virtual_coefficients(cfg, proc.calibration.channel_comp)
     coef = np.ones((n_tx, n_rx)) if coef is None else coef.reshape(n_tx, n_rx)
     return np.einsum("nr,pr,nri->npi", steer, coef, x)
 
@@ -230,9 +230,10 @@ def resolve_tx_order(cfg: RadarConfig, proc: ProcessingConfig, spec: np.ndarray,
         det = _reread(cfg, proc, spec, det, moved, band[moved])
         keep = np.ones(len(det.a), dtype=bool)
         keep[moved] = det.peak[moved] > alpha * det.noise[moved]
-        if proc.azimuth_sidelobe_db is not None:  # the map's sidelobe test, on the re-read row
+        # the map's sidelobe test, on the re-read row
+        if proc.angle.azimuth_sidelobe_db is not None:
             keep[moved] &= det.peak[moved] >= det.power_az[moved].max(axis=-1) * 10 ** (
-                -proc.azimuth_sidelobe_db / 10)
+                -proc.angle.azimuth_sidelobe_db / 10)
         # One detection per (range, Doppler, band, azimuth): the first in the CFAR's order.
         idx = np.flatnonzero(keep)
         key = np.stack([det.r, det.d, det.band, det.a], axis=-1)[idx]

@@ -106,7 +106,7 @@ def fast_slow_maps(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) ->
     sets = cfg.scheme.chirp_sets(cfg)
     # Each chirp's value of its set's Doppler window (chirp = n_tx c' + slot within a set).
     per_chirp = np.empty(cfg.n_chirps, np.float32)
-    slots = np.repeat(window(WINDOWS[proc.doppler_window], sets.n_doppler_bins), cfg.n_tx)
+    slots = np.repeat(window(WINDOWS[proc.doppler.window], sets.n_doppler_bins), cfg.n_tx)
     per_chirp[sets.fast] = slots
     per_chirp[sets.slow] = slots
     # (C, R, B): chirp-level chain + range FFT, times the window
@@ -191,7 +191,7 @@ def gate_coherence(unf: "Unfolding", coherence: np.ndarray, min_coherence: float
     unf : Unfolding
     coherence : (n, H) float
     min_coherence : float
-        In (0, 1) (`ProcessingConfig.fast_slow_min_coherence`).
+        In (0, 1) (`ProcessingConfig.velocity.fast_slow_min_coherence`).
 
     Returns
     -------
@@ -349,13 +349,13 @@ class FastSlowChain(MimoChain):
                             native_vmax_mps=sch.native_max_velocity_mps(cfg),
                             unfold_factor=sch.unfold_factor, wavelength_m=cfg.wavelength_m,
                             slow_slot_period_s=cfg.n_tx * sets.slow_period_s,
-                            threshold_db=proc.fast_slow_threshold_db,
-                            search_bins=proc.fast_slow_search_bins)
+                            threshold_db=proc.velocity.fast_slow_threshold_db,
+                            search_bins=proc.velocity.fast_slow_search_bins)
         if r.size == 0:
             return unf
         coherence = self._coherence(cfg, maps, r, d, unf, sets)
-        if proc.fast_slow_min_coherence > 0:
-            unf = gate_coherence(unf, coherence, proc.fast_slow_min_coherence)
+        if proc.velocity.fast_slow_min_coherence > 0:
+            unf = gate_coherence(unf, coherence, proc.velocity.fast_slow_min_coherence)
         return resolve_claims(unf, r, coherence) if r.size > 1 else unf
 
     def _coherence(self, cfg: RadarConfig, maps: FastSlowMaps, r: np.ndarray, d: np.ndarray,
@@ -379,7 +379,7 @@ class FastSlowChain(MimoChain):
         if hits.range_bin.size == 0:
             return empty_cloud()
         unf = self.unfold(cfg, maps, hits, proc)  # steps 2-7
-        if not proc.fast_slow_keep_unassociated:
+        if not proc.velocity.fast_slow_keep_unassociated:
             keep = unf.associated
             if not keep.any():
                 return empty_cloud()
@@ -391,7 +391,7 @@ class FastSlowChain(MimoChain):
         virt = self._compensated(cfg, maps.fast_virt[hits.range_bin, hits.doppler_bin],
                                  velocity, sets.fast_period_s)
         virt = compensate(cfg, proc, virt)[:, None, :]  # compRangeBiasAndRxChanPhase; (n, 1, 16)
-        az_pow = np.abs(virt @ array_dft(cfg, proc.n_azimuth_bins, "horizontal")) ** 2
+        az_pow = np.abs(virt @ array_dft(cfg, proc.angle.n_azimuth_bins, "horizontal")) ** 2
         # Doppler bin in the unfolded span: fast-set bins over unfold_factor native spans.
         n_span = cfg.scheme.unfold_factor * sets.n_doppler_bins
         d_true = np.rint(-2 * velocity / cfg.wavelength_m * sets.n_doppler_bins * cfg.n_tx
@@ -424,7 +424,7 @@ class FastSlowChain(MimoChain):
         d_signed = (np.arange(n_dop) + n_dop / 2) % n_dop - n_dop / 2
         vel = -d_signed / (n_dop * cfg.n_tx * sets.fast_period_s) * cfg.wavelength_m / 2
         virt = compensate(cfg, proc, self._compensated(cfg, virt, vel, sets.fast_period_s))
-        power = np.abs(virt @ array_dft(cfg, proc.n_azimuth_bins, "horizontal")) ** 2
+        power = np.abs(virt @ array_dft(cfg, proc.angle.n_azimuth_bins, "horizontal")) ** 2
         return DopplerAzimuth(vel, power)
 
     def range_doppler_power(self, cfg: RadarConfig, adc: np.ndarray,

@@ -77,18 +77,18 @@ def slot_maps(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) -> Slot
     """Range FFT and per-slot Doppler FFT (chirp = n_tx c' + slot)."""
     n_tx = cfg.n_tx
     n_dop = cfg.n_chirps // n_tx
-    if proc.clutter_removal:
+    if proc.doppler.clutter_removal:
         rf = range_stage(cfg, adc, proc)  # (C, R, B): chirp-level chain + range FFT
         rf = rf.reshape(n_dop, n_tx, cfg.n_rx, -1)  # chirp = n_tx c' + slot
         # TI's static clutter removal (clutterRemoval, SDK 3.x DopplerProc): the mean over the
         # frame's chirps of each slot, Rx and range bin -- the zero-Doppler return -- removed
         # before the Doppler FFT.
         rf = rf - rf.mean(axis=0, keepdims=True)
-        spec = doppler_fft(rf, window(WINDOWS[proc.doppler_window], n_dop))  # (D, S, R, B)
+        spec = doppler_fft(rf, window(WINDOWS[proc.doppler.window], n_dop))  # (D, S, R, B)
     else:
         # The same product with the window's value repeated for the slots of each period.
         xw = windowed_range_stage(cfg, adc, proc,
-                                  _slot_window(WINDOWS[proc.doppler_window], n_dop, n_tx))
+                                  _slot_window(WINDOWS[proc.doppler.window], n_dop, n_tx))
         spec = slow_time_fft(xw.reshape(n_dop, n_tx, cfg.n_rx, -1))  # (D, S, R, B)
     n_range = spec.shape[-1]
     virt_all = np.moveaxis(spec, 3, 0).reshape(n_range, n_dop, -1)  # (B, D, 16) slot-major
@@ -119,7 +119,7 @@ class SlotChain(MimoChain):
 
     removes_static_clutter = True
     #: ``cfarFovCfg`` Doppler applies to the aliased velocity, in the CFAR step (`process`).
-    fov_fields = tuple(f for f in FOV_FIELDS if f != "velocity_fov_mps")
+    fov_fields = tuple(f for f in FOV_FIELDS if f != "velocity_mps")
 
     def noise_gain_of(self, cfg: RadarConfig) -> float:
         """Noise power of a separated virtual channel over that of one slot channel."""
@@ -127,7 +127,7 @@ class SlotChain(MimoChain):
 
     def disambiguate(self, proc: ProcessingConfig) -> bool:
         """Whether to test velocity hypotheses beyond +/-Vmax."""
-        return proc.tdma_disambiguation
+        return proc.velocity.tdma_disambiguation
 
     def score(self, cfg: RadarConfig, virt: np.ndarray, az_pow: np.ndarray,
               v_idx: np.ndarray) -> np.ndarray:
@@ -144,7 +144,7 @@ class SlotChain(MimoChain):
     def process(self, cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) -> pd.DataFrame:
         n_tx = cfg.n_tx
         n_dop = cfg.n_chirps // n_tx
-        n_az = proc.n_azimuth_bins
+        n_az = proc.angle.n_azimuth_bins
         maps = slot_maps(cfg, adc, proc)
         rd, virt_all = maps.power, maps.virt
 
@@ -156,7 +156,7 @@ class SlotChain(MimoChain):
         v_est = -d_signed / (n_dop * t_slot) * cfg.wavelength_m / 2
         # cfarFovCfg Doppler, where TI's CFAR DPU applies it: on the aliased Doppler, before
         # the hypotheses (a target at 1.6 m/s aliased to -0.5 m/s passes a +/-1 m/s limit).
-        in_fov = in_interval(v_est, proc.velocity_fov_mps)
+        in_fov = in_interval(v_est, proc.fov.velocity_mps)
         if not in_fov.all():
             hits, d_signed, v_est = hits.select(in_fov), d_signed[in_fov], v_est[in_fov]
         if hits.range_bin.size == 0:
@@ -219,7 +219,7 @@ class SlotChain(MimoChain):
         comp = np.exp(2j * np.pi * (2 * vel[:, None] / lam) * np.arange(cfg.n_tx) * tc)
         virt = self.separate(cfg, virt.reshape(n_dop, cfg.n_tx, cfg.n_rx) * comp[:, :, None])
         virt = compensate(cfg, proc, virt.reshape(n_dop, -1))
-        power = np.abs(virt @ array_dft(cfg, proc.n_azimuth_bins, "horizontal")) ** 2
+        power = np.abs(virt @ array_dft(cfg, proc.angle.n_azimuth_bins, "horizontal")) ** 2
         return DopplerAzimuth(vel, power)
 
     def range_doppler_power(self, cfg: RadarConfig, adc: np.ndarray,
@@ -232,7 +232,7 @@ class TdmaChain(SlotChain):
     ``tdma_raw``: the same frame without velocity disambiguation."""
 
     name = "tdma"
-    variants = {"tdma_raw": {"tdma_disambiguation": False}}
+    variants = {"tdma_raw": {"velocity.tdma_disambiguation": False}}
 
 
 register_chain(TdmaChain())

@@ -79,7 +79,7 @@ def fake_process_frame(cfg, adc, proc):
     sc, noise = adc["sc"], adc["noise"]
     r = sc.range_m + noise[:, 0]
     v = sc.radial_velocity_mps + noise[:, 1]
-    if cfg.mimo == "tdma" and not proc["tdma_disambiguation"]:
+    if cfg.mimo == "tdma" and not proc["velocity.tdma_disambiguation"]:
         vmax = cfg.max_unambiguous_velocity_mps
         v = (v + vmax) % (2 * vmax) - vmax
     az = np.radians(sc.azimuth_deg)
@@ -97,7 +97,7 @@ def fake_process_frame(cfg, adc, proc):
 
 
 def fake_make_processing(overrides: dict):
-    return {"tdma_disambiguation": True, **overrides}
+    return {"velocity.tdma_disambiguation": True, **overrides}
 
 
 FAKE = Components(run_scenario=fake_run_scenario, scene_scatterers=fake_scene_scatterers,

@@ -77,7 +77,7 @@ def test_report_interference_section():
 
 def test_noise_floor_is_shared_only_by_equal_chirp_level_settings():
     """Schemes of one ADC frame share a measured floor when every setting the floor reads
-    (`chirp_level.NOISE_FLOOR_FIELDS`) is equal: TDMA and its raw variant do, a second TDMA
+    (`chirp_level.noise_floor_key`) is equal: TDMA and its raw variant do, a second TDMA
     chain with another compression ratio does not."""
     import dataclasses
 
@@ -90,10 +90,11 @@ def test_noise_floor_is_shared_only_by_equal_chirp_level_settings():
                                 noise_floor=lambda cfg, adc, p: calls.append(p) or (0.0, 0.0))
     base = pipeline.ProcessingConfig()
     schemes = [cellspec.ResultScheme("tdma", "tdma", {}),
-               cellspec.ResultScheme("tdma_raw", "tdma", {"tdma_disambiguation": False}),
-               cellspec.ResultScheme("tdma_c", "tdma", {"compression_ratio": 0.4})]
-    procs = {"tdma": base, "tdma_raw": base.replace(tdma_disambiguation=False),
-             "tdma_c": base.replace(compression_ratio=0.4)}
+               cellspec.ResultScheme("tdma_raw", "tdma",
+                                     {"velocity.tdma_disambiguation": False}),
+               cellspec.ResultScheme("tdma_c", "tdma", {"compression.ratio": 0.4})]
+    procs = {"tdma": base, "tdma_raw": base.replace(**{"velocity.tdma_disambiguation": False}),
+             "tdma_c": base.replace(**{"compression.ratio": 0.4})}
     rows = cell._noise_floors(comps, {"tdma": None}, {"tdma": None}, procs, schemes, 0, 0.0)
     assert [r["scheme"] for r in rows] == ["tdma", "tdma_raw", "tdma_c"]
-    assert [p.compression_ratio for p in calls] == [0.5, 0.4]
+    assert [p.compression.ratio for p in calls] == [0.5, 0.4]

@@ -44,5 +44,5 @@ def test_curve_per_method_binned_by_inr(tmp_path):
 
 
 def test_results_without_method_variants_are_refused(tmp_path):
-    with pytest.raises(BadInput, match="no variant sets processing.intf_mitigation"):
+    with pytest.raises(BadInput, match="no variant sets processing.interference.repair"):
         recovery_vs_inr(_results(tmp_path, _frames(), methods=()))

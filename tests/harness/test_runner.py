@@ -108,7 +108,7 @@ def test_adding_or_removing_a_scheme_keeps_the_other_schemes_numbers():
 def test_result_schemes_resolve_variants_to_their_mimo():
     rs = {r.name: r for r in result_schemes(["ddma", "tdma", "tdma_raw"])}
     assert rs["tdma_raw"].mimo == "tdma" and rs["tdma_raw"].is_variant
-    assert rs["tdma_raw"].processing == {"tdma_disambiguation": False}
+    assert rs["tdma_raw"].processing == {"velocity.tdma_disambiguation": False}
     assert not rs["ddma"].is_variant
 
 

@@ -205,3 +205,21 @@ def test_sweep_file_messages_follow_the_shared_file_policy(tmp_path, text, match
     p.write_text(text)
     with pytest.raises(ValueError, match=rf"s\.toml: {match}"):
         load_sweep(p, check_scenarios=False)
+
+
+def test_processing_keys_address_nested_fields_and_flat_ones_warn(tmp_path):
+    """``processing.cfar.pfa`` names the nested field; ``processing.cfar_mode`` (the flat key
+    of the previous release) still works and warns with the new key."""
+    from harness.sweep.file import load_sweep
+    path = tmp_path / "s.toml"
+    path.write_text('name = "t"\nscenarios = ["r79_motorcycle_rear"]\nseeds = [0]\n[vary]\n'
+                    '"processing.cfar.pfa" = [1e-5]\n"processing.cfar_mode" = ["ca"]\n')
+    with pytest.warns(DeprecationWarning, match=r"'cfar_mode' is deprecated: use 'cfar.mode' "
+                                                r"\(sweep files: 'processing.cfar.mode'\)"):
+        spec = load_sweep(path)
+    (cell,) = spec.cells()
+    assert cell.processing == {"cfar.pfa": 1e-5, "cfar_mode": "ca"}
+    import pipeline
+    with pytest.warns(DeprecationWarning):
+        proc = pipeline.ProcessingConfig().replace(**cell.processing)
+    assert (proc.cfar.pfa, proc.cfar.mode) == (1e-5, "ca")

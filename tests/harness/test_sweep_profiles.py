@@ -173,8 +173,8 @@ def test_sweep_cell_and_process_read_a_profile_into_the_same_configs(tmp_path):
     prof = load_profile(path)
     assert radar["tdma"] == prof.radar
     assert procs["tdma"] == processing_from_profile(prof)
-    assert procs["tdma"].cfar.threshold_db == 15.0 and not procs["tdma"].compression
-    assert not procs["tdma"].tdma_disambiguation
+    assert procs["tdma"].cfar.threshold_db == 15.0 and not procs["tdma"].compression.enabled
+    assert not procs["tdma"].velocity.tdma_disambiguation
     f2 = _sweep_file(tmp_path, f.read_text() + "processing = {tdma_disambiguation = true}\n")
     cell = load_sweep(f2, check_scenarios=False).cells()[0]
     _, procs = build_configs(cell, default_components())

@@ -85,7 +85,7 @@ def test_tdma_without_disambiguation_aliases(make_config, make_scene):
         expect = v_true - 2 * vmax if expect is None else expect
         adc = radarsim.simulate_frame(cfg, scene_at_snr(cfg, make_scene,
                                                         [60, 10, 0, v_true, 28]), rng)
-        proc = pipeline.ProcessingConfig(tdma_disambiguation=disamb)
+        proc = pipeline.ProcessingConfig().replace(tdma_disambiguation=disamb)
         best = best_near(pipeline.process_frame(cfg, adc, proc), 60)
         assert best.radial_velocity_mps == pytest.approx(expect, abs=0.11)
 

@@ -93,7 +93,7 @@ def test_applied_calibration_reports_reflector_at_its_range_and_azimuth(x68, az_
     _check_recovery(cfg, board, cal)
     applied = proc.replace(range_bias_m=cal.range_bias_m,
                            channel_comp=tuple((c.real, c.imag) for c in cal.chip_coefficients))
-    assert applied.tdma_disambiguation
+    assert applied.velocity.tdma_disambiguation
     pc = pipeline.process_frame(cfg, frames[3], applied)
     best = pc.loc[pc.snr_db.idxmax()]
     # The processed frame's own range noise (one frame: sqrt(F) x the F-frame bound) adds to

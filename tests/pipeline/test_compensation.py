@@ -65,7 +65,7 @@ def test_wrong_coefficient_count_is_refused(make_config):
         check_channel_comp(cfg, ((1.0, 0.0),) * 12)
     with pytest.raises(ValueError, match="the AWR2944 needs 16"):
         pipeline.process_frame(cfg, np.zeros((cfg.n_chirps, 4, cfg.n_samples), np.int16),
-                               pipeline.ProcessingConfig(channel_comp=((1.0, 0.0),) * 12))
+                               pipeline.ProcessingConfig().replace(channel_comp=((1.0, 0.0),) * 12))
 
 
 @pytest.mark.parametrize("kw, match", [
@@ -79,7 +79,7 @@ def test_wrong_coefficient_count_is_refused(make_config):
 ])
 def test_bad_compensation_values(kw, match):
     with pytest.raises(ValueError, match=match):
-        pipeline.ProcessingConfig(**kw)
+        pipeline.ProcessingConfig().replace(**kw)
 
 
 def test_process_and_sweep_share_one_range_bias_bound():
@@ -109,8 +109,8 @@ def test_a_zero_coefficient_on_a_used_channel_is_refused(make_config):
 
 
 def test_lists_become_tuples():
-    proc = pipeline.ProcessingConfig(channel_comp=[[1, 0], [0.5, -0.5]])
-    assert proc.channel_comp == ((1.0, 0.0), (0.5, -0.5))
+    proc = pipeline.ProcessingConfig().replace(channel_comp=[[1, 0], [0.5, -0.5]])
+    assert proc.calibration.channel_comp == ((1.0, 0.0), (0.5, -0.5))
     hash(proc)
 
 
@@ -128,7 +128,7 @@ def test_range_bias_shifts_every_range_exactly(name, make_config, make_scene):
                                         [80.0, -25.0, 5.0, -6.0, 28.0]])
     adc = radarsim.simulate_frame(cfg, sc, np.random.default_rng(3))
     pc0 = pipeline.process_frame(cfg, adc)
-    pc1 = pipeline.process_frame(cfg, adc, pipeline.ProcessingConfig(range_bias_m=0.4321))
+    pc1 = pipeline.process_frame(cfg, adc, pipeline.ProcessingConfig().replace(range_bias_m=0.4321))
     assert len(pc0) >= 2
     np.testing.assert_allclose(pc1.range_m, pc0.range_m - 0.4321, rtol=0, atol=1e-9)
     for col in ("radial_velocity_mps", "azimuth_deg", "elevation_deg", "snr_db", "range_bin"):
@@ -146,8 +146,8 @@ def test_channel_correction_undoes_board_imbalance(name, make_config, make_scene
     r, az, v = 60.0, 25.0, 4.0
     sc = scene_at_snr(ideal, make_scene, [[r, az, 0.0, v, 30.0]])
     adc = radarsim.simulate_frame(board, sc, np.random.default_rng(5))
-    proc = pipeline.ProcessingConfig(channel_comp=inverse_comp(board))
-    coef = virtual_coefficients(board, proc.channel_comp)
+    proc = pipeline.ProcessingConfig().replace(channel_comp=inverse_comp(board))
+    coef = virtual_coefficients(board, proc.calibration.channel_comp)
     np.testing.assert_allclose(np.angle(coef * board_gain(board)), 0.0, atol=1e-3)
     best = best_near(pipeline.process_frame(board, adc, proc), r)
     assert best is not None
@@ -182,7 +182,7 @@ def test_simulated_capture_of_an_aop_profile_reads_back_at_its_angle(tmp_path):
     from tests.radarsim.profiles import profile_text
     prof = parse_ti_cfg(profile_text("xwr68_aop"))
     proc = processing_from_profile(prof).replace(tdma_disambiguation=False)
-    assert proc.channel_comp[1] == (-1.0, 0.0)
+    assert proc.calibration.channel_comp[1] == (-1.0, 0.0)
     radar = simulation_radar(prof)
     assert radar.rx_phase_error_deg == (0.0, 180.0, 0.0, 180.0)
     sc = radarsim.Scatterers.from_spherical(np.array([3.0]), np.array([20.0]), np.zeros(1),

@@ -36,11 +36,11 @@ def test_cfar_config_rules(kwargs, match):
 ])
 def test_processing_config_rules(kwargs, match):
     with pytest.raises(ValueError, match=match):
-        ProcessingConfig(**kwargs)
+        ProcessingConfig().replace(**kwargs)
 
 
 def test_replace_reaches_cfar_fields_and_rejects_unknown():
     proc = ProcessingConfig().replace(cfar_pfa=1e-4, tdma_disambiguation=False)
-    assert proc.cfar.pfa == 1e-4 and not proc.tdma_disambiguation
+    assert proc.cfar.pfa == 1e-4 and not proc.velocity.tdma_disambiguation
     with pytest.raises(ValueError, match="unknown ProcessingConfig"):
         ProcessingConfig().replace(colour="red")

@@ -59,7 +59,7 @@ def test_frame_that_completes_the_calibration_is_compensated_after_it():
 def test_processing_config_takes_only_a_signature():
     with pytest.raises(ValueError, match="dc_range_signature must be a DcRangeSignature or "
                                          "None, got str"):
-        pipeline.ProcessingConfig(dc_range_signature="x")
+        pipeline.ProcessingConfig().replace(dc_range_signature="x")
 
 
 def test_signature_that_does_not_fit_the_frame_is_refused():

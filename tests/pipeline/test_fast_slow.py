@@ -115,7 +115,7 @@ def test_slow_peak_claimed_twice_goes_to_one_fast_peak(cfg, make_scene):
     fast peak (TI's demo consumes it once taken; here an optimal assignment), so the 38 m/s
     peak keeps it and the 4 m/s peak takes its own. (Seed's power-only test here; the default
     coherence gate already rejects the clashing candidate, checked last.)"""
-    proc = pipeline.ProcessingConfig(fast_slow_min_coherence=0.0)
+    proc = pipeline.ProcessingConfig().replace(fast_slow_min_coherence=0.0)
     rows = np.array([[60.0, -30.0, 0.0, -12.0], [60.0, 0.0, 0.0, 38.0], [60.0, 30.0, 0.0, 4.0]])
     sc = make_scene(np.column_stack([rows, _rcs_for_channel_snr(cfg, make_scene, rows, 25.0)]))
     v_f = cfg.scheme.native_max_velocity_mps(cfg)
@@ -230,7 +230,7 @@ def _chain_failure_rate(cfg, make_scene, snr_db: float, threshold_db: float,
                         n_frames: int) -> tuple[float, int]:
     """Association failures of bin-centred targets (8 per frame, distinct range cells) whose
     fast peak the CFAR found, through the chain's own maps, CFAR and `unfold`."""
-    proc = pipeline.ProcessingConfig(**CLEAN, fast_slow_threshold_db=threshold_db)
+    proc = pipeline.ProcessingConfig().replace(**CLEAN, fast_slow_threshold_db=threshold_db)
     sets = cfg.scheme.chirp_sets(cfg)
     step = 5 * _fast_bin_velocity(cfg)  # on a bin centre of both sets (6 / 5 ratio)
     rng = np.random.default_rng(int(10 * snr_db + 100 * threshold_db))
@@ -292,21 +292,21 @@ def test_failure_rate_near_the_model_at_one_setting(cfg, make_scene):
 @pytest.mark.parametrize("value", [0.0, -1.0, 20.5, float("inf"), "3"])
 def test_threshold_out_of_range_refused(value):
     with pytest.raises(ValueError, match=r"fast_slow_threshold_db=.* must be in \(0, 20\] dB"):
-        pipeline.ProcessingConfig(fast_slow_threshold_db=value)
+        pipeline.ProcessingConfig().replace(fast_slow_threshold_db=value)
 
 
 @pytest.mark.parametrize("value", [-1, 17, 1.5, True])
 def test_search_bins_out_of_range_refused(value):
     with pytest.raises(ValueError, match=r"fast_slow_search_bins=.* must be an integer in 0\.\.16"):
-        pipeline.ProcessingConfig(fast_slow_search_bins=value)
+        pipeline.ProcessingConfig().replace(fast_slow_search_bins=value)
 
 
 def test_search_wider_than_the_candidate_spacing_refused(cfg):
     """Candidates sit 19.2 slow bins apart (R79 preset): a window of 2 x 10 + 1 = 21 bins
     would reach the neighbour's, so check_radar (and process_frame, and a sweep before it
     starts) refuse it; 9 (19 bins) is the largest accepted."""
-    pipeline.ProcessingConfig(fast_slow_search_bins=9).check_radar(cfg)
-    proc = pipeline.ProcessingConfig(fast_slow_search_bins=10)
+    pipeline.ProcessingConfig().replace(fast_slow_search_bins=9).check_radar(cfg)
+    proc = pipeline.ProcessingConfig().replace(fast_slow_search_bins=10)
     with pytest.raises(ValueError, match=r"fast_slow_search_bins=10: the search window .* "
                                          r"exceeds the 19.2 slow Doppler bins .* \(limit 9\)"):
         proc.check_radar(cfg)
@@ -318,12 +318,12 @@ def test_search_wider_than_the_candidate_spacing_refused(cfg):
 @pytest.mark.parametrize("value", [-0.1, 1.0, float("nan"), "0.5"])
 def test_min_coherence_out_of_range_refused(value):
     with pytest.raises(ValueError, match=r"fast_slow_min_coherence=.* must be in \[0, 1\)"):
-        pipeline.ProcessingConfig(fast_slow_min_coherence=value)
+        pipeline.ProcessingConfig().replace(fast_slow_min_coherence=value)
 
 
 def test_keep_unassociated_must_be_bool():
     with pytest.raises(ValueError, match=r"fast_slow_keep_unassociated=1 must be true or false"):
-        pipeline.ProcessingConfig(fast_slow_keep_unassociated=1)
+        pipeline.ProcessingConfig().replace(fast_slow_keep_unassociated=1)
 
 
 def test_coherence_gate_keeps_only_matching_array_signatures():
@@ -346,7 +346,7 @@ def test_dropping_unassociated_peaks(cfg, make_scene):
     sc = make_scene(np.column_stack([rows, _rcs_for_channel_snr(cfg, make_scene, rows, 25.0)]))
     adc = radarsim.simulate_frame(cfg, sc, np.random.default_rng(2))
     keep = pipeline.process_frame(cfg, adc)
-    drop = pipeline.process_frame(cfg, adc, pipeline.ProcessingConfig(
+    drop = pipeline.process_frame(cfg, adc, pipeline.ProcessingConfig().replace(
         fast_slow_keep_unassociated=False))
     assert ((keep.range_m - 80).abs() < 1.5).any() and not ((drop.range_m - 80).abs() < 1.5).any()
     near = drop[(drop.range_m - 40).abs() < 1.5]
@@ -354,4 +354,4 @@ def test_dropping_unassociated_peaks(cfg, make_scene):
 
 
 def test_other_chains_ignore_the_fast_slow_settings():
-    pipeline.ProcessingConfig(fast_slow_search_bins=16).check_radar(radarsim.presets.r79("tdma"))
+    pipeline.ProcessingConfig().replace(fast_slow_search_bins=16).check_radar(radarsim.presets.r79("tdma"))

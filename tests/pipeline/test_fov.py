@@ -26,19 +26,19 @@ def _near(pc, r_m):
 
 @pytest.mark.parametrize("limits, keeps_30, keeps_80", [
     ({}, True, True),
-    ({"range_fov_m": (0.0, 50.0)}, True, False),
-    ({"velocity_fov_mps": (0.0, 10.0)}, False, True),
-    ({"azimuth_fov_deg": (0.0, 60.0)}, True, False),
-    ({"elevation_fov_deg": (5.0, 20.0)}, False, False),
+    ({"fov.range_m": (0.0, 50.0)}, True, False),
+    ({"fov.velocity_mps": (0.0, 10.0)}, False, True),
+    ({"fov.azimuth_deg": (0.0, 60.0)}, True, False),
+    ({"fov.elevation_deg": (5.0, 20.0)}, False, False),
 ])
 def test_detections_outside_the_field_of_view_are_dropped(two_targets, limits, keeps_30,
                                                           keeps_80):
     cfg, adc = two_targets
-    pc = pipeline.process_frame(cfg, adc, pipeline.ProcessingConfig(**limits))
+    pc = pipeline.process_frame(cfg, adc, pipeline.ProcessingConfig().replace(**limits))
     assert (_near(pc, 30.0), _near(pc, 80.0)) == (keeps_30, keeps_80)
     for field, column in pipeline.fov.FOV_FIELDS.items():
-        if field in limits:
-            assert pc[column].between(*limits[field]).all()
+        if f"fov.{field}" in limits:
+            assert pc[column].between(*limits[f"fov.{field}"]).all()
 
 
 @pytest.mark.parametrize("value, pattern", [((5.0, 1.0), r"min <= max"),
@@ -46,7 +46,7 @@ def test_detections_outside_the_field_of_view_are_dropped(two_targets, limits, k
                                             ("wide", r"\(min, max\) pair")])
 def test_bad_field_of_view_is_refused(value, pattern):
     with pytest.raises(ValueError, match=rf"range_fov_m=.*{pattern}"):
-        pipeline.ProcessingConfig(range_fov_m=value)
+        pipeline.ProcessingConfig().replace(range_fov_m=value)
 
 
 def test_static_clutter_removal_drops_zero_doppler_returns():
@@ -58,11 +58,12 @@ def test_static_clutter_removal_drops_zero_doppler_returns():
                                             np.array([0.0, -4.0]), np.array([10.0, 10.0]))
     adc = radarsim.simulate_frame(cfg, sc, rng=np.random.default_rng(3))
     plain = pipeline.process_frame(cfg, adc, pipeline.ProcessingConfig())
-    removed = pipeline.process_frame(cfg, adc, pipeline.ProcessingConfig(clutter_removal=True))
+    removed = pipeline.process_frame(cfg, adc,
+                                     pipeline.ProcessingConfig().replace(clutter_removal=True))
     assert _near(plain, 30.0) and _near(plain, 60.0)
     assert not _near(removed, 30.0) and _near(removed, 60.0)
     ddma = radarsim.presets.r79_ddma()
     with pytest.raises(ValueError, match=r"clutter_removal=True: the ddma chain has no static "
                                          r"clutter removal"):
         pipeline.process_frame(ddma, radarsim.simulate_frame(ddma, sc, np.random.default_rng(3)),
-                               pipeline.ProcessingConfig(clutter_removal=True))
+                               pipeline.ProcessingConfig().replace(clutter_removal=True))

@@ -148,7 +148,7 @@ def test_registry_lookup_names_the_known_methods():
 
 def test_processing_config_validates_the_method():
     with pytest.raises(ValueError, match="intf_mitigation"):
-        pipeline.ProcessingConfig(intf_mitigation="median")
+        pipeline.ProcessingConfig().replace(intf_mitigation="median")
 
 
 @pytest.mark.parametrize("kind, field, value", [

@@ -99,5 +99,6 @@ def test_the_chirp_statistics_add_them_unless_switched_off():
     adc = _frame(np.random.default_rng(7), burst_rows=(7, 130), chip_rows=(40,))
     _, rows, _ = _chirp_statistics(adc, ProcessingConfig())
     assert {7, 40, 130} <= set(rows.tolist())
-    _, off, _ = _chirp_statistics(adc, ProcessingConfig(intf_weak_burst_snr_db=None))
+    _, off, _ = _chirp_statistics(adc, ProcessingConfig().replace(
+        **{"interference.weak_burst_snr_db": None}))
     assert 40 in off and 7 not in off and 130 not in off

@@ -162,7 +162,8 @@ def test_point_cloud_equals_the_frame_of_a_column_dict(n):
     order = np.lexsort((bins["azimuth_bin"], bins["doppler_bin"], bins["range_bin"]))
     # A range below 0 m is clamped to 0, as TI's SDK does (these positions are N(0, 1) bins).
     rng_m = np.maximum((rng_pos * cfg.range_resolution_m + vel * radarsim.config.C_MPS
-                        / (cfg.slope_hz_per_s * cfg.wavelength_m)) - proc.range_bias_m,
+                        / (cfg.slope_hz_per_s * cfg.wavelength_m))
+                       - proc.calibration.range_bias_m,
                        0.0)[order]
     az, el, vel, snr = az[order], el[order], vel[order], snr[order]
     want = pd.DataFrame({

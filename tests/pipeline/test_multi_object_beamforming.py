@@ -19,7 +19,8 @@ def test_two_targets_in_one_cell(make_config, make_scene):
     adc = radarsim.simulate_frame(cfg, sc, np.random.default_rng(11))
     counts = {}
     for name, db in (("disabled", ONE_PEAK_DB), ("enabled", -20 * np.log10(0.5))):
-        pc = pipeline.process_frame(cfg, adc, pipeline.ProcessingConfig(azimuth_sidelobe_db=db))
+        pc = pipeline.process_frame(cfg, adc,
+                                    pipeline.ProcessingConfig().replace(azimuth_sidelobe_db=db))
         cell = pc[((pc.range_m - 40.0).abs() < 1.0) & ((pc.radial_velocity_mps - 3.0).abs() < 0.5)]
         counts[name] = sorted(np.round(cell.azimuth_deg).astype(int))
     assert len(counts["disabled"]) == 1, counts

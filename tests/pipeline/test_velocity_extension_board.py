@@ -109,7 +109,7 @@ def test_calibrated_board_keeps_a_static_scene_static(x68, monkeypatch):  # noqa
     2 % do. The far-field fit test (`pipeline.mimo.extension`) keeps them at 0 either way: the
     wrong hypothesis that wins on the uncalibrated board fits no echo."""
     cfg, proc = x68
-    assert proc.tdma_disambiguation
+    assert proc.velocity.tdma_disambiguation
     board = cfg.replace(**BOARD)
     rng = np.random.default_rng(11)
     procs = {"raw": proc, "cal": _calibrated(cfg, board, proc, rng)}

@@ -11,7 +11,7 @@ from pipeline.chirp_level import range_stage
 from pipeline.stages import interp_range
 from tests.pipeline.test_compensation import IMBALANCE, board_gain
 
-RAW = pipeline.ProcessingConfig(dc_removal=False, interference_mitigation=False,
+RAW = pipeline.ProcessingConfig().replace(dc_removal=False, interference_mitigation=False,
                                 compression=False)
 
 

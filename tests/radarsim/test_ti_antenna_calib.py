@@ -32,7 +32,7 @@ def test_identity_line_is_no_correction():
     prof = parse_ti_cfg(profile_text("awr2944p_ddm"))
     assert prof.demo_family == "mcu_plus_ddm"
     assert prof.processing["channel_comp"] is None
-    assert processing_from_profile(prof).channel_comp is None
+    assert processing_from_profile(prof).calibration.channel_comp is None
 
 
 def test_pairs_are_im_re_in_chip_tx_major_order():
@@ -41,7 +41,7 @@ def test_pairs_are_im_re_in_chip_tx_major_order():
     pairs = tuple((round(0.9 - 0.01 * k, 2), round(0.02 * k - 0.15, 2)) for k in range(16))
     prof = parse_ti_cfg(_ddm(_line(pairs)))
     assert prof.processing["channel_comp"] == pairs
-    assert processing_from_profile(prof).channel_comp == pairs
+    assert processing_from_profile(prof).calibration.channel_comp == pairs
 
 
 def test_written_back_and_read_again():

@@ -86,11 +86,11 @@ def test_multi_obj_beamforming_disabled_keeps_one_peak_and_enabled_on_tdma_is_no
     on = "multiObjBeamForming -1 1 0.5"
     off = parse_ti_cfg(profile_text("xwr68_tx13").replace(on, "multiObjBeamForming -1 0 0.5"))
     notes = []
-    assert processing_from_profile(off, notes).azimuth_sidelobe_db == ONE_PEAK_DB
+    assert processing_from_profile(off, notes).angle.azimuth_sidelobe_db == ONE_PEAK_DB
     assert not any("multiObjBeamForming" in n for n in notes + list(off.notes))
     notes = []
     proc = processing_from_profile(parse_ti_cfg(profile_text("xwr68_tx13")), notes)
-    assert proc.azimuth_sidelobe_db == pytest.approx(20 * np.log10(2))
+    assert proc.angle.azimuth_sidelobe_db == pytest.approx(20 * np.log10(2))
     lines = [n for n in notes if n.startswith("read but not modelled: ")]
     assert len(lines) == 1
     assert "multiObjBeamForming enabled (the tdma chain" in lines[0]

@@ -126,7 +126,7 @@ def test_compression_ratio_must_hold_the_shortest_code(make_config, n_rx, bins, 
     `ege_compress` refuses it too; the ratio at the limit is accepted."""
     assert cl.ege_min_ratio(n_rx, bins) == pytest.approx(lowest)
     cfg = make_config(n_rx=n_rx, rx_channels=tuple(range(1, n_rx + 1)))
-    proc = pipeline.ProcessingConfig(compression_ratio=0.25,
+    proc = pipeline.ProcessingConfig().replace(compression_ratio=0.25,
                                      compression_range_bins_per_block=bins)
     with pytest.raises(ValueError, match="compression_ratio=0.25 is below"):
         proc.check_radar(cfg)
@@ -135,13 +135,13 @@ def test_compression_ratio_must_hold_the_shortest_code(make_config, n_rx, bins, 
         cl.ege_compress(rf, 0.25, bins)
     ok = proc.replace(compression_ratio=math.ceil(lowest * 1e4) / 1e4)
     ok.check_radar(cfg)
-    assert not cl.ege_compress(rf, ok.compression_ratio, bins)[1].any()
+    assert not cl.ege_compress(rf, ok.compression.ratio, bins)[1].any()
 
 
 def test_compression_blocks_must_tile_the_range_bins(make_config):
     """Blocks of 32 bins tile the R79 radar's 192 range bins; a radar of 100 bins is
     refused, naming the block size and the bin count."""
-    proc = pipeline.ProcessingConfig(compression_range_bins_per_block=32)
+    proc = pipeline.ProcessingConfig().replace(compression_range_bins_per_block=32)
     proc.check_radar(make_config())
     with pytest.raises(ValueError, match="=32 does not divide the radar's 100 range bins"):
         proc.check_compression(4, 100)

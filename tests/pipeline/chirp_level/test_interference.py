@@ -71,9 +71,10 @@ def test_mitigation_recovers_short_bursts_not_long_ones(cfg, slope, recovers):
     (|dS| = 6 MHz/us, 5.5 us, 40 % of the chirp) raises its own threshold and stays."""
     itf = one_interferer(slope=slope, r=15.0, power_dbm=15.0)
     adc = radarsim.simulate_frame(cfg, empty(), np.random.default_rng(6), itf)
-    off = cl.noise_floor_rise(cfg, adc, pipeline.ProcessingConfig(
+    off = cl.noise_floor_rise(cfg, adc, pipeline.ProcessingConfig().replace(
         interference_mitigation=False, compression=False)).doppler_db
-    on = cl.noise_floor_rise(cfg, adc, pipeline.ProcessingConfig(compression=False)).doppler_db
+    on = cl.noise_floor_rise(cfg, adc, pipeline.ProcessingConfig().replace(
+        compression=False)).doppler_db
     assert off > 10
     if recovers:
         assert on < 1.0
@@ -96,9 +97,9 @@ def test_mitigation_works_on_every_adc_mode(make_x18, adc_mode):
         slope_hz_per_s=[si], chirp_period_s=[31e-6], ramp_time_s=[25e-6],
         chirp_offset_s=[0.7e-6], tx_power_dbm=[15.0])
     adc = radarsim.simulate_frame(cfg, empty(), np.random.default_rng(6), itf)
-    off = cl.noise_floor_rise(cfg, adc, pipeline.ProcessingConfig(
+    off = cl.noise_floor_rise(cfg, adc, pipeline.ProcessingConfig().replace(
         interference_mitigation=False, compression=False)).doppler_db
-    on = cl.noise_floor_rise(cfg, adc, pipeline.ProcessingConfig(
+    on = cl.noise_floor_rise(cfg, adc, pipeline.ProcessingConfig().replace(
         compression=False, intf_mitigation="zero")).doppler_db
     assert off > 15
     assert abs(on) < 1.0
@@ -139,14 +140,14 @@ def test_repaired_rows_window_the_repair_of_the_dc_removed_rows(cfg, method):
     from pipeline.kernels import window
     adc = radarsim.simulate_frame(cfg.replace(adc_dc_offset_lsb=-120.0), empty(),
                                   np.random.default_rng(8), one_interferer())
-    proc = pipeline.ProcessingConfig(intf_mitigation=method)
+    proc = pipeline.ProcessingConfig().replace(intf_mitigation=method)
     dc, rows, flags = _chirp_statistics(adc, proc)
     n = adc.shape[-1]
     win = window("hann", n)
     y = np.subtract(adc.reshape(-1, n)[rows], dc.reshape(-1, 1)[rows], dtype=np.float32)
-    want = repair(y, flags, win, proc.intf_hysteresis_samples, get_mitigation(method),
+    want = repair(y, flags, win, proc.interference.hysteresis_samples, get_mitigation(method),
                   frame=FrameRows(adc.reshape(-1, n), rows, adc.shape[1])) * win
-    rep = repaired_rows(adc, dc, rows, flags, win, proc)
+    rep = repaired_rows(adc, dc, rows, flags, win, proc.interference)
     assert rows.size and rep.windowed().tobytes() == want.tobytes()
     assert (rep.means != 0).any() == (method == "lowrank")
 
@@ -173,9 +174,10 @@ def test_deferred_repair_is_the_repair_in_any_chirp_order(cfg, monkeypatch, part
     proc = pipeline.ProcessingConfig()
     dc, rows, flags = _chirp_statistics(adc, proc)
     win = window("hann", adc.shape[-1])
-    want = repaired_rows(adc, dc, rows, flags, win, proc)
+    want = repaired_rows(adc, dc, rows, flags, win, proc.interference)
     calls = []
-    rep = repaired_rows(adc, dc, rows, lambda: calls.append(1) or flags.copy(), win, proc,
+    rep = repaired_rows(adc, dc, rows, lambda: calls.append(1) or flags.copy(), win,
+                        proc.interference,
                         deferred=True)
     assert (rep.fill is None) == few_clean_rows and len(calls) == few_clean_rows
     if rep.fill is not None:
@@ -188,6 +190,6 @@ def test_deferred_repair_is_the_repair_in_any_chirp_order(cfg, monkeypatch, part
     assert rows.size > 4 and rep.samples.tobytes() == want.samples.tobytes()
     assert rep.means.tobytes() == want.means.tobytes() and (rep.means != 0).any()
     assert rep.windowed().tobytes() == want.windowed().tobytes()
-    eager = repaired_rows(adc, dc, rows, flags, win, pipeline.ProcessingConfig(
-        intf_mitigation="zero"), deferred=True)  # only "lowrank" defers
+    eager = repaired_rows(adc, dc, rows, flags, win, pipeline.ProcessingConfig().replace(
+        intf_mitigation="zero").interference, deferred=True)  # only "lowrank" defers
     assert eager.fill is None

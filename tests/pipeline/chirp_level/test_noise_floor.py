@@ -35,7 +35,7 @@ def test_noise_floor_rise_without_mitigation_matches_burst_energy(cfg):
     with E_I from the closed-form burst timing and one-way power, within 0.5 dB."""
     itf = one_interferer()
     adc = radarsim.simulate_frame(cfg, empty(), np.random.default_rng(5), itf)
-    proc = pipeline.ProcessingConfig(dc_removal=True, interference_mitigation=False,
+    proc = pipeline.ProcessingConfig().replace(dc_removal=True, interference_mitigation=False,
                                      compression=False)
     rise = cl.noise_floor_rise(cfg, adc, proc, range_stride=1)
     win = window("hann", cfg.n_samples)

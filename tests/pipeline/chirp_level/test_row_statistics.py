@@ -22,7 +22,7 @@ def test_row_statistics_equal_remove_dc_and_magdiff_flagged_rows(cfg, itf, snr_d
     proc = pipeline.ProcessingConfig().replace(intf_magdiff_snr_db=snr_db)
     st = row_statistics(adc, snr_db)
     dc = remove_dc(adc)
-    rows, flags = flagged_rows(adc, dc, proc)
+    rows, flags = flagged_rows(adc, dc, proc.interference)
     assert st.dc.tobytes() == dc.tobytes()
     assert np.array_equal(st.flagged, rows) and (rows.size > 0) == (itf or snr_db < 10)
     dc2, rows2, flags2 = _chip_statistics(adc, proc)
@@ -37,7 +37,7 @@ def test_row_statistics_leave_frames_spanning_more_than_int16_to_numpy(cfg):
     assert row_statistics(adc, 18.0) is None
     proc = pipeline.ProcessingConfig()
     dc, rows, flags = _chip_statistics(adc, proc)
-    want_rows, want_flags = flagged_rows(adc, remove_dc(adc), proc)
+    want_rows, want_flags = flagged_rows(adc, remove_dc(adc), proc.interference)
     assert np.array_equal(rows, want_rows) and flags.tobytes() == want_flags.tobytes()
 
 

@@ -18,7 +18,7 @@ from .helpers import OFF, empty, one_interferer
 
 def test_switches_off_is_the_plain_range_fft(cfg):
     adc = radarsim.simulate_frame(cfg, empty(), np.random.default_rng(0))
-    rf = cl.range_stage(cfg, adc, pipeline.ProcessingConfig(**OFF))
+    rf = cl.range_stage(cfg, adc, pipeline.ProcessingConfig().replace(**OFF))
     assert np.array_equal(rf, range_fft(adc, window("hann", cfg.n_samples)))
 
 
@@ -32,32 +32,34 @@ def test_switches_off_is_the_plain_range_fft(cfg):
     (dict(intf_hysteresis_samples=-1), "intf_hysteresis_samples"),
     (dict(compression_ratio=1.0), "compression_ratio"),
     (dict(compression_range_bins_per_block=6), "compression_range_bins_per_block"),
-    (dict(intf_weak_burst_snr_db=0.0), r"intf_weak_burst_snr_db=0\.0 must be in \(0, 60\]"),
-    (dict(intf_weak_burst_snr_db=float("nan")), "intf_weak_burst_snr_db=nan"),
-    (dict(intf_weak_burst_snr_db="11"), "intf_weak_burst_snr_db='11'"),
-    (dict(intf_weak_burst_window_samples=2), "intf_weak_burst_window_samples=2"),
-    (dict(intf_weak_burst_window_samples=256), "intf_weak_burst_window_samples=256"),
-    (dict(intf_weak_burst_window_samples=30.0), "intf_weak_burst_window_samples=30.0"),
-    (dict(intf_weak_burst_window_samples=30), "intf_weak_burst_window_samples=30 must be a "
-                                              "multiple of 4"),
+    ({"interference.weak_burst_snr_db": 0.0}, r"weak_burst_snr_db=0\.0 must be in \(0, 60\]"),
+    ({"interference.weak_burst_snr_db": float("nan")}, "weak_burst_snr_db=nan"),
+    ({"interference.weak_burst_snr_db": "11"}, "weak_burst_snr_db='11'"),
+    ({"interference.weak_burst_window_samples": 2}, "weak_burst_window_samples=2"),
+    ({"interference.weak_burst_window_samples": 256}, "weak_burst_window_samples=256"),
+    ({"interference.weak_burst_window_samples": 30.0}, "weak_burst_window_samples=30.0"),
+    ({"interference.weak_burst_window_samples": 30}, "weak_burst_window_samples=30 must be a "
+                                                     "multiple of 4"),
 ])
 def test_processing_config_validation(kw, match):
     with pytest.raises(ValueError, match=match):
-        pipeline.ProcessingConfig(**kw)
+        pipeline.ProcessingConfig().replace(**kw)
 
 
 def test_weak_burst_detection_on_by_default_and_switchable():
-    p = pipeline.ProcessingConfig()
-    assert (p.intf_weak_burst_snr_db, p.intf_weak_burst_window_samples) == (11.0, 32)
-    assert pipeline.ProcessingConfig(intf_weak_burst_snr_db=None).intf_weak_burst_snr_db is None
+    intf = pipeline.ProcessingConfig().interference
+    assert (intf.weak_burst_snr_db, intf.weak_burst_window_samples) == (11.0, 32)
+    off = pipeline.ProcessingConfig().replace(**{"interference.weak_burst_snr_db": None})
+    assert off.interference.weak_burst_snr_db is None
 
 
 def test_demo_defaults_and_sweep_key():
     p = pipeline.ProcessingConfig()
-    assert (p.dc_removal, p.interference_mitigation, p.compression) == (True, True, True)
-    assert (p.intf_mag_snr_db, p.intf_magdiff_snr_db, p.intf_hysteresis_samples) == \
-        (15.0, 18.0, 3)
-    assert p.replace(interference_mitigation=False).interference_mitigation is False
+    assert (p.range.dc_removal, p.interference.enabled, p.compression.enabled) == \
+        (True, True, True)
+    intf = p.interference
+    assert (intf.mag_snr_db, intf.magdiff_snr_db, intf.hysteresis_samples) == (15.0, 18.0, 3)
+    assert p.replace(interference_mitigation=False).interference.enabled is False
 
 
 def test_cfg_intf_and_compression_commands_reach_the_processing_config():
@@ -66,8 +68,8 @@ def test_cfg_intf_and_compression_commands_reach_the_processing_config():
     text = r79_cfg_text().replace("intfMitigCfg -1 15 18", "intfMitigCfg -1 12 20") \
         .replace("compressionCfg -1 1 0 0.5 8", "compressionCfg -1 0 0 0.5 8")
     proc = processing_from_profile(parse_ti_cfg(text))
-    assert (proc.intf_mag_snr_db, proc.intf_magdiff_snr_db, proc.compression) == \
-        (12.0, 20.0, False)
+    assert (proc.interference.mag_snr_db, proc.interference.magdiff_snr_db,
+            proc.compression.enabled) == (12.0, 20.0, False)
     with pytest.raises(ValueError, match="BFP"):
         parse_ti_cfg(r79_cfg_text().replace("compressionCfg -1 1 0 0.5 8",
                                             "compressionCfg -1 1 1 0.5 8"))
