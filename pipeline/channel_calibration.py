@@ -304,7 +304,7 @@ def measure_channel_calibration(cfg: RadarConfig, frames: Iterable[np.ndarray],
                        f"channel and frame at "
                        f"{measured:.3f} m is below the limit {min_snr_db:g} dB: use a stronger "
                        "or closer reflector")
-    _refuse_second_return(p_sum, b, pos, idx, WINDOWS[proc.range_window], dr)
+    _refuse_second_return(p_sum, b, pos, idx, WINDOWS[proc.range.window], dr)
     coef = _steering(cfg, azimuth_deg) * np.conj(xs) / np.abs(xs) ** 2 * np.abs(xs).min()
     coef = coef * np.exp(-1j * np.angle(coef[0]))  # channel 0 real and positive
     return ChannelCalibration(range_bias_m=measured - target_range_m,

@@ -173,7 +173,8 @@ def calibration_line_probes() -> list[Probe]:
               process_with("awr2944p_ddm", ACAL, "antennaCalibParams " + " ".join(["0 0"] * 16)),
               r"antennaCalibParams\): every coefficient is 0 \+ 0j"),
         Probe("board_calibration", "processing_range_bias_1e300", cli=False,
-              call=lambda t: __import__("pipeline").ProcessingConfig(range_bias_m=1e300),
+              call=lambda t: __import__("pipeline").ProcessingConfig().replace(
+                  **{"calibration.range_bias_m": 1e300}),
               match=r"range_bias_m=1e\+300 is outside \+/-10 m"),
     ]
 

@@ -86,12 +86,12 @@ def test_process_and_sweep_share_one_range_bias_bound():
     """A profile's rangeBias and a simulated board's bias obey the same limit: what a sweep
     cell refuses, `process` refuses."""
     from radarsim.config_rules import MAX_RANGE_BIAS_M
-    pipeline.ProcessingConfig(range_bias_m=MAX_RANGE_BIAS_M)
+    pipeline.ProcessingConfig().replace(**{"calibration.range_bias_m": MAX_RANGE_BIAS_M})
     radarsim.presets.r79_ddma(**{"impairments.range_bias_m": MAX_RANGE_BIAS_M})
     with pytest.raises(ValueError, match=r"range_bias_m=10\.5 must be finite and within"):
         radarsim.presets.r79_ddma(**{"impairments.range_bias_m": MAX_RANGE_BIAS_M + 0.5})
     with pytest.raises(ValueError, match=r"range_bias_m=10\.5 is outside \+/-10 m"):
-        pipeline.ProcessingConfig(range_bias_m=MAX_RANGE_BIAS_M + 0.5)
+        pipeline.ProcessingConfig().replace(**{"calibration.range_bias_m": MAX_RANGE_BIAS_M + 0.5})
 
 
 def test_a_zero_coefficient_on_a_used_channel_is_refused(make_config):
@@ -105,7 +105,8 @@ def test_a_zero_coefficient_on_a_used_channel_is_refused(make_config):
         check_channel_comp(cfg, tuple(comp))
     with pytest.raises(ValueError, match=r"Tx2 Rx2 is 0 \+ 0j"):
         pipeline.process_frame(cfg, np.zeros((cfg.n_chirps, 4, cfg.n_samples), np.int16),
-                               pipeline.ProcessingConfig(channel_comp=tuple(comp)))
+                               pipeline.ProcessingConfig().replace(
+                                   **{"calibration.channel_comp": tuple(comp)}))
 
 
 def test_lists_become_tuples():
