@@ -8,7 +8,7 @@ import numpy as np
 import pandas as pd
 
 from benchmarks._timing import median_time_s
-from pipeline.tracking import GroupTracker, TrackerConfig
+from pipeline.tracking import GroupTracker, MotionConfig, MountConfig, TrackerConfig
 
 N_ACTORS = 30
 POINTS_PER_ACTOR = 6
@@ -60,7 +60,7 @@ def dense_highway_frames(rng: np.random.Generator, n_frames: int = N_FRAMES
 
 
 def run_tracker(frames, ego: float | None) -> GroupTracker:
-    tracker = GroupTracker(TrackerConfig(frame_period_s=FRAME_PERIOD_S),
+    tracker = GroupTracker(TrackerConfig(motion=MotionConfig(frame_period_s=FRAME_PERIOD_S)),
                            rng=np.random.default_rng(0))
     for t, pc in frames:
         tracker.step(pc, t, ego)
@@ -98,8 +98,9 @@ def run() -> list[str]:
                      f"{t_frame * 1e3:.2f} ms per frame (target <= 5 ms), "
                      f"{tracker.n_tracks} live tracks at the end")
     sframes, speeds, mount = _scenario_frames()
-    cfg = TrackerConfig(mount_x_m=mount.x_m, mount_y_m=mount.y_m,
-                        mount_yaw_deg=mount.yaw_deg, frame_period_s=FRAME_PERIOD_S)
+    cfg = TrackerConfig(mount=MountConfig(mount_x_m=mount.x_m, mount_y_m=mount.y_m,
+                                          mount_yaw_deg=mount.yaw_deg),
+                        motion=MotionConfig(frame_period_s=FRAME_PERIOD_S))
 
     def track_scenario():
         tracker = GroupTracker(cfg, rng=np.random.default_rng(0))

@@ -87,15 +87,15 @@ def _real_simulate_frame(cfg, sc, rng, interferers=None):
 def _real_track(radar_cfg, clouds, times_s, ego_speeds_mps, mount, overrides, rng):
     """Run the group tracker over one scheme's point clouds."""
     from pipeline import tracking as trk
-    kw = dict(overrides)
-    if mount is not None:
+    kw = trk.tracker_paths(overrides)  # dotted keys; a flat key of the previous release warns
+    if mount is not None and "mount" not in kw:
         for key in ("x_m", "y_m", "yaw_deg"):
             val = mount_value(mount, key)
             if val is not None:
-                kw.setdefault(f"mount_{key}", float(val))
-    if len(times_s) > 1:
-        kw.setdefault("frame_period_s", float(np.median(np.diff(times_s))))
-    tcfg = trk.TrackerConfig(**kw)
+                kw.setdefault(f"mount.mount_{key}", float(val))
+    if len(times_s) > 1 and "motion" not in kw:
+        kw.setdefault("motion.frame_period_s", float(np.median(np.diff(times_s))))
+    tcfg = trk.TrackerConfig().replace(**kw)
     return trk.track_frames(list(zip(map(float, times_s), clouds)), tcfg,
                             ego_speeds_mps=None if ego_speeds_mps is None
                             else list(map(float, ego_speeds_mps)), rng=rng)

@@ -193,7 +193,8 @@ def _track(points: pd.DataFrame, profile, n_frames: int) -> pd.DataFrame:
         clouds = [(f * profile.frame_period_s + part.subframe_start_s,
                    rows[rows["frame"] == f].drop(columns=["frame", "time_s"])
                    .reset_index(drop=True)) for f in range(n_frames)]
-        tracks = trk.track_frames(clouds, trk.TrackerConfig(frame_period_s=profile.frame_period_s))
+        tracks = trk.track_frames(clouds, trk.TrackerConfig(
+            motion=trk.MotionConfig(frame_period_s=profile.frame_period_s)))
         if profile.is_advanced:
             tracks.insert(1, "subframe", np.full(len(tracks), part.subframe_index, dtype=np.int64))
         tables.append(tracks)

@@ -153,7 +153,7 @@ def validate_cells(spec: SweepSpec, source: str | Path | None = None) -> None:
 
     def build(section: str, overrides: dict) -> None:
         if section == "tracker":
-            TrackerConfig(**overrides)
+            TrackerConfig().replace_fields(**overrides)
         else:
             check(CellSpec(scenario=spec.scenarios[0], **{section: overrides}, **schemes))
 
@@ -162,7 +162,7 @@ def validate_cells(spec: SweepSpec, source: str | Path | None = None) -> None:
             check(CellSpec(scenario=spec.scenarios[0], seed=spec.seeds[0], variant=v.name,
                            radar=dict(v.radar), processing=dict(v.processing),
                            tracker=dict(v.tracker), scene=dict(v.scene), **schemes))
-            TrackerConfig(**v.tracker)
+            TrackerConfig().replace(**v.tracker)  # a flat key warns, naming the new key
         except (ValueError, TypeError, KeyError) as exc:
             why = _culprit(v, build) or f"{type(exc).__name__}: {exc}"
             raise BadInput(f"{where}variant {v.name!r}: {why}") from None

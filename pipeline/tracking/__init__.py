@@ -6,23 +6,23 @@ Where to add what:
 
 | module | holds | add here |
 |---|---|---|
-| `config` | `TrackerConfig` | a tracker setting |
-| `models` | `MOTION_MODELS` (CV, CA: F, Q), `RangeAzimuthDoppler` (h, H) | a motion model |
-| `hypothesis` | `GroupGateHypothesiser`: predictions, innovations, Jacobians, gates | a hypothesiser |
-| `association` | `GatedMaximumLikelihood`, `GatedNearestNeighbour`: choose only | an associator |
-| `update` | `KalmanPredictor`, `GroupEkfUpdater` | a predictor or updater |
-| `clustering` | `leader_clusters`, `LeaderClusterAllocator` | an allocator |
-| `parts` | registries of the parts by name (`TrackerConfig.associator = "nearest"`) | its entry |
-| `ego_motion` | RANSAC ego velocity, static labels (`RansacEgoMotion`) | an ego-motion source |
-| `tracker` | `GroupTracker` (wires the parts, maintenance), `track_frames` | nothing per part |
-| `state` | typed data between parts: `Points`, `Tracks`, `Association`, `NewTracks` | |
+| `config` | `TrackerConfig`: the parts' sub-configs, dotted keys | a sub-config (its field) |
+| `models` | `MOTION_MODELS` (CV, CA: F, Q), `RangeAzimuthDoppler` (h, H); `MotionConfig`, `MountConfig`, `MeasurementNoise` | a motion model |
+| `hypothesis` | `GroupGateHypothesiser`: predictions, innovations, Jacobians, gates; `GateConfig` | a hypothesiser |
+| `association` | `GatedMaximumLikelihood`, `GatedNearestNeighbour`: choose only; `AssociationRules` | an associator |
+| `update` | `KalmanPredictor`, `GroupEkfUpdater`; `GroupUpdateConfig` | a predictor or updater |
+| `clustering` | `leader_clusters`, `same_group`, `LeaderClusterAllocator`; `AllocationConfig`, `MergeConfig` | an allocator |
+| `parts` | registries of the parts by name; `PartNames` (`TrackerConfig.parts`) | its entry |
+| `ego_motion` | RANSAC ego velocity, static labels (`RansacEgoMotion`); `EgoMotionConfig` | an ego-motion source |
+| `tracker` | `GroupTracker` (wires the parts), `track_frames` | nothing per part |
+| `state` | typed data between parts: `Points`, `Tracks`, `Association`, `NewTracks`; maintenance (`MaintenanceConfig`) | |
 
 A part is passed to `GroupTracker(cfg, hypothesiser=..., associator=..., allocator=...,
 predictor=..., updater=..., ego_motion=...)` or registered in `parts` and named in
-`TrackerConfig` (so a sweep can vary it); the tracker itself is not edited. Each part declares
-the few settings it reads as its own frozen dataclass (`GateConfig`, `AssociationRules`,
-`GroupUpdateConfig`, `AllocationConfig`, `MergeConfig`), built from a `TrackerConfig`'s
-same-named fields when given one.
+`TrackerConfig.parts` (so a sweep can vary it: ``"tracker.parts.associator"``); the tracker
+itself is not edited. Each part declares the settings it reads as its own frozen dataclass,
+next to it, and `TrackerConfig` is made of them (``cfg.gating`` is the hypothesiser's
+`GateConfig`); a part built by its registry entry gets its own sub-config.
 """
 from .association import AssociationRules, Associator, GatedMaximumLikelihood, GatedNearestNeighbour
 from .clustering import (
@@ -33,7 +33,7 @@ from .clustering import (
                           leader_clusters,
                           same_group,
 )
-from .config import TrackerConfig
+from .config import TrackerConfig, tracker_paths
 from .ego_motion import (
                           EGO_MODELS,
                           EgoFrame,
@@ -46,7 +46,15 @@ from .ego_motion import (
                           static_mask,
 )
 from .hypothesis import GateConfig, GroupGateHypothesiser, Hypotheses, Hypothesiser
-from .models import MOTION_MODELS, MotionModel, RangeAzimuthDoppler, measurement_model
+from .models import (
+                          MOTION_MODELS,
+                          MeasurementNoise,
+                          MotionConfig,
+                          MotionModel,
+                          MountConfig,
+                          RangeAzimuthDoppler,
+                          measurement_model,
+)
 from .parts import (
                           ALLOCATORS,
                           ASSOCIATORS,
@@ -54,9 +62,10 @@ from .parts import (
                           PART_REGISTRIES,
                           PREDICTORS,
                           UPDATERS,
+                          PartNames,
                           TrackerPart,
 )
-from .state import Association, NewTracks, Points, Tracks
+from .state import Association, MaintenanceConfig, NewTracks, Points, Tracks
 from .tracker import TRACK_COLUMNS, TRACK_STATES, GroupTracker, track_frames
 from .update import GroupEkfUpdater, GroupUpdateConfig, KalmanPredictor, UpdateResult
 
@@ -70,4 +79,5 @@ __all__ = ["TrackerConfig", "GroupTracker", "track_frames", "TRACK_COLUMNS", "TR
            "AssociationRules", "GatedNearestNeighbour", "AllocationConfig", "MergeConfig",
            "GateConfig", "GroupGateHypothesiser", "Hypotheses", "Hypothesiser",
            "GroupUpdateConfig", "TrackerPart", "HYPOTHESISERS", "ASSOCIATORS", "UPDATERS",
-           "PREDICTORS", "ALLOCATORS", "PART_REGISTRIES"]
+           "PREDICTORS", "ALLOCATORS", "PART_REGISTRIES", "PartNames", "MotionConfig",
+           "MountConfig", "MeasurementNoise", "MaintenanceConfig", "tracker_paths"]

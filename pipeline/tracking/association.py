@@ -24,7 +24,7 @@ import numpy as np
 
 from core.checks import require
 
-from .hypothesis import Hypotheses, part_config
+from .hypothesis import Hypotheses
 from .state import Association, Tracks
 
 __all__ = ["AssociationRules", "Associator", "GatedMaximumLikelihood", "GatedNearestNeighbour"]
@@ -32,7 +32,9 @@ __all__ = ["AssociationRules", "Associator", "GatedMaximumLikelihood", "GatedNea
 
 @dataclass(frozen=True, kw_only=True, slots=True)
 class AssociationRules:
-    """What an associator reads (the same-named `TrackerConfig` field).
+    """What an associator reads (its registry entry takes the value from
+    ``TrackerConfig.allocation.allow_static_tracks``: whether static points may start tracks
+    is also whether they may confirm them).
 
     Parameters
     ----------
@@ -41,7 +43,7 @@ class AssociationRules:
         by a false alarm next to a guard rail is not confirmed by the rail).
     """
 
-    allow_static_tracks: bool
+    allow_static_tracks: bool = False
 
     def __post_init__(self) -> None:
         require(self, "allow_static_tracks", "bool")
@@ -61,11 +63,11 @@ class GatedMaximumLikelihood:
 
     Parameters
     ----------
-    cfg : AssociationRules or TrackerConfig
+    cfg : AssociationRules
     """
 
-    def __init__(self, cfg) -> None:
-        self.cfg = part_config(AssociationRules, cfg)
+    def __init__(self, cfg: AssociationRules) -> None:
+        self.cfg = cfg
 
     def _score(self, hyp: Hypotheses) -> np.ndarray:
         """(K,) score of each candidate pair: smallest wins."""

@@ -13,18 +13,16 @@ References
 """
 from __future__ import annotations
 
-import dataclasses
 import math
 from dataclasses import dataclass
 from typing import Protocol
 
 import numpy as np
 
-from core.checks import one_of, require
+from core.checks import require
 
 from .ego_motion import EgoVelocity
-from .hypothesis import part_config
-from .models import MOTION_MODELS, RangeAzimuthDoppler, wrap_pi
+from .models import RangeAzimuthDoppler, wrap_pi
 from .state import NewTracks, Points, Tracks
 
 __all__ = ["leader_clusters", "same_group", "Allocator", "LeaderClusterAllocator",
@@ -33,53 +31,82 @@ __all__ = ["leader_clusters", "same_group", "Allocator", "LeaderClusterAllocator
 
 @dataclass(frozen=True, kw_only=True, slots=True)
 class MergeConfig:
-    """What the same-group test reads (the same-named `TrackerConfig` fields): centroids
-    within merge_depth_m along and merge_width_m (+ 2 R sigma_az) across the line of sight,
-    radial velocities within merge_velocity_mps."""
+    """One track per group (``TrackerConfig.merging``; read by the allocator and by the
+    tracker's duplicate removal).
 
-    merge_depth_m: float
-    merge_width_m: float
-    merge_velocity_mps: float
-    azimuth_std_deg: float
+    Parameters
+    ----------
+    merge_tracks : bool
+        Keep one track per group (an addition to TI's design): a cluster of the same group as
+        a live track or a stronger cluster starts no track, and a track duplicating another
+        is freed. Otherwise a vehicle whose points fall into two leader clusters keeps two
+        tracks that share its points.
+    merge_depth_m, merge_width_m, merge_velocity_mps : float
+        Same-group test (`same_group`): centroids within these distances along and across
+        the line of sight (across: plus 2 x range x azimuth sigma) and radial velocities
+        within this difference. Keep merge_width_m below the lane width, so vehicles abreast
+        at the same speed stay separate where the radar can resolve them.
+    """
+
+    merge_tracks: bool = True
+    merge_depth_m: float = 5.0
+    merge_width_m: float = 2.0
+    merge_velocity_mps: float = 1.0
 
     def __post_init__(self) -> None:
-        require(self, [f.name for f in dataclasses.fields(self)], gt=0)
+        require(self, "merge_tracks", "bool")
+        require(self, ("merge_depth_m", "merge_width_m", "merge_velocity_mps"), gt=0)
 
 
 @dataclass(frozen=True, kw_only=True, slots=True)
 class AllocationConfig:
-    """What the leader-cluster allocator reads (the same-named `TrackerConfig` fields; see
-    `TrackerConfig` for each)."""
+    """What the leader-cluster allocator reads (``TrackerConfig.allocation``).
 
-    motion_model: str
-    alloc_min_points: int
-    alloc_min_snr_db: float
-    alloc_min_speed_mps: float
-    alloc_range_m: float
-    alloc_azimuth_deg: float
-    alloc_radial_velocity_mps: float
-    group_depth_m: float
-    group_width_m: float
-    group_velocity_spread_mps: float
-    init_velocity_std_mps: float
-    init_accel_std_mps2: float
-    allow_static_tracks: bool
-    merge_tracks: bool
-    merge_depth_m: float
-    merge_width_m: float
-    merge_velocity_mps: float
-    azimuth_std_deg: float
+    Parameters
+    ----------
+    alloc_min_points : int
+        Fewest points in a cluster to start a track.
+    alloc_min_snr_db : float
+        Smallest summed (linear) SNR of a cluster to start a track, dB.
+    alloc_min_speed_mps : float
+        Smallest |ground radial velocity| of a cluster centroid to start a track (ignored
+        when `allow_static_tracks`). Without an ego-speed estimate the measured radial
+        velocity is used.
+    alloc_range_m, alloc_azimuth_deg, alloc_radial_velocity_mps : float
+        Leader clustering: a point joins the leader's cluster when it is within these
+        distances of the leader in range, azimuth and radial velocity.
+    group_depth_m, group_width_m, group_velocity_spread_mps : float
+        Expected extent of a group (initial dispersion, uniform spread: extent^2 / 12).
+    init_velocity_std_mps : float
+        Initial standard deviation of the (unobserved) cross-range velocity.
+    init_accel_std_mps2 : float
+        Initial standard deviation of the acceleration (CA model).
+    allow_static_tracks : bool
+        Whether static points may start tracks (and confirm DETECT tracks: the associator's
+        `AssociationRules` take it from here).
+    """
+
+    alloc_min_points: int = 1
+    alloc_min_snr_db: float = 15.0
+    alloc_min_speed_mps: float = 0.5
+    alloc_range_m: float = 5.0
+    alloc_azimuth_deg: float = 4.0
+    alloc_radial_velocity_mps: float = 1.0
+    group_depth_m: float = 4.0
+    group_width_m: float = 1.8
+    group_velocity_spread_mps: float = 1.0
+    init_velocity_std_mps: float = 10.0
+    init_accel_std_mps2: float = 3.0
+    allow_static_tracks: bool = False
 
     def __post_init__(self) -> None:
-        one_of("motion_model", self.motion_model, MOTION_MODELS)
         require(self, "alloc_min_snr_db")
         require(self, "alloc_min_speed_mps", ge=0)
         require(self, ("alloc_range_m", "alloc_azimuth_deg", "alloc_radial_velocity_mps",
                        "group_depth_m", "group_width_m", "group_velocity_spread_mps",
-                       "init_velocity_std_mps", "init_accel_std_mps2", "merge_depth_m",
-                       "merge_width_m", "merge_velocity_mps", "azimuth_std_deg"), gt=0)
+                       "init_velocity_std_mps", "init_accel_std_mps2"), gt=0)
         require(self, "alloc_min_points", "integer", ge=1)
-        require(self, ("allow_static_tracks", "merge_tracks"), "bool")
+        require(self, "allow_static_tracks", "bool")
 
 
 def leader_clusters(range_m: np.ndarray, azimuth_rad: np.ndarray, radial_velocity_mps: np.ndarray,
@@ -130,20 +157,22 @@ def leader_clusters(range_m: np.ndarray, azimuth_rad: np.ndarray, radial_velocit
     return clusters
 
 
-def same_group(cfg: MergeConfig, mount_xy_m: np.ndarray, xy_a: np.ndarray, vr_a: np.ndarray,
-               xy_b: np.ndarray, vr_b: np.ndarray) -> np.ndarray:
+def same_group(cfg: MergeConfig, sensor: RangeAzimuthDoppler, xy_a: np.ndarray,
+               vr_a: np.ndarray, xy_b: np.ndarray, vr_b: np.ndarray) -> np.ndarray:
     """(A, B) bool: b lies within merge_depth_m along and merge_width_m across the line of
     sight to a, with radial velocity within merge_velocity_mps.
 
     Parameters
     ----------
-    cfg : MergeConfig (or any config with its fields: `AllocationConfig`, `TrackerConfig`)
+    cfg : MergeConfig
+    sensor : RangeAzimuthDoppler
+        Mount position (the line of sight starts there) and azimuth noise.
     xy_a : (A, 2), xy_b : (B, 2) float
         Vehicle-frame positions, m.
     vr_a : (A,), vr_b : (B,) float
         Radial velocities, m/s.
     """
-    d = xy_a - mount_xy_m
+    d = xy_a - sensor.mount_xy_m
     los = d / np.maximum(np.hypot(d[:, 0], d[:, 1]), 1e-6)[:, None]
     delta = xy_b[None, :, :] - xy_a[:, None, :]                              # (A, B, 2)
     depth = np.einsum("abk,ak->ab", delta, los)
@@ -152,7 +181,7 @@ def same_group(cfg: MergeConfig, mount_xy_m: np.ndarray, xy_a: np.ndarray, vr_a:
     # centroids of one vehicle); where that passes a lane width the radar, whose resolution
     # is several sigmas, cannot split vehicles abreast anyway.
     width_lim = cfg.merge_width_m + 2 * np.hypot(d[:, 0], d[:, 1]) * math.radians(
-        cfg.azimuth_std_deg)
+        sensor.noise.azimuth_std_deg)
     return ((np.abs(depth) <= cfg.merge_depth_m) & (np.abs(width) <= width_lim[:, None])
             & (np.abs(vr_a[:, None] - vr_b[None, :]) <= cfg.merge_velocity_mps))
 
@@ -171,17 +200,23 @@ class LeaderClusterAllocator:
 
     Parameters
     ----------
-    cfg : AllocationConfig or TrackerConfig
-        alloc_* thresholds, group extent, init_* standard deviations, merge_tracks.
+    cfg : AllocationConfig
+        alloc_* thresholds, group extent, init_* standard deviations, static points.
     sensor : RangeAzimuthDoppler
         Mount pose and point noise Rm.
+    merging : MergeConfig
+        One track per group: clusters of the same group as a live track or a stronger
+        cluster start none.
+    n_state : int
+        State length of the motion model (`MotionConfig.n_state`).
     """
 
-    def __init__(self, cfg, sensor: RangeAzimuthDoppler) -> None:
-        cfg = part_config(AllocationConfig, cfg)
+    def __init__(self, cfg: AllocationConfig, sensor: RangeAzimuthDoppler, *,
+                 merging: MergeConfig = MergeConfig(), n_state: int = 4) -> None:
         self.cfg = cfg
+        self.merging = merging
         self.sensor = sensor
-        self.n_state = MOTION_MODELS[cfg.motion_model].n_state
+        self.n_state = n_state
 
     def allocate(self, points: Points, candidates: np.ndarray, ego: EgoVelocity | None,
                  tracks: Tracks, room: int) -> NewTracks:
@@ -211,15 +246,16 @@ class LeaderClusterAllocator:
         ok = snr_sum_db >= cfg.alloc_min_snr_db
         if not cfg.allow_static_tracks:
             ok &= speed >= cfg.alloc_min_speed_mps
-        if cfg.merge_tracks:
+        if self.merging.merge_tracks:
             # A cluster of the same group as a live track (points just outside its gate), or
             # as a stronger cluster of this frame, starts no second track.
             xy_c = mount + r_c[:, None] * np.column_stack([np.cos(theta), np.sin(theta)])
             if tracks.size:
                 h, _ = sensor.predict(tracks.x)
-                ok &= ~same_group(cfg, mount, xy_c, vr_c, tracks.x[:, :2], h[:, 2]).any(axis=1)
-            ok &= ~np.tril(same_group(cfg, mount, xy_c, vr_c, xy_c, vr_c) & ok[None, :],
-                           -1).any(axis=1)
+                ok &= ~same_group(self.merging, sensor, xy_c, vr_c, tracks.x[:, :2],
+                                  h[:, 2]).any(axis=1)
+            ok &= ~np.tril(same_group(self.merging, sensor, xy_c, vr_c, xy_c, vr_c)
+                           & ok[None, :], -1).any(axis=1)
         ok_idx = np.flatnonzero(ok)[:room]
         k = ok_idx.size
         if k == 0:

@@ -63,7 +63,8 @@ EGO_MODELS: dict[str, EgoModel] = {m.name: m for m in (
 
 @dataclass(frozen=True, kw_only=True, slots=True)
 class EgoMotionConfig:
-    """Settings of the RANSAC ego-speed estimator.
+    """Settings of the RANSAC ego-speed estimator and of the static labels
+    (``TrackerConfig.ego_motion``).
 
     Parameters
     ----------
@@ -96,6 +97,10 @@ class EgoMotionConfig:
         and yaw rate, both of which need forward speed (0.15 allows 8.5 deg). This also keeps
         a crossing vehicle, whose radial velocity goes as sin(theta), from being taken for the
         static world when the ego stands still.
+    static_threshold_mps : float
+        Static labelling of the tracker's ego-motion part (`RansacEgoMotion`), see
+        `static_mask`; its azimuth term uses the measurement noise's azimuth sigma, not
+        `azimuth_std_deg` above.
 
     Raises
     ------
@@ -113,11 +118,12 @@ class EgoMotionConfig:
     min_inlier_fraction: float = 0.1
     max_speed_mps: float = 70.0
     max_lateral_ratio: float = 0.15
+    static_threshold_mps: float = 0.3
 
     def __post_init__(self) -> None:
         one_of("model", self.model, EGO_MODELS)
         require(self, ("n_hypotheses", "min_inliers"), "integer", ge=1)
-        require(self, ("inlier_threshold_mps", "max_speed_mps"), gt=0)
+        require(self, ("inlier_threshold_mps", "max_speed_mps", "static_threshold_mps"), gt=0)
         require(self, ("azimuth_std_deg", "n_sigma", "max_lateral_ratio"), ge=0)
         require(self, "min_abs_cos", ge=0, lt=1)
         require(self, "min_inlier_fraction", ge=0, le=1)
@@ -404,15 +410,15 @@ class RansacEgoMotion:
     Parameters
     ----------
     config : EgoMotionConfig
+        RANSAC settings and the static threshold.
     mount_yaw_deg : float
         Radar boresight yaw in the vehicle frame, deg.
-    static_threshold_mps, azimuth_std_deg : float
-        `static_mask` settings.
+    azimuth_std_deg : float
+        Per-point azimuth noise of the static labels (`static_mask`), deg.
     """
 
     config: EgoMotionConfig
     mount_yaw_deg: float
-    static_threshold_mps: float
     azimuth_std_deg: float
 
     def __call__(self, azimuth_deg: np.ndarray, radial_velocity_mps: np.ndarray,
@@ -452,6 +458,6 @@ class RansacEgoMotion:
         if velocity is None:
             return EgoFrame(np.zeros(azimuth_deg.size, dtype=bool), None)
         static = static_mask(azimuth_deg, radial_velocity_mps, velocity.vx_mps,
-                             self.mount_yaw_deg, self.static_threshold_mps,
+                             self.mount_yaw_deg, cfg.static_threshold_mps,
                              self.azimuth_std_deg, ego_lateral_mps=velocity.vy_mps)
         return EgoFrame(static, velocity)

@@ -31,38 +31,30 @@ from core.checks import require
 from .models import RangeAzimuthDoppler, wrap_pi
 from .state import Points, Tracks
 
-__all__ = ["GateConfig", "Hypotheses", "Hypothesiser", "GroupGateHypothesiser", "part_config"]
-
-
-def part_config(cls, cfg):
-    """`cfg` itself when it is a `cls`, else a `cls` built from the same-named fields of a
-    `TrackerConfig` (each part declares the few settings it reads; their defaults live in one
-    place, `TrackerConfig`: ``part_config(GateConfig, TrackerConfig())``)."""
-    if isinstance(cfg, cls):
-        return cfg
-    return cls(**{f.name: getattr(cfg, f.name) for f in dataclasses.fields(cls)})
+__all__ = ["GateConfig", "Hypotheses", "Hypothesiser", "GroupGateHypothesiser"]
 
 
 @dataclass(frozen=True, kw_only=True, slots=True)
 class GateConfig:
-    """What the gate reads (the same-named `TrackerConfig` fields).
+    """What the gate reads (``TrackerConfig.gating``); the point noise that widens the hard
+    limits is the sensor's (`RangeAzimuthDoppler.noise`).
 
     Parameters
     ----------
     gate_mahalanobis : float
-        Gate on the squared Mahalanobis distance (chi-square 99.9 % for 3 dof: 16.27).
+        Gate on the squared Mahalanobis distance of a point to a group, with the group
+        residual covariance H P H' + Rm + D (D: group dispersion). Default: the chi-square
+        99.9 % point for 3 degrees of freedom.
     gate_depth_m, gate_width_m, gate_velocity_mps : float
-        Hard limits along and across the line of sight and in radial velocity.
-    range_std_m, azimuth_std_deg : float
-        Point noise: widen the depth limit by 3 sigma_R and the width limit by 3 R sigma_az.
+        Hard limits: largest distance of a point from the predicted centroid along the line
+        of sight (depth, widened by 3 sigma_R) and across it (width, widened by
+        3 R sigma_az), and largest radial-velocity difference.
     """
 
-    gate_mahalanobis: float
-    gate_depth_m: float
-    gate_width_m: float
-    gate_velocity_mps: float
-    range_std_m: float
-    azimuth_std_deg: float
+    gate_mahalanobis: float = 16.27
+    gate_depth_m: float = 5.0
+    gate_width_m: float = 3.0
+    gate_velocity_mps: float = 3.0
 
     def __post_init__(self) -> None:
         require(self, [f.name for f in dataclasses.fields(self)], gt=0)
@@ -123,17 +115,17 @@ class GroupGateHypothesiser:
 
     Parameters
     ----------
-    cfg : GateConfig or TrackerConfig
+    cfg : GateConfig
     sensor : RangeAzimuthDoppler
         Measurement model (mount pose and point noise Rm).
     """
 
-    def __init__(self, cfg, sensor: RangeAzimuthDoppler) -> None:
-        self.cfg = part_config(GateConfig, cfg)
+    def __init__(self, cfg: GateConfig, sensor: RangeAzimuthDoppler) -> None:
+        self.cfg = cfg
         self.sensor = sensor
 
     def hypothesise(self, tracks: Tracks, points: Points) -> Hypotheses:
-        cfg = self.cfg
+        cfg, noise = self.cfg, self.sensor.noise
         r, az, vr = points.range_m, points.azimuth_rad, points.radial_velocity_mps
         n, t = points.size, tracks.size
         if n == 0 or t == 0:
@@ -156,8 +148,8 @@ class GroupGateHypothesiser:
         delta = pts[ni] - tracks.x[ti, :2]                                       # (K, 2)
         depth = delta[:, 0] * los_x + delta[:, 1] * los_y
         width = delta[:, 1] * los_x - delta[:, 0] * los_y
-        width_lim = cfg.gate_width_m + 3 * h[ti, 0] * math.radians(cfg.azimuth_std_deg)
+        width_lim = cfg.gate_width_m + 3 * h[ti, 0] * math.radians(noise.azimuth_std_deg)
         gated = ((d2 <= cfg.gate_mahalanobis)
-                 & (np.abs(depth) <= cfg.gate_depth_m + 3 * cfg.range_std_m)
+                 & (np.abs(depth) <= cfg.gate_depth_m + 3 * noise.range_std_m)
                  & (np.abs(width) <= width_lim))
         return Hypotheses(ti, ni, y, d2, gated, logdet, jac, n)

@@ -1,8 +1,14 @@
-"""Typed data passed between the tracker's parts: a frame's points, the track set, results.
+"""Typed data passed between the tracker's parts: a frame's points, the track set, results;
+and track maintenance (DETECT -> ACTIVE -> FREE, `MaintenanceConfig`).
 
 The track set is struct-of-arrays (T live tracks) and immutable in use: every stage returns a
 new `Tracks` (or a typed result) instead of editing its input, so a part can be swapped or
 tested on its own.
+
+References
+----------
+.. [1] TI mmWave SDK, "Group tracker" (gtrack) design: DETECT -> ACTIVE -> FREE with
+       det2act = 3, det2free = 3, act2free = 10.
 """
 from __future__ import annotations
 
@@ -13,9 +19,11 @@ from typing import NamedTuple
 import numpy as np
 import pandas as pd
 
+from core.checks import require
 from core.errors import BadInput
 
-__all__ = ["Points", "Tracks", "Association", "NewTracks", "POINT_COLUMNS"]
+__all__ = ["Points", "Tracks", "Association", "NewTracks", "POINT_COLUMNS",
+           "MaintenanceConfig", "maintain", "expired"]
 
 #: Point-cloud columns the tracker reads.
 POINT_COLUMNS = ("range_m", "azimuth_deg", "radial_velocity_mps", "snr_db")
@@ -202,3 +210,53 @@ class NewTracks:
     @property
     def size(self) -> int:
         return int(self.n_points.size)
+
+
+@dataclass(frozen=True, kw_only=True, slots=True)
+class MaintenanceConfig:
+    """Track maintenance (``TrackerConfig.maintenance``): confirmation, freeing, capacity.
+
+    Parameters
+    ----------
+    hits_to_confirm : int
+        Consecutive hits that promote DETECT to ACTIVE (TI det2act: 3).
+    misses_to_free_detect : int
+        Consecutive misses that free a DETECT track (TI det2free: 3).
+    misses_to_free_active : int
+        Consecutive misses that free an ACTIVE track (TI act2free: 10).
+    max_tracks : int
+        Most live tracks; allocation stops there.
+    """
+
+    hits_to_confirm: int = 3
+    misses_to_free_detect: int = 3
+    misses_to_free_active: int = 10
+    max_tracks: int = 256
+
+    def __post_init__(self) -> None:
+        require(self, ("hits_to_confirm", "misses_to_free_detect", "misses_to_free_active",
+                       "max_tracks"), "integer", ge=1)
+
+
+def maintain(tracks: Tracks, hit: np.ndarray, cfg: MaintenanceConfig) -> Tracks:
+    """One frame of the DETECT -> ACTIVE state machine: age, consecutive hits and misses.
+
+    DETECT needs consecutive hits: a miss resets the count (TI det2act).
+
+    Parameters
+    ----------
+    tracks : Tracks
+    hit : (T,) bool
+        The tracks that took points this frame.
+    cfg : MaintenanceConfig
+    """
+    hits = np.where(hit, tracks.hits + 1, 0)
+    return tracks.replace(age=tracks.age + 1, hits=hits,
+                          misses=np.where(hit, 0, tracks.misses + 1),
+                          active=tracks.active | (hits >= cfg.hits_to_confirm))
+
+
+def expired(tracks: Tracks, cfg: MaintenanceConfig) -> np.ndarray:
+    """(T,) bool: the tracks freed by their consecutive misses (ACTIVE and DETECT limits)."""
+    return tracks.misses >= np.where(tracks.active, cfg.misses_to_free_active,
+                                     cfg.misses_to_free_detect)

@@ -21,8 +21,9 @@ Parts (Stone Soup style: each is an object with one method, built from the confi
 and replaceable without editing this module): the ego-motion part
 (`ego_motion.RansacEgoMotion`), the predictor (`update.KalmanPredictor`, its motion model from
 `models.MOTION_MODELS`), the associator (`association.GatedMaximumLikelihood`), the updater
-(`update.GroupEkfUpdater`) and the allocator (`clustering.LeaderClusterAllocator`). Maintenance
-(DETECT -> ACTIVE -> FREE, duplicate merging) is this module's own.
+(`update.GroupEkfUpdater`) and the allocator (`clustering.LeaderClusterAllocator`), each given
+its own sub-config of `TrackerConfig`. Maintenance (DETECT -> ACTIVE -> FREE,
+`state.maintain`) and duplicate merging (`clustering.same_group`) run here.
 
 References
 ----------
@@ -46,13 +47,12 @@ import pandas as pd
 from core.errors import BadInput
 
 from .association import Associator
-from .clustering import Allocator, MergeConfig, same_group
+from .clustering import Allocator, same_group
 from .config import TrackerConfig
 from .ego_motion import EgoVelocity, RansacEgoMotion
-from .hypothesis import Hypothesiser, part_config
-from .models import MOTION_MODELS, RangeAzimuthDoppler
-from .parts import ALLOCATORS, ASSOCIATORS, HYPOTHESISERS, PREDICTORS, UPDATERS
-from .state import POINT_COLUMNS, Points, Tracks
+from .hypothesis import Hypothesiser
+from .models import RangeAzimuthDoppler
+from .state import POINT_COLUMNS, Points, Tracks, expired, maintain
 from .update import Predictor, Updater
 
 __all__ = ["GroupTracker", "track_frames", "TRACK_COLUMNS", "TRACK_STATES"]
@@ -80,8 +80,8 @@ class GroupTracker:
         `numpy.random.default_rng(0)`, so a run is reproducible.
     ego_motion, predictor, hypothesiser, associator, updater, allocator : optional
         Replacement parts (see the module docstring); each defaults to the part `cfg` names
-        (`pipeline.tracking.parts`; TI's gtrack parts by default), built from its own few
-        fields of `cfg`. E.g. ``GroupTracker(cfg, associator=MyAssociator(...))``.
+        (`cfg.parts`, `pipeline.tracking.parts`; TI's gtrack parts by default), built from its
+        own sub-config of `cfg`. E.g. ``GroupTracker(cfg, associator=MyAssociator(...))``.
 
     Notes
     -----
@@ -100,21 +100,17 @@ class GroupTracker:
             raise BadInput(f"cfg must be a TrackerConfig, got {type(self.cfg).__name__}")
         cfg = self.cfg
         self._rng = np.random.default_rng(0) if rng is None else rng
-        self._n_state = MOTION_MODELS[cfg.motion_model].n_state
-        self.sensor = RangeAzimuthDoppler(np.array([cfg.mount_x_m, cfg.mount_y_m]),
-                                          math.radians(cfg.mount_yaw_deg),
-                                          cfg.measurement_noise)
+        self._n_state = cfg.motion.n_state
+        self.sensor = RangeAzimuthDoppler(cfg.mount, cfg.noise)
         self.ego_motion = ego_motion or RansacEgoMotion(
-            config=cfg.ego_motion, mount_yaw_deg=cfg.mount_yaw_deg,
-            static_threshold_mps=cfg.static_threshold_mps, azimuth_std_deg=cfg.azimuth_std_deg)
-        self.predictor = predictor or PREDICTORS.lookup(cfg.predictor).build(cfg, self.sensor)
-        self.hypothesiser = hypothesiser or HYPOTHESISERS.lookup(cfg.hypothesiser).build(
-            cfg, self.sensor)
-        self.associator = associator or ASSOCIATORS.lookup(cfg.associator).build(
-            cfg, self.sensor)
-        self.updater = updater or UPDATERS.lookup(cfg.updater).build(cfg, self.sensor)
-        self.allocator = allocator or ALLOCATORS.lookup(cfg.allocator).build(cfg, self.sensor)
-        self._merge = part_config(MergeConfig, cfg)
+            config=cfg.ego_motion, mount_yaw_deg=cfg.mount.mount_yaw_deg,
+            azimuth_std_deg=cfg.noise.azimuth_std_deg)
+        names, sensor = cfg.parts, self.sensor
+        self.predictor = predictor or names.build("predictor", cfg, sensor)
+        self.hypothesiser = hypothesiser or names.build("hypothesiser", cfg, sensor)
+        self.associator = associator or names.build("associator", cfg, sensor)
+        self.updater = updater or names.build("updater", cfg, sensor)
+        self.allocator = allocator or names.build("allocator", cfg, sensor)
         self.reset()
 
     def reset(self) -> None:
@@ -205,10 +201,9 @@ class GroupTracker:
         association = self.associator.associate(self.hypothesiser.hypothesise(tracks, pts),
                                                 tracks, static)
         tracks, n_pts = self.updater.update(tracks, association)
-        tracks = _maintain(tracks, n_pts > 0, cfg.hits_to_confirm)
-        keep = tracks.misses < np.where(tracks.active, cfg.misses_to_free_active,
-                                        cfg.misses_to_free_detect)
-        if cfg.merge_tracks:
+        tracks = maintain(tracks, n_pts > 0, cfg.maintenance)
+        keep = ~expired(tracks, cfg.maintenance)
+        if cfg.merging.merge_tracks:
             keep &= ~self._duplicates(tracks)
         tracks = tracks.select(keep)
         n_pts = n_pts[keep]
@@ -223,10 +218,10 @@ class GroupTracker:
             assoc_id[ok] = tracks.track_id[old_index[assoc[ok]]]
 
         candidates = assoc < 0
-        if not cfg.allow_static_tracks:
+        if not cfg.allocation.allow_static_tracks:
             candidates &= ~static
         new = self.allocator.allocate(pts, candidates, ego, tracks,
-                                      cfg.max_tracks - tracks.size)
+                                      cfg.maintenance.max_tracks - tracks.size)
         ids = self._next_id + np.arange(new.size, dtype=np.int64)
         self._next_id += new.size
         if new.size:
@@ -235,7 +230,7 @@ class GroupTracker:
             tracks = tracks.concat(Tracks(
                 ids, new.x, new.p, new.dispersion, new.n_est,
                 np.ones(new.size, dtype=np.int64), np.zeros(new.size, dtype=np.int64),
-                np.ones(new.size, dtype=np.int64), np.full(new.size, cfg.hits_to_confirm <= 1)))
+                np.ones(new.size, dtype=np.int64), np.full(new.size, cfg.maintenance.hits_to_confirm <= 1)))
         n_pts = np.concatenate([n_pts, new.n_points])
 
         self._tracks = tracks
@@ -253,7 +248,7 @@ class GroupTracker:
         if not math.isfinite(time_s):
             raise BadInput(f"time_s={time_s!r} must be finite")
         if self._last_time_s is None:
-            return self.cfg.frame_period_s
+            return self.cfg.motion.frame_period_s
         dt = float(time_s) - self._last_time_s
         if dt <= 0:
             raise BadInput(f"time_s={time_s!r} must exceed the previous frame's time "
@@ -271,23 +266,13 @@ class GroupTracker:
         if t < 2:
             return np.zeros(t, dtype=bool)
         h, _ = self.sensor.predict(tracks.x)
-        close = same_group(self._merge, self.sensor.mount_xy_m, tracks.x[:, :2], h[:, 2],
+        close = same_group(self.cfg.merging, self.sensor, tracks.x[:, :2], h[:, 2],
                            tracks.x[:, :2], h[:, 2])
         # Priority rank: lexicographic (active, age, hits, -id), larger is better.
         rank = np.empty(t, dtype=np.int64)
         rank[np.lexsort((-tracks.track_id, tracks.hits, tracks.age, tracks.active))] = \
             np.arange(t)
         return np.any(close & (rank[:, None] > rank[None, :]), axis=0)
-
-
-def _maintain(tracks: Tracks, hit: np.ndarray, hits_to_confirm: int) -> Tracks:
-    """One frame of the DETECT -> ACTIVE state machine: age, consecutive hits and misses.
-
-    DETECT needs consecutive hits: a miss resets the count (TI det2act)."""
-    hits = np.where(hit, tracks.hits + 1, 0)
-    return tracks.replace(age=tracks.age + 1, hits=hits,
-                          misses=np.where(hit, 0, tracks.misses + 1),
-                          active=tracks.active | (hits >= hits_to_confirm))
 
 
 def _columns(tracks: Tracks, n_pts: np.ndarray, time_s: float, ego: EgoVelocity | None

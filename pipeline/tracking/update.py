@@ -23,8 +23,7 @@ import numpy as np
 
 from core.checks import require
 
-from .hypothesis import part_config
-from .models import MotionModel
+from .models import MotionConfig, MotionModel
 from .state import Association, Tracks
 
 __all__ = ["Predictor", "Updater", "KalmanPredictor", "GroupEkfUpdater", "UpdateResult",
@@ -33,18 +32,20 @@ __all__ = ["Predictor", "Updater", "KalmanPredictor", "GroupEkfUpdater", "Update
 
 @dataclass(frozen=True, kw_only=True, slots=True)
 class GroupUpdateConfig:
-    """What the group EKF update reads (the same-named `TrackerConfig` fields).
+    """What the group EKF update reads (``TrackerConfig.update``).
 
     Parameters
     ----------
     centroid_jitter_weight : float
-        w of the centroid noise Rc = Rm / n + (alpha + w / n) D, >= 0.
+        w of the centroid noise Rc = Rm / n + (alpha + w / n) D, >= 0: w = 0 is TI's formula
+        (a fixed set of reflection points), w = 1 treats each frame's points as a fresh
+        sample of the body.
     dispersion_update_weight : float
         Weight of a frame's sample dispersion in the running estimate, (0, 1].
     """
 
-    centroid_jitter_weight: float
-    dispersion_update_weight: float
+    centroid_jitter_weight: float = 1.0
+    dispersion_update_weight: float = 0.2
 
     def __post_init__(self) -> None:
         require(self, "centroid_jitter_weight", ge=0)
@@ -76,6 +77,11 @@ class KalmanPredictor:
         self.model = model
         self.sigma = sigma
 
+    @classmethod
+    def from_config(cls, cfg: MotionConfig) -> "KalmanPredictor":
+        """The predictor of `cfg`'s motion model with its process-noise intensity."""
+        return cls(cfg.model, cfg.process_noise_sigma)
+
     def predict(self, tracks: Tracks, dt_s: float) -> Tracks:
         if not tracks.size:
             return tracks
@@ -95,14 +101,14 @@ class GroupEkfUpdater:
 
     Parameters
     ----------
-    cfg : GroupUpdateConfig or TrackerConfig
+    cfg : GroupUpdateConfig
         centroid_jitter_weight (w) and dispersion_update_weight.
     noise_cov : (3, 3) float
         Per-point measurement covariance Rm.
     """
 
-    def __init__(self, cfg, noise_cov: np.ndarray) -> None:
-        self.cfg = part_config(GroupUpdateConfig, cfg)
+    def __init__(self, cfg: GroupUpdateConfig, noise_cov: np.ndarray) -> None:
+        self.cfg = cfg
         self.rm = noise_cov
 
     def update(self, tracks: Tracks, association: Association) -> UpdateResult:

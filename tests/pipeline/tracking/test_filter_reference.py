@@ -41,8 +41,9 @@ def _numeric_jacobian(x: np.ndarray, step: float = 1e-6) -> np.ndarray:
 
 
 def _tracker(**kw) -> GroupTracker:
-    cfg = TrackerConfig(mount_x_m=MOUNT[0], mount_y_m=MOUNT[1], mount_yaw_deg=MOUNT[2],
-                        frame_period_s=DT_S, centroid_jitter_weight=0.0, **kw)
+    cfg = TrackerConfig.from_fields(mount_x_m=MOUNT[0], mount_y_m=MOUNT[1],
+                                    mount_yaw_deg=MOUNT[2], frame_period_s=DT_S,
+                                    centroid_jitter_weight=0.0, **kw)
     return GroupTracker(cfg)
 
 

@@ -28,7 +28,7 @@ from pipeline.tracking import (
     TrackerConfig,
     Tracks,
 )
-from pipeline.tracking.hypothesis import part_config
+from pipeline.tracking.config import FIELD_GROUP
 
 from .test_tracker import synth_points, tracker_cfg
 
@@ -82,10 +82,11 @@ def test_default_parts_do_not_edit_their_inputs(rng, part):
     static = np.zeros(pts.size, bool)
     before = copy.deepcopy((tracks, pts, static))
     if part == "associator":
-        hyp = GroupGateHypothesiser(cfg, tracker.sensor).hypothesise(tracks, pts)
-        GatedMaximumLikelihood(cfg).associate(hyp, tracks, static)
+        hyp = GroupGateHypothesiser(cfg.gating, tracker.sensor).hypothesise(tracks, pts)
+        GatedMaximumLikelihood(AssociationRules()).associate(hyp, tracks, static)
     else:
-        new = LeaderClusterAllocator(cfg, tracker.sensor).allocate(pts, ~static, None, tracks,
+        new = LeaderClusterAllocator(cfg.allocation, tracker.sensor, merging=cfg.merging,
+                                     n_state=cfg.n_state).allocate(pts, ~static, None, tracks,
                                                                    10)
         assert new.size >= 1 and new.members.size == new.member_track.size
     for x, y in zip(_arrays(tracks, pts, static), _arrays(*before)):
@@ -102,11 +103,11 @@ def _arrays(tracks: Tracks, pts: Points, static: np.ndarray) -> list[np.ndarray]
 def test_each_part_reads_its_own_few_fields(part_cfg):
     """A part's config is built from the TrackerConfig's same-named fields, and holds only
     what the part reads (far fewer than the tracker's)."""
-    cfg = TrackerConfig(gate_width_m=2.5, centroid_jitter_weight=0.5, alloc_min_points=2,
-                        allow_static_tracks=True)
+    cfg = TrackerConfig.from_fields(gate_width_m=2.5, centroid_jitter_weight=0.5,
+                                    alloc_min_points=2, allow_static_tracks=True)
     names = [f.name for f in dataclasses.fields(part_cfg)]
-    assert set(names) <= {f.name for f in dataclasses.fields(TrackerConfig)}
-    assert len(names) < len(dataclasses.fields(TrackerConfig)) // 2
+    assert set(names) <= set(FIELD_GROUP)
+    assert len(names) < len(FIELD_GROUP) // 2
     built = GroupTracker(cfg)
     parts = {GateConfig: built.hypothesiser, AssociationRules: built.associator,
              GroupUpdateConfig: built.updater, AllocationConfig: built.allocator}
@@ -121,7 +122,7 @@ def test_each_part_reads_its_own_few_fields(part_cfg):
     (AllocationConfig, dict(alloc_min_points=0), r"alloc_min_points=0 must be")],
     ids=["gate", "rules", "update", "allocation"])
 def test_part_configs_validate(part_cfg, kw, match):
-    good = part_config(part_cfg, TrackerConfig())
+    good = part_cfg()
     with pytest.raises(ValueError, match=match):
         dataclasses.replace(good, **kw)
 
@@ -138,7 +139,7 @@ def test_a_sweep_picks_the_associator_by_name(rng):
     assert (tab.state == "ACTIVE").sum() == 1
     with pytest.raises(ValueError, match=r"associator='gnn' is not one of \['max_likelihood', "
                                          r"'nearest'\]"):
-        TrackerConfig(associator="gnn")
+        TrackerConfig.from_fields(associator="gnn")
 
 
 def test_the_hypothesiser_gates_and_the_associator_only_chooses(rng):
@@ -159,7 +160,7 @@ def test_the_hypothesiser_gates_and_the_associator_only_chooses(rng):
                                   pts.radial_velocity_mps[hyp.point] - h[hyp.track, 2])
     assert (np.abs(hyp.innovation[:, 2]) <= cfg.gate_velocity_mps).all()
     static = np.zeros(pts.size, bool)
-    chosen = GatedMaximumLikelihood(cfg).associate(hyp, tracker.tracks, static)
+    chosen = GatedMaximumLikelihood(AssociationRules()).associate(hyp, tracker.tracks, static)
     hit = chosen.track_index >= 0
     assert hit.any()
     pair = {(int(a), int(b)): i for i, (a, b) in enumerate(zip(hyp.track, hyp.point))}
@@ -167,8 +168,8 @@ def test_the_hypothesiser_gates_and_the_associator_only_chooses(rng):
         i = pair[(int(chosen.track_index[p]), int(p))]
         assert hyp.gated[i]
         np.testing.assert_array_equal(chosen.innovation[p], hyp.innovation[i])
-    closed = GatedMaximumLikelihood(cfg).associate(hyp._replace(gated=np.zeros_like(hyp.gated)),
-                                                   tracker.tracks, static)
+    closed = GatedMaximumLikelihood(AssociationRules()).associate(
+        hyp._replace(gated=np.zeros_like(hyp.gated)), tracker.tracks, static)
     assert (closed.track_index == -1).all()
 
 

@@ -53,7 +53,7 @@ def tracker_cfg(**kw):
     base = dict(frame_period_s=0.05, range_std_m=SIG_R, azimuth_std_deg=SIG_AZ,
                 radial_velocity_std_mps=SIG_VR)
     base.update(kw)
-    return TrackerConfig(**base)
+    return TrackerConfig.from_fields(**base)
 
 
 def _nearest_active(tab, x, y, max_m=3.0):
@@ -394,13 +394,13 @@ def test_step_input_validation(rng):
 ])
 def test_config_validation(field, value, match):
     with pytest.raises(ValueError, match=match):
-        TrackerConfig(**{field: value})
+        TrackerConfig.from_fields(**{field: value})
 
 
 def test_config_defaults_are_ti_counters():
     cfg = TrackerConfig()
     assert (cfg.hits_to_confirm, cfg.misses_to_free_detect, cfg.misses_to_free_active) == (3, 3, 10)
-    assert cfg.n_state == 4 and TrackerConfig(motion_model="ca").n_state == 6
+    assert cfg.n_state == 4 and TrackerConfig.from_fields(motion_model="ca").n_state == 6
 
 
 def test_points_without_a_position_are_skipped_not_refused(rng):

@@ -38,8 +38,9 @@ def ddma_clouds():
 @pytest.mark.parametrize("ego_source", ["bus", "ransac"])
 def test_r79_motorcycle_confirmed_beyond_55_m(ddma_clouds, ego_source):
     clouds, ego_speed, truth, mount = ddma_clouds
-    cfg = TrackerConfig(mount_x_m=mount.x_m, mount_y_m=mount.y_m, mount_yaw_deg=mount.yaw_deg,
-                        frame_period_s=float(np.median(np.diff([t for t, _ in clouds]))))
+    cfg = TrackerConfig.from_fields(
+        mount_x_m=mount.x_m, mount_y_m=mount.y_m, mount_yaw_deg=mount.yaw_deg,
+        frame_period_s=float(np.median(np.diff([t for t, _ in clouds]))))
     tracks = track_frames(clouds, cfg, ego_speeds_mps=ego_speed if ego_source == "bus" else None,
                           rng=np.random.default_rng(SEED))
     # track_frames numbers frames 0.. in sequence order; the scenario's frames start at 0 too.
