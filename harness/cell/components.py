@@ -12,7 +12,8 @@ from typing import Callable
 import numpy as np
 import pandas as pd
 
-__all__ = ["Components", "default_components", "TRAFFIC_SIM_RATE_HZ", "mount_value"]
+__all__ = ["Components", "default_components", "TRAFFIC_SIM_RATE_HZ", "mount_value",
+           "tracker_config"]
 
 
 @dataclass(frozen=True)
@@ -87,7 +88,18 @@ def _real_simulate_frame(cfg, sc, rng, interferers=None):
 def _real_track(radar_cfg, clouds, times_s, ego_speeds_mps, mount, overrides, rng):
     """Run the group tracker over one scheme's point clouds."""
     from pipeline import tracking as trk
-    kw = trk.tracker_paths(overrides)  # dotted keys; a flat key of the previous release warns
+    tcfg = tracker_config(overrides, mount, times_s)
+    return trk.track_frames(list(zip(map(float, times_s), clouds)), tcfg,
+                            ego_speeds_mps=None if ego_speeds_mps is None
+                            else list(map(float, ego_speeds_mps)), rng=rng)
+
+
+def tracker_config(overrides: dict, mount=None, times_s=()):
+    """`TrackerConfig` of a cell: the sweep's tracker `overrides` (dotted keys, sub-config
+    tables or objects; a flat key of the previous release warns with the new key), the case's
+    radar mount and the frames' median period where the overrides do not set them."""
+    from pipeline import tracking as trk
+    kw = trk.tracker_paths(overrides, stacklevel=4)
     if mount is not None and "mount" not in kw:
         for key in ("x_m", "y_m", "yaw_deg"):
             val = mount_value(mount, key)
@@ -95,10 +107,7 @@ def _real_track(radar_cfg, clouds, times_s, ego_speeds_mps, mount, overrides, rn
                 kw.setdefault(f"mount.mount_{key}", float(val))
     if len(times_s) > 1 and "motion" not in kw:
         kw.setdefault("motion.frame_period_s", float(np.median(np.diff(times_s))))
-    tcfg = trk.TrackerConfig().replace(**kw)
-    return trk.track_frames(list(zip(map(float, times_s), clouds)), tcfg,
-                            ego_speeds_mps=None if ego_speeds_mps is None
-                            else list(map(float, ego_speeds_mps)), rng=rng)
+    return trk.TrackerConfig().replace(**kw)
 
 
 def mount_value(mount, key):

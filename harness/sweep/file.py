@@ -132,7 +132,7 @@ def validate_cells(spec: SweepSpec, source: str | Path | None = None) -> None:
     """
     import scenarios
     from pipeline.mimo import chain_of
-    from pipeline.tracking import TrackerConfig
+    from pipeline.tracking import TrackerConfig, tracker_paths
     comps = default_components()
     where = f"{source}: " if source is not None else ""
     for name in spec.scenarios:
@@ -153,7 +153,7 @@ def validate_cells(spec: SweepSpec, source: str | Path | None = None) -> None:
 
     def build(section: str, overrides: dict) -> None:
         if section == "tracker":
-            TrackerConfig().replace_fields(**overrides)
+            TrackerConfig().replace(**tracker_paths(overrides, warn=False))
         else:
             check(CellSpec(scenario=spec.scenarios[0], **{section: overrides}, **schemes))
 

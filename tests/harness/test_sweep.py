@@ -72,12 +72,39 @@ def test_radar_keys_by_part_build_the_cell_radar(tmp_path):
         assert radar_config({"phase_noise_deg_rms": 2.0}, "tdma").phase_noise_deg_rms == 2.0
 
 
+def test_tracker_keys_by_sub_config_build_the_cell_tracker(tmp_path):
+    """A sub-config's table (``[base.tracker.gating]``) and a dotted key
+    (``"tracker.maintenance.max_tracks"``) reach the cell's TrackerConfig; the case's mount
+    and the frame period fill what they leave; a flat key still works and warns with the new
+    key."""
+    from harness.cell.components import tracker_config
+    f = tmp_path / "s.toml"
+    f.write_text(textwrap.dedent("""
+        scenarios = ["a"]
+        [base.tracker.gating]
+        gate_mahalanobis = 20.0
+        [vary]
+        "tracker.maintenance.max_tracks" = [9]
+    """))
+    v = load_sweep(f, check_scenarios=False).variants[0]
+    assert v.tracker == {"gating": {"gate_mahalanobis": 20.0}, "maintenance.max_tracks": 9}
+    cfg = tracker_config(v.tracker, {"x_m": -1.0, "y_m": 0.5, "yaw_deg": 135.0}, [0.0, 0.1])
+    assert (cfg.gating.gate_mahalanobis, cfg.maintenance.max_tracks) == (20.0, 9)
+    assert (cfg.mount.mount_x_m, cfg.mount.mount_yaw_deg, cfg.motion.frame_period_s) == \
+        (-1.0, 135.0, 0.1)
+    assert tracker_config({"mount.mount_x_m": 2.0}, {"x_m": -1.0}).mount.mount_x_m == 2.0
+    with pytest.warns(DeprecationWarning, match=r"use 'gating\.gate_mahalanobis'"):
+        assert tracker_config({"gate_mahalanobis": 20.0}).gating.gate_mahalanobis == 20.0
+
+
 @pytest.mark.parametrize("text,match", [
     ('scenarios = ["a"]\nbogus = 1', "unknown key"),
     ('scenarios = ["a"]\n[vary]\n"radar.not_a_field" = [1]', "unknown radar field"),
     ('scenarios = ["a"]\n[vary]\n"radar.waveform.n_tx" = [1]', "unknown radar field"),
     ('scenarios = ["a"]\n[base.radar.waveform]\nbogus = 1', "unknown radar field"),
     ('scenarios = ["a"]\n[vary]\n"sonar.x" = [1]', "unknown section"),
+    ('scenarios = ["a"]\n[vary]\n"tracker.gating.bogus" = [1]', r"gating holds"),
+    ('scenarios = ["a"]\n[base.tracker.gating]\ngate_width_m = 0.0', r"gate_width_m=0\.0"),
     ('scenarios = ["a"]\n[vary]\n"radar.phase_noise_deg_rms" = []', "non-empty list"),
     ('scenarios = ["a"]\nseeds = [-1]', "seeds"),
     ('scenarios = ["a"]\nframe_stride = 0', "frame_stride"),
