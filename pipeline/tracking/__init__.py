@@ -6,16 +6,21 @@ Where to add what:
 
 | module | holds | add here |
 |---|---|---|
-| `config` | `TrackerConfig`: the parts' sub-configs, dotted keys | a sub-config (its field) |
-| `models` | `MOTION_MODELS` (CV, CA: F, Q), `RangeAzimuthDoppler` (h, H); `MotionConfig`, `MountConfig`, `MeasurementNoise` | a motion model |
-| `hypothesis` | `GroupGateHypothesiser`: predictions, innovations, Jacobians, gates; `GateConfig` | a hypothesiser |
-| `association` | `GatedMaximumLikelihood`, `GatedNearestNeighbour`: choose only; `AssociationRules` | an associator |
-| `update` | `KalmanPredictor`, `GroupEkfUpdater`; `GroupUpdateConfig` | a predictor or updater |
-| `clustering` | `leader_clusters`, `same_group`, `LeaderClusterAllocator`; `AllocationConfig`, `MergeConfig` | an allocator |
-| `parts` | registries of the parts by name; `PartNames` (`TrackerConfig.parts`) | its entry |
-| `ego_motion` | RANSAC ego velocity, static labels (`RansacEgoMotion`); `EgoMotionConfig` | an ego-motion source |
+| `config` | `TrackerConfig`: the parts' sub-configs, dotted keys | a sub-config |
+| `models` | `MOTION_MODELS` (CV, CA: F, Q), `RangeAzimuthDoppler` (h, H) | a motion model |
+| `hypothesis` | `GroupGateHypothesiser`: predictions, innovations, gates | a hypothesiser |
+| `association` | `GatedMaximumLikelihood`, `GatedNearestNeighbour`: choose only | an associator |
+| `update` | `KalmanPredictor`, `GroupEkfUpdater` | a predictor or updater |
+| `clustering` | `leader_clusters`, `same_group`, `LeaderClusterAllocator` | an allocator |
+| `parts` | registries of the parts by name; `PartNames` | its entry |
+| `ego_motion` | RANSAC ego velocity, static labels (`RansacEgoMotion`) | an ego-motion source |
 | `tracker` | `GroupTracker` (wires the parts), `track_frames` | nothing per part |
-| `state` | typed data between parts: `Points`, `Tracks`, `Association`, `NewTracks`; maintenance (`MaintenanceConfig`) | |
+| `state` | data between parts: `Points`, `Tracks`, ...; maintenance (`maintain`) | |
+
+Each module also declares the sub-config its part reads (`MotionConfig`, `MountConfig`,
+`MeasurementNoise` in `models`; `GateConfig`; `AssociationRules`; `GroupUpdateConfig`;
+`AllocationConfig`, `MergeConfig` in `clustering`; `PartNames`; `EgoMotionConfig`;
+`MaintenanceConfig` in `state`).
 
 A part is passed to `GroupTracker(cfg, hypothesiser=..., associator=..., allocator=...,
 predictor=..., updater=..., ego_motion=...)` or registered in `parts` and named in

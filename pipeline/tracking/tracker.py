@@ -230,7 +230,8 @@ class GroupTracker:
             tracks = tracks.concat(Tracks(
                 ids, new.x, new.p, new.dispersion, new.n_est,
                 np.ones(new.size, dtype=np.int64), np.zeros(new.size, dtype=np.int64),
-                np.ones(new.size, dtype=np.int64), np.full(new.size, cfg.maintenance.hits_to_confirm <= 1)))
+                np.ones(new.size, dtype=np.int64),
+                np.full(new.size, cfg.maintenance.hits_to_confirm <= 1)))
         n_pts = np.concatenate([n_pts, new.n_points])
 
         self._tracks = tracks
