@@ -26,7 +26,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from tests.harness.probes import Probe, fake_results
+from tests.harness.probe_kit import Probe, failing_writes, fake_results
 
 __all__ = ["surface_probes", "probes_of", "SURFACES", "FullDisk"]
 
@@ -527,8 +527,7 @@ def openscenario_probes() -> list[Probe]:
 
 @contextlib.contextmanager
 def _denied(folder: Path, err: int):
-    """Writes under `folder` fail with `err` once it exists (`tests.harness.probes`)."""
-    from tests.harness.probes import failing_writes
+    """Writes under `folder` fail with `err` once it exists (`tests.harness.probe_kit`)."""
     folder.mkdir(exist_ok=True)
     with failing_writes(err, folder):
         yield
