@@ -24,9 +24,11 @@ XDIST := -n 2 --dist worksteal
 BYTECODE := PYTHONDONTWRITEBYTECODE=
 
 test: $(STAMP)
+	$(VENV)/bin/ruff check --quiet .
 	$(BYTECODE) $(PY) -m pytest -q -m "not slow" $(XDIST)
 
 test-all: $(STAMP)
+	$(VENV)/bin/ruff check --quiet .
 	$(BYTECODE) $(PY) -m pytest -q $(XDIST)
 
 # The default sweep (whole catalogue, DDMA vs TDMA, seed 0): tables in results/default, the

@@ -23,7 +23,7 @@ import pipeline
 import radarsim
 from benchmarks._timing import median_time_s
 from pipeline import chirp_level as cl
-from pipeline.chirp_level.stage import _blockwise, _chirp_statistics
+from pipeline.chirp_level.stage import blockwise_range_stage, chirp_statistics
 from pipeline.config import WINDOWS
 from pipeline.interference import MITIGATIONS, FrameRows, repaired_rows
 from pipeline.interference.lowrank import FastTimeBasis, fast_time_basis, lowrank_fill
@@ -110,7 +110,7 @@ class _LowrankWork(NamedTuple):
 
 def _lowrank_work(cfg, adc: np.ndarray, stats, proc, remove_mean: bool) -> _LowrankWork:
     """`_LowrankWork` of `adc` (int16 frame) with its chirp statistics ``stats`` (dc, rows,
-    flags: `_chirp_statistics`): the DC-removed rows, the reference rows (the repaired rows'
+    flags: `chirp_statistics`): the DC-removed rows, the reference rows (the repaired rows'
     masks only if the frame has too few clean rows) and the fill's settings, as the repair
     computes them."""
     m = MITIGATIONS["lowrank"]
@@ -142,7 +142,7 @@ def lowrank_breakdown(cfg, adc: np.ndarray, repeats: int, warmup: int) -> list[s
     machine, this thread's time includes OpenBLAS waiting for its worker threads."""
     proc = pipeline.ProcessingConfig()
     rows, bursts, basis, reference_and_basis, fill_rows = _lowrank_work(
-        cfg, adc, _chirp_statistics(adc, proc), proc, remove_mean=True)
+        cfg, adc, chirp_statistics(adc, proc), proc, remove_mean=True)
 
     def fill(grow_sigma):
         with inline():
@@ -190,7 +190,7 @@ def dirty_frame_breakdown(repeats: int, warmup: int) -> list[str]:
     n = cfg.n_samples
     win = window(WINDOWS[proc.range.window], n)
     w = window(WINDOWS[proc.doppler.window], cfg.n_chirps)
-    stats = {k: _chirp_statistics(a, proc) for k, a in frames.items()}
+    stats = {k: chirp_statistics(a, proc) for k, a in frames.items()}
     dc, rows, flags = stats["dirty"]
     adc = frames["dirty"]
     rep = repaired_rows(adc, dc, rows, flags, win, proc.interference)
@@ -201,9 +201,9 @@ def dirty_frame_breakdown(repeats: int, warmup: int) -> list[str]:
     for k, a in frames.items():
         fns[f"frame {k}"] = lambda a=a: pipeline.process_frame(cfg, a)
         fns[f"stage {k}"] = lambda a=a: cl.windowed_range_stage(cfg, a, proc, w)
-        fns[f"stats {k}"] = lambda a=a: _chirp_statistics(a, proc)
+        fns[f"stats {k}"] = lambda a=a: chirp_statistics(a, proc)
         fns[f"blocks {k}"] = lambda a=a, d=stats[k][0], r=(rep if k == "dirty" else None): \
-            _blockwise(cfg, a, proc, d, w, None, r)
+            blockwise_range_stage(cfg, a, proc, d, w, None, r)
     fns["repaired rows"] = lambda: repaired_rows(adc, dc, rows, flags, win, proc.interference)
     fns["basis"] = work.reference_and_basis
     fns["fill"] = lambda: work.fill(m.grow_sigma)

@@ -11,7 +11,8 @@
 `metrics.detection` turns labelled detections into per-run scores, `metrics.interference` and
 `metrics.r79` add the interference and UN R79 verdicts, `metrics.scoring` puts them together
 per scheme, and `metrics.tracks` (the tracker's metrics: confirmation, continuity, GOSPA)
-scores tracks. `metrics.METRICS` (`metrics.registry`) defines every reported number once. The package never imports
+scores tracks. `metrics.METRICS` (`metrics.registry`) defines every reported number once. The
+package never imports
 the simulator or the pipeline: it only reads tables.
 """
 from . import association, detection, interference, r79, registry, scoring, tracks, velocity

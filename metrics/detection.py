@@ -20,7 +20,8 @@ from .velocity import FAILURE, RIGHT
 
 __all__ = [
     "error_stats", "velocity_stats", "ghost_stats", "actor_detection",
-    "pd_vs_range", "max_range_pd90", "snr_gain_rows", "snr_gain_pairs", "snr_gain_stats", "summarize_scheme",
+    "pd_vs_range", "max_range_pd90", "snr_gain_rows", "snr_gain_pairs", "snr_gain_stats",
+    "summarize_scheme",
     "target_first_detection_range_m", "NOISE_LIMITED_SNR_DB", "NOISE_LIMITED_MIN_PAIRS",
 ]
 
@@ -133,7 +134,8 @@ def ghost_stats(labelled: pd.DataFrame, n_frames: int) -> dict[str, float]:
     >>> from metrics.detection import ghost_stats
     >>> lab = pd.DataFrame({"label": ["TRUE", "TRUE", "GHOST", "CLUTTER"]})
     >>> ghost_stats(lab, n_frames=2)
-    {'ghost_rate': 0.25, 'ghosts_per_frame': 0.5, 'clutter_per_frame': 0.5, 'detections_per_frame': 2.0}
+    {'ghost_rate': 0.25, 'ghosts_per_frame': 0.5, 'clutter_per_frame': 0.5, 'detections_per_frame':
+    2.0}
     """
     n = len(labelled)
     n_g = int((labelled["label"] == GHOST).sum())

@@ -1,5 +1,6 @@
 """Row joins of the scoring tables by integer keys: which rows of one table hold the (frame,
-actor) pair of each row of another, and which row stands for each group. The pairs are coded as integers (np.unique codes of both
+actor) pair of each row of another, and which row stands for each group. The pairs are coded as
+integers (np.unique codes of both
 sides) and matched by a stable sort and searchsorted instead of pandas merges / MultiIndexes,
 whose per-call cost dominates on the few-thousand-row tables of one sweep cell.
 """

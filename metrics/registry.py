@@ -397,7 +397,8 @@ def check_criterion(metric: str, actor_id=None) -> Metric:
     'ghost_rate'
     >>> check_criterion("n_frames")  # doctest: +ELLIPSIS
     Traceback (most recent call last):
-    core.errors.BadInput: criterion metric 'n_frames' cannot be a case criterion; criterion metrics: ...
+    core.errors.BadInput: criterion metric 'n_frames' cannot be a case criterion; criterion
+    metrics: ...
     """
     m = get_metric(metric)
     if m.criterion is None:

@@ -90,7 +90,8 @@ def process_frame(cfg: RadarConfig, adc: np.ndarray,
     >>> import numpy as np, pipeline, radarsim
     >>> cfg = radarsim.presets.r79_ddma()
     >>> car = radarsim.Scatterers.from_spherical([30.0], [10.0], [0.0], [-5.0], [10.0])
-    >>> pc = pipeline.process_frame(cfg, radarsim.simulate_frame(cfg, car, np.random.default_rng(0)))
+    >>> adc = radarsim.simulate_frame(cfg, car, np.random.default_rng(0))
+    >>> pc = pipeline.process_frame(cfg, adc)
     >>> best = pc.loc[pc["snr_db"].idxmax()]
     >>> bool(abs(best["range_m"] - 30.0) < cfg.range_resolution_m)
     True

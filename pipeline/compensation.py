@@ -10,7 +10,8 @@ point is the interpolated range minus ``rangeBias``.
 The line, as the demos read it (``MmwDemo_CLICompRangeBiasAndRxChanPhaseCfg``, mmWave SDK 3.x
 xwr16xx/18xx/68xx ``mmw_cli.c`` and the MCU+ SDK AWR294x TDM demo)::
 
-    compRangeBiasAndRxChanPhase <rangeBias> <Re(0,0)> <Im(0,0)> <Re(0,1)> ... <Re(T-1,R-1)> <Im(T-1,R-1)>
+    compRangeBiasAndRxChanPhase <rangeBias> <Re(0,0)> <Im(0,0)> <Re(0,1)> ... <Re(T-1,R-1)>
+    <Im(T-1,R-1)>
 
 holds one coefficient per (Tx, Rx) pair of the CHIP, T and R its channel counts whatever
 ``channelCfg`` enables (the CLI refuses any other count: ``argc != 1 + 1 +

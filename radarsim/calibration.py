@@ -311,7 +311,8 @@ def resolve_calibration(cfg: RadarConfig, request: Mapping | None) -> RadarConfi
     >>> radarsim.presets.r79_ddma(**{"shifter.shifter_calibration_deg": {"seed": 0}})
     Traceback (most recent call last):
     ...
-    core.errors.BadInput: shifter_calibration_deg={'seed': 0} is a calibration request, not a measured ...
+    core.errors.BadInput: shifter_calibration_deg={'seed': 0} is a calibration request, not a
+    measured ...
     """
     if request is None:
         return cfg

@@ -11,7 +11,8 @@ tau = R / c). Whenever |f_d| falls inside the victim's IF passband (B_IF: the re
 corner, `receiver.if_corner_hz`) the ADC sees a short chirped burst; its duration is
 2 B_IF / |S_v - S_i| and it is centred on the crossing time where f_d = 0. An I/Q receiver
 (complex ADC modes) sees the analytic burst, and in complex 1x, whose image band is filtered,
-only its f_d > 0 half (B_IF / |S_v - S_i|, starting at the crossing). With equal slopes f_d is constant: a tone, i.e. a ghost target (at the one-way
+only its f_d > 0 half (B_IF / |S_v - S_i|, starting at the crossing). With equal slopes f_d is
+constant: a tone, i.e. a ghost target (at the one-way
 Doppler -v_r / lambda, half the echo's) instead of a raised noise floor.
 
 Signal model (per interferer i, victim chirp c, Rx r, sample time t inside the ADC window)::

@@ -20,7 +20,8 @@ __all__ = ["Components", "default_components", "TRAFFIC_SIM_RATE_HZ", "mount_val
 class Components:
     """The parts a cell wires together (module-level callables, so it pickles).
 
-    run_scenario(name, seed, duration_s[, frame_rate_hz=]) -> object with ``truth``, ``ego``, ``mount``,
+    run_scenario(name, seed, duration_s[, frame_rate_hz=]) -> object with ``truth``, ``ego``,
+    ``mount``,
     ``case`` (and optionally ``radar_velocity_mps()``); scene_scatterers(truth_rows, rng,
     [radar_velocity_mps=, mount_height_m=]) -> Scatterers; simulate_frame(cfg, sc, rng) ->
     ADC (simulate_frame(cfg, sc, rng, interferers) when the frame has interferers);

@@ -6,7 +6,8 @@ Each command module exposes `add_arguments(parser)` and `run(args) -> int`. Exit
 refuses (an `OSError` naming its path: missing, unreadable, full disk, read-only folder: one line
 naming the path). Any other exception is a bug in this code or a library: it keeps its
 traceback and exits 1, never disguised as bad input. 130 interrupted (Ctrl-C: "rerun the same
-command to resume"), 143 / 129 stopped by SIGTERM / SIGHUP (handled like Ctrl-C: pool workers stopped,
+command to resume"), 143 / 129 stopped by SIGTERM / SIGHUP (handled like Ctrl-C: pool workers
+stopped,
 cells written so far kept, the same resume hint; `harness.runtime.terminate_on_signals`).
 Every process runs with one BLAS thread (`harness.runtime.prepare_process`), so every path gives
 the same bits.
@@ -33,7 +34,8 @@ COMMANDS: dict[str, tuple[str, str]] = {
     "process": ("harness.cli.cmd_ti", "run the pipeline on a DCA1000 capture"),
     "simulate": ("harness.cli.cmd_ti", "write a scenario's ADC frames as a DCA1000 capture"),
     "rcs": ("harness.cli.cmd_rcs", "a class's RCS aspect pattern against published values"),
-    "calibrate": ("harness.cli.cmd_calibrate", "measure range bias and channel phases on a capture"),
+    "calibrate": ("harness.cli.cmd_calibrate",
+                  "measure range bias and channel phases on a capture"),
     "export": ("harness.cli.cmd_export", "write a case as OpenSCENARIO (.xosc + .xodr)"),
     "shifter": ("harness.cli.cmd_shifter", "seed 000 figs 7-8: shifter spurs before/after "
                 "calibration"),

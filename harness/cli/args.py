@@ -10,8 +10,8 @@ import argparse
 import math
 
 __all__ = ["int_in", "float_in", "DURATION_S", "SEED", "FRAMES", "FRAME_STRIDE", "WORKERS",
-           "MAX_CASES", "TIMEOUT_S", "check_output_file", "MAX_DURATION_S", "MAX_SEED", "MAX_FRAMES",
-           "LAYOUTS", "add_capture_reading"]
+           "MAX_CASES", "TIMEOUT_S", "check_output_file", "MAX_DURATION_S", "MAX_SEED",
+           "MAX_FRAMES", "LAYOUTS", "add_capture_reading"]
 
 #: Longest scenario, s (the catalogue's limit on a case duration).
 MAX_DURATION_S = 120.0

@@ -34,7 +34,8 @@ from core.errors import BadInput
 from core.fileio import atomic_write
 from harness.cli.args import LAYOUTS, add_capture_reading, check_output_file, float_in
 
-__all__ = ["add_arguments", "run", "with_comp_line", "antenna_calib_line", "with_identity_antenna_calib"]
+__all__ = ["add_arguments", "run", "with_comp_line", "antenna_calib_line",
+           "with_identity_antenna_calib"]
 
 #: How many range bins the default search window spans on each side of R (TI: "at least the
 #: distance equivalent of a few range bins").
@@ -43,7 +44,8 @@ DEFAULT_WINDOW_BINS = 4
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("capture", type=Path, help="DCA1000 capture of a static reflector")
-    parser.add_argument("--cfg", type=Path, required=True, help="TI .cfg profile it was recorded with")
+    parser.add_argument("--cfg", type=Path, required=True,
+                        help="TI .cfg profile it was recorded with")
     parser.add_argument("--target-range-m", type=float_in(0.0, 1000.0, " m"), default=None,
                         help="true range of the reflector, m (default: the targetDistance of "
                              "the profile's enabled measureRangeBiasAndRxChanPhase)")

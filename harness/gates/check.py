@@ -302,7 +302,8 @@ def verdict_table(results: list[GateResult]) -> pd.DataFrame:
     A cell reads "pass" when every gate evaluated on that row passed (skips do not count),
     otherwise "FAIL" followed by the failing gates' metrics and values; a passing cell shows
     the values of its two most deciding gates (the case's own verdicts first: `_DECIDING`),
-    so the table says both the verdict and the numbers behind it. Aggregated gates (over several rows)
+    so the table says both the verdict and the numbers behind it. Aggregated gates (over several
+    rows)
     and the built-in ones are not per case and stay in the full table.
     """
     rows: dict[tuple[str, str], list[GateResult]] = {}

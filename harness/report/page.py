@@ -31,8 +31,7 @@ from harness.report.figures import scheme_order, table_html
 from harness.report.sections import REPORT_SECTIONS, ReportInputs
 from harness.runtime import prepare_worker, stoppable_pool
 from harness.sweep.provenance import version_line
-from harness.sweep.results_schema import (HEADLINE_INPUTS, read_manifest, read_table,
-                                          results_gaps)
+from harness.sweep.results_schema import HEADLINE_INPUTS, read_manifest, read_table, results_gaps
 from harness.sweep.store import failed_rows, read_meta
 
 __all__ = ["build_report", "doppler_azimuth_map", "choose_frame"]

@@ -1,7 +1,8 @@
 """Running a sweep fault-tolerantly: scheduling, resume and the outcome.
 
 Execution: a local ``concurrent.futures.ProcessPoolExecutor`` (``workers``) or, given a
-scheduler address, a Dask distributed cluster (`harness.sweep.dask_cluster`). Every cell is written by
+scheduler address, a Dask distributed cluster (`harness.sweep.dask_cluster`). Every cell is written
+by
 the worker that ran it through `harness.sweep.store`: atomically (temporary directory, then one
 rename) to ``<out>/cells/<cell_id>/``, never over a completed cell, with the code version and the
 checksum of every table. A rerun reuses cells of the same code version whose tables are intact

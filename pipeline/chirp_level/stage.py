@@ -31,7 +31,7 @@ from .dc import remove_dc, window_spectrum
 from .ege import HWA_OUTPUT_SCALE, ege_blocks, ege_compress, ege_setup
 
 __all__ = ["range_stage", "windowed_range_stage", "shared_range_stage", "range_stage_key",
-           "CHIRP_BLOCK"]
+           "blockwise_range_stage", "chirp_statistics", "CHIRP_BLOCK"]
 
 def range_stage_key(proc: ProcessingConfig) -> tuple:
     """The settings the range stage reads, as values: its sub-configs (range window and DC
@@ -139,7 +139,7 @@ def windowed_range_stage(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConf
     same. Inside `shared_range_stage` the unwindowed cube is kept for the other readers too.
     With the "lowrank" repair in parts, the frame's basis is computed beside the flagged
     rows' DC removal and flags, and the chirps' repairs then go into the blocks' queue
-    (`repaired_rows(deferred=True)`, `_blockwise`): one hand-off for both.
+    (`repaired_rows(deferred=True)`, `blockwise_range_stage`): one hand-off for both.
     Otherwise (I/Q frames, a DC range signature, every switch off) `range_stage` and the
     window product.
     """
@@ -152,22 +152,23 @@ def windowed_range_stage(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConf
             or not (proc.range.dc_removal or proc.interference.enabled
                     or proc.compression.enabled)):
         return doppler_windowed(range_stage(cfg, adc, proc), chirp_window)
-    dc, rows, flags = _chirp_statistics(adc, proc, lazy_flags=True)
+    dc, rows, flags = chirp_statistics(adc, proc, lazy_flags=True)
     # Deferred repair (each block's repair next to it, in one queue): for parts on the cores;
     # inline, a whole repair costs less than the same in several calls.
     rep = repaired_rows(adc, dc, rows, flags, window(WINDOWS[proc.range.window], cfg.n_samples),
                         proc.interference, deferred=n_parts() > 1) if rows.size else None
     keep = np.empty((adc.shape[0], adc.shape[1], cfg.n_samples // 2), np.complex64) \
         if memo is not None else None
-    out = _blockwise(cfg, adc, proc, dc, chirp_window, keep, rep)
+    out = blockwise_range_stage(cfg, adc, proc, dc, chirp_window, keep, rep)
     if memo is not None:
         _memo_put(memo, cfg, adc, proc, keep)
     return out
 
 
-def _blockwise(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig, dc: np.ndarray | None,
-               chirp_window: np.ndarray, keep: np.ndarray | None,
-               rep: RepairedRows | None = None) -> np.ndarray:
+def blockwise_range_stage(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig,
+                          dc: np.ndarray | None, chirp_window: np.ndarray,
+                          keep: np.ndarray | None,
+                          rep: RepairedRows | None = None) -> np.ndarray:
     """`windowed_range_stage` of a real frame, per block of chirps, the flagged rows `rep`
     (DC removed, repaired) windowed in place of theirs; the range cube before the slow-time
     window also into `keep` if given. A repair `rep` still holds (`RepairedRows.fill`) runs
@@ -238,7 +239,7 @@ def _dc_signature(rf: np.ndarray, proc: ProcessingConfig) -> np.ndarray:
     return rf if sig is None else sig.subtract(rf)
 
 
-def _chirp_statistics(adc: np.ndarray, proc: ProcessingConfig, lazy_flags: bool = False):
+def chirp_statistics(adc: np.ndarray, proc: ProcessingConfig, lazy_flags: bool = False):
     """(DC estimate or None, flagged chirp x Rx rows, their flags or None) as `proc` switches
     them: the chip's (`_chip_statistics`), then, where it flagged a row, the weak bursts it
     missed (``proc.interference.weak_burst_snr_db``, `with_weak_bursts`). With `lazy_flags`
@@ -302,13 +303,13 @@ def _range_stage(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) -> n
     win = window(WINDOWS[proc.range.window], cfg.n_samples)
     if not (proc.range.dc_removal or proc.interference.enabled or proc.compression.enabled):
         return range_fft(adc, win)
-    dc, rows, flags = _chirp_statistics(adc, proc)
+    dc, rows, flags = chirp_statistics(adc, proc)
     return _range_cube(cfg, adc, proc, dc, rows, flags)
 
 
 def _range_cube(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig, dc: np.ndarray | None,
                 rows: np.ndarray, flags: np.ndarray | None) -> np.ndarray:
-    """`_range_stage` after the chirp statistics (`_chirp_statistics`)."""
+    """`_range_stage` after the chirp statistics (`chirp_statistics`)."""
     cplx = np.iscomplexobj(adc)
     win = window(WINDOWS[proc.range.window], cfg.n_samples)
     if rows.size == 0:

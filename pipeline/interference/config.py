@@ -5,7 +5,6 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from core.checks import one_of, require
-
 from core.errors import BadInput
 
 from .detection import INTF_THRESHOLD_MODES

@@ -217,7 +217,8 @@ def resolve_tx_order(cfg: RadarConfig, proc: ProcessingConfig, spec: np.ndarray,
     DdmaDetections
         In the CFAR's order: the detections whose cell decision their beam confirms; the
         others re-read in their beam's Tx order (band, azimuth bin, peak, spectra) if the
-        re-read peak passes the CFAR threshold and the azimuth-sidelobe test; at most one per (range, Doppler, band,
+        re-read peak passes the CFAR threshold and the azimuth-sidelobe test; at most one per
+        (range, Doppler, band,
         azimuth) cell; without those whose empty sub-bands hold a return (`EMPTY_BAND_PFA`)
         while their Tx beams do not add up as one echo's (`coherence_floor`).
     """

@@ -82,7 +82,7 @@ def _unit_values(ln: Line, first: int, names: tuple[str, str], n_rx: int,
 def _refuse_all_zero(ln: Line, values: list[float]) -> None:
     """Every coefficient 0 + 0j erases every channel: refused (no correction is 1 + 0j)."""
     if not any(values):
-        raise ln.fail(f"every coefficient is 0 + 0j: it would erase every channel (no "
+        raise ln.fail("every coefficient is 0 + 0j: it would erase every channel (no "
                       "correction is 1 + 0j, i.e. Re 1, Im 0)")
 
 

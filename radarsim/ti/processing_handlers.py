@@ -14,8 +14,9 @@ import math
 from .state import ParseState
 from .syntax import Line
 
-__all__ = ["ONE_PEAK_DB", "extended_max_velocity", "multi_obj_beamforming", "cfar_fov_cfg", "aoa_fov_cfg",
-           "clutter_removal", "calib_dc_range_sig", "measure_range_bias", "rx_sat_monitor"]
+__all__ = ["ONE_PEAK_DB", "extended_max_velocity", "multi_obj_beamforming", "cfar_fov_cfg",
+           "aoa_fov_cfg", "clutter_removal", "calib_dc_range_sig", "measure_range_bias",
+           "rx_sat_monitor"]
 
 
 def _record(st: ParseState, ln: Line, **fields) -> None:

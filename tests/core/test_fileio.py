@@ -48,7 +48,8 @@ def test_socket_is_not_a_regular_file(tmp_path):
 def test_size_limit(tmp_path):
     p = tmp_path / "big.toml"
     p.write_bytes(b"x" * 101)
-    with pytest.raises(fio.BadInputFile, match=r"big\.toml' is 101 bytes, more than the 100-byte limit"):
+    with pytest.raises(fio.BadInputFile,
+                       match=r"big\.toml' is 101 bytes, more than the 100-byte limit"):
         fio.read_input_text(p, "gates file", max_bytes=100)
     assert fio.read_input_text(p, max_bytes=101) == "x" * 101
 

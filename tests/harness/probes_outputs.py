@@ -48,10 +48,10 @@ def write_probes() -> list[Probe]:
                 failing_writes(errno.EROFS, t / "v", writers=("savefig", "open")))
 
     def simulate_disk(t):
-        return (["simulate", "head_on_aliasing", "--cfg", profile_file(t), "--out", t / "o" / "c.bin",
-                 "--frames", "1"], _after_probe(failing_writes(errno.ENOSPC, t / "o",
-                                                               writers=("open",)),
-                                                mkdir=t / "o"))
+        argv = ["simulate", "head_on_aliasing", "--cfg", profile_file(t),
+                "--out", t / "o" / "c.bin", "--frames", "1"]
+        faults = failing_writes(errno.ENOSPC, t / "o", writers=("open",))
+        return argv, _after_probe(faults, mkdir=t / "o")
 
     def junit(t):
         res = fake_results(t)
@@ -137,7 +137,8 @@ def consistency_probes() -> list[Probe]:
         Probe("consistency", "report_manifest_list", damaged("[1, 2]"),
               r"manifest\.json: damaged manifest"),
         Probe("consistency", "gate_damaged_manifest",
-              lambda t: ["gate", damaged("{")(t)[1], "--thresholds", write_file(t, "g.toml", GATES)],
+              lambda t: ["gate", damaged("{")(t)[1], "--thresholds",
+                         write_file(t, "g.toml", GATES)],
               r"manifest\.json: damaged manifest"),
         Probe("consistency", "gate_old_code_version", old_version("gate"),
               r"computed by code version 0123456789abcdef .*not today's", code=0),

@@ -487,10 +487,10 @@ def openscenario_probes() -> list[Probe]:
 
     def toml(body):
         return show(lambda t: (xosc_case(t), write(t, "c.toml", body))[1])
-    ro = (lambda t: (["export", "head_on_aliasing", "--format", "xosc", "--out", t / "x"],
-                     _denied(t / "x", errno.EROFS)))
-    full = (lambda t: (["export", "head_on_aliasing", "--format", "xosc", "--out", t / "x"],
-                       _denied(t / "x", errno.ENOSPC)))
+    def export_denied(err):
+        return lambda t: (["export", "head_on_aliasing", "--format", "xosc", "--out", t / "x"],
+                          _denied(t / "x", err))
+    ro, full = export_denied(errno.EROFS), export_denied(errno.ENOSPC)
     return [
         Probe("openscenario", "export_out_is_a_file",
               lambda t: ["export", "head_on_aliasing", "--format", "xosc", "--out",

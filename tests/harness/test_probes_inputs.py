@@ -1,4 +1,5 @@
-"""Probe set (issue 25): Sweep files and keys, shifter command and calibration, chip and board configs, schemes, scatterers and frames.
+"""Probe set (issue 25): Sweep files and keys, shifter command and calibration, chip and board
+configs, schemes, scatterers and frames.
 
 Each probe is one bad input (`tests.harness.probes`); it must get a clear answer: exit 2 with
 one stderr line (or a ValueError) naming the field or file, the value and the limit, or, for

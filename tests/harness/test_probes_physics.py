@@ -1,4 +1,5 @@
-"""Probe set (issue 25): Complex ADC frames (non-finite samples, I/Q beyond full scale) and interference equipment bounds.
+"""Probe set (issue 25): Complex ADC frames (non-finite samples, I/Q beyond full scale) and
+interference equipment bounds.
 
 Each probe is one bad input (`tests.harness.probes`); it must get a clear answer: exit 2 with
 one stderr line (or a ValueError) naming the field or file, the value and the limit, or, for

@@ -78,7 +78,8 @@ def test_profile_cfar_runs_the_log_statistic():
 def _pd_of_statistic(snr_lin, n_cells, looks, alpha, rng, draws=20_000):
     """P(mean_i ln|sqrt(S) + n_i|^2 - M > ln alpha), n_i ~ CN(0, 1), M the CA noise
     statistic of n_cells x looks unit exponentials: the chip's detection probability."""
-    z = (rng.standard_normal((draws, looks)) + 1j * rng.standard_normal((draws, looks))) / np.sqrt(2)
+    z = (rng.standard_normal((draws, looks))
+         + 1j * rng.standard_normal((draws, looks))) / np.sqrt(2)
     cut = np.log(np.abs(np.sqrt(snr_lin) + z) ** 2).mean(axis=1)
     m = np.log(rng.exponential(size=(draws, n_cells * looks))).mean(axis=1)
     return float(np.mean(cut - m > np.log(alpha)))

@@ -71,7 +71,8 @@ def test_recovers_bias_and_channels_within_crb(x68):
     cfg, proc = x68
     board = imbalanced_board(cfg)
     r = 40 * cfg.range_resolution_m - BIAS_M
-    cal = measure_channel_calibration(cfg, reflector_frames(board, r, 0.0, 3e-5, 3, 1), r, 0.2, proc)
+    frames = reflector_frames(board, r, 0.0, 3e-5, 3, 1)
+    cal = measure_channel_calibration(cfg, frames, r, 0.2, proc)
     assert 22 < cal.snr_db.mean() < 34
     _check_recovery(cfg, board, cal)
     assert cal.line.startswith("compRangeBiasAndRxChanPhase 0.07")

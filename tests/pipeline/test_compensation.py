@@ -17,8 +17,10 @@ from pipeline.compensation import (
 from tests.pipeline.test_chain import REGISTRY, best_near, scene_at_snr
 
 #: A board with every kind of imbalance (the first Tx and Rx are the reference).
-IMBALANCE = dict(tx_phase_error_deg=(0.0, 70.0, -50.0, 120.0), tx_gain_error_db=(0.0, 1.0, -1.5, 0.5),
-                 rx_phase_error_deg=(0.0, 40.0, -65.0, 100.0), rx_gain_error_db=(0.0, -1.0, 0.8, 1.5))
+IMBALANCE = dict(tx_phase_error_deg=(0.0, 70.0, -50.0, 120.0),
+                 tx_gain_error_db=(0.0, 1.0, -1.5, 0.5),
+                 rx_phase_error_deg=(0.0, 40.0, -65.0, 100.0),
+                 rx_gain_error_db=(0.0, -1.0, 0.8, 1.5))
 
 
 def board_gain(cfg):

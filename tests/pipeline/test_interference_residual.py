@@ -95,10 +95,10 @@ def test_window_not_a_multiple_of_the_block_is_refused(window):
 
 
 def test_the_chirp_statistics_add_them_unless_switched_off():
-    from pipeline.chirp_level.stage import _chirp_statistics
+    from pipeline.chirp_level.stage import chirp_statistics
     adc = _frame(np.random.default_rng(7), burst_rows=(7, 130), chip_rows=(40,))
-    _, rows, _ = _chirp_statistics(adc, ProcessingConfig())
+    _, rows, _ = chirp_statistics(adc, ProcessingConfig())
     assert {7, 40, 130} <= set(rows.tolist())
-    _, off, _ = _chirp_statistics(adc, ProcessingConfig().replace(
+    _, off, _ = chirp_statistics(adc, ProcessingConfig().replace(
         **{"interference.weak_burst_snr_db": None}))
     assert 40 in off and 7 not in off and 130 not in off

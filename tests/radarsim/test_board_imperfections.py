@@ -64,8 +64,8 @@ def test_range_bias_delays_every_echo(make_config):
 @pytest.mark.parametrize("kw, match", [
     (dict(rx_phase_error_deg=(0.0, 1.0)), r"rx_phase_error_deg must hold 4 finite values "
                                           r"\(one per Rx\)"),
-    (dict(rx_gain_error_db=(0.0, 0.0, 0.0, 99.0)), r"rx_gain_error_db=.* must be a list of "
-                                                   r"finite numbers in \[-400, 40\] \(one per Rx\)"),
+    (dict(rx_gain_error_db=(0.0, 0.0, 0.0, 99.0)),
+     r"rx_gain_error_db=.* must be a list of finite numbers in \[-400, 40\] \(one per Rx\)"),
     (dict(range_bias_m=11.0), r"range_bias_m=11.0 must be finite and within \+/-10 m"),
     (dict(range_bias_m=float("nan")), r"range_bias_m=nan must be finite"),
     (dict(range_bias_m="0.1"), r"range_bias_m='0.1' must be a number"),

@@ -59,7 +59,8 @@ LIMITS = {
     "band_low_1843": ("AWR1843", dict(start_freq_hz=75e9), r"below the AWR1843 band limit"),
     "band_high_2944": ("AWR2944", dict(start_freq_hz=80.99e9), r"exceeds the AWR2944 band"),
     "rate_real_1843": ("AWR1843", dict(adc_rate_sps=26e6, n_samples=64),
-                       r"adc_rate_sps=2.6e\+07 exceeds the AWR1843 limit 2.5e\+07 sps \(real ADC\)"),
+                       r"adc_rate_sps=2.6e\+07 exceeds the AWR1843 limit 2.5e\+07 sps "
+                       r"\(real ADC\)"),
     "rate_complex1x_6843": ("IWR6843", dict(adc_mode="complex1x", adc_rate_sps=13e6),
                             r"exceeds the IWR6843 limit 1.25e\+07 sps \(complex1x ADC\)"),
     "if_band_real_1642": ("AWR1642", dict(adc_mode="real", adc_rate_sps=12e6),

@@ -128,7 +128,8 @@ def test_a_labs_board_runs_a_frame(lab_board):
     found where it is, and the elevation follows the board's own 0.5-lambda baseline."""
     cfg = radarsim.presets.r79_ddma(board=lab_board.name)
     assert cfg.board == lab_board.name
-    np.testing.assert_allclose(cfg.tx_positions_m[1, 1:], 0.5 * cfg.wavelength_m * np.array([2.0, 1.0]))
+    np.testing.assert_allclose(cfg.tx_positions_m[1, 1:],
+                               0.5 * cfg.wavelength_m * np.array([2.0, 1.0]))
     rng = np.random.default_rng(3)
     sc = radarsim.Scatterers.from_spherical([40.0], [20.0], [10.0], [-5.0], [10.0])
     pc = pipeline.process_frame(cfg, radarsim.simulate_frame(cfg, sc, rng))

@@ -146,7 +146,7 @@ def test_a_commented_call_in_a_logfile_is_not_read():
     assert setup_kind(only_comments) == "cli_profile"
 
 
-def _json_with(tmp_path, path: tuple, value) -> "Path":
+def _json_with(tmp_path, path: tuple, value):
     """The setup JSON with the value at `path` (keys and indices from the file's root)."""
     import json
     data = json.loads(JSON.read_text())

@@ -135,13 +135,13 @@ def test_repaired_rows_window_the_repair_of_the_dc_removed_rows(cfg, method):
     """`repaired_rows(...).windowed()` is `repair` of the flagged rows (DC removed, numpy's
     float32 difference) times the window, bit for bit: "lowrank" leaves its rows' means to
     the window product, which must subtract exactly what the fill would have."""
-    from pipeline.chirp_level.stage import _chirp_statistics
+    from pipeline.chirp_level.stage import chirp_statistics
     from pipeline.interference import FrameRows, get_mitigation, repair, repaired_rows
     from pipeline.kernels import window
     adc = radarsim.simulate_frame(cfg.replace(adc_dc_offset_lsb=-120.0), empty(),
                                   np.random.default_rng(8), one_interferer())
     proc = pipeline.ProcessingConfig().replace(intf_mitigation=method)
-    dc, rows, flags = _chirp_statistics(adc, proc)
+    dc, rows, flags = chirp_statistics(adc, proc)
     n = adc.shape[-1]
     win = window("hann", n)
     y = np.subtract(adc.reshape(-1, n)[rows], dc.reshape(-1, 1)[rows], dtype=np.float32)
@@ -162,7 +162,7 @@ def test_deferred_repair_is_the_repair_in_any_chirp_order(cfg, monkeypatch, part
     the frame's basis (it then comes from the repaired rows, after their flags) nothing is
     deferred."""
     from pipeline import threads
-    from pipeline.chirp_level.stage import _chirp_statistics
+    from pipeline.chirp_level.stage import chirp_statistics
     from pipeline.interference import masks, repaired_rows
     from pipeline.kernels import window
     from pipeline.threads import run_queue
@@ -172,7 +172,7 @@ def test_deferred_repair_is_the_repair_in_any_chirp_order(cfg, monkeypatch, part
     adc = radarsim.simulate_frame(cfg.replace(adc_dc_offset_lsb=-120.0), empty(),
                                   np.random.default_rng(8), one_interferer())
     proc = pipeline.ProcessingConfig()
-    dc, rows, flags = _chirp_statistics(adc, proc)
+    dc, rows, flags = chirp_statistics(adc, proc)
     win = window("hann", adc.shape[-1])
     want = repaired_rows(adc, dc, rows, flags, win, proc.interference)
     calls = []

@@ -183,7 +183,8 @@ def test_points_from_frame_reads_the_columns_whatever_else_the_frame_holds():
                          "snr_db": rng.uniform(10, 40, n).astype(np.float32)})
     want = [base[c].to_numpy(dtype=np.float64) for c in base.columns]
     want[1] = np.radians(want[1])
-    extra = {"ints": base.assign(range_bin=np.arange(n), saturated=False, range_m=np.arange(1, n + 1)),
+    extra = {"ints": base.assign(range_bin=np.arange(n), saturated=False,
+                                 range_m=np.arange(1, n + 1)),
              "strings": base.assign(label=["TRUE"] * n)}
     extra["ints"].attrs["saturation"] = {"n_saturated_chirp_rx": 0}
     for name, frame in extra.items():
