@@ -33,8 +33,10 @@ from typing import Callable
 import numpy as np
 
 from core.fileio import read_input_text
+from harness.plugins import plugins_fingerprint
 
-__all__ = ["CELL_STATES", "code_version", "read_meta", "cell_state", "table_files",
+__all__ = ["CELL_STATES", "code_version", "base_code_version", "read_meta", "cell_state",
+           "table_files",
            "write_cell_dir", "retire", "clean_temporaries", "TEMP_PREFIXES", "cell_dir",
            "cell_states", "completed_cells"]
 
@@ -58,17 +60,36 @@ _HOST = socket.gethostname().replace("-", "_") or "host"
 FOREIGN_TEMP_MAX_AGE_S = 24 * 3600.0
 
 
-@functools.lru_cache(maxsize=1)
 def code_version() -> dict:
-    """Version of the code that computes cells (cached per process).
+    """Version of the code that computes cells: the harness's own (`base_code_version`) and
+    the plugins loaded in this process (`harness.plugins.plugins_fingerprint`).
+
+    Returns
+    -------
+    dict
+        ``hash``: SHA-256 (16 hex digits) of the base hash and every plugin's module and source
+        hash (no plugin: the base hash itself, so results without plugins keep their version);
+        ``commit`` and ``dirty``: the git state, informative only (None outside a git
+        checkout); ``plugins``: ``module=sha256`` of each plugin (empty without).
+    """
+    base = base_code_version()
+    fp = plugins_fingerprint()
+    if not fp:
+        return {**base, "plugins": []}
+    h = hashlib.sha256(f"{base['hash']}\n{fp}".encode()).hexdigest()[:16]
+    return {**base, "hash": h, "plugins": fp.splitlines()}
+
+
+@functools.lru_cache(maxsize=1)
+def base_code_version() -> dict:
+    """Version of the harness's own code (cached per process).
 
     Returns
     -------
     dict
         ``hash``: SHA-256 (16 hex digits) over the relative path and bytes of every source file
         of the packages in `_PACKAGES` and the versions of the numerical libraries (a numpy
-        upgrade can flip bits); ``commit`` and ``dirty``: the git state, informative only (None
-        outside a git checkout).
+        upgrade can flip bits); ``commit`` and ``dirty``: the git state.
     """
     from importlib import metadata
     root = Path(__file__).resolve().parent.parent
