@@ -65,7 +65,8 @@ class PluginInfo:
     how : str
         "entry point", "--plugin" or "sweep file".
     module : str
-        Module name it is imported under (a file plugin: ``radar_harness_file_plugin_<stem>``).
+        Module name it is imported under (a file plugin:
+        ``radar_harness_file_plugin_<stem>_<path hash>``).
     path : str or None
         The ``.py`` file of a file plugin (absolute).
     distribution, version : str or None
@@ -133,8 +134,10 @@ def _is_file(name: str) -> bool:
 
 
 def _file_module(path: Path) -> str:
+    """``radar_harness_file_plugin_<stem>_<8 hex of the path>``: two files of one name in two
+    folders are two plugins."""
     stem = "".join(c if c.isalnum() else "_" for c in path.stem)
-    return f"{FILE_MODULE_PREFIX}{stem}"
+    return f"{FILE_MODULE_PREFIX}{stem}_{hashlib.sha256(str(path).encode()).hexdigest()[:8]}"
 
 
 def _distribution(module: str) -> tuple[str | None, str | None]:
