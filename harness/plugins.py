@@ -39,7 +39,8 @@ __all__ = ["ENTRY_POINT_GROUP", "PluginError", "PluginInfo", "load_plugins", "lo
            "BUILTIN_PACKAGES", "plugins_fingerprint", "import_builtins",
            "plugin_entries"]
 
-#: Entry-point group an installed plugin declares (``[project.entry-points."radar_harness.plugins"]``).
+#: Entry-point group an installed plugin declares
+#: (``[project.entry-points."radar_harness.plugins"]`` in its pyproject.toml).
 ENTRY_POINT_GROUP = "radar_harness.plugins"
 #: Top-level packages of this project: what they register is "built in".
 BUILTIN_PACKAGES = ("core", "radarsim", "pipeline", "metrics", "scenarios", "harness")

@@ -78,7 +78,7 @@ def check_point_cloud(cloud, cfg, who: str = "point cloud") -> None:
     for c in _FLOAT_COLUMNS:
         v = cloud[c].to_numpy(dtype=np.float64)
         if not np.isfinite(v).all():
-            raise _fail(who, "finite", f"column {c!r} holds {v[~np.isfinite(v)][0]!r}")
+            raise _fail(who, "finite", f"column {c!r} holds {float(v[~np.isfinite(v)][0])!r}")
     v_lim = cfg.n_tx * cfg.max_unambiguous_velocity_mps
     for c, lo, hi, unit in (("range_m", 0.0, cfg.max_range_m, "m"),
                             ("azimuth_deg", -90.0, 90.0, "deg"),
@@ -185,7 +185,7 @@ def check_cfar_mode(mode: str, *, seed: int = 0) -> None:
                         f"{est.shape}, not {train.shape[:-1]}")
         if not np.isfinite(est).all() or (est < 0).any():
             raise _fail(who, "finite", f"noise_estimate of the {what} cells holds "
-                        f"{est[~np.isfinite(est) | (est < 0)][0]!r}")
+                        f"{float(est[~np.isfinite(est) | (est < 0)][0])!r}")
         if not np.array_equal(est, np.asarray(m.noise_estimate(train.copy(), n // 2, 18))):
             raise _fail(who, "deterministic", f"two noise estimates of the {what} cells differ")
     try:

@@ -145,7 +145,7 @@ def check_points(points: pd.DataFrame, radar, n_frames: int, what: str) -> pd.Da
         bad = ~np.isfinite(v)
         if bad.any():
             raise ExternalChainError(f"{what}: column {c!r} holds non-finite value "
-                                     f"{v[bad][0]!r} (row {int(np.flatnonzero(bad)[0])})")
+                                     f"{float(v[bad][0])!r} (row {int(np.flatnonzero(bad)[0])})")
         out[c] = v
     v_lim = radar.n_tx * radar.max_unambiguous_velocity_mps
     limits = {"range_m": (0.0, radar.max_range_m), "azimuth_deg": (-90.0, 90.0),

@@ -9,8 +9,8 @@ process would stay loaded and change the code version every later test sees.
 from __future__ import annotations
 
 import json
-import re
 import os
+import re
 import subprocess
 import sys
 import textwrap
