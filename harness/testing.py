@@ -30,7 +30,7 @@ import numpy as np
 import pandas as pd
 
 __all__ = ["ContractError", "check_chain", "check_cfar_mode", "check_metric",
-           "check_point_cloud"]
+           "check_point_cloud", "two_target_scene"]
 
 
 class ContractError(AssertionError):
@@ -91,7 +91,8 @@ def check_point_cloud(cloud, cfg, who: str = "point cloud") -> None:
                         f"[{lo:g}, {hi:g}] {unit}")
 
 
-def _scene():
+def two_target_scene():
+    """The kit's scene: a car closing at 30 m and one receding at 80 m (10 m^2 each)."""
     import radarsim
     return radarsim.Scatterers(position_m=[[30.0, 4.0, 0.0], [80.0, -15.0, 0.3]],
                                velocity_mps=[[-12.0, 0.0, 0.0], [6.0, 0.0, 0.0]],
@@ -102,7 +103,7 @@ def _frames(cfg, seed: int) -> dict[str, np.ndarray]:
     """A two-target frame, a noise-only frame and a frame at the ADC rails."""
     import radarsim
     rng = np.random.default_rng(seed)
-    scene = radarsim.simulate_frame(cfg, _scene(), rng)
+    scene = radarsim.simulate_frame(cfg, two_target_scene(), rng)
     empty = radarsim.simulate_frame(cfg, radarsim.Scatterers(
         position_m=np.zeros((0, 3)), velocity_mps=np.zeros((0, 3)), rcs_m2=np.zeros(0),
         actor_id=np.zeros(0, dtype=np.int64)), np.random.default_rng(seed + 1))

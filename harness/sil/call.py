@@ -139,7 +139,8 @@ def check_points(points: pd.DataFrame, radar, n_frames: int, what: str) -> pd.Da
     out = {}
     for c in cols:
         s = points[c]
-        if not pd.api.types.is_numeric_dtype(s) or pd.api.types.is_bool_dtype(s):
+        if len(s) and (not pd.api.types.is_numeric_dtype(s) or pd.api.types.is_bool_dtype(s)):
+            # (a header-only CSV has untyped columns: no points is a valid answer)
             raise ExternalChainError(f"{what}: column {c!r} is not numeric ({s.dtype})")
         v = s.to_numpy(dtype=np.float64)
         bad = ~np.isfinite(v)
