@@ -6,11 +6,13 @@
   cfar_mode = "ca_example"``);
 - board ``EXAMPLE_AWR2944_NARROW``: the AWR2944EVM with a +/-60 deg field of view;
 - metric ``true_detections_per_frame`` (higher is better), computed for every summary row and
-  usable in gates (``gates.toml`` beside this module gates it).
+  usable in gates (``gates.toml`` beside this module gates it);
+- its case files (``cases/*.toml``, the catalogue's format): ``example_fast_overtake``.
 """
 from __future__ import annotations
 
 import dataclasses
+from pathlib import Path
 
 import metrics
 import pipeline
@@ -18,6 +20,8 @@ import radarsim
 from pipeline.cfar import CellAveraging
 from pipeline.mimo.tdma import TdmaChain
 from radarsim.mimo import TdmaScheme
+from scenarios import SCENARIOS
+from scenarios.files import load_case_directory
 
 
 class ReversedTdma(TdmaScheme):
@@ -52,3 +56,4 @@ metrics.register_metric(metrics.Metric(
     name="true_detections_per_frame", unit="", better="higher", table="detections",
     source=true_detections_per_frame, row_value=true_detections_per_frame,
     description="TRUE detections per processed frame (example plugin)"))
+SCENARIOS.register_all(load_case_directory(Path(__file__).with_name("cases")).values())
