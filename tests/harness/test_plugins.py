@@ -223,29 +223,40 @@ def test_a_worker_without_the_plugin_fails_the_cell_with_one_line(tmp_path):
 _DASK_SCRIPT = textwrap.dedent('''
     import shutil, sys
     import distributed
+    import pandas as pd
     sys.path.insert(0, sys.argv[1])
     from harness.plugins import load_plugins
     from harness.sweep.schedule import run_sweep
     from harness.sweep.spec import SweepSpec
     from tests.harness.fakes import FAKE
-    load_plugins(["client_only_plugin"], entry_points=False)
-    shutil.rmtree(sys.argv[1])  # the workers start after: the plugin is the client's only
     spec = SweepSpec(name="d", scenarios=("fast",), duration_s=0.2)
     with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=True,
                                   dashboard_address=None) as cluster:
-        o = run_sweep(spec, sys.argv[2], components=FAKE, scheduler=cluster.scheduler_address,
-                      progress=False)
+        # A file plugin the workers cannot see: its source travels with the task.
+        load_plugins([sys.argv[3]], entry_points=False)
+        shutil.rmtree(sys.argv[4])
+        o = run_sweep(spec, sys.argv[2] + "/file", components=FAKE,
+                      scheduler=cluster.scheduler_address, progress=False)
+        s = pd.read_parquet(sys.argv[2] + "/file/summary.parquet")
+        print("FILE", o.n_ok, o.n_error, "tdma_file_rows" in s.columns)
+        # A module plugin only the client has: the cell fails, naming it.
+        load_plugins(["client_only_plugin"], entry_points=False)
+        shutil.rmtree(sys.argv[1])
+        o = run_sweep(spec, sys.argv[2] + "/module", components=FAKE,
+                      scheduler=cluster.scheduler_address, progress=False)
     print("ERRORS", list(o.errors.values()))
 ''')
 
 
 @pytest.mark.slow
-def test_a_dask_worker_without_the_plugin_fails_the_cell_naming_it(tmp_path):
+def test_dask_workers_load_the_clients_plugins_or_fail_the_cell_naming_it(tmp_path):
     _write_module(tmp_path / "mods", "client_only_plugin", "tdma_client")
+    plugin_file = _write_module(tmp_path / "files", "shipped", "tdma_file")
     r = subprocess.run([sys.executable, "-c", _DASK_SCRIPT, str(tmp_path / "mods"),
-                        str(tmp_path / "out")], cwd=ROOT, capture_output=True, text=True,
-                       timeout=600)
+                        str(tmp_path / "out"), str(plugin_file), str(tmp_path / "files")],
+                       cwd=ROOT, capture_output=True, text=True, timeout=600)
     assert r.returncode == 0, r.stderr
+    assert "FILE 1 0 True" in r.stdout
     line = [ln for ln in r.stdout.splitlines() if ln.startswith("ERRORS")][0]
     assert "this worker lacks the plugin" in line and "client_only_plugin" in line
     assert "ModuleNotFoundError" in line and "pickl" not in line.lower()
