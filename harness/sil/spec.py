@@ -116,11 +116,12 @@ class ExternalChain:
 
 
 def _files_sha256(chain: ExternalChain) -> str:
-    """SHA-256 (16 hex digits) of every existing file the command names."""
+    """SHA-256 (16 hex digits) of every existing file the command names (its program, its
+    script; not ``{python}``, the interpreter, whose version the code version holds)."""
     h = hashlib.sha256()
     for arg in chain.argv("{cfg}", "{adc}", "{points}"):
         p = Path(arg)
-        if p.is_absolute() and p.is_file():
+        if p.is_absolute() and p.is_file() and arg != sys.executable:
             h.update(p.name.encode() + b"\0" + p.read_bytes())
     return h.hexdigest()[:16]
 
