@@ -140,15 +140,28 @@ def test_a_failed_plugin_is_never_half_loaded(tmp_path):
 
 
 @pytest.mark.parametrize("args, message", [
+    (["--registry", "nope"], r"--registry 'nope' is not one of \[.*'scheme'"),
     (["--plugin", "no/such/file.py"], r"is not a \.py file"),
     (["--plugin", "no_such_plugin_module_x"],
      r"no_such_plugin_module_x.*ModuleNotFoundError"),
     (["--plugin", ""], r"must be a list of module names"),
-], ids=["missing_file", "missing_module", "empty_name"])
+], ids=["unknown_registry", "missing_file", "missing_module", "empty_name"])
 def test_bad_plugin_option(args, message):
     r = _cli(["plugins", *args])
     assert r.returncode == 2
     assert re.search(message, r.stderr), r.stderr
+
+
+def test_a_sweep_file_plugin_relative_to_the_file_adds_its_scheme(tmp_path):
+    _write_module(tmp_path / "sub", "sweep_local", "tdma_sweepfile")
+    f = tmp_path / "sub" / "s.toml"
+    f.write_text('name = "x"\nscenarios = ["head_on_aliasing"]\nplugins = ["sweep_local.py"]\n'
+                 'schemes = ["tdma", "tdma_sweepfile"]\n')
+    r = subprocess.run([sys.executable, "-c", "import sys; from harness.sweep.file import "
+                        "load_sweep; s = load_sweep(sys.argv[1]); print(s.schemes, s.plugins)",
+                        str(f)], cwd=ROOT, capture_output=True, text=True, timeout=300)
+    assert r.returncode == 0, r.stderr
+    assert "('tdma', 'tdma_sweepfile') ('sweep_local.py',)" in r.stdout
 
 
 @pytest.mark.parametrize("value, message", [
