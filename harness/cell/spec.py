@@ -17,6 +17,7 @@ from typing import Any
 import numpy as np
 
 from core.errors import BadInput
+from harness.sil.spec import ExternalChain
 
 __all__ = ["CellSpec", "ResultScheme", "DEFAULT_SCHEMES", "DEFAULT_BASELINE_SCHEME", "TABLES",
            "SCENE_FIELDS", "check_scene", "result_schemes", "known_schemes", "mimos"]
@@ -169,7 +170,7 @@ class CellSpec:
         `metrics.association.AssociationConfig` overrides (the sweep's ``[association]``);
         the radar-dependent settings otherwise come from the cell's configs
         (`cell_association`).
-    external_chains : tuple of harness.sil.ExternalChain
+    external_chains : tuple of harness.sil.ExternalChain (or their tables)
         Software-in-the-loop chains whose names `schemes` may hold.
 
     ``radar`` may hold ``profile``: a TI .cfg path whose `RadarConfig` replaces the R79
@@ -195,7 +196,10 @@ class CellSpec:
             raise BadInput(f"scenario={self.scenario!r} must be a non-empty name")
         check_scene(self.scene)
         object.__setattr__(self, "schemes", tuple(self.schemes))
-        object.__setattr__(self, "external_chains", tuple(self.external_chains))
+        # A spec read back from cell.json / the manifest holds its chains as tables.
+        object.__setattr__(self, "external_chains", tuple(
+            c if isinstance(c, ExternalChain) else ExternalChain(**c)
+            for c in self.external_chains))
         result_schemes(self.schemes, self.external_chains)
         known = known_schemes() + [c.name for c in self.external_chains]
         if not isinstance(self.baseline_scheme, str) or self.baseline_scheme not in known:

@@ -35,7 +35,7 @@ import numpy as np
 from core.fileio import read_input_text
 from harness.plugins import plugins_fingerprint
 
-__all__ = ["CELL_STATES", "code_version", "base_code_version", "read_meta", "cell_state",
+__all__ = ["CELL_STATES", "code_version", "base_code_version", "code_source_files", "read_meta", "cell_state",
            "table_files",
            "write_cell_dir", "retire", "clean_temporaries", "TEMP_PREFIXES", "cell_dir",
            "cell_states", "completed_cells"]
@@ -51,7 +51,7 @@ CELL_STATES = {
 #: Prefixes of the temporary directories of an atomic write and of a retired cell.
 TEMP_PREFIXES = (".tmp-", ".old-")
 #: Packages whose source defines the numbers of a cell.
-_PACKAGES = ("radarsim", "pipeline", "metrics", "scenarios", "harness")
+_PACKAGES = ("core", "radarsim", "pipeline", "metrics", "scenarios", "harness")
 _SOURCE_SUFFIXES = {".py", ".toml", ".cfg", ".json", ".npz", ".csv"}
 #: Libraries whose version can change the bits of a cell.
 _LIBRARIES = ("numpy", "scipy", "pandas", "pyarrow", "highway-env", "gymnasium")
@@ -80,6 +80,17 @@ def code_version() -> dict:
     return {**base, "hash": h, "plugins": fp.splitlines()}
 
 
+#: The folder holding the packages (this file is <root>/harness/sweep/store.py).
+_SOURCE_ROOT = Path(__file__).resolve().parents[2]
+
+
+def code_source_files() -> list[Path]:
+    """Every source file whose bytes enter `base_code_version`: the files of the packages in
+    `_PACKAGES` with a suffix in `_SOURCE_SUFFIXES`, sorted."""
+    return [f for pkg in _PACKAGES for f in sorted((_SOURCE_ROOT / pkg).rglob("*"))
+            if f.suffix in _SOURCE_SUFFIXES and f.is_file() and "__pycache__" not in f.parts]
+
+
 @functools.lru_cache(maxsize=1)
 def base_code_version() -> dict:
     """Version of the harness's own code (cached per process).
@@ -92,15 +103,13 @@ def base_code_version() -> dict:
         upgrade can flip bits); ``commit`` and ``dirty``: the git state.
     """
     from importlib import metadata
-    root = Path(__file__).resolve().parent.parent
+    root = _SOURCE_ROOT
     h = hashlib.sha256()
-    for pkg in _PACKAGES:
-        for f in sorted((root / pkg).rglob("*")):
-            if f.suffix in _SOURCE_SUFFIXES and f.is_file() and "__pycache__" not in f.parts:
-                h.update(str(f.relative_to(root)).encode())
-                h.update(b"\0")
-                h.update(f.read_bytes())
-                h.update(b"\0")
+    for f in code_source_files():
+        h.update(str(f.relative_to(root)).encode())
+        h.update(b"\0")
+        h.update(f.read_bytes())
+        h.update(b"\0")
     for lib in _LIBRARIES:
         try:
             h.update(f"{lib}=={metadata.version(lib)}\n".encode())
