@@ -206,7 +206,7 @@ def test_a_scheduler_without_workers_fails_within_the_timeout(tmp_path):
         assert time.monotonic() - t0 < 15
 
 
-def _lost_cell(spec, out, comps=None):
+def _lost_cell(spec, out, comps=None, plugins=()):
     """A worker that reports success but writes nowhere visible (its own working directory)."""
     return {"cell_id": spec.cell_id, "status": "ok", "elapsed_s": 0.0, "written": "written"}
 
