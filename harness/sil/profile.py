@@ -71,13 +71,12 @@ def cell_profile(radar, proc, frame_period_s: float) -> CellProfile:
     from harness.cell.ti_profile import processing_from_profile
     from radarsim.ti import parse_ti_cfg, to_ti_cfg
     bare = parse_ti_cfg(to_ti_cfg(radar, frame_period_s=frame_period_s))
-    keys = set(bare.processing) | {"tdma_disambiguation", "compression",
-                                   "interference_mitigation", "clutter_removal"}
-    values = {k: getattr(proc, k) for k in keys if hasattr(proc, k)}
-    for k in ("compression_ratio", "compression_range_bins_per_block", "intf_mag_snr_db",
-              "intf_magdiff_snr_db"):
-        if hasattr(proc, k):
-            values[k] = getattr(proc, k)
+    # A profile's processing values use the flat names of the TI command handlers.
+    keys = set(bare.processing) | {"tdma_disambiguation", "compression", "clutter_removal",
+                                   "interference_mitigation", "compression_ratio",
+                                   "compression_range_bins_per_block", "intf_mag_snr_db",
+                                   "intf_magdiff_snr_db"}
+    values = {k: _flat_value(proc, k) for k in keys}
     profile = dataclasses.replace(bare, processing=values, cfar={"doppler": _ti_cfar(radar, proc)})
     text = to_ti_cfg(profile)
     back = processing_from_profile(parse_ti_cfg(text))
@@ -92,6 +91,18 @@ def cell_profile(radar, proc, frame_period_s: float) -> CellProfile:
         elif not _same(a, b):
             diffs.append(f"{f.name}: {a!r} -> {b!r}")
     return CellProfile(text, diffs)
+
+
+def _flat_value(proc, key: str):
+    """The value of a flat (TI handler) processing key in a nested `ProcessingConfig`
+    (`pipeline.config_keys.FLAT_KEYS`; the old mitigation switch: a repair method is on)."""
+    from pipeline.config_keys import FLAT_KEYS
+    if key == "interference_mitigation":
+        return proc.interference.repair != "off"
+    value = proc
+    for part in FLAT_KEYS[key].split("."):
+        value = getattr(value, part)
+    return value
 
 
 def _same(a, b) -> bool:
