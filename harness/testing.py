@@ -158,7 +158,7 @@ def check_chain(scheme: str, *, proc=None, cfg=None, seed: int = 0) -> None:
 def check_cfar_mode(mode: str, *, seed: int = 0) -> None:
     """Run a CFAR mode through the contract: its noise estimate on exponential training cells
     (shape, finite, positive, input not mutated, deterministic, all-zero and huge cells), then
-    the TDMA chain with ``cfar_mode=mode`` (`check_chain`).
+    the TDMA chain with ``cfar.mode = mode`` (`check_chain`).
 
     Raises
     ------
@@ -190,9 +190,9 @@ def check_cfar_mode(mode: str, *, seed: int = 0) -> None:
         if not np.array_equal(est, np.asarray(m.noise_estimate(train.copy(), n // 2, 18))):
             raise _fail(who, "deterministic", f"two noise estimates of the {what} cells differ")
     try:
-        proc = pipeline.ProcessingConfig().replace(cfar_mode=mode)
+        proc = pipeline.ProcessingConfig().replace(**{"cfar.mode": mode})
     except Exception as exc:  # noqa: BLE001
-        raise _fail(who, "config", f"ProcessingConfig(cfar_mode={mode!r}) raised "
+        raise _fail(who, "config", f"ProcessingConfig cfar.mode={mode!r} raised "
                     f"{type(exc).__name__}: {exc}") from exc
     check_chain("tdma", proc=proc, seed=seed)
 

@@ -275,7 +275,7 @@ def test_a_failing_external_cell_is_recorded_and_the_sweep_goes_on_and_resumes(t
             sys.exit(4)
         open(out, "w").write("range_m,azimuth_deg,radial_velocity_mps,snr_db\\n")
     """
-    f = _sweep(tmp_path, "fails", body, '[vary]\n"processing.tdma_disambiguation" = '
+    f = _sweep(tmp_path, "fails", body, '[vary]\n"processing.velocity.tdma_disambiguation" = '
                                          '[true, false]')
     out = tmp_path / "out"
     assert main(["sweep", str(f), "--workers", "1", "--out", str(out)]) == 1
