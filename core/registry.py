@@ -9,6 +9,12 @@ parts, scenario cases, ...) is a `Registry`: a read-only mapping from name to ob
 `core`, below every package, so a lab registers its own board exactly as it registers a
 scheme.
 
+Every entry remembers the module that registered it (`Registry.origin`: the first caller
+outside this module and outside ``register*`` helpers such as ``radarsim.register_scheme``), so
+`radar-harness plugins` can say which entries are built in and which a plugin added. Every
+registry is listed by `all_registries`; `registry_state` / `restore_registry_state` undo the
+registrations of a plugin that fails half-way through its import.
+
 Examples
 --------
 >>> from core.registry import Registry
@@ -24,14 +30,60 @@ core.errors.BadInput: window='kaiser' is not one of ['hann']
 """
 from __future__ import annotations
 
+import sys
+import weakref
 from collections.abc import Iterable, Iterator, Mapping
 from typing import Any, Generic, TypeVar
 
 from .errors import BadInput
 
-__all__ = ["Registry", "unknown_name_message"]
+__all__ = ["Registry", "unknown_name_message", "all_registries", "registry_state",
+           "restore_registry_state"]
 
 T = TypeVar("T")
+
+#: Every registry created in this process (weak references: a test's throwaway registry may
+#: go away; a Mapping is unhashable, so a list, not a WeakSet).
+_ALL: "list[weakref.ref[Registry]]" = []
+#: Caller functions that only forward a registration (their caller is the origin).
+_FORWARDERS = ("setdefault", "__setitem__")
+
+
+def _registering_module() -> str:
+    """Module of the code that asked for a registration: the first frame outside this module
+    whose function is not a ``register*`` forwarder (``radarsim.register_scheme``,
+    ``Registry.register_all``, a package's ``_register`` helper)."""
+    frame = sys._getframe(1)
+    while frame is not None:
+        module = frame.f_globals.get("__name__", "?")
+        name = frame.f_code.co_name
+        if module != __name__ and not name.lstrip("_").startswith("register") \
+                and name not in _FORWARDERS:
+            return module
+        frame = frame.f_back
+    return "?"
+
+
+def all_registries() -> list["Registry"]:
+    """Every live registry, sorted by what an entry is (`Registry.what`)."""
+    live = [r for r in (ref() for ref in _ALL) if r is not None]
+    _ALL[:] = [weakref.ref(r) for r in live]
+    return sorted(live, key=lambda r: r.what.lower())
+
+
+def registry_state() -> list:
+    """A copy of every registry's entries and origins (for `restore_registry_state`)."""
+    return [(r, dict(r._items), dict(r._origins)) for r in all_registries()]
+
+
+def restore_registry_state(state: list) -> None:
+    """Put every registry of `state` back as it was (a failed plugin leaves nothing behind);
+    registries created since keep their entries."""
+    for reg, items, origins in state:
+        reg._items.clear()
+        reg._items.update(items)
+        reg._origins.clear()
+        reg._origins.update(origins)
 
 
 def unknown_name_message(field: str, value: Any, known: Iterable) -> str:
@@ -66,7 +118,9 @@ class Registry(Mapping[str, T], Generic[T]):
         self.identifier = identifier
         self._missing = missing
         self._items: dict[str, T] = {}
+        self._origins: dict[str, str] = {}
         self._frozen = False
+        _ALL.append(weakref.ref(self))
 
     # ------------------------------------------------------------------ Mapping
     def __getitem__(self, name: str) -> T:
@@ -127,6 +181,7 @@ class Registry(Mapping[str, T], Generic[T]):
         if name in self._items and not replace:
             raise BadInput(f"{self.what} name={name!r} is already registered")
         self._items[name] = obj
+        self._origins[name] = _registering_module()
         return obj
 
     def register_all(self, objs: Iterable[T]) -> "Registry[T]":
@@ -147,7 +202,19 @@ class Registry(Mapping[str, T], Generic[T]):
             raise BadInput(f"the {self.what} registry is frozen: {list(self._items)}")
         obj = self.lookup(name)
         del self._items[name]
+        self._origins.pop(name, None)
         return obj
+
+    def origin(self, name: str) -> str:
+        """Module that registered the entry `name` (``"?"`` when unknown).
+
+        Raises
+        ------
+        ValueError
+            Unknown name (as `lookup`).
+        """
+        self.lookup(name)
+        return self._origins.get(name, "?")
 
     def freeze(self) -> "Registry[T]":
         """Refuse further registrations (a closed vocabulary); returns the registry."""

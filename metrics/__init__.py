@@ -40,7 +40,7 @@ from .detection import (
                           target_first_detection_range_m,
                           velocity_stats,
 )
-from .registry import METRICS, Metric, case_criteria, check_criterion, get_metric
+from .registry import METRICS, Metric, case_criteria, check_criterion, get_metric, register_metric
 from .scoring import CASE_VERDICTS, CaseInfo, case_info, label_detections, score_scheme
 from .velocity import velocity_check
 
@@ -50,7 +50,8 @@ __all__ = [
     "GHOST", "CLUTTER", "associate", "detection_errors", "actor_frames", "scatterer_table",
     "error_stats", "velocity_stats", "ghost_stats", "actor_detection",
     "pd_vs_range", "max_range_pd90", "snr_gain_pairs", "snr_gain_stats", "summarize_scheme",
-    "target_first_detection_range_m", "METRICS", "Metric", "get_metric", "check_criterion",
+    "target_first_detection_range_m", "METRICS", "Metric", "get_metric", "register_metric",
+    "check_criterion",
     "case_criteria", "CASE_VERDICTS", "CaseInfo", "case_info", "label_detections",
     "score_scheme", "velocity_check",
 ]

@@ -36,7 +36,8 @@ from . import tracks as trk
 from .association import ROAD_USER_CLASSES
 from .velocity import FAILURE, RIGHT
 
-__all__ = ["Metric", "METRICS", "CriterionContext", "get_metric", "check_criterion",
+__all__ = ["Metric", "METRICS", "register_metric", "CriterionContext", "get_metric",
+           "check_criterion",
            "criterion_metrics", "case_criteria", "BETTER", "TABLES", "describe"]
 
 #: Which direction of a metric is better.
@@ -90,6 +91,11 @@ class Metric:
     per_actor : bool or None
         For a criterion metric: True it needs an actor, False it is run-wide only, None
         either.
+    row_value : callable or None
+        ``row_value(labelled, actor_frames) -> float``: the value of a metric a plugin adds
+        (`register_metric`), computed for every scheme's summary row from its labelled
+        detections and its per-actor-and-frame table (`metrics.scoring.score_scheme`); None
+        for the built-in metrics, whose values the scoring functions compute.
     """
 
     name: str
@@ -101,8 +107,16 @@ class Metric:
     gate: bool = True
     criterion: Callable | None = None
     per_actor: bool | None = None
+    row_value: Callable | None = None
 
     def __post_init__(self) -> None:
+        if not isinstance(self.unit, str) or not isinstance(self.description, str) \
+                or not self.description.strip():
+            raise BadInput(f"metric {self.name!r}: unit and description must be strings "
+                           f"(a non-empty description), got unit={self.unit!r}, "
+                           f"description={self.description!r}")
+        if self.row_value is not None and not callable(self.row_value):
+            raise BadInput(f"metric {self.name!r}: row_value={self.row_value!r} is not callable")
         if self.better not in BETTER:
             raise BadInput(f"better={self.better!r} is not one of {BETTER}")
         if self.table not in TABLES:
@@ -260,8 +274,17 @@ def _actor_and_case_metrics(add) -> None:
         "(UN R79 category C; R79 cases only)")
 
 
+def external_call_time(total_s: float, n_frames: int) -> float:
+    """Wall time of an external (software-in-the-loop) chain's command per processed frame, s:
+    its calls' total over the cell's frames (process start, file I/O and its own processing;
+    the harness's writing of the profile and capture excluded)."""
+    return total_s / max(n_frames, 1)
+
+
 def _snr_and_front_end_metrics(add) -> None:
     """SNR gain over the baseline scheme, front end and interference."""
+    add("external_call_s_per_frame", "s", "lower", "frames", external_call_time,
+        "an external chain's command wall time per frame (NaN for built-in chains)")
     # SNR gain over the baseline scheme
     sg = det.snr_gain_stats
     for name, text in (("median", "median"), ("p25", "25th percentile"),
@@ -363,7 +386,33 @@ def _metrics() -> Registry[Metric]:
         m = out[name]
         add(f"case_{name}", m.unit, m.better, "case", cc,
             f"{name} as the case's first criterion on it measures it")
-    return out.freeze()
+    return out
+
+
+def register_metric(metric: Metric, *, replace: bool = False) -> Metric:
+    """Add a metric to `METRICS` (a plugin's own number) and return it.
+
+    A metric with ``row_value`` gets a column of that name in every summary row, computed by
+    `metrics.scoring.score_scheme`; with ``gate=True`` (the default) gate files may threshold
+    it like a built-in one.
+
+    Raises
+    ------
+    ValueError
+        A taken name (without `replace`), a name that is not an identifier, a bad field.
+
+    Examples
+    --------
+    >>> from metrics.registry import METRICS, Metric, register_metric
+    >>> def n_true(labelled, actor_frames):
+    ...     return float((labelled["label"] == "TRUE").sum())
+    >>> register_metric(Metric(name="n_true_example", unit="", better="higher",
+    ...                        table="detections", source=n_true, row_value=n_true,
+    ...                        description="TRUE detections of the run")).unit
+    ''
+    >>> _ = METRICS.unregister("n_true_example")
+    """
+    return METRICS.register(metric, replace=replace)
 
 
 def get_metric(name: str) -> Metric:

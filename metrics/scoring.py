@@ -29,7 +29,7 @@ from .association import (
     associate,
     detection_errors,
 )
-from .registry import case_criteria
+from .registry import METRICS, case_criteria
 from .velocity import FAILURE, RIGHT, velocity_check
 
 __all__ = ["CaseInfo", "SchemeScore", "CaseVerdict", "CASE_VERDICTS", "label_detections",
@@ -233,6 +233,9 @@ def score_scheme(labelled: pd.DataFrame, truth: pd.DataFrame, scatterers: pd.Dat
     verdict = CASE_VERDICTS[case.case_class].verdict
     if verdict is not None:
         row.update(verdict(actors, case))
+    for name, metric in METRICS.items():  # metrics a plugin added (`register_metric`)
+        if metric.row_value is not None:
+            row[name] = float(metric.row_value(labelled, af))
     return SchemeScore(row, af, actors)
 
 

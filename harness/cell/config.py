@@ -71,7 +71,7 @@ def cell_association(radar: dict, overrides: dict | None = None) -> AssociationC
 
 def build_configs(spec: CellSpec, comps: Components):
     """(radar config per mimo, processing config per result scheme) of a cell."""
-    schemes = result_schemes(spec.schemes)
+    schemes = result_schemes(spec.schemes, spec.external_chains)
     radar = {m: radar_config(spec.radar, m) for m in mimos(schemes)}
     # A TI profile's processing commands (its CFAR, compression, interference mitigation,
     # velocity extension, fields of view, calibration) are the cell's processing defaults,

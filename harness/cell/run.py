@@ -28,6 +28,7 @@ from harness.cell.components import Components, default_components, mount_value
 from harness.cell.config import build_configs, cell_association
 from harness.cell.spec import CellSpec, result_schemes
 from harness.runtime import single_thread_blas
+from harness.sil.cell import ExternalCellRun
 from harness.sweep.streams import frame_rng
 from metrics import scoring as msc
 from metrics.association import AssociationConfig, scatterer_table
@@ -149,6 +150,7 @@ class _FrameOutputs(NamedTuple):
     scatterers: pd.DataFrame                # `metrics.association.scatterer_table`
     floor_rows: list[dict]                  # `_noise_floors` rows of every frame
     reference: dict[str, list[pd.DataFrame]]  # clouds with mitigation off (`_reference_procs`)
+    external_s: dict[str, float]            # wall time of each external chain's command, s
 
 
 def run_cell(spec: CellSpec, comps: Components | None = None,
@@ -173,7 +175,7 @@ def run_cell(spec: CellSpec, comps: Components | None = None,
     run = comps.run_scenario(spec.scenario, spec.seed, spec.duration_s)
     radar, procs = build_configs(spec, comps)
     assoc = assoc or cell_association(radar, spec.association)
-    schemes = result_schemes(spec.schemes)
+    schemes = result_schemes(spec.schemes, spec.external_chains)
     frames = _frames_of(run, spec.frame_stride)
     truth = run.truth[run.truth["frame"].isin(frames)].reset_index(drop=True)
     times = _frame_times(run, truth, frames)
@@ -203,6 +205,8 @@ def run_cell(spec: CellSpec, comps: Components | None = None,
                 parts["tracks"].append(tr.assign(scheme=s))
                 msc.add_track_metrics(row, tm)
         row["n_saturated_frames"] = int(np.count_nonzero(out.saturated[s]))
+        if s in out.external_s:  # the external command's own wall time (SIL chains)
+            row["external_call_s_per_frame"] = out.external_s[s] / max(len(frames), 1)
         rows_out.append({"scheme": s, **row})
         parts["detections"].append(lab.assign(scheme=s))
         fc = msc.frame_counts(lab, frames).assign(
@@ -223,6 +227,8 @@ def run_cell(spec: CellSpec, comps: Components | None = None,
     base = spec.baseline_scheme
     msc.add_snr_gains(summary, actors, [rs.name for rs in schemes if not rs.is_variant
                                         and rs.name != base and base in names], base)
+    if "external_call_s_per_frame" in summary:  # a timing: NaN for the built-in chains
+        summary["external_call_s_per_frame"] = summary["external_call_s_per_frame"].astype(float)
     ids = {"scenario": spec.scenario, "variant": spec.variant, "seed": int(spec.seed)}
     tracks = pd.concat(parts["tracks"], ignore_index=True) if parts["tracks"] else \
         pd.DataFrame({"scheme": pd.Series(dtype=object), "frame": pd.Series(dtype="int64")})
@@ -289,15 +295,20 @@ def _process_frames(spec: CellSpec, comps: Components, run, radar: dict, procs: 
         # range cube per frame and chirp-level setting. The chains first: the first of them
         # makes the cube in its own (blockwise, windowed) pass and keeps it for the others
         # (`windowed_range_stage`); the floor then reads it (the same cube either way).
+        # External chains: the frame goes to disk; their calls run after the loop.
+        sat = {name: ext.add_frame(f, adc[mimo_of[name]]) for name, ext in external.items()}
         with shared_range_stage():
             pcs = {rs.name: comps.process_frame(radar[rs.mimo], adc[rs.mimo], procs[rs.name])
-                   for rs in schemes}
+                   for rs in schemes if rs.external is None}
             ref = {name: comps.process_frame(radar[mimo_of[name]], adc[mimo_of[name]], p)
                    for name, p in refs.items()}
             floor = _noise_floors(comps, radar, adc, procs, schemes, f, inr, refs)
-        return sc, floor, pcs, ref
+        return sc, floor, pcs, ref, sat
 
     mimo_of = {rs.name: rs.mimo for rs in schemes}
+    period = float(np.median(np.diff(times.to_numpy()))) if len(times) > 1 else 0.05
+    external = {rs.name: ExternalCellRun(rs.external, radar[rs.mimo], procs[rs.name], period)
+                for rs in schemes if rs.external is not None}
     truth_frame = truth["frame"].to_numpy()
     clouds: dict[str, list[pd.DataFrame]] = {s.name: [] for s in schemes}
     reference: dict[str, list[pd.DataFrame]] = {s: [] for s in refs}
@@ -306,7 +317,7 @@ def _process_frames(spec: CellSpec, comps: Components, run, radar: dict, procs: 
     scat, floor_rows = [], []
     pool = ThreadPoolExecutor(FRAME_THREADS, thread_name_prefix="cell-frame")
     try:
-        for f, (sc, floor, pcs, ref) in zip(frames, pool.map(one, frames)):
+        for f, (sc, floor, pcs, ref, sat) in zip(frames, pool.map(one, frames)):
             scat.append((f, sc))
             floor_rows += floor
             for name, pc in pcs.items():
@@ -315,9 +326,17 @@ def _process_frames(spec: CellSpec, comps: Components, run, radar: dict, procs: 
                                            .get("n_saturated_chirp_rx", 0)))
             for name, pc in ref.items():
                 reference[name].append(pc.reset_index(drop=True).assign(frame=np.int64(f)))
+            for name, n in sat.items():
+                saturated[name].append(n)
+        pool.shutdown(wait=True)
+        for name, ext in external.items():
+            clouds[name] = ext.run(frames)
     finally:
         pool.shutdown(wait=True, cancel_futures=True)  # an error or ^C leaves no frame running
-    return _FrameOutputs(clouds, saturated, scatterer_table(scat), floor_rows, reference)
+        for ext in external.values():
+            ext.close()
+    return _FrameOutputs(clouds, saturated, scatterer_table(scat), floor_rows, reference,
+                         {name: ext.elapsed_s for name, ext in external.items()})
 
 
 def _track_scheme(spec: CellSpec, comps: Components, run, cfg, clouds: list[pd.DataFrame],

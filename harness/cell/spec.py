@@ -17,6 +17,7 @@ from typing import Any
 import numpy as np
 
 from core.errors import BadInput
+from harness.sil.spec import ExternalChain
 
 __all__ = ["CellSpec", "ResultScheme", "DEFAULT_SCHEMES", "DEFAULT_BASELINE_SCHEME", "TABLES",
            "SCENE_FIELDS", "check_scene", "result_schemes", "known_schemes", "mimos"]
@@ -56,15 +57,19 @@ class ResultScheme:
         The `radarsim.MIMO_SCHEMES` name whose ADC frame it processes.
     processing : dict
         `ProcessingConfig` overrides of a chain variant (empty for the scheme itself).
+    external : harness.sil.ExternalChain or None
+        The external (software-in-the-loop) chain that processes `mimo`'s ADC frames.
     """
 
     name: str
     mimo: str
     processing: dict = field(default_factory=dict)
+    external: Any = None
 
     @property
     def is_variant(self) -> bool:
-        return self.name != self.mimo
+        """A chain variant: the scheme's own chain with other settings on its ADC frame."""
+        return self.name != self.mimo and self.external is None
 
 
 def _scheme_table() -> dict[str, ResultScheme]:
@@ -85,8 +90,25 @@ def known_schemes() -> list[str]:
     return list(_scheme_table())
 
 
-def result_schemes(names=DEFAULT_SCHEMES) -> list[ResultScheme]:
-    """Resolve result-scheme names against the registries.
+def _external_table(external) -> dict[str, ResultScheme]:
+    """Result schemes of external chains (`harness.sil.ExternalChain`), checked against the
+    registries: a name no registered scheme has, a registered transmit scheme."""
+    import radarsim
+    table = _scheme_table()
+    out = {}
+    for chain in external or ():
+        if chain.name in table:
+            raise BadInput(f"external_chains name={chain.name!r} is already a registered "
+                           "scheme or chain variant: pick another name")
+        if chain.scheme not in radarsim.MIMO_SCHEMES:
+            raise BadInput(f"external_chains {chain.name!r}: "
+                           f"{radarsim.MIMO_SCHEMES.missing_message(chain.scheme)}")
+        out[chain.name] = ResultScheme(chain.name, chain.scheme, {}, chain)
+    return out
+
+
+def result_schemes(names=DEFAULT_SCHEMES, external=()) -> list[ResultScheme]:
+    """Resolve result-scheme names against the registries and the external chains.
 
     Raises
     ------
@@ -100,7 +122,7 @@ def result_schemes(names=DEFAULT_SCHEMES) -> list[ResultScheme]:
         raise BadInput("schemes: the list is empty")
     if len(set(names)) != len(names):
         raise BadInput(f"schemes={names!r} holds duplicates")
-    table = _scheme_table()
+    table = {**_scheme_table(), **_external_table(external)}
     bad = [n for n in names if n not in table]
     if bad:
         raise BadInput(f"schemes: unknown scheme(s) {bad}; known: {list(table)}")
@@ -148,6 +170,8 @@ class CellSpec:
         `metrics.association.AssociationConfig` overrides (the sweep's ``[association]``);
         the radar-dependent settings otherwise come from the cell's configs
         (`cell_association`).
+    external_chains : tuple of harness.sil.ExternalChain (or their tables)
+        Software-in-the-loop chains whose names `schemes` may hold.
 
     ``radar`` may hold ``profile``: a TI .cfg path whose `RadarConfig` replaces the R79
     preset (the other radar keys then override the profile's fields).
@@ -165,17 +189,21 @@ class CellSpec:
     baseline_scheme: str = DEFAULT_BASELINE_SCHEME
     scene: dict = field(default_factory=dict)
     association: dict = field(default_factory=dict)
+    external_chains: tuple = ()
 
     def __post_init__(self) -> None:
         if not isinstance(self.scenario, str) or not self.scenario:
             raise BadInput(f"scenario={self.scenario!r} must be a non-empty name")
         check_scene(self.scene)
         object.__setattr__(self, "schemes", tuple(self.schemes))
-        result_schemes(self.schemes)
-        if not isinstance(self.baseline_scheme, str) or \
-                self.baseline_scheme not in known_schemes():
-            raise BadInput(f"baseline_scheme={self.baseline_scheme!r} is not one of "
-                           f"{known_schemes()}")
+        # A spec read back from cell.json / the manifest holds its chains as tables.
+        object.__setattr__(self, "external_chains", tuple(
+            c if isinstance(c, ExternalChain) else ExternalChain(**c)
+            for c in self.external_chains))
+        result_schemes(self.schemes, self.external_chains)
+        known = known_schemes() + [c.name for c in self.external_chains]
+        if not isinstance(self.baseline_scheme, str) or self.baseline_scheme not in known:
+            raise BadInput(f"baseline_scheme={self.baseline_scheme!r} is not one of {known}")
         if not isinstance(self.seed, (int, np.integer)) or self.seed < 0:
             raise BadInput(f"seed={self.seed!r} must be an integer >= 0")
         if not isinstance(self.frame_stride, (int, np.integer)) or self.frame_stride < 1:
@@ -201,6 +229,8 @@ class CellSpec:
             del d["scene"]
         if not d["association"]:
             del d["association"]
+        if not d["external_chains"]:
+            del d["external_chains"]
         blob = json.dumps(d, sort_keys=True, default=str)
         h = hashlib.sha1(blob.encode()).hexdigest()[:8]
         # a case file is named by its stem here (the hash holds its whole path)

@@ -19,6 +19,7 @@ import importlib
 import sys
 
 from core.errors import BadInput
+from harness.plugins import load_plugins
 from harness.runtime import Terminated, prepare_process, terminate_on_signals
 
 #: name -> (module implementing it, one-line help). Modules are imported lazily so that
@@ -39,6 +40,7 @@ COMMANDS: dict[str, tuple[str, str]] = {
     "export": ("harness.cli.cmd_export", "write a case as OpenSCENARIO (.xosc + .xodr)"),
     "shifter": ("harness.cli.cmd_shifter", "seed 000 figs 7-8: shifter spurs before/after "
                 "calibration"),
+    "plugins": ("harness.cli.cmd_plugins", "list every registry's entries and who added them"),
 }
 
 
@@ -103,6 +105,9 @@ def _main(argv: list[str] | None) -> int:
     mod = importlib.import_module(args._module)
     runner = getattr(mod, f"run_{args.command}", getattr(mod, "run", None))
     try:
+        # Installed plugins (entry points) and --plugin ones, before any config is built; a
+        # plugin that fails to import is named with its error (exit 2), never half-loaded.
+        load_plugins(getattr(args, "plugin", None) or ())
         return int(runner(args) or 0)
     except (BadInput, OSError) as exc:
         if not _is_bad_input(exc):

@@ -11,7 +11,7 @@ import math
 
 __all__ = ["int_in", "float_in", "DURATION_S", "SEED", "FRAMES", "FRAME_STRIDE", "WORKERS",
            "MAX_CASES", "TIMEOUT_S", "check_output_file", "MAX_DURATION_S", "MAX_SEED",
-           "MAX_FRAMES", "LAYOUTS", "add_capture_reading"]
+           "MAX_FRAMES", "LAYOUTS", "add_capture_reading", "add_plugin_option"]
 
 #: Longest scenario, s (the catalogue's limit on a case duration).
 MAX_DURATION_S = 120.0
@@ -86,3 +86,12 @@ def add_capture_reading(parser: argparse.ArgumentParser, verb: str) -> None:
     parser.add_argument("--frames", type=FRAMES, default=None, help=f"{verb} at most N frames")
     parser.add_argument("--layout", choices=list(LAYOUTS), default="auto",
                         help="sample order; auto follows the profile's adcbufCfg")
+
+
+def add_plugin_option(parser: argparse.ArgumentParser) -> None:
+    """``--plugin MODULE_OR_FILE`` (repeatable): a plugin that is not installed, loaded before
+    the command builds a config (`harness.plugins`; installed ones load by themselves)."""
+    parser.add_argument("--plugin", action="append", default=[], metavar="MODULE_OR_FILE",
+                        help="import this plugin module or .py file first (repeatable); "
+                             "installed plugins (entry points radar_harness.plugins) load "
+                             "by themselves")

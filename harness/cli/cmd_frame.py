@@ -5,19 +5,23 @@ import argparse
 
 import numpy as np
 
-from harness.cli.args import SEED
+from core.errors import BadInput
+from harness.cli.args import SEED, add_plugin_option
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    import radarsim
-    parser.add_argument("--mimo", choices=sorted(radarsim.MIMO_SCHEMES), default="ddma",
-                        help="MIMO scheme (radarsim.MIMO_SCHEMES)")
+    parser.add_argument("--mimo", default="ddma",
+                        help="MIMO scheme (radarsim.MIMO_SCHEMES, a plugin's included)")
     parser.add_argument("--seed", type=SEED, default=0)
+    add_plugin_option(parser)
 
 
 def run(args: argparse.Namespace) -> int:
     import radarsim
 
+    if args.mimo not in radarsim.MIMO_SCHEMES:  # checked after the plugins have loaded
+        raise BadInput(f"--mimo: invalid choice: {args.mimo!r} (choose from "
+                       f"{sorted(radarsim.MIMO_SCHEMES)})")
     cfg = radarsim.presets.r79(args.mimo)
     sc = radarsim.Scatterers(position_m=[[50.0, 5.0, 0.0], [120.0, -20.0, 0.3]],
                              velocity_mps=[[-20.0, 0.0, 0.0], [8.0, 0.0, 0.0]],

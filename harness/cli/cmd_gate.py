@@ -15,7 +15,7 @@ import argparse
 import sys
 from pathlib import Path
 
-from harness.cli.args import check_output_file
+from harness.cli.args import add_plugin_option, check_output_file
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -25,6 +25,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--junit", default=None, help="write JUnit XML here")
     parser.add_argument("--markdown", default=None,
                         help="write the Markdown summary here (default RESULTS/gates.md)")
+    add_plugin_option(parser)
 
 
 def run(args: argparse.Namespace) -> int:
@@ -32,7 +33,7 @@ def run(args: argparse.Namespace) -> int:
 
     from core.fileio import OutputError, atomic_write
     from harness.gates import check as g
-    from harness.sweep.provenance import version_line
+    from harness.sweep.provenance import plugins_line, version_line
     for opt, val in (("--junit", args.junit), ("--markdown", args.markdown)):
         if val is not None:
             if opt == "--junit":
@@ -43,6 +44,8 @@ def run(args: argparse.Namespace) -> int:
     results = g.evaluate_gates(summary, gates, manifest)
     line, warning = version_line(manifest)
     print(line)
+    if plugins_line(manifest):
+        print(plugins_line(manifest))
     if warning:
         print(f"radar-harness gate: {warning}", file=sys.stderr)
     table = g.results_table(results)

@@ -6,7 +6,7 @@ import sys
 from pathlib import Path
 
 from core.errors import BadInput
-from harness.cli.args import MAX_CASES, check_output_file
+from harness.cli.args import MAX_CASES, add_plugin_option, check_output_file
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -17,6 +17,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "Doppler-azimuth maps (default on)")
     parser.add_argument("--max-cases", type=MAX_CASES, default=None,
                         help="limit the per-case sections")
+    add_plugin_option(parser)
 
 
 def run(args: argparse.Namespace) -> int:
@@ -26,9 +27,12 @@ def run(args: argparse.Namespace) -> int:
         raise BadInput(f"results {args.results!r}: not a results directory (run `radar-harness "
                        "sweep` first)")
     check_output_file(args.out if args.out is not None else res / "report.html", "--out")
-    from harness.sweep.provenance import read_manifest, version_line
-    line, warning = version_line(read_manifest(res))
+    from harness.sweep.provenance import plugins_line, read_manifest, version_line
+    manifest = read_manifest(res)
+    line, warning = version_line(manifest)
     print(line)
+    if plugins_line(manifest):
+        print(plugins_line(manifest))
     if warning:  # the maps are re-simulated with today's code
         print(f"radar-harness report: {warning}", file=sys.stderr)
     path = build_report(args.results, args.out, maps=args.maps, max_cases=args.max_cases,

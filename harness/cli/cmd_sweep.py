@@ -23,7 +23,14 @@ import pandas as pd
 
 from core.errors import BadInput
 from core.fileio import check_output_dir
-from harness.cli.args import DURATION_S, FRAME_STRIDE, SEED, TIMEOUT_S, WORKERS
+from harness.cli.args import (
+    DURATION_S,
+    FRAME_STRIDE,
+    SEED,
+    TIMEOUT_S,
+    WORKERS,
+    add_plugin_option,
+)
 from harness.sweep.store import failed_rows
 
 #: Columns printed by `run` and `sweep` (all are in summary.parquet, with many more).
@@ -66,6 +73,7 @@ def _add_scheme_arguments(parser: argparse.ArgumentParser) -> None:
                              "(default ddma tdma tdma_raw)")
     parser.add_argument("--baseline-scheme", default=None,
                         help="scheme the SNR gain is taken over (default tdma)")
+    add_plugin_option(parser)
 
 
 def _check_baseline(schemes, baseline: str | None, explicit: bool) -> None:

@@ -49,6 +49,7 @@ from harness.cli.args import (
     MAX_FRAMES,
     SEED,
     add_capture_reading,
+    add_plugin_option,
     check_output_file,
     int_in,
 )
@@ -225,6 +226,7 @@ def add_arguments_process(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--out", type=Path, default=None,
                         help="point cloud table, .parquet or .csv (default CAPTURE.parquet)")
     add_capture_reading(parser, "process")
+    add_plugin_option(parser)
     parser.add_argument("--tracks", type=Path, default=None,
                         help="track table (default OUT with '_tracks' appended to the stem)")
     parser.add_argument("--no-track", action="store_true", help="do not run the tracker")
@@ -314,6 +316,7 @@ def add_arguments_simulate(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--frames", type=FRAMES, default=None, help="write at most N frames")
     parser.add_argument("--duration-s", type=DURATION_S, default=None,
                         help="scenario duration override, s")
+    add_plugin_option(parser)
 
 
 def _components():

@@ -30,7 +30,7 @@ from harness.report.figures import pyplot as _plt
 from harness.report.figures import scheme_order, table_html
 from harness.report.sections import REPORT_SECTIONS, ReportInputs
 from harness.runtime import prepare_worker, stoppable_pool
-from harness.sweep.provenance import version_line
+from harness.sweep.provenance import plugins_line, version_line
 from harness.sweep.results_schema import HEADLINE_INPUTS, read_manifest, read_table, results_gaps
 from harness.sweep.store import failed_rows, read_meta
 
@@ -76,6 +76,8 @@ def _heading(res: Path, manifest: dict, gaps: list[str]) -> list[str]:
     line, warning = version_line(manifest)
     parts.append(f"<p>{html.escape(line)}" + (f"; <b>{html.escape(warning)}</b>" if warning
                                               else "") + "</p>")
+    if plugins_line(manifest):  # which plugins made these results
+        parts.append(f"<p>{html.escape(plugins_line(manifest))}</p>")
     parts.append(f"<p>git {html.escape(str(git.get('commit')))} (dirty: {git.get('dirty')}), "
                  f"{_count(manifest, 'n_ok')} of {_count(manifest, 'n_cells')} cells ok, "
                  f"{_count(manifest, 'n_error')} failed; written "

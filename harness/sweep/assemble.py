@@ -14,6 +14,7 @@ import pandas as pd
 
 from core.fileio import atomic_write
 from harness.cell.spec import TABLES, result_schemes
+from harness.plugins import loaded_plugins, plugin_entries
 from harness.sweep import store
 from harness.sweep.spec import SweepSpec
 from harness.sweep.streams import SEED_STREAMS
@@ -108,6 +109,9 @@ def assemble(spec: SweepSpec, out: str | Path, origin: dict[str, str] | None = N
         "n_resumed": sum(m["origin"] == "resumed" for m in cell_meta),
         "n_computed": sum(m["origin"] == "computed" for m in cell_meta),
         "code_version": version["hash"],
+        # Which plugin made what: each plugin's module, distribution, version and source hash
+        # (part of the code version) and the registry entries it added.
+        "plugins": [{**p.record(), "entries": plugin_entries(p)} for p in loaded_plugins()],
         "versions": _versions(), "git": {"commit": version["commit"],
                                          "dirty": version["dirty"]},
         "written_utc": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime()),
@@ -117,7 +121,8 @@ def assemble(spec: SweepSpec, out: str | Path, origin: dict[str, str] | None = N
     try:
         manifest["radar_presets"] = {
             m: radarsim.presets.r79(m).to_dict()
-            for m in dict.fromkeys(rs.mimo for rs in result_schemes(spec.schemes))}
+            for m in dict.fromkeys(rs.mimo for rs in result_schemes(spec.schemes,
+                                                                  spec.external_chains))}
     except ValueError:  # a scheme with no R79 preset: the manifest just lacks the presets
         pass
     write_atomic(out / "manifest.json", lambda tmp: tmp.write_text(

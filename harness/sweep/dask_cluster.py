@@ -102,8 +102,11 @@ def _connect(scheduler, security, timeout_s: float):
 
 
 def run_dask(pending, out, scheduler, components, bar, security=None,
-              timeout_s: float = DEFAULT_SCHEDULER_TIMEOUT_S):
-    """Run cells on a Dask cluster; returns (results by cell id, ids whose task failed)."""
+             timeout_s: float = DEFAULT_SCHEDULER_TIMEOUT_S, plugins=()):
+    """Run cells on a Dask cluster; returns (results by cell id, ids whose task failed).
+
+    Every task carries the client's plugins (`harness.plugins.PluginInfo`, a file plugin with
+    its source): the worker loads them before the cell (`execute_cell`)."""
     from distributed import as_completed
     client = _connect(scheduler, security, timeout_s)
     try:
@@ -112,8 +115,8 @@ def run_dask(pending, out, scheduler, components, bar, security=None,
         except (TimeoutError, OSError):
             raise BadInput(f"--scheduler {client.scheduler.address!r}: no Dask worker joined "
                            f"the scheduler within {timeout_s:g} s") from None
-        futs = {client.submit(execute_cell, c, str(out), components, key=f"cell-{c.cell_id}",
-                              pure=False): c for c in pending}
+        futs = {client.submit(execute_cell, c, str(out), components, plugins,
+                              key=f"cell-{c.cell_id}", pure=False): c for c in pending}
         res, lost = {}, []
         for fut in as_completed(list(futs)):
             try:

@@ -29,6 +29,8 @@ from harness.cell.spec import (
     check_scene,
     known_schemes,
 )
+from harness.plugins import load_plugins
+from harness.sil.spec import external_chains_from_toml
 from harness.sweep.spec import (
     DEFAULT_SWEEP_PATH,
     MAX_CELLS,
@@ -45,7 +47,8 @@ __all__ = ["load_sweep", "default_sweep", "validate_cells"]
 
 
 _TOP_KEYS = {"name", "scenarios", "seeds", "frame_stride", "duration_s", "base", "vary",
-             "variants", "description", "schemes", "baseline_scheme", "association"}
+             "variants", "description", "schemes", "baseline_scheme", "association",
+             "plugins", "external_chains"}
 
 
 def _check_section(where: str, section: str, overrides: dict) -> None:
@@ -149,7 +152,8 @@ def validate_cells(spec: SweepSpec, source: str | Path | None = None) -> None:
                     raise BadInput(f"clutter_removal=True (a profile's clutterRemoval): the "
                                    f"{r.mimo} chain has no static clutter removal")
 
-    schemes = {"schemes": spec.schemes, "baseline_scheme": spec.baseline_scheme}
+    schemes = {"schemes": spec.schemes, "baseline_scheme": spec.baseline_scheme,
+               "external_chains": spec.external_chains}
 
     def build(section: str, overrides: dict) -> None:
         if section == "tracker":
@@ -208,6 +212,8 @@ def load_sweep(path: str | Path | None = None, *, check_scenarios: bool = True) 
         check_keys(data, _TOP_KEYS)
     except BadInput as exc:
         raise BadInput(f"{p}: {exc}") from None
+    plugins = _plugins_key(p, data.get("plugins", []))  # before any name is looked up
+    external = external_chains_from_toml(str(p), data.get("external_chains", []), p.parent)
     for key, kind, what in (("base", dict, "a table [base.<section>]"),
                             ("vary", dict, 'a table of "section.field" = [values]'),
                             ("variants", list, "an array of [[variants]] tables"),
@@ -270,9 +276,12 @@ def load_sweep(path: str | Path | None = None, *, check_scenarios: bool = True) 
                          variants=tuple(variants), frame_stride=data.get("frame_stride", 1),
                          duration_s=data.get("duration_s"),
                          description=data.get("description", ""),
-                         schemes=_schemes_key(p, data.get("schemes", list(DEFAULT_SCHEMES))),
+                         schemes=_with_external(
+                             _schemes_key(p, data.get("schemes", list(DEFAULT_SCHEMES))),
+                             external),
                          baseline_scheme=data.get("baseline_scheme", DEFAULT_BASELINE_SCHEME),
-                         association=_association_key(p, data.get("association", {})))
+                         association=_association_key(p, data.get("association", {})),
+                         plugins=plugins, external_chains=external)
     except BadInput as exc:
         msg = str(exc)
         raise BadInput(msg if msg.startswith(f"{p}:") else f"{p}: {msg}") from None
@@ -282,6 +291,22 @@ def load_sweep(path: str | Path | None = None, *, check_scenarios: bool = True) 
                        "would be NaN; add it to schemes or pick one of them")
     validate_cells(spec, p)
     return spec
+
+
+def _plugins_key(p: Path, value) -> tuple[str, ...]:
+    """Load the sweep file's ``plugins`` (``.py`` paths relative to the file)."""
+    if not isinstance(value, list) or not all(isinstance(v, str) and v for v in value):
+        raise BadInput(f"{p}: plugins={value!r} must be a list of module names or .py paths")
+    try:
+        load_plugins(value, how="sweep file", base_dir=p.parent)
+    except BadInput as exc:
+        raise BadInput(f"{p}: {exc}") from None
+    return tuple(value)
+
+
+def _with_external(schemes: tuple[str, ...], external) -> tuple[str, ...]:
+    """The schemes run: the file's, then every external chain it does not list."""
+    return tuple(schemes) + tuple(c.name for c in external if c.name not in schemes)
 
 
 def _association_key(p: Path, value) -> dict:

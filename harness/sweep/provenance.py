@@ -13,7 +13,8 @@ from typing import NamedTuple
 from harness.sweep import store
 from harness.sweep.results_schema import read_manifest
 
-__all__ = ["read_manifest", "ResultsVersion", "results_version", "version_line"]
+__all__ = ["read_manifest", "ResultsVersion", "results_version", "version_line",
+           "plugins_line"]
 
 
 class ResultsVersion(NamedTuple):
@@ -56,3 +57,23 @@ def version_line(manifest: dict) -> tuple[str, str | None]:
         return line + ", today's", None
     return line, (f"warning: the results were computed by code version {rv.results}{commit}, "
                   f"not today's {rv.today}: rerun the sweep to judge today's code")
+
+
+def plugins_line(manifest: dict) -> str | None:
+    """``plugins: <module> (<distribution> <version>, source <hash>): scheme x, metric y; ...``
+    of the plugins the results were made with (None: none recorded)."""
+    plugins = manifest.get("plugins")
+    if not isinstance(plugins, list) or not plugins:
+        return None
+    parts = []
+    for p in plugins:
+        if not isinstance(p, dict):
+            continue
+        where = f"{p.get('distribution')} {p.get('version')}" if p.get("distribution") \
+            else str(p.get("path"))
+        entries = p.get("entries") if isinstance(p.get("entries"), dict) else {}
+        made = ", ".join(f"{reg} {', '.join(map(str, names))}"
+                         for reg, names in sorted(entries.items()) if isinstance(names, list))
+        parts.append(f"{p.get('module')} ({where}, source {p.get('sha256')})"
+                     + (f": {made}" if made else ""))
+    return "plugins: " + "; ".join(parts) if parts else None

@@ -27,6 +27,7 @@ from typing import Any
 
 from core.errors import BadInput
 from harness.cell.components import Components
+from harness.plugins import loaded_plugins
 from harness.runtime import single_thread_blas, stoppable_pool
 from harness.sweep import store
 from harness.sweep.assemble import assemble
@@ -147,14 +148,15 @@ def run_sweep(spec: SweepSpec, out: str | Path, *, workers: int = 1,
     done, recompute = _resume(out, cells, force)
     pending = [c for c in cells if c.cell_id not in done]
     bar = _progress(len(pending), progress)
+    plugins = tuple(loaded_plugins())  # every worker loads what this process loaded
     try:
         if not pending:
             results, interrupted = {}, []
         elif scheduler is not None:
             results, interrupted = run_dask(pending, out, scheduler, components, bar, security,
-                                            scheduler_timeout_s)
+                                            scheduler_timeout_s, plugins)
         else:
-            results, interrupted = _run_local(pending, out, workers, components, bar)
+            results, interrupted = _run_local(pending, out, workers, components, bar, plugins)
     finally:
         bar.close()
     final = store.cell_states(out, cells)
@@ -192,7 +194,7 @@ def _resume(out: Path, cells: list, force: bool) -> tuple[set[str], list[str]]:
     return {i for i, st in states.items() if st == "ok"}, recompute
 
 
-def _run_local(pending: list, out: Path, workers: int, components, bar
+def _run_local(pending: list, out: Path, workers: int, components, bar, plugins=()
                ) -> tuple[dict[str, dict], list[str]]:
     """Run cells in this process (``workers`` 1) or on a local process pool. Returns (results
     by cell id, ids whose worker died)."""
@@ -201,14 +203,14 @@ def _run_local(pending: list, out: Path, workers: int, components, bar
     if workers == 1:
         single_thread_blas()
         for c in pending:
-            results[c.cell_id] = execute_cell(c, str(out), components)
+            results[c.cell_id] = execute_cell(c, str(out), components, plugins)
             bar.update(1)
         return results, interrupted
     # Ctrl-C, SIGTERM, SIGHUP at any moment, the pool's start included, stop it now
     # (`stoppable_pool`): running cells are lost whole (their temporary directories are
     # cleaned by the next run), written ones stay; no worker outlives this process.
     with stoppable_pool(workers, init_worker, (os.getpid(),)) as pool:
-        futs = {pool.executor.submit(execute_cell, c, str(out), components): c
+        futs = {pool.executor.submit(execute_cell, c, str(out), components, plugins): c
                 for c in pending}
         for fut in pool.completed(futs):
             c = futs[fut]

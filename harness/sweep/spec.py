@@ -19,6 +19,8 @@ A sweep is usually read from a TOML file (`harness.sweep.file.load_sweep`)::
     "radar.impairments.phase_noise_deg_rms" = [0.0, 2.0, 10.0]
     "processing.cfar_mode" = ["os", "ca"]
     [association]                 # optional AssociationConfig overrides (e.g. fov_deg = 60.0)
+    plugins = ["my_radar.plugin", "chain.py"]  # optional: plugins to load (harness.plugins)
+    [[external_chains]]           # optional: software-in-the-loop chains (harness.sil.spec)
 
 Durations, seeds, strides and the cell count are bounded; the sweep ``name`` is a single folder
 name, so ``results/<run-id>`` never leaves the results folder.
@@ -90,16 +92,21 @@ class SweepSpec:
     schemes: tuple[str, ...] = DEFAULT_SCHEMES
     baseline_scheme: str = DEFAULT_BASELINE_SCHEME
     association: dict = field(default_factory=dict)
+    plugins: tuple[str, ...] = ()
+    external_chains: tuple = ()
 
     def __post_init__(self) -> None:
         if not isinstance(self.name, str) or not _NAME_RE.fullmatch(self.name):
             raise BadInput(f"name={self.name!r} must be 1-100 letters, digits, '_', '-' or "
                            "'.' (not first): it names a folder under the results directory")
         object.__setattr__(self, "schemes", tuple(self.schemes))
+        object.__setattr__(self, "plugins", tuple(self.plugins))
+        object.__setattr__(self, "external_chains", tuple(self.external_chains))
         AssociationConfig(**self.association)  # unknown keys / bad values fail here
-        result_schemes(self.schemes)
+        result_schemes(self.schemes, self.external_chains)
         # CellSpec checks the baseline name; check it here too, before any cell is built.
-        CellSpec(scenario="-", schemes=self.schemes, baseline_scheme=self.baseline_scheme)
+        CellSpec(scenario="-", schemes=self.schemes, baseline_scheme=self.baseline_scheme,
+                 external_chains=self.external_chains)
         if not self.scenarios:
             raise BadInput("scenarios: the sweep has no scenario")
         dup = sorted({sc for sc in self.scenarios if list(self.scenarios).count(sc) > 1})
@@ -137,7 +144,8 @@ class SweepSpec:
                          scene=dict(v.scene),
                          frame_stride=self.frame_stride, duration_s=self.duration_s,
                          schemes=self.schemes, baseline_scheme=self.baseline_scheme,
-                         association=dict(self.association))
+                         association=dict(self.association),
+                         external_chains=self.external_chains)
                 for sc in self.scenarios for v in self.variants for seed in self.seeds]
 
     def to_dict(self) -> dict[str, Any]:
@@ -157,6 +165,9 @@ class SweepSpec:
                 v.pop("scene", None)
         if not d["association"]:
             del d["association"]
+        for key in ("plugins", "external_chains"):  # enter the id only when used
+            if not d[key]:
+                del d[key]
         blob = json.dumps(d, sort_keys=True, default=str)
         return f"{self.name}-{hashlib.sha1(blob.encode()).hexdigest()[:8]}"
 

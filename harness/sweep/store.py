@@ -33,9 +33,10 @@ from typing import Callable
 import numpy as np
 
 from core.fileio import read_input_text
+from harness.plugins import plugins_fingerprint
 
-__all__ = ["CELL_STATES", "code_version", "read_meta", "cell_state", "table_files",
-           "write_cell_dir", "retire", "clean_temporaries", "TEMP_PREFIXES", "cell_dir",
+__all__ = ["CELL_STATES", "code_version", "base_code_version", "code_source_files", "read_meta",
+           "cell_state", "table_files", "write_cell_dir", "retire", "clean_temporaries", "TEMP_PREFIXES", "cell_dir",
            "cell_states", "completed_cells"]
 
 #: What a cell directory can hold, as seen by a resume.
@@ -49,7 +50,7 @@ CELL_STATES = {
 #: Prefixes of the temporary directories of an atomic write and of a retired cell.
 TEMP_PREFIXES = (".tmp-", ".old-")
 #: Packages whose source defines the numbers of a cell.
-_PACKAGES = ("radarsim", "pipeline", "metrics", "scenarios", "harness")
+_PACKAGES = ("core", "radarsim", "pipeline", "metrics", "scenarios", "harness")
 _SOURCE_SUFFIXES = {".py", ".toml", ".cfg", ".json", ".npz", ".csv"}
 #: Libraries whose version can change the bits of a cell.
 _LIBRARIES = ("numpy", "scipy", "pandas", "pyarrow", "highway-env", "gymnasium")
@@ -58,28 +59,56 @@ _HOST = socket.gethostname().replace("-", "_") or "host"
 FOREIGN_TEMP_MAX_AGE_S = 24 * 3600.0
 
 
-@functools.lru_cache(maxsize=1)
 def code_version() -> dict:
-    """Version of the code that computes cells (cached per process).
+    """Version of the code that computes cells: the harness's own (`base_code_version`) and
+    the plugins loaded in this process (`harness.plugins.plugins_fingerprint`).
+
+    Returns
+    -------
+    dict
+        ``hash``: SHA-256 (16 hex digits) of the base hash and every plugin's module and source
+        hash (no plugin: the base hash itself, so results without plugins keep their version);
+        ``commit`` and ``dirty``: the git state, informative only (None outside a git
+        checkout); ``plugins``: ``module=sha256`` of each plugin (empty without).
+    """
+    base = base_code_version()
+    fp = plugins_fingerprint()
+    if not fp:
+        return {**base, "plugins": []}
+    h = hashlib.sha256(f"{base['hash']}\n{fp}".encode()).hexdigest()[:16]
+    return {**base, "hash": h, "plugins": fp.splitlines()}
+
+
+#: The folder holding the packages (this file is <root>/harness/sweep/store.py).
+_SOURCE_ROOT = Path(__file__).resolve().parents[2]
+
+
+def code_source_files() -> list[Path]:
+    """Every source file whose bytes enter `base_code_version`: the files of the packages in
+    `_PACKAGES` with a suffix in `_SOURCE_SUFFIXES`, sorted."""
+    return [f for pkg in _PACKAGES for f in sorted((_SOURCE_ROOT / pkg).rglob("*"))
+            if f.suffix in _SOURCE_SUFFIXES and f.is_file() and "__pycache__" not in f.parts]
+
+
+@functools.lru_cache(maxsize=1)
+def base_code_version() -> dict:
+    """Version of the harness's own code (cached per process).
 
     Returns
     -------
     dict
         ``hash``: SHA-256 (16 hex digits) over the relative path and bytes of every source file
         of the packages in `_PACKAGES` and the versions of the numerical libraries (a numpy
-        upgrade can flip bits); ``commit`` and ``dirty``: the git state, informative only (None
-        outside a git checkout).
+        upgrade can flip bits); ``commit`` and ``dirty``: the git state.
     """
     from importlib import metadata
-    root = Path(__file__).resolve().parent.parent
+    root = _SOURCE_ROOT
     h = hashlib.sha256()
-    for pkg in _PACKAGES:
-        for f in sorted((root / pkg).rglob("*")):
-            if f.suffix in _SOURCE_SUFFIXES and f.is_file() and "__pycache__" not in f.parts:
-                h.update(str(f.relative_to(root)).encode())
-                h.update(b"\0")
-                h.update(f.read_bytes())
-                h.update(b"\0")
+    for f in code_source_files():
+        h.update(str(f.relative_to(root)).encode())
+        h.update(b"\0")
+        h.update(f.read_bytes())
+        h.update(b"\0")
     for lib in _LIBRARIES:
         try:
             h.update(f"{lib}=={metadata.version(lib)}\n".encode())

@@ -16,6 +16,7 @@ from core.numba_cache import install_cache_lock
 from harness.cell.components import Components
 from harness.cell.run import run_cell
 from harness.cell.spec import CellSpec
+from harness.plugins import PluginInfo, ensure_plugins
 from harness.runtime import prepare_worker, single_thread_blas
 from harness.sweep import store
 
@@ -42,9 +43,14 @@ def _cell_record(spec: CellSpec, status: str, **extra) -> dict:
             "code_version": store.code_version(), **extra}
 
 
-def execute_cell(spec: CellSpec, out: str, comps: Components | None = None) -> dict:
+def execute_cell(spec: CellSpec, out: str, comps: Components | None = None,
+                 plugins: tuple[PluginInfo, ...] = ()) -> dict:
     """Run one cell in a worker and write it atomically; never raises for a cell error (a full
     disk or read-only folder is no cell error: `OutputError`, which stops the sweep).
+
+    The client's `plugins` are loaded first (`harness.plugins.ensure_plugins`: a no-op where
+    they are loaded already); a worker that cannot load one records the cell as failed with
+    one line naming the plugin.
 
     Runs with one BLAS thread (`harness.runtime.single_thread_blas`) on every path. A cell
     already completed under ``out`` (by a duplicate execution) is never replaced: the result
@@ -55,6 +61,7 @@ def execute_cell(spec: CellSpec, out: str, comps: Components | None = None) -> d
     out_p = Path(out)
     t0 = time.perf_counter()
     try:
+        ensure_plugins(plugins)
         res = run_cell(spec, comps)
 
         def write(tmp: Path) -> None:

@@ -206,7 +206,7 @@ def test_a_scheduler_without_workers_fails_within_the_timeout(tmp_path):
         assert time.monotonic() - t0 < 15
 
 
-def _lost_cell(spec, out, comps=None):
+def _lost_cell(spec, out, comps=None, plugins=()):
     """A worker that reports success but writes nowhere visible (its own working directory)."""
     return {"cell_id": spec.cell_id, "status": "ok", "elapsed_s": 0.0, "written": "written"}
 
@@ -331,3 +331,11 @@ def test_ctrl_c_while_the_pool_forks_its_workers_stops_the_sweep(tmp_path):
     assert not (tmp_path / "manifest.json").exists()
     for c in spec.cells():
         assert store.cell_state(cell_dir(tmp_path, c)) in ("ok", "missing")
+
+
+def test_the_code_version_hashes_the_source_of_every_package():
+    root = Path(store.__file__).resolve().parents[2]
+    files = {f.relative_to(root).as_posix() for f in store.code_source_files()}
+    assert {"core/registry.py", "radarsim/radar_config.py", "pipeline/chain.py",
+            "metrics/registry.py", "scenarios/cases/blind_spot_overtaking.toml",
+            "harness/sweep/store.py"} <= files

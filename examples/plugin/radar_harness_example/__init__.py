@@ -1,0 +1,1 @@
+"""Example radar-harness plugin (the module the entry point names is `.plugin`)."""
