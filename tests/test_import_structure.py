@@ -210,7 +210,7 @@ def _is_private(name: str) -> bool:
 
 
 #: Underscore names that are public API of their module.
-PUBLIC_UNDERSCORE = {"os._exit"}
+PUBLIC_UNDERSCORE = {"os._exit", "sys._getframe"}
 #: The third-party privates the project reads, and why: a process pool's worker processes
 #: (`concurrent.futures.ProcessPoolExecutor._processes`, stable since Python 3.2) are the only
 #: handle to terminate them at a stop signal (`harness.runtime.stop_pool`); numba's cache

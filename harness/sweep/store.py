@@ -36,8 +36,8 @@ from core.fileio import read_input_text
 from harness.plugins import plugins_fingerprint
 
 __all__ = ["CELL_STATES", "code_version", "base_code_version", "code_source_files", "read_meta",
-           "cell_state", "table_files", "write_cell_dir", "retire", "clean_temporaries", "TEMP_PREFIXES", "cell_dir",
-           "cell_states", "completed_cells"]
+           "cell_state", "table_files", "write_cell_dir", "retire", "clean_temporaries",
+           "TEMP_PREFIXES", "cell_dir", "cell_states", "completed_cells"]
 
 #: What a cell directory can hold, as seen by a resume.
 CELL_STATES = {
