@@ -1,4 +1,4 @@
-"""Every speed target of issue 20 with its floor and ratio, measured in one run: the README's
+"""Every speed target with its floor and ratio, measured in one run: the README's
 performance table (Markdown, printed as it is pasted).
 
 Floors (float32 frames converted outside the timing):

@@ -1,6 +1,6 @@
 """Front-end synthesis speed: `simulate_frame` on the R79 presets with K = 100 scatterers.
 
-Target (issue 2): median <= 25 ms per frame on a 2-core machine, DDMA and TDMA. Two floors are
+Target: median <= 25 ms per frame on a 2-core machine, DDMA and TDMA. Two floors are
 timed in the same run: the thermal-noise generation alone (the largest fixed cost, independent
 of K) and the real float32 GEMM alone ((n_chirps x n_rx, 2K) @ (2K, n_samples)), so the ratios
 say how much of a frame is overhead beyond those two.

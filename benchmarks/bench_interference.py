@@ -1,4 +1,4 @@
-"""Interference synthesis and the chirp-level chain: cost and what they do (issue 14).
+"""Interference synthesis and the chirp-level chain: cost and what they do.
 
 Targets: synthesising 10 interferers costs at most 1x `simulate_frame`'s own time for K = 100
 scatterers; the chirp-level chain (DC removal, interference statistics and zeroing, EGE
@@ -6,7 +6,7 @@ compression) adds at most 30 % to `process_frame` (R79 DDMA). Both are ratios me
 same run. The bench also prints the noise-floor rise of one interferer with mitigation off and
 on, the range stage's time with each repair method (`pipeline.interference.MITIGATIONS`)
 on the 10-interferer frame with where the default ("lowrank") spends it, where the
-10-interferer DDMA frame of `benchmarks.bench_floors` (issue 20's "<= 1.3x the clean frame"
+10-interferer DDMA frame of `benchmarks.bench_floors` (the target "<= 1.3x the clean frame"
 row) spends what the clean frame does not (`dirty_frame_breakdown`), and the SNR loss EGE
 compression causes a weak target in the same block as a strong one.
 """

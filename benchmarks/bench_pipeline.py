@@ -1,5 +1,5 @@
 """Signal-chain benchmark: process_frame time against an FFT floor, SNR gains, shifter spurs,
-ghosts and masking versus phase error (issue 3)."""
+ghosts and masking versus phase error."""
 from __future__ import annotations
 
 import json
@@ -50,7 +50,7 @@ def _ghosts_and_misses(cfg, n_frames, rng) -> tuple[float, float]:
 def _spur_dbc(cfg, tx: int) -> float:
     """Strongest empty-sub-band line relative to the Tx's own line, Tx `tx` alone (the others
     muted through their gain error), Doppler spectrum (Rx1) of one strong target at boresight,
-    ~90 dB over the noise after the FFTs (DESIGN 8: -34.5 dBc for the 60/120 deg-step Tx, none
+    ~90 dB over the noise after the FFTs (design.md 8: -34.5 dBc for the 60/120 deg-step Tx, none
     for the 0 and 180 deg ones)."""
     gains = tuple(0.0 if t == tx else -300.0 for t in range(1, cfg.n_tx + 1))
     one = cfg.replace(**{"impairments.tx_gain_error_db": gains})

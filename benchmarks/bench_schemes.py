@@ -1,10 +1,10 @@
 """Waveform comparison of every registered MIMO scheme on the same randomized point targets
-(seed 000 section 3.2, table 1 and the paragraph after figure 4, made numbers).
+([TI-DDMA] section 3.2, table 1 and the paragraph after figure 4, made numbers).
 
 One table, one row per `radarsim.MIMO_SCHEMES` entry: detection-SNR gain over TDMA on the same
 targets (noise-limited, TDMA at 17-24 dB), velocity-resolution failure rate (velocity off by a
 non-zero multiple of the scheme's failure step) at 14 / 17 / 20 dB detection SNR, range /
-velocity / azimuth RMSE at 20 dB against the CRB of DESIGN 8, and the process_frame median as a
+velocity / azimuth RMSE at 20 dB against the CRB of design.md 8, and the process_frame median as a
 ratio to the rFFT + Doppler FFT floor of the same scheme measured in the same run. Then BPM's
 residual cross-Tx leakage versus radial speed, beyond its Vmax = 10.2 m/s too: decoded at the
 chain's velocity, and decoded without Doppler compensation.
@@ -59,7 +59,7 @@ def _targets(rng, n, snr_db):
 
 
 def crb(cfg, snr_db: float) -> tuple[float, float, float]:
-    """DESIGN 8 (rectangular window): sigma_R = dR sqrt(3) / (pi sqrt(2 SNR)), the same form
+    """design.md 8 (rectangular window): sigma_R = dR sqrt(3) / (pi sqrt(2 SNR)), the same form
     for velocity (dv) and for sin(az) of the 12-element lambda/2 row (2/12), m, m/s, deg."""
     k = np.sqrt(3) / (np.pi * np.sqrt(2 * 10 ** (snr_db / 10)))
     return (cfg.range_resolution_m * k, cfg.velocity_resolution_mps * k,
@@ -180,7 +180,7 @@ def run() -> list[str]:
     out = [f"{N_TARGETS} random targets per SNR (10-200 m, az +/-60 deg, el +/-15 deg, "
            "v +/-40.5 m/s), isotropic elements; failure = velocity off by a non-zero "
            "multiple of the scheme's step (of the detected targets)",
-           f"CRB at 20 dB (DESIGN 8): range {100 * bound[0]:.1f} cm, velocity "
+           f"CRB at 20 dB (design.md 8): range {100 * bound[0]:.1f} cm, velocity "
            f"{1e3 * bound[1]:.1f} mm/s, azimuth {bound[2]:.2f} deg",
            f"{'scheme':<13}{'Vmax m/s':>9}{'gain dB':>9}{'fail@14':>9}{'fail@17':>9}"
            f"{'fail@20':>9}{'dR cm':>8}{'dv mm/s':>9}{'daz deg':>9}{'ms':>7}{'floor':>7}"

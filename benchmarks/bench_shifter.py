@@ -1,4 +1,4 @@
-"""Seed 000 section 4.2 (figures 7-8): phase-shifter errors before / after calibration.
+"""[TI-DDMA] section 4.2 (figures 7-8): phase-shifter errors before / after calibration.
 
 One Tx stepped by 90 deg per chirp, a static 10 m^2 corner reflector at 4.5 m boresight
 (`harness.shifter_experiment`). For an uncalibrated per-code table of about +/-10 deg

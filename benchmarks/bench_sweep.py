@@ -51,7 +51,7 @@ def run() -> list[str]:
 
 def _ghosts_versus_phase_error(comps) -> list[str]:
     """Ghosts per frame and ghost rate on realistic traffic (dense highway, guard rails, 2 s)
-    versus the random per-chirp phase error of the transmit chain (issue 3)."""
+    versus the random per-chirp phase error of the transmit chain."""
     from harness.cell.run import run_cell
     from harness.cell.spec import CellSpec
 

@@ -1,7 +1,7 @@
 """Group-tracker time per frame on a dense highway scene: 30 vehicles with several points each,
 guard-rail clutter seen from a moving ego and random false alarms (synthesised point clouds),
 and, when the scenario runner and the chain are installed, on the simulated DDMA point clouds
-of the catalogue's dense_highway case (issue 6 target: <= 5 ms per frame on 2 cores)."""
+of the catalogue's dense_highway case (target: <= 5 ms per frame on 2 cores)."""
 from __future__ import annotations
 
 import numpy as np

@@ -1,12 +1,12 @@
 """Velocity unfolding of every registered MIMO scheme on the same randomized point targets.
 
 No open source publishes how often velocity unfolding fails versus SNR, speed or crowding, for
-any method (issue 23). Here every `radarsim.MIMO_SCHEMES` entry (and every chain variant, e.g.
+any method. Here every `radarsim.MIMO_SCHEMES` entry (and every chain variant, e.g.
 ``tdma_raw``) sees the same targets on the R79 frame: clusters of 1, 2 or 3 point targets
 sharing one range cell (azimuths 25 deg apart, beyond the 9.6 deg array resolution), uniform
 speeds over the R79 span +/-40.9 m/s, ranges 20-160 m, and a reference detection SNR uniform in
 8-26 dB. The reference SNR is the TDMA baseline's coherent detection SNR (range FFT of 384 real
-samples, 192-chirp Doppler FFT, 12-element azimuth FFT, two Hann losses; DESIGN 8): the echo
+samples, 192-chirp Doppler FFT, 12-element azimuth FFT, two Hann losses; design.md 8): the echo
 strength, the same for every scheme, whatever each scheme then makes of it.
 
 Per target, the scheme's strongest detection within one range cell and 6 deg of the target is

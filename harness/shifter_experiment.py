@@ -1,8 +1,8 @@
-"""Seed 000 figures 7-8: one Tx stepped by a fixed phase per chirp against a corner reflector.
+"""[TI-DDMA] figures 7-8: one Tx stepped by a fixed phase per chirp against a corner reflector.
 
 On an AWR1843, Tx1 stepped by 90 deg per chirp shifts a static corner reflector at about 4.5 m
 to half the unambiguous velocity; the shifter's code-dependent error puts a ghost at the mirror
-velocity, and calibration lowers it by more than 20 dB (seed 000 section 4.2). Here the front
+velocity, and calibration lowers it by more than 20 dB ([TI-DDMA] section 4.2). Here the front
 end simulates that frame (`radarsim.simulate_frame_weights`), a plain range FFT and a
 rectangular Doppler FFT at the reflector's range measure the lines, and the analytic
 prediction is the DFT of one code period's complex weights (`radarsim.shifter.spur_levels_dbc`):
@@ -11,7 +11,7 @@ m n_chirps / P bins, with no leakage.
 
 References
 ----------
-.. [1] TI, AWR2944 DDMA application note (seed 000), section 4.2, figures 7-8.
+.. [1] TI, AWR2944 DDMA application note [TI-DDMA], section 4.2, figures 7-8.
 """
 from __future__ import annotations
 
@@ -38,7 +38,7 @@ class PhaseStepResult(NamedTuple):
     residual_deg : (P,) float
         Programmed-minus-wanted phase of those codes relative to code 0 (table included), deg.
     velocity_over_vmax : (n_chirps,) float
-        Doppler axis of the cut, v / Vmax (Vmax = lambda / (4 Tc)), ascending, DESIGN 3 sign
+        Doppler axis of the cut, v / Vmax (Vmax = lambda / (4 Tc)), ascending, design.md 3 sign
         convention (radial velocity = -f_D lambda / 2).
     cut_dbc : (n_chirps,) float
         Range-Doppler cut at the reflector's range bin (power summed over Rx), dB relative to
@@ -103,7 +103,7 @@ def check_phase_step(cfg: radarsim.RadarConfig, step_deg: float, tx: int,
 def phase_step_experiment(cfg: radarsim.RadarConfig, *, rng: np.random.Generator,
                           step_deg: float = 90.0, tx: int = 1, range_m: float = 4.5,
                           rcs_m2: float = 10.0, n_chirps: int = 256) -> PhaseStepResult:
-    """Simulate and measure the seed-000 figure 7-8 frame.
+    """Simulate and measure the [TI-DDMA] figure 7-8 frame.
 
     Parameters
     ----------
@@ -198,10 +198,10 @@ def plot_phase_step(before: PhaseStepResult, after: PhaseStepResult, path) -> No
         ax.plot(res.velocity_over_vmax, res.cut_dbc, color=col, lw=0.8, label=lab)
         ax.plot(res.lines["velocity_over_vmax"], res.lines["predicted_dbc"], "o", mfc="none",
                 color=col, label=f"{lab}: predicted lines (DFT of code period)")
-    ax.set_xlabel("radial velocity / Vmax (DESIGN 3 sign)")
+    ax.set_xlabel("radial velocity / Vmax (design.md 3 sign)")
     ax.set_ylabel("power at reflector range, dBc")
     ax.set_ylim(bottom=max(-120.0, min(before.cut_dbc.min(), after.cut_dbc.min())))
-    ax.set_title("one Tx stepped 90 deg/chirp, corner reflector 4.5 m (seed 000 figs 7-8)")
+    ax.set_title("one Tx stepped 90 deg/chirp, corner reflector 4.5 m ([TI-DDMA] figs 7-8)")
     ax.grid(alpha=0.3)
     ax.legend(fontsize=7)
     try:

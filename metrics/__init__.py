@@ -6,7 +6,7 @@
                                  metrics.case_info(case))
     metrics.METRICS["ghost_rate"].unit, metrics.METRICS["ghost_rate"].description
 
-`metrics.association` labels detections TRUE / VELOCITY_AMBIGUOUS / CLUTTER / GHOST (DESIGN 7),
+`metrics.association` labels detections TRUE / VELOCITY_AMBIGUOUS / CLUTTER / GHOST (design.md 7),
 `metrics.velocity` checks every velocity against the road users at the detection's range,
 `metrics.detection` turns labelled detections into per-run scores, `metrics.interference` and
 `metrics.r79` add the interference and UN R79 verdicts, `metrics.scoring` puts them together

@@ -1,4 +1,4 @@
-"""Association of detections with ground-truth actors (DESIGN section 7).
+"""Association of detections with ground-truth actors (design.md section 7).
 
 Every detection of a point cloud gets one label:
 
@@ -31,7 +31,7 @@ merge on ``frame``); only the one-to-one assignment loops over frames.
 
 References
 ----------
-.. [1] DESIGN.md section 7 (association classes) and section 4.1 (1.318 m range cell).
+.. [1] design.md section 7 (association classes) and section 4.1 (1.318 m range cell).
 .. [2] H. W. Kuhn, "The Hungarian method for the assignment problem", 1955 (via
        ``scipy.optimize.linear_sum_assignment``).
 """
@@ -97,7 +97,7 @@ class AssociationConfig:
         the spread of radial velocity across an extended body and the azimuth error).
     unambiguity_window_mps : float
         Velocity-unambiguity rate counts detections whose truth |radial velocity| is within
-        this window, m/s (default 40.8, the DDMA promise of DESIGN 4.1).
+        this window, m/s (default 40.8, the DDMA promise of design.md 4.1).
     fov_deg : float
         An actor-frame counts for detection probability only if |azimuth| <= fov_deg (80 deg,
         the published azimuth FOV) ...
@@ -111,7 +111,7 @@ class AssociationConfig:
         A detection is TRUE or VELOCITY_AMBIGUOUS of an actor only if it also lies within the
         position gate of one of that actor's scatterers in the frame (when a scatterer table is
         given). Default True; False restores the footprint-only rule (numbers before the fix of
-        issue 15: one point 13.9 m from every scatterer of a truck doubled a range RMSE).
+        One point 13.9 m from every scatterer of a truck doubled a range RMSE).
 
     Raises
     ------

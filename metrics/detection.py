@@ -7,7 +7,7 @@ Each docstring states exactly how the number is computed, so a gate threshold ha
 
 References
 ----------
-.. [1] DESIGN.md section 7 (metrics) and section 8 (5.4 dB detection-SNR gain, Nt = 4).
+.. [1] design.md section 7 (metrics) and section 8 (5.4 dB detection-SNR gain, Nt = 4).
 """
 from __future__ import annotations
 
@@ -292,10 +292,10 @@ def snr_gain_pairs(af: pd.DataFrame, a: str, b: str) -> pd.DataFrame:
 
 
 #: Pairs whose TDMA peak SNR is at most this are noise-limited, dB. DDMA's dynamic range is
-#: capped by the 6-bit shifter spurs (about -34.5 dBc in the empty sub-bands, DESIGN 8) and
+#: capped by the 6-bit shifter spurs (about -34.5 dBc in the empty sub-bands, design.md 8) and
 #: by the leakage of strong echoes into the demodulated noise estimate; 25 dB of TDMA SNR
 #: (about 30 dB in DDMA) keeps those spurs >= 5 dB under the thermal noise, where the 5.4 dB
-#: detection-SNR gain of DESIGN 8 is defined.
+#: detection-SNR gain of design.md 8 is defined.
 NOISE_LIMITED_SNR_DB = 25.0
 
 

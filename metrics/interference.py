@@ -1,7 +1,7 @@
 """Interference scores of one scheme: the noise floor with and without mitigation, and the
 ghosts the mitigation adds.
 
-An interference case exists to show three things (issue 21): the floor rise the interferers
+An interference case exists to show three things: the floor rise the interferers
 cause without mitigation, how much of it the mitigation recovers, and that the mitigation adds
 no ghosts (zeroing samples modulates every echo in slow time, which spreads strong echoes over
 Doppler). The noise floors come per frame from the pipeline (`pipeline.chirp_level.
@@ -10,7 +10,7 @@ noise_floor_rise`, wired by the harness); these functions only reduce the tables
 References
 ----------
 .. [1] TI SWRA725, "Interference Mitigation for AWR294x" (2021).
-.. [2] DESIGN.md section 7 (noise-floor rise over thermal, interference-to-noise ratio).
+.. [2] design.md section 7 (noise-floor rise over thermal, interference-to-noise ratio).
 """
 from __future__ import annotations
 

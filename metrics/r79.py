@@ -5,23 +5,23 @@ critical distance
 
     S_crit = (v_app - v) t_B + (v_app - v)^2 / (2 a) + v t_G
 
-(UN R79 rev. 4, para. 5.6.4.7; constants as DESIGN 6 gives them: the approaching vehicle at
+(UN R79 rev. 4, para. 5.6.4.7; constants as design.md 6 gives them: the approaching vehicle at
 v_app = 130 km/h, its deceleration a = 3 m/s^2 after a reaction time t_B = 0.4 s, and a gap
 t_G = 1 s it keeps behind the ego at the ego's speed v), and the rear sensor must see such a
 vehicle at least S_rear = 55 m away (para. 5.6.4.8.1, tested with an L3 motorcycle). The
 verdict of a case: the approaching vehicle's first detection range (TRUE and velocity-correct,
 `metrics.detection.actor_detection`) >= max(S_crit, S_rear).
 
-Sources: the paragraph numbers and constants follow DESIGN.md section 6 and the catalogue's
+Sources: the paragraph numbers and constants follow design.md section 6 and the catalogue's
 case files; the regulation text itself was not retrievable with the tools of this session
 (a public GRVA amendment, GRVA-07-19, names para. 5.6.4.7 as the lane-change critical
-distances), so the constants are the ones DESIGN 6 quotes, reproduced by the tests
+distances), so the constants are the ones design.md 6 quotes, reproduced by the tests
 (87.5 m at 60 km/h, 59.9 m at 80 km/h, 42.7 m at 100 km/h).
 
 References
 ----------
 .. [1] UN Regulation No. 79, rev. 4, paras. 5.6.4.7 and 5.6.4.8.1.
-.. [2] DESIGN.md section 6.
+.. [2] design.md section 6.
 """
 from __future__ import annotations
 

@@ -7,7 +7,7 @@ per scheme; everything a number means is decided here and in the modules it call
 
 References
 ----------
-.. [1] DESIGN.md section 7.
+.. [1] design.md section 7.
 """
 from __future__ import annotations
 
@@ -126,7 +126,7 @@ def label_detections(points: pd.DataFrame, truth: pd.DataFrame, scatterers: pd.D
     - the guard-rail CLUTTER of the 2D association and every remaining GHOST are checked
       against the scatterers of modelled static infrastructure (guard rails) with the
       scheme's unambiguous span 2 Vmax, the step by which a static world aliases: right or
-      off by whole spans. A GHOST found either way is relabelled CLUTTER (DESIGN 7: modelled
+      off by whole spans. A GHOST found either way is relabelled CLUTTER (design.md 7: modelled
       infrastructure is clutter; its angle may be off, as an aliased TDMA echo's is).
 
     CLUTTER is not checked against the road users: the association already explained it, and

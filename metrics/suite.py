@@ -20,7 +20,7 @@ __all__ = ["headline_table", "suite_snr_gain_db", "aliased_runs"]
 #: its road-user detections are off by whole steps: a road user beyond the scheme's span).
 ALIASED_BELOW = 0.5
 
-#: Static infrastructure is clutter, not an actor to detect (DESIGN 7).
+#: Static infrastructure is clutter, not an actor to detect (design.md 7).
 _NOT_ACTORS = ("guard_rail",)
 
 
@@ -40,7 +40,7 @@ def suite_snr_gain_db(actors: pd.DataFrame, scheme: str, baseline: str,
                       noise_limited_snr_db: float = NOISE_LIMITED_SNR_DB) -> np.ndarray:
     """SNR gains (dB) of `scheme` over `baseline` on the same actor and frame, every run of
     the suite pooled; only noise-limited pairs (baseline peak SNR <= `noise_limited_snr_db`,
-    where DESIGN 8's 5.4 dB is defined)."""
+    where design.md 8's 5.4 dB is defined)."""
     parts = [snr_gain_pairs(g, scheme, baseline)
              for _, g in actors.groupby(["scenario", "variant", "seed"], sort=False)]
     if not parts:

@@ -91,7 +91,7 @@ class TrackMetricsConfig:
         it cannot be missed: per-actor rows, coverage, fragmentation and the GOSPA truth set
         use only rows inside it (plus, for GOSPA, rows a confirmed track matches), while a
         track on an actor just outside it still matches and is not false. Defaults: the
-        AWR2944 corner-radar claims, +/-80 deg and 200 m (DESIGN 4.1). None: no limit.
+        AWR2944 corner-radar claims, +/-80 deg and 200 m (design.md 4.1). None: no limit.
 
     Raises
     ------

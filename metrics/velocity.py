@@ -10,9 +10,9 @@ radial velocity only:
 - it is *in the footprint* of an actor when one of the actor's scatterers lies within
   ``range_gate_m`` of its range. Angle is deliberately not used: a wrong velocity hypothesis
   also corrupts the Doppler-phase compensation of the later Tx slots of TDMA/BPM
-  (X'(m, n) = X(m, n) exp(-j m dphi), seed 001 eq. 8-10), which rotates the virtual array and
+  (X'(m, n) = X(m, n) exp(-j m dphi), [TI-VEXT] eq. 8-10), which rotates the virtual array and
   moves the azimuth by tens of degrees, so a 2D footprint gate throws exactly the aliased
-  detections away (they became ghosts: issue 21);
+  detections away (they became ghosts);
 - its velocity is *right* if some such scatterer has a radial velocity within
   ``velocity_gate_mps`` of it, and *off by a resolution step* (a velocity-resolution failure)
   if, for none right, some such scatterer has a radial velocity within ``velocity_gate_mps``
@@ -22,12 +22,12 @@ radial velocity only:
   one Tx's slow time for TDMA and BPM).
 
 The rate of right velocities among the two, ``n_right / (n_right + n_failures)``, is the
-velocity-unambiguity rate (DESIGN 7): whatever label the 2D association gave a detection.
+velocity-unambiguity rate (design.md 7): whatever label the 2D association gave a detection.
 
 References
 ----------
-.. [1] DESIGN.md section 7 (VELOCITY-AMBIGUOUS, velocity-resolution failures).
-.. [2] TI, seed 001 section 2 (TDMA Doppler-phase compensation, eq. 8-10) and section 4
+.. [1] design.md section 7 (VELOCITY-AMBIGUOUS, velocity-resolution failures).
+.. [2] [TI-VEXT] section 2 (TDMA Doppler-phase compensation, eq. 8-10) and section 4
        (hypotheses Vest + 2k Vmax).
 """
 from __future__ import annotations

@@ -24,7 +24,7 @@ class RangeConfig:
     window : str
         Range window name, see `WINDOWS`.
     dc_removal : bool
-        Chirp-level chain (`pipeline.chirp_level`, seed 004 section 2): subtract each chirp's
+        Chirp-level chain (`pipeline.chirp_level`, [TI-DAZ] section 2): subtract each chirp's
         and Rx's mean before the range FFT, as the R79 demo (default on).
     min_bin : int
         First range bin searched (bin 0 holds DC).
@@ -77,7 +77,7 @@ class AngleConfig:
     Parameters
     ----------
     n_azimuth_bins : int
-        Zero-padded azimuth FFT length (seed 000: 48), at least 16.
+        Zero-padded azimuth FFT length ([TI-DDMA]: 48), at least 16.
     azimuth_sidelobe_db : float or None
         Keep a DDMA azimuth peak only if it is within this many dB of the strongest azimuth
         peak of its (range, Doppler) cell: rejects the -13 dB sidelobes of the unwindowed
@@ -100,7 +100,7 @@ class VelocityConfig:
     ----------
     tdma_disambiguation : bool
         TDMA and BPM (the slot-coded chains): resolve velocity beyond +/-Vmax by hypothesis
-        testing (seed 001 section 4): each v_est + 2 k Vmax within +/- n_tx Vmax has its slot
+        testing ([TI-VEXT] section 4): each v_est + 2 k Vmax within +/- n_tx Vmax has its slot
         Doppler phase compensated (and, for BPM, is Hadamard-decoded) and is scored by the
         generalised likelihood of one echo on the whole virtual array, max over wx of
         (|A_h(wx)| + |A_v(wx)|)^2 (A_h, A_v: beams of the horizontal and the raised row;
@@ -108,7 +108,7 @@ class VelocityConfig:
         azimuth-FFT peak. False: v_est as measured, aliased beyond +/-Vmax (the sweep's
         ``tdma_raw`` scheme).
     fast_slow_threshold_db : float
-        Fast/slow unfolding (`pipeline.mimo.fast_slow`, seed 001 section 3 step 6): a
+        Fast/slow unfolding (`pipeline.mimo.fast_slow`, [TI-VEXT] section 3 step 6): a
         candidate velocity survives if its slow-map peak is within this many dB of the fast
         peak, in (0, 20] dB (TI's SRR demo: 3 dB). Both sets carry the same energy, so the
         true candidate's ratio scatters about 0 dB.
@@ -123,7 +123,7 @@ class VelocityConfig:
         probability, the true candidate at 3 dB per channel has about 0.44.
     fast_slow_keep_unassociated : bool
         Report a fast peak without an associated candidate at its aliased fast-set velocity
-        (TI's SRR demo, "always allow the detections to go through"); False drops it (seed 001
+        (TI's SRR demo, "always allow the detections to go through"); False drops it ([TI-VEXT]
         step 8 gives no velocity for it).
     """
 

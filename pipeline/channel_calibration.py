@@ -31,7 +31,7 @@ Accuracy (used by the tests): with per-channel, per-frame SNR s_i of the demodul
 (noise from the residual of the static model at the peak bin), the phase of channel i relative
 to channel 0 after F frames has the Cramer-Rao bound
 sigma^2 = 1 / (2 F s_i) + 1 / (2 F s_0) rad^2; the range bias has
-sigma_R = dR sqrt(3) / (pi sqrt(2 SNR)) (DESIGN 8, rectangular window) with SNR the sum of s_i
+sigma_R = dR sqrt(3) / (pi sqrt(2 SNR)) (design.md 8, rectangular window) with SNR the sum of s_i
 over channels and frames.
 
 References
@@ -118,7 +118,7 @@ class ChannelCalibration(NamedTuple):
         return out
 
     def range_crb_m(self, range_resolution_m: float) -> float:
-        """CRB standard deviation of the range (hence of the bias), m: DESIGN 8's
+        """CRB standard deviation of the range (hence of the bias), m: design.md 8's
         dR sqrt(3) / (pi sqrt(2 SNR)) with SNR summed over channels and frames."""
         snr = float(np.sum(10 ** (self.snr_db / 10))) * self.n_frames
         return range_resolution_m * math.sqrt(3) / (math.pi * math.sqrt(2 * snr))
@@ -155,7 +155,7 @@ def static_virtual_samples(cfg: RadarConfig, rf: np.ndarray) -> tuple[np.ndarray
 
 
 def _steering(cfg: RadarConfig, azimuth_deg: float) -> np.ndarray:
-    """(n_virtual,) phases of a far target at that azimuth, elevation 0 (DESIGN 3)."""
+    """(n_virtual,) phases of a far target at that azimuth, elevation 0 (design.md 3)."""
     u = np.array([math.cos(math.radians(azimuth_deg)), math.sin(math.radians(azimuth_deg)), 0.0])
     return np.exp(1j * 2 * np.pi / cfg.wavelength_m * (cfg.virtual_positions_m @ u))
 

@@ -1,4 +1,4 @@
-"""Kernels of the empty-band DDMA demodulation (seed 000 table 11) and its coherent azimuth
+"""Kernels of the empty-band DDMA demodulation ([TI-DDMA] table 11) and its coherent azimuth
 map: the Tx-order metric, the demodulation gather and the zero-padded azimuth DFT as a complex
 GEMM with its power map, whole or in blocks of range bins that stay in cache.
 
@@ -8,7 +8,7 @@ process and layout), so every output is bit for bit the numpy formulation's.
 
 References
 ----------
-.. [1] TI, AWR2944 DDMA application note (seed 000): section 5, tables 11, 14.
+.. [1] TI, AWR2944 DDMA application note [TI-DDMA]: section 5, tables 11, 14.
 """
 from __future__ import annotations
 
@@ -28,7 +28,7 @@ __all__ = ["ddma_metric", "ddma_gather", "ddma_coherent_power", "ddma_spectra_po
 def ddma_gather(spec: np.ndarray, tx1_band: np.ndarray, tx_pos: np.ndarray,
                 n_subbands: int) -> np.ndarray:
     """Demodulated DDMA samples of the transmitters at sub-band positions `tx_pos`, for every
-    range and Doppler bin (seed 000 table 11): Tx p of Doppler bin d at range bin b sits at
+    range and Doppler bin ([TI-DDMA] table 11): Tx p of Doppler bin d at range bin b sits at
     chirp-bin d + n_dop ((tx1_band[d, b] + p) mod N). The whole frame in one block of
     `ddma_coherent_power`'s gather (the chains gather per block inside it).
 
@@ -66,7 +66,7 @@ def ddma_coherent_power(spec: np.ndarray, energy: np.ndarray, tx_pos: np.ndarray
                         n_subbands: int, n_tx: int, dft: np.ndarray,
                         range_block: int = DDMA_RANGE_BLOCK) -> tuple[np.ndarray, np.ndarray]:
     """Empty-band demodulation and the coherent azimuth power map of a DDMA frame, in blocks of
-    range bins (seed 000 table 11 and section 5.4).
+    range bins ([TI-DDMA] table 11 and section 5.4).
 
     Per block of `range_block` range bins: the Tx order of every (Doppler, range) cell (the
     argmax over j of `ddma_metric`, `_band_argmax`), the demodulated samples of the
@@ -270,7 +270,7 @@ def _power_into(yv, out, col0):
 
 
 def ddma_metric(power: np.ndarray, n_subbands: int, n_tx: int) -> np.ndarray:
-    """Empty-band DDMA metric Z_j = sum_{m < n_tx} S_{(j+m) mod N} (seed 000 table 11).
+    """Empty-band DDMA metric Z_j = sum_{m < n_tx} S_{(j+m) mod N} ([TI-DDMA] table 11).
 
     Parameters
     ----------

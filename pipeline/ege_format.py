@@ -1,5 +1,5 @@
 """The EGE block format of the HWA compression engine: k-array, header, output scale and code
-budget (seed 000 section 5.2; TI MMWAVE-MCUPLUS-SDK DDM demo, rangeprochwaDDMA.c). Both the
+budget ([TI-DDMA] section 5.2; TI MMWAVE-MCUPLUS-SDK DDM demo, rangeprochwaDDMA.c). Both the
 processing config (which checks that a radar's blocks can be compressed at all) and the
 chirp-level compression model (`pipeline.chirp_level.ege`) read it; it imports neither.
 """

@@ -1,7 +1,7 @@
 """Kernels of the signal chain: FFT stages, peak interpolation, local maxima and angle
 estimation (the CFAR detector: `pipeline.cfar.peaks`; the DDMA demodulation and azimuth map:
 `pipeline.ddma_kernels`). Axis order: chirp/Doppler first, then Rx, then
-fast time / range (DESIGN 3), unless a docstring says otherwise.
+fast time / range (design.md 3), unless a docstring says otherwise.
 
 Mostly numpy; a pass that numpy can only express through full-size temporaries or index arrays
 (the Rx energy, the Doppler window product) is a numba kernel (``cache=True``, compiled once
@@ -10,8 +10,8 @@ bit-identical to the numpy formulation it replaced.
 
 References
 ----------
-.. [1] TI, AWR2944 DDMA application note (seed 000): section 5, tables 11, 14, 15, figure 19.
-.. [2] TI, AWR1642 TDM-MIMO velocity disambiguation (seed 001): eq. 8-12, section 4.
+.. [1] TI, AWR2944 DDMA application note [TI-DDMA]: section 5, tables 11, 14, 15, figure 19.
+.. [2] TI, AWR1642 TDM-MIMO velocity disambiguation [TI-VEXT]: eq. 8-12, section 4.
 """
 from __future__ import annotations
 
@@ -333,7 +333,7 @@ def local_max_mask(power: np.ndarray, axes_cyclic: dict[int, bool],
 
 def parabolic_offset(y_minus: np.ndarray, y0: np.ndarray, y_plus: np.ndarray) -> np.ndarray:
     """Peak offset 0.5 (y+ - y-) / (2 y0 - y+ - y-) in bins, clipped to +/-0.5
-    (seed 000 table 14; applied to log magnitudes it is Gaussian interpolation)."""
+    ([TI-DDMA] table 14; applied to log magnitudes it is Gaussian interpolation)."""
     den = 2 * y0 - y_plus - y_minus
     with np.errstate(divide="ignore", invalid="ignore"):
         off = np.where(den > 0, 0.5 * (y_plus - y_minus) / den, 0.0)
@@ -343,7 +343,7 @@ def parabolic_offset(y_minus: np.ndarray, y0: np.ndarray, y_plus: np.ndarray) ->
 def estimate_angles(virt: np.ndarray, sin_az_cos_el: np.ndarray, h_idx: np.ndarray,
                     h_pos: np.ndarray, v_idx: np.ndarray, v_pos: np.ndarray,
                     v_height_wl: float) -> tuple[np.ndarray, np.ndarray]:
-    """Azimuth and elevation from the virtual-array samples (seed 000 table 15).
+    """Azimuth and elevation from the virtual-array samples ([TI-DDMA] table 15).
 
     A e^{j psi} = h . conj(e^{j m wx}) over the horizontal row, A e^{j(psi + wz)} the same over
     the raised row; wz = arg of their product with conjugate; sin(el) = wz / (2 pi h / lambda)

@@ -1,7 +1,7 @@
 """Peak refinement: the maximum of a windowed spectrum between its bins, from a few bins.
 
 A detection's range and Doppler lie between FFT bins. A 3-point interpolator on the power
-(the log-parabola of seed 000 table 14, with its window bias table) throws away the phase and
+(the log-parabola of [TI-DDMA] table 14, with its window bias table) throws away the phase and
 every bin but three, and lands 1.5 times the Cramer-Rao bound at the detection SNR for a Hann
 window. The maximum of the windowed spectrum itself, evaluated between the bins, is the
 windowed maximum-likelihood estimate: unbiased for any symmetric window, 1.25 times the bound

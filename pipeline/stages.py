@@ -7,8 +7,8 @@ Per-scheme chains (`pipeline.mimo`) compose these with the kernels of `pipeline.
 
 References
 ----------
-.. [1] TI, AWR2944 DDMA application note (seed 000): section 5, tables 14, 15.
-.. [2] TI, AWR1642 TDM-MIMO velocity disambiguation (seed 001): section 4.
+.. [1] TI, AWR2944 DDMA application note [TI-DDMA]: section 5, tables 14, 15.
+.. [2] TI, AWR1642 TDM-MIMO velocity disambiguation [TI-VEXT]: section 4.
 """
 from __future__ import annotations
 
@@ -208,7 +208,7 @@ def array_likelihood(cfg: RadarConfig, virt: np.ndarray, az_pow: np.ndarray,
     raised row on the same wx grid. A wrong hypothesis leaves a staircase of slot phases that
     the horizontal row can largely mistake for an angle shift (its Tx groups are four elements
     apart), but the raised row (one slot) then peaks elsewhere, so the sum loses. Without a
-    raised row this is the horizontal FFT peak of seed 001 section 4.
+    raised row this is the horizontal FFT peak of [TI-VEXT] section 4.
 
     virt : (n, H, n_virtual) samples of each hypothesis in the virtual-array order of
     `cfg.virtual_positions_m`; az_pow : (n, H, n_az) |A_h|^2; v_idx : raised-row elements.
@@ -232,7 +232,7 @@ def refined_likelihood(cfg: RadarConfig, virt: np.ndarray, az_pow: np.ndarray,
     `radarsim.mimo.BpmScheme`).
 
     The grid statistic's peak bin k and its neighbours give the parabolic offset on the log
-    statistic (seed 000 table 14's interpolation); the statistic is then evaluated exactly at
+    statistic ([TI-DDMA] table 14's interpolation); the statistic is then evaluated exactly at
     wx = 2 pi (k + offset) / n_az and the larger of the two kept. Arrays with several raised
     rows keep the grid statistic of `array_likelihood`.
 

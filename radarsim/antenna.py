@@ -11,7 +11,7 @@ isotropic option returns G0 everywhere (tests).
 References
 ----------
 .. [1] C. A. Balanis, Antenna Theory, 4th ed., sec. 2.5 (cos^n patterns and directivity).
-.. [2] TI, AWR2944 EVM user guide: azimuth FOV +/-80 deg (seed 000 section 1).
+.. [2] TI, AWR2944 EVM user guide: azimuth FOV +/-80 deg ([TI-DDMA] section 1).
 """
 from __future__ import annotations
 

@@ -1,6 +1,6 @@
 """Registry of TI evaluation boards: element positions and element patterns.
 
-Positions are (y, z) in wavelengths in the radar frame (y to the left, z up, DESIGN 3), one per
+Positions are (y, z) in wavelengths in the radar frame (y to the left, z up, design.md 3), one per
 Tx and Rx channel of the chip in TI's channel order (Tx1 = TI's Tx0). The virtual array, its
 horizontal row and its raised rows follow from these positions for any Tx subset and order
 (`RadarConfig.virtual_positions_m`, `pipeline.kernels.array_layout`).
@@ -11,10 +11,10 @@ states: n = ln(0.5) / ln(cos(theta_3dB)).
 
 Sources
 -------
-- AWR2944EVM: DESIGN 4.2 / seed 000 figure 20, and the ``antGeometryCfg 1 0 1 1 1 2 1 3 0 2 0 3
+- AWR2944EVM: design.md 4.2 / [TI-DDMA] figure 20, and the ``antGeometryCfg 1 0 1 1 1 2 1 3 0 2 0 3
   0 4 0 5 1 4 1 5 1 6 1 7 1 8 1 9 1 10 1 11 0.5 0.8`` of TI's AWR294X profiles (mmWave MCU+ SDK
   ``profile_LVDS.cfg``; R79 / DDM demo): Tx1, Tx3, Tx4 at 0, 2, 4 lambda, Tx2 at 1 lambda and
-  0.8 lambda up; Rx at lambda/2. Azimuth FOV +/-80 deg (seed 000 section 1).
+  0.8 lambda up; Rx at lambda/2. Azimuth FOV +/-80 deg ([TI-DDMA] section 1).
 - AWR2944PEVM: the AWR2944P visualizer profiles carry the same ``antGeometryCfg`` (same EVM
   antenna layout as the AWR2944EVM).
 - AWR2544LOPEVM: the AWR2544 DDM demo orders ``ddmPhaseShiftAntOrder 0 1 2 3`` (no elevation
@@ -26,7 +26,7 @@ Sources
   above; Rx at lambda/2 (8 azimuth + 4 elevation virtual elements). Azimuth FOV +/-60 deg,
   elevation +/-30 deg (BOOST / ISK user guides, approximate).
 - AWR1642BOOST: Tx1 and Tx2 2 lambda apart, Rx at lambda/2 (8 virtual elements in one row;
-  mmWave SDK xwr16xx demo documentation; seed 001). FOV as the AWR1843BOOST.
+  mmWave SDK xwr16xx demo documentation; [TI-VEXT]). FOV as the AWR1843BOOST.
 - IWR6843AOPEVM (``% Platform:xWR68xx_AOP``): TI mmWave Industrial Toolbox 4.7.0, 3D people
   counting lab, ``chirp_configs/AOP_6m_default.cfg`` ``antGeometry0`` (azimuth) / ``antGeometry1``
   (elevation) virtual-element indices in lambda/2 units, Tx0..Tx2 x Rx0..Rx3 in that
@@ -192,7 +192,7 @@ _BOOST_AZ, _BOOST_EL = cos_exponent_for_half_power(60.0), cos_exponent_for_half_
 BOARDS: Registry[Board] = Registry("board", kind=Board)
 BOARDS.register_all((
     Board("AWR2944EVM", "AWR2944", _AWR2944_TX, _RX_HALF_WAVE, _EVM_AZ, _EVM_EL,
-          "DESIGN 4.2, seed 000 fig. 20, TI antGeometryCfg"),
+          "design.md 4.2, [TI-DDMA] fig. 20, TI antGeometryCfg"),
     Board("AWR2944PEVM", "AWR2944P", _AWR2944_TX, _RX_HALF_WAVE, _EVM_AZ,
           _EVM_EL, "AWR2944P visualizer antGeometryCfg (as AWR2944EVM)"),
     Board("AWR2544LOPEVM", "AWR2544",
@@ -210,7 +210,7 @@ BOARDS.register_all((
           "TI mmWave Industrial Toolbox 4.7.0 3D people counting AOP_6m_default.cfg "
           "antGeometry0/antGeometry1", 60.0, ti_platform="xWR68xx_AOP"),
     Board("AWR1642BOOST", "AWR1642", ((0.0, 0.0), (2.0, 0.0)), _RX_HALF_WAVE,
-          _BOOST_AZ, _BOOST_EL, "mmWave SDK xwr16xx demo; seed 001", 60.0),
+          _BOOST_AZ, _BOOST_EL, "mmWave SDK xwr16xx demo; [TI-VEXT]", 60.0),
     *(Board(name, chip, _XWR18_TX, _RX_HALF_WAVE, _BOOST_AZ, _BOOST_EL,
             source, 60.0)
       for name, chip, source in (

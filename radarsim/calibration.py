@@ -17,7 +17,7 @@ phase noise, coupling summed over the elements). ADC rounding (sigma >> 1 LSB) i
 
 References
 ----------
-.. [1] TI, AWR2944 DDMA application note (seed 000), section 4.2: uncalibrated > +/-10 deg,
+.. [1] TI, AWR2944 DDMA application note [TI-DDMA], section 4.2: uncalibrated > +/-10 deg,
    calibrated +/-2 deg (AWR2243), ghost 20 dB lower after calibration (figures 7-8).
 .. [2] S. M. Kay, Fundamentals of Statistical Signal Processing: Estimation Theory (1993),
    ex. 15.13: phase estimate variance 1 / (2 SNR) for a tone in complex white noise.
@@ -161,7 +161,7 @@ def measure_shifters(cfg: RadarConfig, *, rng: np.random.Generator, range_m: flo
     rng : numpy.random.Generator
         Thermal and per-chirp phase noise.
     range_m : float
-        Reflector range, m (seed 000 figures 7-8: about 4.5 m).
+        Reflector range, m ([TI-DDMA] figures 7-8: about 4.5 m).
     rcs_m2 : float
         Reflector RCS, m^2 (a 10 m^2 trihedral of about 7 cm edge at 77 GHz).
     n_repeats : int

@@ -3,8 +3,8 @@
 Every value carries its source in a comment. Datasheets (ti.com document viewer):
 
 - AWR2944: SWRS273D, sec. 8 "Detailed Description", receive subsystem ("real-only receiver ...
-  bandwidths up to 15 MHz"), Features (76-81 GHz, 4 Tx, 4 Rx); ADC rate 37.5 Msps as DESIGN 4.4
-  (seed 000 section 1); 6-bit phase shifter: seed 000 section 3.3 / table 4.
+  bandwidths up to 15 MHz"), Features (76-81 GHz, 4 Tx, 4 Rx); ADC rate 37.5 Msps as design.md 4.4
+  ([TI-DDMA] section 1); 6-bit phase shifter: [TI-DDMA] section 3.3 / table 4.
 - AWR2944P: SWRS318A, same receive subsystem and RF front end as the AWR2944 (sec. 8).
 - AWR2544: SWRS314B, receive subsystem ("real-only receiver ... up to 15 MHz"), 4 Tx 4 Rx,
   76-81 GHz; DDM demo (mmWave MCU+ SDK AWR2544 ``ddmPhaseShiftAntOrder``): 6-bit shifter.
@@ -32,10 +32,10 @@ mmWave SDK user guide (real and complex 2x up to 25 Msps, complex 1x up to 12.5 
 demo profiles sample complex 1x above the IF bandwidth (xWR16xx ``profile_2d.cfg``: 5209 ksps
 with a 5 MHz IF band), so for complex modes the ADC rate binds and echoes beyond the IF band are
 attenuated by the IF low-pass (`Chip.if_lowpass_hz`) rather than refused; for the real mode the
-Nyquist band must lie inside the IF band (DESIGN 4.4).
+Nyquist band must lie inside the IF band (design.md 4.4).
 
 ADC buffer and capture: ``adcbufCfg ... <ChanInterleave>``: the AWR2944 demo buffer is
-interleaved (seed 004 section 2; the R79 firmware's ``adcbufCfg -1 1 0 0 1``), the xWR16/18/68
+interleaved ([TI-DAZ] section 2; the R79 firmware's ``adcbufCfg -1 1 0 0 1``), the xWR16/18/68
 SDK demos support only the non-interleaved buffer (mmWave SDK 3.x user guide, ``adcbufCfg``:
 "only non-interleaved (1) supported"). LVDS lanes: 2 on xWR16/18/68 with the SDK (DCA1000 user
 guide SPRUIJ4, "lvdsMode 2"), 4 on the AWR294x (MCU+ SDK ``lvdsStreamCfg``, 4-lane HSI).
@@ -221,7 +221,7 @@ class Chip:
 
     # ------------------------------------------------------------------ configs
     def validate(self, cfg) -> None:
-        """Check a `radarsim.RadarConfig` against this chip's limits (DESIGN 4.4 with this
+        """Check a `radarsim.RadarConfig` against this chip's limits (design.md 4.4 with this
         chip's values): ADC mode, active channels, ADC samples and chirps, ADC rate, IF band,
         RF band, phase-shifter bits, ADC-buffer interleaving. Fields left None take the
         chip's defaults (`defaults`) and are valid by definition.
@@ -252,7 +252,7 @@ class Chip:
         self.adcbuf_interleaved(cfg.adcbuf_interleaved)
 
     def _validate_rf(self, cfg) -> None:
-        """ADC rate, IF band and RF band of a config (DESIGN 4.4)."""
+        """ADC rate, IF band and RF band of a config (design.md 4.4)."""
         max_rate = self.adc[cfg.adc_mode].max_rate_sps
         if cfg.adc_rate_sps > max_rate:
             raise BadInput(f"adc_rate_sps={cfg.adc_rate_sps:g} exceeds the {self.name} "
@@ -343,18 +343,18 @@ def _awr294x(name: str, board: str, datasheet: str, platform: str,
         name=name,
         band_min_hz=76e9, band_max_hz=81e9,           # Features: 76- to 81-GHz
         n_tx=4, n_rx=4,                                # Features: four Tx, four Rx
-        adc=MappingProxyType({"real": AdcLimits(37.5e6)}),  # real-only receiver; DESIGN 4.4
+        adc=MappingProxyType({"real": AdcLimits(37.5e6)}),  # real-only receiver; design.md 4.4
         if_bandwidth_hz=15e6,                          # receive subsystem: up to 15 MHz
         # Just above the usable IF band: < 0.2 dB loss to ~240 m at the R79 slope, echoes
         # beyond the 253 m Nyquist range attenuated instead of aliasing at full strength.
         if_lowpass_hz=16.5e6,
-        phase_shifter_bits=6,                          # seed 000 3.3, table 4: 5.625 deg LSB
+        phase_shifter_bits=6,                          # [TI-DDMA] 3.3, table 4: 5.625 deg LSB
         max_adc_samples=1024,                          # rlProfileCfg_t numAdcSamples
         max_chirp_defs=512,                            # rlChirpCfg_t: chirp RAM of 512
         max_loops=255,                                 # rlFrameCfg_t.numLoops 1..255
         max_profiles=4,                                # RL_MAX_PROFILES_CNT
         adcbuf_interleave=frozenset({True, False}),    # MCU+ SDK adcbufCfg: both
-        # AWR2944: seed 004 sec. 2 and the R79 firmware's adcbufCfg -1 1 0 0 1; AWR2544: its
+        # AWR2944: [TI-DAZ] sec. 2 and the R79 firmware's adcbufCfg -1 1 0 0 1; AWR2544: its
         # DDM demo profile's adcbufCfg -1 1 0 1 1.
         adcbuf_interleaved_default=interleaved_default,
         lvds_lanes=4,                                  # MCU+ SDK lvdsStreamCfg: 4-lane HSI

@@ -1,7 +1,7 @@
 """Front-end model of a TI mmWave chip: scatterers to one ADC frame, real or complex (I/Q).
 
 The IF signal of scatterer s, transmitter k, receiver r at chirp c and fast-time sample n is a
-real tone (DESIGN section 3)
+real tone (design.md section 3)
 
     A_skr cos(2 pi f_s t_n - (2 pi / lambda) path_sc + (2 pi / lambda)(t_k + r_r).u_s + phi_kc)
 
@@ -9,7 +9,7 @@ with beat frequency f_s = 2 S R_s / c + f_D (range plus the fast-time Doppler sh
 f_D = -2 v_r / lambda), path_sc = 2 (R_s + v_r t_c) the two-way path at chirp c, u_s the unit
 vector to the scatterer and phi_kc the transmit phase of Tx k at chirp c (DDMA phase code with
 its quantisation, static and random errors; in TDMA a Tx is silent outside its slot). The
-amplitude follows the radar equation (seed 000 eq. 1) with the element gain pattern.
+amplitude follows the radar equation ([TI-DDMA] eq. 1) with the element gain pattern.
 Board imperfections: every Tx and Rx channel has a static complex gain (`tx_gain_error_db`,
 `tx_phase_error_deg`, `rx_gain_error_db`, `rx_phase_error_deg`), so virtual channel (k, r)
 carries g_k g_r, and a range bias b delays every echo by 2 b / c (beat frequency
@@ -28,7 +28,7 @@ range at the frame's reference time (the middle of the burst).
 
 References
 ----------
-.. [1] TI, AWR2944 DDMA application note (seed 000), eq. 1, section 3.3, tables 3-4, fig. 20.
+.. [1] TI, AWR2944 DDMA application note [TI-DDMA], eq. 1, section 3.3, tables 3-4, fig. 20.
 .. [2] M. A. Richards, Fundamentals of Radar Signal Processing, 2nd ed., ch. 2 (radar equation).
 """
 from __future__ import annotations
@@ -60,7 +60,7 @@ def received_power_w(cfg: RadarConfig, scatterers: Scatterers) -> np.ndarray:
     """Received echo power of each scatterer for one Tx-Rx pair at the ADC input, W.
 
     P_r = P_t G_t(az, el) G_r(az, el) lambda^2 sigma / ((4 pi)^3 R^4 L) x |H_IF(f_b)|^2
-    (seed 000 eq. 1 with the element pattern and the IF low-pass). Static per-Tx gain errors
+    ([TI-DDMA] eq. 1 with the element pattern and the IF low-pass). Static per-Tx gain errors
     are not included.
 
     Returns
@@ -316,7 +316,7 @@ def simulate_frame_weights(cfg: RadarConfig, scatterers: Scatterers, rng: np.ran
                            tx_weights: np.ndarray, interferers=None) -> np.ndarray:
     """`simulate_frame` with explicit transmit weights (any chirp count and code sequence).
 
-    Used by the shifter calibration and the seed-000 figure 7-8 experiment, which step one Tx
+    Used by the shifter calibration and the [TI-DDMA] figure 7-8 experiment, which step one Tx
     through codes no MIMO scheme programs.
 
     Parameters

@@ -26,7 +26,7 @@ power response (`receiver.if_filter_gain`) at the instantaneous frequency (quasi
 while |S_v - S_i| << B_IF^2, 1e13 Hz/s against 2.7e14 Hz^2 here). Each radar's phase restarts
 with every ramp (the textbook FMCW model) and theta_i is the interferer's fixed phase offset.
 The carrier terms (f0_i tau and the Rx term) carry the same sign convention as the victim's own
-echoes (DESIGN 3: -(2 pi / lambda) x path in the positive-frequency bins), so a same-slope ghost
+echoes (design.md 3: -(2 pi / lambda) x path in the positive-frequency bins), so a same-slope ghost
 appears at the interferer's direction and at its one-way range and Doppler.
 
 Received power (one-way radar equation, Friis):

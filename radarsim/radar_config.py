@@ -2,14 +2,14 @@
 
 `RadarConfig` is the single description of a radar that every stage reads. It is a frozen
 dataclass with units in its field names; it names its chip (`radarsim.chips.CHIPS`) and board
-(`radarsim.boards.BOARDS`), and every chip or method limit (DESIGN section 4.4, each chip's own
+(`radarsim.boards.BOARDS`), and every chip or method limit (design.md section 4.4, each chip's own
 values) is checked at construction and named in the error. Derived quantities (resolutions,
 unambiguous velocity, phase codes, virtual array) are read-only properties.
 
 References
 ----------
-.. [1] TI, "AWR2944 DDMA waveform for corner radar" (seed 000), tables 2-4, figure 20, eq. 1-10.
-.. [2] TI, "AWR1642 velocity disambiguation" (seed 001), TDMA Vmax = lambda / (4 Nt Tc).
+.. [1] TI, "AWR2944 DDMA waveform for corner radar" [TI-DDMA], tables 2-4, figure 20, eq. 1-10.
+.. [2] TI, "AWR1642 velocity disambiguation" [TI-VEXT], TDMA Vmax = lambda / (4 Nt Tc).
 """
 from __future__ import annotations
 
@@ -140,7 +140,7 @@ class RadarConfig:
         Chirps per frame (all transmitters together).
     n_subbands : int or None
         DDMA Doppler sub-bands; default from the scheme: Nt + 2 for Nt = 4, Nt + 1 otherwise
-        (seed 000 3.3), Nt for classic DDMA. Ignored by schemes without sub-bands.
+        ([TI-DDMA] 3.3), Nt for classic DDMA. Ignored by schemes without sub-bands.
     tx_order : tuple of int or None
         DDMA: which Tx occupies sub-band 0, 1, ...; TDMA: which Tx fires in slot 0, 1, ...
         Default: the board's horizontal Tx first and raised Tx last, in channel order (the R79
@@ -195,7 +195,7 @@ class RadarConfig:
         Input-referred power of a full-scale sine at the ADC (receiver gain folded in).
     adc_dc_offset_lsb : float
         Static DC offset of every ADC sample (all chirps and Rx), LSB; 0 = none (default). The
-        R79 demo removes it per chirp and Rx before the range FFT (seed 004 section 2).
+        R79 demo removes it per chirp and Rx before the range FFT ([TI-DAZ] section 2).
     tx_leakage_dbfs : float or None
         Tx-to-Rx leakage (antenna coupling, bumper) as a tone from a 0.1 m path at this level
         relative to a full-scale sine, dBFS; None = none (default).
@@ -203,7 +203,7 @@ class RadarConfig:
     Raises
     ------
     ValueError
-        For every limit of DESIGN 4.4 (with the chip's values) and every out-of-domain value;
+        For every limit of design.md 4.4 (with the chip's values) and every out-of-domain value;
         the message names the field, the value and the limit.
     """
 
@@ -275,7 +275,7 @@ class RadarConfig:
 
     def _geometry_tx_order(self) -> tuple[int, ...]:
         # Tx on the lowest row first (in channel order), raised Tx last, as the R79 demo's
-        # Tx1, Tx3, Tx4, Tx2 (seed 000 3.3) and TI's "elevation antennas last" DDM rule.
+        # Tx1, Tx3, Tx4, Tx2 ([TI-DDMA] 3.3) and TI's "elevation antennas last" DDM rule.
         z = [self.tx_positions_wl[c - 1][1] for c in self.tx_channels]
         low = min(z)
         return tuple(sorted(range(1, self.n_tx + 1),
@@ -371,7 +371,7 @@ class RadarConfig:
         """Radial velocity the chain reports without aliasing, +/- this value, m/s.
 
         From the scheme: DDMA lambda / (4 Tc) (40.9 m/s), recovered by empty-band demodulation
-        (seed 000 3.3); TDMA and BPM lambda / (4 Nt Tc) (10.22 m/s for Nt = 4) before any
+        ([TI-DDMA] 3.3); TDMA and BPM lambda / (4 Nt Tc) (10.22 m/s for Nt = 4) before any
         disambiguation."""
         return self.scheme.max_unambiguous_velocity_mps(self)
 
@@ -400,7 +400,7 @@ class RadarConfig:
         """(n_tx, n_subbands) ideal phase programmed into the shifters over one code period, deg.
 
         The shifter delays the signal, so the programmed phase is the negative of the step,
-        wrapped to [0, 360) (seed 000 table 3)."""
+        wrapped to [0, 360) ([TI-DDMA] table 3)."""
         # Integer arithmetic: 360 (-p c mod N) / N is exact, so an exact multiple of the LSB
         # (180 deg = 32 codes) or of 360 deg never lands a rounding error below a code boundary.
         c = np.arange(self.n_subbands)
@@ -408,7 +408,7 @@ class RadarConfig:
         return 360.0 * np.mod(-p[:, None] * c[None, :], self.n_subbands) / self.n_subbands
 
     def phase_codes(self) -> np.ndarray:
-        """(n_tx, n_subbands) int shifter codes over one code period (seed 000 table 4).
+        """(n_tx, n_subbands) int shifter codes over one code period ([TI-DDMA] table 4).
 
         `floor` reproduces table 4 (Tx3: 0, 53, 42, 32, 21, 10); `round` is the SDK's rule;
         `none` returns the nearest code but `applied_phase_rad` then uses ideal phases. With a
@@ -434,7 +434,7 @@ class RadarConfig:
     @property
     def tx_positions_m(self) -> np.ndarray:
         """(n_tx, 3) positions of the active Tx (`tx_channels`) in the radar frame, m (board
-        geometry, DESIGN 4.2 for the AWR2944 EVM)."""
+        geometry, design.md 4.2 for the AWR2944 EVM)."""
         yz = np.array([self.tx_positions_wl[c - 1] for c in self.tx_channels])
         return self.wavelength_m * np.column_stack([np.zeros(self.n_tx), yz])
 

@@ -12,15 +12,15 @@ measures), and neighbouring transmit channels couple. This module holds the pure
   codes a config programs (`phase_residual_deg`),
 - the analytic spur prediction: a transmit error periodic in the code period P puts lines at
   multiples of 1/P of the chirp rate whose complex amplitudes are the DFT of one period's
-  complex weights (`code_period_lines`, `spur_levels_dbc`; DESIGN section 8).
+  complex weights (`code_period_lines`, `spur_levels_dbc`; design.md section 8).
 
-Contract (issue 12): to Tx k at a chirp whose programmed code is q the shifter applies the phase
+Contract: to Tx k at a chirp whose programmed code is q the shifter applies the phase
 -(q LSB + shifter_phase_error_deg[k, q]) and the amplitude gain
 10^(shifter_gain_error_db[k, q] / 20), on top of the static per-Tx and random per-chirp errors.
 
 References
 ----------
-.. [1] TI, AWR2944 DDMA application note (seed 000), section 4.1 (6-bit codes, table 4) and
+.. [1] TI, AWR2944 DDMA application note [TI-DDMA], section 4.1 (6-bit codes, table 4) and
    section 4.2 (shifter error > +/-10 deg uncalibrated, +/-2 deg calibrated; figures 7-8).
 .. [2] A. V. Oppenheim, R. W. Schafer, Discrete-Time Signal Processing, 3rd ed., section 8.1
    (a periodic sequence has a line spectrum given by the DFT of one period).
@@ -100,7 +100,7 @@ class PhaseQuantization(NamedTuple):
 #: How a programmed phase is mapped onto the shifter's codes. A tiny tolerance keeps exact
 #: multiples (e.g. 180 / 5.625 = 32) from flooring down.
 PHASE_QUANTIZATIONS = {
-    "floor": PhaseQuantization("code = floor(phase / lsb), as seed 000 table 4",
+    "floor": PhaseQuantization("code = floor(phase / lsb), as [TI-DDMA] table 4",
                                lambda p: np.floor(p + 1e-9)),
     "round": PhaseQuantization("code = round(phase / lsb), as TI's SDK", np.round),
     "none": PhaseQuantization("ideal shifter (no quantisation; codes rounded for look-ups)",
@@ -318,7 +318,7 @@ def program_codes(wanted_deg: np.ndarray, lsb_deg: float, n_codes: int, rule: st
     n_codes : int
         2^bits.
     rule : str
-        Key of `PHASE_QUANTIZATIONS`: the uncalibrated mapping (seed 000 table 4 floors, TI's
+        Key of `PHASE_QUANTIZATIONS`: the uncalibrated mapping ([TI-DDMA] table 4 floors, TI's
         SDK rounds; "none" rounds for the table look-up while the applied phase stays ideal).
     calibration_deg : (n_tx, n_codes) float, optional
         Measured per-code error table; when given, `select_codes` replaces the rule.

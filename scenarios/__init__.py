@@ -8,7 +8,7 @@
 The catalogue `SCENARIOS` holds the shipped cases, one TOML file each in ``scenarios/cases/``;
 `load_scenario_file` reads a user's case file the same way, and `load_case_file` also reads an
 OpenSCENARIO file (``scenarios.openscenario``: export and import of OpenSCENARIO 1.x). This
-package knows nothing of the radar beyond the mount pose (DESIGN 2).
+package knows nothing of the radar beyond the mount pose (design.md 2).
 
 Where to add what: a case is a TOML file in ``scenarios/cases/``; a road layout or a random
 traffic environment is an entry of `scenarios.roads.ROAD_LAYOUTS` / `TRAFFIC_ENVS`; a road-user

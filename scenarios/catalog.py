@@ -71,7 +71,7 @@ class ActorClass:
 
 
 #: Road-user classes. Car 5 x 2 m is highway-env's default; motorcycle 2.2 x 0.8 m and truck
-#: about 16 m (DESIGN 6); heights include a rider. Max speeds: motorcycles must reach the R79
+#: about 16 m (design.md 6); heights include a rider. Max speeds: motorcycles must reach the R79
 #: 130 km/h (and 160 km/h for margin), pedestrians run at most ~4 m/s.
 ACTOR_CLASSES: dict[str, ActorClass] = {
     "car": ActorClass(name="car", length_m=5.0, width_m=2.0, height_m=1.5, max_speed_mps=45.0,

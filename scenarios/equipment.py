@@ -12,7 +12,7 @@ radar signal processing.
 
 References
 ----------
-.. [1] TI, seed 000 table 2 (the R79 corner DDMA waveform: 8.883 MHz/us, 23.81 us).
+.. [1] [TI-DDMA] table 2 (the R79 corner DDMA waveform: 8.883 MHz/us, 23.81 us).
 .. [2] MOSARIM D1.5 (2012), sec. 3: automotive radar waveform survey (LRR 76-77 GHz ramps of
        10-30 MHz/us; SRR/corner 77-81 GHz ramps of 20-100 MHz/us).
 .. [3] ETSI EN 301 091 (76-77 GHz, 55 dBm peak EIRP) and EN 302 264 (77-81 GHz).
@@ -146,7 +146,7 @@ _CORNERS = ((1.0, 1.0, 0.5, 45.0), (1.0, -1.0, 0.5, -45.0), (-1.0, 1.0, 0.5, 135
 #: slopes and cross the victim's IF band in short bursts.
 WAVEFORM_FAMILIES: dict[str, WaveformFamily] = {
     "corner_r79": WaveformFamily(
-        description="TI R79-style corner radar, 77 GHz, 8.883 MHz/us, 23.81 us (seed 000)",
+        description="TI R79-style corner radar, 77 GHz, 8.883 MHz/us, 23.81 us [TI-DDMA]",
         mounts=_CORNERS, band_hz=(77.0e9, 77.0e9 + 8.883e12 * 18.81e-6),
         slope_hz_per_s=(8.883e12, 8.883e12), chirp_period_s=(23.81e-6, 23.81e-6),
         ramp_fraction=(18.81 / 23.81, 18.81 / 23.81), tx_power_dbm=12.0,

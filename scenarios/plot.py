@@ -25,7 +25,7 @@ from .traffic import ScenarioRun  # noqa: E402
 __all__ = ["box_corners", "plot_birdseye", "animate_birdseye", "write_views", "CLASS_COLORS",
            "FOV_HALF_ANGLE_DEG"]
 
-#: Published azimuth FOV of the AWR2944 corner radar, +/- deg (DESIGN 4.1).
+#: Published azimuth FOV of the AWR2944 corner radar, +/- deg (design.md 4.1).
 FOV_HALF_ANGLE_DEG = 80.0
 CLASS_COLORS = {"car": "tab:blue", "truck": "tab:purple", "motorcycle": "tab:red",
                 "bicycle": "tab:orange", "pedestrian": "tab:green", "guard_rail": "0.55"}

@@ -265,7 +265,7 @@ def _ego_speeds(run, frames: np.ndarray) -> np.ndarray | None:
 
 #: Frames of a cell processed at once (threads): the frame loop is numpy / scipy / numba work
 #: that releases the GIL, so a cell keeps two cores busy even when it is the only cell left
-#: running (issue 20). Results do not depend on it: every frame draws from its own streams.
+#: running. Results do not depend on it: every frame draws from its own streams.
 FRAME_THREADS = 2
 
 

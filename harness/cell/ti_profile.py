@@ -66,7 +66,7 @@ def profile_processing(profile, notes: list[str] | None = None) -> dict:
     doppler = profile.cfar.get("doppler")
     if "range" in profile.cfar:
         notes.append(f"line {profile.cfar['range'].line_no}: range cfarCfg ignored (the chain "
-                     "has no range CFAR, DESIGN section 5)")
+                     "has no range CFAR, design.md section 5)")
     if doppler is not None:
         if not doppler.cyclic:
             notes.append(f"line {doppler.line_no}: cyclicMode 0 ignored (the Doppler CFAR is "

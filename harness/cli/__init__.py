@@ -38,7 +38,7 @@ COMMANDS: dict[str, tuple[str, str]] = {
     "calibrate": ("harness.cli.cmd_calibrate",
                   "measure range bias and channel phases on a capture"),
     "export": ("harness.cli.cmd_export", "write a case as OpenSCENARIO (.xosc + .xodr)"),
-    "shifter": ("harness.cli.cmd_shifter", "seed 000 figs 7-8: shifter spurs before/after "
+    "shifter": ("harness.cli.cmd_shifter", "[TI-DDMA] figs 7-8: shifter spurs before/after "
                 "calibration"),
     "plugins": ("harness.cli.cmd_plugins", "list every registry's entries and who added them"),
 }

@@ -1,4 +1,4 @@
-"""`radar-harness shifter`: seed 000 figures 7-8, one Tx stepped by a fixed phase per chirp
+"""`radar-harness shifter`: [TI-DDMA] figures 7-8, one Tx stepped by a fixed phase per chirp
 against a corner reflector, before and after `calibrate_shifters`.
 
 Prints the lines of the range-Doppler cut at the reflector's range (target, mirror ghost,

@@ -78,7 +78,7 @@ def _add_scheme_arguments(parser: argparse.ArgumentParser) -> None:
 
 def _check_baseline(schemes, baseline: str | None, explicit: bool) -> None:
     """An explicit (or non-default) baseline must be one of the schemes run: otherwise every
-    SNR-gain column would be NaN, silently (issue 25)."""
+    SNR-gain column would be NaN, silently."""
     from harness.cell.spec import DEFAULT_BASELINE_SCHEME, DEFAULT_SCHEMES
     schemes = list(schemes if schemes is not None else DEFAULT_SCHEMES)
     baseline = baseline if baseline is not None else DEFAULT_BASELINE_SCHEME

@@ -15,7 +15,7 @@ angle sidelobe level at a strong target, against the per-code shifter error and 
 - angle sidelobe level: a strong point target (`PROBE`) simulated with the variant's radar and
   processed by the scheme's chain; the highest azimuth sidelobe outside the main lobe of its
   Doppler-azimuth cut (`pipeline.doppler_azimuth_map`) relative to the peak, median over
-  `PROBE_SEEDS` noise seeds. An ideal unwindowed 12-element array gives -13.3 dB (DESIGN 8).
+  `PROBE_SEEDS` noise seeds. An ideal unwindowed 12-element array gives -13.3 dB (design.md 8).
 """
 from __future__ import annotations
 
@@ -122,7 +122,7 @@ def shifter_table(results: str | Path, *, probe: bool = True) -> pd.DataFrame:
     out["ghost_rate"] = out["n_ghost"] / out["n_detections"].where(out["n_detections"] > 0)
     for col in ("n_velocity_resolution_failures", "azimuth_error_rmse_deg"):
         if col not in summ:
-            raise BadInput(f"{results}: summary lacks {col!r} (written before issue 21: "
+            raise BadInput(f"{results}: summary lacks {col!r} (written by an older harness: "
                            "re-run the sweep)")
     out["velocity_resolution_failures_per_frame"] = \
         grp["n_velocity_resolution_failures"].sum() / out["n_frames"]

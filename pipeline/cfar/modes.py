@@ -5,7 +5,7 @@ The noise estimate Y of a cell under test comes from `window_cells` training cel
 alpha is derived from a false-alarm probability for cells that are sums of L independent
 exponential (square-law) looks: L = 1 for a coherent map, L = number of channels for a
 non-coherent sum. Pfa(alpha) = E_Y[ Q(L, alpha Y) ] is integrated numerically for every mode; for
-L = 1 it reproduces Rohling's OS formula and the CA closed form (DESIGN section 8).
+L = 1 it reproduces Rohling's OS formula and the CA closed form (design.md section 8).
 
 Each mode is a `CfarMode` object in the `CFAR_MODES` registry: the distribution of its noise
 estimate (threshold design), the estimate itself (gathered training cells or a full map), and an
@@ -22,7 +22,7 @@ References
 .. [2] M. A. Richards, Fundamentals of Radar Signal Processing, 2nd ed., sec. 6.5 (eq. 6.167).
 .. [3] V. G. Hansen, J. H. Sawyers, "Detectability loss due to greatest-of selection in a
        cell-averaging CFAR", IEEE Trans. AES 16(1), 1980.
-.. [4] TI, "CFAR algorithms in mmWave SDK" (seed 003): CA, CAGO, CASO, OS, cyclic mode.
+.. [4] TI, "CFAR algorithms in mmWave SDK" [TI-DPC]: CA, CAGO, CASO, OS, cyclic mode.
 """
 from __future__ import annotations
 

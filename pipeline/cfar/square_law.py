@@ -197,7 +197,7 @@ def _os_peaks(p, alpha, train_idx, k, check0, cyclic0, check1, cyclic1, first1, 
 
 
 def rohling_os_pfa(scale: float, n_cells: int, os_rank: int) -> float:
-    """Rohling's closed form for OS-CFAR on exponential cells (DESIGN 8):
+    """Rohling's closed form for OS-CFAR on exponential cells (design.md 8):
     Pfa = k C(N,k) Gamma(k) Gamma(a+N-k+1) / Gamma(a+N+1)."""
     n, k, a = n_cells, os_rank, scale
     log_p = (np.log(k) + special.gammaln(n + 1) - special.gammaln(k + 1)

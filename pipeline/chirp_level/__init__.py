@@ -1,6 +1,6 @@
 """The chip's chirp-level chain before the radar cube is stored (R79 demo RangeProc DPU).
 
-Seed 004 section 2 / seed 000 section 5.1 (table 5): per chirp, the HWA estimates and removes
+[TI-DAZ] section 2 / [TI-DDMA] section 5.1 (table 5): per chirp, the HWA estimates and removes
 the DC of each Rx (param 2-3), gathers interference statistics (param 3), zeroes the samples the
 statistics flag and takes the windowed range FFT (param 4), then EGE-compresses the range FFT to
 50 % in blocks of 4 antennas x 8 range bins (param 5, section 5.2); the Doppler stage
@@ -17,7 +17,7 @@ metric). The interference statistics, flags and repair are a package of their ow
 
 References
 ----------
-.. [1] TI, seed 000 section 5.1-5.3 (tables 5-8), seed 004 section 2-4.
+.. [1] [TI-DDMA] section 5.1-5.3 (tables 5-8), [TI-DAZ] section 2-4.
 .. [2] TI SWRA725, "Interference Mitigation for AWR294x" (2021), sections 3.1-3.3.
 .. [3] TI MMWAVE-MCUPLUS-SDK, DDM demo: ``MmwDemo_CLIIntfMitigCfg`` (mmw_cli.c),
        ``rangeProcHWADDMA_findIntfStatsStaticParams``, ``rangeProcHWA_ConfigHWACommon``

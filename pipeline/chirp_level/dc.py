@@ -1,4 +1,4 @@
-"""DC estimation and removal per chirp and Rx (seed 004 section 2; seed 000 table 5, HWA
+"""DC estimation and removal per chirp and Rx ([TI-DAZ] section 2; [TI-DDMA] table 5, HWA
 params 2-3): the mean of each chirp's samples, subtracted in the spectrum through the window's
 few significant bins (FFT(w (x - m)) = FFT(w x) - m FFT(w)).
 """

@@ -3,7 +3,7 @@
 compression paramset; k-array {3, 4, 5, 7, 9, 11, 13, 15} as its ``EGEKparam``). The device
 TRM's section on the HWA compression/decompression engine (AWR294x TRM, Radar Hardware
 Accelerator chapter) was not available to us as text: the model follows the SDK's register
-fields and the demo's settings (rangeprochwaDDMA.c) and seed 000 section 5.2 (block layout and
+fields and the demo's settings (rangeprochwaDDMA.c) and [TI-DDMA] section 5.2 (block layout and
 ratio), and says where it assumes. Model: each block of 4 Rx x 8 range bins of one chirp (32
 complex samples of 16-bit I/Q, 128 bytes) must fit 64 bytes. Pass 1 picks, per block, the
 smallest right-shift s (the scale factor, 4 bits in the header) for which the
@@ -25,11 +25,11 @@ stops at the first fit, dither only where a block is requantised), which vectori
 only express as full-cube temporaries and index gathers; the block loop is compiled with numba
 (``cache=True``: compiled once per machine, loaded by every later process). Same arithmetic in
 the same float32 order as the numpy version it replaced (bit-identical output), about 6x faster
-on an R79 cube (issue 20).
+on an R79 cube.
 
 References
 ----------
-.. [1] TI, seed 000 section 5.2-5.3 (tables 6-8): block layout, 50 % ratio, decompression.
+.. [1] [TI-DDMA] section 5.2-5.3 (tables 6-8): block layout, 50 % ratio, decompression.
 .. [2] TI MMWAVE-MCUPLUS-SDK, DDM demo, datapath/dpu/rangeprocDDMA/rangeprochwaDDMA.c:
        ``rangeProcHWA_ConfigHWACommon`` (EGEKparam, compression LFSR) and the compression
        paramset of ``rangeProcHWA_ConfigHWA``; MCU+ SDK HWA driver ``HWA_AccelModeCompress``.

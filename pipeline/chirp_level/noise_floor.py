@@ -1,5 +1,5 @@
 """Noise-floor rise over thermal after the range and Doppler FFTs of the chirp-level output: the
-metric interference cases are judged on (DESIGN section 7: noise-floor rise over thermal).
+metric interference cases are judged on (design.md section 7: noise-floor rise over thermal).
 """
 from __future__ import annotations
 

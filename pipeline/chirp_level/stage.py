@@ -1,6 +1,6 @@
 """The chirp-level range stage: DC removal, interference zeroing, windowed range FFT and EGE
-compression/decompression in the order the R79 demo's RangeProc runs them (seed 004 section 2;
-seed 000 section 5.1, table 5). `range_stage` is the hook the chains call instead of a bare
+compression/decompression in the order the R79 demo's RangeProc runs them ([TI-DAZ] section 2;
+[TI-DDMA] section 5.1, table 5). `range_stage` is the hook the chains call instead of a bare
 range FFT.
 
 Work done once: inside `shared_range_stage()` the stage runs once per frame and chirp-level

@@ -1,5 +1,5 @@
 """Interference detection of the chirp-level chain: statistics, thresholds and the flags of the
-samples a burst hit (seed 004 section 2; TI SWRA725). The repair is `pipeline.interference.methods`.
+samples a burst hit ([TI-DAZ] section 2; TI SWRA725). The repair is `pipeline.interference.methods`.
 
 Interference mitigation, as TI documents it (with where this model assumes):
 

@@ -6,7 +6,7 @@ The chip (TI SWRA725 sec. 3.3, the DDM demo's RangeProc) sets the flagged sample
 its hysteresis, to zero. Zeroing removes the burst but also a piece of every echo of that chirp:
 the chirps hit by a burst carry every echo with less amplitude (and, off-bin, a slightly turned
 phase), a slow-time modulation that spreads each strong echo over Doppler, where CFAR finds
-new peaks (issue 21: ghost rate 0.003 -> 0.107 on the head-on interference case). The methods:
+new peaks (ghost rate 0.003 -> 0.107 on the head-on interference case). The methods:
 
 ``zero``
     The chip: flagged samples and `hysteresis` neighbours set to 0 (the model of the chip).
@@ -38,7 +38,7 @@ new peaks (issue 21: ghost rate 0.003 -> 0.107 on the head-on interference case)
 Every method but the chip's first closes the gaps of up to `close_gap_samples` between the
 flagged samples of a chirp: an interfering chirp sweeps through the IF band, so its burst is
 fastest (largest |dx|) at the band edges and slowest near 0 Hz, where the difference statistic
-misses it (duration of the burst 2 B_IF / |S_v - S_i|, DESIGN 6).
+misses it (duration of the burst 2 B_IF / |S_v - S_i|, design.md 6).
 
 References
 ----------
@@ -377,7 +377,7 @@ def repair(x: np.ndarray, flags: np.ndarray, window_: np.ndarray, hysteresis: in
 
 
 #: Gaps closed between flagged samples by the methods that improve on the chip, samples: an
-#: interfering chirp's burst lasts 2 B_IF / |S_v - S_i| (DESIGN 6), 1.6 us = 48 samples at
+#: interfering chirp's burst lasts 2 B_IF / |S_v - S_i| (design.md 6), 1.6 us = 48 samples at
 #: 30 Msps for the head-on case's 30 MHz/us front radar, and its slow middle is where the
 #: difference statistic misses it.
 CLOSE_GAP_SAMPLES = 48

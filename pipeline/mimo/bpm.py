@@ -5,12 +5,12 @@ the orthogonality of the code, sum_s |y_s|^2 = Nt sum_i |x_i|^2, so the map hold
 energy) -> for each velocity hypothesis v_est + 2 k Vmax: remove the Doppler phase
 2 pi f_D s Tc of chirp s, then decode x = H^T y / Nt -> whole-array likelihood picks the
 hypothesis (as TDMA) -> angles. A wrong hypothesis leaves a residual per-chirp phase that the
-decoding turns into cross-Tx leakage (seed 000 section 3.2's claim for fast targets).
+decoding turns into cross-Tx leakage ([TI-DDMA] section 3.2's claim for fast targets).
 
 References
 ----------
 .. [1] TI, xwr16xx mmWave SDK, ``bpmCfg`` (BPM MIMO with 2 Tx).
-.. [2] TI, AWR2944 DDMA application note (seed 000), section 3.2, table 1.
+.. [2] TI, AWR2944 DDMA application note [TI-DDMA], section 3.2, table 1.
 """
 from __future__ import annotations
 

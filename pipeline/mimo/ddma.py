@@ -1,4 +1,4 @@
-"""Empty-band DDMA chain of TI's R79 demo (seed 000 section 5).
+"""Empty-band DDMA chain of TI's R79 demo ([TI-DDMA] section 5).
 
 Range FFT -> Doppler FFT over all chirps -> empty-band demodulation (cyclic sub-band sum,
 table 11), which both separates the transmitters and unwraps the velocity over
@@ -8,7 +8,7 @@ maximum (figure 19) -> azimuth interpolation (table 14) and elevation (table 15)
 
 References
 ----------
-.. [1] TI, AWR2944 DDMA application note (seed 000): section 5, tables 11, 14, 15, figure 19.
+.. [1] TI, AWR2944 DDMA application note [TI-DDMA]: section 5, tables 11, 14, 15, figure 19.
 """
 from __future__ import annotations
 
@@ -55,7 +55,7 @@ class DdmaMaps(NamedTuple):
     energy : (n_chirps, n_range) float32
         `spec`'s energy summed over Rx.
     tx1_band : (n_dop, n_range) int
-        Sub-band of the first Tx of `tx_order` per Doppler bin (seed 000 table 11).
+        Sub-band of the first Tx of `tx_order` per Doppler bin ([TI-DDMA] table 11).
     """
 
     power: np.ndarray
@@ -118,7 +118,7 @@ def _map_dft(cfg: RadarConfig, n_az: int, channel_comp: tuple | None
 
 def doppler_velocity_mps(cfg: RadarConfig, k: np.ndarray) -> np.ndarray:
     """Radial velocity of (fractional) bins k of the full n_chirps-point Doppler FFT at Tc,
-    wrapped to +/- lambda / (4 Tc), m/s (receding = negative Doppler frequency, DESIGN 3)."""
+    wrapped to +/- lambda / (4 Tc), m/s (receding = negative Doppler frequency, design.md 3)."""
     k_signed = (k + cfg.n_chirps / 2) % cfg.n_chirps - cfg.n_chirps / 2
     return -k_signed / (cfg.n_chirps * cfg.chirp_period_s) * cfg.wavelength_m / 2
 
@@ -201,7 +201,7 @@ def coherent_snr_db(proc: ProcessingConfig, noise: np.ndarray, peak: np.ndarray)
 
 
 class DdmaChain(MimoChain):
-    """Empty-band DDMA receive chain (seed 000 section 5)."""
+    """Empty-band DDMA receive chain ([TI-DDMA] section 5)."""
 
     name = "ddma"
     multi_azimuth_peaks = True  # coherent_detections keeps peaks within azimuth_sidelobe_db

@@ -1,4 +1,4 @@
-"""Classic DDMA chain: N = Nt sub-bands, no empty band (seed 000 section 3.2).
+"""Classic DDMA chain: N = Nt sub-bands, no empty band ([TI-DDMA] section 3.2).
 
 Every Doppler bin d of a sub-band holds one echo of each Tx, in sub-bands j, j+1, ... (mod N)
 for some unknown j: the energy pattern is the same for every j, so the empty-band metric of
@@ -11,8 +11,8 @@ gives the Tx separation and the velocity d + j n_dop -> angles.
 
 References
 ----------
-.. [1] TI, AWR2944 DDMA application note (seed 000): section 3.2 (table 1, figure 4), 5.
-.. [2] TI, AWR1642 TDM-MIMO velocity disambiguation (seed 001): section 4.
+.. [1] TI, AWR2944 DDMA application note [TI-DDMA]: section 3.2 (table 1, figure 4), 5.
+.. [2] TI, AWR1642 TDM-MIMO velocity disambiguation [TI-VEXT]: section 4.
 """
 from __future__ import annotations
 

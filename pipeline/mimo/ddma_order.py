@@ -1,6 +1,6 @@
 """The Tx-order (velocity) decision of empty-band DDMA, made per detection in its direction.
 
-Empty-band demodulation (seed 000 table 11) picks, per (range, Doppler) cell, the sub-band j of
+Empty-band demodulation ([TI-DDMA] table 11) picks, per (range, Doppler) cell, the sub-band j of
 Tx1 that maximises Z_j, the energy of the n_tx sub-bands j..j+n_tx-1 summed over Rx. Two
 returns in one range bin exactly one sub-band apart in velocity (a guard rail's continuous
 Doppler spread makes it common; so does the range leakage of a strong return into the next
@@ -27,7 +27,7 @@ pair of one weaker return re-reads onto the same peak).
 
 References
 ----------
-.. [1] TI, AWR2944 DDMA application note (seed 000): section 5, table 11 (empty-band
+.. [1] TI, AWR2944 DDMA application note [TI-DDMA]: section 5, table 11 (empty-band
        demodulation), table 14 (azimuth interpolation).
 """
 from __future__ import annotations
@@ -92,7 +92,7 @@ class DdmaDetections(NamedTuple):
 def ddma_virtual(cfg: RadarConfig, spec: np.ndarray, tx1_band: np.ndarray, r: np.ndarray,
                  d: np.ndarray) -> np.ndarray:
     """(n, n_virtual) demodulated virtual-antenna samples at range bins r, Doppler bins d, in
-    the order Tx1Rx1..Rx4, Tx3.., Tx4.., Tx2.. (seed 000 section 5.4).
+    the order Tx1Rx1..Rx4, Tx3.., Tx4.., Tx2.. ([TI-DDMA] section 5.4).
 
     tx1_band : (n_dop, n_range) int, or (n,) int already taken at (d, r)."""
     n_dop = cfg.n_chirps // cfg.n_subbands
@@ -163,7 +163,7 @@ def _slots(cfg: RadarConfig, band: np.ndarray) -> np.ndarray:
 def beam_band_metric(beams: np.ndarray) -> np.ndarray:
     """Empty-band metric on the Rx beams (`band_beams`): (n, n_tx, N) -> (n, N), Z_j(wx) =
     sum_p |beam[p, (j + p) mod N]|^2, the beam energy of the n_tx sub-bands of hypothesis j
-    (Tx1 in sub-band j; seed 000 table 11 with the Rx sum replaced by the beam)."""
+    (Tx1 in sub-band j; [TI-DDMA] table 11 with the Rx sum replaced by the beam)."""
     n_tx, n_sb = beams.shape[1:]
     p = np.arange(n_tx)
     slot = (np.arange(n_sb)[:, None] + p[None, :]) % n_sb  # (N, P)

@@ -1,11 +1,11 @@
 """Whether a slot-coded chain (TDMA, BPM) may move a detection beyond +/-Vmax.
 
-Velocity extension (seed 001 section 4) scores hypotheses v_est + 2 k Vmax by how well the
+Velocity extension ([TI-VEXT] section 4) scores hypotheses v_est + 2 k Vmax by how well the
 virtual array, after each hypothesis' Doppler-phase compensation, fits one far-field echo, and
 takes the best. That presumes the return IS a far-field echo through the array. Tx-to-Rx
 leakage (it bypasses the antennas, and the channel calibration then rotates it further), DC
 residue and near-field returns fit no hypothesis; the argmax among equally bad fits lands on
-+/-2 Vmax about two times in three (issue 19: a simulated board's leakage moved in 6 of 6
++/-2 Vmax about two times in three (a simulated board's leakage moved in 6 of 6
 frames). Such returns come from the radar's own hardware and mount, so they sit at zero
 Doppler; there (`pipeline.mimo.tdma.ZERO_DOPPLER_BINS`) a detection is moved only when its
 winning hypothesis explains the array as one echo as well as a real echo at its SNR would;
@@ -33,7 +33,7 @@ calibrated) stays under.
 
 References
 ----------
-.. [1] TI, AWR1642 TDM-MIMO velocity disambiguation (seed 001): section 4.
+.. [1] TI, AWR1642 TDM-MIMO velocity disambiguation [TI-VEXT]: section 4.
 .. [2] Kay, Fundamentals of Statistical Signal Processing vol. II (1998), section 7.6
        (GLRT for a signal of unknown amplitude and phase: noncentral F statistics).
 """

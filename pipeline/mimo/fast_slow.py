@@ -1,9 +1,9 @@
-"""Fast/slow chirp chain (seed 001 section 3): velocity unfolding by a second chirp period.
+"""Fast/slow chirp chain ([TI-VEXT] section 3): velocity unfolding by a second chirp period.
 
 The frame holds a fast and a slow TDMA chirp set (`radarsim.mimo.fast_slow`). Range FFT ->
 Doppler FFT per set and slot (n_dop = n_chirps / (2 n_tx) chirps at n_tx T) -> non-coherent
 range-Doppler map of each set summed over the virtual channels -> CFAR on the fast map, then
-the seed's eight steps for every fast peak:
+[TI-VEXT]'s eight steps for every fast peak:
 
 1. CFAR on the fast map: peak bin PeakIdx_fast and value PeakVal_fast.
 2. The fast peak's (aliased) velocity Vel_fast.
@@ -18,19 +18,19 @@ the seed's eight steps for every fast peak:
 8. Its velocity is the detection's. A peak without a survivor keeps its aliased fast-set
    velocity, as TI's SRR demo does.
 
-Beyond the seed: a candidate must also agree in array signature (`gate_coherence`,
-``fast_slow_min_coherence``; 0 gives the seed's power-only test), and a slow peak is given to
+Beyond [TI-VEXT]: a candidate must also agree in array signature (`gate_coherence`,
+``fast_slow_min_coherence``; 0 gives [TI-VEXT]'s power-only test), and a slow peak is given to
 one fast peak at most (TI's demo consumes it once associated; here,
 where two peaks of a range bin claim the same one, an optimal assignment on the spatial
 coherence of the fast and slow array samples, `resolve_claims`).
 
 Association is per peak, so targets in one range cell unfold independently. The angle comes
 from the fast set's virtual array with the TDMA slot phase removed at the unfolded velocity
-(seed 001 eq. 8-10): with the true velocity known, this compensation is exact.
+([TI-VEXT] eq. 8-10): with the true velocity known, this compensation is exact.
 
 References
 ----------
-.. [1] TI, "AWR1642 velocity disambiguation" (seed 001): section 3, figure 5, table 2, the
+.. [1] TI, "AWR1642 velocity disambiguation" [TI-VEXT]: section 3, figure 5, table 2, the
    eight-step algorithm; eq. 8-10 (Doppler-phase compensation of TDMA slots).
 .. [2] TI, TIDEP-0092 short-range radar reference design (3 dB association threshold, +/-2
    bins search).
@@ -172,10 +172,10 @@ class Unfolding(NamedTuple):
 
 def gate_coherence(unf: "Unfolding", coherence: np.ndarray, min_coherence: float) -> "Unfolding":
     """Keep only candidates whose fast and slow array samples agree: spatial coherence
-    |x_f^H x_s|^2 / (|x_f|^2 |x_s|^2) >= `min_coherence`, then the seed's choice (largest slow
+    |x_f^H x_s|^2 / (|x_f|^2 |x_s|^2) >= `min_coherence`, then [TI-VEXT]'s choice (largest slow
     peak) among the rest.
 
-    The seed's test compares powers only, so a candidate landing on another echo's slow peak
+    [TI-VEXT]'s test compares powers only, so a candidate landing on another echo's slow peak
     of similar power passes (two targets in one range cell, or the many returns of a guard
     rail, whose Doppler spreads with azimuth). The same echo has the same array signature in
     both sets once each set's slot phases are removed at the candidate velocity; another echo
@@ -272,7 +272,7 @@ def unfold_peaks(v_fast_mps: np.ndarray, fast_peak: np.ndarray, slow_rows: np.nd
                  native_vmax_mps: float, unfold_factor: int,
                  wavelength_m: float, slow_slot_period_s: float, threshold_db: float,
                  search_bins: int) -> Unfolding:
-    """Steps 3-7 of seed 001's fast/slow algorithm for n fast-set peaks at once.
+    """Steps 3-7 of [TI-VEXT]'s fast/slow algorithm for n fast-set peaks at once.
 
     Each candidate Vel_fast + 2 k Vmax_fast inside the span looks up the slow map's largest
     value within +/- `search_bins` of its own aliased bin; it survives if that value is within
@@ -307,7 +307,7 @@ def unfold_peaks(v_fast_mps: np.ndarray, fast_peak: np.ndarray, slow_rows: np.nd
 
     References
     ----------
-    .. [1] TI, seed 001 section 3, steps 3-8; TI mmWave SDK SRR/MRR demo, DSS
+    .. [1] [TI-VEXT] section 3, steps 3-8; TI mmWave SDK SRR/MRR demo, DSS
        ``disambiguateVel`` (strongest associated slow peak, consumed once taken).
     """
     n, n_dop = slow_rows.shape
@@ -332,7 +332,7 @@ def unfold_peaks(v_fast_mps: np.ndarray, fast_peak: np.ndarray, slow_rows: np.nd
 
 
 class FastSlowChain(MimoChain):
-    """Receive side of `radarsim.MIMO_SCHEMES["fast_slow"]` (seed 001 section 3)."""
+    """Receive side of `radarsim.MIMO_SCHEMES["fast_slow"]` ([TI-VEXT] section 3)."""
 
     name = "fast_slow"
 
@@ -403,7 +403,7 @@ class FastSlowChain(MimoChain):
     def _compensated(cfg: RadarConfig, virt: np.ndarray, velocity_mps: np.ndarray,
                      chirp_period_s: float) -> np.ndarray:
         """(n, n_tx x n_rx) slot-major samples with slot s's Doppler phase 2 pi f_D s T
-        removed (seed 001 eq. 8-10), f_D = -2 v / lambda."""
+        removed ([TI-VEXT] eq. 8-10), f_D = -2 v / lambda."""
         f_d = -2 * velocity_mps / cfg.wavelength_m
         comp = np.exp(-2j * np.pi * f_d[:, None] * np.arange(cfg.n_tx) * chirp_period_s)
         n = virt.shape[0]

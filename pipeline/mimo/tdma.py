@@ -1,4 +1,4 @@
-"""TDMA baseline chain (seed 001), and the slot-coded chain family it heads.
+"""TDMA baseline chain [TI-VEXT], and the slot-coded chain family it heads.
 
 Range FFT -> Doppler FFT per slot (n_chirps / n_tx chirps at n_tx Tc) -> CFAR on the
 non-coherent range-Doppler map summed over the virtual channels -> for every velocity hypothesis
@@ -20,7 +20,7 @@ far-field echo as well as a real echo at its SNR does (`pipeline.mimo.extension`
 
 References
 ----------
-.. [1] TI, AWR1642 TDM-MIMO velocity disambiguation (seed 001): eq. 8-12, section 4.
+.. [1] TI, AWR1642 TDM-MIMO velocity disambiguation [TI-VEXT]: eq. 8-12, section 4.
 """
 from __future__ import annotations
 
@@ -164,7 +164,7 @@ class SlotChain(MimoChain):
         r, d = hits.range_bin, hits.doppler_bin
         v_max = cfg.max_unambiguous_velocity_mps
         if self.disambiguate(proc):
-            # Hypotheses v_est + 2 k Vmax covering the full +/- lambda / (4 Tc) span (seed 001
+            # Hypotheses v_est + 2 k Vmax covering the full +/- lambda / (4 Tc) span ([TI-VEXT]
             # eq. 12).
             k = np.arange(-(n_tx // 2) - 1, n_tx // 2 + 2)
             v_hyp = v_est[:, None] + 2 * k[None, :] * v_max  # (n, H)
@@ -228,7 +228,7 @@ class SlotChain(MimoChain):
 
 
 class TdmaChain(SlotChain):
-    """TDMA baseline (seed 001): one Tx per slot, so separation is the identity. Variant
+    """TDMA baseline [TI-VEXT]: one Tx per slot, so separation is the identity. Variant
     ``tdma_raw``: the same frame without velocity disambiguation."""
 
     name = "tdma"

@@ -15,7 +15,7 @@ References
 .. [2] P. H. S. Torr and A. Zisserman, "MLESAC", CVIU 78, 2000 (the truncated-quadratic, MSAC,
        score used here).
 .. [3] D. Kellner et al., "Instantaneous ego-motion estimation using Doppler radar", ITSC 2013.
-.. [4] TI, "AWR1642 velocity disambiguation" (seed 001), section 5 and DESIGN section 5.
+.. [4] TI, "AWR1642 velocity disambiguation" [TI-VEXT], section 5 and design.md section 5.
 """
 from __future__ import annotations
 

@@ -1,6 +1,6 @@
 """The group tracker: radar point clouds to tracks, after TI's gtrack design, from injected parts.
 
-Every frame: predict, gate, associate, update, allocate, maintain (seed 001 figure 11). Each
+Every frame: predict, gate, associate, update, allocate, maintain ([TI-VEXT] figure 11). Each
 track is an extended Kalman filter in Cartesian vehicle-frame coordinates (ISO 8855: x forward,
 y left) whose measurements are the range, azimuth and radial velocity of the points of its group:
 several points per vehicle, summarised by their centroid and dispersion. Unassociated points
@@ -27,7 +27,7 @@ its own sub-config of `TrackerConfig`. Maintenance (DETECT -> ACTIVE -> FREE,
 
 References
 ----------
-.. [1] TI, "AWR1642 velocity disambiguation" (seed 001), section 5, figure 11.
+.. [1] TI, "AWR1642 velocity disambiguation" [TI-VEXT], section 5, figure 11.
 .. [2] TI mmWave SDK, "Group tracker" (gtrack) design: gating with group dispersion,
        centroid noise Rc = Rm / n + alpha D, alpha = (N_est - n) / ((N_est - 1) n),
        DETECT -> ACTIVE -> FREE with det2act = 3, det2free = 3, act2free = 10.

@@ -14,8 +14,8 @@ count of the chip; each layout of `CAPTURE_LAYOUTS` names its source:
     Rx r in columns r N .. (r+1) N - 1).
 ``real_interleaved`` (``adcbufCfg ... <ChanInterleave> = 0``, the AWR2944 R79 firmware)
     chirp 0: s0 of Rx0, Rx1, Rx2, Rx3, then s1 of Rx0..Rx3, ... -- (chirp, sample, Rx). The
-    interleaved ADC buffer (mmWave SDK ADCBUF driver, "interleaved mode"; seed 003 section on
-    DPIF_RXCHAN_INTERLEAVE, seed 004 section 2) is what the LVDS/CBUFF session streams; it is
+    interleaved ADC buffer (mmWave SDK ADCBUF driver, "interleaved mode"; [TI-DPC] section on
+    DPIF_RXCHAN_INTERLEAVE, [TI-DAZ] section 2) is what the LVDS/CBUFF session streams; it is
     also the order of a 4-lane capture in which lane k carries Rx k (DCA1000 user guide SPRUIJ4,
     "LVDS data format": lanes interleaved word by word).
 ``complex_noninterleaved`` (``adcCfg 2 1``/``2 2``, ``adcbufCfg -1 0 1 1 1``, 2 LVDS lanes:
@@ -126,7 +126,7 @@ CAPTURE_LAYOUTS: Mapping[str, CaptureLayout] = MappingProxyType({
                                          _real_decode, "SWRA581 real format; readDCA1000.m"),
     "real_interleaved": CaptureLayout("real_interleaved", False, 1, _real_il_encode,
                                       _real_il_decode,
-                                      "ADCBUF interleaved mode; seed 004 sec. 2; SPRUIJ4"),
+                                      "ADCBUF interleaved mode; [TI-DAZ] sec. 2; SPRUIJ4"),
     "complex_noninterleaved": CaptureLayout("complex_noninterleaved", True, 2, _cplx_encode,
                                             _cplx_decode,
                                             "SWRA581 2-lane complex (I0 I1 Q0 Q1); "

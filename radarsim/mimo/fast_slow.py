@@ -1,4 +1,4 @@
-"""Fast/slow chirp velocity unfolding (seed 001 section 3, figure 5): the transmit side.
+"""Fast/slow chirp velocity unfolding ([TI-VEXT] section 3, figure 5): the transmit side.
 
 One frame holds two chirp sets of equal chirp count and different chirp period, a fast set at
 T_f and a slow set at T_s = r T_f, each a TDMA cycle of the transmitters (`tx_order`). A
@@ -10,7 +10,7 @@ holds a matching peak.
 The config's `chirp_period_s` (and `idle_time_s`) is the MEAN chirp of the frame, so
 `frame_time_s` = n_chirps x chirp_period_s still holds: T_f = 2 T / (1 + r), T_s = r T_f, the
 ramp is shared and the two sets differ in their idle time only, as TI's SRR profiles do
-(seed 001 table 2: idle 3 and 14.8 us on a 56 us ramp, T_s / T_f = 70.8 / 59 = 6 / 5).
+([TI-VEXT] table 2: idle 3 and 14.8 us on a 56 us ramp, T_s / T_f = 70.8 / 59 = 6 / 5).
 
 Why the registered ratio unfolds +/-40.9 m/s: with T_s / T_f = q / p in lowest terms the pair
 of aliases (v mod 2 V_f, v mod 2 V_s) is unique over p fast spans (2 V_f = q u, 2 V_s = p u:
@@ -23,7 +23,7 @@ with candidates at least 19.2 of the 96 slow Doppler bins apart.
 
 References
 ----------
-.. [1] TI, "AWR1642 velocity disambiguation" (seed 001), section 3, figure 5, table 2 and the
+.. [1] TI, "AWR1642 velocity disambiguation" [TI-VEXT], section 3, figure 5, table 2 and the
    eight-step algorithm; TI TIDEP-0092 (SRR reference design: 59 / 70.8 us chirps, 3 dB
    association threshold, +/-2 bins, 3x native Vmax).
 """
@@ -51,7 +51,7 @@ class ChirpSets(NamedTuple):
     Attributes
     ----------
     fast, slow : slice
-        Chirps of each set in the frame (contiguous blocks, seed 001 figure 5).
+        Chirps of each set in the frame (contiguous blocks, [TI-VEXT] figure 5).
     fast_period_s, slow_period_s : float
         Chirp period of each set, s.
     n_doppler_bins : int
@@ -102,7 +102,7 @@ def hypothesis_separation_bins(ratio: float, n_doppler_bins: int, unfold_factor:
 
 @dataclass(frozen=True)
 class FastSlowScheme(TdmaScheme):
-    """Two TDMA chirp sets of periods T_f < T_s in one frame (seed 001 section 3).
+    """Two TDMA chirp sets of periods T_f < T_s in one frame ([TI-VEXT] section 3).
 
     Attributes
     ----------
@@ -112,7 +112,7 @@ class FastSlowScheme(TdmaScheme):
         Native fast-set spans the unfolding covers: the scheme reports velocities in
         +/- unfold_factor x V_f (TI's SRR: 3, "3x native Vmax").
     slow_first : bool
-        Interleaving of the two sets: False fires the fast set first (seed 001 figure 5).
+        Interleaving of the two sets: False fires the fast set first ([TI-VEXT] figure 5).
 
     Both sets fire every active Tx in `tx_order`, one per chirp (TDMA), n_chirps / 2 chirps
     each: the receiver compares their peak powers, so the sets must carry equal energy.
@@ -247,5 +247,5 @@ class FastSlowScheme(TdmaScheme):
 
 
 register_scheme(FastSlowScheme(
-    "fast_slow", "fast/slow chirp unfolding (seed 001 sec. 3): two TDMA chirp sets of periods "
+    "fast_slow", "fast/slow chirp unfolding ([TI-VEXT] sec. 3): two TDMA chirp sets of periods "
                  "T_f and 1.2 T_f, fast-set peaks unfolded by their slow-set match"))

@@ -10,8 +10,8 @@ receive side registers its chain in ``pipeline.MIMO_CHAINS`` under the same name
 
 References
 ----------
-.. [1] TI, "AWR2944 DDMA waveform for corner radar" (seed 000), section 3.2-3.3, tables 3-4.
-.. [2] TI, "AWR1642 velocity disambiguation" (seed 001), TDMA Vmax = lambda / (4 Nt Tc).
+.. [1] TI, "AWR2944 DDMA waveform for corner radar" [TI-DDMA], section 3.2-3.3, tables 3-4.
+.. [2] TI, "AWR1642 velocity disambiguation" [TI-VEXT], TDMA Vmax = lambda / (4 Nt Tc).
 .. [3] TI, xwr16xx mmWave SDK user guide, ``bpmCfg`` (slow-time binary phase modulation).
 """
 from __future__ import annotations
@@ -43,7 +43,7 @@ class TransmitCode(NamedTuple):
         Amplitude and sign of each Tx at each chirp: 1 on, 0 silent, -1 sign-inverted (BPM).
     phase_rad : (n_tx, n_chirps) float
         Phase applied by each Tx's shifter at each chirp, rad (DDMA: the negated, possibly
-        quantised programmed phase, seed 000 table 3-4).
+        quantised programmed phase, [TI-DDMA] table 3-4).
     """
 
     gain: np.ndarray
@@ -145,7 +145,7 @@ class MimoScheme:
 
     def default_tx_order(self, n_tx: int) -> tuple[int, ...]:
         """`RadarConfig.tx_order` when not given: horizontal Tx first (Tx1, Tx3, Tx4), the
-        raised Tx2 last, as the R79 demo (seed 000 3.3), restricted to the active Tx (a
+        raised Tx2 last, as the R79 demo ([TI-DDMA] 3.3), restricted to the active Tx (a
         `RadarConfig` applies this rule to its board's geometry: lowest row first, raised
         last)."""
         return tuple(t for t in (1, 3, 4, 2) if t <= n_tx)
@@ -256,7 +256,7 @@ class MimoScheme:
 @dataclass(frozen=True)
 class DdmaScheme(MimoScheme):
     """Doppler-division MIMO: all Tx every chirp, Tx in sub-band p steps its phase by
-    2 pi p / N per chirp (seed 000 section 3.3). With empty sub-bands (N > Nt) the
+    2 pi p / N per chirp ([TI-DDMA] section 3.3). With empty sub-bands (N > Nt) the
     demodulation resolves Tx and velocity over +/- lambda / (4 Tc) (table 11).
 
     Attributes
@@ -343,7 +343,7 @@ class DdmaScheme(MimoScheme):
 @dataclass(frozen=True)
 class TdmaScheme(MimoScheme):
     """Time-division MIMO: one Tx per chirp, in turn (`tx_order` gives the slots), so each
-    Tx samples slow time at n_tx Tc: Vmax = lambda / (4 Nt Tc) (seed 001)."""
+    Tx samples slow time at n_tx Tc: Vmax = lambda / (4 Nt Tc) [TI-VEXT]."""
 
     def validate(self, cfg: ConfigLike) -> None:
         if cfg.n_chirps % cfg.n_tx:

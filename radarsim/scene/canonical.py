@@ -11,7 +11,7 @@ so these functions check the harness's summation against the closed forms of Kno
 
 - flat rectangular plate a x b, rotated by theta about its b edge: sigma = 4 pi (a b)^2 /
   lambda^2 cos^2(theta) sinc^2(2 a sin(theta) / lambda) (normal incidence: 4 pi A^2 / lambda^2,
-  DESIGN 8: 10 cm square at 77 GHz = 19.2 dBsm; first null at sin(theta) = lambda / (2 a));
+  design.md 8: 10 cm square at 77 GHz = 19.2 dBsm; first null at sin(theta) = lambda / (2 a));
 - square trihedral corner of edge a seen along its symmetry axis: shooting and bouncing rays
   (three specular bounces, each flipping one direction component) gives the retro-reflecting
   aperture; all returning rays travel the same path, so sigma = 4 pi A_eff^2 / lambda^2 with

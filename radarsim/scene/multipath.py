@@ -11,7 +11,7 @@ Ground: a corner radar 0.5 m above a flat road sees each scatterer also through 
 image. With reflection coefficient Gamma and path difference Delta between the reflected and
 the direct path, the one-way field factor is F = |1 + Gamma exp(-j 2 pi Delta / lambda)|; the
 monostatic echo carries F^4 (out and back). For Gamma = -1 and R >> heights,
-Delta ~ 2 h_r h_t / R and F^2 = (2 sin(2 pi h_r h_t / (lambda R)))^2 (DESIGN 8): the echo of a
+Delta ~ 2 h_r h_t / R and F^2 = (2 sin(2 pi h_r h_t / (lambda R)))^2 (design.md 8): the echo of a
 target lobes with range, with nulls where h_r h_t / (lambda R) is an integer / 2.
 
 References

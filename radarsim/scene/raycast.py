@@ -1,6 +1,6 @@
 """Vectorised ray casting from a radar against yawed 3D boxes (actors), with occlusion.
 
-Rays leave the radar origin on a regular azimuth x elevation grid (radar frame, DESIGN 3). Each
+Rays leave the radar origin on a regular azimuth x elevation grid (radar frame, design.md 3). Each
 actor is a box yawed about z. Instead of testing every ray against every box, each box first gets
 a conservative angular window (azimuth and elevation interval that contains the whole box); only
 the rays inside a box's window are tested against that box, all (ray, box) pairs in one slab-test

@@ -2,7 +2,7 @@
 
 A `Scatterers` set is what the front end sees of a scene at one frame: K points with position,
 velocity (relative to the radar, ego motion included) and radar cross-section. Conventions of
-DESIGN section 3: radar frame x along boresight, y left, z up; metres, m/s, m^2.
+design.md section 3: radar frame x along boresight, y left, z up; metres, m/s, m^2.
 """
 from __future__ import annotations
 
@@ -133,7 +133,7 @@ class Scatterers(PointGeometry):
     def from_spherical(cls, range_m, azimuth_deg, elevation_deg, radial_velocity_mps, rcs_m2,
                        actor_id=None) -> "Scatterers":
         """Point targets given by range, azimuth (atan2(y, x), positive left), elevation and a
-        purely radial velocity (DESIGN 3), all (K,) arrays in m, deg, deg, m/s, m^2."""
+        purely radial velocity (design.md 3), all (K,) arrays in m, deg, deg, m/s, m^2."""
         r = np.atleast_1d(np.asarray(range_m, dtype=np.float64))
         az = np.radians(np.atleast_1d(np.asarray(azimuth_deg, dtype=np.float64)))
         el = np.radians(np.atleast_1d(np.asarray(elevation_deg, dtype=np.float64)))
@@ -171,7 +171,7 @@ class Scatterers(PointGeometry):
 
     @property
     def radial_velocity_mps(self) -> np.ndarray:
-        """(K,) d(range)/dt, m/s; negative = approaching (DESIGN 3)."""
+        """(K,) d(range)/dt, m/s; negative = approaching (design.md 3)."""
         return np.einsum("kd,kd->k", self.velocity_mps, self.unit_vector)
 
     @property

@@ -26,7 +26,7 @@ structured comments, which TI's CLI skips like any ``%`` line::
 
 A file without them gets the `RadarConfig` defaults, except the shifter-code rule: TI's SDK
 rounds phases to the nearest code, so a plain TI file means ``phase_quantization="round"``
-(DESIGN section 4.3); the shipped R79 file carries ``"floor"`` to reproduce seed 000 table 4.
+(design.md section 4.3); the shipped R79 file carries ``"floor"`` to reproduce [TI-DDMA] table 4.
 
 The chip comes from a ``% radarsim: chip = "..."`` directive, TI Visualizer's ``% Platform:``
 header, or the commands themselves (`infer_chip`); its limits (`radarsim.chips`) bound every
@@ -62,20 +62,20 @@ checks; same conversions as mmWave SDK 3.5 ``packages/ti/utils/cli/src/cli_mmwav
   16-bit words per chirp and Rx (rlFrameCfg_t): the profile's samples, twice that for complex.
 
 AWR2944 R79 corner-radar demo (TIDEP-01027) ``mss/mmw_cli.c``, whose hard-coded command list is
-the R79 waveform of seed 000 table 2 (``profileCfg 0 77 5 5 18.81 0 0 8.883 0 384 30000 0 0
+the R79 waveform of [TI-DDMA] table 2 (``profileCfg 0 77 5 5 18.81 0 0 8.883 0 384 30000 0 0
 42``, ``chirpCfg 0 5 0 0 0 0 0 15``, ``frameCfg 0 5 128 0 384 250 1 0``):
 
 - ``cfarCfg <subFrameIdx> <procDirection> <averageMode> <winLen> <guardLen> <noiseDiv>
   <cyclicMode> <thresholdScale dB> <peakGroupingEn> <osKvalue> <osEdgeKscaleEn>`` (argc 12;
   thresholdScale at most 100 dB). mmWave SDK 3.x / AWR294X TDM demo: the first 9 arguments;
   AWR2x44P DDM demo: + ``<isEnabled>`` (range) and + ``<variableThresholdMode>`` (Doppler).
-  averageMode 0 CA, 1 CAGO, 2 CASO, 3 OS (HWA 2.0; seed 003 ``DPU_CFARProc_CfarCfg``);
+  averageMode 0 CA, 1 CAGO, 2 CASO, 3 OS (HWA 2.0; [TI-DPC] ``DPU_CFARProc_CfarCfg``);
   winLen and guardLen are one-sided.
 - ``adcbufCfg <subFrameIdx> <adcOutputFmt> <SampleSwap> <ChanInterleave> <ChirpThreshold>``
   (argc 6, SDK 1.x without subFrameIdx; adcOutputFmt 0 complex, 1 real, must agree with
   ``adcCfg``; ChanInterleave 0 = interleaved buffer, `RadarConfig.adcbuf_interleaved`, which
   fixes the raw capture layout; chirpThreshold must be 1). The R79 firmware's hard-coded list
-  has ``adcbufCfg -1 1 0 0 1``: interleaved, as seed 004 section 2 says of the AWR2944.
+  has ``adcbufCfg -1 1 0 0 1``: interleaved, as [TI-DAZ] section 2 says of the AWR2944.
 
 mmWave MCU+ SDK AWR2x44P DDM demo ``mmw_cli.c`` and its doxygen ``main.c`` (without the
 command, as in the R79 firmware list, the R79 order: horizontal Tx first, elevation last):
@@ -86,7 +86,7 @@ command, as in the R79 firmware list, the R79 order: horizontal Tx first, elevat
   `RadarConfig.tx_order` minus one (Tx1, Tx3, Tx4, Tx2).
 - ``antGeometryCfg <Row(Tx0Rx0)> <Col(Tx0Rx0)> ... <Row(Tx3Rx3)> <Col(Tx3Rx3)> <xSpacebylambda>
   <zSpacebylambda>``: row 1 azimuth, row 0 elevation; the AWR2944 EVM is
-  ``1 0 1 1 1 2 1 3 0 2 0 3 0 4 0 5 1 4 1 5 1 6 1 7 1 8 1 9 1 10 1 11 0.5 0.8`` (DESIGN 4.2).
+  ``1 0 1 1 1 2 1 3 0 2 0 3 0 4 0 5 1 4 1 5 1 6 1 7 1 8 1 9 1 10 1 11 0.5 0.8`` (design.md 4.2).
   The grid defines the array (`RadarConfig.tx_positions_wl` / `rx_positions_wl`).
 
 Chirp table to MIMO scheme: DDMA when every chirp of the frame enables the same two or more Tx
@@ -97,8 +97,8 @@ used Tx fires once (``Tx1, Tx3, Tx1, Tx3``: order Tx1, Tx3).
 References
 ----------
 .. [1] TI, mmWave SDK user guide, sec. "Configuration (.cfg) File Format".
-.. [2] TI, AWR2944 DDMA application note (seed 000), table 2 (R79 waveform), sec. 3.3.
-.. [3] TI, CFAR in the mmWave SDK (seed 003), ``DPU_CFARProc_CfarCfg``.
+.. [2] TI, AWR2944 DDMA application note [TI-DDMA], table 2 (R79 waveform), sec. 3.3.
+.. [3] TI, CFAR in the mmWave SDK [TI-DPC], ``DPU_CFARProc_CfarCfg``.
 """
 from __future__ import annotations
 

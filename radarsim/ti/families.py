@@ -45,7 +45,7 @@ class ProcessingCommand:
 
 #: Every processing command of the SDK 3.x and MCU+ demos the reader knows.
 PROCESSING_COMMANDS: Mapping[str, ProcessingCommand] = MappingProxyType({
-    "cfarCfg": ProcessingCommand(("cfar",), "SDK 3.x UG cfarCfg; seed 003 DPU_CFARProc_CfarCfg"),
+    "cfarCfg": ProcessingCommand(("cfar",), "SDK 3.x UG cfarCfg; [TI-DPC] DPU_CFARProc_CfarCfg"),
     "extendedMaxVelocity": ProcessingCommand(("tdma_disambiguation",),
                                              "SDK 3.x UG extendedMaxVelocity; AoA DPU"),
     "compressionCfg": ProcessingCommand(("compression", "compression_ratio",

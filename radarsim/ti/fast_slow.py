@@ -1,6 +1,6 @@
 """Fast/slow chirp frames (`radarsim.mimo.fast_slow`) as TI profiles: an advanced frame of two
 sub-frames, each a TDMA loop on its own ``profileCfg``, the two profiles differing only in
-their idle time (seed 001 table 2: TI's SRR chirps of 59 and 70.8 us share a 56 us ramp, idle
+their idle time ([TI-VEXT] table 2: TI's SRR chirps of 59 and 70.8 us share a 56 us ramp, idle
 3 and 14.8 us).
 
 Written (`advanced_profile`, used by `to_ti_cfg`): sub-frame 0 holds the first set's
@@ -20,7 +20,7 @@ matches) names the scheme. Unequal chirp counts, or a ratio no registered scheme
 
 References
 ----------
-.. [1] TI, seed 001 section 3, table 2 (fast/slow chirp profiles of the SRR demo).
+.. [1] [TI-VEXT] section 3, table 2 (fast/slow chirp profiles of the SRR demo).
 .. [2] TI mmWave SDK user guide, ``advFrameCfg`` / ``subFrameCfg`` (see `radarsim.ti.advanced`).
 """
 from __future__ import annotations

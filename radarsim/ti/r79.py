@@ -59,9 +59,9 @@ R79_FIRMWARE_LINES = (
     "sensorStart",
 )
 R79_COMMENTS = (
-    "TI R79 corner-radar DDMA waveform (TIDEP-01027; seed 000 table 2): the R79 demo's",
+    "TI R79 corner-radar DDMA waveform (TIDEP-01027; [TI-DDMA] table 2): the R79 demo's",
     "profileCfg/chirpCfg/frameCfg/cfarCfg and demo commands, plus ddmPhaseShiftAntOrder and",
-    "antGeometryCfg of the MCU+ SDK DDM demo. Phase codes floor-quantised as seed 000 table 4.",
+    "antGeometryCfg of the MCU+ SDK DDM demo. Phase codes floor-quantised as [TI-DDMA] table 4.",
 )
 
 

@@ -1,4 +1,4 @@
-"""The shared input check and atomic write (`core.fileio`, issue 25): one rule per test."""
+"""The shared input check and atomic write (`core.fileio`): one rule per test."""
 from __future__ import annotations
 
 import errno

@@ -27,9 +27,9 @@ hang
     Still running after the time limit (a FIFO read, a runaway allocation).
 
 `tests/harness/test_probes_*.py` assert that every probe of this project's areas is clear;
-``python -m tests.harness.probe_survey`` counts the classes (the closing note of issue 25 has
-the counts before and after). The probes use only public APIs and the CLI, so the same set runs
-against an older checkout.
+``python -m tests.harness.probe_survey`` counts the classes (the closing note that added the
+probe set has the counts before and after). The probes use only public APIs and the CLI, so
+the same set runs against an older checkout.
 """
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""Count the probe set's outcomes per class and surface (issue 25's closing-note figures).
+"""Count the probe set's outcomes per class and surface (the closing notes' figures).
 
     python -m tests.harness.probe_survey [--time-limit-s 60] [--memory-gib 4] [--only SURFACE]
         [--json FILE]

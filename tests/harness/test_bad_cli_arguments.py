@@ -1,9 +1,9 @@
 """Bad command-line arguments: exit code 2 and one line naming the option and the value.
 
-Issue 15: `--duration-s 1e9` hung run/simulate/sweep, `--duration-s inf` failed deep inside,
-`--out` pointing at a file or an unwritable place and a dead scheduler address gave tracebacks
-(the latter after 30 s of silence), `report --max-cases -1` silently dropped a case. Every
-duration, count and size is bounded at parse time.
+Before these checks, `--duration-s 1e9` hung run/simulate/sweep, `--duration-s inf` failed deep
+inside, `--out` pointing at a file or an unwritable place and a dead scheduler address gave
+tracebacks (the latter after 30 s of silence), `report --max-cases -1` silently dropped a case.
+Every duration, count and size is bounded at parse time.
 """
 from __future__ import annotations
 

@@ -1,6 +1,6 @@
 """Bad sweep, case and gate files: exit code 2 and one line naming the file, key and value.
 
-Issue 15: sweep files were validated only inside each cell (a radar value over a chip limit or
+Sweep files were validated only inside each cell (a radar value over a chip limit or
 an unknown tracker field failed every cell at run time with exit 1); `base = 5` or a directory
 as the sweep file printed a traceback; gates accepted rules that cannot mean anything (min >
 max, boolean bounds, a non-numeric metric that then passed with allow_missing).

@@ -1,4 +1,4 @@
-"""Real small filesystems (issue 25, slow set): a full tmpfs and a read-only remount under the
+"""Real small filesystems (slow set): a full tmpfs and a read-only remount under the
 results folder. Skipped where the machine does not let the test mount one (needs root or a
 user namespace); the fast set simulates the same faults (`test_probes_writes`)."""
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""Special files inside a results folder, and a full disk during a sweep (issue 25).
+"""Special files inside a results folder, and a full disk during a sweep.
 
 A FIFO or device where a resume expects ``cell.json`` or a table is damage like a torn file:
 the cell is recomputed, the read never blocks. A disk that fills during a sweep stops it with

@@ -89,7 +89,7 @@ def test_calibration_puts_the_reflector_at_r_and_on_boresight(ti_capture, tmp_pa
     best = _reflector(pc)
     assert best.range_bin == STATED_RANGE_BIN
     assert abs(best.radial_velocity_mps) < radar.velocity_resolution_mps
-    # Calibrated, extension on: the static scene stays static (issue 19's promise): every
+    # Calibrated, extension on: the static scene stays static (a calibrated board's promise): every
     # return in Doppler bin 0 without extension is still reported there with it.
     moved = static - set(pc.query("doppler_bin == 0").range_bin)
     assert not moved, sorted(moved)

@@ -1,4 +1,4 @@
-"""Dask over TLS (issue 15, item 12): `--scheduler tls://...` with a security file.
+"""Dask over TLS: `--scheduler tls://...` with a security file.
 
 A plain ``tcp://`` scheduler runs pickled code from anyone who can reach its port; the harness
 supports Dask's TLS (mutual certificates, encryption required) through `sweep.dask_security`.

@@ -1,4 +1,4 @@
-"""Same seed, same bits on every execution path (issue 15, item 4).
+"""Same seed, same bits on every execution path.
 
 `run`, a serial sweep (`--workers 1`), a pool sweep (`--workers 2`) and a Dask cluster give
 bit-identical tables for the same cell, and `simulate` writes exactly the ADC frames a pool

@@ -1,4 +1,4 @@
-"""Probe set (issue 25): Special files as inputs (FIFO, /dev/zero, symbolic link loop, directory,
+"""Probe set: Special files as inputs (FIFO, /dev/zero, symbolic link loop, directory,
 socket) and damaged or outdated results folders.
 
 Each probe is one bad input (`tests.harness.probes`); it must get a clear answer: exit 2 with

@@ -1,4 +1,4 @@
-"""Probe set (issue 25): Sweep files and keys, shifter command and calibration, chip and board
+"""Probe set: Sweep files and keys, shifter command and calibration, chip and board
 configs, schemes, scatterers and frames.
 
 Each probe is one bad input (`tests.harness.probes`); it must get a clear answer: exit 2 with

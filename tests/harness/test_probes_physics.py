@@ -1,4 +1,4 @@
-"""Probe set (issue 25): Complex ADC frames (non-finite samples, I/Q beyond full scale) and
+"""Probe set: Complex ADC frames (non-finite samples, I/Q beyond full scale) and
 interference equipment bounds.
 
 Each probe is one bad input (`tests.harness.probes`); it must get a clear answer: exit 2 with

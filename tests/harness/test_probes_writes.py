@@ -1,4 +1,4 @@
-"""Probe set (issue 25): Full disks and read-only folders under every writer.
+"""Probe set: Full disks and read-only folders under every writer.
 
 Each probe is one bad input (`tests.harness.probes`); it must get a clear answer: exit 2 with
 one stderr line (or a ValueError) naming the field or file, the value and the limit, or, for

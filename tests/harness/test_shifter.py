@@ -1,4 +1,4 @@
-"""Shifter sweep file, report metrics and the `radar-harness shifter` command (issue 12)."""
+"""Shifter sweep file, report metrics and the `radar-harness shifter` command."""
 from __future__ import annotations
 
 from pathlib import Path
@@ -97,7 +97,7 @@ def test_cli_shifter_bad_input_exits_2(capsys, args, message):
 
 
 def test_cli_shifter_refuses_calibrating_on_noise(capsys):
-    """Issue 25: a reflector far beyond the calibration's SNR was measured on noise and used."""
+    """A reflector far beyond the calibration's SNR was measured on noise and used."""
     assert main(["shifter", "--range-m", "200", "--n-chirps", "64"]) == 2
     err = capsys.readouterr().err
     assert "measurement SNR -15.1 dB per chirp" in err and "below the 23.2 dB" in err

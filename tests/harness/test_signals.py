@@ -1,4 +1,4 @@
-"""Signals (issue 25): SIGTERM and SIGHUP take Ctrl-C's path, and pool workers die with their
+"""Signals: SIGTERM and SIGHUP take Ctrl-C's path, and pool workers die with their
 parent. Before: ``kill <main pid>`` of ``sweep --workers 2`` left both workers alive for good."""
 from __future__ import annotations
 

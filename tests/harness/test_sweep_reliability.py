@@ -1,6 +1,6 @@
 """Sweeps never mix or lose results: duplicates, code versions, corrupt cells, kills, paths.
 
-Issue 15: a failing duplicate must never replace a completed cell; a resume after a code change
+A failing duplicate must never replace a completed cell; a resume after a code change
 must not mix versions; a corrupt table under an "ok" cell.json is recomputed; killed writes leave
 no `.tmp-*` behind for good; a relative --out reaches Dask workers as an absolute path; a sweep
 that ends with missing cells says so and exits non-zero; SIGKILL at random points and resume

@@ -10,7 +10,7 @@ from metrics.r79 import KMH, R79, R79Constants, critical_distance_m, r79_verdict
 
 @pytest.mark.parametrize("ego_kmh, s_crit_m", [(60, 87.5), (80, 59.9), (100, 42.7)])
 def test_design_values(ego_kmh, s_crit_m):
-    """DESIGN 6: 87.5 m at 60 km/h, 59.9 m at 80, 42.7 m at 100 (v_app 130 km/h)."""
+    """design.md 6: 87.5 m at 60 km/h, 59.9 m at 80, 42.7 m at 100 (v_app 130 km/h)."""
     assert critical_distance_m(ego_kmh * KMH) == pytest.approx(s_crit_m, abs=0.05)
 
 

@@ -26,7 +26,7 @@ def dets(ranges, velocities):
 @pytest.mark.parametrize("mimo", ["tdma", "ddma"])
 def test_aliased_velocity_is_a_failure_of_one_span(mimo):
     """An echo beyond +/-Vmax is reported at v - 2 Vmax sgn(v): off by 2 Vmax, which is one
-    TDMA slot span and six DDMA sub-bands (seed 000 3.3, seed 001 4)."""
+    TDMA slot span and six DDMA sub-bands ([TI-DDMA] 3.3, [TI-VEXT] 4)."""
     cfg = radarsim.presets.r79(mimo)
     vmax = cfg.max_unambiguous_velocity_mps
     step = cfg.scheme.velocity_failure_step_mps(cfg)

@@ -1,4 +1,4 @@
-"""CFAR threshold design and kernels against Rohling / Richards (DESIGN section 8)."""
+"""CFAR threshold design and kernels against Rohling / Richards (design.md section 8)."""
 import numpy as np
 import pytest
 from scipy import ndimage
@@ -19,7 +19,7 @@ from pipeline.kernels import local_max_mask
 
 
 def test_rohling_os_reference_values():
-    # DESIGN 8 / Rohling 1983: N=20, k=15, a=6.857 -> 1e-3; N=24, k=18, Pfa=1e-6 -> a=16.29.
+    # design.md 8 / Rohling 1983: N=20, k=15, a=6.857 -> 1e-3; N=24, k=18, Pfa=1e-6 -> a=16.29.
     assert rohling_os_pfa(6.857, 20, 15) == pytest.approx(1e-3, rel=2e-3)
     assert cfar_scale(1e-3, "os", 20, 15) == pytest.approx(6.857, abs=2e-3)
     assert cfar_scale(1e-6, "os", 24, 18) == pytest.approx(16.29, abs=5e-3)
@@ -36,7 +36,7 @@ def test_numeric_ca_pfa_equals_closed_form():
 
 
 def test_ca_cfar_closed_form():
-    # DESIGN 8 / Richards eq. 6.167: Pfa = (1 + a/N)^-N; N=24, Pfa=1e-6 -> a=18.68.
+    # design.md 8 / Richards eq. 6.167: Pfa = (1 + a/N)^-N; N=24, Pfa=1e-6 -> a=18.68.
     assert cfar_scale(1e-6, "ca", 24) == pytest.approx(18.68, abs=5e-3)
     assert cfar_scale(1e-4, "ca", 16) == pytest.approx(16 * (1e-4 ** (-1 / 16) - 1), rel=1e-6)
 
@@ -146,7 +146,7 @@ def test_candidate_mask_is_a_necessary_condition(mode):
 
 
 def test_every_ti_average_mode_code_names_a_registered_mode():
-    """seed 003 averageMode: 0 CA, 1 CAGO, 2 CASO, 3 OS; one table (radarsim.ti.codes) maps
+    """[TI-DPC] averageMode: 0 CA, 1 CAGO, 2 CASO, 3 OS; one table (radarsim.ti.codes) maps
     the codes onto this registry."""
     from radarsim.ti.codes import CFAR_AVERAGE_MODES
 

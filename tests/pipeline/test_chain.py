@@ -1,7 +1,7 @@
 """ADC frame -> point cloud, DDMA chain and TDMA baseline, against analytic references.
 
 Targets are synthesised at a chosen *expected detection SNR*: the per-sample SNR of the radar
-equation plus the coherent gains of DESIGN 8 (range 10 log10(N/2), Doppler 10 log10(chirps per
+equation plus the coherent gains of design.md 8 (range 10 log10(N/2), Doppler 10 log10(chirps per
 Tx), azimuth 10 log10(12)) minus the two Hann window losses (2 x 1.76 dB, Harris 1978).
 """
 import numpy as np
@@ -47,7 +47,7 @@ def best_near(pc, range_m, gate_m=2.0):
 
 @pytest.mark.parametrize("scheme", list(SCHEMES), ids=list(SCHEMES))
 def test_point_targets_accuracy(scheme, make_config, make_scene):
-    """Issue 3: range <= 0.66 m (half a cell), velocity <= 0.11 m/s (about one bin, never
+    """Range <= 0.66 m (half a cell), velocity <= 0.11 m/s (about one bin, never
     aliased), azimuth <= 1.5 deg, elevation <= 3 deg for SNR >= 20 dB targets over range
     3-240 m, azimuth +/-60 deg, elevation +/-15 deg."""
     preset, overrides, v_lim = SCHEMES[scheme]
@@ -75,7 +75,7 @@ def test_point_targets_accuracy(scheme, make_config, make_scene):
 
 def test_tdma_without_disambiguation_aliases(make_config, make_scene):
     """Beyond +/-Vmax = lambda / (16 Tc) = 10.22 m/s the raw TDMA velocity wraps by 2 Vmax;
-    hypothesis testing (seed 001 sec. 4) recovers it, DDMA never aliases."""
+    hypothesis testing ([TI-VEXT] sec. 4) recovers it, DDMA never aliases."""
     rng = np.random.default_rng(3)
     v_true = 25.0
     for preset, disamb, expect in [("tdma", False, None), ("tdma", True, v_true),
@@ -112,7 +112,7 @@ def test_two_targets_same_range_bin_found(make_config, make_scene):
 
 
 def test_ddma_gathers_4x_signal_energy_before_demodulation(make_config, make_scene):
-    """Issue 3 / seed 000 eq. 10: same scene, same frame time, each DDMA virtual channel
+    """[TI-DDMA] eq. 10: same scene, same frame time, each DDMA virtual channel
     integrates 768 chirps against TDMA's 192, so the peak over the Doppler-spectrum noise floor
     is 10 log10 4 = 6.02 dB higher. Target on a range and a Doppler bin of both grids."""
     d, t = make_config("ddma", antenna_pattern="isotropic"), \
@@ -142,7 +142,7 @@ def test_ddma_gathers_4x_signal_energy_before_demodulation(make_config, make_sce
 
 def test_demodulation_raises_noise_floor_by_selection_bias(make_config):
     """Picking the strongest n_tx of n_subbands sub-bands per noise-only bin biases the
-    demodulated noise power up: about 0.6 dB for 4 of 6 (issue 3), and within 0.1 dB of the
+    demodulated noise power up: about 0.6 dB for 4 of 6, and within 0.1 dB of the
     independent numpy model of the demodulation (0.64 dB; either mean over ~1e6 cells)."""
     cfg = make_config("ddma")
     adc = radarsim.simulate_frame(cfg, radarsim.Scatterers.empty(), np.random.default_rng(6))
@@ -201,7 +201,7 @@ def test_noise_only_tdma_false_alarms_match_design_pfa(make_config, n_frames, to
 
 
 def _ddma_noise_model_map(rng, n_range, n_sb=6, n_dop=128, n_tx=4, n_rx=4, n_az=48):
-    """Independent model of the demodulated DDMA noise map (seed 000 table 11), numpy only:
+    """Independent model of the demodulated DDMA noise map ([TI-DDMA] table 11), numpy only:
     white complex Gaussian slow time per range bin and Rx, Hann window, Doppler FFT; per Doppler
     bin of a sub-band the largest cyclic sum of n_tx sub-band energies picks Tx1's band; the
     horizontal Tx (the first three of Tx1, Tx3, Tx4, Tx2) x Rx give 12 elements at positions
@@ -337,7 +337,7 @@ def test_doppler_azimuth_map_peaks_at_target(preset, make_config, make_scene):
 @pytest.mark.parametrize("preset", REGISTRY)
 @pytest.mark.parametrize("mode", ["os", "ca", "cago", "caso"])
 def test_every_cfar_mode_detects_a_target(mode, preset, make_config, make_scene):
-    """Each CFAR mode of seed 003, with its Pfa-derived threshold, finds a 25 dB target and
+    """Each CFAR mode of [TI-DPC], with its Pfa-derived threshold, finds a 25 dB target and
     stays quiet elsewhere (a handful of false alarms at most)."""
     cfg = make_config(preset, antenna_pattern="isotropic")
     proc = pipeline.ProcessingConfig().replace(cfar_mode=mode)

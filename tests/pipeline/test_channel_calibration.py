@@ -5,7 +5,7 @@ of the reflector's SNR, and, once applied, the reflector reported at its range a
 CRBs (stated in the module): phase of channel i relative to channel 0 after F frames,
 sigma_i^2 = 1 / (2 F s_i) + 1 / (2 F s_0) rad^2 (s_i the per-channel, per-frame SNR; the same
 bound holds for the relative amplitude |g_i / g_0| - 1); range bias
-sigma_R = dR sqrt(3) / (pi sqrt(2 SNR)) with SNR summed over channels and frames (DESIGN 8,
+sigma_R = dR sqrt(3) / (pi sqrt(2 SNR)) with SNR summed over channels and frames (design.md 8,
 rectangular window). The chain's Hann window and log-parabola interpolation are not efficient:
 their range spread is about 1.4 sigma_R (measured over 20 seeds at 27 dB), so the range checks
 allow 5 sigma_R; phases and amplitudes (an efficient estimator) 4 sigma.

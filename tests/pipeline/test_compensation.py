@@ -142,7 +142,7 @@ def test_range_bias_shifts_every_range_exactly(name, make_config, make_scene):
 def test_channel_correction_undoes_board_imbalance(name, make_config, make_scene):
     """A board whose virtual channels carry g_k g_r (up to 120 deg, 1.5 dB): with the
     coefficients conj(g) / |g|^2 x min|g| (what the calibration measures) every scheme reports
-    a 30 dB target at its azimuth (within 1.5 deg, DESIGN's point-target tolerance) and its
+    a 30 dB target at its azimuth (within 1.5 deg, design.md's point-target tolerance) and its
     velocity (within a bin). The coefficients go through Q15."""
     ideal = make_config(name, antenna_pattern="isotropic")
     board = ideal.replace(**IMBALANCE)

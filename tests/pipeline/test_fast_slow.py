@@ -1,4 +1,4 @@
-"""The fast/slow chirp chain (seed 001 section 3): exact unfolding over the whole span, per-peak
+"""The fast/slow chirp chain ([TI-VEXT] section 3): exact unfolding over the whole span, per-peak
 association of targets sharing a range cell, the association test's failure rate against an
 independent model of it, and the validation of its processing settings."""
 import numpy as np
@@ -12,9 +12,9 @@ from radarsim.config import C_MPS
 
 #: Chirp-level steps off: thermal noise is then the only disturbance of the maps, as the model
 #: of the association test assumes (EGE compression adds its own quantisation noise); no
-#: coherence gate: the model is the seed's power test.
+#: coherence gate: the model is [TI-VEXT]'s power test.
 CLEAN = dict(dc_removal=False, interference_mitigation=False, compression=False,
-             fast_slow_min_coherence=0.0)  # the seed's power-only test, as the model
+             fast_slow_min_coherence=0.0)  # [TI-VEXT]'s power-only test, as the model
 
 
 @pytest.fixture
@@ -93,7 +93,7 @@ def test_noiseless_targets_unfold_over_the_whole_span(cfg, make_scene):
                                     (40.0, -22.0)],
                          ids=["two_opposite", "three", "three_clashing", "two_fast"])
 def test_targets_sharing_a_range_cell_unfold_each(cfg, make_scene, speeds):
-    """Targets in the same range cell at different speeds (and azimuths): the seed's test
+    """Targets in the same range cell at different speeds (and azimuths): [TI-VEXT]'s test
     associates per fast peak, so each unfolds to its own velocity, beyond V_f = 11.2 m/s.
     In "three_clashing" a wrong candidate of 4 m/s lands on 38 m/s's slow peak (next test)."""
     n = len(speeds)
@@ -204,7 +204,7 @@ def model_failure_rate(snr_db: float, n_trials: int, rng: np.random.Generator, *
     peak is the largest of bins -1, 0, 1; the true candidate's slow value the largest of its
     2 w + 1 bins, the `n_wrong` others' the largest of windows on noise-only bins (they land
     >= 19 bins away). Failure: no candidate within `threshold_db` of the fast peak, or a wrong
-    one with a larger slow value among those that are (seed 001 steps 6-7).
+    one with a larger slow value among those that are ([TI-VEXT] steps 6-7).
     """
     s = 10 ** (snr_db / 10)
     win = 0.5 - 0.5 * np.cos(2 * np.pi * np.arange(n_dop) / n_dop)

@@ -1,6 +1,6 @@
 """Compiled kernels of `pipeline.kernels` against their numpy definitions, bit for bit (the
 chains' outputs must not move when a pass is compiled), and the DDMA demodulation against
-seed 000 table 11 written out independently."""
+[TI-DDMA] table 11 written out independently."""
 import contextlib
 
 import numpy as np
@@ -42,7 +42,7 @@ def test_doppler_fft_along_chirps_equals_fft_of_transposed_copy_bit_for_bit():
 @pytest.mark.parametrize("n_sb, n_tx, tx_pos", [(6, 4, [0, 1, 2]), (6, 4, [3]), (4, 4, [0, 2]),
                                                 (5, 3, [0, 1, 2])])
 def test_ddma_gather_reads_each_tx_from_its_subband(n_sb, n_tx, tx_pos):
-    """Seed 000 table 11: Tx p of Doppler bin d sits at chirp-bin d + n_dop ((band + p) mod
+    """[TI-DDMA] table 11: Tx p of Doppler bin d sits at chirp-bin d + n_dop ((band + p) mod
     N), band the first Tx's sub-band at (d, range bin)."""
     rng = np.random.default_rng(2)
     n_dop, n_rx, n_b = 8, 3, 11

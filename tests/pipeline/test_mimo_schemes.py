@@ -1,5 +1,5 @@
 """Every registered MIMO scheme on the same targets, and the analytic references of BPM and
-classic DDMA (seed 000 section 3.2, table 1: the waveforms a TI chip can transmit)."""
+classic DDMA ([TI-DDMA] section 3.2, table 1: the waveforms a TI chip can transmit)."""
 import numpy as np
 import pytest
 
@@ -49,7 +49,7 @@ def test_same_targets_through_every_scheme(name, make_config, make_scene):
 def test_bpm_decoded_virtual_phases_match_geometry(n_tx, v, make_config, make_scene):
     """Hadamard decoding after removing the Doppler phase of each chirp of the block (at the
     true velocity, also beyond Vmax = 10.2 m/s) gives each virtual element the phase
-    (2 pi / lambda)(t_k + r_r).u of the geometry (DESIGN 3), up to one common phase. The
+    (2 pi / lambda)(t_k + r_r).u of the geometry (design.md 3), up to one common phase. The
     residual (cross-Tx leakage plus noise) is below -60 dBc: a large reflector (1e5 m^2 at
     50 m, about 65 dB per decoded element, no clipping) leaves only the leakage."""
     cfg = make_config("bpm", n_tx=n_tx, antenna_pattern="isotropic")
@@ -76,7 +76,7 @@ def test_bpm_cross_tx_leakage_without_compensation_follows_the_decoding_matrix(m
                                                                              make_scene):
     """Decoding without removing the Doppler phase leaks: with a per-chirp phase step
     phi = 2 pi f_D Tc the decoded channels are M x with M = H^T diag(e^{j s phi}) H / Nt, so
-    the leakage of a Tx1-only echo is sum_{i>0} |M_i0|^2 / |M_00|^2 (seed 000 3.2's residual
+    the leakage of a Tx1-only echo is sum_{i>0} |M_i0|^2 / |M_00|^2 ([TI-DDMA] 3.2's residual
     inter-Tx Doppler offset)."""
     cfg = make_config("bpm", antenna_pattern="isotropic")
     h = cfg.scheme.code_matrix(cfg)
@@ -93,7 +93,7 @@ def test_bpm_cross_tx_leakage_without_compensation_follows_the_decoding_matrix(m
 
 def test_bpm_detection_snr_gain_over_tdma(make_config, make_scene):
     """Same targets, same frame time, noise-limited (TDMA 17-24 dB): BPM's detection SNR exceeds
-    TDMA's by 10 log10(Nt) = 6.02 dB with no demodulation bias (DESIGN 8), accepted +/-0.5 dB
+    TDMA's by 10 log10(Nt) = 6.02 dB with no demodulation bias (design.md 8), accepted +/-0.5 dB
     on the median of 30 (per-pair spread about 1.5 dB)."""
     b = make_config("bpm", antenna_pattern="isotropic")
     t = make_config("tdma", antenna_pattern="isotropic")

@@ -1,6 +1,6 @@
 """ADC saturation monitor (pipeline.saturation): per-chirp, per-Rx counts, flag or drop.
 
-Issue 15: a frame of full-scale codes became 3 500 detections with SNRs up to 169 dB and passed
+A frame of full-scale codes became 3 500 detections with SNRs up to 169 dB and passed
 as a normal frame. Now the chain reports saturation per chirp and Rx (as the chip's CQ Rx
 saturation monitor does) and flags (default) or drops the detections of a saturated frame.
 """

@@ -1,5 +1,5 @@
 """Why TDMA velocity extension moved a real IWR6843's static returns to +/-2 Vmax, and that a
-calibrated board keeps a static scene static (issue 19).
+calibrated board keeps a static scene static.
 
 Root cause (3 Tx TDM on the xWR68xx/18xx array: Tx1 and Tx3 in the horizontal row 2 lambda
 apart, Tx2 raised): hypothesis v + 2 k Vmax multiplies slot s by exp(j 2 pi k s / 3). The raised
@@ -127,7 +127,7 @@ def test_leakage_and_dc_residue_keep_their_measured_velocity(x68, monkeypatch): 
     leakage detection (a few cm, zero Doppler, ~100 dB) is no far-field echo through the array
     (its best fit explains about 0.82 of its energy where an echo at its SNR explains all but
     1e-8) and stays at 0 m/s in every frame; by the scores alone it went to +/-2 Vmax in most
-    frames (issue 19: 6 of 6). Every other static return stays static too (<= 2 %)."""
+    frames (6 of 6 before the fix). Every other static return stays static too (<= 2 %)."""
     cfg, proc = x68
     board = cfg.replace(**BOARD, tx_leakage_dbfs=-15.0, adc_dc_offset_lsb=30.0)
     rng = np.random.default_rng(11)

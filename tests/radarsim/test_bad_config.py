@@ -1,6 +1,6 @@
 """Bad configuration values: every kind raises ValueError naming the field and the value.
 
-Issue 15: RadarConfig rejects non-numeric and physically absurd RF budgets instead of
+RadarConfig rejects non-numeric and physically absurd RF budgets instead of
 overflowing later (5000 dBm Tx power, 1e4 dB noise figure, 1000 dB gain error);
 ProcessingConfig never keeps a stale OS rank when the CFAR window changes, never blames a field
 the user did not set, and a CFAR window wider than the Doppler axis is refused by name; the

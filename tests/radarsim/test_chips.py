@@ -165,7 +165,7 @@ def test_replace_chip_rederives_board_and_geometry():
 
 
 def test_r79_preset_is_unchanged_by_the_registries():
-    """The AWR2944 EVM values of the single-chip era (DESIGN 4.2, 4.4)."""
+    """The AWR2944 EVM values of the single-chip era (design.md 4.2, 4.4)."""
     cfg = radarsim.presets.r79_ddma()
     assert (cfg.chip, cfg.board, cfg.adc_mode, cfg.phase_shifter_bits) == \
         ("AWR2944", "AWR2944EVM", "real", 6)

@@ -1,7 +1,7 @@
 """RadarConfig: derived values of the R79 preset, table-4 DDMA codes, every validation rule.
 
-References are DESIGN section 8 (derived values) and seed 000 tables 2-4 (waveform, codes);
-validation rules are DESIGN 4.4 plus the domain checks of `RadarConfig.__post_init__`.
+References are design.md section 8 (derived values) and [TI-DDMA] tables 2-4 (waveform, codes);
+validation rules are design.md 4.4 plus the domain checks of `RadarConfig.__post_init__`.
 """
 from __future__ import annotations
 
@@ -16,7 +16,7 @@ from radarsim.config import C_MPS, K_BOLTZMANN, RadarConfig
 
 # ----------------------------------------------------------------------------- derived values
 def test_derived_values_match_design_section_8(make_config):
-    """DESIGN 8: 1.318 m, 253 m, 0.1065 m/s, +/-40.9 m/s, 13.63 m/s sub-band, 18.29 ms."""
+    """design.md 8: 1.318 m, 253 m, 0.1065 m/s, +/-40.9 m/s, 13.63 m/s sub-band, 18.29 ms."""
     cfg = make_config("ddma")
     assert cfg.wavelength_m == pytest.approx(C_MPS / 77e9)
     assert cfg.sampled_bandwidth_hz == pytest.approx(113.7e6, rel=1e-3)
@@ -36,7 +36,7 @@ def test_derived_values_match_design_section_8(make_config):
 
 
 def test_tdma_derived_values_match_design_section_8(make_config):
-    """DESIGN 8 / seed 001: TDMA Vmax = lambda / (16 Tc) = 10.22 m/s, same frame time and
+    """design.md 8 / [TI-VEXT]: TDMA Vmax = lambda / (16 Tc) = 10.22 m/s, same frame time and
     velocity resolution as DDMA, 192 Doppler bins per Tx."""
     ddma, tdma = make_config("ddma"), make_config("tdma")
     assert tdma.max_unambiguous_velocity_mps == pytest.approx(10.22, abs=5e-3)
@@ -61,7 +61,7 @@ def test_noise_power_is_k_t_nf_b(make_config):
 
 # ----------------------------------------------------------------------------- DDMA codes
 def test_phase_codes_floor_reproduce_seed_table_4(make_config):
-    """Seed 000 table 4 (floor rule): rows Tx1..Tx4 over the 6-chirp code period."""
+    """[TI-DDMA] table 4 (floor rule): rows Tx1..Tx4 over the 6-chirp code period."""
     cfg = make_config()
     assert cfg.phase_quantization == "floor"
     codes = cfg.phase_codes()
@@ -77,7 +77,7 @@ def test_phase_codes_floor_reproduce_seed_table_4(make_config):
 
 
 def test_phase_codes_round_rule_gives_sdk_codes(make_config):
-    """TI SDK rounds to the nearest code (DESIGN 4.3): 300/5.625 = 53.3 -> 53,
+    """TI SDK rounds to the nearest code (design.md 4.3): 300/5.625 = 53.3 -> 53,
     240/5.625 = 42.7 -> 43, 60/5.625 = 10.7 -> 11; error at most half an LSB (2.81 deg)."""
     cfg = make_config(phase_quantization="round")
     codes = cfg.phase_codes()
@@ -90,7 +90,7 @@ def test_phase_codes_round_rule_gives_sdk_codes(make_config):
 
 
 def test_programmed_phase_is_negated_step_in_tx1_tx3_tx4_tx2_order(make_config):
-    """Seed 000 table 3: Tx1 0; Tx3 300, 240, ...; Tx4 240, 120, ...; Tx2 180, 0, ...;
+    """[TI-DDMA] table 3: Tx1 0; Tx3 300, 240, ...; Tx4 240, 120, ...; Tx2 180, 0, ...;
     the applied phase (shifter delays) advances by +60, +120, +180 deg per chirp."""
     cfg = make_config(phase_quantization="none")
     prog = cfg.programmed_phase_deg()
@@ -104,7 +104,7 @@ def test_programmed_phase_is_negated_step_in_tx1_tx3_tx4_tx2_order(make_config):
 
 
 def test_virtual_positions_follow_evm_geometry(make_config):
-    """DESIGN 4.2: 12 horizontal elements at lambda/2 (0..11), Tx2's 4 at 2..5, 0.8 lambda up."""
+    """design.md 4.2: 12 horizontal elements at lambda/2 (0..11), Tx2's 4 at 2..5, 0.8 lambda up."""
     cfg = make_config()
     v = cfg.virtual_positions_m / cfg.wavelength_m
     np.testing.assert_allclose(v[:12, 1], 0.5 * np.arange(12), atol=1e-12)
@@ -115,10 +115,10 @@ def test_virtual_positions_follow_evm_geometry(make_config):
 
 
 # ----------------------------------------------------------------------------- validation
-# One rule per case: (overrides, regex naming the field). DESIGN 4.4 first, then domain checks.
+# One rule per case: (overrides, regex naming the field). design.md 4.4 first, then domain checks.
 R79 = dict(mimo="ddma")
 VALIDATION_CASES = {
-    # DESIGN 4.4
+    # design.md 4.4
     "adc_rate_above_37.5Msps": (dict(adc_rate_sps=40e6), r"adc_rate_sps=4e\+07.*3\.75e\+07"),
     "if_bandwidth_above_15MHz": (dict(adc_rate_sps=36e6), r"adc_rate_sps=3\.6e\+07.*IF.*1\.5e\+07"),
     "ramp_above_81GHz": (dict(start_freq_hz=80.9e9),
@@ -183,7 +183,7 @@ def test_validation_rule_raises_naming_field(overrides, match):
 
 
 def test_r79_preset_sits_inside_every_limit(make_config):
-    """DESIGN 4.4: 5 + 12.8 us <= 18.81 us; 5 + 18.81 = 23.81 us; 77 + 0.167 GHz <= 81 GHz."""
+    """design.md 4.4: 5 + 12.8 us <= 18.81 us; 5 + 18.81 = 23.81 us; 77 + 0.167 GHz <= 81 GHz."""
     cfg = make_config()
     assert cfg.adc_start_time_s + cfg.n_samples / cfg.adc_rate_sps == pytest.approx(17.8e-6)
     assert cfg.adc_start_time_s + cfg.n_samples / cfg.adc_rate_sps <= cfg.ramp_end_time_s
@@ -204,7 +204,7 @@ def test_limits_are_inclusive_at_the_boundary():
 
 
 def test_default_subbands_follow_empty_band_rule():
-    """Seed 000 3.3: N = Nt + 2 for Nt = 4, Nt + 1 otherwise; Tx order restricted to active Tx."""
+    """[TI-DDMA] 3.3: N = Nt + 2 for Nt = 4, Nt + 1 otherwise; Tx order restricted to active Tx."""
     assert RadarConfig.from_fields(n_tx=4).n_subbands == 6
     cfg3 = RadarConfig.from_fields(n_tx=3)
     assert cfg3.n_subbands == 4 and cfg3.tx_order == (1, 3, 2)
@@ -246,7 +246,7 @@ def test_mimo_registry():
 
 
 def test_ideal_phase_steps_follow_the_subband_order(make_config):
-    """DESIGN 4.3: Tx k in sub-band p of N = 6 steps 2 pi p / N per chirp; order Tx1, Tx3, Tx4,
+    """design.md 4.3: Tx k in sub-band p of N = 6 steps 2 pi p / N per chirp; order Tx1, Tx3, Tx4,
     Tx2 gives Tx1 0, Tx2 180, Tx3 60, Tx4 120 deg."""
     np.testing.assert_allclose(np.degrees(make_config().ideal_phase_step_rad()),
                                [0.0, 180.0, 60.0, 120.0])

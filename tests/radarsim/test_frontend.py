@@ -1,9 +1,9 @@
-"""simulate_frame against analytic references (DESIGN sections 3, 4 and 8).
+"""simulate_frame against analytic references (design.md sections 3, 4 and 8).
 
 Every test synthesises a frame, runs the textbook range FFT (real, n_samples/2 bins) and
 Doppler FFT in the test itself (rectangular window, targets on bin centres unless stated), and
 compares with a closed-form reference named in the test: beat bin 2 S R / c, Doppler bin
--2 v / lambda, virtual-array phases d wx (+ wz), radar equation (seed 000 eq. 1) plus coherent
+-2 v / lambda, virtual-array phases d wx (+ wz), radar equation ([TI-DDMA] eq. 1) plus coherent
 gains 10 log10(N/2) and 10 log10(N_chirps), k T NF B, the 6-bit shifter spur and the sigma^2/N
 phase-error floor.
 """
@@ -65,7 +65,7 @@ def beat_bin(cfg, range_m: float) -> float:
 
 
 def doppler_bin(cfg, v_mps: float, n_chirps: int, period_s: float) -> float:
-    """Analytic slow-time bin (signed): f_D = -2 v / lambda (DESIGN 3) over 1 / (N T)."""
+    """Analytic slow-time bin (signed): f_D = -2 v / lambda (design.md 3) over 1 / (N T)."""
     return -2 * v_mps / cfg.wavelength_m * n_chirps * period_s
 
 
@@ -79,7 +79,7 @@ def on_bin_velocity(cfg, k: int) -> float:
 
 
 def radar_equation_snr(cfg, range_m: float, rcs_m2: float) -> float:
-    """Per-sample SNR at boresight from seed 000 eq. 1 / Richards ch. 2, computed here from the
+    """Per-sample SNR at boresight from [TI-DDMA] eq. 1 / Richards ch. 2, computed here from the
     config fields: Pt Gt Gr lambda^2 sigma / ((4 pi)^3 R^4 L) / (k T NF B), B = adc_rate / 2."""
     pt = 1e-3 * 10 ** (cfg.tx_power_dbm / 10)
     g = 10 ** ((cfg.tx_antenna_gain_dbi + cfg.rx_antenna_gain_dbi) / 10)
@@ -104,7 +104,7 @@ def virtual_vector(cfg, rd, rbin: int, k0: int = 0) -> np.ndarray:
 @pytest.mark.parametrize("range_m", [7 * 1.3183, 57 * 1.3183, 150 * 1.3183, 100.3, 231.7],
                          ids=["bin7", "bin57", "bin150", "100.3m", "231.7m"])
 def test_beat_tone_lands_in_range_bin_2SR_over_c(make_config, make_scene, range_m):
-    """DESIGN 3: beat frequency 2 S R / c -> range bin 2 S R / c x n_samples / adc_rate."""
+    """design.md 3: beat frequency 2 S R / c -> range bin 2 S R / c x n_samples / adc_rate."""
     cfg = make_config()
     adc = radarsim.simulate_frame(cfg, scene(make_scene, cfg, range_m, amp_lsb=200.0),
                                   np.random.default_rng(SEED))
@@ -123,7 +123,7 @@ def test_beat_tone_lands_in_range_bin_2SR_over_c(make_config, make_scene, range_
                          ids=["approach5", "recede5", "approach30", "recede30", "approach40",
                               "recede40"])
 def test_ddma_subbands_tx1_tx3_tx4_tx2_then_two_empty(make_config, make_scene, k_signed):
-    """Seed 000 figures 4-5 / DESIGN 4.3: Tx k's echo shifts by its sub-band index; the order
+    """[TI-DDMA] figures 4-5 / design.md 4.3: Tx k's echo shifts by its sub-band index; the order
     is Tx1, Tx3, Tx4, Tx2 then two empty sub-bands; receding targets have negative Doppler.
 
     Each Tx is tagged with a static gain (Tx1 0, Tx3 -2, Tx4 -4, Tx2 -6 dB) so its sub-band
@@ -157,7 +157,7 @@ def test_ddma_subbands_tx1_tx3_tx4_tx2_then_two_empty(make_config, make_scene, k
 @pytest.mark.parametrize("k_signed", [47, -47], ids=["approach5", "recede5"])
 def test_tdma_doppler_sign_and_bin(make_config, make_scene, k_signed):
     """TDMA: each Tx's 192 chirps at 4 Tc; the Doppler bin is -2 v / lambda x 192 x 4 Tc,
-    negative for a receding target (seed 001)."""
+    negative for a receding target [TI-VEXT]."""
     cfg = make_config("tdma")
     v = on_bin_velocity(cfg, k_signed)
     adc = radarsim.simulate_frame(cfg, scene(make_scene, cfg, on_bin_range(cfg, 40), v_mps=v,
@@ -184,7 +184,7 @@ ERRORS = {
 @pytest.mark.parametrize("mimo", ["ddma", "tdma"])
 def test_virtual_array_phases_match_geometry(make_config, make_scene, mimo, az_deg, el_deg,
                                              errors):
-    """DESIGN 3 / seed 000 fig. 20, eqs. 18-21: virtual element d = 0..11 carries d wx, Tx2's
+    """design.md 3 / [TI-DDMA] fig. 20, eqs. 18-21: virtual element d = 0..11 carries d wx, Tx2's
     four elements (2..5) carry d wx + wz, wx = pi sin(az) cos(el), wz = 1.6 pi sin(el); static
     per-Tx phase and gain errors add to every element of that Tx."""
     cfg = make_config(mimo, phase_quantization="none", **errors)
@@ -236,7 +236,7 @@ def test_ddma_transmit_phasors_all_tx_every_chirp(make_config):
                          ids=["ddma", "tdma"])
 def test_peak_snr_matches_radar_equation_plus_coherent_gains(make_config, make_scene, mimo,
                                                              doppler_gain_db):
-    """Seed 000 eq. 1 (radar equation) + DESIGN 8 coherent gains: real range FFT of 384 samples
+    """[TI-DDMA] eq. 1 (radar equation) + design.md 8 coherent gains: real range FFT of 384 samples
     10 log10(192) = 22.83 dB, Doppler FFT 10 log10(768) = 28.85 dB (DDMA) or 10 log10(192) =
     22.83 dB (TDMA, one Tx's chirps). Rectangular windows, target on a range and Doppler bin
     centre, noise floor from target-free range bins of the same spectrum."""
@@ -266,7 +266,7 @@ def test_peak_snr_matches_radar_equation_plus_coherent_gains(make_config, make_s
 
 
 def test_ddma_signal_energy_gain_over_tdma_is_6_db(make_config, make_scene):
-    """DESIGN 8: same frame time, Nt = 4 -> DDMA collects 10 log10 4 = 6.02 dB more signal
+    """design.md 8: same frame time, Nt = 4 -> DDMA collects 10 log10 4 = 6.02 dB more signal
     energy per Tx-Rx channel than TDMA (peak power after range and Doppler FFT, equal noise)."""
     peaks = {}
     for mimo in ("ddma", "tdma"):
@@ -321,7 +321,7 @@ def test_same_seed_same_bits(make_config, make_scene):
 
 
 def test_close_strong_target_saturates_and_warns(make_config, make_scene):
-    """A 1000 m^2 reflector at 0.5 m: -10 dBm per Tx-Rx pair (seed 000 eq. 1), 10 dB above the
+    """A 1000 m^2 reflector at 0.5 m: -10 dBm per Tx-Rx pair ([TI-DDMA] eq. 1), 10 dB above the
     -20 dBm full scale (about 3 x 32767 LSB peak per Tx) -> clipped, reported by a warning."""
     cfg = make_config()
     sc = make_scene([(0.5, 0.0, 0.0, 0.0, 1000.0)])
@@ -376,7 +376,7 @@ def _period3_spur_dbc(err_deg) -> dict[int, float]:
 
 
 def test_period3_spur_analytic_value():
-    """Derivation of the DESIGN 8 figure. Floor rule (table 4): Tx3 programs 300, 240, 180, 120,
+    """Derivation of the design.md 8 figure. Floor rule (table 4): Tx3 programs 300, 240, 180, 120,
     60 deg as 298.125, 236.25, 180, 118.125, 56.25, so its applied phase errs by
     e = (0, 1.875, 3.75) deg repeating with period 3 (Tx4: 0, 3.75, 1.875). A period-3 error
     puts lines at +-2 sub-bands; to first order each is the DFT of e - mean over 3 chirps,
@@ -396,7 +396,7 @@ def test_period3_spur_analytic_value():
 
 @pytest.mark.parametrize("rule", ["floor", "round"])
 def test_6bit_shifter_spur_in_empty_subbands(make_config, make_scene, rule):
-    """DESIGN 8: with the 6-bit shifter, Tx4 (120 deg steps) leaks a -34.47 dBc spur into
+    """design.md 8: with the 6-bit shifter, Tx4 (120 deg steps) leaks a -34.47 dBc spur into
     sub-band 4 and Tx3 (60 deg steps) into sub-band 5 (the two empty ones), each relative to one
     Tx's line; Tx1 and Tx2 (0 and 180 deg steps) leak nothing. Strong target (~90 dB peak SNR),
     on range and Doppler bin centres."""
@@ -436,7 +436,7 @@ def test_ideal_shifter_has_no_spur(make_config, make_scene):
 @pytest.mark.parametrize("sigma_deg, reference_dbc", [(2.0, -58.0), (5.0, -50.0)])
 def test_random_phase_error_floor_sigma2_over_n(make_config, make_scene, sigma_deg,
                                                 reference_dbc):
-    """DESIGN 8: a random per-chirp phase error of sigma rad leaves a white floor of
+    """design.md 8: a random per-chirp phase error of sigma rad leaves a white floor of
     (e^{sigma^2} - 1) / N ~ sigma^2 / N below the line (-58 dBc at 2 deg, -50 dBc at 5 deg for
     N = 768). Measured with one Tx (its empty sub-band: 384 bins x 4 Rx), ideal shifter, a
     strong target (thermal floor ~ -92 dBc); and with four Tx, whose independent errors add:
@@ -466,8 +466,8 @@ def albersheim_snr_db(pd: float, pfa: float) -> float:
 
 
 def test_10m2_car_at_200m_is_detectable_with_ddma(make_config, make_scene):
-    """Issue 2 / DESIGN 4.1: the defaults make a 10 m^2 car detectable near the published 200 m.
-    Per-sample SNR (seed 000 eq. 1, default budget) -44.0 dB; coherent gains 22.83 (range) +
+    """design.md 4.1: the defaults make a 10 m^2 car detectable near the published 200 m.
+    Per-sample SNR ([TI-DDMA] eq. 1, default budget) -44.0 dB; coherent gains 22.83 (range) +
     28.85 (Doppler) + 10.79 (12-element azimuth) = 62.47 dB; Hann losses 2 x 1.76 dB ->
     detection SNR 14.9 dB, above Albersheim's 13.1 dB for Pd = 0.9, Pfa = 1e-6."""
     cfg = make_config()

@@ -1,4 +1,4 @@
-"""FMCW-FMCW interference synthesis against analytic references (DESIGN 6 and 8)."""
+"""FMCW-FMCW interference synthesis against analytic references (design.md 6 and 8)."""
 from __future__ import annotations
 
 import math

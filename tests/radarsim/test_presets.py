@@ -1,4 +1,4 @@
-"""Presets: the TI R79 DDMA demo waveform (seed 000 table 2) and its TDMA baseline."""
+"""Presets: the TI R79 DDMA demo waveform ([TI-DDMA] table 2) and its TDMA baseline."""
 from __future__ import annotations
 
 import pytest
@@ -8,7 +8,7 @@ from radarsim.presets import PRESETS, r79_ddma, r79_tdma
 
 
 def test_r79_ddma_matches_seed_table_2():
-    """Seed 000 table 2 / DESIGN 4.1."""
+    """[TI-DDMA] table 2 / design.md 4.1."""
     cfg = r79_ddma()
     assert cfg.mimo == "ddma"
     assert (cfg.n_tx, cfg.n_rx) == (4, 4)
@@ -30,7 +30,7 @@ def test_r79_ddma_matches_seed_table_2():
 
 
 def test_r79_tdma_same_chirps_and_frame_time():
-    """Issue 2: same chirp count and frame time, one Tx per chirp in turn (Tx1, Tx3, Tx4, Tx2)."""
+    """Same chirp count and frame time, one Tx per chirp in turn (Tx1, Tx3, Tx4, Tx2)."""
     ddma, tdma = r79_ddma(), r79_tdma()
     assert tdma.mimo == "tdma"
     assert tdma.n_chirps == ddma.n_chirps

@@ -1,9 +1,9 @@
-"""Per-code shifter errors, Tx coupling and calibration (issue 12, seed 000 section 4.2).
+"""Per-code shifter errors, Tx coupling and calibration ([TI-DDMA] section 4.2).
 
 Analytic references: a transmit sequence periodic in P chirps has a line spectrum whose
-complex amplitudes are the DFT of one period's weights (Oppenheim & Schafer 8.1; DESIGN 8
+complex amplitudes are the DFT of one period's weights (Oppenheim & Schafer 8.1; design.md 8
 "spur of a code-periodic transmit error"); the 6-bit floor-quantisation spur of the R79 codes is
--34.5 dBc for the 60/120-deg-step Tx and absent for 0 and 180 deg (DESIGN 8); a noiseless
+-34.5 dBc for the 60/120-deg-step Tx and absent for 0 and 180 deg (design.md 8); a noiseless
 measurement recovers the table exactly and the residual is the rounding to the (perturbed)
 code grid.
 """
@@ -72,7 +72,7 @@ def test_config_accepts_spec_mapping_and_round_trips(make_config):
 
 
 def test_design_8_quantisation_spur_of_r79_codes(make_config):
-    """DESIGN 8: floor-quantised R79 codes, ideal shifter: -34.5 dBc spur for the 60/120-deg
+    """design.md 8: floor-quantised R79 codes, ideal shifter: -34.5 dBc spur for the 60/120-deg
     Tx (Tx3, Tx4), no spur for 0 (Tx1) and 180 deg (Tx2)."""
     cfg = make_config()
     w = radarsim.transmit_phasors(cfg)[:, :cfg.n_subbands]
@@ -100,7 +100,7 @@ def _assert_lines_match(measured, predicted, power):
 
 
 def test_90_degree_step_lines_match_dft_of_code_period(make_config):
-    """Seed 000 figs 7-8 set-up with a random per-code table: every line (target, mirror
+    """[TI-DDMA] figs 7-8 set-up with a random per-code table: every line (target, mirror
     ghost, DC and Nyquist spurs) within 1 dB of the DFT of the 4-chirp code period."""
     cfg = make_config(phase_quantization="round", shifter_phase_error_deg=_table(6.0, 11),
                       shifter_gain_error_db=_table(0.3, 12))

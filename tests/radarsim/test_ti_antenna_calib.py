@@ -114,7 +114,7 @@ def test_ignored_in_a_tdm_demo_profile_keeping_its_own_line():
 
 def test_ddma_chain_applies_it_before_angle_estimation():
     """An AWR2944P board with Tx/Rx phase errors up to 120 deg and 1.5 dB: a 30 dB target at
-    25 deg azimuth is reported there (within 1.5 deg, DESIGN's point-target tolerance) with
+    25 deg azimuth is reported there (within 1.5 deg, design.md's point-target tolerance) with
     the profile's antennaCalibParams undoing the board, and not without it."""
     prof = parse_ti_cfg(_ddm(IDENTITY))
     ideal = prof.radar.replace(antenna_pattern="isotropic")

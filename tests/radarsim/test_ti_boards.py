@@ -63,7 +63,7 @@ def test_tdma_chain_estimates_both_angles_on_the_aop_grid(az, el):
     """A 3 m target seen by the AOP board the profile's line calibrates (Rx2/Rx4 in
     antiphase, `simulation_radar`): azimuth from the 4-element z = 0 row, elevation from the
     three raised rows (0.5 lambda rows first, then the 1 lambda row unwrapped), both within
-    1.5 deg (DESIGN's point-target tolerance) at ~45 dB."""
+    1.5 deg (design.md's point-target tolerance) at ~45 dB."""
     prof = parse_ti_cfg(profile_text("xwr68_aop"))
     proc = processing_from_profile(prof).replace(velocity_fov_mps=None)
     sc = radarsim.Scatterers.from_spherical(np.array([3.0]), np.array([az]), np.array([el]),

@@ -32,7 +32,7 @@ def test_shipped_cfg_is_the_r79_preset():
     assert prof.cfar == R79_CFAR
     assert prof.ddm_phase_order == (0, 2, 3, 1)
     assert prof.directives == {"phase_quantization": "floor"}
-    # The R79 firmware's adcbufCfg -1 1 0 0 1: interleaved ADC buffer (seed 004 section 2).
+    # The R79 firmware's adcbufCfg -1 1 0 0 1: interleaved ADC buffer ([TI-DAZ] section 2).
     assert prof.adc_channel_interleaved and prof.radar.adcbuf_interleaved
     assert "adcbufCfg -1 1 0 0 1" in r79_cfg_path().read_text().splitlines()
     assert prof.profile_extras["rx_gain_code"] == 42
@@ -70,7 +70,7 @@ def test_config_value_does_not_import_the_ti_bridge():
 
 
 def test_r79_units_and_reference_values():
-    """TI units converted once; DESIGN section 8 values follow from the parsed file."""
+    """TI units converted once; design.md section 8 values follow from the parsed file."""
     cfg = from_ti_cfg(Path(r79_cfg_path()))
     assert (cfg.start_freq_hz, cfg.slope_hz_per_s) == (77e9, 8.883e12)
     assert (cfg.idle_time_s, cfg.adc_start_time_s, cfg.ramp_end_time_s) == (5e-6, 5e-6, 18.81e-6)
@@ -439,7 +439,7 @@ def test_a_command_repeated_after_flush_cfg_is_no_duplicate():
 
 @pytest.mark.parametrize("special", ["fifo", "/dev/zero"])
 def test_special_file_as_profile_is_refused_without_reading(tmp_path, special):
-    """A FIFO would block the read, /dev/zero never end (issue 25, special files)."""
+    """A FIFO would block the read, /dev/zero never end (special files)."""
     if special == "fifo":
         path = tmp_path / "p.cfg"
         os.mkfifo(path)

@@ -1,4 +1,4 @@
-"""DC estimation and removal per chirp and Rx (seed 004 section 2)."""
+"""DC estimation and removal per chirp and Rx ([TI-DAZ] section 2)."""
 from __future__ import annotations
 
 import numpy as np

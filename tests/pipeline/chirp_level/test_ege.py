@@ -1,5 +1,5 @@
 """The EGE compression model: block budget, scale factor, error bound, SNR loss, ratio limits
-(seed 000 section 5.2)."""
+([TI-DDMA] section 5.2)."""
 from __future__ import annotations
 
 import math

@@ -1,5 +1,5 @@
 """The chirp-level range stage as a whole: switches, the demo defaults, profile commands, a
-frame through the whole chain (issue 14; seed 004 section 2)."""
+frame through the whole chain ([TI-DAZ] section 2)."""
 from __future__ import annotations
 
 import math

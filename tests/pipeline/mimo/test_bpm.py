@@ -4,7 +4,7 @@ targets.
 
 Targets: 20 point reflectors per azimuth, one per range cell (20-153 m), |v| uniform up to
 40 m/s (beyond the slot-coded Vmax of 10.2 m/s, inside the 4 Vmax span), at a reference SNR
-of 25 dB: the TDMA baseline's coherent detection SNR (DESIGN 8: 384-sample real range FFT
+of 25 dB: the TDMA baseline's coherent detection SNR (design.md 8: 384-sample real range FFT
 22.83 dB + 192-chirp Doppler FFT 22.83 dB + 12-element azimuth FFT 10.79 dB - two Hann
 losses of 1.76 dB), so BPM sees the same echoes with its 6 dB transmit gain.
 """

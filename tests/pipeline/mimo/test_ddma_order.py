@@ -1,9 +1,9 @@
 """Empty-band DDMA's Tx-order decision with two returns one sub-band apart in one range bin
-(issue 22: the co-moving ghost of a guard rail), against the array model of DESIGN 3.
+(the co-moving ghost of a guard rail), against the array model of design.md 3.
 
 Two returns of one range bin whose velocities differ by exactly one sub-band (lambda / (4 Tc)
 x 2 / N = 13.63 m/s on the R79 preset) fill each other's empty sub-bands: the Rx-summed metric
-of seed 000 table 11 picks the stronger one's Tx order for the whole cell, and the weaker one,
+of [TI-DDMA] table 11 picks the stronger one's Tx order for the whole cell, and the weaker one,
 read in that order, used to come out at the stronger one's velocity in its own direction.
 """
 import doctest
@@ -23,7 +23,7 @@ from tests.pipeline.test_chain import scene_at_snr
 def _cell_spectrum(cfg, echoes, d=40):
     """Noise-free (n_chirps, n_rx, 1) Doppler spectrum of one range bin holding far-field
     echoes (amplitude, azimuth_deg, tx1_band) at intra-sub-band Doppler bin d: Tx p of an echo
-    sits in sub-band (tx1_band + p) mod N with the virtual element's phase (DESIGN 3)."""
+    sits in sub-band (tx1_band + p) mod N with the virtual element's phase (design.md 3)."""
     n_dop = cfg.n_chirps // cfg.n_subbands
     pos = cfg.virtual_positions_m.reshape(cfg.n_tx, cfg.n_rx, 3)
     spec = np.zeros((cfg.n_chirps, cfg.n_rx, 1), complex)

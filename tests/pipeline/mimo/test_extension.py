@@ -1,4 +1,4 @@
-"""The far-field fit test of TDMA/BPM velocity extension (issue 19): its law against Monte Carlo,
+"""The far-field fit test of TDMA/BPM velocity extension: its law against Monte Carlo,
 and real moving targets aliased onto zero Doppler still unfolded at the detection SNR."""
 import doctest
 
@@ -16,7 +16,7 @@ from tests.pipeline.test_chain import best_near, scene_at_snr
 def _echo_arrays(cfg, snr, n, rng):
     """n noisy virtual arrays of one far-field echo of array SNR `snr` (over the N elements of
     the likelihood; unit noise per element), random azimuth +/-60 deg and elevation +/-10 deg,
-    in `cfg.virtual_positions_m` order (DESIGN 3: phase +(t_k + r_r) . u)."""
+    in `cfg.virtual_positions_m` order (design.md 3: phase +(t_k + r_r) . u)."""
     az = np.radians(rng.uniform(-60, 60, n))
     el = np.radians(rng.uniform(-10, 10, n))
     u = np.column_stack([np.cos(el) * np.cos(az), np.cos(el) * np.sin(az), np.sin(el)])

@@ -1,4 +1,4 @@
-"""The fast/slow chirp scheme's transmit side (seed 001 section 3): the two chirp periods,
+"""The fast/slow chirp scheme's transmit side ([TI-VEXT] section 3): the two chirp periods,
 their timing in the frame, the promised span and the validation of every rule."""
 import numpy as np
 import pytest
@@ -19,7 +19,7 @@ def test_r79_preset_periods_and_span(fast_slow):
     """Mean chirp 23.81 us (the R79 frame time, 768 chirps, 4 Tx); T_s / T_f = 6 / 5 as TI's
     SRR (70.8 / 59 us): T_f = 2 x 23.81 / 2.2 = 21.645 us, T_s = 25.975 us, so
     V_f = lambda / (16 T_f) = 11.242 m/s and the unfolded span 4 V_f = 44.97 m/s covers the
-    R79 span +/-40.9 m/s (DESIGN section 8)."""
+    R79 span +/-40.9 m/s (design.md section 8)."""
     cfg = fast_slow
     sets = cfg.scheme.chirp_sets(cfg)
     assert (cfg.n_chirps, cfg.n_tx, cfg.frame_time_s) == (768, 4, pytest.approx(18.286e-3,

@@ -17,7 +17,7 @@ def test_registry_holds_the_contract_schemes():
 
 @pytest.mark.parametrize("name", REGISTRY)
 def test_r79_preset_of_every_scheme(name):
-    """Seed 000 table 2 timing for every scheme: 768 chirps of 23.81 us, 4 Tx, 4 Rx."""
+    """[TI-DDMA] table 2 timing for every scheme: 768 chirps of 23.81 us, 4 Tx, 4 Rx."""
     cfg = radarsim.presets.r79(name)
     assert (cfg.mimo, cfg.n_chirps, cfg.n_tx, cfg.n_rx) == (name, 768, 4, 4)
     assert cfg.chirp_period_s == pytest.approx(23.81e-6)
@@ -33,7 +33,7 @@ def test_r79_ddma_and_tdma_are_the_registry_presets():
 
 
 @pytest.mark.parametrize("name, vmax, step", [
-    ("ddma", 40.88, 13.63),          # lambda / (4 Tc); one of 6 sub-bands (DESIGN 8)
+    ("ddma", 40.88, 13.63),          # lambda / (4 Tc); one of 6 sub-bands (design.md 8)
     ("ddma_classic", 40.88, 20.44),  # one of 4 sub-bands
     ("tdma", 10.22, 20.44),          # lambda / (16 Tc); 2 Vmax
     ("bpm", 10.22, 20.44),           # lambda / (4 Nt Tc), as TDMA

@@ -1,6 +1,6 @@
 """Bad scatterers: ValueError naming the field (and value or limit), never a garbage frame.
 
-Before issue 15 an RCS of 1e300 m^2 overflowed the received power and the front end returned an
+Before these checks an RCS of 1e300 m^2 overflowed the received power and the front end returned an
 all-zero ADC frame without a word; a string gave numpy's message without the field name.
 """
 from __future__ import annotations

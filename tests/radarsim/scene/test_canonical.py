@@ -1,5 +1,5 @@
 """Coherent patch sums against Knott's closed forms: flat plate (PO) and square trihedral
-(shooting and bouncing rays), DESIGN 8."""
+(shooting and bouncing rays), design.md 8."""
 from __future__ import annotations
 
 import numpy as np
@@ -11,7 +11,7 @@ LAM = 299_792_458.0 / 77e9
 
 
 def test_plate_normal_incidence_is_19_2_dbsm():
-    """10 cm square plate at 77 GHz: 4 pi A^2 / lambda^2 = 19.2 dBsm (DESIGN 8)."""
+    """10 cm square plate at 77 GHz: 4 pi A^2 / lambda^2 = 19.2 dBsm (design.md 8)."""
     got = 10 * np.log10(plate_rcs_po(0.1, 0.1, 0.0, LAM))
     assert got == pytest.approx(10 * np.log10(4 * np.pi * 0.01 ** 2 / LAM ** 2), abs=1e-9)
     assert got == pytest.approx(19.2, abs=0.05)

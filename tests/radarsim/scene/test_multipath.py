@@ -1,5 +1,5 @@
 """Multipath: guard-rail ghost legs occluded on hand-built geometries; two-ray ground bounce
-against its closed form (DESIGN 8)."""
+against its closed form (design.md 8)."""
 from __future__ import annotations
 
 import numpy as np
@@ -72,7 +72,7 @@ def test_segments_blocked_end_tolerance():
 
 @pytest.mark.parametrize("h_t", [0.3, 0.75, 1.2])
 def test_two_ray_factor_matches_the_closed_form(h_t):
-    """|1 - exp(-jk Delta)|^4 = (2 sin(2 pi h_r h_t / (lambda R)))^4 for R >> h (DESIGN 8);
+    """|1 - exp(-jk Delta)|^4 = (2 sin(2 pi h_r h_t / (lambda R)))^4 for R >> h (design.md 8);
     the exact and the small-angle Delta differ by O(h^2 / R^2)."""
     lam, h_r = 3.894e-3, 0.5
     r = np.linspace(60.0, 250.0, 400)

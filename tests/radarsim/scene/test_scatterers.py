@@ -1,4 +1,4 @@
-"""Scatterers: validation, empty/concatenate, and the geometric properties (DESIGN 3)."""
+"""Scatterers: validation, empty/concatenate, and the geometric properties (design.md 3)."""
 from __future__ import annotations
 
 import numpy as np
@@ -33,7 +33,7 @@ def test_validation(kw, match):
 
 
 def test_geometry_properties_follow_design_conventions():
-    """DESIGN 3: azimuth = atan2(y, x) positive left, elevation = asin(z / r),
+    """design.md 3: azimuth = atan2(y, x) positive left, elevation = asin(z / r),
     radial velocity = d(range)/dt (negative approaching)."""
     pos = np.array([[10.0, 10.0, 0.0], [3.0, 0.0, 4.0], [0.0, -2.0, 0.0]])
     vel = np.array([[-1.0, -1.0, 0.0], [0.0, 5.0, 0.0], [0.0, -3.0, 0.0]])
