@@ -14,9 +14,9 @@ that line (replacing the profile's own, or added before ``sensorStart``). Proces
 capture with the written profile reports the reflector at R and at azimuth A.
 
 A profile of the MCU+ SDK DDM demo corrects its channels with ``antennaCalibParams`` (no range
-bias; `radarsim.ti.calibration`): a second stdout line gives the coefficients in that form, and
-``--write`` sets the profile's own ``antennaCalibParams`` to the identity, since the written
-``compRangeBiasAndRxChanPhase`` now carries them (one correction per board).
+bias; `radarsim.ti.board_calibration`): a second stdout line gives the coefficients in that
+form, and ``--write`` sets the profile's own ``antennaCalibParams`` to the identity, since the
+written ``compRangeBiasAndRxChanPhase`` now carries them (one correction per board).
 
 Bad input (exit 2, one line): no peak within R +/- W, a measurement below
 `pipeline.channel_calibration.MIN_CALIBRATION_SNR_DB`, a window outside the radar's range, a

@@ -29,7 +29,7 @@ itself is not edited. Each part declares the settings it reads as its own frozen
 next to it, and `TrackerConfig` is made of them (``cfg.gating`` is the hypothesiser's
 `GateConfig`); a part built by its registry entry gets its own sub-config.
 """
-from .association import AssociationRules, Associator, GatedMaximumLikelihood, GatedNearestNeighbour
+from .associators import AssociationRules, Associator, GatedMaximumLikelihood, GatedNearestNeighbour
 from .clustering import (
                           AllocationConfig,
                           Allocator,
@@ -70,7 +70,7 @@ from .parts import (
                           PartNames,
                           TrackerPart,
 )
-from .state import Association, MaintenanceConfig, NewTracks, Points, Tracks
+from .track_state import Association, MaintenanceConfig, NewTracks, Points, Tracks
 from .tracker import TRACK_COLUMNS, TRACK_STATES, GroupTracker, track_frames
 from .update import GroupEkfUpdater, GroupUpdateConfig, KalmanPredictor, UpdateResult
 

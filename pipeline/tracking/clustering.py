@@ -23,7 +23,7 @@ from core.checks import require
 
 from .ego_motion import EgoVelocity
 from .models import RangeAzimuthDoppler, wrap_pi
-from .state import NewTracks, Points, Tracks
+from .track_state import NewTracks, Points, Tracks
 
 __all__ = ["leader_clusters", "same_group", "Allocator", "LeaderClusterAllocator",
            "MergeConfig", "AllocationConfig"]

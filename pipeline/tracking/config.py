@@ -43,7 +43,7 @@ from .ego_motion import EgoMotionConfig
 from .hypothesis import GateConfig
 from .models import MeasurementNoise, MotionConfig, MountConfig
 from .parts import PartNames
-from .state import MaintenanceConfig
+from .track_state import MaintenanceConfig
 from .update import GroupUpdateConfig
 
 __all__ = ["TrackerConfig", "GROUPS", "FIELD_GROUP", "FLAT_KEYS", "tracker_paths"]

@@ -3,7 +3,7 @@ track-point pair (an injected tracker part).
 
 Stone Soup's split [1]: the hypothesiser predicts and linearises (h(x), H, the group residual
 covariance S = H P H' + Rm + D, the innovation of every point, its squared Mahalanobis distance
-and whether it passes the gate); an associator (`pipeline.tracking.association`) only chooses
+and whether it passes the gate); an associator (`pipeline.tracking.associators`) only chooses
 among the hypotheses. `GroupGateHypothesiser` is TI's gtrack gate [2]: the Mahalanobis gate
 under the group covariance plus hard limits in depth (along the line of sight to the predicted
 centroid), width (across it, widened by 3 sigma of the azimuth noise at that range) and radial
@@ -29,7 +29,7 @@ import numpy as np
 from core.checks import require
 
 from .models import RangeAzimuthDoppler, wrap_pi
-from .state import Points, Tracks
+from .track_state import Points, Tracks
 
 __all__ = ["GateConfig", "Hypotheses", "Hypothesiser", "GroupGateHypothesiser"]
 

@@ -24,7 +24,7 @@ from typing import Any, Callable, NamedTuple
 
 from core.registry import Registry
 
-from .association import AssociationRules, GatedMaximumLikelihood, GatedNearestNeighbour
+from .associators import AssociationRules, GatedMaximumLikelihood, GatedNearestNeighbour
 from .clustering import LeaderClusterAllocator
 from .hypothesis import GroupGateHypothesiser
 from .update import GroupEkfUpdater, KalmanPredictor

@@ -46,13 +46,13 @@ import pandas as pd
 
 from core.errors import BadInput
 
-from .association import Associator
+from .associators import Associator
 from .clustering import Allocator, same_group
 from .config import TrackerConfig
 from .ego_motion import EgoVelocity, RansacEgoMotion
 from .hypothesis import Hypothesiser
 from .models import RangeAzimuthDoppler
-from .state import POINT_COLUMNS, Points, Tracks, expired, maintain
+from .track_state import POINT_COLUMNS, Points, Tracks, expired, maintain
 from .update import Predictor, Updater
 
 __all__ = ["GroupTracker", "track_frames", "TRACK_COLUMNS", "TRACK_STATES"]

@@ -24,7 +24,7 @@ import numpy as np
 from core.checks import require
 
 from .models import MotionConfig, MotionModel
-from .state import Association, Tracks
+from .track_state import Association, Tracks
 
 __all__ = ["Predictor", "Updater", "KalmanPredictor", "GroupEkfUpdater", "UpdateResult",
            "GroupUpdateConfig"]

@@ -106,7 +106,7 @@ from .chip_inference import PLATFORMS
 from .codes import CFAR_AVERAGE_MODES
 from .commands import TI_COMMANDS
 from .profile import DEFAULT_FRAME_PERIOD_S, TiCfar, TiProfile
-from .r79 import R79_CFAR, R79_DEMO_LINES, R79_FIRMWARE_LINES, r79_cfg_path, r79_cfg_text
+from .r79_profile import R79_CFAR, R79_DEMO_LINES, R79_FIRMWARE_LINES, r79_cfg_path, r79_cfg_text
 from .reader import from_ti_cfg, parse_ti_cfg
 from .studio import parse_setup, parse_studio_json, parse_studio_log, setup_kind
 from .writer import to_ti_cfg

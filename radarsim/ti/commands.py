@@ -8,8 +8,8 @@ from typing import Callable, Mapping
 
 from . import handlers as h
 from . import processing_handlers as ph
-from .calibration import antenna_calib_params, comp_range_bias_and_rx_chan_phase
-from .state import ParseState
+from .board_calibration import antenna_calib_params, comp_range_bias_and_rx_chan_phase
+from .parse_state import ParseState
 from .syntax import Line
 
 __all__ = ["CommandSpec", "TI_COMMANDS", "MODELLED_COMMANDS"]

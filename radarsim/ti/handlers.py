@@ -8,8 +8,8 @@ from typing import Callable
 
 from ..chips import ADC_MODES, CHIPS
 from .codes import CFAR_AVERAGE_MODES, CFAR_DIRECTIONS, CFAR_RANKED_CODES
+from .parse_state import ParseState
 from .profile import TiCfar
-from .state import ParseState
 from .syntax import Line, LineError, channel_bits
 
 

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import math
 
-from .state import ParseState
+from .parse_state import ParseState
 from .syntax import Line
 
 __all__ = ["ONE_PEAK_DB", "extended_max_velocity", "multi_obj_beamforming", "cfar_fov_cfg",

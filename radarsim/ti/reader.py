@@ -18,13 +18,13 @@ from ..radar_config import RadarConfig
 from ..radar_parts import FIELDS
 from . import advanced, fast_slow
 from .advanced import MAX_SUBFRAMES
-from .calibration import antenna_calib_pairs, is_identity
+from .board_calibration import antenna_calib_pairs, is_identity
 from .chip_inference import infer_chip, platform_board
 from .commands import MODELLED_COMMANDS, TI_COMMANDS
 from .families import PROCESSING_COMMANDS, family_of
+from .mimo_schedule import frame_masks, schedule
+from .parse_state import TI_DEFAULT_OVERRIDES, TI_FIELDS, ParseState
 from .profile import TiProfile
-from .schedule import frame_masks, schedule
-from .state import TI_DEFAULT_OVERRIDES, TI_FIELDS, ParseState
 from .syntax import DIRECTIVE_RE, Line, LineError, as_tuples, is_comment
 
 __all__ = ["parse_ti_cfg", "from_ti_cfg", "read_source", "MAX_PROFILE_BYTES"]
@@ -381,7 +381,7 @@ def _dc_range_signature(st: ParseState, family, radar: RadarConfig) -> tuple | N
 
 
 def _apply_antenna_calib(st: ParseState, family, processing: dict[str, Any]) -> None:
-    """The DDM demo's ``antennaCalibParams`` as ``channel_comp`` (`radarsim.ti.calibration`).
+    """The DDM demo's ``antennaCalibParams`` as ``channel_comp`` (`radarsim.ti.board_calibration`).
     A ``compRangeBiasAndRxChanPhase`` of the same profile that also corrects the channels (not
     the identity) is refused naming both lines: one board, one correction."""
     ln = st.antenna_calib

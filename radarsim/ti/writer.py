@@ -14,9 +14,9 @@ from ..radar_config import RadarConfig
 from ..radar_parts import FIELDS
 from . import fast_slow
 from .families import DEMO_FAMILIES
+from .parse_state import TI_DEFAULT_OVERRIDES, TI_FIELDS
 from .profile import DEFAULT_FRAME_PERIOD_S, TiCfar, TiProfile
 from .reader import parse_ti_cfg
-from .state import TI_DEFAULT_OVERRIDES, TI_FIELDS
 from .syntax import fmt_decimal
 
 __all__ = ["to_ti_cfg", "processing_lines"]
@@ -353,7 +353,7 @@ def processing_lines(profile: TiProfile, subframe: int = -1) -> list[str]:
 
 
 def _calibration_lines(fam, p) -> list[str]:
-    """The channel correction as the family's demo takes it (`radarsim.ti.calibration`): the
+    """The channel correction as the family's demo takes it (`radarsim.ti.board_calibration`): the
     DDM demo's ``antennaCalibParams`` (Im, Re per virtual antenna), a range bias then in a
     ``compRangeBiasAndRxChanPhase`` with identity coefficients; the TDM demos'
     ``compRangeBiasAndRxChanPhase`` for both. Nothing without coefficients (as before)."""

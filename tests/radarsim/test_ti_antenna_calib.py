@@ -1,4 +1,4 @@
-"""The MCU+ SDK DDM demo's ``antennaCalibParams`` (`radarsim.ti.calibration`): read into
+"""The MCU+ SDK DDM demo's ``antennaCalibParams`` (`radarsim.ti.board_calibration`): read into
 ``channel_comp`` in TI's (Im, Re), chip-Tx-major order, applied by the DDMA chain before angle
 estimation, written back, refused when it is malformed or doubles another correction."""
 import numpy as np

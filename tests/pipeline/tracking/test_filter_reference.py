@@ -17,7 +17,7 @@ from scipy import stats
 
 from pipeline.tracking import GroupTracker, TrackerConfig, Tracks
 from pipeline.tracking.models import measurement_model
-from pipeline.tracking.state import Association, Points
+from pipeline.tracking.track_state import Association, Points
 
 filterpy_kalman = pytest.importorskip("filterpy.kalman")
 filterpy_common = pytest.importorskip("filterpy.common")

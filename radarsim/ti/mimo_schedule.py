@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from ..mimo.schemes import MIMO_SCHEMES
 from .handlers import TI_SCHEME_COMMANDS
-from .state import ParseState
+from .parse_state import ParseState
 from .syntax import Line, channel_bits
 
 __all__ = ["frame_masks", "schedule"]

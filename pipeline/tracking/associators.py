@@ -25,7 +25,7 @@ import numpy as np
 from core.checks import require
 
 from .hypothesis import Hypotheses
-from .state import Association, Tracks
+from .track_state import Association, Tracks
 
 __all__ = ["AssociationRules", "Associator", "GatedMaximumLikelihood", "GatedNearestNeighbour"]
 

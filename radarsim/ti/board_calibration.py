@@ -33,7 +33,7 @@ take the Q15 step of ``compRangeBiasAndRxChanPhase`` (< 3.1e-5 per part), and th
 from __future__ import annotations
 
 from ..config_rules import MAX_RANGE_BIAS_M
-from .state import ParseState
+from .parse_state import ParseState
 from .syntax import Line
 
 __all__ = ["comp_range_bias_and_rx_chan_phase", "comp_value_count", "antenna_calib_params",
