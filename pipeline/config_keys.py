@@ -5,17 +5,35 @@ working for one release with a `DeprecationWarning` naming the new key (`FLAT_KE
 
 A sweep file's ``processing`` keys are these keys (``"processing.cfar.pfa" = [...]``); a TOML
 table of a sub-config (``[base.processing.cfar]``) is the same as its dotted keys.
+
+The mechanism is `core.config`'s (the one `radarsim.RadarConfig` uses); this module holds only
+what is the processing settings' own: the table of flat keys, the ``cfar_*`` family, and the old
+``interference_mitigation`` on/off switch folded into ``interference.repair``.
 """
 from __future__ import annotations
 
-import dataclasses
-import warnings
 from collections.abc import Callable
 from typing import Any
 
+from core.config import dotted_changes, flat_given, replace_paths
 from core.errors import BadInput
 
-__all__ = ["FLAT_KEYS", "replace_nested", "nested_changes", "dotted_keys"]
+from .cfar import CfarConfig
+from .chain_settings import AngleConfig, DopplerConfig, RangeConfig, VelocityConfig
+from .compensation import CalibrationConfig
+from .ege_format import CompressionConfig
+from .fov import FovConfig
+from .interference import InterferenceConfig
+
+__all__ = ["FLAT_KEYS", "SUB_CONFIGS", "replace_keys", "dotted_keys"]
+
+#: Top-level field of `pipeline.ProcessingConfig` -> its sub-config type.
+SUB_CONFIGS: dict[str, type] = {
+    "range": RangeConfig, "doppler": DopplerConfig, "cfar": CfarConfig, "angle": AngleConfig,
+    "interference": InterferenceConfig, "compression": CompressionConfig,
+    "velocity": VelocityConfig, "calibration": CalibrationConfig, "fov": FovConfig}
+#: Every top-level field -> its type (`core.config.dotted_changes`'s groups).
+_GROUPS: dict[str, type] = {**SUB_CONFIGS, "saturation_policy": str}
 
 #: Flat key of the previous release -> dotted path of the nested setting.
 FLAT_KEYS: dict[str, str] = {
@@ -43,55 +61,42 @@ FLAT_KEYS: dict[str, str] = {
     "range_fov_m": "fov.range_m", "velocity_fov_mps": "fov.velocity_mps",
     "azimuth_fov_deg": "fov.azimuth_deg", "elevation_fov_deg": "fov.elevation_deg",
 }
+#: The flat keys of the CFAR settings: ``cfar_<field>`` is ``cfar.<field>``.
+_PREFIXES = {"cfar_": "cfar."}
 #: The old on/off switch of interference mitigation, folded into ``interference.repair``.
 _SWITCH = "interference_mitigation"
+_OWNER = "ProcessingConfig"
 
 
-def _new_key(key: str) -> str | None:
-    if key in FLAT_KEYS:
-        return FLAT_KEYS[key]
-    if key.startswith("cfar_"):
-        return "cfar." + key[len("cfar_"):]
-    return None
+def replace_keys(config, changes: dict[str, Any],
+                 replace_sub: dict[str, Callable] | None = None):
+    """Copy of `config` (a `pipeline.ProcessingConfig`) with `changes`: dotted paths, sub-config
+    tables or whole sub-configs, and flat keys (one `DeprecationWarning` each, naming the new
+    key), the old interference switch folded into the repair method
+    (`core.config.dotted_changes`, `core.config.replace_paths` with `replace_sub`).
 
-
-def nested_changes(config, changes: dict[str, Any]) -> tuple[dict[str, Any], dict[str, list]]:
-    """`changes` as dotted paths: flat keys translated (one `DeprecationWarning` each), the
-    old interference switch folded into the repair method, tables of a sub-config expanded.
-
-    Returns
-    -------
-    paths : dict
-        Dotted path (or top-level field) -> value.
-    old : dict
-        Top-level field -> the (flat key, value) pairs that changed it (named in errors).
+    Raises
+    ------
+    BadInput
+        An unknown field (with the known ones), a switch that is no bool, or a sub-config that
+        refuses its new values; a change given by a flat key is named by that key too.
     """
-    paths: dict[str, Any] = {}
-    old: dict[str, list] = {}
-    for key, value in changes.items():
-        new = _new_key(key)
-        if new is not None:
-            warnings.warn(f"ProcessingConfig key {key!r} is deprecated: use {new!r} (sweep "
-                          f"files: 'processing.{new}')", DeprecationWarning, stacklevel=3)
-            old.setdefault(new.partition(".")[0], []).append((key, value))
-            if key == _SWITCH:
-                continue  # folded in below, after the method
-            key = new
-        if isinstance(value, dict):
-            for sub, v in _flatten(value):
-                paths[f"{key}.{sub}"] = v
-        else:
-            paths[key] = value
+    rest = {k: v for k, v in changes.items() if k != _SWITCH}
+    paths = dotted_changes(rest, _GROUPS, FLAT_KEYS, _OWNER, prefixes=_PREFIXES,
+                           section="processing", check_fields=True, stacklevel=4)
     if _SWITCH in changes:
         on = changes[_SWITCH]
+        dotted_changes({_SWITCH: on}, _GROUPS, FLAT_KEYS, _OWNER, section="processing",
+                       stacklevel=4)  # its warning
         if not isinstance(on, bool):
             raise BadInput(f"{_SWITCH}={on!r} must be true or false (now "
                            f"interference.repair: 'off' or a method)")
         if not on:
             paths["interference.repair"] = "off"
         elif "interference.repair" not in paths and not config.interference.enabled:
-            paths["interference.repair"] = type(config.interference)().repair
-    return paths, old
+            paths["interference.repair"] = InterferenceConfig().repair
+    return replace_paths(config, paths, replace_sub,
+                         given=flat_given(changes, FLAT_KEYS, _PREFIXES))
 
 
 def dotted_keys(flat: dict[str, Any]) -> dict[str, Any]:
@@ -99,71 +104,8 @@ def dotted_keys(flat: dict[str, Any]) -> dict[str, Any]:
     bridge from another vocabulary that still names the flat keys (the TI profile reader).
     The interference switch: False is ``"interference.repair": "off"``, True nothing (the
     default repair is on)."""
-    out: dict[str, Any] = {}
-    for key, value in flat.items():
-        if key == _SWITCH:
-            if not value:
-                out["interference.repair"] = "off"
-            continue
-        out[_new_key(key) or key] = value
+    out = dotted_changes({k: v for k, v in flat.items() if k != _SWITCH}, _GROUPS, FLAT_KEYS,
+                         _OWNER, prefixes=_PREFIXES, check_fields=True, warn=False)
+    if _SWITCH in flat and not flat[_SWITCH]:
+        out["interference.repair"] = "off"
     return out
-
-
-def _flatten(table: dict, prefix: str = ""):
-    for k, v in table.items():
-        if isinstance(v, dict):
-            yield from _flatten(v, f"{prefix}{k}.")
-        else:
-            yield f"{prefix}{k}", v
-
-
-def replace_nested(config, paths: dict[str, Any], old: dict[str, list],
-                   replace_sub: dict[str, Callable] | None = None):
-    """Copy of the frozen dataclass `config` with `paths` (dotted paths or top-level fields,
-    `nested_changes`) changed; a sub-config named in `replace_sub` is replaced by that
-    function (sub-config, its changes) instead of `dataclasses.replace`.
-
-    Raises
-    ------
-    BadInput
-        An unknown field (with the known ones), or a sub-config that refuses its new values;
-        a change given by a flat key is named by that key too.
-    """
-    names = {f.name for f in dataclasses.fields(config)}
-    top: dict[str, Any] = {}
-    nested: dict[str, dict[str, Any]] = {}
-    for path, value in paths.items():
-        head, _, rest = path.partition(".")
-        if head not in names:
-            raise BadInput(f"unknown {type(config).__name__} field(s) [{path!r}]; known: "
-                           f"{sorted(names)}")
-        if rest:
-            nested.setdefault(head, {})[rest] = value
-        else:
-            top[head] = value
-    for head, changes in nested.items():
-        sub = top.get(head, getattr(config, head))
-        try:
-            if replace_sub and head in replace_sub:
-                top[head] = replace_sub[head](sub, changes)
-            else:
-                top[head] = replace_nested(sub, *nested_changes_plain(changes))
-        except BadInput as exc:
-            raise _named(exc, head, old) from None
-    try:
-        return dataclasses.replace(config, **top)
-    except BadInput as exc:
-        raise _named(exc, None, old) from None
-
-
-def nested_changes_plain(changes: dict[str, Any]) -> tuple[dict[str, Any], dict]:
-    """`changes` of a sub-config (no flat keys there) in `replace_nested`'s form."""
-    return dict(changes), {}
-
-
-def _named(exc: BadInput, head: str | None, old: dict[str, list]) -> BadInput:
-    keys = [kv for h, kvs in old.items() if head is None or h == head for kv in kvs]
-    if not keys:
-        return exc
-    named = ", ".join(f"{k}={v!r} (now {_new_key(k)})" for k, v in keys)
-    return BadInput(f"{named}: {exc}")

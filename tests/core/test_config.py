@@ -5,7 +5,14 @@ import dataclasses
 
 import pytest
 
-from core.config import dotted_changes, replace_path, replace_paths, split_paths
+from core.config import (
+    dotted_changes,
+    flat_given,
+    flat_key,
+    replace_path,
+    replace_paths,
+    split_paths,
+)
 from core.errors import BadInput
 
 
@@ -73,3 +80,48 @@ def test_dotted_changes_expands_a_table_of_a_sub_config_and_keeps_a_whole_one():
 def test_dotted_changes_refuses_an_unknown_key():
     with pytest.raises(BadInput, match=r"unknown Outer field\(s\) \['bogus'\]"):
         dotted_changes({"bogus": 1}, GROUPS, FLAT, "Outer")
+
+
+def test_flat_key_by_table_then_by_prefix():
+    assert flat_key("pfa", FLAT, {"inner_": "inner."}) == "inner.pfa"
+    assert flat_key("inner_window", FLAT, {"inner_": "inner."}) == "inner.window"
+    assert flat_key("inner_window", FLAT) is None
+
+
+def test_dotted_changes_names_the_sweep_file_key_in_the_warning():
+    with pytest.warns(DeprecationWarning, match=r"use 'inner.window' \(sweep files: "
+                                                r"'things.inner.window'\)"):
+        dotted_changes({"inner_window": 8}, GROUPS, FLAT, "Outer", prefixes={"inner_": "inner."},
+                       section="things")
+
+
+@pytest.mark.parametrize("changes, match", [
+    ({"inner.bogus": 1}, r"unknown Inner field\(s\) \['bogus'\] \('inner.bogus'\)"),
+    ({"inner": {"bogus": 1}}, r"unknown Inner field\(s\) \['bogus'\]"),
+    ({"inner_bogus": 1}, r"unknown Inner field\(s\) \['inner_bogus'\] \('inner.bogus'\)")])
+def test_dotted_changes_checks_the_fields_of_a_sub_config_when_asked(changes, match, recwarn):
+    assert dotted_changes(changes, GROUPS, FLAT, "Outer", prefixes={"inner_": "inner."},
+                          warn=False) != {}
+    with pytest.raises(BadInput, match=match):
+        dotted_changes(changes, GROUPS, FLAT, "Outer", prefixes={"inner_": "inner."},
+                       check_fields=True, warn=False)
+
+
+def test_a_flat_key_that_names_a_sub_config_too_takes_its_table():
+    flat = {"inner": "inner.pfa"}
+    assert dotted_changes({"inner": 1e-5}, GROUPS, flat, "Outer", warn=False) == \
+        {"inner.pfa": 1e-5}
+    assert dotted_changes({"inner": {"window": 8}}, GROUPS, flat, "Outer") == {"inner.window": 8}
+
+
+def test_replace_paths_uses_a_sub_config_s_own_replace():
+    def doubled(inner, changes):
+        return dataclasses.replace(inner, **{k: 2 * v for k, v in changes.items()})
+    assert replace_paths(Outer(), {"inner.window": 8}, {"inner": doubled}).inner.window == 16
+
+
+def test_a_refused_change_names_the_flat_key_it_was_given_by():
+    given = flat_given({"pfa": 2, "name": "y"}, FLAT)
+    assert given == {"pfa=2 (now inner.pfa)": "inner.pfa"}
+    with pytest.raises(BadInput, match=r"^pfa=2 \(now inner.pfa\): pfa=2 must be in"):
+        replace_paths(Outer(), {"inner.pfa": 2, "name": "y"}, given=given)
