@@ -24,6 +24,7 @@ setting, a sub-config whose fields depend on each other) adds it around these fu
 from __future__ import annotations
 
 import dataclasses
+import operator
 import warnings
 from collections.abc import Callable, Mapping
 from typing import Any
@@ -31,7 +32,7 @@ from typing import Any
 from .errors import BadInput
 
 __all__ = ["dotted_changes", "flat_key", "flat_given", "split_paths", "replace_path",
-           "replace_paths"]
+           "replace_paths", "add_flat_properties"]
 
 
 def flat_key(key: str, flat_keys: Mapping[str, str],
@@ -199,3 +200,13 @@ def _named(exc: BadInput, given: Mapping[str, str] | None, head: str | None) -> 
 def replace_path(obj: Any, path: str, value: Any) -> Any:
     """Copy of the frozen dataclass `obj` with the field at dotted `path` set to `value`."""
     return replace_paths(obj, {path: value})
+
+
+def add_flat_properties(cls: type, field_group: Mapping[str, str]) -> None:
+    """Give the nested config `cls` a read-only property per field of the previous release's
+    flat config: ``cfg.<name>`` reads ``cfg.<group>.<name>`` (`field_group`: name -> group).
+    Setting goes through the config's ``replace`` (dotted keys)."""
+    for name, group in field_group.items():
+        setattr(cls, name, property(
+            operator.attrgetter(f"{group}.{name}"),
+            doc=f"``{group}.{name}`` (read-only; set it by `{cls.__name__}.replace`)."))

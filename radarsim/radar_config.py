@@ -15,13 +15,12 @@ from __future__ import annotations
 
 import dataclasses
 import math
-import operator
 from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
-from core.config import dotted_changes
+from core.config import add_flat_properties, dotted_changes
 from core.errors import BadInput
 
 from . import shifter as _shifter
@@ -565,14 +564,8 @@ def _fields_of(paths: dict[str, Any]) -> dict[str, Any]:
     return out
 
 
-def _flat_property(part: str, name: str) -> property:
-    return property(operator.attrgetter(f"{part}.{name}"),
-                    doc=f"``{part}.{name}`` (read-only; set it by `RadarConfig.replace`).")
-
-
 # Every field of a part is also read by its own name: cfg.n_chirps is cfg.waveform.n_chirps.
-for _name, _part in FIELD_PART.items():
-    setattr(RadarConfig, _name, _flat_property(_part, _name))
+add_flat_properties(RadarConfig, FIELD_PART)
 
 
 def _as_lists(v: Any) -> Any:

@@ -29,13 +29,12 @@ key; every field is also read by its own name (``cfg.gate_mahalanobis`` is
 from __future__ import annotations
 
 import dataclasses
-import operator
 from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
-from core.config import dotted_changes, replace_paths
+from core.config import add_flat_properties, dotted_changes, replace_paths
 from core.errors import BadInput
 
 from .clustering import AllocationConfig, MergeConfig
@@ -197,12 +196,6 @@ def tracker_paths(changes: dict[str, Any], *, warn: bool = True,
     return paths
 
 
-def _flat_property(group: str, name: str) -> property:
-    return property(operator.attrgetter(f"{group}.{name}"),
-                    doc=f"``{group}.{name}`` (read-only; set it by `TrackerConfig.replace`).")
-
-
 # Every field of the previous release is also read by its own name: cfg.gate_mahalanobis is
 # cfg.gating.gate_mahalanobis.
-for _name, _group in FIELD_GROUP.items():
-    setattr(TrackerConfig, _name, _flat_property(_group, _name))
+add_flat_properties(TrackerConfig, FIELD_GROUP)
