@@ -44,7 +44,8 @@ _METHOD_KEYS = ("interference.repair", "intf_mitigation")
 
 
 def _methods(results: Path) -> dict[str, str]:
-    """Variant name -> its repair method (variants that set one, `_METHOD_KEYS`)."""
+    """Variant name -> its repair method (variants that set one, `_METHOD_KEYS`); refused when
+    no variant sets one (the results are no mitigation sweep)."""
     man = read_manifest(results)
     out = {}
     for v in man.get("sweep", {}).get("variants", []):
@@ -52,6 +53,8 @@ def _methods(results: Path) -> dict[str, str]:
         key = next((k for k in _METHOD_KEYS if k in proc), None)
         if key is not None:
             out[v["name"]] = proc[key]
+    if not out:
+        raise BadInput(f"{results}: no variant sets processing.interference.repair")
     return out
 
 
@@ -72,8 +75,6 @@ def mitigation_table(results: str | Path) -> pd.DataFrame:
     """
     results = Path(results)
     methods = _methods(results)
-    if not methods:
-        raise BadInput(f"{results}: no variant sets processing.interference.repair")
     summ = pd.read_parquet(results / "summary.parquet")
     summ = summ[~failed_rows(summ) & summ["variant"].isin(methods)].copy()
     summ["method"] = summ["variant"].map(methods)
@@ -123,8 +124,6 @@ def recovery_vs_inr(results: str | Path, bin_db: float = INR_BIN_DB) -> pd.DataF
     """
     results = Path(results)
     methods = _methods(results)
-    if not methods:
-        raise BadInput(f"{results}: no variant sets processing.interference.repair")
     cols = ["scenario", "method", "scheme", "inr_db", "n_frames",
             "noise_floor_rise_unmitigated_db", "noise_floor_rise_db", "recovery_fraction"]
     fr = pd.read_parquet(results / "frames.parquet")
