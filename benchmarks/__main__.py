@@ -3,7 +3,8 @@ its figures. Times are medians over repeated runs; ratios are against floors mea
 same run, never absolute assertions. The process runs as `radar-harness` and the sweep workers
 do (`harness.runtime.prepare_process`: one BLAS thread, the allocator tuning); bench_pipeline
 also reports the chain under glibc's default allocator, measured in a fresh interpreter.
-`python -m benchmarks floors` prints the README's performance table."""
+`python -m benchmarks floors` prints the README's performance table; `python -m benchmarks
+equivalence` measures the statistics a bit-moving speed change must keep (its own options)."""
 from __future__ import annotations
 
 import importlib
@@ -11,11 +12,14 @@ import pkgutil
 import sys
 
 import benchmarks
+from benchmarks import equivalence
 
 
 def main(argv: list[str]) -> int:
     from harness.runtime import prepare_process
     prepare_process()
+    if argv[:1] == ["equivalence"]:  # a tool with its own options, not a timing bench
+        return equivalence.main(argv[1:])
     names = sorted(m.name for m in pkgutil.iter_modules(benchmarks.__path__)
                    if m.name.startswith("bench_"))
     if argv:
