@@ -4,9 +4,38 @@ from __future__ import annotations
 
 import time
 from collections.abc import Callable
+from typing import NamedTuple
 
 import numpy as np
 import scipy.fft
+
+import pipeline
+
+#: Alternating rounds of a value against its floor; each figure is the best of them.
+ROUNDS = 11
+
+
+class Timed(NamedTuple):
+    """Best wall time and best process CPU time (all threads) of a callable, s."""
+
+    wall_s: float
+    cpu_s: float
+
+
+class ChainTiming(NamedTuple):
+    """A chain against its FFT floor (`chain_against_floor`)."""
+
+    chain: Timed
+    floor_wall_s: float  # the floor's FFTs on every core: the least wall time of any chain
+    floor_cpu_s: float   # the same FFTs on one core: their work itself, the least CPU
+
+    @property
+    def cpu_ratio(self) -> float:
+        return self.chain.cpu_s / self.floor_cpu_s
+
+    @property
+    def wall_ratio(self) -> float:
+        return self.chain.wall_s / self.floor_wall_s
 
 
 def median_time_s(fn: Callable[[], object], repeats: int = 9, warmup: int = 2,
@@ -22,6 +51,34 @@ def median_time_s(fn: Callable[[], object], repeats: int = 9, warmup: int = 2,
         fn()
         times.append(clock() - t0)
     return float(np.median(times))
+
+
+def alternating_best(fns: dict[str, Callable[[], object]], rounds: int = ROUNDS
+                     ) -> dict[str, Timed]:
+    """Best wall and process-CPU time of each callable over `rounds` rounds, each round calling
+    every callable once in turn (after one warm-up call each), so load from other processes
+    hits values and floors alike; the best of several is the figure least moved by it."""
+    wall = {k: [] for k in fns}
+    cpu = {k: [] for k in fns}
+    for fn in fns.values():
+        fn()
+    for _ in range(rounds):
+        for k, fn in fns.items():
+            w, c = time.perf_counter(), time.process_time()
+            fn()
+            wall[k].append(time.perf_counter() - w)
+            cpu[k].append(time.process_time() - c)
+    return {k: Timed(min(wall[k]), min(cpu[k])) for k in fns}
+
+
+def chain_against_floor(cfg, adc: np.ndarray, rounds: int = ROUNDS) -> ChainTiming:
+    """`pipeline.process_frame(cfg, adc)` against `fft_floor_once` of the same frame (float32,
+    converted outside the timing) on every core and on one core, alternating rounds."""
+    x = adc.astype(np.float32)
+    t = alternating_best({"chain": lambda: pipeline.process_frame(cfg, adc),
+                          "floor": lambda: fft_floor_once(cfg, x),
+                          "floor1": lambda: fft_floor_once(cfg, x, workers=1)}, rounds)
+    return ChainTiming(t["chain"], t["floor"].wall_s, t["floor1"].cpu_s)
 
 
 def fft_floor_once(cfg, x32: np.ndarray, workers: int = -1) -> None:

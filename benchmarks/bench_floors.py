@@ -30,41 +30,21 @@ the other core happened to be free; the wall ratio is printed beside each.
 from __future__ import annotations
 
 import os
-import time
 
 import numpy as np
 
 import pipeline
 import radarsim
 
-from ._timing import fft_floor_once, median_time_s
+from ._timing import ROUNDS, alternating_best, chain_against_floor, fft_floor_once, median_time_s
 
 CELL_CASE = "r79_motorcycle_rear"
 CELL_DURATION_S = 1.0
 N_SCATTERERS = 100
 N_INTERFERERS = 10
-#: Alternating rounds of every timed row; each figure is the best of them.
-ROUNDS = 11
 #: Targets of the CPU ratios: DDMA's chain, every other scheme's chain.
 CHAIN_TARGETS = {"ddma": "<= 3x"}
 OTHER_CHAIN_TARGET = "<= 2.5x"
-
-
-def _alternating(fns: dict, rounds: int = ROUNDS) -> dict[str, tuple]:
-    """Best (wall s, process-CPU s) of each callable over `rounds` rounds, each round calling
-    every callable once in turn (after one warm-up call each), so load from other processes
-    hits values and floors alike; the best of several is the figure least moved by it."""
-    wall = {k: [] for k in fns}
-    cpu = {k: [] for k in fns}
-    for fn in fns.values():
-        fn()
-    for _ in range(rounds):
-        for k, fn in fns.items():
-            w, c = time.perf_counter(), time.process_time()
-            fn()
-            wall[k].append(time.perf_counter() - w)
-            cpu[k].append(time.process_time() - c)
-    return {k: (min(wall[k]), min(cpu[k])) for k in fns}
 
 
 def _row(measure: str, value_s: tuple, floor_s: tuple, target: str, what: str) -> str:
@@ -88,12 +68,9 @@ def scheme_rows() -> list[str]:
     for name in sorted(radarsim.MIMO_SCHEMES):
         cfg = radarsim.presets.r79(name)
         adc = radarsim.simulate_frame(cfg, sc, np.random.default_rng(0))
-        x = adc.astype(np.float32)
-        t = _alternating({"chain": lambda: pipeline.process_frame(cfg, adc),
-                          "floor": lambda: fft_floor_once(cfg, x),
-                          "floor1": lambda: fft_floor_once(cfg, x, workers=1)})
-        rows.append(_row(f"`process_frame` {name}, K = {N_SCATTERERS}", t["chain"],
-                         (t["floor"][0], t["floor1"][1]),
+        t = chain_against_floor(cfg, adc)
+        rows.append(_row(f"`process_frame` {name}, K = {N_SCATTERERS}", t.chain,
+                         (t.floor_wall_s, t.floor_cpu_s),
                          CHAIN_TARGETS.get(name, OTHER_CHAIN_TARGET),
                          "rFFT + Doppler FFT (cpu: one core; wall: all cores)"))
     return rows
@@ -106,7 +83,7 @@ def interference_row() -> str:
     sc = _scene()
     clean = radarsim.simulate_frame(cfg, sc, np.random.default_rng(0))
     dirty = radarsim.simulate_frame(cfg, sc, np.random.default_rng(0), interferers(N_INTERFERERS))
-    t = _alternating({"dirty": lambda: pipeline.process_frame(cfg, dirty),
+    t = alternating_best({"dirty": lambda: pipeline.process_frame(cfg, dirty),
                       "clean": lambda: pipeline.process_frame(cfg, clean)})
     return _row(f"`process_frame` ddma, {N_INTERFERERS} interferers", t["dirty"], t["clean"],
                 "<= 1.3x", "clean frame")
@@ -131,7 +108,7 @@ def cell_row() -> str:
             fft_floor_once(c, x32[c.mimo])
 
     n_frames = len(run_cell(spec, comps).tables["truth"]["frame"].unique())
-    t = _alternating({"cell": lambda: run_cell(spec, comps), "floor": floor})
+    t = alternating_best({"cell": lambda: run_cell(spec, comps), "floor": floor})
     cell = tuple(v / n_frames for v in t["cell"])
     return _row(f"sweep cell frame, {CELL_CASE} ({n_frames} frames)", cell, t["floor"],
                 "<= 2x", "2 `simulate_frame` (K = 100) + 3 chain floors")

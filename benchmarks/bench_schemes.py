@@ -14,7 +14,6 @@ chain's velocity, and decoded without Doppler compensation.
 from __future__ import annotations
 
 import sys
-import time
 
 import numpy as np
 
@@ -23,7 +22,7 @@ import radarsim
 from pipeline.mimo.bpm import bpm_decode
 from pipeline.mimo.tdma import slot_maps
 
-from ._timing import fft_floor_once
+from ._timing import ChainTiming, chain_against_floor
 
 HANN_LOSS_DB = 1.76
 N_TARGETS = 40
@@ -95,36 +94,16 @@ def _scheme_row(name: str, rng) -> dict:
     return row
 
 
-def timing(name: str) -> dict[str, float]:
-    """process_frame against the FFT floor on a five-target scene of scheme `name`."""
+def timing(name: str) -> ChainTiming:
+    """process_frame against the FFT floor on a five-target scene of scheme `name`
+    (`_timing.chain_against_floor`: best of alternating rounds, CPU against the one-core
+    floor, wall against the all-core floor)."""
     cfg = radarsim.presets.r79(name, array={"antenna_pattern": "isotropic"})
     sc = scene_at_detection_snr(cfg, [[15, 20, 0, -12, 40], [45, -30, 2, 15, 40],
                                       [90, 5, 0, -30, 30], [150, 40, -3, 5, 25],
                                       [60, -10, 0, 8, 30]])
     adc = radarsim.simulate_frame(cfg, sc, np.random.default_rng(0))
-    return _chain_and_floor_s(cfg, adc)
-
-
-def _chain_and_floor_s(cfg, adc, rounds: int = 7) -> dict[str, float]:
-    """Medians of process_frame and of the FFT floor, wall time and process CPU time (all
-    threads), measured in alternating rounds so that load from other processes hits both
-    alike. On a machine shared with other jobs the CPU-time ratio is the steadier figure."""
-    out = {"chain": [], "floor": [], "chain_cpu": [], "floor_cpu": []}
-
-    def timed(fn, key, n):
-        for _ in range(n):
-            w, c = time.perf_counter(), time.process_time()
-            fn()
-            out[key].append(time.perf_counter() - w)
-            out[key + "_cpu"].append(time.process_time() - c)
-
-    chain = lambda: pipeline.process_frame(cfg, adc)  # noqa: E731
-    chain()
-    x = adc.astype(np.float32)
-    for _ in range(rounds):
-        timed(chain, "chain", 3)
-        timed(lambda: fft_floor_once(cfg, x), "floor", 5)
-    return {k: float(np.median(v)) for k, v in out.items()}
+    return chain_against_floor(cfg, adc)
 
 
 def _snr_gain_over(base: str, names, rng, n: int = 30) -> dict[str, float]:
@@ -190,10 +169,10 @@ def run() -> list[str]:
         out.append(f"{w['scheme']:<13}{w['vmax']:>9.2f}{gain[w['scheme']]:>9.2f}"
                    f"{w['fail_14']:>9.3f}{w['fail_17']:>9.3f}{w['fail_20']:>9.3f}"
                    f"{100 * rm[0]:>8.1f}{1e3 * rm[1]:>9.1f}{rm[2]:>9.2f}"
-                   f"{1e3 * w['t']['chain']:>7.1f}{1e3 * w['t']['floor']:>7.1f}"
-                   f"{w['t']['chain'] / w['t']['floor']:>6.1f}x"
-                   f"{1e3 * w['t']['chain_cpu']:>8.1f}{1e3 * w['t']['floor_cpu']:>8.1f}"
-                   f"{w['t']['chain_cpu'] / w['t']['floor_cpu']:>9.1f}x")
+                   f"{1e3 * w['t'].chain.wall_s:>7.1f}{1e3 * w['t'].floor_wall_s:>7.1f}"
+                   f"{w['t'].wall_ratio:>6.1f}x"
+                   f"{1e3 * w['t'].chain.cpu_s:>8.1f}{1e3 * w['t'].floor_cpu_s:>8.1f}"
+                   f"{w['t'].cpu_ratio:>9.1f}x")
     if "bpm" in radarsim.MIMO_SCHEMES:
         speeds = (0.0, 2.0, 5.0, 10.0, 15.0, 25.0, 40.0)
         lk = [bpm_leakage_dbc(v, np.random.default_rng(int(v) + 1)) for v in speeds]
@@ -212,10 +191,10 @@ if __name__ == "__main__":
     if "--timing" in sys.argv:  # the speed columns only
         for m in sorted(radarsim.MIMO_SCHEMES):
             t = timing(m)
-            print(f"{m:<13} wall {1e3 * t['chain']:6.1f} ms / floor {1e3 * t['floor']:5.1f} ms "
-                  f"= {t['chain'] / t['floor']:4.1f}x; cpu {1e3 * t['chain_cpu']:6.1f} / "
-                  f"{1e3 * t['floor_cpu']:5.1f} ms = {t['chain_cpu'] / t['floor_cpu']:4.1f}x",
-                  flush=True)
+            print(f"{m:<13} cpu {1e3 * t.chain.cpu_s:6.1f} ms / one-core floor "
+                  f"{1e3 * t.floor_cpu_s:5.1f} ms = {t.cpu_ratio:4.1f}x; wall "
+                  f"{1e3 * t.chain.wall_s:6.1f} / {1e3 * t.floor_wall_s:5.1f} ms = "
+                  f"{t.wall_ratio:4.1f}x", flush=True)
     else:
         for line in run():
             print(line, flush=True)
