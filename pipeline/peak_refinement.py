@@ -16,7 +16,8 @@ end are left out, down to two on each side. Channels (Rx, Tx, slots) carry the s
 with their own phases: they are combined coherently with the peak bin's channel vector as
 weights (`combine_channels`), so the bins' noise projected on the signal only scales the whole
 interpolated spectrum and does not move its maximum. A few Newton steps on |X(k + delta)|^2
-from the 3-point estimate converge to the maximum.
+from the 3-point estimate converge to the maximum; the kernel's first and second derivatives
+are analytic (`dirichlet`), so a step costs one pass over the eleven bins.
 
 References
 ----------
@@ -30,19 +31,21 @@ References
 """
 from __future__ import annotations
 
+import numba
 import numpy as np
 
-__all__ = ["HALF_WIDTH", "MIN_HALF_WIDTH", "combine_channels", "dirichlet_weights",
-           "refine_offset", "refine_peaks_2d", "neighbour_bins"]
+__all__ = ["HALF_WIDTH", "MIN_HALF_WIDTH", "combine_channels", "dirichlet", "refine_offset",
+           "refine_peaks_2d", "neighbour_bins"]
 
 #: Bins on each side of the peak used to interpolate the spectrum between bins.
 HALF_WIDTH = 5
 #: Fewest bins on each side for a peak to be refined (near a non-cyclic axis' ends).
 MIN_HALF_WIDTH = 2
-#: Newton steps (each triples the accurate digits once started from the 3-point estimate).
+#: Newton steps (each doubles the accurate digits once started from the 3-point estimate).
 _STEPS = 3
-#: Finite-difference step of the Newton derivatives, bins.
-_H = 1e-3
+#: Below this distance from a bin (bins) the kernel and its derivatives are their Taylor
+#: series (the closed forms lose ~eps / y^2 of their value to cancellation there).
+_NEAR = 1e-4
 #: A refined peak farther than this from its bin (bins) belongs to another bin: keep the start.
 _MAX_OFFSET = 0.75
 
@@ -101,22 +104,120 @@ def combine_channels(x: np.ndarray, on_axis: np.ndarray | None = None) -> np.nda
     return b if on_axis is None else np.where(on_axis, b, 0.0)
 
 
-def dirichlet_weights(delta: np.ndarray, n_fft: int) -> np.ndarray:
-    """(n, 2 HALF_WIDTH + 1) complex128: D(delta - m) for m = -HALF_WIDTH..HALF_WIDTH, so
-    that sum_m X[k + m] D(delta - m) is the spectrum at k + delta (numpy's DFT sign, N =
-    `n_fft` points), up to the phase exp(-j pi delta (N-1)/N) common to every channel and bin,
-    which is left out."""
-    m = np.arange(-HALF_WIDTH, HALF_WIDTH + 1)
-    y = np.asarray(delta, dtype=np.float64)[:, None] - m
-    s = np.sin(np.pi * y / n_fft)
-    near = np.abs(y) < 1e-9
-    d = np.where(near, 1.0, np.sin(np.pi * y) / (n_fft * np.where(near, 1.0, s)))
-    return d * np.exp(1j * np.pi * m * (n_fft - 1) / n_fft)
+@numba.njit(cache=True, nogil=True)
+def dirichlet(y: float, n_fft: int) -> tuple[float, float, float]:
+    """The N-point Dirichlet kernel and its first two derivatives at y bins.
+
+    With a = pi, b = pi / N (N = `n_fft`)::
+
+        D(y)   = sin(a y) / (N sin(b y))
+        D'(y)  = (a cos(a y) sin(b y) - b sin(a y) cos(b y)) / (N sin(b y)^2)
+        D''(y) = (b^2 - a^2) D(y) - 2 b cot(b y) D'(y)
+
+    (D'' from differentiating D' once: the numerator's derivative is (b^2 - a^2) sin(a y)
+    sin(b y)). Within `_NEAR` of y = 0 the Taylor series D = 1 - (a^2 - b^2) y^2 / 6,
+    D' = -(a^2 - b^2) y / 3, D'' = -(a^2 - b^2) / 3. Valid for |y| < N.
+
+    Examples
+    --------
+    >>> [round(v, 4) for v in dirichlet(0.0, 64)]
+    [1.0, -0.0, -3.2891]
+    >>> [round(v, 4) for v in dirichlet(0.5, 64)]
+    [0.6367, -1.2731, -1.1909]
+    """
+    if abs(y) < _NEAR:
+        return _taylor(y, n_fft)
+    a, b = np.pi, np.pi / n_fft
+    return _closed_form(np.sin(a * y), np.cos(a * y), np.sin(b * y), np.cos(b * y), n_fft)
 
 
-def _power(b: np.ndarray, delta: np.ndarray, n_fft: int) -> np.ndarray:
-    """|sum_m b_m D(delta - m)|^2, (n,): the interpolated power at offsets delta (n,) bins."""
-    return np.abs(np.sum(b * dirichlet_weights(delta, n_fft), axis=1)) ** 2
+@numba.njit(cache=True, nogil=True)
+def _taylor(y: float, n_fft: int) -> tuple[float, float, float]:
+    b = np.pi / n_fft
+    c = (np.pi * np.pi - b * b) / 3.0
+    return 1.0 - 0.5 * c * y * y, -c * y, -c
+
+
+@numba.njit(cache=True, nogil=True)
+def _closed_form(sa: float, ca: float, sb: float, cb: float,
+                 n_fft: int) -> tuple[float, float, float]:
+    """`dirichlet` from sin and cos of a y and of b y."""
+    a, b = np.pi, np.pi / n_fft
+    d = sa / (n_fft * sb)
+    d1 = (a * ca * sb - b * sa * cb) / (n_fft * sb * sb)
+    return d, d1, (b * b - a * a) * d - 2.0 * b * cb / sb * d1
+
+
+@numba.njit(cache=True, nogil=True)
+def _bin_terms(n_fft: int) -> tuple[np.ndarray, np.ndarray]:
+    """Per neighbour bin m = -HALF_WIDTH..HALF_WIDTH of an N-point axis: (sin(b m), cos(b m))
+    (2, M) with b = pi / N, and the phase exp(j pi m (N - 1) / N) (M,) that turns
+    D(delta - m) into the weight of bin k + m in the spectrum at k + delta (numpy's DFT sign;
+    the phase exp(-j pi delta (N - 1) / N) common to every channel and bin is left out)."""
+    m = np.arange(-HALF_WIDTH, HALF_WIDTH + 1).astype(np.float64)
+    shift = np.empty((2, m.size))
+    shift[0] = np.sin(np.pi * m / n_fft)
+    shift[1] = np.cos(np.pi * m / n_fft)
+    return shift, np.exp(1j * np.pi * m * (n_fft - 1) / n_fft)
+
+
+@numba.njit(cache=True, nogil=True)
+def _kernel_at(delta: float, n_fft: int, shift: np.ndarray, phase: np.ndarray,
+               out: np.ndarray) -> None:
+    """out (3, M) complex128 <- D(delta - m), D'(delta - m), D''(delta - m) times the phase
+    of bin m (`_bin_terms`), from four sines and cosines of delta: sin(a (delta - m)) =
+    (-1)^m sin(a delta) and sin(b (delta - m)), cos(b (delta - m)) by the angle-difference
+    formulas with `shift`."""
+    sa, ca = np.sin(np.pi * delta), np.cos(np.pi * delta)
+    sbd, cbd = np.sin(np.pi * delta / n_fft), np.cos(np.pi * delta / n_fft)
+    for i in range(phase.size):
+        m = i - HALF_WIDTH
+        y = delta - m
+        if abs(y) < _NEAR:
+            k0, k1, k2 = _taylor(y, n_fft)
+        else:
+            sign = -1.0 if abs(m) % 2 else 1.0
+            k0, k1, k2 = _closed_form(sign * sa, sign * ca,
+                                      sbd * shift[1, i] - cbd * shift[0, i],
+                                      cbd * shift[1, i] + sbd * shift[0, i], n_fft)
+        out[0, i] = k0 * phase[i]
+        out[1, i] = k1 * phase[i]
+        out[2, i] = k2 * phase[i]
+
+
+@numba.njit(cache=True, nogil=True)
+def _newton(b: np.ndarray, start: float, n_fft: int, shift: np.ndarray, phase: np.ndarray,
+            work: np.ndarray) -> float:
+    """`refine_offset` of one peak: Newton steps on P(delta) = |X(delta)|^2 with
+    X = sum_m b_m D(delta - m) e^{j pi m (N-1)/N} and its analytic derivatives,
+    P' = 2 Re(conj(X) X'), P'' = 2 (|X'|^2 + Re(conj(X) X'')). `work`: (3, M) scratch."""
+    ok = True
+    for i in range(HALF_WIDTH - MIN_HALF_WIDTH, HALF_WIDTH + MIN_HALF_WIDTH + 1):
+        ok = ok and b[i] != 0
+    d = start
+    for _ in range(_STEPS):
+        _kernel_at(d, n_fft, shift, phase, work)
+        x0 = x1 = x2 = 0j
+        for i in range(b.size):
+            x0 += b[i] * work[0, i]
+            x1 += b[i] * work[1, i]
+            x2 += b[i] * work[2, i]
+        p1 = 2.0 * (x0.conjugate() * x1).real
+        p2 = 2.0 * (abs(x1) ** 2 + (x0.conjugate() * x2).real)
+        ok = ok and p2 < 0  # a maximum, not a minimum or an inflection
+        if ok:
+            d += min(max(-p1 / p2, -0.5), 0.5)
+    return d if ok and abs(d) <= _MAX_OFFSET else start
+
+
+@numba.njit(cache=True, nogil=True)
+def _newton_rows(b: np.ndarray, start: np.ndarray, n_fft: int) -> np.ndarray:
+    shift, phase = _bin_terms(n_fft)
+    work = np.empty((3, phase.size), np.complex128)
+    out = np.empty(start.size)
+    for p in range(start.size):
+        out[p] = _newton(b[p], start[p], n_fft, shift, phase, work)
+    return out
 
 
 def refine_offset(b: np.ndarray, start: np.ndarray, n_fft: int) -> np.ndarray:
@@ -150,17 +251,8 @@ def refine_offset(b: np.ndarray, start: np.ndarray, n_fft: int) -> np.ndarray:
     >>> round(float(refine_offset(b, np.array([0.25]), n)[0]), 3)
     0.3
     """
-    b = np.asarray(b, dtype=np.complex128)
-    d = np.asarray(start, dtype=np.float64).copy()
-    ok = np.all(b[:, HALF_WIDTH - MIN_HALF_WIDTH:HALF_WIDTH + MIN_HALF_WIDTH + 1] != 0, axis=1)
-    for _ in range(_STEPS):
-        p0, pp, pm = (_power(b, d + s, n_fft) for s in (0.0, _H, -_H))
-        curv = pp - 2 * p0 + pm
-        ok &= curv < 0  # a maximum, not a minimum or an inflection
-        step = np.where(ok, -0.5 * _H * (pp - pm) / np.where(ok, curv, -1.0), 0.0)
-        d = d + np.clip(step, -0.5, 0.5)
-    ok &= np.abs(d) <= _MAX_OFFSET
-    return np.where(ok, d, start)
+    return _newton_rows(np.ascontiguousarray(b, dtype=np.complex128),
+                        np.ascontiguousarray(start, dtype=np.float64), int(n_fft))
 
 
 def refine_peaks_2d(patch: np.ndarray, on_axis: np.ndarray, start_r: np.ndarray,
@@ -194,30 +286,65 @@ def refine_peaks_2d(patch: np.ndarray, on_axis: np.ndarray, start_r: np.ndarray,
     off_r, off_d : (n,) float64
         Offsets from r and d, bins (`refine_offset`'s fall-backs apply per axis).
     """
-    x = np.asarray(patch, dtype=np.complex64)
-    if not np.all(on_axis):
-        x = x * on_axis[:, None, :, None]
-    n, c, m_r, m_d = x.shape
-    # The contractions in the data's precision as batched GEMVs; the combined spectra (n, M)
-    # that the Newton steps read are made float64 by `refine_offset`.
-    by_d = x.reshape(n, c * m_r, m_d)
-    by_r = np.ascontiguousarray(x.transpose(0, 1, 3, 2)).reshape(n, c * m_d, m_r)
-    off_r = np.asarray(start_r, dtype=np.float64)
-    off_d = np.asarray(start_d, dtype=np.float64)
-    for _ in range(passes):
-        off_r = refine_offset(_combined(by_d, off_d, off_r, n_fft_d, n_fft_r, c), off_r,
-                              n_fft_r)
-        off_d = refine_offset(_combined(by_r, off_r, off_d, n_fft_r, n_fft_d, c), off_d,
-                              n_fft_d)
+    off_r = np.array(start_r, dtype=np.float64)
+    off_d = np.array(start_d, dtype=np.float64)
+    _alternate(np.ascontiguousarray(patch, dtype=np.complex64), np.ascontiguousarray(on_axis),
+               off_r, off_d, int(n_fft_r), int(n_fft_d), int(passes))
     return off_r, off_d
 
 
-def _combined(x: np.ndarray, at_other: np.ndarray, at_own: np.ndarray, n_other: int,
-              n_own: int, c: int) -> np.ndarray:
-    """x : (n, C x M_own, M_other) -> (n, M_own): the channels interpolated to the other
-    axis' offset, combined with their vector at the own axis' current offset as weights."""
-    n = x.shape[0]
-    y = np.matmul(x, dirichlet_weights(at_other, n_other).astype(np.complex64)[:, :, None])
-    y = y.reshape(n, c, -1)                                                 # (n, C, M_own)
-    w = np.matmul(y, dirichlet_weights(at_own, n_own).astype(np.complex64)[:, :, None])
-    return np.matmul(np.conj(w).transpose(0, 2, 1), y)[:, 0]               # (n, M_own)
+@numba.njit(cache=True, nogil=True)
+def _alternate(x: np.ndarray, on_axis: np.ndarray, off_r: np.ndarray, off_d: np.ndarray,
+               n_fft_r: int, n_fft_d: int, passes: int) -> None:
+    """`refine_peaks_2d` on x (n, C, Mr, Md) complex64, updating off_r and off_d (n,) in
+    place; range bins off the axis (on_axis (n, Mr) False) count as zeros. Per peak and axis: y_c = the channels interpolated to the other axis' offset
+    (`_kernel_at`'s weights over its bins), w_c = y_c at the own axis' offset, b = sum_c
+    conj(w_c) y_c (`combine_channels` at the current maximum), then `_newton` on b."""
+    n, c, m_r, m_d = x.shape
+    shift_r, phase_r = _bin_terms(n_fft_r)
+    shift_d, phase_d = _bin_terms(n_fft_d)
+    k_r = np.empty((3, m_r), np.complex128)
+    k_d = np.empty((3, m_d), np.complex128)
+    # The contractions over the other axis in the data's precision (half the time of mixed
+    # complex64 x complex128 products); the combined spectra and the Newton steps in float64.
+    w = np.empty(max(m_r, m_d), np.complex64)
+    y_r = np.empty((c, m_r), np.complex64)
+    y_d = np.empty((c, m_d), np.complex64)
+    for p in range(n):
+        for _ in range(passes):
+            _kernel_at(off_d[p], n_fft_d, shift_d, phase_d, k_d)
+            _kernel_at(off_r[p], n_fft_r, shift_r, phase_r, k_r)
+            w[:m_d] = k_d[0]
+            for ch in range(c):
+                for i in range(m_r):
+                    acc = np.complex64(0)
+                    for j in range(m_d):
+                        acc += x[p, ch, i, j] * w[j]
+                    y_r[ch, i] = acc if on_axis[p, i] else 0
+            off_r[p] = _newton(_combine(y_r, k_r[0]), off_r[p], n_fft_r, shift_r, phase_r, k_r)
+            _kernel_at(off_r[p], n_fft_r, shift_r, phase_r, k_r)
+            w[:m_r] = k_r[0]
+            for ch in range(c):
+                for j in range(m_d):
+                    acc = np.complex64(0)
+                    for i in range(m_r):
+                        if on_axis[p, i]:
+                            acc += x[p, ch, i, j] * w[i]
+                    y_d[ch, j] = acc
+            off_d[p] = _newton(_combine(y_d, k_d[0]), off_d[p], n_fft_d, shift_d, phase_d, k_d)
+
+
+@numba.njit(cache=True, nogil=True)
+def _combine(y: np.ndarray, w: np.ndarray) -> np.ndarray:
+    """y (C, M) channels along one axis -> (M,): sum_c conj(v_c) y_c with v_c = sum_m
+    y_c[m] w[m], the channel vector at the offset the weights w interpolate to."""
+    c, m = y.shape
+    b = np.zeros(m, np.complex128)
+    for ch in range(c):
+        v = 0j
+        for i in range(m):
+            v += np.complex128(y[ch, i]) * w[i]
+        v = v.conjugate()
+        for i in range(m):
+            b[i] += v * np.complex128(y[ch, i])
+    return b
