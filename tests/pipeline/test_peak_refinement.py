@@ -107,6 +107,28 @@ def test_two_dimensional_tone_found_on_both_axes():
     assert off_r[0] == pytest.approx(dr, abs=2e-3) and off_d[0] == pytest.approx(dd, abs=2e-3)
 
 
+def test_two_dimensional_range_edge_keeps_the_start_or_refines_with_enough_bins():
+    """Range bins off the axis count as zeros: one bin below the peak (r = 1) keeps the range
+    start, two (r = 2, `MIN_HALF_WIDTH`) refine it; Doppler (cyclic) is refined in both."""
+    nr, nd, d, dr, dd = 64, 128, 40, 0.21, -0.33
+    wr = get_window("hann", nr, fftbins=True)
+    wd = get_window("hann", nd, fftbins=True)
+    for r, refined in ((1, False), (2, True)):
+        sig = wd[:, None] * wr[None, :] * np.exp(2j * np.pi * (
+            (d + dd) * np.arange(nd)[:, None] / nd + (r + dr) * np.arange(nr) / nr))
+        spec = np.fft.fft2(sig).T
+        ri, on = neighbour_bins(np.array([r]), nr, cyclic=False)
+        di, _ = neighbour_bins(np.array([d]), nd, cyclic=True)
+        patch = spec[ri[:, :, None], di[:, None, :]][:, None]
+        off_r, off_d = refine_peaks_2d(patch, on, np.array([0.1]), np.array([0.0]), nr, nd)
+        assert off_d[0] == pytest.approx(dd, abs=2e-3)
+        if refined:
+            # Two bins below the peak: the truncation moves it by up to ~4e-3 bin.
+            assert off_r[0] == pytest.approx(dr, abs=5e-3)
+        else:
+            assert off_r[0] == 0.1
+
+
 def test_monte_carlo_rmse_near_the_hann_ml_and_unbiased():
     """At 20 dB detection SNR a single Hann-windowed tone's windowed-periodogram maximum has an
     RMSE of 1.25 x the CRB of that SNR (Kay 1993, linearised; the 3-point log-parabola 1.5 x):
