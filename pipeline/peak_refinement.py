@@ -315,23 +315,29 @@ def _alternate(x: np.ndarray, on_axis: np.ndarray, off_r: np.ndarray, off_d: np.
             _kernel_at(off_d[p], n_fft_d, shift_d, phase_d, k_d)
             _kernel_at(off_r[p], n_fft_r, shift_r, phase_r, k_r)
             w[:m_d] = k_d[0]
-            for ch in range(c):
-                for i in range(m_r):
-                    acc = np.complex64(0)
-                    for j in range(m_d):
-                        acc += x[p, ch, i, j] * w[j]
-                    y_r[ch, i] = acc if on_axis[p, i] else 0
+            _interpolate(x[p], w[:m_d], y_r)
+            for i in range(m_r):
+                if not on_axis[p, i]:
+                    y_r[:, i] = 0
             off_r[p] = _newton(_combine(y_r, k_r[0]), off_r[p], n_fft_r, shift_r, phase_r, k_r)
             _kernel_at(off_r[p], n_fft_r, shift_r, phase_r, k_r)
-            w[:m_r] = k_r[0]
-            for ch in range(c):
-                for j in range(m_d):
-                    acc = np.complex64(0)
-                    for i in range(m_r):
-                        if on_axis[p, i]:
-                            acc += x[p, ch, i, j] * w[i]
-                    y_d[ch, j] = acc
+            for i in range(m_r):
+                w[i] = k_r[0, i] if on_axis[p, i] else 0
+            _interpolate(x[p].transpose(0, 2, 1), w[:m_r], y_d)
             off_d[p] = _newton(_combine(y_d, k_d[0]), off_d[p], n_fft_d, shift_d, phase_d, k_d)
+
+
+@numba.njit(cache=True, nogil=True)
+def _interpolate(x: np.ndarray, w: np.ndarray, y: np.ndarray) -> None:
+    """y (C, M) <- sum_j x[c, m, j] w[j]: channels x (C, M, M_other) complex64 interpolated
+    along their last axis with the weights w (M_other,), in complex64."""
+    c, m, m_other = x.shape
+    for ch in range(c):
+        for i in range(m):
+            acc = np.complex64(0)
+            for j in range(m_other):
+                acc += x[ch, i, j] * w[j]
+            y[ch, i] = acc
 
 
 @numba.njit(cache=True, nogil=True)
