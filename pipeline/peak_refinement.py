@@ -297,9 +297,10 @@ def refine_peaks_2d(patch: np.ndarray, on_axis: np.ndarray, start_r: np.ndarray,
 def _alternate(x: np.ndarray, on_axis: np.ndarray, off_r: np.ndarray, off_d: np.ndarray,
                n_fft_r: int, n_fft_d: int, passes: int) -> None:
     """`refine_peaks_2d` on x (n, C, Mr, Md) complex64, updating off_r and off_d (n,) in
-    place; range bins off the axis (on_axis (n, Mr) False) count as zeros. Per peak and axis: y_c = the channels interpolated to the other axis' offset
-    (`_kernel_at`'s weights over its bins), w_c = y_c at the own axis' offset, b = sum_c
-    conj(w_c) y_c (`combine_channels` at the current maximum), then `_newton` on b."""
+    place; range bins off the axis (on_axis (n, Mr) False) count as zeros. Per peak and
+    axis: y_c = the channels interpolated to the other axis' offset (`_interpolate` with
+    `_kernel_at`'s weights), w_c = y_c at the own axis' offset, b = sum_c conj(w_c) y_c
+    (`combine_channels` at the current maximum), then `_newton` on b."""
     n, c, m_r, m_d = x.shape
     shift_r, phase_r = _bin_terms(n_fft_r)
     shift_d, phase_d = _bin_terms(n_fft_d)
