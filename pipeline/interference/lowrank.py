@@ -476,17 +476,13 @@ def burst_row_start(bursts: np.ndarray) -> np.ndarray:
 
 
 def burst_fill(x: np.ndarray, flags: np.ndarray, bursts: np.ndarray, basis: FastTimeBasis,
-               close: int, halfwidth: int, grow_sigma: float, grow_reach: int,
-               operands: GramOperands | None = None, rhs: np.ndarray | None = None) -> BurstFill:
+               close: int, halfwidth: int, grow_sigma: float, grow_reach: int) -> BurstFill:
     """`lowrank_fill`'s work up to the bursts: the rows' projections on the basis and the
-    basis' Gram sums (side by side on the cores, unless given: `projections`,
-    `gram_operands`), the kernel's operands. Arguments as `lowrank_fill`; x must hold at
-    least one row."""
+    basis' Gram sums, side by side on the cores (`projections`, `gram_operands`), the
+    kernel's operands. Arguments as `lowrank_fill`; x must hold at least one row."""
     n = x.shape[-1]
     row_start = burst_row_start(bursts)
-    if operands is None or rhs is None:
-        calls = [lambda: projections(x, basis), lambda: gram_operands(basis)]
-        rhs, operands = run_parts(calls)
+    rhs, operands = run_parts([lambda: projections(x, basis), lambda: gram_operands(basis)])
     thr = grow_sigma * np.sqrt(basis.noise_var) if grow_sigma > 0 else 0.0
     return BurstFill(x, np.ascontiguousarray(flags, dtype=bool), rhs, operands.vec_c,
                      operands.vec_t, operands.prefix, basis.shrink.astype(np.float64),
