@@ -39,9 +39,9 @@ def range_stage_key(proc: ProcessingConfig) -> tuple:
     return (proc.range, proc.interference, proc.compression, proc.calibration)
 
 
-#: Range cubes of the current `shared_range_stage` scope by (frame id, n_samples, settings);
-#: each entry keeps its frame alive, so an id cannot be reused while the scope lasts.
-_SHARED: ContextVar[dict | None] = ContextVar("pipeline_shared_range_stage", default=None)
+#: The range cubes of the current `shared_range_stage` scope, as (frame, `_cube_key`, cube):
+#: a frame is found by identity (`is`), and the entry keeps it alive while the scope lasts.
+_SHARED: ContextVar[list | None] = ContextVar("pipeline_shared_range_stage", default=None)
 
 
 @contextmanager
@@ -53,7 +53,7 @@ def shared_range_stage() -> Iterator[None]:
     inside the block (the harness never does: its ADC frames are written once by the front
     end). Scopes are per thread and per context (`contextvars`); nested scopes start empty.
     """
-    token = _SHARED.set({})
+    token = _SHARED.set([])
     try:
         yield
     finally:
@@ -76,29 +76,32 @@ def range_stage(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) -> np
         With every switch off, exactly `kernels.range_fft(adc, window)`. Read-only inside
         `shared_range_stage`.
     """
-    memo = _SHARED.get()
-    if memo is None:
+    shared = _SHARED.get()
+    if shared is None:
         return _dc_signature(_range_stage(cfg, adc, proc), proc)
-    hit = _memo_get(memo, cfg, adc, proc)
-    if hit is not None:
-        return hit
-    return _memo_put(memo, cfg, adc, proc, _dc_signature(_range_stage(cfg, adc, proc), proc))
+    rf = _shared_cube(shared, cfg, adc, proc)
+    if rf is None:
+        rf = _keep(shared, cfg, adc, proc, _dc_signature(_range_stage(cfg, adc, proc), proc))
+    return rf
 
 
-def _memo_key(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) -> tuple:
-    return (id(adc), cfg.n_samples, *range_stage_key(proc))
+def _cube_key(cfg: RadarConfig, proc: ProcessingConfig) -> tuple:
+    return (cfg.n_samples, *range_stage_key(proc))
 
 
-def _memo_get(memo: dict, cfg: RadarConfig, adc: np.ndarray,
-              proc: ProcessingConfig) -> np.ndarray | None:
-    hit = memo.get(_memo_key(cfg, adc, proc))
-    return hit[1] if hit is not None and hit[0] is adc else None
+def _shared_cube(shared: list, cfg: RadarConfig, adc: np.ndarray,
+                 proc: ProcessingConfig) -> np.ndarray | None:
+    """The cube of frame `adc` (this very array) and these settings kept in the scope, or
+    None."""
+    key = _cube_key(cfg, proc)
+    return next((rf for a, k, rf in shared if a is adc and k == key), None)
 
 
-def _memo_put(memo: dict, cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig,
-              rf: np.ndarray) -> np.ndarray:
+def _keep(shared: list, cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig,
+          rf: np.ndarray) -> np.ndarray:
+    """`rf`, made read-only and kept in the scope as frame `adc`'s cube of these settings."""
     rf.flags.writeable = False
-    memo[_memo_key(cfg, adc, proc)] = (adc, rf)
+    shared.append((adc, _cube_key(cfg, proc), rf))
     return rf
 
 
@@ -139,11 +142,10 @@ def windowed_range_stage(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConf
     (I/Q frames, a DC range signature, every switch off) `range_stage` and the window
     product.
     """
-    memo = _SHARED.get()
-    if memo is not None:
-        hit = _memo_get(memo, cfg, adc, proc)
-        if hit is not None:
-            return doppler_windowed(hit, chirp_window)
+    shared = _SHARED.get()
+    kept = None if shared is None else _shared_cube(shared, cfg, adc, proc)
+    if kept is not None:
+        return doppler_windowed(kept, chirp_window)
     if (np.iscomplexobj(adc) or proc.calibration.dc_range_signature is not None
             or not (proc.range.dc_removal or proc.interference.enabled
                     or proc.compression.enabled)):
@@ -152,10 +154,10 @@ def windowed_range_stage(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConf
     rep = repaired_rows(adc, dc, rows, flags, window(WINDOWS[proc.range.window], cfg.n_samples),
                         proc.interference) if rows.size else None
     keep = np.empty((adc.shape[0], adc.shape[1], cfg.n_samples // 2), np.complex64) \
-        if memo is not None else None
+        if shared is not None else None
     out = blockwise_range_stage(cfg, adc, proc, dc, chirp_window, keep, rep)
-    if memo is not None:
-        _memo_put(memo, cfg, adc, proc, keep)
+    if shared is not None:
+        _keep(shared, cfg, adc, proc, keep)
     return out
 
 
