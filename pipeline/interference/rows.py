@@ -14,7 +14,7 @@ from ..threads import run_parts, spans
 from .masks import FrameRows
 from .methods import repair
 
-__all__ = ["RepairedRows", "repaired_rows"]
+__all__ = ["RepairedRows", "repaired_rows", "dc_removed_rows"]
 
 
 class RepairedRows(NamedTuple):
@@ -96,7 +96,7 @@ def repaired_rows(adc: np.ndarray, dc: np.ndarray | None, rows: np.ndarray,
 
     def dc_removed(lo: int, hi: int) -> None:
         if compiled:  # one pass: gather, convert and subtract (numpy's float32 steps)
-            _dc_removed_rows(a2, rows, dc.reshape(-1).astype(np.float32, copy=False), y, lo, hi)
+            dc_removed_rows(a2, rows, dc.reshape(-1).astype(np.float32, copy=False), y, lo, hi)
         elif dc is None:
             y[lo:hi] = a2[rows[lo:hi]]
         else:
@@ -143,7 +143,7 @@ def _windowed_rows(a2, y, means, rows, w, row0, lo, hi, out):
 
 
 @numba.njit(cache=True, nogil=True)
-def _dc_removed_rows(a2, rows, dc, out, lo, hi):
+def dc_removed_rows(a2, rows, dc, out, lo, hi):
     """out[i] <- float32(a2[rows[i]]) - dc[rows[i]] for i in lo .. hi - 1 (int16 rows, float32
     DC estimates: numpy's ``np.subtract(a, dc, dtype=float32)``, element by element)."""
     n = a2.shape[1]
