@@ -111,8 +111,9 @@ def fast_time_basis(ref: np.ndarray, max_rank: int, snr_gate: float,
     x = ref - ref.mean(axis=-1, keepdims=True)
     p = min(max_rank + 8, len(x), n - 1)  # 8 oversampling columns
     q = x[np.linspace(0, len(x) - 1, p).astype(np.intp)].T  # started from the rows themselves
+    xh = x.conj().T if np.iscomplexobj(x) else x.T  # no conjugated copy of real rows
     for _ in range(n_iter):
-        q, _ = np.linalg.qr(x.conj().T @ (x @ q))
+        q, _ = np.linalg.qr(xh @ (x @ q))
     _, s, vh = np.linalg.svd(x @ q, full_matrices=False)
     lam = s.astype(np.float64) ** 2 / len(x)
     total = float(np.vdot(x.ravel(), x.ravel()).real) / len(x)
