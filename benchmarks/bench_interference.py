@@ -28,6 +28,7 @@ from pipeline.config import WINDOWS
 from pipeline.interference import MITIGATIONS, FrameRows, repaired_rows
 from pipeline.interference.lowrank import FastTimeBasis, fast_time_basis, lowrank_fill
 from pipeline.interference.masks import reference_rows
+from pipeline.interference.residual import with_weak_bursts
 from pipeline.kernels import window
 from pipeline.threads import inline
 from radarsim import interference as itf_mod
@@ -204,6 +205,13 @@ def dirty_frame_breakdown(repeats: int, warmup: int) -> list[str]:
         fns[f"stats {k}"] = lambda a=a: chirp_statistics(a, proc)
         fns[f"blocks {k}"] = lambda a=a, d=stats[k][0], r=(rep if k == "dirty" else None): \
             blockwise_range_stage(cfg, a, proc, d, w, None, r)
+    # the chip's statistics alone, then the search for the weak bursts it missed
+    intf = proc.interference
+    _, chip_rows, chip_flags = chirp_statistics(adc, proc.replace(
+        **{"interference.weak_burst_snr_db": None}))
+    fns["weak bursts"] = lambda: with_weak_bursts(adc, dc, chip_rows, chip_flags,
+                                                  intf.weak_burst_snr_db,
+                                                  intf.weak_burst_window_samples)
     fns["repaired rows"] = lambda: repaired_rows(adc, dc, rows, flags, win, proc.interference)
     fns["basis"] = work.reference_and_basis
     fns["fill"] = lambda: work.fill(m.grow_sigma)
@@ -233,7 +241,8 @@ def dirty_frame_breakdown(repeats: int, warmup: int) -> list[str]:
         f"({t['frame dirty'] / t['frame clean']:.2f}x)",
         f"    range stage +{extra('stage'):.2f} ms (pieces timed on their own: the rest is "
         "a difference, noise included): statistics and flags "
-        f"+{extra('stats'):.2f}, repaired rows {t['repaired rows']:.2f} (reference rows + "
+        f"+{extra('stats'):.2f} (of which the weak-burst search {t['weak bursts']:.2f}), "
+        f"repaired rows {t['repaired rows']:.2f} (reference rows + "
         f"basis {t['basis']:.2f}, lowrank fill {t['fill']:.2f} of which mask growth "
         f"{t['fill'] - t['fill, no growth']:.2f}, DC removal, row means and the rest "
         f"{other:.2f}), "

@@ -22,7 +22,7 @@ from concurrent.futures import Future, ThreadPoolExecutor
 from contextlib import contextmanager
 from typing import TypeVar
 
-__all__ = ["n_parts", "spans", "run_parts", "run_queue", "inline"]
+__all__ = ["n_parts", "spans", "run_parts", "inline"]
 
 T = TypeVar("T")
 
@@ -122,22 +122,3 @@ def run_parts(calls: Sequence[Callable[[], T]]) -> list[T]:
     for call, f in zip(calls[1:], futures):
         results.append(call() if f.cancel() else f.result())
     return results
-
-
-def run_queue(calls: Sequence[Callable[[], object]]) -> None:
-    """Every call once, taken in list order by whichever part (`run_parts`, `n_parts` of
-    them) is free: one hand-off, and the parts finish within one call of each other whatever
-    the calls cost. The calls must write their own results, so the results do not depend on
-    which part ran which call; a call may wait for an earlier one (some part has taken it),
-    never for a later one. The first exception is raised once the parts are done."""
-    lock = threading.Lock()
-    queue = iter(calls)
-
-    def take() -> None:
-        while True:
-            with lock:
-                call = next(queue, None)
-            if call is None:
-                return
-            call()
-    run_parts([take] * min(n_parts(), len(calls)))

@@ -11,7 +11,6 @@ cubes through every chain's signature.
 """
 from __future__ import annotations
 
-import threading
 from collections.abc import Iterator
 from contextlib import contextmanager
 from contextvars import ContextVar
@@ -26,7 +25,7 @@ from ..interference import INTF_THRESHOLD_MODES, RepairedRows, flagged_rows, rep
 from ..interference.residual import with_weak_bursts
 from ..interference.row_statistics import row_flags, row_statistics
 from ..kernels import doppler_windowed, range_fft, samples_windowed, window, windowed
-from ..threads import n_parts, run_parts, run_queue, spans
+from ..threads import run_parts, spans
 from .dc import remove_dc, window_spectrum
 from .ege import HWA_OUTPUT_SCALE, ege_blocks, ege_compress, ege_setup
 
@@ -40,9 +39,9 @@ def range_stage_key(proc: ProcessingConfig) -> tuple:
     return (proc.range, proc.interference, proc.compression, proc.calibration)
 
 
-#: Range cubes of the current `shared_range_stage` scope by (frame id, n_samples, settings);
-#: each entry keeps its frame alive, so an id cannot be reused while the scope lasts.
-_SHARED: ContextVar[dict | None] = ContextVar("pipeline_shared_range_stage", default=None)
+#: The range cubes of the current `shared_range_stage` scope, as (frame, `_cube_key`, cube):
+#: a frame is found by identity (`is`), and the entry keeps it alive while the scope lasts.
+_SHARED: ContextVar[list | None] = ContextVar("pipeline_shared_range_stage", default=None)
 
 
 @contextmanager
@@ -54,7 +53,7 @@ def shared_range_stage() -> Iterator[None]:
     inside the block (the harness never does: its ADC frames are written once by the front
     end). Scopes are per thread and per context (`contextvars`); nested scopes start empty.
     """
-    token = _SHARED.set({})
+    token = _SHARED.set([])
     try:
         yield
     finally:
@@ -77,29 +76,32 @@ def range_stage(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) -> np
         With every switch off, exactly `kernels.range_fft(adc, window)`. Read-only inside
         `shared_range_stage`.
     """
-    memo = _SHARED.get()
-    if memo is None:
+    shared = _SHARED.get()
+    if shared is None:
         return _dc_signature(_range_stage(cfg, adc, proc), proc)
-    hit = _memo_get(memo, cfg, adc, proc)
-    if hit is not None:
-        return hit
-    return _memo_put(memo, cfg, adc, proc, _dc_signature(_range_stage(cfg, adc, proc), proc))
+    rf = _shared_cube(shared, cfg, adc, proc)
+    if rf is None:
+        rf = _keep(shared, cfg, adc, proc, _dc_signature(_range_stage(cfg, adc, proc), proc))
+    return rf
 
 
-def _memo_key(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) -> tuple:
-    return (id(adc), cfg.n_samples, *range_stage_key(proc))
+def _cube_key(cfg: RadarConfig, proc: ProcessingConfig) -> tuple:
+    return (cfg.n_samples, *range_stage_key(proc))
 
 
-def _memo_get(memo: dict, cfg: RadarConfig, adc: np.ndarray,
-              proc: ProcessingConfig) -> np.ndarray | None:
-    hit = memo.get(_memo_key(cfg, adc, proc))
-    return hit[1] if hit is not None and hit[0] is adc else None
+def _shared_cube(shared: list, cfg: RadarConfig, adc: np.ndarray,
+                 proc: ProcessingConfig) -> np.ndarray | None:
+    """The cube of frame `adc` (this very array) and these settings kept in the scope, or
+    None."""
+    key = _cube_key(cfg, proc)
+    return next((rf for a, k, rf in shared if a is adc and k == key), None)
 
 
-def _memo_put(memo: dict, cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig,
-              rf: np.ndarray) -> np.ndarray:
+def _keep(shared: list, cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig,
+          rf: np.ndarray) -> np.ndarray:
+    """`rf`, made read-only and kept in the scope as frame `adc`'s cube of these settings."""
     rf.flags.writeable = False
-    memo[_memo_key(cfg, adc, proc)] = (adc, rf)
+    shared.append((adc, _cube_key(cfg, proc), rf))
     return rf
 
 
@@ -130,38 +132,32 @@ def windowed_range_stage(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConf
     Notes
     -----
     For real samples without a DC range signature, the whole stage runs per block of
-    `CHIRP_BLOCK` chirps (flagged rows repaired first and windowed in place of theirs),
+    `CHIRP_BLOCK` chirps (the flagged rows repaired first and windowed in place of theirs),
     blocks in parts on the cores: window, rFFT, DC correction, EGE and the slow-time window
     one after the other on data that stays in cache, instead of five passes over the frame,
-    each with its own hand-off to the cores. Each step does what
-    `range_stage` does on those chirps (the rFFT of each row is the same transform in any
-    batch; EGE's dither is indexed by the chirp's place in the frame), so the cube is the
-    same. Inside `shared_range_stage` the unwindowed cube is kept for the other readers too.
-    With the "lowrank" repair in parts, the frame's basis is computed beside the flagged
-    rows' DC removal and flags, and the chirps' repairs then go into the blocks' queue
-    (`repaired_rows(deferred=True)`, `blockwise_range_stage`): one hand-off for both.
-    Otherwise (I/Q frames, a DC range signature, every switch off) `range_stage` and the
-    window product.
+    each with its own hand-off to the cores. Each step does what `range_stage` does on those
+    chirps (the rFFT of each row is the same transform in any batch; EGE's dither is indexed
+    by the chirp's place in the frame), so the cube is the same. Inside
+    `shared_range_stage` the unwindowed cube is kept for the other readers too. Otherwise
+    (I/Q frames, a DC range signature, every switch off) `range_stage` and the window
+    product.
     """
-    memo = _SHARED.get()
-    if memo is not None:
-        hit = _memo_get(memo, cfg, adc, proc)
-        if hit is not None:
-            return doppler_windowed(hit, chirp_window)
+    shared = _SHARED.get()
+    kept = None if shared is None else _shared_cube(shared, cfg, adc, proc)
+    if kept is not None:
+        return doppler_windowed(kept, chirp_window)
     if (np.iscomplexobj(adc) or proc.calibration.dc_range_signature is not None
             or not (proc.range.dc_removal or proc.interference.enabled
                     or proc.compression.enabled)):
         return doppler_windowed(range_stage(cfg, adc, proc), chirp_window)
-    dc, rows, flags = chirp_statistics(adc, proc, lazy_flags=True)
-    # Deferred repair (each block's repair next to it, in one queue): for parts on the cores;
-    # inline, a whole repair costs less than the same in several calls.
+    dc, rows, flags = chirp_statistics(adc, proc)
     rep = repaired_rows(adc, dc, rows, flags, window(WINDOWS[proc.range.window], cfg.n_samples),
-                        proc.interference, deferred=n_parts() > 1) if rows.size else None
+                        proc.interference) if rows.size else None
     keep = np.empty((adc.shape[0], adc.shape[1], cfg.n_samples // 2), np.complex64) \
-        if memo is not None else None
+        if shared is not None else None
     out = blockwise_range_stage(cfg, adc, proc, dc, chirp_window, keep, rep)
-    if memo is not None:
-        _memo_put(memo, cfg, adc, proc, keep)
+    if shared is not None:
+        _keep(shared, cfg, adc, proc, keep)
     return out
 
 
@@ -171,8 +167,7 @@ def blockwise_range_stage(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingCon
                           rep: RepairedRows | None = None) -> np.ndarray:
     """`windowed_range_stage` of a real frame, per block of chirps, the flagged rows `rep`
     (DC removed, repaired) windowed in place of theirs; the range cube before the slow-time
-    window also into `keep` if given. A repair `rep` still holds (`RepairedRows.fill`) runs
-    here, each block's before that block."""
+    window also into `keep` if given. Blocks in parts on the cores (`pipeline.threads`)."""
     n_c, n_rx, n_s = adc.shape
     n_b = n_s // 2
     win = window(WINDOWS[proc.range.window], n_s)
@@ -205,30 +200,7 @@ def blockwise_range_stage(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingCon
         for c0 in range(lo, hi, CHIRP_BLOCK):
             block(c0, min(c0 + CHIRP_BLOCK, hi))
 
-    if rep is None or rep.fill is None:
-        run_parts([lambda lo=lo, hi=hi: part(lo, hi)
-                   for lo, hi in spans(n_c, multiple=CHIRP_BLOCK)])
-        return out
-    # The repair still to run: its steps (basis, rows and flags, Gram sums, projections), the
-    # blocks' repairs, then the blocks, taken one at a time by whichever part is free (one
-    # hand-off, parts balanced whatever the repairs cost). A repair takes `group` blocks
-    # (each call costs ~30 us); each item waits only for earlier items (a block for its own
-    # repair), which some part has taken and runs.
-    c0s = range(0, n_c, CHIRP_BLOCK)
-    group = max(1, len(c0s) // (2 * n_parts()))
-    done = [threading.Event() for _ in range(0, len(c0s), group)]
-
-    def repair(g: int) -> None:
-        try:
-            rep.repair_chirps(c0s[g * group], min((g + 1) * group * CHIRP_BLOCK, n_c), n_rx)
-        finally:
-            done[g].set()  # also on failure: run_parts raises it, no part waits forever
-
-    def after_repair(j: int) -> None:
-        done[j // group].wait()
-        block(c0s[j], min(c0s[j] + CHIRP_BLOCK, n_c))
-    run_queue(rep.fill.steps() + [lambda g=g: repair(g) for g in range(len(done))]
-             + [lambda j=j: after_repair(j) for j in range(len(c0s))])
+    run_parts([lambda lo=lo, hi=hi: part(lo, hi) for lo, hi in spans(n_c, multiple=CHIRP_BLOCK)])
     return out
 
 
@@ -239,28 +211,27 @@ def _dc_signature(rf: np.ndarray, proc: ProcessingConfig) -> np.ndarray:
     return rf if sig is None else sig.subtract(rf)
 
 
-def chirp_statistics(adc: np.ndarray, proc: ProcessingConfig, lazy_flags: bool = False):
+def chirp_statistics(adc: np.ndarray, proc: ProcessingConfig):
     """(DC estimate or None, flagged chirp x Rx rows, their flags or None) as `proc` switches
     them: the chip's (`_chip_statistics`), then, where it flagged a row, the weak bursts it
-    missed (``proc.interference.weak_burst_snr_db``, `with_weak_bursts`). With `lazy_flags`
-    the flags may come as a function that makes them (`repaired_rows` takes either)."""
-    dc, rows, flags = _chip_statistics(adc, proc, lazy_flags)
+    missed (``proc.interference.weak_burst_snr_db``, `with_weak_bursts`)."""
+    dc, rows, flags = _chip_statistics(adc, proc)
     intf = proc.interference
     if intf.weak_burst_snr_db is None or not intf.enabled or not rows.size:
         return dc, rows, flags
-    rows, flags = with_weak_bursts(adc, dc, rows, flags() if callable(flags) else flags,
-                                   intf.weak_burst_snr_db, intf.weak_burst_window_samples)
+    rows, flags = with_weak_bursts(adc, dc, rows, flags, intf.weak_burst_snr_db,
+                                   intf.weak_burst_window_samples)
     return dc, rows, flags
 
 
-def _chip_statistics(adc: np.ndarray, proc: ProcessingConfig, lazy_flags: bool = False):
+def _chip_statistics(adc: np.ndarray, proc: ProcessingConfig):
     """The chip's (DC estimate or None, flagged chirp x Rx rows, their flags or None) as `proc`
     switches them: `remove_dc` and `flagged_rows`, both per chirp and Rx, run on blocks of
     chirps on the cores (`pipeline.threads`) and joined in row order (the same values)."""
     n_rx = adc.shape[1]
     if not (proc.range.dc_removal or proc.interference.enabled):  # nothing to measure
         return None, np.zeros(0, dtype=np.intp), None
-    fused = _fused_statistics(adc, proc, lazy_flags)
+    fused = _fused_statistics(adc, proc)
     if fused is not None:
         return fused
 
@@ -279,7 +250,7 @@ def _chip_statistics(adc: np.ndarray, proc: ProcessingConfig, lazy_flags: bool =
     return dc, rows, flags
 
 
-def _fused_statistics(adc: np.ndarray, proc: ProcessingConfig, lazy_flags: bool = False):
+def _fused_statistics(adc: np.ndarray, proc: ProcessingConfig):
     """`_chip_statistics` from one compiled pass (`row_statistics`) where it gives
     `remove_dc`'s and the magdiff `flagged_rows`' values bit for bit (an int16 frame, a
     difference-only threshold mode), else None. The flags of the flagged rows are
@@ -293,8 +264,6 @@ def _fused_statistics(adc: np.ndarray, proc: ProcessingConfig, lazy_flags: bool 
     dc = st.dc if proc.range.dc_removal else None
     if not intf:
         return dc, np.zeros(0, dtype=np.intp), None
-    if lazy_flags:
-        return dc, st.flagged, lambda: row_flags(adc, st.flagged, st.threshold)
     return dc, st.flagged, row_flags(adc, st.flagged, st.threshold)
 
 

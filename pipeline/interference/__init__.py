@@ -5,9 +5,9 @@ sections 3.1-3.2; `INTF_THRESHOLD_MODES`), `row_statistics` does the same and th
 in one compiled pass; `masks` turns flags into the samples to repair and picks the clean
 reference rows; `methods` holds the repair methods, subclasses of `RepairMethod` in one
 registry (`MITIGATIONS`), whose fills are in `fills` (taper, line, AR, tones) and `lowrank`
-(the fast-time subspace fill); `deferred` splits the "lowrank" repair into steps a queue runs
-beside the range FFT; `rows` gives the range stage the flagged rows, repaired; `config` holds
-the settings (`InterferenceConfig`: thresholds, mode, hysteresis, repair method or "off").
+(the fast-time subspace fill); `rows` gives the range stage the flagged rows, repaired;
+`config` holds the settings (`InterferenceConfig`: thresholds, mode, hysteresis, repair
+method or "off").
 """
 from .config import REPAIR_OFF, InterferenceConfig
 from .detection import (

@@ -111,8 +111,9 @@ def fast_time_basis(ref: np.ndarray, max_rank: int, snr_gate: float,
     x = ref - ref.mean(axis=-1, keepdims=True)
     p = min(max_rank + 8, len(x), n - 1)  # 8 oversampling columns
     q = x[np.linspace(0, len(x) - 1, p).astype(np.intp)].T  # started from the rows themselves
+    xh = x.conj().T if np.iscomplexobj(x) else x.T  # no conjugated copy of real rows
     for _ in range(n_iter):
-        q, _ = np.linalg.qr(x.conj().T @ (x @ q))
+        q, _ = np.linalg.qr(xh @ (x @ q))
     _, s, vh = np.linalg.svd(x @ q, full_matrices=False)
     lam = s.astype(np.float64) ** 2 / len(x)
     total = float(np.vdot(x.ravel(), x.ravel()).real) / len(x)
@@ -290,13 +291,25 @@ def _fit_rows(x, rhs, vec_c, lt, run_s, run_e, n_runs, r0, r1, y, c):
 def _evaluate(vec_t, c, nr, t0, t1, buf):
     """buf[r, t0:t1] <- the model with coefficients c[:, r] at samples t0 .. t1 - 1, rows
     r < nr (`vec_t` (k, n) the basis, transposed: the inner loop runs over contiguous
-    samples)."""
+    samples). Each value is summed over the components in increasing order from 0; four rows
+    at a time take a component's samples from one load (~3x faster than a pass per row and
+    component, the same sums)."""
     a, b = _U(t0), _U(t1)
     for r in range(nr):
         for t in range(a, b):
             buf[r, t] = 0
-    for i in range(vec_t.shape[0]):
-        for r in range(nr):
+    r4 = nr - nr % 4
+    for r in range(0, r4, 4):
+        for i in range(vec_t.shape[0]):
+            c0, c1, c2, c3 = c[i, r], c[i, r + 1], c[i, r + 2], c[i, r + 3]
+            for t in range(a, b):
+                v = vec_t[i, t]
+                buf[r, t] += c0 * v
+                buf[r + 1, t] += c1 * v
+                buf[r + 2, t] += c2 * v
+                buf[r + 3, t] += c3 * v
+    for r in range(r4, nr):
+        for i in range(vec_t.shape[0]):
             ci = c[i, r]
             for t in range(a, b):
                 buf[r, t] += ci * vec_t[i, t]
@@ -476,17 +489,13 @@ def burst_row_start(bursts: np.ndarray) -> np.ndarray:
 
 
 def burst_fill(x: np.ndarray, flags: np.ndarray, bursts: np.ndarray, basis: FastTimeBasis,
-               close: int, halfwidth: int, grow_sigma: float, grow_reach: int,
-               operands: GramOperands | None = None, rhs: np.ndarray | None = None) -> BurstFill:
+               close: int, halfwidth: int, grow_sigma: float, grow_reach: int) -> BurstFill:
     """`lowrank_fill`'s work up to the bursts: the rows' projections on the basis and the
-    basis' Gram sums (side by side on the cores, unless given: `projections`,
-    `gram_operands`), the kernel's operands. Arguments as `lowrank_fill`; x must hold at
-    least one row."""
+    basis' Gram sums, side by side on the cores (`projections`, `gram_operands`), the
+    kernel's operands. Arguments as `lowrank_fill`; x must hold at least one row."""
     n = x.shape[-1]
     row_start = burst_row_start(bursts)
-    if operands is None or rhs is None:
-        calls = [lambda: projections(x, basis), lambda: gram_operands(basis)]
-        rhs, operands = run_parts(calls)
+    rhs, operands = run_parts([lambda: projections(x, basis), lambda: gram_operands(basis)])
     thr = grow_sigma * np.sqrt(basis.noise_var) if grow_sigma > 0 else 0.0
     return BurstFill(x, np.ascontiguousarray(flags, dtype=bool), rhs, operands.vec_c,
                      operands.vec_t, operands.prefix, basis.shrink.astype(np.float64),

@@ -8,7 +8,7 @@ from typing import NamedTuple
 import numpy as np
 
 __all__ = ["widen", "close_gaps", "FrameRows", "REFERENCE_ROWS", "MIN_REFERENCE_ROWS",
-           "frame_reference", "reference_rows", "frame_has_reference"]
+           "frame_reference", "reference_rows"]
 
 
 def widen(flags: np.ndarray, hysteresis: int) -> np.ndarray:
@@ -74,9 +74,3 @@ def reference_rows(x: np.ndarray, frame: FrameRows | None, mask) -> np.ndarray:
         return ref
     idx = spread_rows(np.arange(len(x)))
     return np.where(mask()[idx], 0, x[idx])
-
-
-def frame_has_reference(frame: FrameRows) -> bool:
-    """Whether the "lowrank" basis of rows repaired in `frame` comes from the frame's unflagged
-    rows (`frame_reference`), not from the repaired rows and their flags."""
-    return len(frame.samples) - len(frame.rows) >= MIN_REFERENCE_ROWS

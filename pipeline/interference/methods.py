@@ -54,7 +54,7 @@ References
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Callable, ClassVar
+from typing import ClassVar
 
 import numpy as np
 
@@ -62,14 +62,11 @@ from core.errors import BadInput
 from core.registry import Registry
 from radarsim.chips import MAX_CHIP_ADC_SAMPLES
 
-from .deferred import DeferredLowrank
 from .fills import ar_fill, cancel_tones, linear_fill, taper_gain, tone_frequencies
-from .lowrank import BurstFill, FastTimeBasis, GramOperands, burst_fill, fast_time_basis
+from .lowrank import FastTimeBasis, burst_fill, fast_time_basis
 from .masks import (
     FrameRows,
     close_gaps,
-    frame_has_reference,
-    frame_reference,
     reference_rows,
     widen,
 )
@@ -191,14 +188,6 @@ class RepairMethod:
             x *= (w.sum() / np.maximum(kept, 1e-3 * w.sum())).astype(np.float32)[:, None]
         return x
 
-    def deferred(self, y: np.ndarray, frame: FrameRows, hysteresis: int,
-                 make_rows: Callable[[], None],
-                 make_flags: Callable[[], np.ndarray]) -> DeferredLowrank | None:
-        """The repair of rows `y` of `frame` split into steps a queue can run beside the rows'
-        own preparation (`pipeline.interference.rows.repaired_rows(deferred=True)`), or None:
-        the method repairs eagerly."""
-        return None
-
 
 @dataclass(frozen=True, kw_only=True, slots=True)
 class ZeroRepair(RepairMethod):
@@ -297,48 +286,18 @@ class LowrankRepair(RepairMethod):
         """`RepairMethod.repair`: the frame's unflagged rows give the basis, the rows of one
         chirp of `frame` share one mask (without a frame: the repaired rows, each row its
         own mask)."""
-        if len(x):
-            self.bursts(x, flags, hysteresis, frame).run_all(remove_mean)
-        return x
-
-    def bursts(self, x: np.ndarray, flags: np.ndarray, hysteresis: int,
-               frame: FrameRows | None, basis: FastTimeBasis | None = None,
-               operands: GramOperands | None = None,
-               rhs: np.ndarray | None = None) -> BurstFill:
-        """`repair` of rows x (at least one), prepared up to its per-burst work (a burst: the
-        rows of one chirp of `frame`, else one row): the frame's basis (`basis_of`, unless
-        given), the rows' projections on it and its Gram sums (`lowrank.burst_fill`, unless
-        given). ``.run(b0, b1)`` then repairs bursts b0 .. b1 - 1 in place, each burst once,
-        ``.run_all(remove_mean)`` all of them (`repair`'s values; the means are not removed by
-        `run`)."""
-        if basis is None:
-            basis = self.basis_of(reference_rows(x, frame, lambda: self.mask(flags, hysteresis)))
+        if not len(x):
+            return x
+        basis = self.basis_of(reference_rows(x, frame, lambda: self.mask(flags, hysteresis)))
         bursts = np.arange(len(x)) if frame is None else frame.rows // frame.n_rx
-        return burst_fill(x, flags, bursts, basis, self.close_gap_samples,
-                          hysteresis + self.extend_samples, self.grow_sigma,
-                          self.grow_reach_samples, operands, rhs)
-
-    def frame_basis(self, frame: FrameRows, dtype: np.dtype) -> FastTimeBasis | None:
-        """The basis for rows of `dtype` repaired in `frame`, where the frame's unflagged rows
-        give it (`bursts` computes the same one): it needs neither the repaired rows nor their
-        flags, so it can be computed beside them. None where the frame has too few unflagged
-        rows (the basis then comes from the repaired rows)."""
-        ref = frame_reference(frame, dtype)
-        return None if ref is None else self.basis_of(ref)
+        burst_fill(x, flags, bursts, basis, self.close_gap_samples,
+                   hysteresis + self.extend_samples, self.grow_sigma,
+                   self.grow_reach_samples).run_all(remove_mean)
+        return x
 
     def basis_of(self, ref: np.ndarray) -> FastTimeBasis:
         """The basis of reference rows `ref` (N, n)."""
         return fast_time_basis(ref, self.rank_max, 10 ** (self.rank_snr_gate_db / 10))
-
-    def deferred(self, y: np.ndarray, frame: FrameRows, hysteresis: int,
-                 make_rows: Callable[[], None],
-                 make_flags: Callable[[], np.ndarray]) -> DeferredLowrank | None:
-        """`RepairMethod.deferred`: the frame's basis (BLAS and LAPACK on one core, ~1.5 ms)
-        needs neither the rows nor their flags, so the steps run side by side; None where the
-        frame lacks its reference rows (`masks.frame_has_reference`)."""
-        if not frame_has_reference(frame):
-            return None
-        return DeferredLowrank(y, frame, self, hysteresis, make_rows, make_flags)
 
 
 def repair(x: np.ndarray, flags: np.ndarray, window_: np.ndarray, hysteresis: int,

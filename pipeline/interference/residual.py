@@ -50,6 +50,7 @@ from core.errors import BadInput
 
 from .lowrank import fast_time_basis
 from .masks import FrameRows, frame_reference
+from .rows import dc_removed_rows
 
 __all__ = ["residual_burst_flags", "with_weak_bursts", "RANK_MAX", "RANK_SNR_GATE_DB", "BLOCK"]
 
@@ -110,12 +111,20 @@ def residual_burst_flags(x: np.ndarray, vectors: np.ndarray, noise_var: float,
                        f"[{BLOCK}, {n}]")
     nb = window // BLOCK                       # blocks per window
     n_blocks = n // BLOCK
-    r = x - (x @ vectors) @ vectors.conj().T
-    p = r.real ** 2 + r.imag ** 2 if np.iscomplexobj(r) else r * r
+    r = (x @ vectors) @ vectors.conj().T
+    np.subtract(x, r, out=r)
+    if np.iscomplexobj(r):
+        p = r.real ** 2 + r.imag ** 2
+    else:
+        p = np.multiply(r, r, out=r)
     # window sums from BLOCK-sample block sums, windows BLOCK samples apart (a burst as long as
     # the window fills at least (nb - 1) / nb of one); the last n mod BLOCK samples join the
-    # last block
-    b = p[:, :n_blocks * BLOCK].reshape(len(p), n_blocks, BLOCK).sum(axis=-1)
+    # last block. A block's samples are added in order, one vector pass per sample (numpy's
+    # ``sum(axis=-1)`` over BLOCK elements adds them in that order, a pass per block).
+    q = p[:, :n_blocks * BLOCK].reshape(len(p), n_blocks, BLOCK)
+    b = q[..., 0] + q[..., 1]
+    for j in range(2, BLOCK):
+        b += q[..., j]
     b[:, -1] += p[:, n_blocks * BLOCK:].sum(axis=-1)
     e = sum(b[:, k:n_blocks - nb + 1 + k] for k in range(nb))   # (R, n_blocks - nb + 1)
     # the row's level: the median of windows a window apart (independent)
@@ -176,11 +185,12 @@ def with_weak_bursts(adc: np.ndarray, dc: np.ndarray | None, rows: np.ndarray,
     clean = np.ones(len(a2), dtype=bool)
     clean[rows] = False
     idx = np.flatnonzero(clean)
-    x = a2[idx].astype(dtype)
-    if dc is None:
-        x -= x.mean(axis=-1, keepdims=True)
+    if dc is not None and a2.dtype == np.int16:  # one compiled pass, the same float32 steps
+        x = np.empty((len(idx), n), dtype)
+        dc_removed_rows(a2, idx, dc.reshape(-1).astype(dtype, copy=False), x, 0, len(idx))
     else:
-        x -= dc.reshape(-1, 1)[idx].astype(dtype)
+        x = a2[idx].astype(dtype)
+        x -= x.mean(axis=-1, keepdims=True) if dc is None else dc.reshape(-1, 1)[idx].astype(dtype)
     new = residual_burst_flags(x, basis.vectors, basis.noise_var, threshold_db, window)
     hit = np.flatnonzero(new.any(axis=-1))
     if hit.size == 0:

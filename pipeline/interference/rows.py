@@ -3,7 +3,6 @@ theirs (`repaired_rows`, `RepairedRows`), with the compiled passes that gather, 
 window them."""
 from __future__ import annotations
 
-from collections.abc import Callable
 from typing import NamedTuple
 
 import numba
@@ -12,11 +11,10 @@ import numpy as np
 from core.errors import BadInput
 
 from ..threads import run_parts, spans
-from .deferred import DeferredLowrank
 from .masks import FrameRows
 from .methods import repair
 
-__all__ = ["RepairedRows", "repaired_rows"]
+__all__ = ["RepairedRows", "repaired_rows", "dc_removed_rows"]
 
 
 class RepairedRows(NamedTuple):
@@ -28,18 +26,6 @@ class RepairedRows(NamedTuple):
     window: np.ndarray    # (n_samples,) float32 range window
     dc: np.ndarray | None  # (n_chirps, n_rx) DC estimates, the repaired rows' 0 (None: none)
     means: np.ndarray     # (R,) what the repair still subtracts from each row (0: nothing)
-    fill: DeferredLowrank | None = None  # the repair still to run (`deferred=True`)
-
-    def repair_chirps(self, c0: int, c1: int, n_rx: int) -> None:
-        """Run the deferred repair (`fill`, after its steps) of the rows of chirps c0 .. c1 - 1
-        and set their `means`; nothing without one. Each chirp exactly once, any order, any
-        thread: until then those rows' `samples` and `means` are not the repaired ones."""
-        if self.fill is None:
-            return
-        lo, hi = np.searchsorted(self.rows, (c0 * n_rx, c1 * n_rx))
-        if hi > lo:  # a chirp's rows are one burst: lo and hi are where bursts start
-            self.fill.run(*np.searchsorted(self.fill.row_start, (lo, hi)))
-            self.samples[lo:hi].mean(axis=-1, out=self.means[lo:hi])
 
     def windowed(self) -> np.ndarray:
         """(R, n_samples) the repaired rows, their `means` subtracted, times the window
@@ -79,8 +65,7 @@ class RepairedRows(NamedTuple):
 
 
 def repaired_rows(adc: np.ndarray, dc: np.ndarray | None, rows: np.ndarray,
-                  flags: np.ndarray | Callable[[], np.ndarray], win: np.ndarray,
-                  intf, deferred: bool = False) -> RepairedRows:
+                  flags: np.ndarray, win: np.ndarray, intf) -> RepairedRows:
     """The flagged rows, DC removed and repaired by ``intf.method`` (the chip
     zeroes), with the window they are multiplied by.
 
@@ -91,19 +76,12 @@ def repaired_rows(adc: np.ndarray, dc: np.ndarray | None, rows: np.ndarray,
         DC estimates (None: no DC removal).
     rows : (R,) int
         Increasing flagged rows (`flagged_rows`).
-    flags : (R, n_samples) bool, or a function returning them
-        Their interference flags (a function: called once, maybe beside other work on
-        another core, where its own passes run whole, `pipeline.threads.inline`).
+    flags : (R, n_samples) bool
+        Their interference flags.
     win : (n_samples,) float32
         The range window.
     intf : pipeline.interference.InterferenceConfig
         Its repair method and hysteresis (enabled).
-    deferred : bool
-        Where the method defers (`RepairMethod.deferred`: the "lowrank" fill of real rows of a
-        frame with its reference rows), leave all of it to the caller: the DC removal, the flags
-        and the basis to ``fill.steps()`` (`DeferredLowrank`), then the per-chirp work and the
-        rows' means to `RepairedRows.repair_chirps` on every chirp once (so the steps run side
-        by side and a chirp's repair next to its range FFT); elsewhere ignored.
 
     Returns
     -------
@@ -118,7 +96,7 @@ def repaired_rows(adc: np.ndarray, dc: np.ndarray | None, rows: np.ndarray,
 
     def dc_removed(lo: int, hi: int) -> None:
         if compiled:  # one pass: gather, convert and subtract (numpy's float32 steps)
-            _dc_removed_rows(a2, rows, dc.reshape(-1).astype(np.float32, copy=False), y, lo, hi)
+            dc_removed_rows(a2, rows, dc.reshape(-1).astype(np.float32, copy=False), y, lo, hi)
         elif dc is None:
             y[lo:hi] = a2[rows[lo:hi]]
         else:
@@ -129,25 +107,17 @@ def repaired_rows(adc: np.ndarray, dc: np.ndarray | None, rows: np.ndarray,
     # a method may leave its rows' means to the window product (one pass less over the rows)
     centre = method.centres_rows and y.dtype == np.float32
     frame = FrameRows(a2, rows, n_rx)
-    make_flags = flags if callable(flags) else lambda: flags
     means = np.zeros(len(rows), y.dtype)
-    fill = None
-    if deferred and centre and len(rows):
-        fill = method.deferred(y, frame, intf.hysteresis_samples,
-                               lambda: dc_removed(0, len(rows)), make_flags)
-    if fill is None:
-        flags = make_flags()
-        run_parts([lambda lo=lo, hi=hi: dc_removed(lo, hi) for lo, hi in parts])
-        repair(y, flags, win, intf.hysteresis_samples, method, frame=frame,
-               remove_mean=not centre)
-        if centre:
-            run_parts([lambda lo=lo, hi=hi: y[lo:hi].mean(axis=-1, out=means[lo:hi])
-                       for lo, hi in parts])
+    run_parts([lambda lo=lo, hi=hi: dc_removed(lo, hi) for lo, hi in parts])
+    repair(y, flags, win, intf.hysteresis_samples, method, frame=frame, remove_mean=not centre)
+    if centre:
+        run_parts([lambda lo=lo, hi=hi: y[lo:hi].mean(axis=-1, out=means[lo:hi])
+                   for lo, hi in parts])
     dc0 = None
     if dc is not None:
         dc0 = dc[..., 0].copy()
         dc0.reshape(-1)[rows] = 0
-    return RepairedRows(rows, y, win, dc0, means, fill)
+    return RepairedRows(rows, y, win, dc0, means)
 
 
 @numba.njit(cache=True, nogil=True)
@@ -173,7 +143,7 @@ def _windowed_rows(a2, y, means, rows, w, row0, lo, hi, out):
 
 
 @numba.njit(cache=True, nogil=True)
-def _dc_removed_rows(a2, rows, dc, out, lo, hi):
+def dc_removed_rows(a2, rows, dc, out, lo, hi):
     """out[i] <- float32(a2[rows[i]]) - dc[rows[i]] for i in lo .. hi - 1 (int16 rows, float32
     DC estimates: numpy's ``np.subtract(a, dc, dtype=float32)``, element by element)."""
     n = a2.shape[1]

@@ -312,6 +312,31 @@ def test_compiled_fit_is_the_masked_least_squares_solve(dtype):
                                      rel=1e-10, abs=1e-12)
 
 
+@pytest.mark.parametrize("dtype", [np.float64, np.complex128])
+@pytest.mark.parametrize("nr", [3, 4, 5, 8])
+def test_compiled_model_of_rows_together_is_the_model_of_each_row(dtype, nr):
+    """The compiled model of a burst's rows (four rows at a time, then the rest) at samples
+    t0 .. t1 - 1 is, bit for bit, each row's model on its own (the sum over the components
+    from the first; for real rows numpy's); samples outside are left alone."""
+    rng = np.random.default_rng(3)
+    k, n, t0, t1 = 7, 50, 11, 37
+    cplx = 1j if dtype is np.complex128 else 0
+    vec_t = rng.standard_normal((k, n)) + cplx * rng.standard_normal((k, n))
+    c = rng.standard_normal((k, 8)) + cplx * rng.standard_normal((k, 8))
+    buf = np.full((nr, n), 5.0, dtype)
+    lr._evaluate(vec_t, c, nr, t0, t1, buf)
+    for r in range(nr):
+        one = np.full((1, n), 5.0, dtype)
+        lr._evaluate(vec_t, np.ascontiguousarray(c[:, r:r + 1]), 1, t0, t1, one)
+        assert buf[r].tobytes() == one[0].tobytes()
+        if not cplx:
+            want = np.zeros(t1 - t0, dtype)
+            for i in range(k):
+                want += c[i, r] * vec_t[i, t0:t1]
+            assert buf[r, t0:t1].tobytes() == want.tobytes()
+    assert (buf[:, :t0] == 5).all() and (buf[:, t1:] == 5).all()
+
+
 def test_lowrank_fill_is_the_same_in_one_part_and_in_two(monkeypatch):
     """The bursts are repaired in parts on the cores (`pipeline.threads`): the same bits and
     masks whether they run in one part (`threads.inline`) or two (forced, so a one-core

@@ -50,6 +50,41 @@ def test_a_residual_along_the_whole_row_is_no_burst():
     assert not f.any()
 
 
+def _reference_flags(x, v, noise_var, threshold_db, window, block=4):
+    """The flags in numpy's straightforward form: block sums by ``sum(axis=-1)``, window sums
+    of consecutive blocks, the row median of windows a window apart."""
+    r = x - (x @ v) @ v.T
+    p = r * r
+    b = p.reshape(len(p), -1, block).sum(axis=-1)
+    nb = window // block
+    e = sum(b[:, k:b.shape[1] - nb + 1 + k] for k in range(nb))
+    sub = e[:, ::nb]
+    med = np.partition(sub, sub.shape[1] // 2, axis=1)[:, sub.shape[1] // 2]
+    hit = e > np.maximum(med, np.float32(window * noise_var))[:, None] \
+        * np.float32(10 ** (threshold_db / 10))
+    blk = np.zeros(b.shape, dtype=bool)
+    for k in range(nb):
+        blk[:, k:b.shape[1] - nb + 1 + k] |= hit
+    return np.repeat(blk, block, axis=1)
+
+
+@pytest.mark.parametrize("threshold_db, window", [(2.0, 8), (6.0, 32), (9.0, 64)])
+def test_flags_are_the_straightforward_energy_test(threshold_db, window):
+    """The fast form (block sums as vector additions, the residual squared in place) flags
+    the samples numpy's straightforward form flags, at thresholds where many windows lie
+    near the line."""
+    rng = np.random.default_rng(4)
+    v = _basis(60.4, 130.2)
+    x = (rng.standard_normal((300, N)) * 3 + 50 * np.cos(2 * np.pi * 60.4 * T / N)).astype(
+        np.float32)
+    for r in rng.integers(0, 300, 60):
+        a = rng.integers(0, N - 40)
+        x[r, a:a + 40] += _burst(amp=rng.uniform(5, 60)).astype(np.float32)
+    want = _reference_flags(x, v, 9.0, threshold_db, window)
+    got = residual_burst_flags(x, v, 9.0, threshold_db, window)
+    assert want.any() and not want.all() and (got == want).all()
+
+
 def test_noise_alone_raises_no_flag():
     """Chi-square of 32 degrees of freedom over 32 exceeds 11 dB (12.6) with far below 1e-10
     per window: 4000 rows of noise, none flagged."""

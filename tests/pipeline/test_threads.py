@@ -151,23 +151,3 @@ def test_run_parts_inside_inline_runs_every_call_on_the_calling_thread():
     with threads.inline():
         where = threads.run_parts([first, threading.get_ident, threading.get_ident])
     assert where == [threading.get_ident()] * 3
-
-
-@pytest.mark.parametrize("parts", [1, 2])
-def test_run_queue_runs_every_call_once_and_raises_a_failure(monkeypatch, parts):
-    """`run_queue`: every call exactly once in any number of parts; a failing call's
-    exception is raised once the parts are done, and no call ran twice."""
-    monkeypatch.setattr(threads, "N_PARTS", parts)
-    ran, lock = [], threading.Lock()
-
-    def call(i):
-        with lock:
-            ran.append(i)
-        if i == 7:
-            raise RuntimeError("call 7")
-    threads.run_queue([lambda i=i: call(i) for i in range(7)])
-    assert sorted(ran) == list(range(7))
-    ran.clear()
-    with pytest.raises(RuntimeError, match="call 7"):
-        threads.run_queue([lambda i=i: call(i) for i in range(20)])
-    assert len(ran) == len(set(ran)) and 7 in ran
