@@ -11,8 +11,8 @@ the outputs are the same bits whatever the split into parts.
 References
 ----------
 .. [1] TI, AWR2944 DDMA application note [TI-DDMA]: section 5, tables 11, 14.
-.. [2] Cooley, J. W. and Tukey, J. W., "An algorithm for the machine calculation of complex
-       Fourier series", Math. Comp. 19 (1965) [Cooley-Tukey].
+.. [2] J. W. Cooley, J. W. Tukey, "An algorithm for the machine calculation of complex Fourier
+       series" [Cooley-Tukey]: decimation in time.
 """
 from __future__ import annotations
 
