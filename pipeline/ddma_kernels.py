@@ -369,24 +369,22 @@ def _fft48_power(zr, zi, n, out, col0):
 @numba.njit(cache=True, nogil=True)
 def _fft_map(spec, tx1_band, tx_pos, n_sb, slot, coef, out, b0, b1):
     """The map of range bins b0..b1-1 (`ddma_coherent_power` with ``plan.slot`` set): per
-    block of `RANGE_BLOCK` bins, the demodulated samples (`ddma_gather`) times their channel
-    coefficients into the 12 positions `slot` of the row (Doppler bins outer, range bins
-    inner: reads run along range), then `_fft48_power` into out's columns b n_dop + d."""
-    n_rx = spec.shape[1]
+    block of `RANGE_BLOCK` bins, the demodulated samples (`_gather_block`), times their channel
+    coefficients, into the 12 positions `slot` of the row as float32 (re, im) rows (in cache),
+    then `_fft48_power` into out's columns b n_dop + d."""
+    n_rows = tx_pos.size * spec.shape[1]
     n_dop = tx1_band.shape[0]
+    x = np.empty((n_rows, RANGE_BLOCK * n_dop), np.complex64)
     zr = np.zeros((FFT_MAP_POSITIONS, RANGE_BLOCK * n_dop), np.float32)
     zi = np.zeros((FFT_MAP_POSITIONS, RANGE_BLOCK * n_dop), np.float32)
     for lo in range(b0, b1, RANGE_BLOCK):
         hi = min(lo + RANGE_BLOCK, b1)
-        for d in range(n_dop):
-            for b in range(lo, hi):
-                band = tx1_band[d, b]
-                col = (b - lo) * n_dop + d
-                for i in range(tx_pos.size):
-                    chirp = ((band + tx_pos[i]) % n_sb) * n_dop + d
-                    for rx in range(n_rx):
-                        row = i * n_rx + rx
-                        v = spec[chirp, rx, b] * coef[row]
-                        zr[slot[row], col] = v.real
-                        zi[slot[row], col] = v.imag
-        _fft48_power(zr, zi, (hi - lo) * n_dop, out, lo * n_dop)
+        n = (hi - lo) * n_dop
+        _gather_block(spec, tx1_band, tx_pos, n_sb, x, lo, hi)
+        for row in range(n_rows):
+            src, c, re, im = x[row], coef[row], zr[slot[row]], zi[slot[row]]
+            for j in range(UINT(n)):
+                v = src[j] * c
+                re[j] = v.real
+                im[j] = v.imag
+        _fft48_power(zr, zi, n, out, lo * n_dop)
