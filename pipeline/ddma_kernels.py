@@ -1,36 +1,97 @@
 """Kernels of the empty-band DDMA demodulation ([TI-DDMA] table 11) and its coherent azimuth
-map: the Tx-order metric, the demodulation gather and the zero-padded azimuth DFT as a complex
-GEMM with its power map, whole or in blocks of range bins that stay in cache.
+map: the Tx-order metric, the demodulation gather and the zero-padded azimuth DFT with its
+power map.
 
-Compiled loops (numba, ``cache=True``) repeat numpy's float32 operations in numpy's order, and a
-GEMM is only split where the BLAS at hand gives the whole product's bits (checked once per
-process and layout), so every output is bit for bit the numpy formulation's.
+The map of the R79 row (12 virtual channels at lambda/2 positions 0..11, 48 azimuth bins) is a
+pruned 48-point FFT computed straight from the spectra in one compiled pass (`_fft_map`: gather,
+transform and |.|^2 per block of range bins in cache); any other row or bin count is the
+zero-padded DFT as one complex GEMM. Compiled loops over columns compute every column alone, so
+the outputs are the same bits whatever the split into parts.
 
 References
 ----------
 .. [1] TI, AWR2944 DDMA application note [TI-DDMA]: section 5, tables 11, 14.
+.. [2] J. W. Cooley, J. W. Tukey, "An algorithm for the machine calculation of complex Fourier
+       series" [Cooley-Tukey]: decimation in time.
 """
 from __future__ import annotations
 
-from functools import lru_cache
+from functools import partial
+from typing import NamedTuple
 
 import numba
 import numpy as np
 import scipy.fft
 
 from .kernels import UINT, rx_energy_bins, slow_time_fft
+from .stages import power_of
 from .threads import run_parts, spans
 
-__all__ = ["ddma_metric", "ddma_gather", "ddma_coherent_power", "ddma_spectra_power",
-           "DDMA_RANGE_BLOCK"]
+__all__ = ["AzimuthMap", "azimuth_map", "FFT_MAP_BINS", "FFT_MAP_POSITIONS", "ddma_metric",
+           "ddma_gather", "ddma_coherent_power", "ddma_spectra_power", "fft48_power"]
+
+#: Azimuth bins and row length (lambda/2 positions) of the map computed as a pruned FFT.
+FFT_MAP_BINS = 48
+FFT_MAP_POSITIONS = 12
+#: Range bins per block of `_fft_map`: the block's samples (12 x 1024 complex) and a 64-byte
+#: line of the spectra (8 complex64 range bins) per read stay in cache.
+RANGE_BLOCK = 8
+
+
+class AzimuthMap(NamedTuple):
+    """What the demodulation and the azimuth map of a DDMA configuration need (`azimuth_map`).
+
+    Attributes
+    ----------
+    n_subbands, n_tx : int
+        N sub-bands and the transmitters of the metric's cyclic sum.
+    tx_pos : (P,) int64
+        Sub-band positions of the transmitters entering the map (0 = the first Tx).
+    dft : (n_az, P x n_rx) complex64
+        The map as a matrix: zero-padded azimuth DFT (channel coefficients folded in) applied to
+        the demodulated rows p n_rx + rx.
+    slot : (P x n_rx,) int64
+        Horizontal position (lambda/2) of each row when the map is the pruned 48-point FFT
+        (`fft48_power`), empty otherwise.
+    coef : (P x n_rx,) complex64
+        Channel coefficient of each row (1 without compensation).
+    """
+
+    n_subbands: int
+    n_tx: int
+    tx_pos: np.ndarray
+    dft: np.ndarray
+    slot: np.ndarray
+    coef: np.ndarray
+
+
+def azimuth_map(n_subbands: int, n_tx: int, tx_pos: np.ndarray, positions: np.ndarray,
+                coef: np.ndarray | None, n_az: int) -> AzimuthMap:
+    """The `AzimuthMap` of a row: demodulated rows p n_rx + rx (p in `tx_pos`) at horizontal
+    positions `positions` (lambda/2; -1: a channel off the row, weight 0), times `coef`
+    (None: 1), `n_az`-point zero-padded DFT e^{-2j pi pos k / n_az} (complex64, then times
+    the coefficient, as `compensation.apply_coefficients` on `stages.array_dft`). The pruned
+    FFT serves it when ``n_az == FFT_MAP_BINS`` and the positions are distinct, in
+    0..FFT_MAP_POSITIONS - 1."""
+    positions = np.asarray(positions, np.int64)
+    coef = np.ones(positions.size, np.complex64) if coef is None else \
+        np.asarray(coef, np.complex64)
+    fft = (n_az == FFT_MAP_BINS and np.unique(positions).size == positions.size
+           and positions.min() >= 0 and positions.max() < FFT_MAP_POSITIONS)
+    steer = np.exp(-2j * np.pi * np.outer(np.arange(n_az), positions) / n_az)
+    dft = np.where(positions >= 0, steer, 0).astype(np.complex64) * coef
+    plan = AzimuthMap(n_subbands, n_tx, np.asarray(tx_pos, np.int64), dft,
+                      positions if fft else np.empty(0, np.int64), coef)
+    for a in plan[2:]:
+        a.flags.writeable = False
+    return plan
 
 
 def ddma_gather(spec: np.ndarray, tx1_band: np.ndarray, tx_pos: np.ndarray,
                 n_subbands: int) -> np.ndarray:
     """Demodulated DDMA samples of the transmitters at sub-band positions `tx_pos`, for every
     range and Doppler bin ([TI-DDMA] table 11): Tx p of Doppler bin d at range bin b sits at
-    chirp-bin d + n_dop ((tx1_band[d, b] + p) mod N). The whole frame in one block of
-    `ddma_coherent_power`'s gather (the chains gather per block inside it).
+    chirp-bin d + n_dop ((tx1_band[d, b] + p) mod N).
 
     Parameters
     ----------
@@ -49,34 +110,22 @@ def ddma_gather(spec: np.ndarray, tx1_band: np.ndarray, tx_pos: np.ndarray,
         Row p n_rx + rx, column b n_dop + d.
     """
     n_c, n_rx, n_b = spec.shape
-    out = np.empty((tx_pos.size * n_rx, n_b * (n_c // n_subbands)), np.complex64)
+    n_dop = n_c // n_subbands
+    out = np.empty((tx_pos.size * n_rx, n_b * n_dop), np.complex64)
     _gather_block(spec, tx1_band, tx_pos.astype(np.int64), n_subbands, out, 0, n_b)
     return out
 
 
-#: Range bins per block of `ddma_coherent_power`: the block's gathered samples (12 x 1024
-#: complex64), its GEMM output (48 x 1024) and power (48 x 1024 float32), ~0.7 MB for an R79
-#: frame, stay in a core's L2 (1 MB here), and the gather reads whole 64-byte lines of the
-#: spectra (8 complex64 range bins). Measured on the R79 frame, process_frame alternating in
-#: one process: 8 bins 0.2-0.36 ms CPU less than 4 (1 and 2 parts); 16 slower again.
-DDMA_RANGE_BLOCK = 8
+def ddma_coherent_power(spec: np.ndarray, energy: np.ndarray, plan: AzimuthMap
+                        ) -> tuple[np.ndarray, np.ndarray]:
+    """Empty-band demodulation and the coherent azimuth power map of a DDMA frame ([TI-DDMA]
+    table 11 and section 5.4).
 
-
-def ddma_coherent_power(spec: np.ndarray, energy: np.ndarray, tx_pos: np.ndarray,
-                        n_subbands: int, n_tx: int, dft: np.ndarray,
-                        range_block: int = DDMA_RANGE_BLOCK) -> tuple[np.ndarray, np.ndarray]:
-    """Empty-band demodulation and the coherent azimuth power map of a DDMA frame, in blocks of
-    range bins ([TI-DDMA] table 11 and section 5.4).
-
-    Per block of `range_block` range bins: the Tx order of every (Doppler, range) cell (the
-    argmax over j of `ddma_metric`, `_band_argmax`), the demodulated samples of the
-    transmitters at sub-band positions `tx_pos` (`ddma_gather`), their product with `dft` and
-    its power |.|^2 (re^2 + im^2 in float32, as `stages.power_of`). The block's samples, product
-    and power stay in cache instead of three frame-sized passes through memory; blocks of range
-    bins run in parts on the cores (`pipeline.threads`). A column block of a GEMM is the same
-    arithmetic as the whole product with the BLAS at hand (checked once per process and
-    layout, `_col_blocks_exact`; where it is not, one block), so the map is bit for bit
-    ``power_of(dft @ ddma_gather(spec, argmax(ddma_metric(energy)), ...))``.
+    The Tx order of every (Doppler, range) cell (the argmax over j of `ddma_metric`,
+    `_band_argmax`), the demodulated samples of the transmitters at sub-band positions
+    ``plan.tx_pos`` (`ddma_gather`) and the power |.|^2 of their azimuth map: the pruned FFT
+    (`fft48_power`, per block of range bins, range bins in parts on the cores) where
+    ``plan.slot`` is set, else ``power_of(plan.dft @ ddma_gather(...))`` (one GEMM).
 
     Parameters
     ----------
@@ -84,14 +133,7 @@ def ddma_coherent_power(spec: np.ndarray, energy: np.ndarray, tx_pos: np.ndarray
         Doppler spectra over all chirps, C-contiguous.
     energy : (n_chirps, n_range) float32
         `spec`'s energy summed over Rx (`rx_energy`).
-    tx_pos : (P,) int
-        Sub-band positions of the transmitters entering the map (0 = the first Tx).
-    n_subbands, n_tx : int
-        N sub-bands and the transmitters of the metric's cyclic sum.
-    dft : (n_az, P x n_rx) complex64
-        Azimuth DFT (channel coefficients folded in) applied to the rows p n_rx + rx.
-    range_block : int
-        Range bins per block.
+    plan : AzimuthMap
 
     Returns
     -------
@@ -100,11 +142,10 @@ def ddma_coherent_power(spec: np.ndarray, energy: np.ndarray, tx_pos: np.ndarray
     tx1_band : (n_dop, n_range) intp
         Sub-band of the first Tx per Doppler bin of a sub-band and range bin.
     """
-    return _coherent_power(spec, energy, tx_pos, n_subbands, n_tx, dft, range_block, False)
+    return _coherent_power(spec, energy, plan, False)
 
 
-def ddma_spectra_power(xw: np.ndarray, tx_pos: np.ndarray, n_subbands: int, n_tx: int,
-                       dft: np.ndarray, range_block: int = DDMA_RANGE_BLOCK
+def ddma_spectra_power(xw: np.ndarray, plan: AzimuthMap
                        ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """Doppler FFT over the chirps of a windowed cube, its Rx energy and `ddma_coherent_power`,
     in one pass by spans of range bins on the cores.
@@ -114,19 +155,16 @@ def ddma_spectra_power(xw: np.ndarray, tx_pos: np.ndarray, n_subbands: int, n_tx
     the map (`ddma_coherent_power` reads only its own range bins' energy and spectra). Every
     range bin's transform is the same arithmetic in any batch of columns (pocketfft), so `spec`
     is bit for bit `kernels.slow_time_fft` (xw) and the rest `rx_energy` and
-    `ddma_coherent_power` on it. Against the three passes one after the other (the FFT on
-    pocketfft's own threads, the energy and the map each in parts) the frame waits twice less
-    for the slower core and hands off to threads twice less: R79 DDMA frame, 2 cores, 40
-    alternating rounds, 0.45 ms less wall time (faster in 82 % of rounds), 0.3 ms more CPU
-    (the energy reads half rows). With one part (`pipeline.threads.inline`, one core) the FFT
+    `ddma_coherent_power` on it. Against the three passes one after the other the frame waits
+    twice less for the slower core and hands off to threads twice less (R79 DDMA frame, 2
+    cores: 0.45 ms less wall time). With one part (`pipeline.threads.inline`, one core) the FFT
     runs whole on all cores first, as `slow_time_fft`.
 
     Parameters
     ----------
     xw : (n_chirps, n_rx, n_range) complex64, C-contiguous
         Range spectra times the Doppler window; overwritten by the spectra.
-    tx_pos, n_subbands, n_tx, dft, range_block
-        As `ddma_coherent_power`.
+    plan : AzimuthMap
 
     Returns
     -------
@@ -138,26 +176,19 @@ def ddma_spectra_power(xw: np.ndarray, tx_pos: np.ndarray, n_subbands: int, n_tx
         As `ddma_coherent_power`.
     """
     energy = np.empty((xw.shape[0], xw.shape[2]), np.float32)
-    power, tx1_band = _coherent_power(xw, energy, tx_pos, n_subbands, n_tx, dft, range_block,
-                                      True)
+    power, tx1_band = _coherent_power(xw, energy, plan, True)
     return xw, energy, power, tx1_band
 
 
-def _coherent_power(spec, energy, tx_pos, n_subbands, n_tx, dft, range_block, transform):
+def _coherent_power(spec, energy, plan, transform):
     """`ddma_coherent_power`; with `transform`, `spec` is the windowed cube, transformed along
     the chirps in place and `energy` filled first, per part (`ddma_spectra_power`)."""
     n_c, n_rx, n_b = spec.shape
-    n_dop = n_c // n_subbands
-    n_az, n_rows = dft.shape[0], tx_pos.size * n_rx
+    n_dop = n_c // plan.n_subbands
     tx1_band = np.empty((n_dop, n_b), np.intp)
-    power = np.empty((n_az, n_b * n_dop), np.float32)
-    pos = tx_pos.astype(np.int64)
-    blk = max(1, min(range_block, n_b))
-    parts = spans(n_b, multiple=blk)
-    bounds = tuple((b0 * n_dop, min(b0 + blk, hi) * n_dop)
-                   for lo, hi in parts for b0 in range(lo, hi, blk))
-    if not _col_blocks_exact(dft.shape, dft.strides, n_rows, bounds):
-        blk, parts = n_b, [(0, n_b)]
+    power = np.empty((plan.dft.shape[0], n_b * n_dop), np.float32)
+    fft = plan.slot.size > 0
+    parts = spans(n_b, multiple=RANGE_BLOCK)
     if transform and len(parts) == 1:  # nothing to overlap: the whole FFT on all cores
         slow_time_fft(spec)
         rx_energy_bins(spec, energy, 0, n_b)
@@ -169,14 +200,14 @@ def _coherent_power(spec, energy, tx_pos, n_subbands, n_tx, dft, range_block, tr
             # costs more in calls than it saves in cache (R79, 8-32 bins: 0.9-2.2 ms CPU more).
             _doppler_fft_bins(spec, lo, hi)
             rx_energy_bins(spec, energy, lo, hi)
-        _band_argmax(energy, n_subbands, n_tx, tx1_band, lo, hi)
-        for b0 in range(lo, hi, blk):
-            b1 = min(b0 + blk, hi)
-            x = np.empty((n_rows, (b1 - b0) * n_dop), np.complex64)
-            _gather_block(spec, tx1_band, pos, n_subbands, x, b0, b1)
-            _power_into((dft @ x).view(np.float32), power, b0 * n_dop)
+        _band_argmax(energy, plan.n_subbands, plan.n_tx, tx1_band, lo, hi)
+        if fft:
+            _fft_map(spec, tx1_band, plan.tx_pos, plan.n_subbands, plan.slot, plan.coef, power,
+                     lo, hi)
 
-    run_parts([lambda lo=lo, hi=hi: part(lo, hi) for lo, hi in parts])
+    run_parts([partial(part, lo, hi) for lo, hi in parts])
+    if not fft:
+        power = power_of(plan.dft @ ddma_gather(spec, tx1_band, plan.tx_pos, plan.n_subbands))
     return power, tx1_band
 
 
@@ -186,24 +217,6 @@ def _doppler_fft_bins(spec: np.ndarray, lo: int, hi: int) -> None:
     out = scipy.fft.fft(view, axis=0, workers=1, overwrite_x=True)
     if not np.may_share_memory(out, spec):  # a scipy that does not transform views in place
         view[...] = out
-
-
-@lru_cache(maxsize=16)
-def _col_blocks_exact(w_shape, w_strides, k: int, bounds: tuple) -> bool:
-    """Whether the column blocks `bounds` ((lo, hi), ...) of a complex64 GEMM w @ x, w of this
-    layout and x (k, n) C-contiguous, each computed from its own contiguous (k, hi - lo) copy,
-    give the bits of the whole product (random operands)."""
-    g = np.random.default_rng(0)
-    n = bounds[-1][1]
-
-    def cplx(shape):
-        return (g.standard_normal(shape) + 1j * g.standard_normal(shape)).astype(np.complex64)
-
-    w = cplx(w_shape[::-1]).T if w_strides[0] < w_strides[-1] else cplx(w_shape)
-    x = cplx((k, n))
-    whole = w @ x
-    return all(np.array_equal(whole[:, lo:hi], w @ np.ascontiguousarray(x[:, lo:hi]))
-               for lo, hi in bounds)
 
 
 @numba.njit(cache=True, nogil=True)
@@ -254,21 +267,6 @@ def _gather_block(spec, tx1_band, tx_pos, n_sb, out, b0, b1):
                     out[i * n_rx + rx, col] = spec[c, rx, b]
 
 
-@numba.njit(cache=True, nogil=True)
-def _power_into(yv, out, col0):
-    """out[:, col0 + j] = yv[:, 2j]^2 + yv[:, 2j + 1]^2: |y|^2 of a complex64 product seen as
-    float32 (re, im) pairs, as `stages.power_of` (two rounded squares, a rounded sum)."""
-    m, n2 = yv.shape
-    n, c0, one, two = UINT(n2 // 2), UINT(col0), UINT(1), UINT(2)
-    for i in range(m):
-        row = yv[i]
-        dst = out[i]
-        for j in range(n):  # unsigned: numba would wrap a negative signed index around,
-            re = row[two * j]  # which keeps LLVM from vectorising the loop (3x slower)
-            im = row[two * j + one]
-            dst[c0 + j] = re * re + im * im
-
-
 def ddma_metric(power: np.ndarray, n_subbands: int, n_tx: int) -> np.ndarray:
     """Empty-band DDMA metric Z_j = sum_{m < n_tx} S_{(j+m) mod N} ([TI-DDMA] table 11).
 
@@ -288,3 +286,105 @@ def ddma_metric(power: np.ndarray, n_subbands: int, n_tx: int) -> np.ndarray:
     for m in range(1, n_tx):  # n_tx - 1 <= 3 shifted adds, not a loop over bins
         z += ext[m: m + n_subbands]
     return z
+
+
+#: Twiddle factors W_n^m = e^{-2j pi m / n} of the pruned FFT (float64 rounded to complex64).
+_W16 = np.exp(-2j * np.pi * np.arange(16) / 16).astype(np.complex64)
+_W48 = np.exp(-2j * np.pi * np.arange(48) / 48).astype(np.complex64)
+_HALF = np.float32(0.5)
+_SIN60 = np.float32(np.sqrt(3.0) / 2)  # -Im W_3
+
+
+def fft48_power(z: np.ndarray) -> np.ndarray:
+    """|X_k|^2 of the 48-point DFT of each column of `z` zero-padded from 12 samples,
+    X_k = sum_{n < 12} z_n e^{-2j pi n k / 48}, by the pruned decimation in time of
+    `_fft48_power` ([Cooley-Tukey]; float32).
+
+    Parameters
+    ----------
+    z : (12, n) complex
+
+    Returns
+    -------
+    (48, n) float32
+    """
+    zr = np.ascontiguousarray(z.real, np.float32)
+    zi = np.ascontiguousarray(z.imag, np.float32)
+    out = np.empty((FFT_MAP_BINS, z.shape[1]), np.float32)
+    _fft48_power(zr, zi, z.shape[1], out, 0)
+    return out
+
+
+@numba.njit(cache=True, nogil=True)
+def _fft48_power(zr, zi, n, out, col0):
+    """out[k, col0 + c] = |X_k|^2 of column c < n of the 12 samples (zr + j zi) (12, >= n).
+
+    48 = 16 x 3, decimation in time over n = 3 m + i (m < 4 nonzero samples of each of the
+    three phases i): A_i[s] = sum_{m < 4} z_{3m+i} W16^{ms} (s < 16), then
+    X_{s + 16 t} = sum_{i < 3} W3^{it} (W48^{is} A_i[s]), a 3-point butterfly. 64 complex
+    products per column instead of the 576 of the 48 x 12 matrix, columns in the inner loop
+    (SIMD over columns; unsigned indices keep LLVM vectorising)."""
+    m = UINT(n)
+    r0, r1, r2, r3, r4, r5 = zr[0], zr[1], zr[2], zr[3], zr[4], zr[5]
+    r6, r7, r8, r9, r10, r11 = zr[6], zr[7], zr[8], zr[9], zr[10], zr[11]
+    i0, i1, i2, i3, i4, i5 = zi[0], zi[1], zi[2], zi[3], zi[4], zi[5]
+    i6, i7, i8, i9, i10, i11 = zi[6], zi[7], zi[8], zi[9], zi[10], zi[11]
+    for s in range(16):
+        w1, w2, w3 = _W16[s], _W16[2 * s % 16], _W16[3 * s % 16]
+        ar, ai, br, bi, cr, ci = w1.real, w1.imag, w2.real, w2.imag, w3.real, w3.imag
+        t1, t2 = _W48[s], _W48[2 * s]
+        o0 = out[s, col0:col0 + n]
+        o1 = out[s + 16, col0:col0 + n]
+        o2 = out[s + 32, col0:col0 + n]
+        for c in range(m):
+            # A_0, A_1, A_2 at s
+            x0r = r0[c] + (r3[c] * ar - i3[c] * ai) + (r6[c] * br - i6[c] * bi) \
+                + (r9[c] * cr - i9[c] * ci)
+            x0i = i0[c] + (r3[c] * ai + i3[c] * ar) + (r6[c] * bi + i6[c] * br) \
+                + (r9[c] * ci + i9[c] * cr)
+            y1r = r1[c] + (r4[c] * ar - i4[c] * ai) + (r7[c] * br - i7[c] * bi) \
+                + (r10[c] * cr - i10[c] * ci)
+            y1i = i1[c] + (r4[c] * ai + i4[c] * ar) + (r7[c] * bi + i7[c] * br) \
+                + (r10[c] * ci + i10[c] * cr)
+            y2r = r2[c] + (r5[c] * ar - i5[c] * ai) + (r8[c] * br - i8[c] * bi) \
+                + (r11[c] * cr - i11[c] * ci)
+            y2i = i2[c] + (r5[c] * ai + i5[c] * ar) + (r8[c] * bi + i8[c] * br) \
+                + (r11[c] * ci + i11[c] * cr)
+            # times W48^{is}
+            x1r = y1r * t1.real - y1i * t1.imag
+            x1i = y1r * t1.imag + y1i * t1.real
+            x2r = y2r * t2.real - y2i * t2.imag
+            x2i = y2r * t2.imag + y2i * t2.real
+            # 3-point butterfly: W3 = -1/2 - j sin60, W3^2 = -1/2 + j sin60
+            sr, si, dr, di = x1r + x2r, x1i + x2i, x1r - x2r, x1i - x2i
+            mr, mi = x0r - _HALF * sr, x0i - _HALF * si
+            p0r, p0i = x0r + sr, x0i + si
+            p1r, p1i = mr + _SIN60 * di, mi - _SIN60 * dr
+            p2r, p2i = mr - _SIN60 * di, mi + _SIN60 * dr
+            o0[c] = p0r * p0r + p0i * p0i
+            o1[c] = p1r * p1r + p1i * p1i
+            o2[c] = p2r * p2r + p2i * p2i
+
+
+@numba.njit(cache=True, nogil=True)
+def _fft_map(spec, tx1_band, tx_pos, n_sb, slot, coef, out, b0, b1):
+    """The map of range bins b0..b1-1 (`ddma_coherent_power` with ``plan.slot`` set): per
+    block of `RANGE_BLOCK` bins, the demodulated samples (`_gather_block`), times their channel
+    coefficients, into the 12 positions `slot` of the row as float32 (re, im) rows (in cache),
+    then `_fft48_power` into out's columns b n_dop + d."""
+    n_rows = tx_pos.size * spec.shape[1]
+    n_dop = tx1_band.shape[0]
+    x = np.empty((n_rows, RANGE_BLOCK * n_dop), np.complex64)
+    zr = np.zeros((FFT_MAP_POSITIONS, RANGE_BLOCK * n_dop), np.float32)
+    zi = np.zeros((FFT_MAP_POSITIONS, RANGE_BLOCK * n_dop), np.float32)
+    for lo in range(b0, b1, RANGE_BLOCK):
+        hi = min(lo + RANGE_BLOCK, b1)
+        n = (hi - lo) * n_dop
+        _gather_block(spec, tx1_band, tx_pos, n_sb, x, lo, hi)
+        for row in range(n_rows):
+            src, c, re, im = x[row], coef[row], zr[slot[row]], zi[slot[row]]
+            for j in range(UINT(n)):
+                v = src[j] * c
+                re[j] = v.real
+                im[j] = v.imag
+        _fft48_power(zr, zi, n, out, lo * n_dop)

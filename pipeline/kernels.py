@@ -15,7 +15,7 @@ References
 """
 from __future__ import annotations
 
-from functools import lru_cache
+from functools import lru_cache, partial
 from typing import NamedTuple
 
 import numba
@@ -82,7 +82,7 @@ def windowed(x: np.ndarray, win: np.ndarray, dtype) -> np.ndarray:
         else:
             np.multiply(x[lo:hi], win[lo:hi] if per_row else win, out=out[lo:hi], dtype=dtype)
 
-    run_parts([lambda lo=lo, hi=hi: block(lo, hi) for lo, hi in spans(out.shape[0])])
+    run_parts([partial(block, lo, hi) for lo, hi in spans(out.shape[0])])
     return out
 
 
@@ -139,8 +139,7 @@ def doppler_windowed(x: np.ndarray, win: np.ndarray, out: np.ndarray | None = No
     if not split:
         _complex_times_real(x3, win, o3, 0, x.shape[0])
         return out
-    run_parts([lambda lo=lo, hi=hi: _complex_times_real(x3, win, o3, lo, hi)
-               for lo, hi in spans(x.shape[0])])
+    run_parts([partial(_complex_times_real, x3, win, o3, lo, hi) for lo, hi in spans(x.shape[0])])
     return out
 
 
@@ -176,7 +175,7 @@ def rx_energy(spec: np.ndarray) -> np.ndarray:
     """
     out = np.empty((spec.shape[0], spec.shape[2]), np.float32)
     v = spec.view(np.float32)
-    run_parts([lambda lo=lo, hi=hi: _rx_energy(v[lo:hi], out[lo:hi], 0, spec.shape[2])
+    run_parts([partial(_rx_energy, v[lo:hi], out[lo:hi], 0, spec.shape[2])
                for lo, hi in spans(spec.shape[0])])  # chirps in parts on the cores
     return out
 

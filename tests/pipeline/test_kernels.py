@@ -8,7 +8,14 @@ import pytest
 import scipy.fft
 
 import pipeline.threads as threads
-from pipeline.ddma_kernels import ddma_coherent_power, ddma_gather, ddma_metric, ddma_spectra_power
+from pipeline.ddma_kernels import (
+    azimuth_map,
+    ddma_coherent_power,
+    ddma_gather,
+    ddma_metric,
+    ddma_spectra_power,
+    fft48_power,
+)
 from pipeline.kernels import doppler_fft, rx_energy, rx_energy_bins, slow_time_fft
 from pipeline.stages import power_of
 
@@ -59,44 +66,114 @@ def test_ddma_gather_reads_each_tx_from_its_subband(n_sb, n_tx, tx_pos):
                     assert out[i * n_rx + rx, b * n_dop + d] == want
 
 
-@pytest.mark.parametrize("n_b, block", [(40, 4), (13, 4), (7, 16), (9, 1), (21, 8)])
-def test_ddma_coherent_power_equals_argmax_gather_gemm_power_bit_for_bit(n_b, block):
-    """The blocked demodulation + azimuth GEMM + power map is the whole-frame numpy formulation
-    bit for bit, ties and NaN in the metric resolved as numpy's argmax (first maximum, first
-    NaN)."""
-    rng = np.random.default_rng(3)
-    n_sb, n_tx, n_dop, n_rx = 6, 4, 16, 4
+def _plan(rng, n_az, positions, n_sb=6, n_tx=4):
+    """An `AzimuthMap` of Tx positions 0, 1, 2 with random channel coefficients."""
+    coef = _cube(rng, (len(positions),)) / np.float32(3e4)
+    return azimuth_map(n_sb, n_tx, np.array([0, 1, 2]), np.asarray(positions), coef, n_az)
+
+
+def _metric_frame(rng, n_sb, n_dop, n_rx, n_b):
     spec = _cube(rng, (n_sb * n_dop, n_rx, n_b))
     energy = rx_energy(spec)
     energy[: 2 * n_dop, 0] = 1.0  # ties between hypotheses
     energy[3 * n_dop + 1, 1] = np.nan
-    tx_pos = np.array([0, 1, 2])
-    dft = np.asfortranarray(_cube(rng, (48, tx_pos.size * n_rx)))
-    power, band = ddma_coherent_power(spec, energy, tx_pos, n_sb, n_tx, dft, range_block=block)
+    return spec, energy
+
+
+def _l1_bound(plan, x):
+    """Bound on |X^ - X| of each map column of the demodulated samples x: the pruned FFT's
+    longest path has 10 float32 roundings (twiddle, product, 3 sums, twiddle product,
+    butterfly sum and scale, gather product), each at most sqrt(2) u of the column's l1 norm
+    (|W| = 1); 16 u of it bounds them all."""
+    return 16 * np.finfo(np.float32).eps / 2 * (np.abs(plan.coef[:, None] * x)).sum(axis=0)
+
+
+@pytest.mark.parametrize("n_az, positions", [(64, np.arange(12)), (48, np.arange(1, 13)),
+                                             (48, [0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 10]),
+                                             (48, [0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, -1])])
+def test_azimuth_map_is_the_gemm_unless_48_bins_of_12_distinct_positions(n_az, positions):
+    plan = _plan(np.random.default_rng(7), n_az, positions)
+    assert plan.slot.size == 0
+    assert not plan.dft.flags.writeable
+    assert (plan.dft[:, np.asarray(positions) < 0] == 0).all()
+
+
+def test_azimuth_map_columns_are_the_steering_vectors_times_coefficients():
+    positions = np.random.default_rng(8).permutation(12)
+    plan = _plan(np.random.default_rng(8), 48, positions)
+    assert np.array_equal(plan.slot, positions)
+    want = np.exp(-2j * np.pi * np.outer(np.arange(48), positions) / 48) * plan.coef
+    assert np.abs(plan.dft - want).max() < 4 * np.finfo(np.float32).eps
+
+
+@pytest.mark.parametrize("n", [1, 7, 1024])
+def test_fft48_power_is_the_zero_padded_dft_power_within_float32_rounding(n):
+    """|X_k|^2 of the 48-point DFT of 12 samples, against the float64 matrix product: within
+    the rounding bound of the pruned FFT (`_l1_bound`, propagated through |.|^2)."""
+    z = _cube(np.random.default_rng(9), (12, n))
+    x = np.exp(-2j * np.pi * np.outer(np.arange(48), np.arange(12)) / 48) @ z.astype(complex)
+    got = fft48_power(z)
+    assert got.dtype == np.float32 and got.shape == (48, n)
+    delta = 16 * np.finfo(np.float32).eps / 2 * np.abs(z).sum(axis=0)
+    bound = 2 * np.abs(x) * delta + delta ** 2 + np.finfo(np.float32).eps * np.abs(x) ** 2
+    assert (np.abs(got - np.abs(x) ** 2) <= bound).all()
+
+
+@pytest.mark.parametrize("n_b", [40, 13, 7, 9, 21])
+def test_ddma_coherent_power_gemm_is_argmax_gather_gemm_power_bit_for_bit(n_b):
+    """Without the pruned FFT the map is the numpy formulation bit for bit, ties and NaN in
+    the metric resolved as numpy's argmax (first maximum, first NaN)."""
+    rng = np.random.default_rng(3)
+    n_sb, n_tx, n_dop, n_rx = 6, 4, 16, 4
+    spec, energy = _metric_frame(rng, n_sb, n_dop, n_rx, n_b)
+    plan = _plan(rng, 64, np.arange(12))
+    power, band = ddma_coherent_power(spec, energy, plan)
     want_band = np.argmax(ddma_metric(energy, n_sb, n_tx), axis=0)
     assert np.array_equal(band, want_band)
-    want = power_of(dft @ ddma_gather(spec, want_band, tx_pos, n_sb))
+    want = power_of(plan.dft @ ddma_gather(spec, want_band, plan.tx_pos, n_sb))
     assert power.tobytes() == want.tobytes()
 
 
-@pytest.mark.parametrize("n_b, block", [(40, 8), (13, 4), (7, 16), (21, 1)])
+@pytest.mark.parametrize("n_b", [40, 13, 7, 9, 21])
+def test_ddma_coherent_power_fft_is_the_gemm_power_within_float32_rounding(n_b):
+    """The pruned FFT map (rows at permuted positions, channel coefficients) against the
+    float64 product of the same DFT matrix, within the FFT's rounding bound; the Tx order as
+    numpy's argmax."""
+    rng = np.random.default_rng(4)
+    n_sb, n_tx, n_dop, n_rx = 6, 4, 16, 4
+    spec, energy = _metric_frame(rng, n_sb, n_dop, n_rx, n_b)
+    plan = _plan(rng, 48, rng.permutation(12))
+    assert plan.slot.size
+    power, band = ddma_coherent_power(spec, energy, plan)
+    assert np.array_equal(band, np.argmax(ddma_metric(energy, n_sb, n_tx), axis=0))
+    x = ddma_gather(spec, band, plan.tx_pos, n_sb)
+    steer = np.exp(-2j * np.pi * np.outer(np.arange(48), plan.slot) / 48)
+    y = np.abs((steer * plan.coef.astype(complex)) @ x) ** 2
+    delta = _l1_bound(plan, x)
+    bound = 2 * np.sqrt(y) * delta + delta ** 2 + np.finfo(np.float32).eps * y
+    assert power.dtype == np.float32 and (np.abs(power - y) <= bound).all()
+
+
+@pytest.mark.parametrize("n_b", [40, 13, 7, 21])
+@pytest.mark.parametrize("n_az", [48, 64])
 @pytest.mark.parametrize("inline", [False, True])
-def test_ddma_spectra_power_equals_fft_energy_and_map_passes_bit_for_bit(n_b, block, inline,
+def test_ddma_spectra_power_equals_fft_energy_and_map_passes_bit_for_bit(n_b, n_az, inline,
                                                                          monkeypatch):
     """The Doppler FFT, Rx energy and map by range spans (spans of any width, so pocketfft
     batches a different number of columns than over the whole cube) are the three whole passes
-    bit for bit, with two parts (on any machine) and with one (`threads.inline`)."""
+    bit for bit, with two parts (on any machine) and with one (`threads.inline`), for the
+    pruned FFT map and the GEMM."""
     monkeypatch.setattr(threads, "N_PARTS", 2)
     rng = np.random.default_rng(5)
-    n_sb, n_tx, n_dop, n_rx = 6, 4, 16, 4
+    n_sb, n_dop, n_rx = 6, 16, 4
     xw = _cube(rng, (n_sb * n_dop, n_rx, n_b))
-    tx_pos = np.array([0, 1, 2])
-    dft = np.asfortranarray(_cube(rng, (48, tx_pos.size * n_rx)))
+    plan = _plan(rng, n_az, np.arange(12))
     spec = slow_time_fft(xw.copy())
     energy = rx_energy(spec)
-    want = ddma_coherent_power(spec, energy, tx_pos, n_sb, n_tx, dft, range_block=block)
+    with threads.inline():
+        want = ddma_coherent_power(spec, energy, plan)
     with threads.inline() if inline else contextlib.nullcontext():
-        got = ddma_spectra_power(xw, tx_pos, n_sb, n_tx, dft, range_block=block)
+        got = ddma_spectra_power(xw, plan)
     assert got[0] is xw and got[0].tobytes() == spec.tobytes()
     assert got[1].tobytes() == energy.tobytes()
     assert got[2].tobytes() == want[0].tobytes() and np.array_equal(got[3], want[1])
