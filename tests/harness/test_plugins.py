@@ -4,7 +4,10 @@ provenance (a changed plugin changes the code version; its cells are recomputed)
 that lacks a plugin.
 
 Plugins are loaded in subprocesses (the CLI, or a small script): a plugin loaded in the test
-process would stay loaded and change the code version every later test sees.
+process would stay loaded and change the code version every later test sees. A command that
+loads no plugin (a bad option, a plugin that fails to import and is never half loaded) runs
+the CLI's `main` in the test process, as the other CLI tests do: each CLI process costs a few
+seconds of imports.
 """
 from __future__ import annotations
 
@@ -19,6 +22,7 @@ from pathlib import Path
 import pytest
 
 import radarsim
+from harness.cli import main
 from harness.plugins import ENTRY_POINT_GROUP, PluginError, PluginInfo, load_plugins
 from harness.sweep.worker import execute_cell
 
@@ -118,14 +122,15 @@ def test_plugin_file_by_option(tmp_path):
     assert str(path) in _origin(r.stdout, "tdma_file")
 
 
-def test_a_plugin_that_fails_to_import_exits_2_naming_it(tmp_path):
+def test_a_plugin_that_fails_to_import_exits_2_naming_it(tmp_path, capsys):
     bad = tmp_path / "broken_plugin.py"
     bad.write_text("raise RuntimeError('needs libfoo.so')\n")
-    r = _cli(["plugins", "--plugin", str(bad)])
-    assert r.returncode == 2
-    assert r.stderr.strip().count("\n") == 0, r.stderr  # one line, no traceback
-    assert "plugin" in r.stderr and "broken_plugin.py" in r.stderr
-    assert "RuntimeError: needs libfoo.so" in r.stderr
+    assert main(["plugins", "--plugin", str(bad)]) == 2
+    err = capsys.readouterr().err
+    assert err.strip().count("\n") == 0, err  # one line, no traceback
+    assert "plugin" in err and "broken_plugin.py" in err
+    assert "RuntimeError: needs libfoo.so" in err
+    assert not any(m.startswith("radar_harness_file_plugin_broken") for m in sys.modules)
 
 
 def test_a_failed_plugin_is_never_half_loaded(tmp_path):
@@ -146,10 +151,11 @@ def test_a_failed_plugin_is_never_half_loaded(tmp_path):
      r"no_such_plugin_module_x.*ModuleNotFoundError"),
     (["--plugin", ""], r"must be a list of module names"),
 ], ids=["unknown_registry", "missing_file", "missing_module", "empty_name"])
-def test_bad_plugin_option(args, message):
-    r = _cli(["plugins", *args])
-    assert r.returncode == 2
-    assert re.search(message, r.stderr), r.stderr
+def test_bad_plugin_option(args, message, capsys):
+    assert main(["plugins", *args]) == 2
+    err = capsys.readouterr().err
+    assert err.strip().count("\n") == 0, err
+    assert re.search(message, err), err
 
 
 def test_a_sweep_file_plugin_relative_to_the_file_adds_its_scheme(tmp_path):
@@ -169,12 +175,14 @@ def test_a_sweep_file_plugin_relative_to_the_file_adds_its_scheme(tmp_path):
     ("[1]", r"plugins=\[1\] must be a list"),
     ('["missing_plugin.py"]', r"missing_plugin\.py.*is not a \.py file"),
 ], ids=["not_a_list", "not_strings", "missing_file"])
-def test_bad_sweep_file_plugins(tmp_path, value, message):
+def test_bad_sweep_file_plugins(tmp_path, value, message, capsys):
     f = tmp_path / "s.toml"
     f.write_text(f'name = "x"\nscenarios = ["head_on_aliasing"]\nplugins = {value}\n')
-    r = _cli(["sweep", str(f), "--out", str(tmp_path / "out")])
-    assert r.returncode == 2
-    assert re.search(message, r.stderr), r.stderr
+    assert main(["sweep", str(f), "--out", str(tmp_path / "out")]) == 2
+    err = capsys.readouterr().err
+    assert err.strip().count("\n") == 0, err
+    assert re.search(message, err), err
+    assert not (tmp_path / "out" / "cells").exists()  # refused before any cell ran
 
 
 _SWEEP_SCRIPT = textwrap.dedent('''
@@ -186,36 +194,40 @@ _SWEEP_SCRIPT = textwrap.dedent('''
     from tests.harness.fakes import FAKE
     load_plugins([sys.argv[1]], entry_points=False)
     spec = SweepSpec(name="p", scenarios=("fast", "slow"), duration_s=0.2)
-    try:
-        o = run_sweep(spec, sys.argv[2], components=FAKE, progress=False,
-                      force=sys.argv[3] == "force")
-        print(json.dumps([o.n_ok, o.n_skipped, o.n_recomputed, code_version()["hash"]]))
-    except ValueError as exc:
-        print(json.dumps(str(exc)))
+    for how in sys.argv[3:]:
+        try:
+            o = run_sweep(spec, sys.argv[2], components=FAKE, progress=False,
+                          force=how == "force")
+            print(json.dumps([o.n_ok, o.n_skipped, o.n_recomputed, code_version()["hash"]]))
+        except ValueError as exc:
+            print(json.dumps(str(exc)))
 ''')
 
 
-def _fake_sweep(plugin: Path, out: Path, force: bool = False):
-    r = subprocess.run([sys.executable, "-c", _SWEEP_SCRIPT, str(plugin), str(out),
-                        "force" if force else "-"], cwd=ROOT, capture_output=True, text=True,
-                       timeout=300)
+def _fake_sweeps(plugin: Path, out: Path, *runs: str) -> list:
+    """Sweeps of the fake parts into `out`, one after the other in one fresh process that
+    loaded `plugin` ("force" recomputes cells of another code version, "-" does not): per
+    run its [n_ok, n_skipped, n_recomputed, code version] or the refusal's message."""
+    r = subprocess.run([sys.executable, "-c", _SWEEP_SCRIPT, str(plugin), str(out), *runs],
+                       cwd=ROOT, capture_output=True, text=True, timeout=300)
     assert r.returncode == 0, r.stderr
-    return json.loads(r.stdout.strip().splitlines()[-1])
+    return [json.loads(line) for line in r.stdout.strip().splitlines()[-len(runs):]]
 
 
 def test_a_changed_plugin_changes_the_code_version_and_recomputes_its_cells(tmp_path):
     plugin = _write_module(tmp_path, "versioned", "tdma_v")
     out = tmp_path / "out"
-    n_ok, n_skipped, _, v1 = _fake_sweep(plugin, out)
+    first, again = _fake_sweeps(plugin, out, "-", "-")
+    n_ok, n_skipped, _, v1 = first
     assert (n_ok, n_skipped) == (2, 0)
-    assert _fake_sweep(plugin, out)[:2] == [0, 2]  # unchanged: resumed
+    assert again[:2] == [0, 2]  # unchanged: resumed
     manifest = json.loads((out / "manifest.json").read_text())
     (rec,) = manifest["plugins"]
     assert rec["path"] == str(plugin) and rec["entries"]["scheme"] == ["tdma_v"]
     plugin.write_text(plugin.read_text() + "\n# version 2\n")
-    refused = _fake_sweep(plugin, out)
+    refused, forced = _fake_sweeps(plugin, out, "-", "force")
     assert "were computed by code version" in refused and "--force" in refused
-    n_ok, n_skipped, n_recomputed, v2 = _fake_sweep(plugin, out, force=True)
+    n_ok, n_skipped, n_recomputed, v2 = forced
     assert (n_ok, n_skipped, n_recomputed) == (2, 0, 2) and v2 != v1
 
 
