@@ -15,6 +15,7 @@
 from __future__ import annotations
 
 import ast
+import functools
 from pathlib import Path
 
 import pytest
@@ -25,6 +26,18 @@ LAYERS = ("core", "scenarios", "radarsim", "pipeline", "metrics", "harness", "be
 PACKAGES = LAYERS + ("tests",)
 MAX_MODULE_LINES = 600
 MAX_FUNCTION_LINES = 100
+
+
+def _parse(path: Path) -> ast.Module:
+    """The syntax tree of a source file (read-only for the callers): every rule walks the same
+    files, so each is parsed once per test process while it is unchanged."""
+    st = path.stat()
+    return _parsed(path, st.st_mtime_ns, st.st_size)
+
+
+@functools.lru_cache(maxsize=None)
+def _parsed(path: Path, mtime_ns: int, size: int) -> ast.Module:
+    return ast.parse(path.read_text(), str(path))
 
 
 def _modules(package: str, root: Path = ROOT) -> dict[str, Path]:
@@ -46,7 +59,7 @@ def import_graph(package: str, root: Path = ROOT) -> dict[str, set[str]]:
     graph: dict[str, set[str]] = {m: set() for m in mods}
     for mod, path in mods.items():
         is_init = path.name == "__init__.py"
-        for node in ast.walk(ast.parse(path.read_text(), str(path))):
+        for node in ast.walk(_parse(path)):
             if isinstance(node, ast.Import):
                 targets = [a.name for a in node.names]
             elif isinstance(node, ast.ImportFrom):
@@ -121,7 +134,7 @@ def test_no_import_circle_inside_a_package(package):
 
 
 def _function_lengths(path: Path):
-    for node in ast.walk(ast.parse(path.read_text(), str(path))):
+    for node in ast.walk(_parse(path)):
         if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)):
             yield node.name, node.lineno, node.end_lineno - node.lineno + 1
 
@@ -145,7 +158,7 @@ def _imports(path: Path, module: str) -> list[tuple[int, str, list[str]]]:
     resolved (``names`` empty for ``import x``)."""
     is_init = path.name == "__init__.py"
     out = []
-    for node in ast.walk(ast.parse(path.read_text(), str(path))):
+    for node in ast.walk(_parse(path)):
         if isinstance(node, ast.Import):
             out += [(node.lineno, a.name, []) for a in node.names]
         elif isinstance(node, ast.ImportFrom):
@@ -227,7 +240,7 @@ def private_crossings(package: str, root: Path = ROOT) -> list[str]:
     bad = []
     for mod, path in _modules(package, root).items():
         white_box = package == "tests" and path.name.startswith("test_")
-        tree = ast.parse(path.read_text(), str(path))
+        tree = _parse(path)
         for line, src, names in _imports(path, mod):
             if src.split(".")[0] in PACKAGES and not (white_box and not src.startswith("tests")):
                 bad += [f"{mod}:{line} imports {src}.{n}" for n in names if _is_private(n)]
@@ -284,7 +297,7 @@ def import_time_patches(package: str, root: Path = ROOT) -> list[str]:
     """Third-party patches that run when a module is imported: at module level, or in a
     function of the package that module-level code calls."""
     mods = _modules(package, root)
-    trees = {m: ast.parse(p.read_text(), str(p)) for m, p in mods.items()}
+    trees = {m: _parse(p) for m, p in mods.items()}
     patchers = set()  # (module, function) whose body patches a third-party module
     third = {m: _third_party_aliases(tree) for m, tree in trees.items()}
     for mod, tree in trees.items():
