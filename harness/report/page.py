@@ -117,6 +117,7 @@ def doppler_azimuth_map(cfg, adc: np.ndarray, range_bin: int, n_azimuth_bins: in
 
 def _birdseye(truth: pd.DataFrame, det: pd.DataFrame, frame: int | None, title: str):
     plt = _plt()
+    from matplotlib.collections import LineCollection  # with pyplot: on first use
     schemes = scheme_order(det, mimo_only=True) or ["-"]
     fig, axes = plt.subplots(1, len(schemes), figsize=(5.5 * len(schemes), 5), sharex=True,
                              sharey=True, squeeze=False)
@@ -129,18 +130,12 @@ def _birdseye(truth: pd.DataFrame, det: pd.DataFrame, frame: int | None, title: 
             s = d[d["label"] == lab]
             ax.scatter(s["y_m"], s["x_m"], s=6, c=col, label=f"{lab} ({(d['label'] == lab).sum()})",
                        alpha=0.6, linewidths=0)
-        for aid, g in truth.groupby("actor_id"):
-            ax.plot(g["y_radar_m"], g["x_radar_m"], "k-", lw=0.8)
+        # every actor's track and the footprints at `frame`: one artist each (one line per
+        # actor made the plotting cost grow with the guard rail's many segments)
+        ax.add_collection(LineCollection(_tracks(truth), colors="k", linewidths=0.8, zorder=2))
         if frame is not None:
-            now = truth[truth["frame"] == frame]
-            for _, r in now.iterrows():
-                yaw = np.radians(r["yaw_radar_deg"])
-                c, s_ = np.cos(yaw), np.sin(yaw)
-                hl, hw = r["length_m"] / 2, r["width_m"] / 2
-                corners = np.array([[hl, hw], [hl, -hw], [-hl, -hw], [-hl, hw], [hl, hw]])
-                xs = r["x_radar_m"] + c * corners[:, 0] - s_ * corners[:, 1]
-                ys = r["y_radar_m"] + s_ * corners[:, 0] + c * corners[:, 1]
-                ax.plot(ys, xs, "b-", lw=1.2)
+            ax.add_collection(LineCollection(_footprints(truth[truth["frame"] == frame]),
+                                             colors="b", linewidths=1.2, zorder=2))
         # Frame the road users (and the radar), not the kilometres of guard rail.
         users = truth[truth["actor_class"] != "guard_rail"]
         xs = np.r_[0.0, users["x_radar_m"].to_numpy()]
@@ -153,6 +148,26 @@ def _birdseye(truth: pd.DataFrame, det: pd.DataFrame, frame: int | None, title: 
         ax.grid(alpha=0.3)
     axes[0].set_ylabel("x radar (boresight), m")
     return fig
+
+
+def _tracks(truth: pd.DataFrame) -> list[np.ndarray]:
+    """Every actor's track in the bird's-eye axes: (n_frames, 2) arrays of (y, x) radar, m."""
+    t = truth.sort_values("actor_id", kind="stable")
+    yx = t[["y_radar_m", "x_radar_m"]].to_numpy(dtype=float)
+    ids = t["actor_id"].to_numpy()
+    starts = np.flatnonzero(np.r_[True, ids[1:] != ids[:-1]])
+    return np.split(yx, starts[1:])
+
+
+def _footprints(now: pd.DataFrame) -> np.ndarray:
+    """Outline of every actor's box (length x width, yawed): (n, 5, 2) closed (y, x) polygons in
+    the bird's-eye axes, m."""
+    yaw = np.radians(now["yaw_radar_deg"].to_numpy(dtype=float))[:, None]
+    hl = now["length_m"].to_numpy(dtype=float)[:, None] / 2 * np.array([1, 1, -1, -1, 1])
+    hw = now["width_m"].to_numpy(dtype=float)[:, None] / 2 * np.array([1, -1, -1, 1, 1])
+    xs = now["x_radar_m"].to_numpy(dtype=float)[:, None] + np.cos(yaw) * hl - np.sin(yaw) * hw
+    ys = now["y_radar_m"].to_numpy(dtype=float)[:, None] + np.sin(yaw) * hl + np.cos(yaw) * hw
+    return np.stack([ys, xs], axis=-1)
 
 
 def _maps(cell_spec: dict, frame: int, det: pd.DataFrame):
