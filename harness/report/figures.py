@@ -46,7 +46,8 @@ def table_html(df: pd.DataFrame, columns=None) -> str:
 def scheme_order(df: pd.DataFrame, mimo_only: bool = False) -> list[str]:
     """Schemes of a table in order of appearance; `mimo_only` keeps registered MIMO schemes
     (those with their own ADC frame), dropping chain variants such as ``tdma_raw``."""
-    names = list(dict.fromkeys(df["scheme"])) if "scheme" in df and len(df) else []
+    # unique() first: the detections table has a row per detection (10^5 in the default run)
+    names = list(dict.fromkeys(df["scheme"].unique())) if "scheme" in df and len(df) else []
     names = [n for n in names if n]
     if mimo_only:
         import radarsim
