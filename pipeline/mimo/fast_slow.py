@@ -48,14 +48,13 @@ from radarsim.config import RadarConfig
 from ..chirp_level import windowed_range_stage
 from ..compensation import compensate
 from ..config import WINDOWS, ProcessingConfig
-from ..kernels import slow_time_fft, window
+from ..kernels import rx_energy, slow_time_fft, window
 from ..stages import (
     RangeDopplerHits,
     array_dft,
     empty_cloud,
     hypothesis_cloud,
     noncoherent_hits,
-    power_of,
 )
 from .base import DetectionMap, DopplerAzimuth, MimoChain, register_chain
 
@@ -89,7 +88,9 @@ def _set_spectra(xw: np.ndarray, n_tx: int) -> tuple[np.ndarray, np.ndarray]:
     n_c, n_rx, n_range = xw.shape
     n_dop = n_c // n_tx
     spec = slow_time_fft(xw.reshape(n_dop, n_tx, n_rx, n_range))  # (D, S, R, B)
-    power = np.ascontiguousarray(power_of(spec).sum(axis=(1, 2)).T)
+    # the channels' |x|^2 added in order, without full-size temporaries (`kernels.rx_energy`
+    # over the S x R channels: bit for bit power_of(spec).sum(axis=(1, 2)))
+    power = np.ascontiguousarray(rx_energy(spec.reshape(n_dop, n_tx * n_rx, n_range)).T)
     return np.moveaxis(spec, 3, 0).reshape(n_range, n_dop, -1), power
 
 
