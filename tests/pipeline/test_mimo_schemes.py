@@ -5,6 +5,7 @@ import pytest
 
 import pipeline
 import radarsim
+from pipeline.cfar import CFAR_MODES
 from pipeline.mimo.bpm import bpm_decode
 from pipeline.mimo.tdma import slot_maps
 from tests.pipeline.test_chain import REGISTRY, best_near, scene_at_snr
@@ -42,6 +43,23 @@ def test_same_targets_through_every_scheme(name, make_config, make_scene):
             continue
         assert abs(best.azimuth_deg - az) <= 1.5
     assert n_fail <= 1
+
+
+@pytest.mark.parametrize("mode", ["ca", "ti_log_ca"])
+@pytest.mark.parametrize("clutter_removal", [False, True])
+def test_slot_map_is_the_channels_power_combined_in_order(mode, clutter_removal, make_config,
+                                                         make_scene):
+    """The slot chains' CFAR map is, bit for bit, the CFAR mode's combination of |x|^2 over
+    the 16 slot channels of `virt` (slot-major), whatever layout it is computed in."""
+    cfg = make_config("bpm")
+    adc = radarsim.simulate_frame(cfg, make_scene([[30.0, 10.0, 0.0, 3.0, 10.0]]),
+                                  np.random.default_rng(3))
+    proc = pipeline.ProcessingConfig().replace(
+        **{"cfar.mode": mode, "doppler.clutter_removal": clutter_removal})
+    maps = slot_maps(cfg, adc, proc)
+    plain = CFAR_MODES[mode].combine_looks(np.abs(maps.virt) ** 2, axis=-1)
+    assert maps.power.flags.c_contiguous
+    np.testing.assert_array_equal(maps.power, plain)
 
 
 @pytest.mark.parametrize("n_tx", [2, 4])
