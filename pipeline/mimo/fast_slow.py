@@ -48,7 +48,7 @@ from radarsim.config import RadarConfig
 from ..chirp_level import windowed_range_stage
 from ..compensation import compensate
 from ..config import WINDOWS, ProcessingConfig
-from ..kernels import rx_energy, slow_time_fft, window
+from ..kernels import window
 from ..stages import (
     RangeDopplerHits,
     array_dft,
@@ -57,6 +57,7 @@ from ..stages import (
     noncoherent_hits,
 )
 from .base import DetectionMap, DopplerAzimuth, MimoChain, register_chain
+from .tdma import slot_spectra
 
 __all__ = ["FastSlowMaps", "FastSlowChain", "fast_slow_maps", "Unfolding", "unfold_peaks",
            "gate_coherence", "resolve_claims", "slow_bin_of"]
@@ -81,19 +82,6 @@ class FastSlowMaps(NamedTuple):
     slow_virt: np.ndarray
 
 
-def _set_spectra(xw: np.ndarray, n_tx: int) -> tuple[np.ndarray, np.ndarray]:
-    """(C_set, R, B) range spectra of one TDMA set, times the Doppler window of each chirp's
-    period (overwritten) -> per-slot Doppler spectra (B, n_dop, n_tx x R) complex64 (a view of
-    the FFT output, slot-major) and their power summed over the channels (B, n_dop) float32."""
-    n_c, n_rx, n_range = xw.shape
-    n_dop = n_c // n_tx
-    spec = slow_time_fft(xw.reshape(n_dop, n_tx, n_rx, n_range))  # (D, S, R, B)
-    # the channels' |x|^2 added in order, without full-size temporaries (`kernels.rx_energy`
-    # over the S x R channels: bit for bit power_of(spec).sum(axis=(1, 2)))
-    power = np.ascontiguousarray(rx_energy(spec.reshape(n_dop, n_tx * n_rx, n_range)).T)
-    return np.moveaxis(spec, 3, 0).reshape(n_range, n_dop, -1), power
-
-
 def fast_slow_maps(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) -> FastSlowMaps:
     """Range FFT of the frame, then each set's per-slot Doppler FFT and non-coherent map.
 
@@ -112,9 +100,8 @@ def fast_slow_maps(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) ->
     per_chirp[sets.slow] = slots
     # (C, R, B): chirp-level chain + range FFT, times the window
     xw = windowed_range_stage(cfg, adc, proc, per_chirp)
-    fast_virt, fast_power = _set_spectra(xw[sets.fast], cfg.n_tx)
-    slow_virt, slow_power = _set_spectra(xw[sets.slow], cfg.n_tx)
-    return FastSlowMaps(fast_power, slow_power, fast_virt, slow_virt)
+    fast, slow = slot_spectra(xw[sets.fast], cfg.n_tx), slot_spectra(xw[sets.slow], cfg.n_tx)
+    return FastSlowMaps(fast.power, slow.power, fast.virt, slow.virt)
 
 
 def slow_bin_of(velocity_mps: np.ndarray, wavelength_m: float, slot_period_s: float,
