@@ -391,10 +391,12 @@ def hits_snr_db(hits: RangeDopplerHits, peak: np.ndarray, proc: ProcessingConfig
                 n_channels: int, noise_gain: float = 1.0) -> np.ndarray:
     """Detection SNR (dB) of a coherent azimuth peak over `n_channels` unit-weight channels,
     with the noise per channel taken from the hits' L-look CFAR statistic (converted from the
-    order statistic to a mean) times `noise_gain` (the channel separation's noise gain)."""
+    order statistic to a mean) times `noise_gain` (the channel separation's noise gain).
+    (n,) float64, as every float column of a point cloud (`empty_cloud`), whatever the
+    precision of the spectra."""
     cf = proc.cfar
-    sigma2 = hits.noise / (noise_mean_factor(cf.mode, cf.n_training, cf.os_rank, hits.looks)
-                           * hits.looks)
+    sigma2 = hits.noise.astype(np.float64) / (
+        noise_mean_factor(cf.mode, cf.n_training, cf.os_rank, hits.looks) * hits.looks)
     if noise_gain != 1.0:
         sigma2 = sigma2 * noise_gain
     return 10 * np.log10(peak / (n_channels * sigma2))
