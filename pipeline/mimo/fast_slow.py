@@ -57,7 +57,7 @@ from ..stages import (
     noncoherent_hits,
 )
 from .base import DetectionMap, DopplerAzimuth, MimoChain, register_chain
-from .tdma import slot_spectra
+from .tdma import remove_slot_phase, slot_spectra
 
 __all__ = ["FastSlowMaps", "FastSlowChain", "fast_slow_maps", "Unfolding", "unfold_peaks",
            "gate_coherence", "resolve_claims", "slow_bin_of"]
@@ -389,14 +389,12 @@ class FastSlowChain(MimoChain):
 
     @staticmethod
     def _compensated(cfg: RadarConfig, virt: np.ndarray, velocity_mps: np.ndarray,
-                     chirp_period_s: float) -> np.ndarray:
-        """(n, n_tx x n_rx) slot-major samples with slot s's Doppler phase 2 pi f_D s T
-        removed ([TI-VEXT] eq. 8-10), f_D = -2 v / lambda."""
-        f_d = -2 * velocity_mps / cfg.wavelength_m
-        comp = np.exp(-2j * np.pi * f_d[:, None] * np.arange(cfg.n_tx) * chirp_period_s)
-        n = virt.shape[0]
-        out = virt.reshape(n, cfg.n_tx, cfg.n_rx) * comp[:, :, None].astype(np.complex64)
-        return out.reshape(n, -1)
+                     slot_period_s: float) -> np.ndarray:
+        """(n, n_tx x n_rx) slot-major samples with the slot phases removed at `velocity_mps`
+        (n,) (`tdma.remove_slot_phase`)."""
+        slots = virt.reshape(virt.shape[0], cfg.n_tx, cfg.n_rx)
+        return remove_slot_phase(slots, velocity_mps, cfg.wavelength_m,
+                                 slot_period_s).reshape(virt.shape[0], -1)
 
     def detection_map(self, cfg: RadarConfig, adc: np.ndarray,
                       proc: ProcessingConfig) -> DetectionMap:

@@ -50,7 +50,8 @@ from ..stages import (
 from .base import DetectionMap, DopplerAzimuth, MimoChain, register_chain
 from .extension import may_extend
 
-__all__ = ["SlotMaps", "SlotChain", "TdmaChain", "slot_maps", "slot_spectra", "ZERO_DOPPLER_BINS"]
+__all__ = ["SlotMaps", "SlotChain", "TdmaChain", "slot_maps", "slot_spectra", "remove_slot_phase",
+           "ZERO_DOPPLER_BINS"]
 
 #: Half-width of the zero-Doppler region whose detections must pass the far-field fit test to
 #: be extended, bins (the Doppler mainlobe of a static return: a Hann window's is +/-2 bins,
@@ -121,6 +122,30 @@ def slot_maps(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) -> Slot
         xw = windowed_range_stage(cfg, adc, proc,
                                   _slot_window(WINDOWS[proc.doppler.window], n_dop, n_tx))
     return slot_spectra(xw.reshape(cfg.n_chirps, cfg.n_rx, -1), n_tx, CFAR_MODES[proc.cfar.mode])
+
+
+def remove_slot_phase(slots: np.ndarray, velocity_mps: np.ndarray, wavelength_m: float,
+                      slot_period_s: float) -> np.ndarray:
+    """Slot samples with slot s's Doppler phase 2 pi f_D s T removed ([TI-VEXT] eq. 8-10),
+    f_D = -2 v / lambda.
+
+    Parameters
+    ----------
+    slots : (..., n_slots, n_rx) complex64
+        Per-slot samples of one code period (slot-major).
+    velocity_mps : (...) float
+        The velocity to compensate each sample vector at, m/s (broadcast against the leading
+        axes of `slots`).
+    wavelength_m, slot_period_s : float
+        Wavelength, m, and the time T between two slots, s.
+
+    Returns
+    -------
+    (..., n_slots, n_rx) complex64
+    """
+    f_d = -2 * np.asarray(velocity_mps) / wavelength_m
+    comp = np.exp(-2j * np.pi * f_d[..., None] * np.arange(slots.shape[-2]) * slot_period_s)
+    return slots * comp[..., None].astype(np.complex64)
 
 
 @lru_cache(maxsize=16)
@@ -196,12 +221,8 @@ class SlotChain(MimoChain):
             valid = np.ones_like(v_hyp, dtype=bool)
         _, _, v_idx, _, _ = layout_of(cfg)
         virt = virt_all[r, d].reshape(-1, 1, n_tx, cfg.n_rx)  # (n, 1, S, R)
-        # Doppler phase of slot s: 2 pi f_D s Tc, f_D = -2 v / lambda (eq. 8-10): remove it.
-        f_hyp = -2 * v_hyp / cfg.wavelength_m
-        phase = -2 * np.pi * f_hyp[:, :, None] * np.arange(n_tx) * cfg.chirp_period_s
-        comp = np.exp(1j * phase).astype(np.complex64)  # (n, H, S), the phase in float64
-        virt_h = self.separate(cfg, virt * comp[:, :, :, None]) \
-            .reshape(r.size, v_hyp.shape[1], -1)  # (n, H, 16) complex64
+        slots = remove_slot_phase(virt, v_hyp, cfg.wavelength_m, cfg.chirp_period_s)
+        virt_h = self.separate(cfg, slots).reshape(r.size, v_hyp.shape[1], -1)  # (n, H, 16)
         virt_h = compensate(cfg, proc, virt_h)  # compRangeBiasAndRxChanPhase, before scoring
         az_pow = power_of(virt_h @ array_dft(cfg, n_az, "horizontal"))  # (n, H, A) float32
         score = self.score(cfg, virt_h, az_pow, v_idx)
@@ -238,9 +259,8 @@ class SlotChain(MimoChain):
         n_dop = virt.shape[0]
         d_signed = (np.arange(n_dop) + n_dop / 2) % n_dop - n_dop / 2
         vel = -d_signed / (n_dop * cfg.n_tx * tc) * lam / 2
-        comp = np.exp(2j * np.pi * (2 * vel[:, None] / lam) * np.arange(cfg.n_tx) * tc)
-        virt = self.separate(cfg, virt.reshape(n_dop, cfg.n_tx, cfg.n_rx) * comp[:, :, None])
-        virt = compensate(cfg, proc, virt.reshape(n_dop, -1))
+        slots = remove_slot_phase(virt.reshape(n_dop, cfg.n_tx, cfg.n_rx), vel, lam, tc)
+        virt = compensate(cfg, proc, self.separate(cfg, slots).reshape(n_dop, -1))
         power = np.abs(virt @ array_dft(cfg, proc.angle.n_azimuth_bins, "horizontal")) ** 2
         return DopplerAzimuth(vel, power)
 

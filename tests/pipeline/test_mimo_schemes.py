@@ -7,7 +7,7 @@ import pipeline
 import radarsim
 from pipeline.cfar import CFAR_MODES
 from pipeline.mimo.bpm import bpm_decode
-from pipeline.mimo.tdma import slot_maps
+from pipeline.mimo.tdma import remove_slot_phase, slot_maps
 from pipeline.stages import power_of
 from tests.pipeline.test_chain import REGISTRY, best_near, scene_at_snr
 
@@ -171,3 +171,19 @@ def test_classic_ddma_resolves_the_assignment_at_20_db(make_config, make_scene, 
                     assert k != 0 and abs(dv - k * step) <= 0.15
     assert fails["ddma_classic"] <= max_fails
     assert fails["ddma"] == 0
+
+
+def test_remove_slot_phase_makes_a_moving_echo_slot_invariant():
+    """Slots of one echo at velocity v carry the phase 2 pi f_D s T, f_D = -2 v / lambda
+    ([TI-VEXT] eq. 8-10): removed at v, every slot holds the same sample; removed at another
+    hypothesis, the residual phase step is 2 pi (f_D - f_D') T."""
+    lam, t = 3.9e-3, 60e-6
+    v = np.array([[-12.0], [7.5]])  # (2, 1): one velocity per sample vector
+    s = np.arange(4)
+    x = np.exp(2j * np.pi * (-2 * v / lam) * s * t)[..., None] * np.array([1, 1j, -1])
+    out = remove_slot_phase(x.astype(np.complex64), v[:, 0], lam, t)
+    assert out.dtype == np.complex64
+    np.testing.assert_allclose(out, np.broadcast_to(out[:, :1], out.shape), atol=1e-5)
+    off = remove_slot_phase(x.astype(np.complex64), v[:, 0] + 1.0, lam, t)
+    step = np.angle(off[:, 1, 0] * np.conj(off[:, 0, 0]))
+    np.testing.assert_allclose(step, 2 * np.pi * (2 * 1.0 / lam) * t, atol=1e-5)
