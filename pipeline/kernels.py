@@ -372,5 +372,8 @@ def estimate_angles(virt: np.ndarray, sin_az_cos_el: np.ndarray, h_idx: np.ndarr
     else:
         sin_el = np.zeros_like(wx)
     cos_el = np.sqrt(1 - sin_el ** 2)
-    sin_az = np.clip(sin_az_cos_el / cos_el, -1.0, 1.0)
+    # At el = +/-90 deg with wx = 0 (0 / 0: a beam symmetric about boresight, e.g. Tx-to-Rx
+    # leakage, whose float32 powers can tie exactly) the azimuth is undefined: 0 is reported.
+    sin_az = np.clip(np.divide(sin_az_cos_el, cos_el, out=np.zeros_like(cos_el),
+                               where=(sin_az_cos_el != 0) | (cos_el != 0)), -1.0, 1.0)
     return np.arcsin(sin_az), np.arcsin(sin_el)

@@ -213,14 +213,20 @@ def array_likelihood(cfg: RadarConfig, virt: np.ndarray, az_pow: np.ndarray,
     virt : (n, H, n_virtual) samples of each hypothesis in the virtual-array order of
     `cfg.virtual_positions_m`; az_pow : (n, H, n_az) |A_h|^2; v_idx : raised-row elements.
     """
+    if v_idx.size:
+        heights, rows = raised_row_dfts(cfg, az_pow.shape[-1])
+        if heights.size > 1:
+            return _multi_row_likelihood(cfg, virt, heights, rows)
+    return _grid_likelihood(cfg, virt, az_pow, v_idx).max(axis=-1)
+
+
+def _grid_likelihood(cfg: RadarConfig, virt: np.ndarray, az_pow: np.ndarray,
+                     v_idx: np.ndarray) -> np.ndarray:
+    """(|A_h| + |A_v|)^2 on the azimuth grid, (n, H, n_az) (one raised row at most)."""
     if v_idx.size == 0:
-        return az_pow.max(axis=-1)
-    n_az = az_pow.shape[-1]
-    heights, rows = raised_row_dfts(cfg, n_az)
-    if heights.size > 1:
-        return _multi_row_likelihood(cfg, virt, heights, rows)
-    a_v = np.abs(virt @ array_dft(cfg, n_az, "raised"))  # (n, H, A)
-    return ((np.sqrt(az_pow) + a_v) ** 2).max(axis=-1)
+        return az_pow
+    a_v = np.abs(virt @ array_dft(cfg, az_pow.shape[-1], "raised"))  # (n, H, A)
+    return (np.sqrt(az_pow) + a_v) ** 2
 
 
 def refined_likelihood(cfg: RadarConfig, virt: np.ndarray, az_pow: np.ndarray,
@@ -240,23 +246,20 @@ def refined_likelihood(cfg: RadarConfig, virt: np.ndarray, az_pow: np.ndarray,
     grid; v_idx : raised-row elements.
     """
     n_az = az_pow.shape[-1]
-    heights, _ = raised_row_dfts(cfg, n_az) if v_idx.size else (np.zeros(0), None)
-    if heights.size > 1:
+    if v_idx.size and raised_row_dfts(cfg, n_az)[0].size > 1:
         return array_likelihood(cfg, virt, az_pow, v_idx)
-    if v_idx.size:
-        a_v = np.abs(virt @ array_dft(cfg, n_az, "raised"))
-        grid = (np.sqrt(az_pow) + a_v) ** 2  # (n, H, A)
-    else:
-        grid = az_pow
-    k = np.argmax(grid, axis=-1)[..., None]  # (n, H, 1)
-    y = log_power(np.take_along_axis(grid, (k + np.arange(-1, 2)) % n_az, axis=-1))
-    wx = 2 * np.pi * (k[..., 0] + parabolic_offset(y[..., 0], y[..., 1], y[..., 2])) / n_az
+    grid = _grid_likelihood(cfg, virt, az_pow, v_idx)  # (n, H, A)
+    k = np.argmax(grid, axis=-1)  # (n, H)
+    y = np.take_along_axis(grid, (k[..., None] + np.arange(-1, 2)) % n_az, axis=-1)
+    ly = log_power(y)
+    wx = 2 * np.pi * (k + parabolic_offset(ly[..., 0], ly[..., 1], ly[..., 2])) / n_az
+    # both rows' beams at wx, from one steering over the horizontal then the raised elements
     h_idx, h_pos, _, v_pos, _ = layout_of(cfg)
-    a_h = np.abs(np.einsum("nhm,nhm->nh", virt[..., h_idx],
-                           np.exp(-1j * wx[..., None] * h_pos)))
-    a_r = np.abs(np.einsum("nhm,nhm->nh", virt[..., v_idx],
-                           np.exp(-1j * wx[..., None] * v_pos))) if v_idx.size else 0.0
-    return np.maximum((a_h + a_r) ** 2, grid.max(axis=-1))
+    steer = np.exp(-1j * wx[..., None] * np.concatenate([h_pos, v_pos])).astype(np.complex64)
+    terms = virt[..., np.concatenate([h_idx, v_idx])] * steer  # (n, H, N)
+    a_h = np.abs(terms[..., :h_idx.size].sum(axis=-1))
+    a_r = np.abs(terms[..., h_idx.size:].sum(axis=-1))
+    return np.maximum((a_h + a_r) ** 2, y[..., 1])
 
 
 #: sin(elevation) grid of the multi-row likelihood: 0.03 steps keep the phase error of a
@@ -388,10 +391,12 @@ def hits_snr_db(hits: RangeDopplerHits, peak: np.ndarray, proc: ProcessingConfig
                 n_channels: int, noise_gain: float = 1.0) -> np.ndarray:
     """Detection SNR (dB) of a coherent azimuth peak over `n_channels` unit-weight channels,
     with the noise per channel taken from the hits' L-look CFAR statistic (converted from the
-    order statistic to a mean) times `noise_gain` (the channel separation's noise gain)."""
+    order statistic to a mean) times `noise_gain` (the channel separation's noise gain).
+    (n,) float64, as every float column of a point cloud (`empty_cloud`), whatever the
+    precision of the spectra."""
     cf = proc.cfar
-    sigma2 = hits.noise / (noise_mean_factor(cf.mode, cf.n_training, cf.os_rank, hits.looks)
-                           * hits.looks)
+    sigma2 = hits.noise.astype(np.float64) / (
+        noise_mean_factor(cf.mode, cf.n_training, cf.os_rank, hits.looks) * hits.looks)
     if noise_gain != 1.0:
         sigma2 = sigma2 * noise_gain
     return 10 * np.log10(peak / (n_channels * sigma2))

@@ -115,7 +115,12 @@ def _assignment_arrays(cfg: RadarConfig, bands: np.ndarray, n_az: int,
     virt = bands[:, idx].reshape(bands.shape[0], n_sb, -1)  # (n, H, P*R)
     if proc is not None:
         virt = compensate(cfg, proc, virt)
-    return virt, np.abs(virt @ array_dft(cfg, n_az, "horizontal")) ** 2
+    return virt, _azimuth_power(cfg, virt, n_az)
+
+
+def _azimuth_power(cfg: RadarConfig, virt: np.ndarray, n_az: int) -> np.ndarray:
+    """(..., n_az) horizontal-row azimuth power of virtual arrays (..., n_virtual)."""
+    return np.abs(virt @ array_dft(cfg, n_az, "horizontal")) ** 2
 
 
 class ClassicDdmaChain(MimoChain):
@@ -140,9 +145,9 @@ class ClassicDdmaChain(MimoChain):
         r, d = hits.range_bin, hits.doppler_bin
 
         bands = _band_samples(cfg, maps.spec, r, d)
-        _, _, score = assignment_scores(cfg, bands, self.score_bins, proc)
+        virt, _, score = assignment_scores(cfg, bands, self.score_bins, proc)
         best = np.argmax(score, axis=1)
-        virt, az_pow = _assignment_arrays(cfg, bands, proc.angle.n_azimuth_bins, proc)
+        az_pow = _azimuth_power(cfg, virt, proc.angle.n_azimuth_bins)
         k_true = d + n_dop * best
         velocity = doppler_velocity_mps(cfg, k_true + hits.doppler_offset)
         return hypothesis_cloud(cfg, proc, hits, virt, az_pow, best, velocity,
@@ -160,8 +165,9 @@ class ClassicDdmaChain(MimoChain):
         d = np.arange(n_dop)
         r = np.full(n_dop, range_bin)
         bands = _band_samples(cfg, maps.spec, r, d)
-        best = np.argmax(assignment_scores(cfg, bands, self.score_bins, proc)[2], axis=1)
-        _, az_pow = _assignment_arrays(cfg, bands, proc.angle.n_azimuth_bins, proc)
+        virt, _, score = assignment_scores(cfg, bands, self.score_bins, proc)
+        best = np.argmax(score, axis=1)
+        az_pow = _azimuth_power(cfg, virt, proc.angle.n_azimuth_bins)
         return DopplerAzimuth(doppler_velocity_mps(cfg, d + n_dop * best),
                               az_pow[np.arange(n_dop), best])
 

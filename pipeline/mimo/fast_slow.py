@@ -48,16 +48,16 @@ from radarsim.config import RadarConfig
 from ..chirp_level import windowed_range_stage
 from ..compensation import compensate
 from ..config import WINDOWS, ProcessingConfig
-from ..kernels import slow_time_fft, window
+from ..kernels import window
 from ..stages import (
     RangeDopplerHits,
     array_dft,
     empty_cloud,
     hypothesis_cloud,
     noncoherent_hits,
-    power_of,
 )
 from .base import DetectionMap, DopplerAzimuth, MimoChain, register_chain
+from .tdma import remove_slot_phase, slot_spectra
 
 __all__ = ["FastSlowMaps", "FastSlowChain", "fast_slow_maps", "Unfolding", "unfold_peaks",
            "gate_coherence", "resolve_claims", "slow_bin_of"]
@@ -82,17 +82,6 @@ class FastSlowMaps(NamedTuple):
     slow_virt: np.ndarray
 
 
-def _set_spectra(xw: np.ndarray, n_tx: int) -> tuple[np.ndarray, np.ndarray]:
-    """(C_set, R, B) range spectra of one TDMA set, times the Doppler window of each chirp's
-    period (overwritten) -> per-slot Doppler spectra (B, n_dop, n_tx x R) complex64 (a view of
-    the FFT output, slot-major) and their power summed over the channels (B, n_dop) float32."""
-    n_c, n_rx, n_range = xw.shape
-    n_dop = n_c // n_tx
-    spec = slow_time_fft(xw.reshape(n_dop, n_tx, n_rx, n_range))  # (D, S, R, B)
-    power = np.ascontiguousarray(power_of(spec).sum(axis=(1, 2)).T)
-    return np.moveaxis(spec, 3, 0).reshape(n_range, n_dop, -1), power
-
-
 def fast_slow_maps(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) -> FastSlowMaps:
     """Range FFT of the frame, then each set's per-slot Doppler FFT and non-coherent map.
 
@@ -111,9 +100,8 @@ def fast_slow_maps(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) ->
     per_chirp[sets.slow] = slots
     # (C, R, B): chirp-level chain + range FFT, times the window
     xw = windowed_range_stage(cfg, adc, proc, per_chirp)
-    fast_virt, fast_power = _set_spectra(xw[sets.fast], cfg.n_tx)
-    slow_virt, slow_power = _set_spectra(xw[sets.slow], cfg.n_tx)
-    return FastSlowMaps(fast_power, slow_power, fast_virt, slow_virt)
+    fast, slow = slot_spectra(xw[sets.fast], cfg.n_tx), slot_spectra(xw[sets.slow], cfg.n_tx)
+    return FastSlowMaps(fast.power, slow.power, fast.virt, slow.virt)
 
 
 def slow_bin_of(velocity_mps: np.ndarray, wavelength_m: float, slot_period_s: float,
@@ -401,14 +389,12 @@ class FastSlowChain(MimoChain):
 
     @staticmethod
     def _compensated(cfg: RadarConfig, virt: np.ndarray, velocity_mps: np.ndarray,
-                     chirp_period_s: float) -> np.ndarray:
-        """(n, n_tx x n_rx) slot-major samples with slot s's Doppler phase 2 pi f_D s T
-        removed ([TI-VEXT] eq. 8-10), f_D = -2 v / lambda."""
-        f_d = -2 * velocity_mps / cfg.wavelength_m
-        comp = np.exp(-2j * np.pi * f_d[:, None] * np.arange(cfg.n_tx) * chirp_period_s)
-        n = virt.shape[0]
-        out = virt.reshape(n, cfg.n_tx, cfg.n_rx) * comp[:, :, None].astype(np.complex64)
-        return out.reshape(n, -1)
+                     slot_period_s: float) -> np.ndarray:
+        """(n, n_tx x n_rx) slot-major samples with the slot phases removed at `velocity_mps`
+        (n,) (`tdma.remove_slot_phase`)."""
+        slots = virt.reshape(virt.shape[0], cfg.n_tx, cfg.n_rx)
+        return remove_slot_phase(slots, velocity_mps, cfg.wavelength_m,
+                                 slot_period_s).reshape(virt.shape[0], -1)
 
     def detection_map(self, cfg: RadarConfig, adc: np.ndarray,
                       proc: ProcessingConfig) -> DetectionMap:

@@ -32,25 +32,26 @@ import pandas as pd
 
 from radarsim.config import RadarConfig
 
-from ..cfar import CFAR_MODES, noise_mean_factor
+from ..cfar import CFAR_MODES, CfarMode, noise_mean_factor
 from ..chirp_level.stage import range_stage, windowed_range_stage
 from ..compensation import compensate
 from ..config import WINDOWS, ProcessingConfig
 from ..fov import FOV_FIELDS, in_interval
-from ..kernels import doppler_fft, layout_of, slow_time_fft, window
+from ..kernels import doppler_windowed, layout_of, rx_energy, slow_time_fft, window
 from ..stages import (
     array_dft,
     array_likelihood,
     empty_cloud,
     hypothesis_cloud,
     noncoherent_hits,
+    power_of,
     refine_hits,
 )
-from ..threads import run_parts, spans
 from .base import DetectionMap, DopplerAzimuth, MimoChain, register_chain
 from .extension import may_extend
 
-__all__ = ["SlotMaps", "SlotChain", "TdmaChain", "slot_maps", "ZERO_DOPPLER_BINS"]
+__all__ = ["SlotMaps", "SlotChain", "TdmaChain", "slot_maps", "slot_spectra", "remove_slot_phase",
+           "ZERO_DOPPLER_BINS"]
 
 #: Half-width of the zero-Doppler region whose detections must pass the far-field fit test to
 #: be extended, bins (the Doppler mainlobe of a static return: a Hann window's is +/-2 bins,
@@ -73,33 +74,78 @@ class SlotMaps(NamedTuple):
     virt: np.ndarray
 
 
+def slot_spectra(xw: np.ndarray, n_tx: int, mode: CfarMode | None = None) -> SlotMaps:
+    """Per-slot Doppler spectra and the non-coherent map of a windowed slot cube.
+
+    Parameters
+    ----------
+    xw : (n_chirps, n_rx, n_range) complex64, C-contiguous
+        Range spectra times the Doppler window of each chirp's code period (chirp = n_tx c' +
+        slot); overwritten by the spectra.
+    n_tx : int
+        Slots per code period.
+    mode : CfarMode, optional
+        Whose `combine_looks` makes a map cell of the n_tx x n_rx channel powers; None: their
+        sum, as for every square-law mode.
+
+    Returns
+    -------
+    SlotMaps
+        ``power`` (n_range, n_dop) float32 C-contiguous; ``virt`` (n_range, n_dop,
+        n_tx x n_rx) a view of the spectra, slot-major.
+    """
+    n_c, n_rx, n_range = xw.shape
+    spec = slow_time_fft(xw.reshape(n_c // n_tx, n_tx * n_rx, n_range))  # (D, S x R, B)
+    if mode is None or mode.sums_looks:
+        # |x|^2 = re^2 + im^2 added channel after channel, in one pass over the spectra
+        power = rx_energy(spec)
+    else:
+        power = mode.combine_looks(power_of(spec), axis=1)
+    return SlotMaps(power=np.ascontiguousarray(power.T), virt=np.moveaxis(spec, 2, 0))
+
+
 def slot_maps(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) -> SlotMaps:
-    """Range FFT and per-slot Doppler FFT (chirp = n_tx c' + slot)."""
+    """Range FFT and per-slot Doppler FFT (chirp = n_tx c' + slot); the map combines the
+    channels as the CFAR mode does (n_virtual looks per cell)."""
     n_tx = cfg.n_tx
     n_dop = cfg.n_chirps // n_tx
     if proc.doppler.clutter_removal:
         rf = range_stage(cfg, adc, proc)  # (C, R, B): chirp-level chain + range FFT
-        rf = rf.reshape(n_dop, n_tx, cfg.n_rx, -1)  # chirp = n_tx c' + slot
+        rf = rf.reshape(n_dop, -1, rf.shape[-1])  # (D, S x R, B): chirp = n_tx c' + slot
         # TI's static clutter removal (clutterRemoval, SDK 3.x DopplerProc): the mean over the
         # frame's chirps of each slot, Rx and range bin -- the zero-Doppler return -- removed
         # before the Doppler FFT.
-        rf = rf - rf.mean(axis=0, keepdims=True)
-        spec = doppler_fft(rf, window(WINDOWS[proc.doppler.window], n_dop))  # (D, S, R, B)
+        xw = doppler_windowed(rf - rf.mean(axis=0, keepdims=True),
+                              window(WINDOWS[proc.doppler.window], n_dop))
     else:
         # The same product with the window's value repeated for the slots of each period.
         xw = windowed_range_stage(cfg, adc, proc,
                                   _slot_window(WINDOWS[proc.doppler.window], n_dop, n_tx))
-        spec = slow_time_fft(xw.reshape(n_dop, n_tx, cfg.n_rx, -1))  # (D, S, R, B)
-    n_range = spec.shape[-1]
-    virt_all = np.moveaxis(spec, 3, 0).reshape(n_range, n_dop, -1)  # (B, D, 16) slot-major
-    combine = CFAR_MODES[proc.cfar.mode].combine_looks
-    # (B, D), L = n_virtual looks per cell: their sum, or the CFAR mode's own statistic, in
-    # parts of range bins on the cores (`virt_all` is a view of `spec`: each part reduces its
-    # range bins in the memory order the whole map would be reduced in).
-    rd = np.concatenate(run_parts([lambda lo=lo, hi=hi: combine(np.abs(virt_all[lo:hi]) ** 2,
-                                                                axis=-1)
-                                   for lo, hi in spans(n_range)]))
-    return SlotMaps(power=rd, virt=virt_all)
+    return slot_spectra(xw.reshape(cfg.n_chirps, cfg.n_rx, -1), n_tx, CFAR_MODES[proc.cfar.mode])
+
+
+def remove_slot_phase(slots: np.ndarray, velocity_mps: np.ndarray, wavelength_m: float,
+                      slot_period_s: float) -> np.ndarray:
+    """Slot samples with slot s's Doppler phase 2 pi f_D s T removed ([TI-VEXT] eq. 8-10),
+    f_D = -2 v / lambda.
+
+    Parameters
+    ----------
+    slots : (..., n_slots, n_rx) complex64
+        Per-slot samples of one code period (slot-major).
+    velocity_mps : (...) float
+        The velocity to compensate each sample vector at, m/s (broadcast against the leading
+        axes of `slots`).
+    wavelength_m, slot_period_s : float
+        Wavelength, m, and the time T between two slots, s.
+
+    Returns
+    -------
+    (..., n_slots, n_rx) complex64
+    """
+    f_d = -2 * np.asarray(velocity_mps) / wavelength_m
+    comp = np.exp(-2j * np.pi * f_d[..., None] * np.arange(slots.shape[-2]) * slot_period_s)
+    return slots * comp[..., None].astype(np.complex64)
 
 
 @lru_cache(maxsize=16)
@@ -175,13 +221,10 @@ class SlotChain(MimoChain):
             valid = np.ones_like(v_hyp, dtype=bool)
         _, _, v_idx, _, _ = layout_of(cfg)
         virt = virt_all[r, d].reshape(-1, 1, n_tx, cfg.n_rx)  # (n, 1, S, R)
-        # Doppler phase of slot s: 2 pi f_D s Tc, f_D = -2 v / lambda (eq. 8-10): remove it.
-        f_hyp = -2 * v_hyp / cfg.wavelength_m
-        comp = np.exp(-2j * np.pi * f_hyp[:, :, None] * np.arange(n_tx) * cfg.chirp_period_s)
-        virt_h = self.separate(cfg, virt * comp[:, :, :, None]) \
-            .reshape(r.size, v_hyp.shape[1], -1)  # (n, H, 16)
+        slots = remove_slot_phase(virt, v_hyp, cfg.wavelength_m, cfg.chirp_period_s)
+        virt_h = self.separate(cfg, slots).reshape(r.size, v_hyp.shape[1], -1)  # (n, H, 16)
         virt_h = compensate(cfg, proc, virt_h)  # compRangeBiasAndRxChanPhase, before scoring
-        az_pow = np.abs(virt_h @ array_dft(cfg, n_az, "horizontal")) ** 2  # (n, H, A)
+        az_pow = power_of(virt_h @ array_dft(cfg, n_az, "horizontal"))  # (n, H, A) float32
         score = self.score(cfg, virt_h, az_pow, v_idx)
         best = np.argmax(np.where(valid, score, -np.inf), axis=1)
         if self.disambiguate(proc):
@@ -216,9 +259,8 @@ class SlotChain(MimoChain):
         n_dop = virt.shape[0]
         d_signed = (np.arange(n_dop) + n_dop / 2) % n_dop - n_dop / 2
         vel = -d_signed / (n_dop * cfg.n_tx * tc) * lam / 2
-        comp = np.exp(2j * np.pi * (2 * vel[:, None] / lam) * np.arange(cfg.n_tx) * tc)
-        virt = self.separate(cfg, virt.reshape(n_dop, cfg.n_tx, cfg.n_rx) * comp[:, :, None])
-        virt = compensate(cfg, proc, virt.reshape(n_dop, -1))
+        slots = remove_slot_phase(virt.reshape(n_dop, cfg.n_tx, cfg.n_rx), vel, lam, tc)
+        virt = compensate(cfg, proc, self.separate(cfg, slots).reshape(n_dop, -1))
         power = np.abs(virt @ array_dft(cfg, proc.angle.n_azimuth_bins, "horizontal")) ** 2
         return DopplerAzimuth(vel, power)
 

@@ -7,7 +7,7 @@ import pytest
 import pipeline
 import radarsim
 from pipeline.mimo.fast_slow import FastSlowChain, fast_slow_maps, slow_bin_of, unfold_peaks
-from pipeline.stages import noncoherent_hits
+from pipeline.stages import noncoherent_hits, power_of
 from radarsim.config import C_MPS
 
 #: Chirp-level steps off: thermal noise is then the only disturbance of the maps, as the model
@@ -355,3 +355,17 @@ def test_dropping_unassociated_peaks(cfg, make_scene):
 
 def test_other_chains_ignore_the_fast_slow_settings():
     pipeline.ProcessingConfig().replace(fast_slow_search_bins=16).check_radar(radarsim.presets.r79("tdma"))
+
+
+def test_set_maps_are_the_channels_power_summed_in_order(cfg, make_scene):
+    """Each set's map is, bit for bit, |x|^2 = re^2 + im^2 (float32) of its 16 slot channels
+    (`stages.power_of`) added one after the other."""
+    adc = radarsim.simulate_frame(cfg, make_scene([[40.0, 10.0, 0.0, 5.0, 10.0]]),
+                                  np.random.default_rng(2))
+    maps = fast_slow_maps(cfg, adc, pipeline.ProcessingConfig())
+    for power, virt in ((maps.fast_power, maps.fast_virt), (maps.slow_power, maps.slow_virt)):
+        per = power_of(np.ascontiguousarray(virt))
+        plain = per[..., 0]
+        for k in range(1, per.shape[-1]):
+            plain = plain + per[..., k]
+        np.testing.assert_array_equal(power, plain)

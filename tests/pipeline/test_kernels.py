@@ -16,7 +16,13 @@ from pipeline.ddma_kernels import (
     ddma_spectra_power,
     fft48_power,
 )
-from pipeline.kernels import doppler_fft, rx_energy, rx_energy_bins, slow_time_fft
+from pipeline.kernels import (
+    doppler_fft,
+    estimate_angles,
+    rx_energy,
+    rx_energy_bins,
+    slow_time_fft,
+)
 from pipeline.stages import power_of
 
 
@@ -265,3 +271,17 @@ def test_point_cloud_equals_the_frame_of_a_column_dict(n):
                       (e1, empty_cloud)):
         one.columns.name = "mine"
         assert make().columns.name is None
+
+
+def test_estimate_angles_at_the_zenith_with_a_boresight_beam_is_finite():
+    """A raised row 180 deg out of phase with the horizontal one (wz = pi on the half-wave
+    EVM row: sin(el) = 1, cos(el) = 0) and an exactly boresight beam (wx = 0): 0 / 0 for
+    sin(az), reported as azimuth 0 (it is undefined there), not NaN; a beam off boresight at
+    the same elevation still clips to +/-90 deg."""
+    h_idx, h_pos = np.arange(4), np.arange(4.0)
+    v_idx, v_pos = np.arange(4, 6), np.array([1.0, 2.0])
+    virt = np.ones((2, 6), np.complex64)
+    virt[:, v_idx] = -1.0
+    az, el = estimate_angles(virt, np.array([0.0, 1e-9]), h_idx, h_pos, v_idx, v_pos, 0.5)
+    np.testing.assert_allclose(np.degrees(el), 90.0)
+    assert np.degrees(az[0]) == 0.0 and np.degrees(az[1]) == pytest.approx(90.0)

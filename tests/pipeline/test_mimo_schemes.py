@@ -5,8 +5,10 @@ import pytest
 
 import pipeline
 import radarsim
+from pipeline.cfar import CFAR_MODES
 from pipeline.mimo.bpm import bpm_decode
-from pipeline.mimo.tdma import slot_maps
+from pipeline.mimo.tdma import remove_slot_phase, slot_maps
+from pipeline.stages import power_of
 from tests.pipeline.test_chain import REGISTRY, best_near, scene_at_snr
 
 
@@ -42,6 +44,34 @@ def test_same_targets_through_every_scheme(name, make_config, make_scene):
             continue
         assert abs(best.azimuth_deg - az) <= 1.5
     assert n_fail <= 1
+
+
+@pytest.mark.parametrize("clutter_removal", [False, True])
+def test_slot_map_is_the_channels_power_summed_in_order(clutter_removal, make_config, make_scene):
+    """The slot chains' CFAR map is, bit for bit, |x|^2 = re^2 + im^2 (float32,
+    `stages.power_of`) of the 16 slot channels of `virt` added one after the other."""
+    cfg = make_config("bpm")
+    adc = radarsim.simulate_frame(cfg, make_scene([[30.0, 10.0, 0.0, 3.0, 10.0]]),
+                                  np.random.default_rng(3))
+    proc = pipeline.ProcessingConfig().replace(**{"doppler.clutter_removal": clutter_removal})
+    maps = slot_maps(cfg, adc, proc)
+    per = power_of(np.ascontiguousarray(maps.virt))
+    plain = per[..., 0]
+    for k in range(1, per.shape[-1]):
+        plain = plain + per[..., k]
+    assert maps.power.flags.c_contiguous
+    np.testing.assert_array_equal(maps.power, plain)
+
+
+def test_slot_map_combines_the_channels_as_the_cfar_mode_does(make_config, make_scene):
+    """A CFAR mode on another statistic than the sum (TI's log-domain CA: the geometric mean)
+    gets its own combination of the channel powers."""
+    cfg = make_config("tdma")
+    adc = radarsim.simulate_frame(cfg, make_scene([[30.0, 10.0, 0.0, 3.0, 10.0]]),
+                                  np.random.default_rng(3))
+    maps = slot_maps(cfg, adc, pipeline.ProcessingConfig().replace(**{"cfar.mode": "ti_log_ca"}))
+    plain = CFAR_MODES["ti_log_ca"].combine_looks(np.abs(maps.virt) ** 2, axis=-1)
+    np.testing.assert_allclose(maps.power, plain, rtol=1e-5)
 
 
 @pytest.mark.parametrize("n_tx", [2, 4])
@@ -141,3 +171,19 @@ def test_classic_ddma_resolves_the_assignment_at_20_db(make_config, make_scene, 
                     assert k != 0 and abs(dv - k * step) <= 0.15
     assert fails["ddma_classic"] <= max_fails
     assert fails["ddma"] == 0
+
+
+def test_remove_slot_phase_makes_a_moving_echo_slot_invariant():
+    """Slots of one echo at velocity v carry the phase 2 pi f_D s T, f_D = -2 v / lambda
+    ([TI-VEXT] eq. 8-10): removed at v, every slot holds the same sample; removed at another
+    hypothesis, the residual phase step is 2 pi (f_D - f_D') T."""
+    lam, t = 3.9e-3, 60e-6
+    v = np.array([[-12.0], [7.5]])  # (2, 1): one velocity per sample vector
+    s = np.arange(4)
+    x = np.exp(2j * np.pi * (-2 * v / lam) * s * t)[..., None] * np.array([1, 1j, -1])
+    out = remove_slot_phase(x.astype(np.complex64), v[:, 0], lam, t)
+    assert out.dtype == np.complex64
+    np.testing.assert_allclose(out, np.broadcast_to(out[:, :1], out.shape), atol=1e-5)
+    off = remove_slot_phase(x.astype(np.complex64), v[:, 0] + 1.0, lam, t)
+    step = np.angle(off[:, 1, 0] * np.conj(off[:, 0, 0]))
+    np.testing.assert_allclose(step, 2 * np.pi * (2 * 1.0 / lam) * t, atol=1e-5)
