@@ -10,6 +10,7 @@ import numpy as np
 import scipy.fft
 
 import pipeline
+from pipeline.threads import inline
 
 #: Alternating rounds of a value against its floor; each figure is the best of them.
 ROUNDS = 11
@@ -25,13 +26,18 @@ class Timed(NamedTuple):
 class ChainTiming(NamedTuple):
     """A chain against its FFT floor (`chain_against_floor`)."""
 
-    chain: Timed
+    chain: Timed         # process_frame as called: its passes split over the cores
+    one_thread: Timed    # the same inside `pipeline.threads.inline`, as a sweep cell runs it
     floor_wall_s: float  # the floor's FFTs on every core: the least wall time of any chain
     floor_cpu_s: float   # the same FFTs on one core: their work itself, the least CPU
 
     @property
     def cpu_ratio(self) -> float:
         return self.chain.cpu_s / self.floor_cpu_s
+
+    @property
+    def one_thread_cpu_ratio(self) -> float:
+        return self.one_thread.cpu_s / self.floor_cpu_s
 
     @property
     def wall_ratio(self) -> float:
@@ -72,13 +78,24 @@ def alternating_best(fns: dict[str, Callable[[], object]], rounds: int = ROUNDS
 
 
 def chain_against_floor(cfg, adc: np.ndarray, rounds: int = ROUNDS) -> ChainTiming:
-    """`pipeline.process_frame(cfg, adc)` against `fft_floor_once` of the same frame (float32,
-    converted outside the timing) on every core and on one core, alternating rounds."""
+    """`pipeline.process_frame(cfg, adc)`, as called and on one thread (`threads.inline`),
+    against `fft_floor_once` of the same frame (float32, converted outside the timing) on
+    every core and on one core, alternating rounds.
+
+    Splitting a pass over two cores costs CPU (hand-offs, two cores sharing the memory
+    bandwidth and the last-level cache): it buys wall time on an idle machine. A sweep keeps
+    the cores busy with whole frames and runs each chain on one thread, so both are timed."""
     x = adc.astype(np.float32)
+
+    def one_thread():
+        with inline():
+            pipeline.process_frame(cfg, adc)
+
     t = alternating_best({"chain": lambda: pipeline.process_frame(cfg, adc),
+                          "one_thread": one_thread,
                           "floor": lambda: fft_floor_once(cfg, x),
                           "floor1": lambda: fft_floor_once(cfg, x, workers=1)}, rounds)
-    return ChainTiming(t["chain"], t["floor"].wall_s, t["floor1"].cpu_s)
+    return ChainTiming(t["chain"], t["one_thread"], t["floor"].wall_s, t["floor1"].cpu_s)
 
 
 def fft_floor_once(cfg, x32: np.ndarray, workers: int = -1) -> None:

@@ -12,6 +12,11 @@ Floors (float32 frames converted outside the timing):
   scatterers, R79 DDMA and TDMA) plus three chain floors (DDMA, TDMA, TDMA raw);
 * the chain with 10 interferers: the same chain on the clean frame.
 
+Each chain is timed as `process_frame` is called (its passes split over the cores,
+`pipeline.threads`) and on one thread (`threads.inline`), as a sweep cell runs it: splitting
+costs CPU (hand-offs, two cores sharing memory bandwidth and cache) to save wall time on an
+idle machine.
+
 A chain's floor is timed twice, with the FFTs on every core and on one core. The all-core
 floor's wall time is the least any chain can take, but it depends on whether the other core is
 free at that moment (another process on it: the same transforms measured 2.6 to 3.4 ms wall at
@@ -69,10 +74,12 @@ def scheme_rows() -> list[str]:
         cfg = radarsim.presets.r79(name)
         adc = radarsim.simulate_frame(cfg, sc, np.random.default_rng(0))
         t = chain_against_floor(cfg, adc)
-        rows.append(_row(f"`process_frame` {name}, K = {N_SCATTERERS}", t.chain,
-                         (t.floor_wall_s, t.floor_cpu_s),
-                         CHAIN_TARGETS.get(name, OTHER_CHAIN_TARGET),
+        target = CHAIN_TARGETS.get(name, OTHER_CHAIN_TARGET)
+        floor = (t.floor_wall_s, t.floor_cpu_s)
+        rows.append(_row(f"`process_frame` {name}, K = {N_SCATTERERS}", t.chain, floor, target,
                          "rFFT + Doppler FFT (cpu: one core; wall: all cores)"))
+        rows.append(_row("the same on one thread (`threads.inline`, as in a sweep cell)",
+                         t.one_thread, floor, target, "the same"))
     return rows
 
 
