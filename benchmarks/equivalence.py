@@ -34,8 +34,8 @@ Usage::
 
 References
 ----------
-.. [1] C. J. Clopper and E. S. Pearson, "The use of confidence or fiducial limits illustrated
-       in the case of the binomial", Biometrika 26(4), 1934.
+.. [1] [Clopper1934] C. J. Clopper and E. S. Pearson, "The use of confidence or fiducial limits
+       illustrated in the case of the binomial", Biometrika 26(4), 1934.
 .. [2] [Kay1993] S. M. Kay, Fundamentals of Statistical Signal Processing: Estimation Theory,
        1993, section 3.11 (the bound of a sinusoid's frequency).
 """
