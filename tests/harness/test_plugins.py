@@ -3,16 +3,16 @@ with origins, a plugin that fails to import (exit 2, never half-loaded), bad plu
 provenance (a changed plugin changes the code version; its cells are recomputed) and a worker
 that lacks a plugin.
 
-Plugins are loaded in subprocesses (the CLI, or a small script): a plugin loaded in the test
-process would stay loaded and change the code version every later test sees. A command that
-loads no plugin (a bad option, a plugin that fails to import and is never half loaded) runs
-the CLI's `main` in the test process, as the other CLI tests do: each CLI process costs a few
-seconds of imports.
+Plugins are loaded in child processes forked from the test process (`forked.run_forked`): a
+plugin loaded in the test process would stay loaded and change the code version every later
+test sees, and a fork leaves the parent as it was without the few seconds of imports a fresh
+CLI process costs. A command that loads no plugin (a bad option, a plugin that fails to import
+and is never half loaded) runs the CLI's `main` in the test process, as the other CLI tests do.
 """
 from __future__ import annotations
 
+import importlib
 import json
-import os
 import re
 import subprocess
 import sys
@@ -22,9 +22,21 @@ from pathlib import Path
 import pytest
 
 import radarsim
-from harness.cli import main
-from harness.plugins import ENTRY_POINT_GROUP, PluginError, PluginInfo, load_plugins
+from harness.cli import COMMANDS, main
+from harness.plugins import (
+    ENTRY_POINT_GROUP,
+    PluginError,
+    PluginInfo,
+    import_builtins,
+    load_plugins,
+)
+from harness.sweep.file import load_sweep
+from harness.sweep.schedule import run_sweep
+from harness.sweep.spec import SweepSpec
+from harness.sweep.store import code_version
 from harness.sweep.worker import execute_cell
+from tests.harness.fakes import FAKE
+from tests.harness.forked import run_forked
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -50,12 +62,19 @@ PLUGIN_SOURCE = textwrap.dedent('''
 ''')
 
 
-def _cli(args, *, pythonpath=None, cwd=ROOT):
-    env = dict(os.environ)
-    if pythonpath is not None:
-        env["PYTHONPATH"] = os.pathsep.join([str(pythonpath), str(ROOT)])
-    return subprocess.run([sys.executable, "-m", "harness.cli", *args], cwd=cwd, env=env,
-                          capture_output=True, text=True, timeout=300)
+@pytest.fixture(scope="module", autouse=True)
+def _commands_imported():
+    """The command modules and every built-in registry imported once in the test process, so
+    each forked CLI child finds them imported (~2-3 s CPU of imports per child otherwise)."""
+    for module, _ in COMMANDS.values():
+        importlib.import_module(module)
+    import_builtins()
+
+
+def _cli(args, *, pythonpath=None):
+    """``radar-harness *args`` (the CLI's `main`) in a forked child, `pythonpath` in front of
+    its ``sys.path``."""
+    return run_forked(main, list(args), sys_path=[pythonpath] if pythonpath else [])
 
 
 def _write_module(folder: Path, module: str, scheme: str) -> Path:
@@ -158,14 +177,17 @@ def test_bad_plugin_option(args, message, capsys):
     assert re.search(message, err), err
 
 
+def _print_schemes_and_plugins(sweep_file: Path) -> None:
+    s = load_sweep(sweep_file)
+    print(s.schemes, s.plugins)
+
+
 def test_a_sweep_file_plugin_relative_to_the_file_adds_its_scheme(tmp_path):
     _write_module(tmp_path / "sub", "sweep_local", "tdma_sweepfile")
     f = tmp_path / "sub" / "s.toml"
     f.write_text('name = "x"\nscenarios = ["head_on_aliasing"]\nplugins = ["sweep_local.py"]\n'
                  'schemes = ["tdma", "tdma_sweepfile"]\n')
-    r = subprocess.run([sys.executable, "-c", "import sys; from harness.sweep.file import "
-                        "load_sweep; s = load_sweep(sys.argv[1]); print(s.schemes, s.plugins)",
-                        str(f)], cwd=ROOT, capture_output=True, text=True, timeout=300)
+    r = run_forked(_print_schemes_and_plugins, f)
     assert r.returncode == 0, r.stderr
     assert "('tdma', 'tdma_sweepfile') ('sweep_local.py',)" in r.stdout
 
@@ -185,31 +207,22 @@ def test_bad_sweep_file_plugins(tmp_path, value, message, capsys):
     assert not (tmp_path / "out" / "cells").exists()  # refused before any cell ran
 
 
-_SWEEP_SCRIPT = textwrap.dedent('''
-    import json, sys
-    from harness.plugins import load_plugins
-    from harness.sweep.schedule import run_sweep
-    from harness.sweep.spec import SweepSpec
-    from harness.sweep.store import code_version
-    from tests.harness.fakes import FAKE
-    load_plugins([sys.argv[1]], entry_points=False)
+def _sweeps(plugin: Path, out: Path, runs: tuple[str, ...]) -> None:
+    load_plugins([str(plugin)], entry_points=False)
     spec = SweepSpec(name="p", scenarios=("fast", "slow"), duration_s=0.2)
-    for how in sys.argv[3:]:
+    for how in runs:
         try:
-            o = run_sweep(spec, sys.argv[2], components=FAKE, progress=False,
-                          force=how == "force")
+            o = run_sweep(spec, out, components=FAKE, progress=False, force=how == "force")
             print(json.dumps([o.n_ok, o.n_skipped, o.n_recomputed, code_version()["hash"]]))
         except ValueError as exc:
             print(json.dumps(str(exc)))
-''')
 
 
 def _fake_sweeps(plugin: Path, out: Path, *runs: str) -> list:
-    """Sweeps of the fake parts into `out`, one after the other in one fresh process that
+    """Sweeps of the fake parts into `out`, one after the other in one forked process that
     loaded `plugin` ("force" recomputes cells of another code version, "-" does not): per
     run its [n_ok, n_skipped, n_recomputed, code version] or the refusal's message."""
-    r = subprocess.run([sys.executable, "-c", _SWEEP_SCRIPT, str(plugin), str(out), *runs],
-                       cwd=ROOT, capture_output=True, text=True, timeout=300)
+    r = run_forked(_sweeps, plugin, out, runs)
     assert r.returncode == 0, r.stderr
     return [json.loads(line) for line in r.stdout.strip().splitlines()[-len(runs):]]
 
