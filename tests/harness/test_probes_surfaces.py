@@ -14,13 +14,23 @@ import pytest
 from tests.harness.probes import classify
 from tests.harness.probes_surfaces import probes_of
 
-SURFACES = ("results", "report_gaps", "board_calibration", "calibrate", "studio_setups",
-            "registrations", "openscenario")
+SURFACES = ("results", "board_calibration", "calibrate", "studio_setups", "registrations",
+            "openscenario")
 
 
 @pytest.mark.parametrize("probe", [p for s in SURFACES for p in probes_of(s)],
                          ids=lambda p: p.id)
 def test_surface_probe_is_clear(probe, tmp_path):
+    cls, detail = classify(probe, tmp_path, time_limit_s=120.0)
+    assert cls == "clear", detail
+
+
+# Each draws a whole report (~1 s CPU); the fast sibling asserting the same gaps (one stderr
+# warning line and the page text, exit 0) on one report of a copy lacking all of them is
+# tests/harness/test_report.py::test_report_says_what_the_results_lack_in_the_page_and_on_stderr.
+@pytest.mark.slow
+@pytest.mark.parametrize("probe", probes_of("report_gaps"), ids=lambda p: p.id)
+def test_report_gap_probe_is_clear(probe, tmp_path):
     cls, detail = classify(probe, tmp_path, time_limit_s=120.0)
     assert cls == "clear", detail
 
