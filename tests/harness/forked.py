@@ -65,36 +65,46 @@ class Ran:
     stderr: str
 
 
+def fork_call(func: Callable[..., int | None], *args, stdout: Path, stderr: Path,
+              sys_path=()) -> int:
+    """Fork a child that calls ``func(*args)`` and exits; return its pid.
+
+    The child's stdout and stderr (Python's and the file descriptors) go to the files
+    `stdout` and `stderr`; `sys_path` is put in front of its ``sys.path`` (as ``PYTHONPATH``
+    would be). Exit status: what `func` returns (None is 0), ``SystemExit``'s code, or 1
+    after an exception (traceback on stderr).
+    """
+    pid = os.fork()
+    if pid == 0:  # the child: never returns into the test runner
+        code = 1
+        try:
+            sys.stdout, sys.stderr = open(stdout, "w"), open(stderr, "w")
+            os.dup2(sys.stdout.fileno(), 1)
+            os.dup2(sys.stderr.fileno(), 2)
+            sys.path[:0] = [str(p) for p in sys_path]
+            code = func(*args) or 0
+        except SystemExit as exc:
+            code = exc.code if isinstance(exc.code, int) else (exc.code is not None)
+        except BaseException:  # noqa: BLE001 - reported on stderr, exit status 1
+            traceback.print_exc()
+        finally:
+            sys.stdout.flush()
+            sys.stderr.flush()
+            os._exit(code)
+    return pid
+
+
 def run_forked(func: Callable[..., int | None], *args, sys_path=(), timeout_s: float = 300.0
                ) -> Ran:
-    """Call ``func(*args)`` in a child forked from this process and wait for it.
+    """`fork_call` and wait for the child: its exit status and what it printed.
 
     For a command that must not leave state in the test process (a plugin it loads stays
     loaded: registries, code version) but need not start a fresh interpreter (~2.5 s CPU of
-    imports): the child has everything imported already. Its stdout and stderr (Python's and
-    the file descriptors) go to files read back here. `sys_path` is put in front of the
-    child's ``sys.path`` (as ``PYTHONPATH`` would be). Exit status: what `func` returns
-    (None is 0), ``SystemExit``'s code, or 1 after an exception (traceback on stderr).
+    imports): the child has everything imported already.
     """
     with tempfile.TemporaryDirectory() as tmp:
         out, err = Path(tmp) / "stdout", Path(tmp) / "stderr"
-        pid = os.fork()
-        if pid == 0:  # the child: never returns into the test runner
-            code = 1
-            try:
-                sys.stdout, sys.stderr = open(out, "w"), open(err, "w")
-                os.dup2(sys.stdout.fileno(), 1)
-                os.dup2(sys.stderr.fileno(), 2)
-                sys.path[:0] = [str(p) for p in sys_path]
-                code = func(*args) or 0
-            except SystemExit as exc:
-                code = exc.code if isinstance(exc.code, int) else (exc.code is not None)
-            except BaseException:  # noqa: BLE001 - reported on stderr, exit status 1
-                traceback.print_exc()
-            finally:
-                sys.stdout.flush()
-                sys.stderr.flush()
-                os._exit(code)
+        pid = fork_call(func, *args, stdout=out, stderr=err, sys_path=sys_path)
         code = wait_exit(pid, timeout_s)
         return Ran(code, out.read_text(), err.read_text())
 

@@ -8,13 +8,12 @@ gives the tables of an uninterrupted run.
 """
 from __future__ import annotations
 
+import contextlib
 import json
 import multiprocessing
 import os
 import shutil
 import signal
-import subprocess
-import sys
 import time
 from pathlib import Path
 
@@ -33,13 +32,12 @@ from harness.sweep.worker import execute_cell
 from tests.harness.fakes import FAILING, FAKE, TABLES, assert_same_tables
 from tests.harness.forked import (
     ctrl_c_at_the_next_fork,
+    fork_call,
     fork_sweep,
     forked_children,
     wait_exit,
     wait_group_gone,
 )
-
-ROOT = Path(__file__).resolve().parents[2]
 
 
 def small_spec(**kw) -> SweepSpec:
@@ -270,43 +268,46 @@ def test_sigkill_at_random_points_many_trials(tmp_path):
     _kill_resume_trials(tmp_path, n_trials=12, seed=1515)
 
 
+def _ctrl_c_able_main(argv: list[str]) -> int:
+    """The CLI's `main` with SIGINT at its default, as a terminal's foreground job has it: a
+    suite started with ``&`` by a script inherits SIGINT ignored (POSIX), and the sweep, like
+    Python, keeps an inherited ignore (a background job must survive the script's Ctrl-C)."""
+    signal.signal(signal.SIGINT, signal.default_int_handler)
+    return main(argv)
+
+
 def test_sigint_prints_the_resume_hint_not_a_traceback(tmp_path):
     """Ctrl-C on a real pool sweep: exit 130, one line, cells already written stay valid.
 
-    The signal goes 0.3 s after the pool's two workers exist (they are forked together at the
-    first submit), so they are computing their first cells, which take seconds: the sweep
-    cannot have finished. An exit 0 is a lost signal, a failure (a Ctrl-C during the
-    workers' fork used to be dropped: `test_ctrl_c_while_the_pool_forks_its_workers_...`)."""
+    The sweep is the CLI's `main` in a child forked from the test process (a fresh
+    interpreter only adds seconds of imports). The signal goes 0.3 s after the pool's two
+    workers exist (they are forked together at the first submit), so they are computing their
+    first cells, which take seconds: the sweep cannot have finished. An exit 0 is a lost
+    signal, a failure (a Ctrl-C during the workers' fork used to be dropped:
+    `test_ctrl_c_while_the_pool_forks_its_workers_...`)."""
     out = tmp_path / "r"
-    cmd = [sys.executable, "-m", "harness.cli", "sweep", str(sweepspec.CI_SWEEP_PATH),
-           "--scenarios",
-           "blind_spot_overtaking", "head_on_aliasing", "--duration-s", "2", "--workers", "2",
-           "--out", str(out)]
-    # The sweep starts with SIGINT at its default, as a terminal's foreground job has it: a
-    # suite started with ``&`` by a script inherits SIGINT ignored (POSIX), and the sweep,
-    # like Python, keeps an inherited ignore (a background job must survive the script's
-    # Ctrl-C). A handled signal is reset to its default by exec (no preexec_fn, which may
-    # deadlock in a process with threads).
-    before = signal.signal(signal.SIGINT, signal.default_int_handler)
+    argv = ["sweep", str(sweepspec.CI_SWEEP_PATH), "--scenarios",
+            "blind_spot_overtaking", "head_on_aliasing", "--duration-s", "2", "--workers", "2",
+            "--out", str(out)]
+    err_file = tmp_path / "stderr"
+    pid = fork_call(_ctrl_c_able_main, argv, stdout=tmp_path / "stdout", stderr=err_file)
     try:
-        p = subprocess.Popen(cmd, cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                             text=True)
-    finally:
-        signal.signal(signal.SIGINT, before)
-    try:
-        deadline = time.monotonic() + 120
-        while time.monotonic() < deadline and len(forked_children(p.pid)) < 2 \
-                and p.poll() is None:
+        deadline, ended = time.monotonic() + 120, 0
+        while time.monotonic() < deadline and len(forked_children(pid)) < 2 and not ended:
+            ended = os.waitpid(pid, os.WNOHANG)[0]
             time.sleep(0.05)
-        assert len(forked_children(p.pid)) >= 2, "the sweep's pool did not start 2 workers"
+        assert not ended and len(forked_children(pid)) >= 2, \
+            f"the sweep's pool did not start 2 workers: {err_file.read_text()[-2000:]}"
         time.sleep(0.3)
-        p.send_signal(signal.SIGINT)
-        _, err = p.communicate(timeout=120)
-    finally:
-        if p.poll() is None:
-            p.kill()
-            p.communicate()
-    assert p.returncode == 130, err
+        os.kill(pid, signal.SIGINT)
+        code = wait_exit(pid, 120)
+    except BaseException:
+        with contextlib.suppress(OSError):  # no sweep left running behind a failed test
+            os.kill(pid, signal.SIGKILL)
+            os.waitpid(pid, 0)
+        raise
+    err = err_file.read_text()
+    assert code == 130, err
     assert "Traceback" not in err
     assert err.strip().splitlines()[-1].endswith("interrupted: rerun the same command to resume")
     states = [store.cell_state(cell_dir(out, c))
