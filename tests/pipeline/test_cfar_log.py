@@ -55,17 +55,19 @@ def test_false_alarm_rate_matches_theory(mode, looks):
                                rtol=2e-5)
 
 
-def test_theory_matches_monte_carlo_of_the_statistic():
-    """log_cfar_pfa against 200k draws of the statistic itself (CA, CAGO, CASO)."""
+@pytest.mark.parametrize("draws", [
+    50_000, pytest.param(200_000, marks=pytest.mark.slow)])  # fast: a tolerance twice as wide
+def test_theory_matches_monte_carlo_of_the_statistic(draws):
+    """log_cfar_pfa against draws of the statistic itself (CA, CAGO, CASO)."""
     rng = np.random.default_rng(3)
     n, looks, thr = 8, 12, 0.5
-    cut = np.log(rng.exponential(size=(200_000, looks))).mean(axis=1)
-    tr = np.log(rng.exponential(size=(200_000, n, looks))).mean(axis=2)
+    cut = np.log(rng.exponential(size=(draws, looks))).mean(axis=1)
+    tr = np.log(rng.exponential(size=(draws, n, looks))).mean(axis=2)
     h1, h2 = tr[:, :4].mean(axis=1), tr[:, 4:].mean(axis=1)
     for side, m in (("both", 0.5 * (h1 + h2)), ("greatest", np.maximum(h1, h2)),
                     ("smallest", np.minimum(h1, h2))):
         p = log_cfar_pfa(np.exp(thr), n, looks, side)
-        assert abs(np.mean(cut - m > thr) - p) <= 4 * np.sqrt(p * (1 - p) / 200_000)
+        assert abs(np.mean(cut - m > thr) - p) <= 4 * np.sqrt(p * (1 - p) / draws)
 
 
 def test_profile_cfar_runs_the_log_statistic():
@@ -75,9 +77,11 @@ def test_profile_cfar_runs_the_log_statistic():
     assert proc.cfar.mode == "ti_log_ca" and proc.cfar.threshold_db == 15.0
 
 
-def _pd_of_statistic(snr_lin, n_cells, looks, alpha, rng, draws=20_000):
+def _pd_of_statistic(snr_lin, n_cells, looks, alpha, rng, draws=5_000):
     """P(mean_i ln|sqrt(S) + n_i|^2 - M > ln alpha), n_i ~ CN(0, 1), M the CA noise
-    statistic of n_cells x looks unit exponentials: the chip's detection probability."""
+    statistic of n_cells x looks unit exponentials: the chip's detection probability.
+    `draws`: its standard error is at most 0.5 / sqrt(draws) = 0.007, so over 40 targets the
+    expected miss count is off by < 0.3, against a tolerance of 3 sigma + 1 (4-6 misses here)."""
     z = (rng.standard_normal((draws, looks))
          + 1j * rng.standard_normal((draws, looks))) / np.sqrt(2)
     cut = np.log(np.abs(np.sqrt(snr_lin) + z) ** 2).mean(axis=1)
