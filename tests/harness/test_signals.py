@@ -15,6 +15,7 @@ import pytest
 
 from harness import cli, runtime
 from harness.cli import main
+from tests.harness.forked import fork_call, wait_exit
 
 SWEEP = textwrap.dedent("""\
     name = "sig"
@@ -77,34 +78,38 @@ def test_sigkill_of_the_main_pid_takes_the_pool_workers_along(tmp_path):
     assert not alive, f"left behind: {[k.pid for k in alive]}"
 
 
+def _parent_of_an_armed_child(pid_file) -> None:
+    """Fork a child armed with `exit_with_parent`, which writes its pid to `pid_file`; both
+    then sleep."""
+    parent = os.getpid()
+    if os.fork() == 0:
+        runtime.exit_with_parent(parent)
+        pid_file.write_text(str(os.getpid()))
+        time.sleep(60)
+        os._exit(0)
+    time.sleep(60)
+
+
 def test_worker_dies_with_its_parent(tmp_path):
     """A child armed with `exit_with_parent` dies when its parent is SIGKILLed (no handler in
-    the parent can run): PR_SET_PDEATHSIG on Linux, the watchdog elsewhere."""
+    the parent can run): PR_SET_PDEATHSIG on Linux, the watchdog elsewhere. The parent is
+    forked from the test process (a fresh interpreter only adds its imports)."""
     pid_file = tmp_path / "child.pid"
-    code = textwrap.dedent(f"""
-        import os, time
-        from harness.runtime import exit_with_parent
-        parent = os.getpid()
-        if os.fork() == 0:
-            exit_with_parent(parent)
-            open({str(pid_file)!r}, "w").write(str(os.getpid()))
-            time.sleep(60)
-            os._exit(0)
-        time.sleep(60)
-        """)
-    p = subprocess.Popen([sys.executable, "-c", code])
+    pid = fork_call(_parent_of_an_armed_child, pid_file, stdout=tmp_path / "out",
+                    stderr=tmp_path / "err")
     try:
         t_end = time.monotonic() + 20
         while not (pid_file.exists() and pid_file.read_text()) and time.monotonic() < t_end:
             time.sleep(0.02)
         child = psutil.Process(int(pid_file.read_text()))
-        p.kill()
-        p.wait(timeout=10)
+        os.kill(pid, signal.SIGKILL)
+        wait_exit(pid, 10)
         gone, alive = psutil.wait_procs([child], timeout=5)
         assert not alive
     finally:
-        if p.poll() is None:
-            p.kill()
+        with contextlib.suppress(OSError):  # nothing left running behind a failed test
+            os.kill(pid, signal.SIGKILL)
+            os.waitpid(pid, 0)
 
 
 def test_exit_with_parent_arms_prctl_on_linux():
