@@ -130,26 +130,28 @@ def test_elevation_follows_the_mount_height():
     np.testing.assert_allclose(np.subtract(high, low), expect, atol=0.7)
 
 
+@pytest.mark.parametrize("draws, spread_rel", [
+    (150, 0.21), pytest.param(300, 0.15, marks=pytest.mark.slow)], ids=["150", "300"])
 @pytest.mark.parametrize("cls", ["car", "pedestrian", "bicycle"])
-def test_coherent_cell_sum_is_lognormal_with_the_source_spread(cls):
+def test_coherent_cell_sum_is_lognormal_with_the_source_spread(cls, draws, spread_rel):
     """What the radar sees in the actor's resolution cell, the coherent sum
     |sum sqrt(sigma_i) exp(-j 2 k r_i)|^2 of its scatterers (rear view at 30 m: one cell),
-    frame to frame: 10 lg is normal (D'Agostino test, 1 %), its spread within 15 % of the
-    source's sigma_S (chi-square 99 % band for 300 draws is +/-10 %; the centres' own 1 dB
-    spread adds ~0.1 dB in quadrature) and its linear mean within 3 standard errors (+0.5 dB
-    for the ray grid) of the mean pattern value."""
+    frame to frame: 10 lg is normal (D'Agostino test, 1 %), its spread within `spread_rel` of
+    the source's sigma_S (chi-square 99 % band: +/-10.5 % for 300 draws, +/-15 % for the fast
+    150; the centres' own 1 dB spread adds ~0.1 dB in quadrature) and its linear mean within
+    3 standard errors (+0.5 dB for the ray grid) of the mean pattern value."""
     rng = np.random.default_rng(11)
     k = 2 * np.pi / (299_792_458.0 / 77e9)
     sigma = CLASS_RCS[cls].pattern.sigma_s_db
     tot = []
-    for _ in range(300):
+    for _ in range(draws):
         sc = single_actor(cls, 180.0, rng=rng)
         assert np.ptp(sc.range_m) < 1.32 and np.ptp(sc.azimuth_deg) < 9.6
         tot.append(abs(np.sum(np.sqrt(sc.rcs_m2) * np.exp(-2j * k * sc.range_m))) ** 2)
     tot = np.array(tot)
     db = 10 * np.log10(tot)
     assert stats.normaltest(db).pvalue > 0.01
-    assert np.std(db, ddof=1) == pytest.approx(sigma, rel=0.15)
+    assert np.std(db, ddof=1) == pytest.approx(sigma, rel=spread_rel)
     cv = np.sqrt(np.expm1((sigma * np.log(10) / 10) ** 2))
     mean_db = float(CLASS_RCS[cls].pattern.rcs_dbsm(180.0))
     se_db = 10 * np.log10(1 + 3 * cv / np.sqrt(tot.size))
