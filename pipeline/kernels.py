@@ -24,7 +24,7 @@ import scipy.fft
 from scipy.signal import get_window
 
 from .config_cache import per_config
-from .threads import run_parts, spans
+from .threads import fft_workers, run_parts, spans
 
 #: Unsigned loop indices in the compiled loops (see `_rx_energy`; `ddma_kernels` too): they
 #: let LLVM vectorise the loops.
@@ -65,9 +65,9 @@ def range_fft(adc: np.ndarray, win: np.ndarray) -> np.ndarray:
     """
     if np.iscomplexobj(adc):
         x = windowed(adc, win, np.complex64)
-        return scipy.fft.fft(x, axis=-1, workers=-1, overwrite_x=True)
+        return scipy.fft.fft(x, axis=-1, workers=fft_workers(), overwrite_x=True)
     x = windowed(adc, win, np.float32)  # int16 -> float32 and window in one pass
-    return scipy.fft.rfft(x, axis=-1, workers=-1)[..., : adc.shape[-1] // 2]
+    return scipy.fft.rfft(x, axis=-1, workers=fft_workers())[..., : adc.shape[-1] // 2]
 
 
 def windowed(x: np.ndarray, win: np.ndarray, dtype) -> np.ndarray:
@@ -121,8 +121,9 @@ def doppler_fft(x: np.ndarray, win: np.ndarray, axis: int = 0) -> np.ndarray:
 
 
 def slow_time_fft(xw: np.ndarray, axis: int = 0) -> np.ndarray:
-    """The FFT of `doppler_fft` over an already windowed cube (overwritten), all cores."""
-    return scipy.fft.fft(xw, axis=axis, workers=-1, overwrite_x=True)
+    """The FFT of `doppler_fft` over an already windowed cube (overwritten), on `fft_workers`
+    threads."""
+    return scipy.fft.fft(xw, axis=axis, workers=fft_workers(), overwrite_x=True)
 
 
 def doppler_windowed(x: np.ndarray, win: np.ndarray, out: np.ndarray | None = None,

@@ -22,7 +22,7 @@ from concurrent.futures import Future, ThreadPoolExecutor
 from contextlib import contextmanager
 from typing import TypeVar
 
-__all__ = ["n_parts", "spans", "run_parts", "inline"]
+__all__ = ["n_parts", "fft_workers", "spans", "run_parts", "inline"]
 
 T = TypeVar("T")
 
@@ -41,6 +41,14 @@ _LOCAL = threading.local()
 def n_parts() -> int:
     """Parts a pass is split into: `N_PARTS`, or 1 on a thread inside `inline`."""
     return 1 if getattr(_LOCAL, "inline", False) else N_PARTS
+
+
+def fft_workers() -> int:
+    """``workers`` for a chain's `scipy.fft` calls: every core (-1) where passes are split, 1
+    on a thread inside `inline` (a sweep cell's frames already keep the cores busy, so the
+    transform's threads would only queue for a core). pocketfft computes every 1-D transform
+    alone whatever the thread count: the same bits either way."""
+    return -1 if n_parts() > 1 else 1
 
 
 @contextmanager

@@ -13,7 +13,7 @@ from radarsim.config import RadarConfig
 
 from ..config import WINDOWS, ProcessingConfig
 from ..kernels import doppler_windowed, window
-from ..threads import n_parts
+from ..threads import fft_workers
 from .stage import range_stage, range_stage_key
 
 __all__ = ["NoiseFloor", "noise_floor_rise", "noise_floor_key"]
@@ -73,7 +73,7 @@ def noise_floor_rise(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig |
     # cell's frames already keep the cores busy): the same transforms either way.
     # (`doppler_windowed`: numpy's complex64 x float32 window product, bit for bit.)
     spec = scipy.fft.fft(doppler_windowed(sub, wd.astype(np.float32)), axis=0,
-                         workers=-1 if n_parts() > 1 else 1, overwrite_x=True)
+                         workers=fft_workers(), overwrite_x=True)
     floor_d = float(_power_median(spec)) / np.log(2)
     return NoiseFloor(10 * np.log10(floor_r / ref_r),
                       10 * np.log10(floor_d / (ref_r * np.sum(wd ** 2))))

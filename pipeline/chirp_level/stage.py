@@ -25,7 +25,7 @@ from ..interference import INTF_THRESHOLD_MODES, RepairedRows, flagged_rows, rep
 from ..interference.residual import with_weak_bursts
 from ..interference.row_statistics import row_flags, row_statistics
 from ..kernels import doppler_windowed, range_fft, samples_windowed, window, windowed
-from ..threads import run_parts, spans
+from ..threads import fft_workers, run_parts, spans
 from .dc import remove_dc, window_spectrum
 from .ege import HWA_OUTPUT_SCALE, ege_blocks, ege_compress, ege_setup
 
@@ -290,9 +290,9 @@ def _range_cube(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig, dc: n
         rep = repaired_rows(adc, dc, rows, flags, win, proc.interference)
         x.reshape(-1, cfg.n_samples)[rep.rows] = rep.windowed()
         if cplx:
-            rf = scipy.fft.fft(x, axis=-1, workers=-1, overwrite_x=True)
+            rf = scipy.fft.fft(x, axis=-1, workers=fft_workers(), overwrite_x=True)
         else:
-            rf = scipy.fft.rfft(x, axis=-1, workers=-1)[..., : cfg.n_samples // 2]
+            rf = scipy.fft.rfft(x, axis=-1, workers=fft_workers())[..., : cfg.n_samples // 2]
     if dc is not None:
         # FFT(w (x - m)) = FFT(w x) - m FFT(w): the window's spectrum has a few bins only.
         # The flagged chirps had their DC removed before the FFT.

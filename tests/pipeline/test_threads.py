@@ -151,3 +151,13 @@ def test_run_parts_inside_inline_runs_every_call_on_the_calling_thread():
     with threads.inline():
         where = threads.run_parts([first, threading.get_ident, threading.get_ident])
     assert where == [threading.get_ident()] * 3
+
+
+def test_fft_workers_are_one_inside_inline_and_every_core_outside(monkeypatch):
+    """A chain's FFTs use one thread where its passes are not split (`inline`, a sweep cell's
+    frame threads): the transform's own threads would only queue for a busy core."""
+    monkeypatch.setattr(threads, "N_PARTS", 2)
+    assert threads.fft_workers() == -1
+    with threads.inline():
+        assert threads.fft_workers() == 1
+    assert threads.fft_workers() == -1
