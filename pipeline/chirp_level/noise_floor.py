@@ -100,9 +100,7 @@ def _power_median(z: np.ndarray) -> np.floating:
     counts = counts.sum(axis=0)
     if counts[_SPECIAL_TOP >> 4:].any():  # inf or NaN (the 12-bit bins from +inf's up)
         return np.median(p)
-    a = p.reshape(-1)
-    bits = a.view(np.uint32)
-    return _middle(a, np.cumsum(counts), lambda b: a[(bits >> 20) == b])
+    return _middle(p.reshape(-1), counts)
 
 
 #: Upper 16 bits of the smallest float32 bit pattern that is no finite non-negative value
@@ -110,10 +108,11 @@ def _power_median(z: np.ndarray) -> np.floating:
 _SPECIAL_TOP = 0x7F80
 
 
-def _middle(a: np.ndarray, cum: np.ndarray, members) -> np.floating:
-    """The median of the finite non-negative float32 values `a` from the cumulative counts
-    `cum` of their leading bits and `members(b)` (the values of bin b), as `numpy.median`
-    gives it: the middle value, or the float32 mean of the two middle values."""
+def _middle(a: np.ndarray, counts: np.ndarray) -> np.floating:
+    """The median of the finite non-negative float32 values `a` (flat) from the counts
+    `counts` (4 096,) of their bit patterns' upper 12 bits, as `numpy.median` gives it: the
+    middle value, or the float32 mean of the two middle values."""
+    cum = np.cumsum(counts)
     n = a.size
     ks = [n // 2] if n % 2 else [n // 2 - 1, n // 2]
     bins = np.searchsorted(cum, ks, side="right")
@@ -121,11 +120,25 @@ def _middle(a: np.ndarray, cum: np.ndarray, members) -> np.floating:
     for b in np.unique(bins):
         below = int(cum[b - 1]) if b else 0
         at = [k - below for k, kb in zip(ks, bins) if kb == b]
-        part = np.partition(members(int(b)), at)
+        part = np.partition(_bin_members(a, int(b), int(counts[b])), at)
         vals += [part[i] for i in at]
     if n % 2:
         return vals[0]
     return np.mean(np.array(vals, dtype=np.float32))
+
+
+@numba.njit(cache=True, nogil=True)
+def _bin_members(a: np.ndarray, b: int, n: int) -> np.ndarray:
+    """The `n` values of the flat float32 array `a` whose bit patterns' upper 12 bits are `b`
+    (one pass; ``a[(a.view(np.uint32) >> 20) == b]`` without its two full-size temporaries).
+    `n` must be exactly their count (the histogram's): the buffer has n + 1 slots."""
+    bits = a.view(np.uint32)
+    out = np.empty(n + 1, np.float32)  # branch-free: every value is written, a member kept
+    j = 0
+    for i in range(bits.size):
+        out[j] = a[i]
+        j += bits[i] >> 20 == b
+    return out[:n]
 
 
 @numba.njit(cache=True, nogil=True)

@@ -69,3 +69,17 @@ def test_power_median_is_numpys_median_of_the_power_bit_for_bit(shape):
         want, got = np.median(sub.real ** 2 + sub.imag ** 2), _power_median(sub)
         assert type(got) is type(want)
         assert (np.isnan(want) and np.isnan(got)) or got == want, (trial, want, got)
+
+
+def test_bin_members_are_numpys_masked_values_in_order():
+    """The one-pass gather of one 12-bit bin's values equals numpy's boolean mask, order
+    included, for the bin holding the median, an empty bin and the last element's bin."""
+    from pipeline.chirp_level.noise_floor import _bin_members
+    g = np.random.default_rng(3)
+    a = (g.standard_normal(10_001) ** 2).astype(np.float32)
+    top = a.view(np.uint32) >> 20
+    for b in (int(np.median(top)), int(top.max()) + 1, int(top[-1])):
+        want = a[top == b]
+        got = _bin_members(a, b, want.size)
+        assert got.dtype == np.float32 and np.array_equal(got.view(np.uint32),
+                                                           want.view(np.uint32))
