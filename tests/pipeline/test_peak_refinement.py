@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from scipy.optimize import minimize_scalar
 from scipy.signal import get_window
 
 from pipeline.peak_refinement import (
@@ -59,7 +60,6 @@ def test_newton_reaches_the_maximum_of_the_interpolated_spectrum():
     """Whatever the truncation does, the steps land on the maximum of the eleven-bin
     interpolation itself (a bounded scalar search on the same sum, which resolves the flat
     maximum to ~1e-8 bin), from a start 0.2 bin off, on noisy tones."""
-    from scipy.optimize import minimize_scalar
     rng = np.random.default_rng(3)
     k, m = 100, np.arange(-HALF_WIDTH, HALF_WIDTH + 1)
     for offset in rng.uniform(-0.45, 0.45, 6):

@@ -7,6 +7,7 @@ import pytest
 import pipeline
 import radarsim
 from pipeline import chirp_level as cl
+from pipeline.chirp_level.noise_floor import _bin_members, _power_median
 from pipeline.kernels import window
 from radarsim import interference as itf_mod
 from radarsim.frontend import IF_LOWPASS_HZ, IF_LOWPASS_ORDER
@@ -52,7 +53,6 @@ def test_power_median_is_numpys_median_of_the_power_bit_for_bit(shape):
     """The floor's compiled power map + radix select equals numpy.median(re^2 + im^2)
     exactly: strided views (every 4th range bin, as the floor reads them), odd and even
     sizes, 60 dB of scale, ties, zeros, and the maps it hands to numpy (NaN, inf)."""
-    from pipeline.chirp_level.noise_floor import _power_median
     g = np.random.default_rng(11)
     for trial in range(12):
         z = (g.standard_normal(shape) + 1j * g.standard_normal(shape)).astype(np.complex64)
@@ -74,7 +74,6 @@ def test_power_median_is_numpys_median_of_the_power_bit_for_bit(shape):
 def test_bin_members_are_numpys_masked_values_in_order():
     """The one-pass gather of one 12-bit bin's values equals numpy's boolean mask, order
     included, for the bin holding the median, an empty bin and the last element's bin."""
-    from pipeline.chirp_level.noise_floor import _bin_members
     g = np.random.default_rng(3)
     a = (g.standard_normal(10_001) ** 2).astype(np.float32)
     top = a.view(np.uint32) >> 20
