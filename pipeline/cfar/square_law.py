@@ -173,16 +173,17 @@ def _os_peaks(p, alpha, train_idx, k, check0, cyclic0, check1, cyclic1, first1, 
             for ci in range(nc):
                 d = cand[ci]
                 x = row[d]
-                tix = train_idx[d]
                 # The count without branches, the first half first: fewer than k - (n_train
-                # - h) below there and the cell cannot reach k.
+                # - h) below there and the cell cannot reach k. The training positions are
+                # read from the table in place: a view train_idx[d] per candidate costs numba
+                # an array structure each (R79 DDMA map, 90 k candidates: 3.2 -> 2.4 ms).
                 below = 0
                 for t in range(h):
-                    below += alpha * row[tix[t]] < x
+                    below += alpha * row[train_idx[d, t]] < x
                 if below + (n_train - h) < k:
                     continue
                 for t in range(h, n_train):
-                    below += alpha * row[tix[t]] < x
+                    below += alpha * row[train_idx[d, t]] < x
                 if below < k:
                     continue
                 for t in range(n_train):
