@@ -133,10 +133,15 @@ def doppler_windowed(x: np.ndarray, win: np.ndarray, out: np.ndarray | None = No
     (re w - im 0, re 0 + im w) (which keeps NaN, inf and signed zeros as they come out of that
     product); the compiled loop does the same arithmetic in about half numpy's time (no casting
     buffer). Into `out` (C-contiguous, x's shape) if given; chirps in parts on the cores
-    (`pipeline.threads`) unless `split` is False."""
+    (`pipeline.threads`) unless `split` is False.
+
+    With `out` given, x's last axis may be longer than out's: the product of its first
+    ``out.shape[-1]`` entries (x a whole rFFT output, Nyquist bin included, read in place:
+    its C-contiguous rows need no copy, a view of the first bins would).
+    """
     out = np.empty(x.shape, np.complex64) if out is None else out
     x3 = x.reshape(x.shape[0], -1, x.shape[-1])
-    o3 = out.reshape(x3.shape)
+    o3 = out.reshape(x3.shape[:2] + out.shape[-1:])
     if not split:
         _complex_times_real(x3, win, o3, 0, x.shape[0])
         return out
@@ -146,15 +151,17 @@ def doppler_windowed(x: np.ndarray, win: np.ndarray, out: np.ndarray | None = No
 
 @numba.njit(cache=True, nogil=True)
 def _complex_times_real(x, w, out, lo, hi):
-    """out[c] = x[c] * complex(w[c], 0) as numpy's complex64 multiply computes it, c in lo..hi-1."""
-    n1, n2 = x.shape[1], x.shape[2]
+    """out[c] = x[c, :, :n2] * complex(w[c], 0) as numpy's complex64 multiply computes it, c in
+    lo..hi-1, n2 = out.shape[2] <= x.shape[2]."""
+    n1, n2 = out.shape[1], out.shape[2]
     zero = np.float32(0.0)
     for c in range(lo, hi):
         wr = w[c]
         for r in range(n1):
-            # A row as a C-typed array (a copy only when x is strided, e.g. the first n_b bins
-            # of an rFFT's n_b + 1): on a strided x the loop below does not vectorise, and the
-            # row copy costs less than that (a 64-chirp R79 block: 31 -> 16 us).
+            # A row as a C-typed array (a copy only when x is strided, e.g. a view of the first
+            # n_b bins of an rFFT's n_b + 1; none when x is the whole output): on a strided x
+            # the loop below does not vectorise, and the row copy costs less than that (a
+            # 64-chirp R79 block: 31 -> 16 us).
             row = np.ascontiguousarray(x[c, r])
             dst = out[c, r]
             for b in range(n2):

@@ -148,14 +148,16 @@ def ege_blocks(vv: np.ndarray, bins2: int, scale: np.float32, budget: int, kk: n
                 cold: float, shift: np.ndarray, c0: int, c1: int, c_base: int = 0) -> None:
     """EGE encode + decode of every block of `vv` in place (`ege_compress`).
 
-    vv : (n_chirps, n_rx, n_range x 2) float32, I/Q interleaved, rf units; block b of chirp c
-    holds vv[c, :, b bins2 : (b + 1) bins2] (bins2 = 2 x range bins per block), value j =
-    rx x bins2 + t at flat position ((c_base + c) n_blocks + b) n_val + j of the frame (vv
-    may be the chirps c_base.. of a frame). shift : (n_chirps, n_blocks) int8, written. Cold
-    blocks (sum |v| <= cold, HWA LSB) fit unshifted (`_cold_sum`). Only chirps c0 <= c < c1
-    (blocks are independent)."""
-    n_c, n_r, n_b2 = vv.shape
-    nb = n_b2 // bins2
+    vv : (n_chirps, n_rx, >= n_blocks x bins2) float32, I/Q interleaved, rf units; block b of
+    chirp c holds vv[c, :, b bins2 : (b + 1) bins2] (bins2 = 2 x range bins per block), value
+    j = rx x bins2 + t at flat position ((c_base + c) n_blocks + b) n_val + j of the frame (vv
+    may be the chirps c_base.. of a frame). Values past the n_blocks blocks are not read or
+    written: vv may be a whole rFFT output, Nyquist bin included, whose C-contiguous rows the
+    compiled loops read faster than a strided view's. shift : (n_chirps, n_blocks) int8,
+    written; its n_blocks is the blocks of a row. Cold blocks (sum |v| <= cold, HWA LSB) fit
+    unshifted (`_cold_sum`). Only chirps c0 <= c < c1 (blocks are independent)."""
+    n_r = vv.shape[1]
+    nb = shift.shape[1]
     n_val = n_r * bins2
     v = np.empty(n_val, np.float32)
     m = np.empty(n_val, np.float32)

@@ -211,6 +211,19 @@ def test_doppler_window_equals_numpy_complex_product_bit_for_bit(shape):
     assert got.tobytes() == ref.tobytes()
 
 
+
+@pytest.mark.parametrize("split", [False, True])
+def test_doppler_windowed_reads_the_first_bins_of_longer_rows(split):
+    """With `out` given, `doppler_windowed` of a whole rFFT output (n_b + 1 bins, Nyquist
+    included, C-contiguous) is the product of its first n_b bins, as of the strided view."""
+    from pipeline.kernels import doppler_windowed
+    full = _cube(np.random.default_rng(6), (40, 4, 17))
+    win = np.hanning(40).astype(np.float32)
+    want = np.multiply(full[..., :16], win[:, None, None])
+    got = doppler_windowed(full, win, out=np.empty((40, 4, 16), np.complex64), split=split)
+    assert got.tobytes() == want.tobytes()
+
+
 def test_samples_windowed_equals_numpy_casting_product_bit_for_bit():
     """int16 samples (both rails included) times a float32 window, as numpy's multiply with
     dtype=float32 computes it."""

@@ -229,3 +229,23 @@ def test_ege_hot_blocks_equal_the_histogram_bounded_encoder_bit_for_bit(n_rx, bi
     assert (want_shift > 0).any(axis=1).sum() > n_c // 2  # most chirps requantised
     np.testing.assert_array_equal(shift, want_shift)
     assert got.tobytes() == want.tobytes()
+
+
+def test_ege_blocks_of_longer_rows_leave_the_tail():
+    """`ege_blocks` on rows longer than its blocks (a whole rFFT output: the Nyquist bin after
+    the n_range bins) codes the same blocks, bit for bit, and leaves the tail as it was: the
+    blocks of a row are shift's columns, not the row's length."""
+    rng = np.random.default_rng(21)
+    n_c, n_rx, nb, bins = 6, 4, 3, 8
+    bins2, budget, kk, cold = cl.ege.ege_setup(n_rx, nb * bins, 0.5, bins)
+    scale = np.float32(cl.HWA_OUTPUT_SCALE)
+    v = (rng.standard_normal((n_c, n_rx, nb * bins2)) * 3e3 / scale).astype(np.float32)
+    want, want_shift = v.copy(), np.zeros((n_c, nb), np.int8)
+    cl.ege.ege_blocks(want, bins2, scale, budget, kk, cold, want_shift, 0, n_c, 5)
+    tail = rng.standard_normal((n_c, n_rx, 2)).astype(np.float32)
+    got, shift = np.concatenate([v, tail], axis=-1), np.zeros((n_c, nb), np.int8)
+    cl.ege.ege_blocks(got, bins2, scale, budget, kk, cold, shift, 0, n_c, 5)
+    assert (want_shift > 0).any()
+    np.testing.assert_array_equal(shift, want_shift)
+    assert got[..., :-2].tobytes() == want.tobytes()
+    assert got[..., -2:].tobytes() == tail.tobytes()
