@@ -182,7 +182,10 @@ def blockwise_range_stage(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingCon
             samples_windowed(adc[c0:c1], win, x)
         else:  # the repaired rows in place of theirs
             rep.windowed_block(adc[c0:c1], c0, x)
-        rf = scipy.fft.rfft(x, axis=-1, workers=1)[..., :n_b]
+        # The whole rFFT output (n_b + 1 bins), C-contiguous, to EGE and the window product,
+        # which read its first n_b bins in place: the compiled loops on a view of those bins
+        # would copy each row or not vectorise (R79 DDMA frame, one thread: 0.9-1.0 ms less).
+        rf = scipy.fft.rfft(x, axis=-1, workers=1)
         if fix:
             m = dc[c0:c1, :, 0] if rep is None else rep.without_dc(c0, c1)
             for k, wk in fix:
@@ -193,7 +196,7 @@ def blockwise_range_stage(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingCon
             ege_blocks(rf.view(np.float32), bins2, np.float32(HWA_OUTPUT_SCALE), budget, kk,
                         cold, shift, 0, c1 - c0, c0)
         if keep is not None:
-            keep[c0:c1] = rf
+            keep[c0:c1] = rf[..., :n_b]
         doppler_windowed(rf, chirp_window[c0:c1], out=out[c0:c1], split=False)
 
     def part(lo: int, hi: int) -> None:
