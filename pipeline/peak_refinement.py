@@ -35,7 +35,7 @@ import numba
 import numpy as np
 
 __all__ = ["HALF_WIDTH", "MIN_HALF_WIDTH", "combine_channels", "dirichlet", "refine_offset",
-           "refine_peaks_2d", "neighbour_bins"]
+           "refine_peaks_2d", "neighbour_bins", "peak_patches"]
 
 #: Bins on each side of the peak used to interpolate the spectrum between bins.
 HALF_WIDTH = 5
@@ -81,6 +81,54 @@ def neighbour_bins(k: np.ndarray, n_bins: int, cyclic: bool) -> tuple[np.ndarray
     if cyclic:
         return idx % n_bins, np.ones(idx.shape, dtype=bool)
     return np.clip(idx, 0, n_bins - 1), (idx >= 0) & (idx < n_bins)
+
+
+
+def peak_patches(spec: np.ndarray, chirps: np.ndarray, bins: np.ndarray) -> np.ndarray:
+    """The patches `refine_peaks_2d` reads, gathered from a cube with Doppler first: each
+    peak's channels (transmitter t's Doppler rows, every Rx) at its neighbour range bins.
+
+    Parameters
+    ----------
+    spec : (n_chirps, n_rx, n_range) complex64, C-contiguous
+        Doppler spectra (DDMA: over all chirps, `DdmaMaps.spec`).
+    chirps : (n, T, Md) int
+        Row of `spec` (Doppler bin) of each peak's Doppler neighbour m for its transmitter t
+        (`neighbour_bins`, shifted to the transmitter's sub-band).
+    bins : (n, Mr) int
+        Each peak's neighbour range bins (`neighbour_bins`).
+
+    Returns
+    -------
+    (n, T x n_rx, Mr, Md) complex64
+        ``patch[p, t n_rx + rx, j, m] = spec[chirps[p, t, m], rx, bins[p, j]]``, C-contiguous.
+
+    Notes
+    -----
+    One compiled pass over the peaks' samples: numpy's `take` of the same samples needs an
+    (n, T, n_rx, Mr, Md) int64 index array built first (R79 DDMA frame, 66 peaks: the patches
+    0.47 -> 0.27 ms).
+    """
+    n, n_t, n_md = chirps.shape
+    out = np.empty((n, n_t * spec.shape[1], bins.shape[1], n_md), np.complex64)
+    _gather_patches(spec, np.ascontiguousarray(chirps, dtype=np.int64),
+                    np.ascontiguousarray(bins, dtype=np.int64), out)
+    return out
+
+
+@numba.njit(cache=True, nogil=True)
+def _gather_patches(spec, chirps, bins, out):
+    """`peak_patches` into out (n, T x n_rx, Mr, Md)."""
+    n, n_t, n_md = chirps.shape
+    n_rx = spec.shape[1]
+    n_mr = bins.shape[1]
+    for p in range(n):
+        for t in range(n_t):
+            for m in range(n_md):
+                c = chirps[p, t, m]
+                for rx in range(n_rx):
+                    for j in range(n_mr):
+                        out[p, t * n_rx + rx, j, m] = spec[c, rx, bins[p, j]]
 
 
 def combine_channels(x: np.ndarray, on_axis: np.ndarray | None = None) -> np.ndarray:

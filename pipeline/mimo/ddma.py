@@ -26,7 +26,7 @@ from ..config import WINDOWS, ProcessingConfig
 from ..config_cache import per_config
 from ..ddma_kernels import AzimuthMap, azimuth_map, ddma_spectra_power
 from ..kernels import estimate_angles, layout_of, rx_energy, slow_time_fft, window
-from ..peak_refinement import neighbour_bins, refine_peaks_2d
+from ..peak_refinement import neighbour_bins, peak_patches, refine_peaks_2d
 from ..stages import (
     empty_cloud,
     interp_azimuth,
@@ -145,16 +145,12 @@ def refine_ddma_peaks(cfg: RadarConfig, spec: np.ndarray, r: np.ndarray, k_true:
     -------
     range_pos, k_frac : (n,) float64
     """
-    n_chirps, n_rx, n_range = spec.shape
+    n_chirps, _, n_range = spec.shape
     n_dop = n_chirps // cfg.n_subbands
     r_idx, on = neighbour_bins(r, n_range, cyclic=False)                      # (n, Mr)
     d_idx, _ = neighbour_bins(k_true, n_chirps, cyclic=True)                  # (n, Md)
     d_idx = (d_idx[:, None, :] + n_dop * np.arange(cfg.n_tx)[None, :, None]) % n_chirps
-    # Flat indices into the C-contiguous cube: one gather instead of numpy's broadcast of three
-    # index arrays (the same samples; R79, 150 detections: 1.9 -> 1.2 ms).
-    row = (d_idx[:, :, None, :] * n_rx + np.arange(n_rx)[None, None, :, None]) * n_range
-    patch = np.take(spec, row[:, :, :, None, :] + r_idx[:, None, None, :, None])  # (n,T,R,Mr,Md)
-    patch = patch.reshape(r.size, cfg.n_tx * n_rx, r_idx.shape[1], d_idx.shape[2])
+    patch = peak_patches(spec, d_idx, r_idx)  # (n, T x R, Mr, Md)
     r_off, d_off = refine_peaks_2d(patch, on, range_pos - r, k_frac - k_true, cfg.n_samples,
                                    n_chirps)
     return r + r_off, k_true + d_off

@@ -12,6 +12,7 @@ from pipeline.peak_refinement import (
     combine_channels,
     dirichlet,
     neighbour_bins,
+    peak_patches,
     refine_offset,
     refine_peaks_2d,
 )
@@ -127,6 +128,24 @@ def test_two_dimensional_range_edge_keeps_the_start_or_refines_with_enough_bins(
             assert off_r[0] == pytest.approx(dr, abs=5e-3)
         else:
             assert off_r[0] == 0.1
+
+
+
+def test_peak_patches_are_the_cube_at_the_neighbour_bins():
+    """`peak_patches`: each peak's transmitters' Doppler rows, every Rx, at its neighbour range
+    bins (clipped at the range axis' ends), as numpy's fancy indexing reads them."""
+    rng = np.random.default_rng(3)
+    spec = (rng.standard_normal((96, 3, 40)) + 1j * rng.standard_normal((96, 3, 40))
+            ).astype(np.complex64)
+    r = np.array([0, 17, 39, 3])
+    r_idx, _ = neighbour_bins(r, 40, cyclic=False)
+    d_idx, _ = neighbour_bins(np.array([5, 90, 47, 0]), 96, cyclic=True)
+    chirps = (d_idx[:, None, :] + 24 * np.arange(4)[None, :, None]) % 96  # (n, T, Md)
+    want = spec[chirps[:, :, None, None, :], np.arange(3)[None, None, :, None, None],
+                r_idx[:, None, None, :, None]].reshape(4, 12, r_idx.shape[1], d_idx.shape[1])
+    got = peak_patches(spec, chirps, r_idx)
+    assert got.flags.c_contiguous and got.dtype == np.complex64
+    assert got.tobytes() == want.tobytes()
 
 
 def test_monte_carlo_rmse_near_the_hann_ml_and_unbiased():
