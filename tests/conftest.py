@@ -1,4 +1,9 @@
-"""Shared factory fixtures."""
+"""Shared factory fixtures.
+
+Nothing here imports radarsim or numba at module level: the xdist controller process loads
+this file too but runs no test, and importing them there (~1 s CPU, pandas and scipy included)
+only delayed the start of the workers. The fixtures import radarsim when they are used.
+"""
 from __future__ import annotations
 
 import os
@@ -6,20 +11,29 @@ import os
 import numpy as np
 import pytest
 
-import radarsim
 from core.numba_cache import install_cache_lock
 from tests import numba_warm
 
 
+def _runs_tests(config) -> bool:
+    """False in the xdist controller (it hands tests to workers), True in a worker or in a
+    run without xdist."""
+    return hasattr(config, "workerinput") or not getattr(config.option, "numprocesses", None)
+
+
 def pytest_configure(config):
     # The xdist workers and the CLI subprocesses of the tests compile kernels beside each
-    # other: numba's cache index under its file lock before any kernel compiles.
-    install_cache_lock()
+    # other: numba's cache index under its file lock before any kernel compiles (imports
+    # numba, so not in the controller).
+    if _runs_tests(config):
+        install_cache_lock()
 
 
 @pytest.fixture
 def make_config():
     """make_config(mimo="ddma", **overrides) -> RadarConfig based on the R79 preset."""
+    import radarsim
+
     def _make(mimo: str = "ddma", **overrides) -> radarsim.RadarConfig:
         return radarsim.presets.r79(mimo, **overrides)
     return _make
@@ -29,6 +43,8 @@ def make_config():
 def make_scene():
     """make_scene(targets) -> Scatterers from (range_m, azimuth_deg, elevation_deg,
     radial_velocity_mps, rcs_m2) tuples (velocity purely radial)."""
+    import radarsim
+
     def _make(targets) -> radarsim.Scatterers:
         t = np.atleast_2d(np.asarray(targets, dtype=float))
         if t.size == 0:
@@ -47,6 +63,8 @@ def make_x18():
     """make_x18(adc_mode) -> an xWR18xx TDMA profile at 10 Msps, 128 samples, 30 MHz/us (IF
     corner 5.5 MHz real, 11 MHz I/Q), isotropic elements: a second chip family and the
     complex ADC modes next to the R79 preset."""
+    import radarsim
+
     def _make(adc_mode: str = "complex1x") -> radarsim.RadarConfig:
         return radarsim.RadarConfig.from_fields(
             chip="AWR1843", adc_mode=adc_mode, mimo="tdma", n_tx=3, n_chirps=96, n_samples=128,
@@ -74,9 +92,11 @@ def pytest_sessionstart(session):
 
 @pytest.hookimpl(hookwrapper=True)
 def pytest_runtestloop(session):
-    # After collection: the modules no worker has claimed yet (each claims a free one).
-    numba_warm.warm(_WARM_LATER, _WARM_TABLE, _WARM)
-    _WARM_LATER.clear()
+    # After collection: the modules no worker has claimed yet (each claims a free one). Only
+    # where there are some: warm() imports numba, which the xdist controller does not need.
+    if _WARM_LATER:
+        numba_warm.warm(_WARM_LATER, _WARM_TABLE, _WARM)
+        _WARM_LATER.clear()
     yield
 
 

@@ -14,14 +14,19 @@ from radarsim.ti import R79_CFAR, parse_ti_cfg, r79_cfg_path, to_ti_cfg
 from tests.harness.probes_surfaces import FullDisk
 
 
-@pytest.fixture
-def r79_capture(tmp_path, make_scene):
-    """Two R79 DDMA frames of a two-car scene, written as a capture."""
+@pytest.fixture(scope="module")
+def r79_capture(tmp_path_factory):
+    """Two R79 DDMA frames of a two-car scene, written as a capture: built once for the module
+    (its users only read it; each writes its outputs into its own tmp_path). The frames are
+    read-only, so a test that changed them for the others would fail."""
     cfg = radarsim.presets.r79_ddma()
-    scene = make_scene([(50.0, 10.0, 0.0, -20.0, 10.0), (120.0, -25.0, 2.0, 8.0, 10.0)])
+    scene = radarsim.Scatterers.from_spherical(
+        *np.array([(50.0, 10.0, 0.0, -20.0, 10.0), (120.0, -25.0, 2.0, 8.0, 10.0)]).T,
+        actor_id=np.arange(2))
     rng = np.random.default_rng(7)
     frames = np.stack([radarsim.simulate_frame(cfg, scene, rng) for _ in range(2)])
-    path = tmp_path / "adc_data.bin"
+    frames.flags.writeable = False
+    path = tmp_path_factory.mktemp("r79_capture") / "adc_data.bin"
     write_capture(path, frames, cfg=cfg)  # the R79 profile's interleaved layout
     return path, frames
 

@@ -10,9 +10,9 @@ from scenarios import SCENARIOS, run_scenario
 
 @pytest.mark.slow
 @pytest.mark.parametrize("name", list(SCENARIOS))
-def test_every_case_full_duration_gives_scatterers(name):
+def test_every_case_full_duration_gives_scatterers(name, catalogue_run):
     case = SCENARIOS[name]
-    run = run_scenario(name, seed=0)
+    run = catalogue_run(name)
     rng = np.random.default_rng(0)
     seen = dict.fromkeys(case.must_detect, 0)
     for f in run.frames():

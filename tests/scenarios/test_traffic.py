@@ -58,8 +58,8 @@ def test_meet_ego_puts_actor_on_collision_course():
     assert abs(x * vy - y * vx) / np.hypot(vx, vy) < 1.0
 
 
-def test_reversing_ego():
-    run = run_scenario("reversing_pedestrian")
+def test_reversing_ego(catalogue_run):
+    run = catalogue_run("reversing_pedestrian")
     assert np.all(run.ego.ego_speed_mps < 0)
     assert run.ego.ego_x_m.iloc[-1] < run.ego.ego_x_m.iloc[0]
 
@@ -102,9 +102,9 @@ def test_different_seed_different_traffic():
 
 
 @pytest.mark.parametrize("name", list(SCENARIOS))
-def test_every_case_runs_its_full_duration(name):
+def test_every_case_runs_its_full_duration(name, catalogue_run):
     case = SCENARIOS[name]
-    run = run_scenario(name, seed=0)
+    run = catalogue_run(name)
     assert run.n_frames == round(case.duration_s * 20)
     assert run.ego.time_s.iloc[-1] == pytest.approx(case.duration_s - 0.05)
     frames = list(run.frames())

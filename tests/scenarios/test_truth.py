@@ -45,9 +45,9 @@ def test_actor_behind_left_is_on_boresight_of_rear_left_radar_looking_there():
 @pytest.mark.parametrize("name", ["r79_motorcycle_rear", "blind_spot_overtaking",
                                   "cccscp_crossing", "ccftap_turn_across",
                                   "reversing_pedestrian", "head_on_aliasing"])
-def test_radial_velocity_is_range_rate(name):
+def test_radial_velocity_is_range_rate(name, catalogue_run):
     """radial_velocity_mps = d(range)/dt, also for a turning ego (omega x lever arm)."""
-    run = run_scenario(name)
+    run = catalogue_run(name)
     t = run.truth[run.truth.actor_class != "guard_rail"]
     for _, g in t.groupby("actor_id"):
         rate = np.gradient(g.range_m.to_numpy(), g.time_s.to_numpy())
@@ -56,8 +56,8 @@ def test_radial_velocity_is_range_rate(name):
         assert np.all(err <= 0.05 + 0.01 * np.abs(vr[1:-1])), err.max()
 
 
-def test_radar_frame_consistent_with_vehicle_frame():
-    run = run_scenario("ccftap_turn_across")
+def test_radar_frame_consistent_with_vehicle_frame(catalogue_run):
+    run = catalogue_run("ccftap_turn_across")
     t, m = run.truth, run.mount
     yaw = np.radians(m.yaw_deg)
     xv = np.cos(yaw) * t.x_radar_m - np.sin(yaw) * t.y_radar_m + m.x_m
@@ -68,17 +68,17 @@ def test_radar_frame_consistent_with_vehicle_frame():
                                atol=1e-9)
 
 
-def test_relative_velocity_in_vehicle_frame():
+def test_relative_velocity_in_vehicle_frame(catalogue_run):
     """Motorcycle at 130 km/h, ego 80 km/h, both along x: vx = +13.9 m/s, vy = 0."""
-    run = run_scenario("r79_motorcycle_rear")
+    run = catalogue_run("r79_motorcycle_rear")
     t = run.truth[run.truth.actor_id == 0]
     np.testing.assert_allclose(t.vx_mps, (130 - 80) / 3.6, atol=1e-9)
     np.testing.assert_allclose(t.vy_mps, 0.0, atol=1e-9)
     assert np.all(t.radial_velocity_mps < 0), "approaching: negative range rate"
 
 
-def test_ego_table():
-    run = run_scenario("r79_critical_distance_60")
+def test_ego_table(catalogue_run):
+    run = catalogue_run("r79_critical_distance_60")
     e = run.ego
     assert list(e.columns) == EGO_COLUMNS
     np.testing.assert_allclose(np.diff(e.ego_x_m), 60 / 3.6 / run.frame_rate_hz, atol=1e-9)
@@ -86,8 +86,8 @@ def test_ego_table():
     np.testing.assert_allclose(e.ego_yaw_deg, 0.0, atol=1e-12)
 
 
-def test_guard_rails_are_static_clutter_rows():
-    run = run_scenario("r79_motorcycle_rear")
+def test_guard_rails_are_static_clutter_rows(catalogue_run):
+    run = catalogue_run("r79_motorcycle_rear")
     rails = run.truth[run.truth.actor_class == "guard_rail"]
     assert len(rails) > 0 and np.all(rails.actor_id >= 0)
     f0 = rails[rails.frame == 0]

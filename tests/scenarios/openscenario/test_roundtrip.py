@@ -26,8 +26,8 @@ def _renumbered(truth):
 
 
 @pytest.mark.parametrize("name", list(SCENARIOS))
-def test_export_then_import_gives_the_same_truth(name, tmp_path, osc_schema):
-    first = run_scenario(name, seed=0)
+def test_export_then_import_gives_the_same_truth(name, tmp_path, osc_schema, catalogue_run):
+    first = catalogue_run(name)
     xosc, _ = export_run(first, tmp_path)
     assert osc_schema.validate(etree.parse(str(xosc))), osc_schema.error_log.last_error
     again = run_scenario(read_xosc(xosc), seed=0)
@@ -46,8 +46,8 @@ def test_export_then_import_gives_the_same_truth(name, tmp_path, osc_schema):
     assert ego_pos.max() < POSITION_TOL_M
 
 
-def test_imported_case_keeps_the_harness_fields(tmp_path):
-    first = run_scenario("blind_spot_overtaking", seed=0)
+def test_imported_case_keeps_the_harness_fields(tmp_path, catalogue_run):
+    first = catalogue_run("blind_spot_overtaking")
     case = read_xosc(export_run(first, tmp_path)[0])
     orig = first.case
     assert case.mount == orig.mount and case.must_detect == orig.must_detect
