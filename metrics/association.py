@@ -571,7 +571,7 @@ def _assign_one_to_one(labelled: pd.DataFrame, truth: pd.DataFrame, af: pd.DataF
     # a detection between two actors is a candidate for both.
     span = np.inf
     pairs = _pairs(tru.reset_index(drop=True), truth, cfg, span, rows=np.flatnonzero(
-        truth["actor_class"].isin(ROAD_USER_CLASSES).to_numpy()))
+        truth["actor_class"].isin(ROAD_USER_CLASSES).to_numpy()), gated=True)
     if pairs.empty:
         return detected
     ok = (pairs["pos_cost"] <= 1.0) & (pairs["dv_mps"].abs() <= cfg.velocity_gate_mps)
