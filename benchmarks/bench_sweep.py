@@ -1,25 +1,53 @@
-"""Sweep cost: time of one sweep cell per processed frame, split into its stages.
+"""Sweep cost: CPU time of one sweep cell per processed frame, against its floor and split into
+its stages.
 
 A cell frame = scatterers (ray RCS) + 2 ADC simulations (DDMA, TDMA) + 3 chain runs (DDMA,
 TDMA, TDMA raw); the cell then associates and scores the whole run and tracks each scheme.
-The floor is the stage sum measured in the same run, so "overhead" is what the harness adds
-(association, metrics, tracking, table building).
+
+The cell is timed twice, alternating with its floor (`benchmarks.bench_floors`: two
+`simulate_frame` calls with K = 100 point scatterers plus three chain floors, on one core):
+with `FRAME_THREADS` frame threads, as a cell runs when a core would otherwise idle (alone,
+or among a sweep's last cells), and with one, as a pool sweep runs every other cell
+(`harness.cell.run.cell_frame_threads`). Two frames at a time buy wall time with CPU: two
+frames' working sets share the cache and the memory bandwidth. The stages are timed on one
+thread (`pipeline.threads.inline`, as a cell frame runs them), so "overhead" is what the
+harness adds per frame on top of them (scenario, association, metrics, tracking, tables).
 """
 from __future__ import annotations
 
-from benchmarks._timing import median_time_s
+import numpy as np
+
+from benchmarks._timing import ROUNDS, alternating_best, fft_floor_once
 
 CASE = "r79_motorcycle_rear"
 DURATION_S = 1.0
+
+
+def _cell_floor():
+    """The floor of a cell frame as `bench_floors.cell_row` times it: a zero-argument call."""
+    import radarsim
+    from benchmarks.bench_floors import _scene
+    sc = _scene()
+    cfgs = [radarsim.presets.r79_ddma(), radarsim.presets.r79_tdma()]
+    x32 = {c.mimo: radarsim.simulate_frame(c, sc, np.random.default_rng(0)).astype(np.float32)
+           for c in cfgs}
+
+    def floor():
+        for c in cfgs:
+            radarsim.simulate_frame(c, sc, np.random.default_rng(0))
+        for c in (cfgs[0], cfgs[1], cfgs[1]):  # DDMA, TDMA, TDMA raw
+            fft_floor_once(c, x32[c.mimo])
+    return floor
 
 
 def run() -> list[str]:
     import pipeline
     from harness.cell.components import default_components
     from harness.cell.config import build_configs
-    from harness.cell.run import frame_scatterers, run_cell
+    from harness.cell.run import FRAME_THREADS, frame_scatterers, run_cell
     from harness.cell.spec import CellSpec, result_schemes
     from harness.sweep.streams import frame_rng
+    from pipeline.threads import inline
 
     comps = default_components()
     spec = CellSpec(scenario=CASE, duration_s=DURATION_S)
@@ -28,25 +56,42 @@ def run() -> list[str]:
     frame = int(run_.ego["frame"].iloc[len(run_.ego) // 2])
     sc = frame_scatterers(comps, run_, frame, 0)
     adc = {m: comps.simulate_frame(radar[m], sc, frame_rng(0, frame, m)) for m in radar}
-    t_sc = median_time_s(lambda: frame_scatterers(comps, run_, frame, 0), 5, 1)
-    t_sim = sum(median_time_s(lambda m=m: comps.simulate_frame(radar[m], sc,
-                                                               frame_rng(0, frame, m)), 5, 1)
-                for m in radar)
-    t_proc = sum(median_time_s(lambda s=s, m=m: pipeline.process_frame(radar[m], adc[m],
-                                                                        procs[s]), 5, 1)
-                 for s, m in ((rs.name, rs.mimo) for rs in result_schemes(spec.schemes)))
-    t_cell = median_time_s(lambda: run_cell(spec, comps), 3, 1)
-    n = len(run_.ego)
-    floor = t_sc + t_sim + t_proc
-    per_frame = t_cell / n
-    lines = [
-        f"sweep cell {CASE} ({n} frames): {t_cell:.2f} s median, {1e3 * per_frame:.0f} ms/frame",
-        f"  stages per frame: scatterers {1e3 * t_sc:.0f} ms, 2 ADC sims {1e3 * t_sim:.0f} ms, "
-        f"3 chain runs {1e3 * t_proc:.0f} ms (floor {1e3 * floor:.0f} ms)",
-        f"  harness overhead (scenario, association, metrics, tracker): "
-        f"{per_frame / floor:.2f}x the stage floor",
-    ]
-    return lines + _ghosts_versus_phase_error(comps)
+    chains = [(rs.name, rs.mimo) for rs in result_schemes(spec.schemes)]
+
+    def stage(fn):
+        def call():
+            with inline():
+                fn()
+        return call
+
+    st = alternating_best({
+        "scatterers": stage(lambda: frame_scatterers(comps, run_, frame, 0)),
+        "sims": stage(lambda: [comps.simulate_frame(radar[m], sc, frame_rng(0, frame, m))
+                               for m in radar]),
+        "chains": stage(lambda: [pipeline.process_frame(radar[m], adc[m], procs[s])
+                                 for s, m in chains])})
+    t = alternating_best({"cell": lambda: run_cell(spec, comps, frame_threads=FRAME_THREADS),
+                          "cell1": lambda: run_cell(spec, comps, frame_threads=1),
+                          "floor": _cell_floor()})
+    n = len(run_cell(spec, comps).tables["truth"]["frame"].unique())
+    fc = t["floor"].cpu_s
+    stages = sum(v.cpu_s for v in st.values())
+
+    def cell(label: str, k: str) -> str:
+        cpu, wall = t[k].cpu_s / n, t[k].wall_s / n
+        return (f"  {label}: {1e3 * cpu:.1f} ms CPU per frame (wall {1e3 * wall:.1f}), "
+                f"{cpu / fc:.2f}x the floor")
+    return [
+        f"sweep cell {CASE} ({n} frames), best of {ROUNDS} alternated with its floor "
+        f"(2 `simulate_frame` K = 100 + 3 chain floors, one core): {1e3 * fc:.1f} ms CPU",
+        cell(f"{FRAME_THREADS} frame threads (a cell alone, or a sweep's last cells)", "cell"),
+        cell("1 frame thread (a pool sweep's other cells)", "cell1"),
+        f"  stages per frame, one thread (CPU): scatterers {1e3 * st['scatterers'].cpu_s:.1f} ms"
+        f", 2 ADC sims {1e3 * st['sims'].cpu_s:.1f} ms, 3 chain runs "
+        f"{1e3 * st['chains'].cpu_s:.1f} ms (sum {1e3 * stages:.1f} ms); harness overhead "
+        f"(scenario, association, metrics, tracker) {1e3 * (t['cell1'].cpu_s / n - stages):.1f}"
+        " ms per frame on one frame thread",
+    ] + _ghosts_versus_phase_error(comps)
 
 
 def _ghosts_versus_phase_error(comps) -> list[str]:

@@ -168,12 +168,37 @@ _EMPTY_PAIRS = pd.DataFrame({c: pd.Series(dtype=t) for c, t in (
     ("near_y_m", float), ("near_range_m", float), ("box_distance_m", float))})
 
 
+def _gate_reach(detections: pd.DataFrame, truth: pd.DataFrame, d_i: np.ndarray,
+                t_i: np.ndarray, cfg: AssociationConfig) -> np.ndarray:
+    """(P,) bool: the detection of pair (d_i, t_i) may lie in the position gate of the actor's
+    footprint, i.e. within the gate's larger semi-axis of the box's nearest point.
+
+    `_gate_cost` <= 1 needs the miss distance |o| to the nearest box point within
+    ``gate_t = max(range_gate_m, R tan(azimuth_gate_deg))`` (the cost is at least |o| /
+    gate_t), and the nearest point lies within the half diagonal of the box centre; so a pair
+    whose detection is farther than gate_t + half diagonal from the centre is out of the gate.
+    A margin of 1e-6 relative covers the rounding of both distances: every pair in the gate is
+    kept, and the kept pairs are computed as before."""
+    x, y = detections["x_m"].to_numpy(), detections["y_m"].to_numpy()
+    gate_t = np.maximum(cfg.range_gate_m,
+                        np.hypot(x, y) * math.tan(math.radians(cfg.azimuth_gate_deg)))
+    diag = 0.5 * np.hypot(truth["length_m"].to_numpy(), truth["width_m"].to_numpy())
+    dx = x[d_i] - truth["x_radar_m"].to_numpy()[t_i]
+    dy = y[d_i] - truth["y_radar_m"].to_numpy()[t_i]
+    reach = (gate_t[d_i] + diag[t_i]) * (1 + 1e-6) + 1e-6
+    return dx * dx + dy * dy <= reach * reach
+
+
 def _pairs(detections: pd.DataFrame, truth: pd.DataFrame, cfg: AssociationConfig,
-           velocity_span_mps: float, rows: np.ndarray | None = None) -> pd.DataFrame:
+           velocity_span_mps: float, rows: np.ndarray | None = None,
+           gated: bool = False) -> pd.DataFrame:
     """All (detection, actor) pairs of the same frame with gate distances.
 
     `rows` (ascending positions) restricts the truth to those rows: the pairs of
-    ``truth.iloc[rows]``, without building that table.
+    ``truth.iloc[rows]``, without building that table. With `gated`, only the pairs whose
+    detection may lie in the position gate (`_gate_reach`; every pair with pos_cost <= 1 is
+    among them, in the same order): on a scene of guard-rail segments most pairs are far
+    apart, and `associate` reads only the pairs in the gate.
 
     Returns a frame with columns det_index, actor_id, actor_class, is_static, pos_cost (gate
     units, <= 1 inside the gate), dv_mps (detection minus truth), alias_k, resid_mps,
@@ -182,10 +207,13 @@ def _pairs(detections: pd.DataFrame, truth: pd.DataFrame, cfg: AssociationConfig
     t_frame = truth["frame"].to_numpy()
     d_i, t_i = sorted_join(detections["frame"].to_numpy(),
                            t_frame if rows is None else t_frame[rows])
-    if not d_i.size:
-        return _EMPTY_PAIRS.copy()
     if rows is not None:
         t_i = rows[t_i]
+    if gated and d_i.size:
+        reach = _gate_reach(detections, truth, d_i, t_i, cfg)
+        d_i, t_i = d_i[reach], t_i[reach]
+    if not d_i.size:
+        return _EMPTY_PAIRS.copy()
     # The joined columns (detection's, then its actor's), gathered by position.
     p = {c: detections[c].to_numpy()[d_i] for c in _DET_COLUMNS}
     p.update((c, truth[c].to_numpy()[t_i]) for c in _PAIR_TRUTH_COLUMNS)
@@ -294,7 +322,8 @@ def associate(detections: pd.DataFrame, truth: pd.DataFrame, *, velocity_span_mp
     v_true = np.full(n, np.nan)
     alias_k = np.zeros(n, dtype=np.int64)
     box_dist = np.full(n, np.nan)
-    pairs = _pairs(detections, truth, cfg, velocity_span_mps)
+    # Only pairs in the position gate can label a detection (`_gate_reach`).
+    pairs = _pairs(detections, truth, cfg, velocity_span_mps, gated=True)
     if not pairs.empty:
         in_gate = pairs["pos_cost"].to_numpy() <= 1.0
         road = ~pairs["is_static"].to_numpy()
@@ -542,7 +571,7 @@ def _assign_one_to_one(labelled: pd.DataFrame, truth: pd.DataFrame, af: pd.DataF
     # a detection between two actors is a candidate for both.
     span = np.inf
     pairs = _pairs(tru.reset_index(drop=True), truth, cfg, span, rows=np.flatnonzero(
-        truth["actor_class"].isin(ROAD_USER_CLASSES).to_numpy()))
+        truth["actor_class"].isin(ROAD_USER_CLASSES).to_numpy()), gated=True)
     if pairs.empty:
         return detected
     ok = (pairs["pos_cost"] <= 1.0) & (pairs["dv_mps"].abs() <= cfg.velocity_gate_mps)

@@ -16,6 +16,7 @@ information enters the tables (timings go to ``CellResult.elapsed_s``).
 from __future__ import annotations
 
 import dataclasses
+import os
 import time
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
@@ -35,7 +36,8 @@ from metrics.association import AssociationConfig, scatterer_table
 from metrics.detection import ghost_stats
 from metrics.interference import floor_summary, mitigation_stats
 
-__all__ = ["CellResult", "run_cell", "simulate_cell_frame", "frame_scatterers"]
+__all__ = ["CellResult", "run_cell", "cell_frame_threads", "FRAME_THREADS", "simulate_cell_frame",
+           "frame_scatterers"]
 
 
 @dataclass
@@ -153,9 +155,42 @@ class _FrameOutputs(NamedTuple):
     external_s: dict[str, float]            # wall time of each external chain's command, s
 
 
+#: Frames of a cell processed at once (threads) when the cell would otherwise leave a core idle
+#: (the only cell running, or among the last ones of a sweep; `cell_frame_threads`): the frame
+#: loop is numpy / scipy / numba work that releases the GIL, so two frame threads keep two cores
+#: busy. Results do not depend on it: every frame draws from its own streams.
+FRAME_THREADS = 2
+
+
+def cell_frame_threads(queued: int, workers: int, cores: int | None = None) -> int:
+    """Frame threads for a cell that starts on a pool of `workers` processes with `queued`
+    cells submitted after it: 1 while the cells behind it keep every other worker busy for
+    as long as it runs (``queued >= workers``) and the workers fill the `cores` (default
+    ``os.cpu_count()``), else `FRAME_THREADS`.
+
+    Two frame threads cost CPU (a threaded cell frame takes 1-2.5 ms more CPU than the same
+    frame on one thread: two frames' working sets share the cache and memory bandwidth) and
+    buy wall time only where a core would be idle: the cell running alone, or one of the
+    last `workers` cells of a sweep, which finish while the other workers run out of cells.
+
+    Examples
+    --------
+    >>> [cell_frame_threads(q, workers=2, cores=2) for q in (5, 2, 1, 0)]
+    [1, 1, 2, 2]
+    >>> cell_frame_threads(5, workers=1, cores=2)  # one worker: the other core is free
+    2
+    """
+    cores = (os.cpu_count() or 1) if cores is None else cores
+    return 1 if workers >= cores and queued >= workers else FRAME_THREADS
+
+
 def run_cell(spec: CellSpec, comps: Components | None = None,
-             assoc: AssociationConfig | None = None) -> CellResult:
+             assoc: AssociationConfig | None = None,
+             frame_threads: int = FRAME_THREADS) -> CellResult:
     """Run one sweep cell and score it.
+
+    `frame_threads` frames are processed at a time (`cell_frame_threads`: 1 where other cells
+    keep the other cores busy); the tables do not depend on it.
 
     Returns
     -------
@@ -181,7 +216,8 @@ def run_cell(spec: CellSpec, comps: Components | None = None,
     times = _frame_times(run, truth, frames)
     case = msc.case_info(getattr(run, "case", None))
     refs = _reference_procs(procs, case)
-    out = _process_frames(spec, comps, run, radar, procs, schemes, frames, truth, times, refs)
+    out = _process_frames(spec, comps, run, radar, procs, schemes, frames, truth, times, refs,
+                          frame_threads)
 
     ego_speeds = _ego_speeds(run, frames)
     parts: dict[str, list[pd.DataFrame]] = {t: [] for t in ("detections", "frames", "actors",
@@ -263,19 +299,14 @@ def _ego_speeds(run, frames: np.ndarray) -> np.ndarray | None:
     return None
 
 
-#: Frames of a cell processed at once (threads): the frame loop is numpy / scipy / numba work
-#: that releases the GIL, so a cell keeps two cores busy even when it is the only cell left
-#: running. Results do not depend on it: every frame draws from its own streams.
-FRAME_THREADS = 2
-
-
 def _process_frames(spec: CellSpec, comps: Components, run, radar: dict, procs: dict,
                     schemes, frames: np.ndarray, truth: pd.DataFrame,
-                    times: pd.Series, refs: dict | None = None) -> _FrameOutputs:
+                    times: pd.Series, refs: dict | None = None,
+                    frame_threads: int = FRAME_THREADS) -> _FrameOutputs:
     """Scatterers, ADC frames (one per mimo) and point clouds (one per result scheme) of every
     processed frame, plus the noise-floor rows; with `refs` (processing per scheme) also the
-    reference point clouds of the same ADC frames. Frames run `FRAME_THREADS` at a time and
-    are collected in frame order."""
+    reference point clouds of the same ADC frames. Frames run `frame_threads` at a time (1: on
+    the calling thread) and are collected in frame order."""
     from pipeline.chirp_level import shared_range_stage  # after the caller's BLAS setting
     from pipeline.threads import inline
     refs = refs or {}
@@ -315,9 +346,11 @@ def _process_frames(spec: CellSpec, comps: Components, run, radar: dict, procs: 
     # Saturated (chirp, Rx) pairs per scheme and frame (pipeline.saturation).
     saturated: dict[str, list[int]] = {s.name: [] for s in schemes}
     scat, floor_rows = [], []
-    pool = ThreadPoolExecutor(FRAME_THREADS, thread_name_prefix="cell-frame")
+    pool = ThreadPoolExecutor(frame_threads, thread_name_prefix="cell-frame") \
+        if frame_threads > 1 else None
     try:
-        for f, (sc, floor, pcs, ref, sat) in zip(frames, pool.map(one, frames)):
+        done = pool.map(one, frames) if pool is not None else map(one, frames)
+        for f, (sc, floor, pcs, ref, sat) in zip(frames, done):
             scat.append((f, sc))
             floor_rows += floor
             for name, pc in pcs.items():
@@ -328,11 +361,13 @@ def _process_frames(spec: CellSpec, comps: Components, run, radar: dict, procs: 
                 reference[name].append(pc.reset_index(drop=True).assign(frame=np.int64(f)))
             for name, n in sat.items():
                 saturated[name].append(n)
-        pool.shutdown(wait=True)
+        if pool is not None:
+            pool.shutdown(wait=True)
         for name, ext in external.items():
             clouds[name] = ext.run(frames)
     finally:
-        pool.shutdown(wait=True, cancel_futures=True)  # an error or ^C leaves no frame running
+        if pool is not None:  # an error or ^C leaves no frame running
+            pool.shutdown(wait=True, cancel_futures=True)
         for ext in external.values():
             ext.close()
     return _FrameOutputs(clouds, saturated, scatterer_table(scat), floor_rows, reference,

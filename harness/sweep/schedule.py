@@ -27,6 +27,7 @@ from typing import Any
 
 from core.errors import BadInput
 from harness.cell.components import Components
+from harness.cell.run import cell_frame_threads
 from harness.plugins import loaded_plugins
 from harness.runtime import single_thread_blas, stoppable_pool
 from harness.sweep import store
@@ -197,21 +198,27 @@ def _resume(out: Path, cells: list, force: bool) -> tuple[set[str], list[str]]:
 def _run_local(pending: list, out: Path, workers: int, components, bar, plugins=()
                ) -> tuple[dict[str, dict], list[str]]:
     """Run cells in this process (``workers`` 1) or on a local process pool. Returns (results
-    by cell id, ids whose worker died)."""
+    by cell id, ids whose worker died).
+
+    The pool starts the cells in order; each runs its frames on one thread while the cells
+    submitted after it keep the other workers busy, and on `FRAME_THREADS` where a core would
+    otherwise idle (`harness.cell.run.cell_frame_threads`: the last ``workers`` cells, or
+    every cell when the workers are fewer than the cores)."""
     results: dict[str, dict] = {}
     interrupted: list[str] = []
+    threads = [cell_frame_threads(len(pending) - 1 - i, workers) for i in range(len(pending))]
     if workers == 1:
         single_thread_blas()
-        for c in pending:
-            results[c.cell_id] = execute_cell(c, str(out), components, plugins)
+        for c, n in zip(pending, threads):
+            results[c.cell_id] = execute_cell(c, str(out), components, plugins, n)
             bar.update(1)
         return results, interrupted
     # Ctrl-C, SIGTERM, SIGHUP at any moment, the pool's start included, stop it now
     # (`stoppable_pool`): running cells are lost whole (their temporary directories are
     # cleaned by the next run), written ones stay; no worker outlives this process.
     with stoppable_pool(workers, init_worker, (os.getpid(),)) as pool:
-        futs = {pool.executor.submit(execute_cell, c, str(out), components, plugins): c
-                for c in pending}
+        futs = {pool.executor.submit(execute_cell, c, str(out), components, plugins, n): c
+                for c, n in zip(pending, threads)}
         for fut in pool.completed(futs):
             c = futs[fut]
             try:

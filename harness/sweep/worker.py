@@ -14,7 +14,7 @@ from pathlib import Path
 from core.fileio import OutputError
 from core.numba_cache import install_cache_lock
 from harness.cell.components import Components
-from harness.cell.run import run_cell
+from harness.cell.run import FRAME_THREADS, run_cell
 from harness.cell.spec import CellSpec
 from harness.plugins import PluginInfo, ensure_plugins
 from harness.runtime import prepare_worker, single_thread_blas
@@ -44,7 +44,8 @@ def _cell_record(spec: CellSpec, status: str, **extra) -> dict:
 
 
 def execute_cell(spec: CellSpec, out: str, comps: Components | None = None,
-                 plugins: tuple[PluginInfo, ...] = ()) -> dict:
+                 plugins: tuple[PluginInfo, ...] = (),
+                 frame_threads: int = FRAME_THREADS) -> dict:
     """Run one cell in a worker and write it atomically; never raises for a cell error (a full
     disk or read-only folder is no cell error: `OutputError`, which stops the sweep).
 
@@ -52,7 +53,8 @@ def execute_cell(spec: CellSpec, out: str, comps: Components | None = None,
     they are loaded already); a worker that cannot load one records the cell as failed with
     one line naming the plugin.
 
-    Runs with one BLAS thread (`harness.runtime.single_thread_blas`) on every path. A cell
+    Runs with one BLAS thread (`harness.runtime.single_thread_blas`) on every path, and
+    `frame_threads` frames at a time (`harness.cell.run.cell_frame_threads`). A cell
     already completed under ``out`` (by a duplicate execution) is never replaced: the result
     says ``"written": "kept"``.
     """
@@ -62,7 +64,7 @@ def execute_cell(spec: CellSpec, out: str, comps: Components | None = None,
     t0 = time.perf_counter()
     try:
         ensure_plugins(plugins)
-        res = run_cell(spec, comps)
+        res = run_cell(spec, comps, frame_threads=frame_threads)
 
         def write(tmp: Path) -> None:
             for name, df in res.tables.items():

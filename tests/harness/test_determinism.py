@@ -58,6 +58,22 @@ def test_workers_1_and_2_give_the_same_bits(tmp_path, real_pool_sweep):
     _assert_same(_tables(tmp_path / "w1"), _tables(real_pool_sweep))
 
 
+def test_one_frame_thread_gives_the_bits_of_two(tmp_path, real_pool_sweep):
+    """A pool sweep runs a cell on one frame thread while cells queue behind it, on two at the
+    end (`harness.cell.run.cell_frame_threads`): the real parts give the same bits either way
+    (the pool's two cells ran on two frame threads: they were its last)."""
+    spec = sweepfile.load_sweep(sweepspec.DEFAULT_SWEEP_PATH).with_overrides(
+        scenarios=[CASE], duration_s=real_sweep.DURATION_S,
+        frame_stride=real_sweep.FRAME_STRIDE, seeds=[real_sweep.SEED])
+    (cell,) = spec.cells()
+    assert worker.execute_cell(cell, str(tmp_path), frame_threads=1)["status"] == "ok"
+    for t in TABLES:
+        pd.testing.assert_frame_equal(
+            pd.read_parquet(tmp_path / "cells" / cell.cell_id / f"{t}.parquet"),
+            pd.read_parquet(real_pool_sweep / "cells" / cell.cell_id / f"{t}.parquet"),
+            check_exact=True, obj=t)
+
+
 @pytest.mark.slow
 def test_dask_gives_the_same_bits_as_the_pool(tmp_path, real_pool_sweep):
     import distributed

@@ -76,6 +76,15 @@ def test_same_seed_identical_tables_other_seed_differs():
                               c.tables["detections"]["range_m"])
 
 
+def test_frame_threads_give_the_same_tables():
+    spec = CellSpec(scenario="fast", seed=3, duration_s=0.5)
+    a = run_cell(spec, FAKE, frame_threads=1)
+    for n in (2, 3):
+        b = run_cell(spec, FAKE, frame_threads=n)
+        for name in a.tables:
+            pd.testing.assert_frame_equal(a.tables[name], b.tables[name], check_exact=True)
+
+
 def test_independent_streams_per_frame_and_scheme():
     x = [frame_rng(0, f, s).standard_normal() for f in (0, 1) for s in ("rcs", "ddma", "tdma")]
     assert len(set(x)) == 6

@@ -155,6 +155,36 @@ def test_pool_equals_serial_and_dask(tmp_path):
     assert_same_tables(tmp_path / "serial", tmp_path / "dask")
 
 
+@pytest.mark.parametrize("workers, cores, expected", [
+    (2, 2, [1, 1, 1, 2, 2]),   # the last `workers` cells: a core idles when the queue empties
+    (3, 2, [1, 1, 2, 2, 2]),
+    (1, 1, [1, 1, 1, 1, 2]),   # one core, one worker: only the last cell has a core to spare
+    (1, 2, [2, 2, 2, 2, 2]),   # one worker on two cores: the other core is free all along
+])
+def test_cells_run_one_frame_thread_while_cells_queue_behind_them(workers, cores, expected):
+    from harness.cell.run import FRAME_THREADS, cell_frame_threads
+    assert FRAME_THREADS == 2
+    n = len(expected)
+    assert [cell_frame_threads(n - 1 - i, workers, cores) for i in range(n)] == expected
+
+
+def test_the_serial_sweep_passes_each_cell_its_frame_threads(tmp_path, monkeypatch):
+    """On one core the cells of a serial sweep run one frame thread, the last one two (it has
+    no cell behind it); the tables do not depend on it (`test_runner.py`)."""
+    from harness.cell import run as cellrun
+    from harness.sweep import schedule
+    from harness.sweep.worker import execute_cell
+    got = []
+
+    def recording(spec, out, comps=None, plugins=(), frame_threads=0):
+        got.append(frame_threads)
+        return execute_cell(spec, out, comps, plugins, frame_threads)
+    monkeypatch.setattr(schedule, "execute_cell", recording)
+    monkeypatch.setattr(cellrun.os, "cpu_count", lambda: 1)
+    run_sweep(small_spec(), tmp_path / "r", components=FAKE, progress=False)
+    assert got == [1, 1, 1, 2]
+
+
 def test_killed_worker_loses_no_completed_cell_and_rerun_resumes(tmp_path):
     out = tmp_path / "r"
     spec = SweepSpec(name="t", scenarios=("fast", "slow", "mid"), seeds=(0, 1), duration_s=0.4)

@@ -204,7 +204,7 @@ def test_a_scheduler_without_workers_fails_within_the_timeout(tmp_path):
         assert time.monotonic() - t0 < 15
 
 
-def _lost_cell(spec, out, comps=None, plugins=()):
+def _lost_cell(spec, out, comps=None, plugins=(), frame_threads=2):
     """A worker that reports success but writes nowhere visible (its own working directory)."""
     return {"cell_id": spec.cell_id, "status": "ok", "elapsed_s": 0.0, "written": "written"}
 

@@ -203,3 +203,26 @@ def test_bad_inputs():
     with pytest.raises(ValueError, match="truth lacks column"):
         associate(d, pd.DataFrame([actor()]).drop(columns="yaw_radar_deg"),
                   velocity_span_mps=1.0)
+
+
+def test_gated_pairs_keep_every_pair_in_the_position_gate():
+    """`associate` builds only the pairs whose detection can reach the gate (`_gate_reach`):
+    on random yawed boxes with detections scattered around them, at every range, every pair
+    with pos_cost <= 1 is kept, in the same order and with the same values."""
+    from metrics.association import _pairs
+    g = np.random.default_rng(7)
+    truth = pd.DataFrame([actor(frame=f, actor_id=i, x=g.uniform(-150, 150),
+                                y=g.uniform(-150, 150), yaw=g.uniform(-180, 180),
+                                length=g.uniform(0.5, 40.0), width=g.uniform(0.3, 3.0))
+                          for f in range(3) for i in range(12)])
+    near = truth.sample(600, replace=True, random_state=1)
+    d = dets([(int(r.frame), r.x_radar_m + g.normal(0, r.length_m / 2 + 2),
+               r.y_radar_m + g.normal(0, r.length_m / 2 + 2), g.uniform(-30, 30), 10)
+              for r in near.itertuples()])
+    cfg = AssociationConfig()
+    every = _pairs(d, truth, cfg, DDMA_SPAN)
+    gated = _pairs(d, truth, cfg, DDMA_SPAN, gated=True)
+    in_gate = every[every["pos_cost"].to_numpy() <= 1.0]
+    assert 0 < len(in_gate) < len(gated) < len(every) / 2
+    pd.testing.assert_frame_equal(gated[gated["pos_cost"].to_numpy() <= 1.0].reset_index(
+        drop=True), in_gate.reset_index(drop=True), check_exact=True)
