@@ -58,7 +58,7 @@ def _row(measure: str, value_s: tuple, floor_s: tuple, target: str, what: str) -
             f"(wall {1e3 * fw:.1f}) | {vc / fc:.2f}x (wall {vw / fw:.2f}x) | {target} |")
 
 
-def _scene(seed: int = 0) -> radarsim.Scatterers:
+def scene(seed: int = 0) -> radarsim.Scatterers:
     g = np.random.default_rng(seed)
     k = N_SCATTERERS
     return radarsim.Scatterers.from_spherical(g.uniform(5.0, 200.0, k), g.uniform(-70.0, 70.0, k),
@@ -69,7 +69,7 @@ def _scene(seed: int = 0) -> radarsim.Scatterers:
 def scheme_rows() -> list[str]:
     """process_frame of every registered scheme (default chirp-level chain) / its chain floor."""
     rows = []
-    sc = _scene()
+    sc = scene()
     for name in sorted(radarsim.MIMO_SCHEMES):
         cfg = radarsim.presets.r79(name)
         adc = radarsim.simulate_frame(cfg, sc, np.random.default_rng(0))
@@ -87,7 +87,7 @@ def interference_row() -> str:
     """DDMA process_frame with 10 interferers / the same frame without them."""
     from .bench_interference import interferers
     cfg = radarsim.presets.r79_ddma()
-    sc = _scene()
+    sc = scene()
     clean = radarsim.simulate_frame(cfg, sc, np.random.default_rng(0))
     dirty = radarsim.simulate_frame(cfg, sc, np.random.default_rng(0), interferers(N_INTERFERERS))
     t = alternating_best({"dirty": lambda: pipeline.process_frame(cfg, dirty),
@@ -103,7 +103,7 @@ def cell_row() -> str:
     from harness.cell.spec import CellSpec
     comps = default_components()
     spec = CellSpec(scenario=CELL_CASE, duration_s=CELL_DURATION_S)
-    sc = _scene()
+    sc = scene()
     cfgs = [radarsim.presets.r79_ddma(), radarsim.presets.r79_tdma()]
     x32 = {c.mimo: radarsim.simulate_frame(c, sc, np.random.default_rng(0)).astype(np.float32)
            for c in cfgs}

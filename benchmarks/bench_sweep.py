@@ -26,8 +26,8 @@ DURATION_S = 1.0
 def _cell_floor():
     """The floor of a cell frame as `bench_floors.cell_row` times it: a zero-argument call."""
     import radarsim
-    from benchmarks.bench_floors import _scene
-    sc = _scene()
+    from benchmarks.bench_floors import scene
+    sc = scene()
     cfgs = [radarsim.presets.r79_ddma(), radarsim.presets.r79_tdma()]
     x32 = {c.mimo: radarsim.simulate_frame(c, sc, np.random.default_rng(0)).astype(np.float32)
            for c in cfgs}
