@@ -59,6 +59,8 @@ def _row(measure: str, value_s: tuple, floor_s: tuple, target: str, what: str) -
 
 
 def scene(seed: int = 0) -> radarsim.Scatterers:
+    """The benchmarks' scene: `N_SCATTERERS` point scatterers drawn from `seed`, 5-200 m, +/-70 deg
+    azimuth, +/-5 deg elevation, +/-30 m/s, RCS 1-10 m^2."""
     g = np.random.default_rng(seed)
     k = N_SCATTERERS
     return radarsim.Scatterers.from_spherical(g.uniform(5.0, 200.0, k), g.uniform(-70.0, 70.0, k),
