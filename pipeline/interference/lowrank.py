@@ -66,15 +66,9 @@ from core.errors import BadInput
 
 from ..threads import run_parts, spans
 
-__all__ = ["RANK_MAX", "RANK_SNR_GATE_DB", "FastTimeBasis", "fast_time_basis", "lowrank_fill", "burst_fill", "BurstFill",
+__all__ = ["FastTimeBasis", "fast_time_basis", "lowrank_fill", "burst_fill", "BurstFill",
            "GramOperands", "gram_operands", "projections", "burst_row_start"]
 
-#: Components of the frame's fast-time subspace at most, and their least energy over the
-#: noise, dB (above the Marchenko-Pastur edge of white noise's sample eigenvalues): the
-#: "lowrank" repair's default settings and the weak-burst search's (`residual`), so that one
-#: basis per frame serves both (`masks.FrameRows.basis`).
-RANK_MAX = 24
-RANK_SNR_GATE_DB = 10.0
 #: Smallest ratio noise / prior variance of a coefficient (the constant's prior is unbounded).
 SHRINK_FLOOR = 1e-6
 #: Grown samples closed over gaps of up to this many samples to their mask (a burst is one

@@ -7,8 +7,6 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .lowrank import FastTimeBasis
-
 __all__ = ["widen", "close_gaps", "FrameRows", "REFERENCE_ROWS", "MIN_REFERENCE_ROWS",
            "frame_reference", "reference_rows"]
 
@@ -43,9 +41,6 @@ class FrameRows(NamedTuple):
     samples: np.ndarray   # (N, n) every chirp x Rx row of the frame, as sampled (any offset)
     rows: np.ndarray      # (R,) increasing indices of the repaired rows in `samples`
     n_rx: int             # rows per chirp: row i is chirp i // n_rx, Rx i % n_rx
-    #: The fast-time basis of the frame at `lowrank.RANK_MAX` / `RANK_SNR_GATE_DB` if already
-    #: computed (the weak-burst search's, `residual.weak_bursts`), else None.
-    basis: FastTimeBasis | None = None
 
 
 #: Unflagged rows of the frame (evenly spread) the "lowrank" subspace is estimated from...

@@ -63,7 +63,7 @@ from core.registry import Registry
 from radarsim.chips import MAX_CHIP_ADC_SAMPLES
 
 from .fills import ar_fill, cancel_tones, linear_fill, taper_gain, tone_frequencies
-from .lowrank import RANK_MAX, RANK_SNR_GATE_DB, FastTimeBasis, burst_fill, fast_time_basis
+from .lowrank import FastTimeBasis, burst_fill, fast_time_basis
 from .masks import (
     FrameRows,
     close_gaps,
@@ -265,8 +265,8 @@ class LowrankRepair(RepairMethod):
 
     centres_rows: ClassVar[bool] = True
 
-    rank_max: int = RANK_MAX
-    rank_snr_gate_db: float = RANK_SNR_GATE_DB
+    rank_max: int = 24
+    rank_snr_gate_db: float = 10.0
     grow_sigma: float = 0.0
     grow_reach_samples: int = 32
 
@@ -283,19 +283,12 @@ class LowrankRepair(RepairMethod):
     def repair(self, x: np.ndarray, flags: np.ndarray, window_: np.ndarray, hysteresis: int,
                groups: np.ndarray | None = None, frame: FrameRows | None = None,
                remove_mean: bool = True) -> np.ndarray:
-        """`RepairMethod.repair`: the frame's unflagged rows give the basis (the frame's own,
-        ``frame.basis``, where it has one and the method's rank settings are its), the rows
-        of one chirp of `frame` share one mask (without a frame: the repaired rows, each row
-        its own mask)."""
+        """`RepairMethod.repair`: the frame's unflagged rows give the basis, the rows of one
+        chirp of `frame` share one mask (without a frame: the repaired rows, each row its
+        own mask)."""
         if not len(x):
             return x
-        shared = None if frame is None else frame.basis
-        if shared is not None and (self.rank_max, self.rank_snr_gate_db) == (RANK_MAX,
-                                                                            RANK_SNR_GATE_DB):
-            basis = shared
-        else:
-            basis = self.basis_of(reference_rows(x, frame,
-                                                 lambda: self.mask(flags, hysteresis)))
+        basis = self.basis_of(reference_rows(x, frame, lambda: self.mask(flags, hysteresis)))
         bursts = np.arange(len(x)) if frame is None else frame.rows // frame.n_rx
         burst_fill(x, flags, bursts, basis, self.close_gap_samples,
                    hysteresis + self.extend_samples, self.grow_sigma,

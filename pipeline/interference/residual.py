@@ -44,19 +44,22 @@ References
 """
 from __future__ import annotations
 
-from typing import NamedTuple
-
 import numba
 import numpy as np
 
 from core.errors import BadInput
 
-from .lowrank import RANK_MAX, RANK_SNR_GATE_DB, FastTimeBasis, fast_time_basis
+from .lowrank import fast_time_basis
 from .masks import FrameRows, frame_reference
 from .rows import dc_removed_rows
 
-__all__ = ["residual_burst_flags", "with_weak_bursts", "weak_bursts", "WeakBursts", "RANK_MAX", "RANK_SNR_GATE_DB", "BLOCK"]
+__all__ = ["residual_burst_flags", "with_weak_bursts", "RANK_MAX", "RANK_SNR_GATE_DB", "BLOCK"]
 
+#: Components of the frame's fast-time subspace the residual removes at most (the "lowrank"
+#: repair's own), and their least energy over the noise, dB (above the Marchenko-Pastur edge
+#: of white noise's sample eigenvalues, `lowrank`).
+RANK_MAX = 24
+RANK_SNR_GATE_DB = 10.0
 #: Samples per block of the window sums: windows start every BLOCK samples.
 BLOCK = 4
 _U = np.uint64  # unsigned loop indices: LLVM vectorises those loops
@@ -187,26 +190,10 @@ def _burst_windows(x, r, floor, factor, nb, out):
                 o[t] = True
 
 
-class WeakBursts(NamedTuple):
-    """The chip's flagged rows plus the weak bursts it missed (`weak_bursts`)."""
-
-    rows: np.ndarray                 # (R',) increasing, the chip's and the new ones
-    flags: np.ndarray                # (R', n) bool: the chip's flags, the new rows' windows
-    basis: FastTimeBasis | None      # the frame's fast-time basis the search used (None: none)
-
-
 def with_weak_bursts(adc: np.ndarray, dc: np.ndarray | None, rows: np.ndarray,
                      flags: np.ndarray, threshold_db: float, window: int
                      ) -> tuple[np.ndarray, np.ndarray]:
-    """(rows, flags) of `weak_bursts`."""
-    found = weak_bursts(adc, dc, rows, flags, threshold_db, window)
-    return found.rows, found.flags
-
-
-def weak_bursts(adc: np.ndarray, dc: np.ndarray | None, rows: np.ndarray, flags: np.ndarray,
-                threshold_db: float, window: int) -> WeakBursts:
-    """The chip's flagged rows and flags, plus the rows with weak bursts it did not flag, and
-    the frame's fast-time basis the search used.
+    """The chip's flagged rows and flags, plus the rows with weak bursts it did not flag.
 
     Only in a frame where the chip flagged a row: an interferer's bursts differ in strength
     within a frame (the sweep crosses the IF band at a different time in every chirp), so the
@@ -227,21 +214,19 @@ def weak_bursts(adc: np.ndarray, dc: np.ndarray | None, rows: np.ndarray, flags:
 
     Returns
     -------
-    WeakBursts
-        The basis (`lowrank.fast_time_basis` of up to `masks.REFERENCE_ROWS` rows the chip
-        did not flag, at `RANK_MAX` and `RANK_SNR_GATE_DB`) is the one the "lowrank" repair
-        of these rows takes (`rows.repaired_rows`): the rows the search adds hold bursts
-        too weak for the chip's threshold, a few of the reference's 256 at most. None where
-        no search ran.
+    rows : (R',) int
+        Increasing, the chip's and the new ones.
+    flags : (R', n) bool
+        The chip's flags of its rows, the burst windows of the new ones.
     """
     n_rx, n = adc.shape[1], adc.shape[-1]
     if len(rows) == 0:  # no interference the chip saw: the frame is left as the chip leaves it
-        return WeakBursts(rows, flags, None)
+        return rows, flags
     a2 = adc.reshape(-1, n)
     dtype = np.complex64 if np.iscomplexobj(adc) else np.float32
     ref = frame_reference(FrameRows(a2, rows, n_rx), dtype)
     if ref is None:  # too few unflagged rows to learn the echoes from
-        return WeakBursts(rows, flags, None)
+        return rows, flags
     basis = fast_time_basis(ref, RANK_MAX, 10 ** (RANK_SNR_GATE_DB / 10))
     clean = np.ones(len(a2), dtype=bool)
     clean[rows] = False
@@ -255,8 +240,7 @@ def weak_bursts(adc: np.ndarray, dc: np.ndarray | None, rows: np.ndarray, flags:
     new = residual_burst_flags(x, basis.vectors, basis.noise_var, threshold_db, window)
     hit = np.flatnonzero(new.any(axis=-1))
     if hit.size == 0:
-        return WeakBursts(rows, flags, basis)
+        return rows, flags
     all_rows = np.concatenate([rows, idx[hit]])
     order = np.argsort(all_rows, kind="stable")
-    return WeakBursts(all_rows[order], np.concatenate([flags.reshape(-1, n), new[hit]])[order],
-                      basis)
+    return all_rows[order], np.concatenate([flags.reshape(-1, n), new[hit]])[order]

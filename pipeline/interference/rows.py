@@ -11,7 +11,6 @@ import numpy as np
 from core.errors import BadInput
 
 from ..threads import run_parts, spans
-from .lowrank import FastTimeBasis
 from .masks import FrameRows
 from .methods import repair
 
@@ -66,8 +65,7 @@ class RepairedRows(NamedTuple):
 
 
 def repaired_rows(adc: np.ndarray, dc: np.ndarray | None, rows: np.ndarray,
-                  flags: np.ndarray, win: np.ndarray, intf,
-                  basis: FastTimeBasis | None = None) -> RepairedRows:
+                  flags: np.ndarray, win: np.ndarray, intf) -> RepairedRows:
     """The flagged rows, DC removed and repaired by ``intf.method`` (the chip
     zeroes), with the window they are multiplied by.
 
@@ -84,10 +82,6 @@ def repaired_rows(adc: np.ndarray, dc: np.ndarray | None, rows: np.ndarray,
         The range window.
     intf : pipeline.interference.InterferenceConfig
         Its repair method and hysteresis (enabled).
-    basis : FastTimeBasis, optional
-        The frame's fast-time basis if already computed (the weak-burst search's,
-        `residual.weak_bursts`): "lowrank" at its default rank settings takes it instead of
-        computing its own (`masks.FrameRows.basis`).
 
     Returns
     -------
@@ -112,7 +106,7 @@ def repaired_rows(adc: np.ndarray, dc: np.ndarray | None, rows: np.ndarray,
     method = intf.method
     # a method may leave its rows' means to the window product (one pass less over the rows)
     centre = method.centres_rows and y.dtype == np.float32
-    frame = FrameRows(a2, rows, n_rx, basis)
+    frame = FrameRows(a2, rows, n_rx)
     means = np.zeros(len(rows), y.dtype)
     run_parts([lambda lo=lo, hi=hi: dc_removed(lo, hi) for lo, hi in parts])
     repair(y, flags, win, intf.hysteresis_samples, method, frame=frame, remove_mean=not centre)

@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 from pipeline.config import ProcessingConfig
-from pipeline.interference.residual import residual_burst_flags, weak_bursts, with_weak_bursts
+from pipeline.interference.residual import residual_burst_flags, with_weak_bursts
 
 N = 384
 T = np.arange(N)
@@ -184,39 +184,3 @@ def test_the_chirp_statistics_add_them_unless_switched_off():
     _, off, _ = chirp_statistics(adc, ProcessingConfig().replace(
         **{"interference.weak_burst_snr_db": None}))
     assert 40 in off and 7 not in off and 130 not in off
-
-
-def test_the_search_hands_its_basis_to_the_lowrank_repair():
-    """`weak_bursts`' basis is the one the "lowrank" repair computes from the same reference
-    rows: where the search adds no row, the repair with it is the repair without it, bit for
-    bit; a lowrank method with other rank settings computes its own."""
-    from pipeline.interference import InterferenceConfig, repaired_rows
-    from pipeline.interference.lowrank import FastTimeBasis
-    from pipeline.interference.methods import MITIGATIONS, LowrankRepair
-    from pipeline.kernels import window
-    adc = _frame(np.random.default_rng(8), chip_rows=(40, 41, 300))
-    rows = np.array([40, 41, 300])
-    chip_flags = np.zeros((3, N), dtype=bool)
-    chip_flags[:, 300:340] = True
-    found = weak_bursts(adc, None, rows, chip_flags, 11.0, 32)
-    assert found.rows.tolist() == rows.tolist() and found.basis is not None
-    win = window("hann", N)
-    intf = InterferenceConfig()
-    own = repaired_rows(adc, None, rows, chip_flags, win, intf)
-    shared = repaired_rows(adc, None, rows, chip_flags, win, intf, found.basis)
-    assert np.array_equal(own.samples, shared.samples)
-    # a basis the default settings would not give (the constant alone) changes the repair...
-    const = FastTimeBasis(np.full((N, 1), 1 / np.sqrt(N), np.float32), np.array([1e-6]), 64.0)
-    assert not np.array_equal(repaired_rows(adc, None, rows, chip_flags, win, intf,
-                                            const).samples, own.samples)
-    # ... and a method at other rank settings ignores it
-    other = LowrankRepair(name="lowrank8", description="", rank_max=8,
-                          close_gap_samples=48, grow_sigma=5.0)
-    MITIGATIONS.register(other)
-    try:
-        intf8 = InterferenceConfig(repair="lowrank8")
-        assert np.array_equal(repaired_rows(adc, None, rows, chip_flags, win, intf8).samples,
-                              repaired_rows(adc, None, rows, chip_flags, win, intf8,
-                                            const).samples)
-    finally:
-        MITIGATIONS.unregister("lowrank8")
