@@ -60,6 +60,7 @@ from typing import NamedTuple
 
 import numba
 import numpy as np
+import scipy.linalg
 
 from core.errors import BadInput
 
@@ -112,10 +113,16 @@ def fast_time_basis(ref: np.ndarray, max_rank: int, snr_gate: float,
     p = min(max_rank + 8, len(x), n - 1)  # 8 oversampling columns
     q = x[np.linspace(0, len(x) - 1, p).astype(np.intp)].T  # started from the rows themselves
     xh = x.conj().T if np.iscomplexobj(x) else x.T  # no conjugated copy of real rows
-    for _ in range(n_iter):
-        q, _ = np.linalg.qr(xh @ (x @ q))
-    _, s, vh = np.linalg.svd(x @ q, full_matrices=False)
-    lam = s.astype(np.float64) ** 2 / len(x)
+    for _ in range(n_iter):  # LAPACK's QR in the rows' own precision (numpy's: in double)
+        q = scipy.linalg.qr(xh @ (x @ q), mode="economic", overwrite_a=True,
+                            check_finite=False)[0]
+    # Rayleigh-Ritz: the eigenvectors w of the p x p Gram matrix (x q)^H (x q), in double
+    # (the squares of the singular values span twice the dynamic range), are the right
+    # singular vectors of x q; the basis is q w, largest eigenvalue first.
+    b = (x @ q).astype(np.complex128 if np.iscomplexobj(x) else np.float64)
+    ev, w = np.linalg.eigh(b.conj().T @ b)
+    ev, w = ev[::-1], w[:, ::-1]
+    lam = np.maximum(ev, 0.0) / len(x)
     total = float(np.vdot(x.ravel(), x.ravel()).real) / len(x)
     m = min(max_rank, len(lam))
     # The mean removal took one dimension; the power outside the k kept components is noise
@@ -127,7 +134,7 @@ def fast_time_basis(ref: np.ndarray, max_rank: int, snr_gate: float,
         if k_new == k:
             break
         k = k_new
-    v = (q @ vh.conj().T)[:, :k]
+    v = q @ w[:, :k].astype(q.dtype)
     const = np.full((n, 1), 1 / np.sqrt(n), dtype=v.dtype)
     # the floor keeps the solve defined where a burst covers a whole chirp
     shrink = np.maximum(np.r_[0.0, noise / np.maximum(lam[:k] - noise, 1e-30 * noise)],

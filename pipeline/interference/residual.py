@@ -44,6 +44,7 @@ References
 """
 from __future__ import annotations
 
+import numba
 import numpy as np
 
 from core.errors import BadInput
@@ -61,6 +62,7 @@ RANK_MAX = 24
 RANK_SNR_GATE_DB = 10.0
 #: Samples per block of the window sums: windows start every BLOCK samples.
 BLOCK = 4
+_U = np.uint64  # unsigned loop indices: LLVM vectorises those loops
 
 
 def residual_burst_flags(x: np.ndarray, vectors: np.ndarray, noise_var: float,
@@ -109,39 +111,83 @@ def residual_burst_flags(x: np.ndarray, vectors: np.ndarray, noise_var: float,
             and window % BLOCK == 0):
         raise BadInput(f"window={window!r} samples must be a multiple of {BLOCK} in "
                        f"[{BLOCK}, {n}]")
-    nb = window // BLOCK                       # blocks per window
-    n_blocks = n // BLOCK
     r = (x @ vectors) @ vectors.conj().T
-    np.subtract(x, r, out=r)
-    if np.iscomplexobj(r):
-        p = r.real ** 2 + r.imag ** 2
-    else:
-        p = np.multiply(r, r, out=r)
-    # window sums from BLOCK-sample block sums, windows BLOCK samples apart (a burst as long as
-    # the window fills at least (nb - 1) / nb of one); the last n mod BLOCK samples join the
-    # last block. A block's samples are added in order, one vector pass per sample (numpy's
-    # ``sum(axis=-1)`` over BLOCK elements adds them in that order, a pass per block).
-    q = p[:, :n_blocks * BLOCK].reshape(len(p), n_blocks, BLOCK)
-    b = q[..., 0] + q[..., 1]
-    for j in range(2, BLOCK):
-        b += q[..., j]
-    b[:, -1] += p[:, n_blocks * BLOCK:].sum(axis=-1)
-    e = sum(b[:, k:n_blocks - nb + 1 + k] for k in range(nb))   # (R, n_blocks - nb + 1)
-    # the row's level: the median of windows a window apart (independent)
-    sub = e[:, ::nb]
-    mid = sub.shape[1] // 2
-    ref = np.maximum(np.partition(sub, mid, axis=1)[:, mid], np.float32(window * noise_var))
-    hit = e > ref[:, None] * np.float32(10 ** (threshold_db / 10))
     out = np.zeros(x.shape, dtype=bool)
-    rows = np.flatnonzero(hit.any(axis=1))
-    if rows.size:  # every block of a hit window, then every sample of those blocks
-        blk = np.zeros((rows.size, n_blocks), dtype=bool)
-        for k in range(nb):  # the window's few blocks
-            blk[:, k:n_blocks - nb + 1 + k] |= hit[rows]
-        f = np.repeat(blk, BLOCK, axis=1)
-        out[rows, :f.shape[1]] = f
-        out[rows, f.shape[1]:] = blk[:, -1:]
+    _burst_windows(x, r, np.float32(window * noise_var),
+                   np.float32(10 ** (threshold_db / 10)), window // BLOCK, out)
     return out
+
+
+@numba.njit(cache=True, nogil=True)
+def _burst_windows(x, r, floor, factor, nb, out):
+    """out[i] <- the samples of row i's burst windows (`residual_burst_flags`), one pass per
+    row: x (R, n) the rows, r (R, n) their projections on the subspace (same dtype), `floor`
+    the noise energy of a window (float32), `factor` the threshold as a power ratio (float32),
+    nb the blocks of `BLOCK` samples per window; out (R, n) bool, False on entry.
+
+    Every value is numpy's formulation's, bit for bit: the residual power (x - r)^2 (|x - r|^2
+    = re^2 + im^2 for I/Q) in float32; a block's powers added in sample order, the last
+    n mod BLOCK samples (added in order) joining the last block; a window's blocks added in
+    order; the row's level, the median (the middle order statistic) of the windows a window
+    apart, at least `floor`; a window holds a burst where its sum exceeds level x factor; then
+    every block of such a window, and every sample of those blocks (the last block's flag to
+    the n mod BLOCK samples past it)."""
+    n_rows, n = x.shape
+    un = _U(n)
+    n_blocks = n // BLOCK
+    n_win = n_blocks - nb + 1
+    n_sub = (n_win + nb - 1) // nb   # windows 0, nb, 2 nb, ...
+    mid = n_sub // 2
+    p = np.empty(n, np.float32)
+    b = np.empty(n_blocks, np.float32)
+    e = np.empty(n_win, np.float32)
+    sub = np.empty(n_sub, np.float32)
+    blk = np.empty(n_blocks, np.bool_)
+    for i in range(n_rows):
+        xi, ri = x[i], r[i]
+        for t in range(un):
+            d = xi[t] - ri[t]
+            p[t] = (d * np.conj(d)).real  # re^2 + im^2 as re * re - im * (-im)
+        for j in range(_U(n_blocks)):
+            b[j] = p[BLOCK * j] + p[BLOCK * j + 1]
+        for u in range(2, BLOCK):
+            for j in range(_U(n_blocks)):
+                b[j] += p[BLOCK * j + u]
+        tail = np.float32(0)
+        for t in range(n_blocks * BLOCK, n):
+            tail += p[t]
+        b[n_blocks - 1] += tail
+        for j in range(_U(n_win)):
+            e[j] = b[j]
+        for k in range(1, nb):
+            for j in range(_U(n_win)):
+                e[j] += b[j + k]
+        # the median: insertion sort of the few windows a window apart
+        for q in range(n_sub):
+            v = e[q * nb]
+            m = q
+            while m > 0 and sub[m - 1] > v:
+                sub[m] = sub[m - 1]
+                m -= 1
+            sub[m] = v
+        thr = max(sub[mid], floor) * factor
+        blk[:] = False
+        any_hit = False
+        for j in range(n_win):
+            if e[j] > thr:
+                any_hit = True
+                for k in range(nb):
+                    blk[j + k] = True
+        if not any_hit:
+            continue
+        o = out[i]
+        for j in range(n_blocks):
+            if blk[j]:
+                for u in range(BLOCK):
+                    o[j * BLOCK + u] = True
+        if blk[n_blocks - 1]:
+            for t in range(n_blocks * BLOCK, n):
+                o[t] = True
 
 
 def with_weak_bursts(adc: np.ndarray, dc: np.ndarray | None, rows: np.ndarray,

@@ -84,6 +84,17 @@ def test_sweep_metric_constant_over_seeds_must_stay(tmp_path):
     assert _failed(eq.compare_sweeps(base, _sweep(tmp_path, "b", [0.1, 0.1, 0.1001])))
 
 
+def test_sweep_metric_on_one_seed_only_is_reported_not_judged(tmp_path):
+    """A metric defined on one seed (NaN on the others) has no seed-to-seed spread: its
+    difference is printed, the check passes; where the new version defines it on another
+    number of seeds, it fails."""
+    nan = float("nan")
+    base = _sweep(tmp_path, "a", [nan, 2.747228, nan])
+    out = eq.compare_sweeps(base, _sweep(tmp_path, "b", [nan, 2.747229, nan]))
+    assert not _failed(out) and any("one seed only" in line for _, line in out)
+    assert _failed(eq.compare_sweeps(base, _sweep(tmp_path, "c", [1.0, 2.747228, nan])))
+
+
 def test_sweep_needs_three_seeds(tmp_path):
     with pytest.raises(SystemExit, match=">= 3 seeds"):
         eq.compare_sweeps(_sweep(tmp_path, "a", [0.1, 0.2]), _sweep(tmp_path, "b", [0.1, 0.2]))

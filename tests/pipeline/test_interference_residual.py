@@ -85,6 +85,53 @@ def test_flags_are_the_straightforward_energy_test(threshold_db, window):
     assert want.any() and not want.all() and (got == want).all()
 
 
+def _numpy_flags(x, v, noise_var, threshold_db, window, block=4):
+    """The flags as numpy computed them before the compiled pass: the residual squared in
+    place (|r|^2 = re^2 + im^2 for I/Q), block sums as vector additions with the last
+    n mod block samples joining the last block, the window sums by Python's sum, the median
+    by np.partition."""
+    n = x.shape[-1]
+    nb, n_blocks = window // block, n // block
+    r = (x @ v) @ v.conj().T
+    np.subtract(x, r, out=r)
+    p = r.real ** 2 + r.imag ** 2 if np.iscomplexobj(r) else np.multiply(r, r, out=r)
+    q = p[:, :n_blocks * block].reshape(len(p), n_blocks, block)
+    b = q[..., 0] + q[..., 1]
+    for j in range(2, block):
+        b += q[..., j]
+    b[:, -1] += p[:, n_blocks * block:].sum(axis=-1)
+    e = sum(b[:, k:n_blocks - nb + 1 + k] for k in range(nb))
+    sub = e[:, ::nb]
+    mid = sub.shape[1] // 2
+    ref = np.maximum(np.partition(sub, mid, axis=1)[:, mid], np.float32(window * noise_var))
+    hit = e > ref[:, None] * np.float32(10 ** (threshold_db / 10))
+    blk = np.zeros((len(x), n_blocks), dtype=bool)
+    for k in range(nb):
+        blk[:, k:n_blocks - nb + 1 + k] |= hit
+    return np.concatenate([np.repeat(blk, block, axis=1),
+                           np.repeat(blk[:, -1:], n - n_blocks * block, axis=1)], axis=1)
+
+
+@pytest.mark.parametrize("n, cplx", [(384, False), (130, False), (384, True), (67, True)])
+def test_the_compiled_pass_flags_what_numpy_flagged(n, cplx):
+    """`_burst_windows` gives numpy's flags bit for bit, I/Q rows and rows whose length is no
+    multiple of the block included, at thresholds where many windows lie near the line."""
+    rng = np.random.default_rng(n)
+    dt = np.complex64 if cplx else np.float32
+    z = (lambda *s: rng.standard_normal(s) + 1j * rng.standard_normal(s)) if cplx \
+        else (lambda *s: rng.standard_normal(s))
+    v = np.linalg.qr(z(n, 5))[0].astype(dt)
+    x = 3 * z(200, n)
+    for r in rng.integers(0, 200, 50):
+        a = rng.integers(0, n - 20)
+        x[r, a:a + 20] += rng.uniform(3, 30)
+    x = x.astype(dt)
+    for threshold_db, window in ((1.0, 4), (3.0, 16), (2.0, 32)):
+        want = _numpy_flags(x, v, 9.0, threshold_db, window)
+        got = residual_burst_flags(x, v, 9.0, threshold_db, window)
+        assert want.any() and not want.all() and (got == want).all()
+
+
 def test_noise_alone_raises_no_flag():
     """Chi-square of 32 degrees of freedom over 32 exceeds 11 dB (12.6) with far below 1e-10
     per window: 4000 rows of noise, none flagged."""
