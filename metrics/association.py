@@ -48,7 +48,7 @@ from scipy.spatial import cKDTree
 from core.checks import require
 from core.errors import BadInput
 
-from .joins import key_join, pair_index, pair_isin, rows_by_frame, sorted_join
+from .joins import key_join, pair_index, pair_isin, rows_by_frame, sorted_join, with_columns
 
 __all__ = [
     "AssociationConfig", "LABELS", "TRUE", "VELOCITY_AMBIGUOUS", "GHOST", "CLUTTER",
@@ -314,8 +314,7 @@ def associate(detections: pd.DataFrame, truth: pd.DataFrame, *, velocity_span_mp
     _require(truth, _TRUTH_COLUMNS, "truth")
     if not (velocity_span_mps > 0):
         raise BadInput(f"velocity_span_mps={velocity_span_mps!r} must be > 0 (2 Vmax)")
-    out = detections.copy()
-    n = len(out)
+    n = len(detections)
     label = np.full(n, GHOST, dtype=object)
     actor_id = np.full(n, -1, dtype=np.int64)
     actor_class = np.full(n, "", dtype=object)
@@ -359,13 +358,10 @@ def associate(detections: pd.DataFrame, truth: pd.DataFrame, *, velocity_span_mp
         label[ground] = CLUTTER
         actor_id[ground] = STATIC_SCATTERER_IDS[0]
         actor_class[ground] = "ground"
-    out["label"] = label
-    out["actor_id"] = actor_id
-    out["actor_class"] = actor_class
-    out["truth_radial_velocity_mps"] = v_true
-    out["velocity_alias_k"] = alias_k
-    out["box_distance_m"] = box_dist
-    return out
+    return with_columns(detections, {
+        "label": label, "actor_id": actor_id, "actor_class": actor_class,
+        "truth_radial_velocity_mps": v_true, "velocity_alias_k": alias_k,
+        "box_distance_m": box_dist})
 
 
 def _ground_match(detections: pd.DataFrame, scatterers: pd.DataFrame,
@@ -451,18 +447,16 @@ def detection_errors(labelled: pd.DataFrame, truth: pd.DataFrame,
         ``azimuth_error_deg`` (detection minus nearest scatterer azimuth, deg; NaN for a box
         reference) and ``error_reference`` ("scatterer", "box" or "").
     """
-    out = labelled.copy()
+    out = labelled
     n = len(out)
     # The four columns as arrays, set in place and added at the end (in this order).
     rng_err, vel_err = np.full(n, np.nan), np.full(n, np.nan)
     ref, az_err = np.full(n, "", dtype=object), np.full(n, np.nan)
 
     def finish() -> pd.DataFrame:
-        out["range_error_m"] = rng_err
-        out["radial_velocity_error_mps"] = vel_err
-        out["error_reference"] = ref
-        out["azimuth_error_deg"] = az_err
-        return out
+        return with_columns(labelled, {
+            "range_error_m": rng_err, "radial_velocity_error_mps": vel_err,
+            "error_reference": ref, "azimuth_error_deg": az_err})
     is_true = (out["label"] == TRUE).to_numpy()
     if not is_true.any():
         return finish()

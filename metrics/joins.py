@@ -6,10 +6,13 @@ whose per-call cost dominates on the few-thousand-row tables of one sweep cell.
 """
 from __future__ import annotations
 
+import copy
+
 import numpy as np
+import pandas as pd
 
 __all__ = ["pair_index", "pair_isin", "key_join", "sorted_join", "first_valid_rows",
-           "rows_by_frame"]
+           "rows_by_frame", "with_columns"]
 
 
 def _keys(frame: np.ndarray, actor: np.ndarray, q_frame: np.ndarray,
@@ -81,3 +84,20 @@ def rows_by_frame(frame: np.ndarray) -> dict:
     order = np.argsort(frame, kind="stable")
     keys, starts = np.unique(frame[order], return_index=True)
     return dict(zip(keys.tolist(), np.split(order, starts[1:])))
+
+
+def with_columns(df: pd.DataFrame, columns: dict) -> pd.DataFrame:
+    """A copy of `df` with `columns` (name -> (N,) array) appended in order: what assigning
+    them one by one to ``df.copy()`` gives, dtypes included, in one concatenation (each
+    assignment re-builds the table's column index: ~0.15-0.25 ms apiece under pandas 3). A
+    name `df` already has is assigned in place, as an assignment would."""
+    if not columns:
+        return df.copy()
+    if any(c in df.columns for c in columns):
+        out = df.copy()
+        for c, v in columns.items():
+            out[c] = v
+        return out
+    out = pd.concat([df, pd.DataFrame(columns, index=df.index)], axis=1)
+    out.attrs = copy.deepcopy(df.attrs)  # as df.copy() keeps them
+    return out

@@ -29,6 +29,7 @@ from .association import (
     associate,
     detection_errors,
 )
+from .joins import with_columns
 from .registry import METRICS, case_criteria
 from .velocity import FAILURE, RIGHT, velocity_check
 
@@ -180,15 +181,13 @@ def label_detections(points: pd.DataFrame, truth: pd.DataFrame, scatterers: pd.D
             lab.loc[sel, "actor_id"] = actor[sel]
             lab.loc[sel, "actor_class"] = cls.reindex(actor[sel]).to_numpy()
             lab.loc[sel, "truth_radial_velocity_mps"] = v_true[sel]
-    lab["velocity_check"] = verdict
-    lab["velocity_actor_id"] = actor
-    lab["velocity_step_k"] = k
-    lab["velocity_truth_mps"] = v_true
-    lab["velocity_resolution_failure"] = verdict == FAILURE
-    # which verdicts were checked against infrastructure (guard rails), not road users: the
-    # road-user velocity metrics leave them out, the infrastructure columns count them
-    lab["velocity_on_infrastructure"] = found
-    return lab
+    # velocity_on_infrastructure: which verdicts were checked against infrastructure (guard
+    # rails), not road users: the road-user velocity metrics leave them out, the
+    # infrastructure columns count them
+    return with_columns(lab, {
+        "velocity_check": verdict, "velocity_actor_id": actor, "velocity_step_k": k,
+        "velocity_truth_mps": v_true, "velocity_resolution_failure": verdict == FAILURE,
+        "velocity_on_infrastructure": found})
 
 
 class SchemeScore(NamedTuple):

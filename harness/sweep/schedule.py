@@ -201,9 +201,9 @@ def _run_local(pending: list, out: Path, workers: int, components, bar, plugins=
     by cell id, ids whose worker died).
 
     The pool starts the cells in order; each runs its frames on one thread while the cells
-    submitted after it keep the other workers busy, and on `FRAME_THREADS` where a core would
-    otherwise idle (`harness.cell.run.cell_frame_threads`: the last ``workers`` cells, or
-    every cell when the workers are fewer than the cores)."""
+    submitted after it keep the other workers busy, and on `harness.cell.run.FRAME_THREADS`
+    where a core would otherwise idle (`harness.cell.run.cell_frame_threads`: the last
+    ``workers`` cells, or every cell when the workers are fewer than the cores)."""
     results: dict[str, dict] = {}
     interrupted: list[str] = []
     threads = [cell_frame_threads(len(pending) - 1 - i, workers) for i in range(len(pending))]

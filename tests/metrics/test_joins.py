@@ -2,7 +2,7 @@
 import numpy as np
 import pandas as pd
 
-from metrics.joins import first_valid_rows
+from metrics.joins import first_valid_rows, with_columns
 
 
 def test_first_valid_rows_is_groupby_first_else_the_first_row():
@@ -21,3 +21,18 @@ def test_first_valid_rows_is_groupby_first_else_the_first_row():
     assert pd.isna(got[ids == 5][0]) and rows[ids == 5][0] == np.flatnonzero(key == 5)[0]
     named = ids != 5
     assert list(got[named]) == list(want.loc[ids[named]])
+
+
+def test_with_columns_is_assigning_them_one_by_one():
+    df = pd.DataFrame({"a": [1.0, 2.0, 3.0], "s": ["x", "y", "z"]}, index=[5, 3, 9])
+    df.attrs["saturation"] = {"n": 1}
+    cols = {"label": np.array(["TRUE", "", "GHOST"], dtype=object),
+            "k": np.arange(3, dtype=np.int64), "a": np.zeros(3)}
+    for new in (dict(list(cols.items())[:2]), cols):   # new names only; one already there
+        ref = df.copy()
+        for c, v in new.items():
+            ref[c] = v
+        got = with_columns(df, new)
+        pd.testing.assert_frame_equal(got, ref, check_exact=True)
+        assert got.attrs == ref.attrs and got is not df
+    assert list(df.columns) == ["a", "s"]
