@@ -230,15 +230,30 @@ def _cholesky(prefix, shrink, run_s, run_e, n_runs, lt, acc):
             lt[j, i] = acc[p + i - j]
         lt[j, j] += 1.0 + shrink[j]
         p += w
-    for m in range(uk):
+    # two columns m, m + 1 at a time: row m + 1 takes column m's update and is finished,
+    # then the trailing rows take both updates in one pass (m's subtraction, then m + 1's:
+    # the same order as one column at a time, half the passes over the trailing triangle)
+    m = _U(0)
+    while m < uk:
         lt[m, m] = np.sqrt(lt[m, m].real)
         d = lt[m, m]
         for i in range(m + _U(1), uk):
             lt[m, i] = lt[m, i] / d
-        for j in range(m + _U(1), uk):
-            w = np.conj(lt[m, j])
+        m1 = m + _U(1)
+        if m1 == uk:
+            break
+        w = np.conj(lt[m, m1])
+        for i in range(m1, uk):
+            lt[m1, i] -= lt[m, i] * w
+        lt[m1, m1] = np.sqrt(lt[m1, m1].real)
+        d = lt[m1, m1]
+        for i in range(m1 + _U(1), uk):
+            lt[m1, i] = lt[m1, i] / d
+        for j in range(m1 + _U(1), uk):
+            wa, wb = np.conj(lt[m, j]), np.conj(lt[m1, j])
             for i in range(j, uk):
-                lt[j, i] -= lt[m, i] * w
+                lt[j, i] = (lt[j, i] - lt[m, i] * wa) - lt[m1, i] * wb
+        m += _U(2)
 
 
 @numba.njit(cache=True, nogil=True)
@@ -263,24 +278,28 @@ def _fit_rows(x, rhs, vec_c, lt, run_s, run_e, n_runs, r0, r1, y, c):
     for r in range(nr):
         for i in range(kp):
             y[r, i] = rhs[r0 + r, i] if i < uk else 0
-    for q in range(n_runs):
-        for t in range(_U(run_s[q]), _U(run_e[q])):
-            for r in range(nr):
-                xt = x[r0 + r, t]
+    for r in range(nr):  # each row's samples in run order, as the samples' loop took them
+        yr, xr = y[r], x[r0 + r]
+        for q in range(n_runs):
+            for t in range(_U(run_s[q]), _U(run_e[q])):
+                xt = xr[t]
                 for i in range(kp):
-                    y[r, i] -= xt * vec_c[t, i]
+                    yr[i] -= xt * vec_c[t, i]
     for g in range(0, nr4, 4):
         g1, g2, g3 = g + 1, g + 2, g + 3
-        for i in range(uk):  # L y' = y: y'[i] = (y[i] - sum_m<i L[i, m] y'[m]) / L[i, i]
-            s0, s1, s2, s3 = y[g, i], y[g1, i], y[g2, i], y[g3, i]
-            for m in range(i):
+        # L y' = y: y'[i] = (y[i] - sum_m<i L[i, m] y'[m]) / L[i, i], in column form: once
+        # y'[m] is known it is subtracted from every later element (a loop over contiguous,
+        # independent elements), each element's subtractions in increasing m
+        for m in range(uk):
+            d = lt[m, m]
+            v0, v1, v2, v3 = y[g, m] / d, y[g1, m] / d, y[g2, m] / d, y[g3, m] / d
+            y[g, m], y[g1, m], y[g2, m], y[g3, m] = v0, v1, v2, v3
+            for i in range(m + _U(1), uk):
                 w = lt[m, i]
-                s0 -= w * y[g, m]
-                s1 -= w * y[g1, m]
-                s2 -= w * y[g2, m]
-                s3 -= w * y[g3, m]
-            d = lt[i, i]
-            y[g, i], y[g1, i], y[g2, i], y[g3, i] = s0 / d, s1 / d, s2 / d, s3 / d
+                y[g, i] -= w * v0
+                y[g1, i] -= w * v1
+                y[g2, i] -= w * v2
+                y[g3, i] -= w * v3
         for ii in range(uk):  # L^H c = y', from the last coefficient back
             i = uk - _U(1) - ii
             s0, s1, s2, s3 = y[g, i], y[g1, i], y[g2, i], y[g3, i]

@@ -106,6 +106,13 @@ def residual_burst_flags(x: np.ndarray, vectors: np.ndarray, noise_var: float,
     >>> f.any(axis=1).tolist(), bool(f[2, 110:130].all())
     ([False, False, True, False], True)
     """
+    return _flags_and_hits(x, vectors, noise_var, threshold_db, window)[0]
+
+
+def _flags_and_hits(x: np.ndarray, vectors: np.ndarray, noise_var: float, threshold_db: float,
+                    window: int) -> tuple[np.ndarray, np.ndarray]:
+    """`residual_burst_flags` and (R,) bool, the rows with a burst window (the kernel knows
+    them: no pass over the (R, n) flags to find them)."""
     n = x.shape[-1]
     if not (isinstance(window, (int, np.integer)) and BLOCK <= window <= n
             and window % BLOCK == 0):
@@ -113,17 +120,19 @@ def residual_burst_flags(x: np.ndarray, vectors: np.ndarray, noise_var: float,
                        f"[{BLOCK}, {n}]")
     r = (x @ vectors) @ vectors.conj().T
     out = np.zeros(x.shape, dtype=bool)
+    hit = np.zeros(len(x), dtype=bool)
     _burst_windows(x, r, np.float32(window * noise_var),
-                   np.float32(10 ** (threshold_db / 10)), window // BLOCK, out)
-    return out
+                   np.float32(10 ** (threshold_db / 10)), window // BLOCK, out, hit)
+    return out, hit
 
 
 @numba.njit(cache=True, nogil=True)
-def _burst_windows(x, r, floor, factor, nb, out):
+def _burst_windows(x, r, floor, factor, nb, out, hit):
     """out[i] <- the samples of row i's burst windows (`residual_burst_flags`), one pass per
     row: x (R, n) the rows, r (R, n) their projections on the subspace (same dtype), `floor`
     the noise energy of a window (float32), `factor` the threshold as a power ratio (float32),
-    nb the blocks of `BLOCK` samples per window; out (R, n) bool, False on entry.
+    nb the blocks of `BLOCK` samples per window; out (R, n) bool, False on entry; hit (R,)
+    bool, False on entry, <- True for a row with a burst window.
 
     Every value is numpy's formulation's, bit for bit: the residual power (x - r)^2 (|x - r|^2
     = re^2 + im^2 for I/Q) in float32; a block's powers added in sample order, the last
@@ -180,6 +189,7 @@ def _burst_windows(x, r, floor, factor, nb, out):
                     blk[j + k] = True
         if not any_hit:
             continue
+        hit[i] = True
         o = out[i]
         for j in range(n_blocks):
             if blk[j]:
@@ -237,10 +247,16 @@ def with_weak_bursts(adc: np.ndarray, dc: np.ndarray | None, rows: np.ndarray,
     else:
         x = a2[idx].astype(dtype)
         x -= x.mean(axis=-1, keepdims=True) if dc is None else dc.reshape(-1, 1)[idx].astype(dtype)
-    new = residual_burst_flags(x, basis.vectors, basis.noise_var, threshold_db, window)
-    hit = np.flatnonzero(new.any(axis=-1))
+    new, hit = _flags_and_hits(x, basis.vectors, basis.noise_var, threshold_db, window)
+    hit = np.flatnonzero(hit)
     if hit.size == 0:
         return rows, flags
     all_rows = np.concatenate([rows, idx[hit]])
     order = np.argsort(all_rows, kind="stable")
-    return all_rows[order], np.concatenate([flags.reshape(-1, n), new[hit]])[order]
+    # each row's flags copied once, straight to its place in row order
+    at = np.empty_like(order)
+    at[order] = np.arange(len(order))
+    merged = np.empty((len(all_rows), n), dtype=bool)
+    merged[at[:len(rows)]] = flags.reshape(-1, n)
+    merged[at[len(rows):]] = new[hit]
+    return all_rows[order], merged
