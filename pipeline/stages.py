@@ -25,7 +25,7 @@ from .cfar import cfar_peaks, noise_mean_factor
 from .config import WINDOWS, ProcessingConfig
 from .config_cache import per_config
 from .kernels import estimate_angles, layout_of, parabolic_offset
-from .peak_refinement import neighbour_bins, refine_peaks_2d
+from .peak_refinement import neighbour_bins, peak_patches, refine_peaks_2d
 
 __all__ = ["POINT_CLOUD_COLUMNS", "check_frame", "power_of", "log_power", "point_cloud",
            "empty_cloud", "interp_azimuth", "interp_range", "interp_doppler", "array_dft",
@@ -36,6 +36,10 @@ POINT_CLOUD_COLUMNS = ["range_m", "azimuth_deg", "elevation_deg", "radial_veloci
                        "snr_db", "x_m", "y_m", "z_m", "range_bin", "doppler_bin",
                        "azimuth_bin", "saturated"]
 _BIN_COLUMNS = ("range_bin", "doppler_bin", "azimuth_bin")
+#: The column labels of every chain's point cloud, made once: each cloud gets a shallow copy
+#: (`point_cloud`), its own name but the same labels and the same lookup table, which pandas
+#: builds on a label's first lookup (``points["saturated"]``) and keeps with the labels.
+_COLUMN_LABELS = pd.Index(POINT_CLOUD_COLUMNS)
 
 
 def check_frame(cfg: RadarConfig, adc: np.ndarray) -> None:
@@ -92,7 +96,13 @@ def point_cloud(cfg: RadarConfig, proc: ProcessingConfig, range_pos: np.ndarray,
                # Filled by `pipeline.saturation.apply_policy`; present from the start, so that
                # the policy replaces a column instead of growing the frame.
                np.zeros(rng_m.size, dtype=bool)]
-    return pd.DataFrame(dict(zip(POINT_CLOUD_COLUMNS, columns)), copy=False)
+    # Built on positions, then labelled: pandas would make a new Index of the 12 strings
+    # (and, on the first lookup, its hash table) for every cloud. The copy keeps a name given
+    # to one cloud's labels on that cloud. 0.19-0.28 -> 0.12-0.17 ms per cloud with two
+    # lookups (60 points, best of 400 alternated).
+    points = pd.DataFrame(dict(enumerate(columns)), copy=False)
+    points.columns = _COLUMN_LABELS.copy()
+    return points
 
 
 def interp_azimuth(power_az: np.ndarray, a: np.ndarray) -> np.ndarray:
@@ -358,15 +368,16 @@ def noncoherent_hits(rd: np.ndarray, looks: int, proc: ProcessingConfig) -> Rang
     return RangeDopplerHits(r, d, noise, range_pos, doppler_off, looks)
 
 
-def refine_hits(hits: RangeDopplerHits, cube: np.ndarray, n_range_fft: int) -> RangeDopplerHits:
+def refine_hits(hits: RangeDopplerHits, spec: np.ndarray, n_range_fft: int) -> RangeDopplerHits:
     """The hits' range and Doppler at the maximum of their windowed spectra over the channels
-    of `cube` (`pipeline.peak_refinement`), the 3-point estimates as starts.
+    of `spec` (`pipeline.peak_refinement`), the 3-point estimates as starts.
 
     Parameters
     ----------
     hits : RangeDopplerHits
-    cube : (n_range, n_dop, C) complex
-        The channels' range-Doppler spectra the map was summed from (Doppler cyclic).
+    spec : (n_dop, C, n_range) complex64, C-contiguous
+        The channels' Doppler spectra the map was summed from (Doppler cyclic; a slot chain's
+        `SlotMaps.spec`).
     n_range_fft : int
         Length of the range FFT (no zero padding: n_samples).
 
@@ -378,10 +389,12 @@ def refine_hits(hits: RangeDopplerHits, cube: np.ndarray, n_range_fft: int) -> R
     r, d = hits.range_bin, hits.doppler_bin
     if r.size == 0:
         return hits
-    n_range, n_dop = cube.shape[:2]
+    n_dop, _, n_range = spec.shape
     r_idx, on = neighbour_bins(r, n_range, cyclic=False)
     d_idx, _ = neighbour_bins(d, n_dop, cyclic=True)
-    patch = np.moveaxis(cube[r_idx[:, :, None], d_idx[:, None, :]], 3, 1)  # (n, C, Mr, Md)
+    # One compiled gather (the channels as one "transmitter"), not numpy's fancy indexing of
+    # an (n, Mr, Md, C) copy moved to (n, C, Mr, Md): the same samples, the same bits.
+    patch = peak_patches(spec, d_idx[:, None, :], r_idx)  # (n, C, Mr, Md)
     r_off, d_off = refine_peaks_2d(patch, on, hits.range_pos - r, hits.doppler_offset,
                                    n_range_fft, n_dop)
     return hits._replace(range_pos=r + r_off, doppler_offset=d_off)

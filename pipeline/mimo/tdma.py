@@ -73,6 +73,11 @@ class SlotMaps(NamedTuple):
     power: np.ndarray
     virt: np.ndarray
 
+    @property
+    def spec(self) -> np.ndarray:
+        """(n_dop, n_slots x n_rx, n_range) complex64, C-contiguous: the spectra `virt` views."""
+        return np.moveaxis(self.virt, 0, 2)
+
 
 def slot_spectra(xw: np.ndarray, n_tx: int, mode: CfarMode | None = None) -> SlotMaps:
     """Per-slot Doppler spectra and the non-coherent map of a windowed slot cube.
@@ -196,7 +201,7 @@ class SlotChain(MimoChain):
 
         hits = noncoherent_hits(rd, cfg.n_virtual, proc)
         # range and Doppler at the maximum of the slot channels' windowed spectra
-        hits = refine_hits(hits, virt_all, cfg.n_samples)
+        hits = refine_hits(hits, maps.spec, cfg.n_samples)
         d_signed = (hits.doppler_bin + hits.doppler_offset + n_dop / 2) % n_dop - n_dop / 2
         t_slot = n_tx * cfg.chirp_period_s
         v_est = -d_signed / (n_dop * t_slot) * cfg.wavelength_m / 2

@@ -148,6 +148,28 @@ def test_peak_patches_are_the_cube_at_the_neighbour_bins():
     assert got.tobytes() == want.tobytes()
 
 
+
+def test_refine_hits_reads_the_slot_spectra_as_fancy_indexing_does():
+    """`stages.refine_hits` on a slot chain's (D, C, B) spectra (`peak_patches`, the channels
+    as one transmitter) gives the offsets of `refine_peaks_2d` on the patches numpy's fancy
+    indexing reads from the (B, D, C) view, bit for bit (range edges, Doppler wrap)."""
+    from pipeline.stages import RangeDopplerHits, refine_hits
+
+    rng = np.random.default_rng(5)
+    spec = (rng.standard_normal((48, 8, 40)) + 1j * rng.standard_normal((48, 8, 40))
+            ).astype(np.complex64)
+    r, d = np.array([0, 17, 39, 3]), np.array([5, 47, 20, 0])
+    hits = RangeDopplerHits(r, d, np.ones(4, np.float32), r + rng.uniform(-0.4, 0.4, 4),
+                            rng.uniform(-0.4, 0.4, 4), 8)
+    got = refine_hits(hits, spec, 80)
+    cube = np.moveaxis(spec, 2, 0)  # (B, D, C)
+    r_idx, on = neighbour_bins(r, 40, cyclic=False)
+    d_idx, _ = neighbour_bins(d, 48, cyclic=True)
+    patch = np.moveaxis(cube[r_idx[:, :, None], d_idx[:, None, :]], 3, 1)
+    r_off, d_off = refine_peaks_2d(patch, on, hits.range_pos - r, hits.doppler_offset, 80, 48)
+    assert got.range_pos.tobytes() == (r + r_off).tobytes()
+    assert got.doppler_offset.tobytes() == d_off.tobytes()
+
 def test_monte_carlo_rmse_near_the_hann_ml_and_unbiased():
     """At 20 dB detection SNR a single Hann-windowed tone's windowed-periodogram maximum has an
     RMSE of 1.25 x the CRB of that SNR (Kay 1993, linearised; the 3-point log-parabola 1.5 x):
