@@ -98,10 +98,12 @@ def interference_row() -> str:
                 "<= 1.3x", "clean frame")
 
 
-def cell_row() -> str:
-    """A sweep cell frame (wall, both cores) / its stage floor."""
+def cell_rows() -> list[str]:
+    """A sweep cell frame / its stage floor: the cell on `FRAME_THREADS` frame threads (as it
+    runs alone, or among a pool sweep's last cells) and on one (as a pool sweep runs every other
+    cell, `harness.cell.run.cell_frame_threads`), each alternated with the floor."""
     from harness.cell.components import default_components
-    from harness.cell.run import run_cell
+    from harness.cell.run import FRAME_THREADS, run_cell
     from harness.cell.spec import CellSpec
     comps = default_components()
     spec = CellSpec(scenario=CELL_CASE, duration_s=CELL_DURATION_S)
@@ -117,10 +119,15 @@ def cell_row() -> str:
             fft_floor_once(c, x32[c.mimo])
 
     n_frames = len(run_cell(spec, comps).tables["truth"]["frame"].unique())
-    t = alternating_best({"cell": lambda: run_cell(spec, comps), "floor": floor})
-    cell = tuple(v / n_frames for v in t["cell"])
-    return _row(f"sweep cell frame, {CELL_CASE} ({n_frames} frames)", cell, t["floor"],
-                "<= 2x", "2 `simulate_frame` (K = 100) + 3 chain floors")
+    t = alternating_best({"threads": lambda: run_cell(spec, comps, frame_threads=FRAME_THREADS),
+                          "one": lambda: run_cell(spec, comps, frame_threads=1),
+                          "floor": floor})
+    per_frame = {k: tuple(v / n_frames for v in t[k]) for k in ("threads", "one")}
+    what = "2 `simulate_frame` (K = 100) + 3 chain floors"
+    return [_row(f"sweep cell frame, {CELL_CASE} ({n_frames} frames), {FRAME_THREADS} frame "
+                 "threads", per_frame["threads"], t["floor"], "<= 2x", what),
+            _row("the same on one frame thread (a pool sweep's cells but its last)",
+                 per_frame["one"], t["floor"], "<= 2x", "the same")]
 
 
 def scene_and_tracker_rows() -> list[str]:
@@ -154,7 +161,7 @@ def run() -> list[str]:
              "target (CPU) |", "|---|---|---|---|---|"]
     lines += scheme_rows()
     lines.append(interference_row())
-    lines.append(cell_row())
+    lines += cell_rows()
     lines += scene_and_tracker_rows()
     load = os.getloadavg()[0] if hasattr(os, "getloadavg") else float("nan")
     lines.append(f"1-min load average {load:.1f} at the end")

@@ -24,7 +24,7 @@ DURATION_S = 1.0
 
 
 def _cell_floor():
-    """The floor of a cell frame as `bench_floors.cell_row` times it (the same scene: K = 100
+    """The floor of a cell frame as `bench_floors.cell_rows` times it (the same scene: K = 100
     point scatterers, `bench_floors.scene`): a zero-argument call."""
     import radarsim
     from benchmarks.bench_floors import scene
