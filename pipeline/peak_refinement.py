@@ -364,7 +364,9 @@ def _alternate(x: np.ndarray, on_axis: np.ndarray, off_r: np.ndarray, off_d: np.
             _kernel_at(off_d[p], n_fft_d, shift_d, phase_d, k_d)
             _kernel_at(off_r[p], n_fft_r, shift_r, phase_r, k_r)
             w[:m_d] = k_d[0]
-            _interpolate(x[p], w[:m_d], y_r)
+            # x[p, :, :, :] is typed as a strided view, like the transposed one below: one
+            # compiled `_interpolate` serves both calls (x[p] would add a contiguous variant).
+            _interpolate(x[p, :, :, :], w[:m_d], y_r)
             for i in range(m_r):
                 if not on_axis[p, i]:
                     y_r[:, i] = 0

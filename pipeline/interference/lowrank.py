@@ -417,7 +417,7 @@ def _repair_bursts(x, flags, rhs, vec_c, vec_t, prefix, shrink, row_start, b0, b
                 near[e_buf[q]:min(e_buf[q] + reach, n)] = True
             grown = False
             united[:] = mask  # the grown mask
-            t = 0
+            t = np.int64(0)  # not the constant 0: `_evaluate` would also be compiled for it
             while t < n:
                 if not near[t] or mask[t]:
                     t += 1

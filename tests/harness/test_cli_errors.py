@@ -60,3 +60,20 @@ def test_the_console_script_prints_a_bugs_traceback_and_exits_1():
     assert out.returncode == 1
     assert "Traceback (most recent call last)" in out.stderr
     assert "ZeroDivisionError" in out.stderr
+
+
+def test_help_and_usage_errors_import_no_command_but_their_own():
+    """``radar-harness --help``, an unknown command and ``gate --help`` build the parser from
+    the light command modules: the pipeline, the scenarios, highway-env and radarsim stay
+    unimported (each CLI start used to pay ~1 s CPU for them through other commands'
+    options), and the answers are the usual ones."""
+    code = ("import contextlib, io, sys; from harness.cli import main\n"
+            "out = io.StringIO()\n"
+            "with contextlib.redirect_stdout(out), contextlib.redirect_stderr(out):\n"
+            "    codes = [main(['--help']), main(['bogus']), main(['gate', '--help'])]\n"
+            "heavy = sorted({m.split('.')[0] for m in sys.modules} & "
+            "{'pipeline', 'scenarios', 'highway_env', 'radarsim', 'pandas'})\n"
+            "print(codes, heavy, 'sweep' in out.getvalue(), '--thresholds' in out.getvalue())\n")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         timeout=120)
+    assert out.stdout.strip() == "[0, 2, 0] [] True True", out.stderr
