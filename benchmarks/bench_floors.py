@@ -98,15 +98,10 @@ def interference_row() -> str:
                 "<= 1.3x", "clean frame")
 
 
-def cell_rows() -> list[str]:
-    """A sweep cell frame / its stage floor: the cell on `FRAME_THREADS` frame threads (as it
-    runs alone, or among a pool sweep's last cells) and on one (as a pool sweep runs every other
-    cell, `harness.cell.run.cell_frame_threads`), each alternated with the floor."""
-    from harness.cell.components import default_components
-    from harness.cell.run import FRAME_THREADS, run_cell
-    from harness.cell.spec import CellSpec
-    comps = default_components()
-    spec = CellSpec(scenario=CELL_CASE, duration_s=CELL_DURATION_S)
+def cell_floor():
+    """The floor of a sweep cell frame as a zero-argument call: two `simulate_frame` calls (R79
+    DDMA and TDMA, the `scene` of K = `N_SCATTERERS` point scatterers) and three chain floors
+    (DDMA, TDMA, TDMA raw; float32 frames converted outside the timing)."""
     sc = scene()
     cfgs = [radarsim.presets.r79_ddma(), radarsim.presets.r79_tdma()]
     x32 = {c.mimo: radarsim.simulate_frame(c, sc, np.random.default_rng(0)).astype(np.float32)
@@ -117,7 +112,19 @@ def cell_rows() -> list[str]:
             radarsim.simulate_frame(c, sc, np.random.default_rng(0))
         for c in (cfgs[0], cfgs[1], cfgs[1]):  # DDMA, TDMA, TDMA raw
             fft_floor_once(c, x32[c.mimo])
+    return floor
 
+
+def cell_rows() -> list[str]:
+    """A sweep cell frame / its stage floor: the cell on `FRAME_THREADS` frame threads (as it
+    runs alone, or among a pool sweep's last cells) and on one (as a pool sweep runs every other
+    cell, `harness.cell.run.cell_frame_threads`), each alternated with the floor."""
+    from harness.cell.components import default_components
+    from harness.cell.run import FRAME_THREADS, run_cell
+    from harness.cell.spec import CellSpec
+    comps = default_components()
+    spec = CellSpec(scenario=CELL_CASE, duration_s=CELL_DURATION_S)
+    floor = cell_floor()
     n_frames = len(run_cell(spec, comps).tables["truth"]["frame"].unique())
     t = alternating_best({"threads": lambda: run_cell(spec, comps, frame_threads=FRAME_THREADS),
                           "one": lambda: run_cell(spec, comps, frame_threads=1),

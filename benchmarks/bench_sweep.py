@@ -15,30 +15,11 @@ harness adds per frame on top of them (scenario, association, metrics, tracking,
 """
 from __future__ import annotations
 
-import numpy as np
-
-from benchmarks._timing import ROUNDS, alternating_best, fft_floor_once
+from benchmarks._timing import ROUNDS, alternating_best
+from benchmarks.bench_floors import cell_floor
 
 CASE = "r79_motorcycle_rear"
 DURATION_S = 1.0
-
-
-def _cell_floor():
-    """The floor of a cell frame as `bench_floors.cell_rows` times it (the same scene: K = 100
-    point scatterers, `bench_floors.scene`): a zero-argument call."""
-    import radarsim
-    from benchmarks.bench_floors import scene
-    sc = scene()
-    cfgs = [radarsim.presets.r79_ddma(), radarsim.presets.r79_tdma()]
-    x32 = {c.mimo: radarsim.simulate_frame(c, sc, np.random.default_rng(0)).astype(np.float32)
-           for c in cfgs}
-
-    def floor():
-        for c in cfgs:
-            radarsim.simulate_frame(c, sc, np.random.default_rng(0))
-        for c in (cfgs[0], cfgs[1], cfgs[1]):  # DDMA, TDMA, TDMA raw
-            fft_floor_once(c, x32[c.mimo])
-    return floor
 
 
 def run() -> list[str]:
@@ -73,7 +54,7 @@ def run() -> list[str]:
                                  for s, m in chains])})
     t = alternating_best({"cell": lambda: run_cell(spec, comps, frame_threads=FRAME_THREADS),
                           "cell1": lambda: run_cell(spec, comps, frame_threads=1),
-                          "floor": _cell_floor()})
+                          "floor": cell_floor()})
     n = len(run_cell(spec, comps).tables["truth"]["frame"].unique())
     fc = t["floor"].cpu_s
     stages = sum(v.cpu_s for v in st.values())
