@@ -447,8 +447,7 @@ def detection_errors(labelled: pd.DataFrame, truth: pd.DataFrame,
         ``azimuth_error_deg`` (detection minus nearest scatterer azimuth, deg; NaN for a box
         reference) and ``error_reference`` ("scatterer", "box" or "").
     """
-    out = labelled
-    n = len(out)
+    n = len(labelled)
     # The four columns as arrays, set in place and added at the end (in this order).
     rng_err, vel_err = np.full(n, np.nan), np.full(n, np.nan)
     ref, az_err = np.full(n, "", dtype=object), np.full(n, np.nan)
@@ -457,15 +456,15 @@ def detection_errors(labelled: pd.DataFrame, truth: pd.DataFrame,
         return with_columns(labelled, {
             "range_error_m": rng_err, "radial_velocity_error_mps": vel_err,
             "error_reference": ref, "azimuth_error_deg": az_err})
-    is_true = (out["label"] == TRUE).to_numpy()
+    is_true = (labelled["label"] == TRUE).to_numpy()
     if not is_true.any():
         return finish()
     pos = np.flatnonzero(is_true)
     # The TRUE rows' columns from arrays (not a take of every column of the table).
-    det = pd.DataFrame({c: out[c].to_numpy()[pos] for c in (
+    det = pd.DataFrame({c: labelled[c].to_numpy()[pos] for c in (
         "frame", "actor_id", "x_m", "y_m", "range_m", "radial_velocity_mps")})
     det["row"] = pos
-    done = np.zeros(len(out), dtype=bool)
+    done = np.zeros(len(labelled), dtype=bool)
     if scatterers is not None and len(scatterers):
         # Nearest scatterer of the detection's (frame, actor): every such pair by sorted
         # integer keys (the inner join's pairs, each detection's scatterers in table order),
@@ -490,14 +489,14 @@ def detection_errors(labelled: pd.DataFrame, truth: pd.DataFrame,
             done[rows] = True
     rest = np.flatnonzero(is_true & ~done)
     if len(rest):
-        sub = pd.DataFrame({c: out[c].to_numpy()[rest] for c in (
+        sub = pd.DataFrame({c: labelled[c].to_numpy()[rest] for c in (
             "frame", "x_m", "y_m", "range_m", "actor_id", "radial_velocity_mps")})
         pairs = _pairs(sub, truth, AssociationConfig(), np.inf, rows=np.flatnonzero(
             truth["actor_id"].isin(sub["actor_id"]).to_numpy()))
         pairs = pairs[pairs["actor_id"].to_numpy() == sub["actor_id"].to_numpy()[
             pairs["det_index"].to_numpy()]]
         rows = rest[pairs["det_index"].to_numpy()]
-        rng_err[rows] = out["range_m"].to_numpy()[rows] - pairs["near_range_m"].to_numpy()
+        rng_err[rows] = labelled["range_m"].to_numpy()[rows] - pairs["near_range_m"].to_numpy()
         vel_err[rows] = pairs["dv_mps"].to_numpy()
         ref[rows] = "box"
     return finish()

@@ -13,6 +13,7 @@ from metrics.association import (
     TRUE,
     VELOCITY_AMBIGUOUS,
     AssociationConfig,
+    _pairs,
     actor_frames,
     associate,
     detection_errors,
@@ -209,7 +210,6 @@ def test_gated_pairs_keep_every_pair_in_the_position_gate():
     """`associate` builds only the pairs whose detection can reach the gate (`_gate_reach`):
     on random yawed boxes with detections scattered around them, at every range, every pair
     with pos_cost <= 1 is kept, in the same order and with the same values."""
-    from metrics.association import _pairs
     g = np.random.default_rng(7)
     truth = pd.DataFrame([actor(frame=f, actor_id=i, x=g.uniform(-150, 150),
                                 y=g.uniform(-150, 150), yaw=g.uniform(-180, 180),
