@@ -83,7 +83,6 @@ def neighbour_bins(k: np.ndarray, n_bins: int, cyclic: bool) -> tuple[np.ndarray
     return np.clip(idx, 0, n_bins - 1), (idx >= 0) & (idx < n_bins)
 
 
-
 def peak_patches(spec: np.ndarray, chirps: np.ndarray, bins: np.ndarray) -> np.ndarray:
     """The patches `refine_peaks_2d` reads, gathered from a cube with Doppler first: each
     peak's channels (transmitter t's Doppler rows, every Rx) at its neighbour range bins.

@@ -68,7 +68,8 @@ def build_parser(only: str | None = None) -> argparse.ArgumentParser:
     (all that ``radar-harness --help`` and an unknown command's error show), so a run pays for
     the imports of its own command alone (``gate`` or ``scenarios`` used to import the
     pipeline, the scenarios and highway-env through ``sweep``'s and ``process``' options, ~1.5 s
-    CPU per start). ``only=None`` builds every command's options."""
+    CPU per start). ``only=None`` builds every command's options; ``only=""`` (no command
+    named: ``--help``, an unknown word) none."""
     parser = _Parser(prog="radar-harness", description=__doc__.splitlines()[0])
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
     for name, (module, help_text) in COMMANDS.items():
