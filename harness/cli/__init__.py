@@ -97,7 +97,6 @@ def _one_line(exc: BaseException) -> str:
 
 def main(argv: list[str] | None = None) -> int:
     try:
-        prepare_process()
         with terminate_on_signals():
             return _main(argv)
     except KeyboardInterrupt as exc:  # during start-up: the commands' modules (pandas, scipy,
@@ -119,6 +118,10 @@ def _main(argv: list[str] | None) -> int:
         args = parser.parse_args(argv)
     except SystemExit as exc:  # --help (0) or a one-line usage error (2)
         return int(exc.code or 0) if not isinstance(exc.code, str) else EXIT_BAD_INPUT
+    # Once the arguments parse, before the command computes anything (its module's import
+    # included): one BLAS thread, the allocator, numba's cache lock. Not earlier: loading
+    # scipy.linalg and numba is ~0.7 s of CPU that `--help` and a usage error do not need.
+    prepare_process()
     mod = importlib.import_module(args._module)
     runner = getattr(mod, f"run_{args.command}", getattr(mod, "run", None))
     try:
