@@ -310,6 +310,14 @@ def test_output_table_and_track_frames(rng):
     assert (out.n_points == 5).all()
     empty = track_frames([], tracker_cfg())
     assert list(empty.columns) == ["frame", *TRACK_COLUMNS] and empty.empty
+    # the streaming call's table: the same columns in the same order, with tracks and without
+    tracker = GroupTracker(tracker_cfg())
+    tabs = [tracker.step(pc, t, 0.0) for t, pc in frames]
+    assert all(list(t.columns) == list(TRACK_COLUMNS) for t in tabs) and len(tabs[-1]) == 1
+    pd.testing.assert_frame_equal(pd.concat(tabs, ignore_index=True),
+                                  out.drop(columns="frame"))
+    assert list(GroupTracker(tracker_cfg()).step(frames[0][1].iloc[:0], 0.0, 0.0).columns) \
+        == list(TRACK_COLUMNS)
 
 
 def test_empty_frames_are_accepted():
