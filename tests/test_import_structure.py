@@ -11,6 +11,8 @@
   third-party private (`test_no_private_name_crosses_a_module`).
 - Nothing patches a third-party module at import time (`test_nothing_patches_at_import`).
 - Modules of one concept (< 600 lines) and functions under 100 lines, test helpers included.
+- A compiled kernel takes fewer than a dozen positional arguments: more travel together as
+  a small typed parameter object (`test_kernels_take_fewer_than_a_dozen_arguments`).
 """
 from __future__ import annotations
 
@@ -150,6 +152,39 @@ def test_modules_and_functions_stay_small(package):
                            for name, line, n in _function_lengths(path)
                            if n > MAX_FUNCTION_LINES]
     assert long_modules == [] and long_functions == []
+
+
+#: A numba kernel's positional arguments, at most (the issue-38 rule: "no kernels with a dozen
+#: positional arguments"; a stage's fast path takes arrays and a small typed parameter object).
+MAX_KERNEL_ARGUMENTS = 11
+
+
+def _long_kernels(path: Path) -> list[tuple[str, int]]:
+    """(name, argument count) of every ``numba.njit`` function of a source file with more than
+    `MAX_KERNEL_ARGUMENTS` arguments."""
+    out = []
+    for node in ast.walk(_parse(path)):
+        if isinstance(node, ast.FunctionDef) and any(
+                "njit" in ast.unparse(d) for d in node.decorator_list):
+            n = len(node.args.posonlyargs) + len(node.args.args)
+            if n > MAX_KERNEL_ARGUMENTS:
+                out.append((node.name, n))
+    return out
+
+
+def test_the_kernel_checker_finds_a_long_signature(tmp_path):
+    args = ", ".join(f"a{i}" for i in range(MAX_KERNEL_ARGUMENTS + 1))
+    (tmp_path / "k.py").write_text(f"import numba\n\n@numba.njit(cache=True)\ndef wide({args}):\n"
+                                   f"    return a0\n\n@numba.njit\ndef narrow(a, b):\n"
+                                   f"    return a\n")
+    assert _long_kernels(tmp_path / "k.py") == [("wide", MAX_KERNEL_ARGUMENTS + 1)]
+
+
+@pytest.mark.parametrize("package", LAYERS)
+def test_kernels_take_fewer_than_a_dozen_arguments(package):
+    wide = [f"{mod}.{name} ({n} arguments)" for mod, path in _modules(package).items()
+            for name, n in _long_kernels(path)]
+    assert wide == []
 
 
 # ----------------------------------------------------------------------------- between packages

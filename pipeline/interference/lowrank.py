@@ -67,7 +67,7 @@ from core.errors import BadInput
 from ..threads import run_parts, spans
 
 __all__ = ["FastTimeBasis", "fast_time_basis", "lowrank_fill", "burst_fill", "BurstFill",
-           "GramOperands", "gram_operands", "projections", "burst_row_start"]
+           "GramOperands", "MaskRules", "gram_operands", "projections", "burst_row_start"]
 
 #: Smallest ratio noise / prior variance of a coefficient (the constant's prior is unbounded).
 SHRINK_FLOOR = 1e-6
@@ -371,15 +371,22 @@ def _to_runs(mask, close, margin, run_s, run_e):
 
 
 @numba.njit(cache=True, nogil=True)
-def _repair_bursts(x, flags, rhs, vec_c, vec_t, prefix, shrink, row_start, b0, b1, close,
-                   halfwidth, thr, reach, grow_close, grow_margin, mask_out):
+def _repair_bursts(x, flags, rhs, ops, row_start, rules, b0, b1, mask_out):
     """Bursts b0 .. b1 - 1: burst b's rows row_start[b] .. row_start[b + 1] - 1 of x (R, n)
-    (modified in place) filled over its mask with their LMMSE model. The mask: the rows'
-    `flags` (R, n) united, closed over `close` and widened by `halfwidth` (`_to_runs`); kept
-    samples within `reach` of it whose residual exceeds `thr` grow it (closed over
-    `grow_close`, widened by `grow_margin`) and the burst is fitted again (thr <= 0: never).
-    mask_out (B, n) <- each burst's final mask. Bursts are independent: disjoint burst
-    ranges can run at the same time."""
+    (modified in place) filled over its mask with their LMMSE model, from their projections
+    `rhs` (R, k) and the basis' operands `ops` (`GramOperands`). The mask (`MaskRules`
+    `rules`): the rows' `flags` (R, n) united, closed over `close` and widened by `halfwidth`
+    (`_to_runs`); kept samples within `grow_reach` of it whose residual exceeds
+    `grow_threshold` grow it (closed over `grow_close`, widened by `grow_margin`) and the burst
+    is fitted again (threshold <= 0: never). mask_out (B, n) <- each burst's final mask.
+    Bursts are independent: disjoint burst ranges can run at the same time.
+
+    `ops` and `rules` come as plain tuples of their fields, in order (`BurstFill.run`):
+    numba's cache index pickles a named tuple argument's class, and an index that names a
+    class the source no longer defines fails to load (AttributeError) instead of being
+    refreshed, so a checkout of older code would stop at the first kernel call."""
+    vec_c, vec_t, prefix, shrink = ops
+    close, halfwidth, thr, reach, grow_close, grow_margin = rules
     n, kp = vec_c.shape
     k = vec_t.shape[0]
     if b1 <= b0:
@@ -446,6 +453,26 @@ def _repair_bursts(x, flags, rhs, vec_c, vec_t, prefix, shrink, row_start, b0, b
                     x[r0 + r, t] = buf[r, t]
 
 
+class MaskRules(NamedTuple):
+    """How the per-burst kernel makes and grows a burst's mask (`_repair_bursts`)."""
+
+    close: int             # the united flags closed over gaps of up to this many samples...
+    halfwidth: int         # ... then widened by this many on each side
+    grow_threshold: float  # kept samples whose residual exceeds this grow the mask (<= 0: never)
+    grow_reach: int        # ... within this many samples of it
+    grow_close: int        # grown samples closed over gaps of up to this many...
+    grow_margin: int       # ... and widened by this many
+
+
+class GramOperands(NamedTuple):
+    """The basis' operands of the per-burst kernel (`gram_operands`), in its wide type."""
+
+    vec_c: np.ndarray    # (n, kp) the conjugate basis, zero beyond column k
+    vec_t: np.ndarray    # (k, n) the basis, transposed
+    prefix: np.ndarray   # `_gram_prefix` of the basis
+    shrink: np.ndarray   # (k,) float64, sigma^2 / prior variance of each coefficient
+
+
 class BurstFill(NamedTuple):
     """The "lowrank" fill of rows x (R, n) prepared up to its per-burst work (`burst_fill`):
     `run` repairs any range of bursts, each exactly once, in any order and on any thread."""
@@ -453,21 +480,16 @@ class BurstFill(NamedTuple):
     x: np.ndarray          # (R, n) the rows, repaired in place by `run`
     flags: np.ndarray      # (R, n) bool, C-contiguous
     rhs: np.ndarray        # (R, k) the rows' projections on the conjugate basis
-    vec_c: np.ndarray      # (n, kp) the conjugate basis, zero beyond column k
-    vec_t: np.ndarray      # (k, n) the basis, transposed
-    prefix: np.ndarray     # `_gram_prefix` of the basis
-    shrink: np.ndarray     # (k,) float64
+    ops: GramOperands
     row_start: np.ndarray  # (B + 1,) burst b is rows row_start[b] .. row_start[b + 1] - 1
-    settings: tuple        # (close, halfwidth, residual threshold, grow reach)
+    rules: MaskRules
     mask: np.ndarray       # (B, n) bool, each burst's final mask once `run` has run on it
 
     def run(self, b0: int, b1: int) -> None:
         """Repair bursts b0 .. b1 - 1 (rows row_start[b0] .. row_start[b1] - 1 of x) in
         place; the same values whatever the ranges the bursts are run in."""
-        close, halfwidth, thr, reach = self.settings
-        _repair_bursts(self.x, self.flags, self.rhs, self.vec_c, self.vec_t, self.prefix,
-                       self.shrink, self.row_start, b0, b1, close, halfwidth, thr, reach,
-                       GROW_CLOSE_SAMPLES, GROW_MARGIN_SAMPLES, self.mask)
+        _repair_bursts(self.x, self.flags, self.rhs, tuple(self.ops), self.row_start,
+                       tuple(self.rules), b0, b1, self.mask)
 
     def run_all(self, remove_mean: bool = True) -> None:
         """Every burst, in parts on the cores (`pipeline.threads`), each part's rows' means
@@ -481,24 +503,17 @@ class BurstFill(NamedTuple):
                    for lo, hi in spans(len(self.row_start) - 1)])
 
 
-class GramOperands(NamedTuple):
-    """The basis' operands of the per-burst kernel (`gram_operands`)."""
-
-    vec_c: np.ndarray    # (n, kp) the conjugate basis, zero beyond column k
-    vec_t: np.ndarray    # (k, n) the basis, transposed
-    prefix: np.ndarray   # `_gram_prefix` of the basis
-
-
 def gram_operands(basis: FastTimeBasis) -> GramOperands:
-    """The conjugate basis (padded to `FIT_COLUMNS`), the transposed basis and the running
-    sums of its outer products (compiled), in the kernel's wide type."""
+    """The conjugate basis (padded to `FIT_COLUMNS`), the transposed basis, the running sums
+    of its outer products (compiled) and the shrinkage, in the kernel's wide type."""
     b = basis.vectors
     n, k = b.shape
     wide = np.complex128 if np.iscomplexobj(b) else np.float64
     vec_c = np.zeros((n, -(-k // FIT_COLUMNS) * FIT_COLUMNS), dtype=wide)
     vec_c[:, :k] = b.conj()
     return GramOperands(vec_c, np.ascontiguousarray(b.T, dtype=wide),
-                        _gram_prefix(vec_c, np.ascontiguousarray(b, dtype=wide)))
+                        _gram_prefix(vec_c, np.ascontiguousarray(b, dtype=wide)),
+                        basis.shrink.astype(np.float64))
 
 
 def projections(x: np.ndarray, basis: FastTimeBasis) -> np.ndarray:
@@ -522,11 +537,11 @@ def burst_fill(x: np.ndarray, flags: np.ndarray, bursts: np.ndarray, basis: Fast
     n = x.shape[-1]
     row_start = burst_row_start(bursts)
     rhs, operands = run_parts([lambda: projections(x, basis), lambda: gram_operands(basis)])
-    thr = grow_sigma * np.sqrt(basis.noise_var) if grow_sigma > 0 else 0.0
-    return BurstFill(x, np.ascontiguousarray(flags, dtype=bool), rhs, operands.vec_c,
-                     operands.vec_t, operands.prefix, basis.shrink.astype(np.float64),
-                     row_start, (close, halfwidth, thr, grow_reach),
-                     np.zeros((len(row_start) - 1, n), dtype=bool))
+    thr = float(grow_sigma * np.sqrt(basis.noise_var)) if grow_sigma > 0 else 0.0
+    rules = MaskRules(int(close), int(halfwidth), thr, int(grow_reach), GROW_CLOSE_SAMPLES,
+                      GROW_MARGIN_SAMPLES)
+    return BurstFill(x, np.ascontiguousarray(flags, dtype=bool), rhs, operands, row_start,
+                     rules, np.zeros((len(row_start) - 1, n), dtype=bool))
 
 
 def lowrank_fill(x: np.ndarray, flags: np.ndarray, bursts: np.ndarray, basis: FastTimeBasis,
