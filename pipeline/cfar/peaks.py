@@ -2,7 +2,6 @@
 cyclic table, a mode's compiled detector run in parts on the cores where it has one."""
 from __future__ import annotations
 
-from collections.abc import Callable
 from functools import lru_cache
 
 import numpy as np
@@ -60,7 +59,7 @@ def candidate_cfar(power: np.ndarray, cand: tuple[np.ndarray, ...], axis: int,
 
 def cfar_peaks(power: np.ndarray, mode: str, alpha: float, guard_cells: int,
                window_cells: int, os_rank: int, stride: int, neighbours: dict[int, bool],
-               first_bin: int = 0, then: Callable | None = None) -> tuple:
+               first_bin: int = 0) -> tuple:
     """Detections of a cyclic CFAR along the last axis among local maxima.
 
     A cell is a detection when it is a local maximum (`local_max_mask`) along the last axis
@@ -78,10 +77,6 @@ def cfar_peaks(power: np.ndarray, mode: str, alpha: float, guard_cells: int,
         Key of `modes.CFAR_MODES`.
     neighbours : {axis: cyclic}
         Axes 0 and/or 1 to check for a local maximum too (the last axis always is).
-    then : callable, optional
-        ``then(cells, noise, peak)`` of a consecutive share of the detections (C order), run
-        by each part of the compiled detector once its rows are done (per-detection work such
-        as gathers from the map, beside the other part's rows), once on all of them otherwise.
 
     Returns
     -------
@@ -89,8 +84,6 @@ def cfar_peaks(power: np.ndarray, mode: str, alpha: float, guard_cells: int,
         Indices of the detections, C order.
     noise, peak : (n,) float32
         Noise estimate (the mode's statistic) and power of each.
-    after : list
-        With `then` only: its results, in C order of the shares they cover.
     """
     cm = CFAR_MODES[mode]
     if cm.compiled_peaks:
@@ -105,15 +98,12 @@ def cfar_peaks(power: np.ndarray, mode: str, alpha: float, guard_cells: int,
 
         def part(span):
             idx, noise = cm.peaks(power, alpha, table, os_rank, flags, first_bin, span)
-            cells = tuple(idx)
-            peak = power[cells]
-            return idx, noise, peak, None if then is None else then(cells, noise, peak)
+            return idx, noise, power[tuple(idx)]
 
         found = run_parts([lambda span=span: part(span) for span in spans(power.shape[0])])
         cells = tuple(np.concatenate([f[0] for f in found], axis=1))
         noise, peak = (np.concatenate([f[i] for f in found]) for i in (1, 2))
-        return (cells, noise, peak) if then is None else (cells, noise, peak,
-                                                          [f[3] for f in found])
+        return cells, noise, peak
     mask = cm.candidate_mask(power, 2, alpha, os_rank)
     mask[:, :first_bin] = False
     local_max_mask(power, {**neighbours, 2: True}, mask=mask)
@@ -121,6 +111,4 @@ def cfar_peaks(power: np.ndarray, mode: str, alpha: float, guard_cells: int,
     noise = candidate_cfar(power, cand, 2, guard_cells, window_cells, mode, os_rank, stride)
     peak = power[cand]
     hit = peak > alpha * noise
-    cells, noise, peak = tuple(c[hit] for c in cand), noise[hit], peak[hit]
-    return (cells, noise, peak) if then is None else (cells, noise, peak,
-                                                      [then(cells, noise, peak)])
+    return tuple(c[hit] for c in cand), noise[hit], peak[hit]

@@ -168,25 +168,17 @@ def coherent_detections(power: np.ndarray, proc: ProcessingConfig):
     sidelobe_db = proc.angle.azimuth_sidelobe_db
     level = None if sidelobe_db is None else 10 ** (-sidelobe_db / 10)
 
-    def gathered(cells, noise, peak):
-        # Per detection, in the CFAR's parts beside the other part's rows: the azimuth spectra
-        # (for the sidelobe test and the caller), the range neighbours, the sidelobe test.
-        a, r, d = cells
-        spectra = power[:, r, d]  # (n_az, n)
-        pr = power[a[:, None], np.clip(r[:, None] + np.arange(-1, 2), 0, n_range - 1),
-                   d[:, None]]
-        keep = None if level is None else peak >= spectra.max(axis=0) * level
-        return spectra, pr, keep
-
     # Figure 19: 4-neighbour maximum in (azimuth, Doppler), optionally also along range.
-    (a, r, d), noise, peak, shares = cfar_peaks(
+    (a, r, d), noise, peak = cfar_peaks(
         power, cf.mode, cf.scale(looks=1), cf.guard_cells, cf.window_cells, cf.os_rank,
         cf.training_stride, {0: True, 1: False} if proc.range.peak_check else {0: True},
-        proc.range.min_bin, then=gathered)
-    spectra = np.concatenate([s[0] for s in shares], axis=1)
-    pr = np.concatenate([s[1] for s in shares])
+        proc.range.min_bin)
+    # Per detection: the azimuth spectrum (for the sidelobe test and the caller), the range
+    # neighbours, the sidelobe test.
+    spectra = power[:, r, d]  # (n_az, n)
+    pr = power[a[:, None], np.clip(r[:, None] + np.arange(-1, 2), 0, n_range - 1), d[:, None]]
     if level is not None:
-        keep = np.concatenate([s[2] for s in shares])
+        keep = peak >= spectra.max(axis=0) * level
         a, r, d, noise, peak, pr = a[keep], r[keep], d[keep], noise[keep], peak[keep], pr[keep]
         spectra = spectra[:, keep]
     return a, r, d, noise, peak, spectra.T, pr

@@ -207,23 +207,19 @@ def test_cfar_peaks_equals_the_full_map_reference(mode, neighbours, first_bin, g
 
 
 @pytest.mark.parametrize("mode", ["os", "ca"])
-def test_cfar_peaks_then_runs_on_consecutive_shares_of_the_result(mode, monkeypatch):
-    """`then` (the DDMA chain's per-detection gathers) sees consecutive C-order shares of the
-    detections with their noise and peaks, per part of the compiled detector (2 parts on any
-    machine) or once (numpy path); joined in order they are the whole result."""
+def test_cfar_peaks_in_two_parts_are_the_whole_pass(mode, monkeypatch):
+    """The compiled detector's two parts (rows of axis 0 on two threads, forced on any machine)
+    joined in C order are the detections, noise estimates and peaks of one pass, bit for bit
+    (the numpy path has one pass either way)."""
     import pipeline.threads as threads
-    monkeypatch.setattr(threads, "N_PARTS", 2)
     rng = np.random.default_rng(7)
     power = rng.exponential(size=(6, 9, 32)).astype(np.float32)
     power[::2, ::3, ::5] = 300.0
     args = (mode, cfar_scale(1e-2, mode, 8, 6), 1, 4, 6, 1, {0: True, 1: False}, 0)
+    monkeypatch.setattr(threads, "N_PARTS", 1)
     cells, noise, peak = cfar_peaks(power, *args)
-    got = cfar_peaks(power, *args, then=lambda c, n, p: (c, n, p))
-    assert all(np.array_equal(x, y) for x, y in zip(got[0], cells))
+    monkeypatch.setattr(threads, "N_PARTS", 2)
+    assert len(threads.spans(power.shape[0])) == 2
+    got = cfar_peaks(power, *args)
+    assert all(np.array_equal(x, y) for x, y in zip(got[0], cells)) and cells[0].size >= 8
     assert got[1].tobytes() == noise.tobytes() and got[2].tobytes() == peak.tobytes()
-    seen = got[3]  # in the order of the shares, whichever part finished first
-    assert len(seen) == (2 if CFAR_MODES[mode].compiled_peaks else 1)
-    joined = [np.concatenate([s[0][i] for s in seen]) for i in range(3)]
-    assert all(np.array_equal(x, y) for x, y in zip(joined, cells)) and cells[0].size >= 8
-    assert np.concatenate([s[1] for s in seen]).tobytes() == noise.tobytes()
-    assert np.concatenate([s[2] for s in seen]).tobytes() == peak.tobytes()
