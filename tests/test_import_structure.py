@@ -154,8 +154,8 @@ def test_modules_and_functions_stay_small(package):
     assert long_modules == [] and long_functions == []
 
 
-#: A numba kernel's positional arguments, at most (the issue-38 rule: "no kernels with a dozen
-#: positional arguments"; a stage's fast path takes arrays and a small typed parameter object).
+#: A numba kernel's positional arguments, at most: fewer than a dozen; operands that travel
+#: together come as one small parameter object (docs/design.md section 3, compiled kernels).
 MAX_KERNEL_ARGUMENTS = 11
 
 
