@@ -20,11 +20,13 @@ import os
 import time
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
+from types import SimpleNamespace
 from typing import NamedTuple
 
 import numpy as np
 import pandas as pd
 
+from core.checks import require
 from harness.cell.components import Components, default_components, mount_value
 from harness.cell.config import build_configs, cell_association
 from harness.cell.spec import CellSpec, result_schemes
@@ -189,8 +191,8 @@ def run_cell(spec: CellSpec, comps: Components | None = None,
              frame_threads: int = FRAME_THREADS) -> CellResult:
     """Run one sweep cell and score it.
 
-    `frame_threads` frames are processed at a time (`cell_frame_threads`: 1 where other cells
-    keep the other cores busy); the tables do not depend on it.
+    `frame_threads` frames are processed at a time (an integer >= 1; `cell_frame_threads`: 1
+    where other cells keep the other cores busy); the tables do not depend on it.
 
     Returns
     -------
@@ -205,6 +207,7 @@ def run_cell(spec: CellSpec, comps: Components | None = None,
         without a tracker). Every table starts with the id columns scenario, variant, seed
         (and scheme where it applies).
     """
+    require(SimpleNamespace(frame_threads=frame_threads), "frame_threads", "integer", ge=1)
     t0 = time.perf_counter()
     comps = comps or default_components()
     run = comps.run_scenario(spec.scenario, spec.seed, spec.duration_s)

@@ -5,6 +5,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
+from core.errors import BadInput
 from harness.cell.run import run_cell
 from harness.cell.spec import DEFAULT_SCHEMES, CellSpec, result_schemes
 from harness.sweep.streams import SEED_STREAMS, frame_rng, stream_id
@@ -83,6 +84,12 @@ def test_frame_threads_give_the_same_tables():
         b = run_cell(spec, FAKE, frame_threads=n)
         for name in a.tables:
             pd.testing.assert_frame_equal(a.tables[name], b.tables[name], check_exact=True)
+
+
+@pytest.mark.parametrize("n", [0, -1, 2.0, True, None])
+def test_frame_threads_must_be_an_integer_of_at_least_one(n):
+    with pytest.raises(BadInput, match=r"frame_threads=.* must be an integer >= 1"):
+        run_cell(CellSpec(scenario="fast", seed=3, duration_s=0.5), FAKE, frame_threads=n)
 
 
 def test_independent_streams_per_frame_and_scheme():
