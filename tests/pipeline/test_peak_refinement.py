@@ -16,6 +16,7 @@ from pipeline.peak_refinement import (
     refine_offset,
     refine_peaks_2d,
 )
+from pipeline.stages import RangeDopplerHits, refine_hits
 
 N = 384
 
@@ -130,7 +131,6 @@ def test_two_dimensional_range_edge_keeps_the_start_or_refines_with_enough_bins(
             assert off_r[0] == 0.1
 
 
-
 def test_peak_patches_are_the_cube_at_the_neighbour_bins():
     """`peak_patches`: each peak's transmitters' Doppler rows, every Rx, at its neighbour range
     bins (clipped at the range axis' ends), as numpy's fancy indexing reads them."""
@@ -148,13 +148,10 @@ def test_peak_patches_are_the_cube_at_the_neighbour_bins():
     assert got.tobytes() == want.tobytes()
 
 
-
 def test_refine_hits_reads_the_slot_spectra_as_fancy_indexing_does():
     """`stages.refine_hits` on a slot chain's (D, C, B) spectra (`peak_patches`, the channels
     as one transmitter) gives the offsets of `refine_peaks_2d` on the patches numpy's fancy
     indexing reads from the (B, D, C) view, bit for bit (range edges, Doppler wrap)."""
-    from pipeline.stages import RangeDopplerHits, refine_hits
-
     rng = np.random.default_rng(5)
     spec = (rng.standard_normal((48, 8, 40)) + 1j * rng.standard_normal((48, 8, 40))
             ).astype(np.complex64)
@@ -169,6 +166,7 @@ def test_refine_hits_reads_the_slot_spectra_as_fancy_indexing_does():
     r_off, d_off = refine_peaks_2d(patch, on, hits.range_pos - r, hits.doppler_offset, 80, 48)
     assert got.range_pos.tobytes() == (r + r_off).tobytes()
     assert got.doppler_offset.tobytes() == d_off.tobytes()
+
 
 def test_monte_carlo_rmse_near_the_hann_ml_and_unbiased():
     """At 20 dB detection SNR a single Hann-windowed tone's windowed-periodogram maximum has an
