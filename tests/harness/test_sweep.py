@@ -12,10 +12,14 @@ import pandas as pd
 import pytest
 
 import radarsim
+from harness.cell import run as cellrun
+from harness.cell.run import FRAME_THREADS, cell_frame_threads
+from harness.sweep import schedule
 from harness.sweep.file import load_sweep
 from harness.sweep.schedule import run_sweep
 from harness.sweep.spec import SCHEMES_SWEEP_PATH, SweepSpec, Variant
 from harness.sweep.store import completed_cells
+from harness.sweep.worker import execute_cell
 from tests.harness.fakes import FAKE, assert_same_tables
 from tests.harness.forked import fork_sweep, forked_children, wait_exit
 
@@ -162,7 +166,6 @@ def test_pool_equals_serial_and_dask(tmp_path):
     (1, 2, [2, 2, 2, 2, 2]),   # one worker on two cores: the other core is free all along
 ])
 def test_cells_run_one_frame_thread_while_cells_queue_behind_them(workers, cores, expected):
-    from harness.cell.run import FRAME_THREADS, cell_frame_threads
     assert FRAME_THREADS == 2
     n = len(expected)
     assert [cell_frame_threads(n - 1 - i, workers, cores) for i in range(n)] == expected
@@ -171,9 +174,6 @@ def test_cells_run_one_frame_thread_while_cells_queue_behind_them(workers, cores
 def test_the_serial_sweep_passes_each_cell_its_frame_threads(tmp_path, monkeypatch):
     """On one core the cells of a serial sweep run one frame thread, the last one two (it has
     no cell behind it); the tables do not depend on it (`test_runner.py`)."""
-    from harness.cell import run as cellrun
-    from harness.sweep import schedule
-    from harness.sweep.worker import execute_cell
     got = []
 
     def recording(spec, out, comps=None, plugins=(), frame_threads=0):

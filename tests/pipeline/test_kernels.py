@@ -18,6 +18,7 @@ from pipeline.ddma_kernels import (
 )
 from pipeline.kernels import (
     doppler_fft,
+    doppler_windowed,
     estimate_angles,
     rx_energy,
     rx_energy_bins,
@@ -216,7 +217,6 @@ def test_doppler_window_equals_numpy_complex_product_bit_for_bit(shape):
 def test_doppler_windowed_reads_the_first_bins_of_longer_rows(split):
     """With `out` given, `doppler_windowed` of a whole rFFT output (n_b + 1 bins, Nyquist
     included, C-contiguous) is the product of its first n_b bins, as of the strided view."""
-    from pipeline.kernels import doppler_windowed
     full = _cube(np.random.default_rng(6), (40, 4, 17))
     win = np.hanning(40).astype(np.float32)
     want = np.multiply(full[..., :16], win[:, None, None])

@@ -5,6 +5,8 @@ import dataclasses
 
 import pytest
 
+from scenarios import run_scenario
+
 
 @pytest.fixture(scope="session")
 def catalogue_run():
@@ -12,8 +14,6 @@ def catalogue_run():
     per test process for all its users (the full-duration, round-trip and truth tests each
     ran every case again). Each call returns fresh copies of the truth and ego tables, so a
     user that changed them would not change the others'."""
-    from scenarios import run_scenario
-
     runs = {}
 
     def _run(name: str):

@@ -7,6 +7,7 @@ import pytest
 import pipeline
 import radarsim
 from pipeline import chirp_level as cl
+from pipeline.chirp_level.dc import subtract_dc, window_spectrum
 
 from .helpers import OFF, empty
 
@@ -33,7 +34,6 @@ def test_subtract_dc_is_numpy_complex64_arithmetic_bit_for_bit():
     """`subtract_dc` against ``rf[..., k] -= m * w`` per window bin: random spectra and DC
     estimates over eight decades, signed zeros and an infinite estimate included, on a whole
     rFFT output (the Nyquist bin untouched)."""
-    from pipeline.chirp_level.dc import subtract_dc, window_spectrum
     fix = window_spectrum("blackman", 64, False)
     bins = np.array([k for k, _ in fix], np.int64)
     weights = np.array([w for _, w in fix], np.complex64)
