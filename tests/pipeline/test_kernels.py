@@ -89,9 +89,9 @@ def _metric_frame(rng, n_sb, n_dop, n_rx, n_b):
 
 def _l1_bound(plan, x):
     """Bound on |X^ - X| of each map column of the demodulated samples x: the pruned FFT's
-    longest path has 10 float32 roundings (twiddle, product, 3 sums, twiddle product,
-    butterfly sum and scale, gather product), each at most sqrt(2) u of the column's l1 norm
-    (|W| = 1); 16 u of it bounds them all."""
+    longest path has 11 float32 roundings (gather product, twiddle, twiddle product, the
+    4-point DFT's 2 sums, the 3-point DFT's sum, difference, constant, product and 2 sums),
+    each at most sqrt(2) u of the column's l1 norm (|W| = 1); 16 u of it bounds them all."""
     return 16 * np.finfo(np.float32).eps / 2 * (np.abs(plan.coef[:, None] * x)).sum(axis=0)
 
 
