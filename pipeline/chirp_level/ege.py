@@ -162,25 +162,28 @@ def ege_blocks(vv: np.ndarray, bins2: int, scale: np.float32, budget: int, kk: n
     v = np.empty(n_val, np.float32)
     m = np.empty(n_val, np.float32)
     qa = np.empty(n_val, np.float32)
-    acc = np.empty(bins2, np.float32)
+    acc = np.empty(nb * bins2, np.float32)
     for c in range(c0, c1):
+        # One float32 partial sum per position t of the row (the same t of every Rx), added
+        # along the whole row in a vector, then each block's partial sums in order: the cold
+        # test is a shortcut, so its summation order cannot change an output (a cold block
+        # that were not skipped would get s = 0 from `_block_shift`, which `_cold_sum`
+        # guarantees fits, and stay untouched). A block's sum goes through n_r + bins2 - 1
+        # float32 roundings (<= 67 here: 4 Rx, 32 bins), a relative error below 67 x 2^-24 =
+        # 4e-6, inside the relative 1e-5 `_cold_sum` keeps as a margin. The whole row's sums
+        # come first: a block's encoding rewrites only its own values.
+        row = vv[c, 0]
+        for t in range(_U(nb * bins2)):
+            acc[t] = abs(row[t])
+        for r in range(1, n_r):
+            row = vv[c, r]
+            for t in range(_U(nb * bins2)):
+                acc[t] += abs(row[t])
         for b in range(nb):
             lo = b * bins2
-            # One float32 partial sum per position t of a row (the same t of every Rx),
-            # added in a vector, then the partial sums in order: the cold test is a shortcut,
-            # so its summation order cannot change an output (a cold block that were not
-            # skipped would get s = 0 from `_block_shift`, which `_cold_sum` guarantees fits,
-            # and stay untouched). A block's sum goes through n_r + bins2 - 1 float32
-            # roundings (<= 67 here: 4 Rx, 32 bins), a relative error below 67 x 2^-24 = 4e-6,
-            # inside the relative 1e-5 `_cold_sum` keeps as a margin.
-            for t in range(bins2):
-                acc[t] = abs(vv[c, 0, lo + t])
-            for r in range(1, n_r):
-                for t in range(bins2):
-                    acc[t] += abs(vv[c, r, lo + t])
             total = np.float32(0.0)
             for t in range(bins2):
-                total += acc[t]
+                total += acc[lo + t]
             if total * scale <= cold:
                 continue
             shift[c, b] = _hot_block(vv, c, lo, bins2, scale, budget, kk,
