@@ -199,7 +199,8 @@ def check_cfar_mode(mode: str, *, seed: int = 0) -> None:
 
 @functools.lru_cache(maxsize=1)
 def _sample_tables() -> tuple[pd.DataFrame, pd.DataFrame]:
-    """Labelled detections and actor-frames of one short real cell (TDMA, 0.3 s)."""
+    """Labelled detections and actor-frames of one short real cell (TDMA, 0.3 s), run once
+    per process: `check_metric` hands the metric under test copies."""
     from harness.cell.run import run_cell
     from harness.cell.spec import CellSpec
     res = run_cell(CellSpec(scenario="blind_spot_overtaking", duration_s=0.3,
@@ -227,9 +228,10 @@ def check_metric(name: str) -> None:
     if m.row_value is None:
         return
     det, af = _sample_tables()
-    for what, (lab, frames) in {"scene": (det, af),
-                                "empty scene": (det.iloc[:0], af.iloc[:0])}.items():
-        lab0, af0 = lab.copy(), frames.copy()
+    for what, (lab0, af0) in {"scene": (det, af),
+                              "empty scene": (det.iloc[:0], af.iloc[:0])}.items():
+        # the metric gets copies: the sample is kept for the next check (`_sample_tables`)
+        lab, frames = lab0.copy(), af0.copy()
         try:
             v = m.row_value(lab, frames)
             v = float(v)

@@ -3,12 +3,19 @@ names the part, its origin and the item."""
 from __future__ import annotations
 
 import numpy as np
+import pandas as pd
 import pytest
 
 import metrics
 import pipeline
 import radarsim
-from harness.testing import ContractError, check_cfar_mode, check_chain, check_metric
+from harness.testing import (
+    ContractError,
+    _sample_tables,
+    check_cfar_mode,
+    check_chain,
+    check_metric,
+)
 from pipeline.cfar import CellAveraging
 from pipeline.mimo.tdma import TdmaChain
 from radarsim.mimo import TdmaScheme
@@ -150,6 +157,22 @@ def _random(lab, af):
 
 def _nan_on_scene(lab, af):
     return float("nan")
+
+
+def test_a_metric_that_writes_into_its_tables_changes_no_cell_table():
+    """A plugin metric's row_value gets copies: the cell's tables are the same with a metric
+    registered that overwrites its input, so the sample cell of `check_metric`, whenever it is
+    first run, shows the metric the real tables (the mutation check above then holds in any
+    test order)."""
+    name = "broken_writer"
+    metrics.register_metric(_metric(name, _mutates))
+    try:
+        det, af = _sample_tables.__wrapped__()
+    finally:
+        metrics.METRICS.unregister(name)
+    assert (det["snr_db"] > 0).all()
+    pd.testing.assert_frame_equal(det, _sample_tables()[0])
+    pd.testing.assert_frame_equal(af, _sample_tables()[1])
 
 
 @pytest.mark.parametrize("fn, message", [
