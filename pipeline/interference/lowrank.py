@@ -371,6 +371,23 @@ def _to_runs(mask, close, margin, run_s, run_e):
 
 
 @numba.njit(cache=True, nogil=True)
+def _grow(x, r0, nr, vec_t, c, t0, t1, thr, buf, united):
+    """Whether a sample t0 <= t < t1 of rows r0 .. r0 + nr - 1 of x is off the model with
+    coefficients c (`_evaluate`, into buf) by more than `thr`; such samples are set in
+    `united`."""
+    grown = False
+    if t1 <= t0:
+        return grown
+    _evaluate(vec_t, c, nr, t0, t1, buf)
+    for r in range(nr):  # branch-free on unsigned indices: LLVM vectorises it
+        for u in range(_U(t0), _U(t1)):
+            hit = abs(x[r0 + r, u] - buf[r, u]) > thr
+            united[u] |= hit
+            grown |= hit
+    return grown
+
+
+@numba.njit(cache=True, nogil=True)
 def _repair_bursts(x, flags, rhs, ops, row_start, rules, b0, b1, mask_out):
     """Bursts b0 .. b1 - 1: burst b's rows row_start[b] .. row_start[b + 1] - 1 of x (R, n)
     (modified in place) filled over its mask with their LMMSE model, from their projections
@@ -401,7 +418,6 @@ def _repair_bursts(x, flags, rhs, ops, row_start, rules, b0, b1, mask_out):
     s_buf = np.zeros(n + 1, dtype=np.int64)
     e_buf = np.zeros(n + 1, dtype=np.int64)
     united = np.zeros(n, dtype=np.bool_)
-    near = np.zeros(n, dtype=np.bool_)
     for b in range(b0, b1):  # bursts (chirps), not samples: the work per burst is k^3 / 6
         r0, r1 = row_start[b], row_start[b + 1]
         nr = r1 - r0
@@ -417,28 +433,22 @@ def _repair_bursts(x, flags, rhs, ops, row_start, rules, b0, b1, mask_out):
         for q in range(n_runs):
             mask[s_buf[q]:e_buf[q]] = True
         if thr > 0 and n_runs:
-            # the unmasked samples within `reach` of a run (its flanks)
-            near[:] = False
-            for q in range(n_runs):
-                near[max(s_buf[q] - reach, 0):s_buf[q]] = True
-                near[e_buf[q]:min(e_buf[q] + reach, n)] = True
+            # the unmasked samples within `reach` of a run (its flanks), gap by gap: the runs
+            # are sorted and apart, so the gap before run q holds run q - 1's right flank
+            # [lo, right) and run q's left flank [left, hi), one segment where they meet
             grown = False
             united[:] = mask  # the grown mask
-            t = np.int64(0)  # not the constant 0: `_evaluate` would also be compiled for it
-            while t < n:
-                if not near[t] or mask[t]:
-                    t += 1
-                    continue
-                t1 = t
-                while t1 < n and near[t1] and not mask[t1]:
-                    t1 += 1
-                _evaluate(vec_t, c, nr, t, t1, buf)
-                for r in range(nr):  # branch-free on unsigned indices: LLVM vectorises it
-                    for u in range(_U(t), _U(t1)):
-                        hit = abs(x[r0 + r, u] - buf[r, u]) > thr
-                        united[u] |= hit
-                        grown |= hit
-                t = t1
+            for q in range(n_runs + 1):
+                lo = e_buf[q - 1] if q > 0 else np.int64(0)
+                hi = s_buf[q] if q < n_runs else np.int64(n)
+                right = min(lo + reach, hi) if q > 0 else lo
+                left = max(hi - reach, lo) if q < n_runs else hi
+                if right >= left:
+                    grown |= _grow(x, r0, nr, vec_t, c, lo if q > 0 else left,
+                                   hi if q < n_runs else right, thr, buf, united)
+                else:
+                    grown |= _grow(x, r0, nr, vec_t, c, lo, right, thr, buf, united)
+                    grown |= _grow(x, r0, nr, vec_t, c, left, hi, thr, buf, united)
             if grown:
                 n_runs = _to_runs(united, grow_close, grow_margin, s_buf, e_buf)
                 _cholesky(prefix, shrink, s_buf, e_buf, n_runs, lt, acc)
