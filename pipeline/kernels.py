@@ -23,7 +23,6 @@ import numpy as np
 import scipy.fft
 from scipy.signal import get_window
 
-from .config_cache import per_config
 from .threads import fft_workers, run_parts, spans
 
 #: Unsigned loop indices in the compiled loops (see `_rx_energy`; `ddma_kernels` too): they
@@ -269,7 +268,7 @@ def array_layout(virtual_positions_m: np.ndarray, wavelength_m: float) -> ArrayL
     return ArrayLayout(h_idx, h_pos, v_idx, y[v_idx], v_height)
 
 
-@per_config(32)
+@lru_cache(maxsize=32)
 def layout_of(cfg) -> ArrayLayout:
     """`array_layout` of a `radarsim.RadarConfig`'s virtual array, computed once per
     configuration (~0.1 ms a call, several calls per frame); its arrays are read-only."""

@@ -23,7 +23,6 @@ from radarsim.config import C_MPS, RadarConfig
 
 from .cfar import cfar_peaks, noise_mean_factor
 from .config import WINDOWS, ProcessingConfig
-from .config_cache import per_config
 from .kernels import estimate_angles, layout_of, parabolic_offset
 from .peak_refinement import neighbour_bins, peak_patches, refine_peaks_2d
 
@@ -180,7 +179,7 @@ def interp_doppler(power_d: np.ndarray, window: str, n_fft: int) -> np.ndarray:
     return np.interp(parabolic_offset(y[:, 0], y[:, 1], y[:, 2]), g, d)
 
 
-@per_config(16)
+@lru_cache(maxsize=16)
 def array_dft(cfg: RadarConfig, n_fft: int, row: str) -> np.ndarray:
     """(n_virtual, n_fft) complex64 zero-padded DFT of one row of the virtual array as a
     matrix, so `samples @ W` is the row's n_fft-point azimuth spectrum: element m at horizontal
@@ -277,7 +276,7 @@ def refined_likelihood(cfg: RadarConfig, virt: np.ndarray, az_pow: np.ndarray,
 _SIN_EL_GRID = np.linspace(-1.0, 1.0, 65)
 
 
-@per_config(8)
+@lru_cache(maxsize=8)
 def raised_row_dfts(cfg: RadarConfig, n_fft: int) -> tuple[np.ndarray, np.ndarray]:
     """(heights (K,) wavelengths, (K, n_virtual, n_fft) complex64): the zero-padded azimuth
     DFT of each raised row of the virtual array (as `array_dft`), rows by height. One row for

@@ -237,6 +237,25 @@ class RadarConfig:
         each part is replaced by a copy, which checks its values again."""
         for part, changes in _by_part(fields).items():
             object.__setattr__(self, part, dataclasses.replace(getattr(self, part), **changes))
+        self.__dict__.pop("_hash", None)  # a hash taken while building is stale now
+
+    def __hash__(self) -> int:
+        """The hash of the six parts, computed once: the instance is immutable once built, and
+        hashing its parts' forty-odd fields costs ~15 us, which the chain's configuration
+        caches (`functools.lru_cache`) would otherwise pay several times a frame. Equal
+        configurations hash alike (the generated `__eq__` compares the same parts)."""
+        h = self.__dict__.get("_hash")
+        if h is None:
+            h = hash(tuple(getattr(self, f.name) for f in dataclasses.fields(self)))
+            object.__setattr__(self, "_hash", h)
+        return h
+
+    def __getstate__(self) -> dict:
+        """The parts, without the cached hash: string hashes differ between processes, so a
+        pickled hash would not match an equal configuration built in the receiving one."""
+        state = self.__dict__.copy()
+        state.pop("_hash", None)
+        return state
 
     @classmethod
     def from_fields(cls, **fields: Any) -> "RadarConfig":

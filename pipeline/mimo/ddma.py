@@ -12,6 +12,7 @@ References
 """
 from __future__ import annotations
 
+from functools import lru_cache
 from typing import NamedTuple
 
 import numpy as np
@@ -23,7 +24,6 @@ from ..cfar import cfar_peaks, noise_mean_factor
 from ..chirp_level.stage import windowed_range_stage
 from ..compensation import compensate, virtual_coefficients
 from ..config import WINDOWS, ProcessingConfig
-from ..config_cache import per_config
 from ..ddma_kernels import AzimuthMap, azimuth_map, ddma_spectra_power
 from ..kernels import estimate_angles, layout_of, rx_energy, slow_time_fft, window
 from ..peak_refinement import neighbour_bins, peak_patches, refine_peaks_2d
@@ -97,7 +97,7 @@ def ddma_maps(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) -> Ddma
     return DdmaMaps(power=power, spec=spec, energy=energy, tx1_band=tx1_band)
 
 
-@per_config(32)
+@lru_cache(maxsize=32)
 def _azimuth_map(cfg: RadarConfig, n_az: int, channel_comp: tuple | None) -> AzimuthMap:
     """The `AzimuthMap` of `ddma_maps`, configuration-only, computed once (~0.1 ms a frame
     inside the chain; read-only): the sub-band positions p of the horizontal row's

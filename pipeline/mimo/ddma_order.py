@@ -43,7 +43,6 @@ from radarsim.config import RadarConfig
 from ..cfar import noise_mean_factor
 from ..compensation import compensate, virtual_coefficients
 from ..config import ProcessingConfig
-from ..config_cache import per_config
 from ..kernels import layout_of
 from ..stages import array_dft, interp_azimuth
 from .echo_law import echo_fit_quantile
@@ -142,7 +141,7 @@ class _Geometry(NamedTuple):
     t_row: np.ndarray  # (P_h,) their positions, lambda/2 units
 
 
-@per_config(32)
+@lru_cache(maxsize=32)
 def _geometry(cfg: RadarConfig) -> _Geometry:
     """`_Geometry` of a radar, computed once per configuration (the positions are properties
     recomputed on every access: ~0.1 ms a frame inside the chain)."""

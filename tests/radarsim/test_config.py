@@ -5,7 +5,10 @@ validation rules are design.md 4.4 plus the domain checks of `RadarConfig.__post
 """
 from __future__ import annotations
 
+import copy
+import dataclasses
 import math
+import pickle
 
 import numpy as np
 import pytest
@@ -239,6 +242,42 @@ def test_config_is_frozen(make_config):
     cfg = make_config()
     with pytest.raises(AttributeError):
         cfg.n_tx = 3  # type: ignore[misc]
+
+
+@pytest.mark.parametrize("scheme", sorted(radarsim.MIMO_SCHEMES))
+def test_hash_is_computed_once_and_left_out_of_the_pickle(scheme):
+    """Equal configurations hash alike, the hash is kept on the instance, and a pickled copy
+    (a sweep worker's) carries no hash of this process: it hashes again where it lands."""
+    cfg = radarsim.presets.r79(scheme)
+    other = radarsim.presets.r79(scheme)
+    assert cfg == other and cfg is not other and hash(cfg) == hash(other)
+    assert cfg.__dict__["_hash"] == hash(cfg)
+    assert hash(cfg) == hash(tuple(getattr(cfg, f.name) for f in dataclasses.fields(cfg)))
+    state = cfg.__reduce_ex__(pickle.HIGHEST_PROTOCOL)[2]
+    assert "_hash" not in state
+    back = pickle.loads(pickle.dumps(cfg))
+    assert back == cfg and "_hash" not in back.__dict__ and hash(back) == hash(cfg)
+    assert "_hash" not in copy.deepcopy(cfg).__dict__
+    changed = cfg.replace_fields(n_chirps=cfg.n_chirps // 2)
+    assert changed != cfg and "_hash" not in changed.__dict__
+
+
+def test_a_hash_taken_while_building_is_dropped_when_a_field_is_resolved(monkeypatch):
+    """`_set` resolves fields after `__post_init__` may have hashed the instance (a cached
+    helper keyed by the configuration): the hash of the finished configuration is that of
+    its final parts."""
+    seen = []
+    real = RadarConfig._set
+
+    def hashing_set(self, **fields):
+        seen.append(hash(self))
+        real(self, **fields)
+    monkeypatch.setattr(RadarConfig, "_set", hashing_set)
+    cfg = radarsim.presets.r79("ddma")
+    monkeypatch.undo()
+    assert seen
+    assert hash(cfg) == hash(tuple(getattr(cfg, f.name) for f in dataclasses.fields(cfg)))
+    assert hash(cfg) == hash(radarsim.presets.r79("ddma"))
 
 
 def test_mimo_registry():
