@@ -434,8 +434,9 @@ def _repair_bursts(x, flags, rhs, ops, row_start, rules, b0, b1, mask_out):
             mask[s_buf[q]:e_buf[q]] = True
         if thr > 0 and n_runs:
             # the unmasked samples within `reach` of a run (its flanks), gap by gap: the runs
-            # are sorted and apart, so the gap before run q holds run q - 1's right flank
-            # [lo, right) and run q's left flank [left, hi), one segment where they meet
+            # are sorted and apart, so the gap [lo, hi) before run q holds run q - 1's right
+            # flank [lo, right) and run q's left flank [left, hi) (an end gap only one of
+            # them), the whole gap where they meet
             grown = False
             united[:] = mask  # the grown mask
             for q in range(n_runs + 1):
@@ -444,8 +445,7 @@ def _repair_bursts(x, flags, rhs, ops, row_start, rules, b0, b1, mask_out):
                 right = min(lo + reach, hi) if q > 0 else lo
                 left = max(hi - reach, lo) if q < n_runs else hi
                 if right >= left:
-                    grown |= _grow(x, r0, nr, vec_t, c, lo if q > 0 else left,
-                                   hi if q < n_runs else right, thr, buf, united)
+                    grown |= _grow(x, r0, nr, vec_t, c, lo, hi, thr, buf, united)
                 else:
                     grown |= _grow(x, r0, nr, vec_t, c, lo, right, thr, buf, united)
                     grown |= _grow(x, r0, nr, vec_t, c, left, hi, thr, buf, united)
