@@ -9,16 +9,13 @@ import pytest
 import metrics
 import pipeline
 import radarsim
-from harness.testing import (
-    ContractError,
-    _sample_tables,
-    check_cfar_mode,
-    check_chain,
-    check_metric,
-)
+from harness.cell.run import run_cell
+from harness.cell.spec import CellSpec
+from harness.testing import ContractError, check_cfar_mode, check_chain, check_metric
 from pipeline.cfar import CellAveraging
 from pipeline.mimo.tdma import TdmaChain
 from radarsim.mimo import TdmaScheme
+from tests.harness.fakes import FAKE
 
 
 def _drop_snr(pc, adc):
@@ -160,19 +157,19 @@ def _nan_on_scene(lab, af):
 
 
 def test_a_metric_that_writes_into_its_tables_changes_no_cell_table():
-    """A plugin metric's row_value gets copies: the cell's tables are the same with a metric
-    registered that overwrites its input, so the sample cell of `check_metric`, whenever it is
-    first run, shows the metric the real tables (the mutation check above then holds in any
-    test order)."""
-    name = "broken_writer"
-    metrics.register_metric(_metric(name, _mutates))
+    """A plugin metric's row_value gets copies: a cell's tables are the same with a metric
+    registered that overwrites its input, so `check_metric`'s sample cell, whenever it is first
+    run, shows the metric the real tables (the mutation check above holds in any test order)."""
+    spec = CellSpec(scenario="fast", seed=3, duration_s=0.5)
+    want = run_cell(spec, FAKE).tables
+    metrics.register_metric(_metric("broken_writer", _mutates))
     try:
-        det, af = _sample_tables.__wrapped__()
+        got = run_cell(spec, FAKE).tables
     finally:
-        metrics.METRICS.unregister(name)
-    assert (det["snr_db"] > 0).all()
-    pd.testing.assert_frame_equal(det, _sample_tables()[0])
-    pd.testing.assert_frame_equal(af, _sample_tables()[1])
+        metrics.METRICS.unregister("broken_writer")
+    assert (want["detections"]["snr_db"] != 0).all()
+    for name in ("detections", "actors"):
+        pd.testing.assert_frame_equal(got[name], want[name], check_exact=True)
 
 
 @pytest.mark.parametrize("fn, message", [

@@ -3,6 +3,7 @@ import numpy as np
 import pytest
 from scipy import ndimage
 
+from pipeline import threads
 from pipeline.cfar import (
     CFAR_MODES,
     candidate_cfar,
@@ -211,7 +212,6 @@ def test_cfar_peaks_in_two_parts_are_the_whole_pass(mode, monkeypatch):
     """The compiled detector's two parts (rows of axis 0 on two threads, forced on any machine)
     joined in C order are the detections, noise estimates and peaks of one pass, bit for bit
     (the numpy path has one pass either way)."""
-    import pipeline.threads as threads
     rng = np.random.default_rng(7)
     power = rng.exponential(size=(6, 9, 32)).astype(np.float32)
     power[::2, ::3, ::5] = 300.0
