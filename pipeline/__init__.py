@@ -12,6 +12,7 @@ from .chain import (
                     doppler_azimuth_map,
                     frame_spectra,
                     process_frame,
+                    process_frames,
 )
 from .config import CfarConfig, ProcessingConfig
 from .mimo import DetectionMap, MimoChain, register_chain
@@ -30,7 +31,8 @@ from .tracking import (
                     track_frames,
 )
 
-__all__ = ["process_frame", "frame_spectra", "detection_map", "doppler_azimuth_map",
+__all__ = ["process_frame", "process_frames", "frame_spectra", "detection_map",
+           "doppler_azimuth_map",
            "ProcessingConfig", "CfarConfig", "CFAR_MODES", "MIMO_CHAINS", "POINT_CLOUD_COLUMNS",
            "MimoChain", "register_chain", "DetectionMap",
            "cfar_scale", "noise_mean_factor",

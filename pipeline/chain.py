@@ -11,6 +11,7 @@ statistic to a mean (`cfar.noise_mean_factor`), so all schemes' values compare d
 """
 from __future__ import annotations
 
+from collections.abc import Sequence
 from functools import lru_cache
 
 import numpy as np
@@ -22,10 +23,11 @@ from radarsim.config import RadarConfig
 from . import saturation
 from .config import ProcessingConfig
 from .fov import apply_fov
-from .mimo import MIMO_CHAINS, chain_of
+from .mimo import MIMO_CHAINS, MimoChain, chain_of
 from .stages import POINT_CLOUD_COLUMNS, check_frame
 
-__all__ = ["process_frame", "frame_spectra", "detection_map", "doppler_azimuth_map",
+__all__ = ["process_frame", "process_frames", "frame_spectra", "detection_map",
+           "doppler_azimuth_map",
            "MIMO_CHAINS", "POINT_CLOUD_COLUMNS"]
 
 
@@ -33,8 +35,17 @@ def _inputs(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig | None):
     """Checked inputs: (chain, proc, saturation report). The saturation monitor runs first
     and also refuses a frame with non-finite samples (complex ADC), so no chain ever sees
     one."""
+    report = _checked_frame(cfg, adc)
+    return (*_checked_processing(cfg, proc), report)
+
+
+def _checked_frame(cfg: RadarConfig, adc: np.ndarray) -> saturation.SaturationReport:
     check_frame(cfg, adc)
-    report = saturation.monitor(adc)
+    return saturation.monitor(adc)
+
+
+def _checked_processing(cfg: RadarConfig, proc: ProcessingConfig | None
+                        ) -> tuple[MimoChain, ProcessingConfig]:
     proc = _default_processing() if proc is None else proc
     if not isinstance(proc, ProcessingConfig):
         raise BadInput(f"proc must be a pipeline.ProcessingConfig, got {type(proc).__name__}")
@@ -43,7 +54,7 @@ def _inputs(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig | None):
     if proc.doppler.clutter_removal and not chain.removes_static_clutter:
         raise BadInput(f"clutter_removal=True: the {cfg.mimo} chain has no static clutter "
                        "removal (TI's clutterRemoval belongs to the TDM/BPM demos)")
-    return chain, proc, report
+    return chain, proc
 
 
 @lru_cache(maxsize=1)
@@ -101,8 +112,41 @@ def process_frame(cfg: RadarConfig, adc: np.ndarray,
     True
     """
     chain, proc, report = _inputs(cfg, adc, proc)
-    points = saturation.apply_policy(chain.process(cfg, adc, proc), report,
-                                     proc.saturation_policy, owned=True)
+    return _completed(chain.process(cfg, adc, proc), chain, proc, report)
+
+
+def process_frames(cfg: RadarConfig, adc: np.ndarray,
+                   procs: Sequence[ProcessingConfig | None]) -> list[pd.DataFrame]:
+    """`process_frame` of one frame under several processing settings, in order: the same
+    point clouds, with the stages the settings have in common computed once where the chain
+    shares them (`MimoChain.process_variants`; TDMA and ``tdma_raw`` share everything up to
+    the velocity hypotheses).
+
+    Parameters
+    ----------
+    cfg, adc
+        As `process_frame`.
+    procs : sequence of ProcessingConfig or None
+        One point cloud per entry (None: `ProcessingConfig()`).
+
+    Returns
+    -------
+    list of pandas.DataFrame
+        ``process_frame(cfg, adc, proc)`` for each entry.
+    """
+    report = _checked_frame(cfg, adc)
+    checked = [_checked_processing(cfg, proc) for proc in procs]
+    if not checked:
+        return []
+    chain = checked[0][0]
+    clouds = chain.process_variants(cfg, adc, [proc for _, proc in checked])
+    return [_completed(pc, chain, proc, report) for pc, (_, proc) in zip(clouds, checked)]
+
+
+def _completed(points: pd.DataFrame, chain: MimoChain, proc: ProcessingConfig,
+               report: saturation.SaturationReport) -> pd.DataFrame:
+    """A chain's point cloud with the saturation policy and the field of view applied."""
+    points = saturation.apply_policy(points, report, proc.saturation_policy, owned=True)
     return apply_fov(points, proc.fov, chain.fov_fields)
 
 

@@ -32,7 +32,10 @@ class Components:
     equipment(run, seed, scene) -> per-actor radar table (empty: no interference);
     interferers(radar_cfg, truth_rows, equipment) -> radarsim.interference.Interferers;
     noise_floor(radar_cfg, adc, proc) -> (rise after range FFT, after Doppler FFT), dB;
-    interference_to_noise(radar_cfg, interferers) -> dB (NaN without interferers).
+    interference_to_noise(radar_cfg, interferers) -> dB (NaN without interferers);
+    process_frames(cfg, adc, procs) -> one point cloud per processing config, in order, each
+    what process_frame gives (the chain computes the stages they share once); None: the cell
+    calls process_frame per config. A bundle that replaces process_frame sets it too, or None.
     """
 
     run_scenario: Callable
@@ -45,6 +48,14 @@ class Components:
     equipment: Callable | None = None
     interferers: Callable | None = None
     noise_floor: Callable | None = None
+    process_frames: Callable | None = None
+
+    def __post_init__(self) -> None:
+        if self.process_frames is _real_process_frames \
+                and self.process_frame is not _real_process_frame:
+            raise ValueError("Components: process_frame is replaced but process_frames is "
+                             "still the built-in chain's; set process_frames=None (or to the "
+                             "replacement's own batch form)")
 
 
 #: highway-env integration rate of the catalogue's traffic, Hz (the sweep's 20 Hz frames).
@@ -74,6 +85,11 @@ def _real_make_processing(overrides: dict):
 def _real_process_frame(cfg, adc, proc):
     import pipeline
     return pipeline.process_frame(cfg, adc, proc)
+
+
+def _real_process_frames(cfg, adc, procs):
+    import pipeline
+    return pipeline.process_frames(cfg, adc, procs)
 
 
 def _real_simulate_frame(cfg, sc, rng, interferers=None):
@@ -156,4 +172,5 @@ def default_components() -> Components:
                       simulate_frame=_real_simulate_frame, process_frame=_real_process_frame,
                       make_processing=_real_make_processing, track=_real_track,
                       track_metrics=_real_track_metrics, equipment=_real_equipment,
-                      interferers=_real_interferers, noise_floor=_real_noise_floor)
+                      interferers=_real_interferers, noise_floor=_real_noise_floor,
+                      process_frames=_real_process_frames)

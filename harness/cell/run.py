@@ -332,10 +332,14 @@ def _process_frames(spec: CellSpec, comps: Components, run, radar: dict, procs: 
         # External chains: the frame goes to disk; their calls run after the loop.
         sat = {name: ext.add_frame(f, adc[mimo_of[name]]) for name, ext in external.items()}
         with shared_range_stage():
-            pcs = {rs.name: comps.process_frame(radar[rs.mimo], adc[rs.mimo], procs[rs.name])
-                   for rs in schemes if rs.external is None}
-            ref = {name: comps.process_frame(radar[mimo_of[name]], adc[mimo_of[name]], p)
-                   for name, p in refs.items()}
+            # The settings of one ADC frame in one call: the chain computes the stages they
+            # share once (TDMA and tdma_raw: everything up to the velocity hypotheses).
+            jobs = {**{("scheme", rs.name): (rs.mimo, procs[rs.name])
+                       for rs in schemes if rs.external is None},
+                    **{("reference", name): (mimo_of[name], p) for name, p in refs.items()}}
+            clouds = _point_clouds(comps, radar, adc, jobs)
+            pcs = {name: pc for (kind, name), pc in clouds.items() if kind == "scheme"}
+            ref = {name: pc for (kind, name), pc in clouds.items() if kind == "reference"}
             floor = _noise_floors(comps, radar, adc, procs, schemes, f, inr, refs)
         return sc, floor, pcs, ref, sat
 
@@ -375,6 +379,22 @@ def _process_frames(spec: CellSpec, comps: Components, run, radar: dict, procs: 
             ext.close()
     return _FrameOutputs(clouds, saturated, scatterer_table(scat), floor_rows, reference,
                          {name: ext.elapsed_s for name, ext in external.items()})
+
+
+def _point_clouds(comps: Components, radar: dict, adc: dict, jobs: dict) -> dict:
+    """Point cloud of every job (key -> (mimo, processing config)), keys in `jobs`' order:
+    one `process_frames` call per ADC frame where the components have it, else
+    `process_frame` per job."""
+    if comps.process_frames is None:
+        return {key: comps.process_frame(radar[m], adc[m], p) for key, (m, p) in jobs.items()}
+    by_mimo: dict[str, list] = {}
+    for key, (m, p) in jobs.items():
+        by_mimo.setdefault(m, []).append((key, p))
+    out = {}
+    for m, items in by_mimo.items():
+        out.update(zip([key for key, _ in items],
+                       comps.process_frames(radar[m], adc[m], [p for _, p in items])))
+    return {key: out[key] for key in jobs}
 
 
 def _track_scheme(spec: CellSpec, comps: Components, run, cfg, clouds: list[pd.DataFrame],

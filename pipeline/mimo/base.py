@@ -7,6 +7,7 @@ scheme's chain is one `register_chain` call in its own module.
 """
 from __future__ import annotations
 
+from collections.abc import Sequence
 from typing import Any, ClassVar, NamedTuple
 
 import numpy as np
@@ -90,6 +91,13 @@ class MimoChain:
         (`POINT_CLOUD_COLUMNS`): a new frame, the caller's own (`pipeline.process_frame`
         completes it in place, `saturation.apply_policy` with ``owned=True``)."""
         raise NotImplementedError
+
+    def process_variants(self, cfg: RadarConfig, adc: np.ndarray,
+                         procs: Sequence[ProcessingConfig]) -> list[pd.DataFrame]:
+        """`process` of one frame under each of `procs`, in order. A chain whose settings
+        share stages (a scheme and its `variants`) overrides it to compute them once; the
+        clouds must equal `process`'s."""
+        return [self.process(cfg, adc, proc) for proc in procs]
 
     def detection_map(self, cfg: RadarConfig, adc: np.ndarray,
                       proc: ProcessingConfig) -> DetectionMap:

@@ -24,6 +24,8 @@ References
 """
 from __future__ import annotations
 
+from collections.abc import Sequence
+from dataclasses import fields
 from functools import lru_cache
 from typing import NamedTuple
 
@@ -39,6 +41,7 @@ from ..config import WINDOWS, ProcessingConfig
 from ..fov import FOV_FIELDS, in_interval
 from ..kernels import doppler_windowed, layout_of, rx_energy, slow_time_fft, window
 from ..stages import (
+    RangeDopplerHits,
     array_dft,
     array_likelihood,
     empty_cloud,
@@ -50,7 +53,8 @@ from ..stages import (
 from .base import DetectionMap, DopplerAzimuth, MimoChain, register_chain
 from .extension import may_extend
 
-__all__ = ["SlotMaps", "SlotChain", "TdmaChain", "slot_maps", "slot_spectra", "remove_slot_phase",
+__all__ = ["SlotMaps", "SlotDetections", "SlotChain", "detection_key", "TdmaChain", "slot_maps",
+           "slot_spectra", "remove_slot_phase",
            "ZERO_DOPPLER_BINS"]
 
 #: Half-width of the zero-Doppler region whose detections must pass the far-field fit test to
@@ -77,6 +81,22 @@ class SlotMaps(NamedTuple):
     def spec(self) -> np.ndarray:
         """(n_dop, n_slots x n_rx, n_range) complex64, C-contiguous: the spectra `virt` views."""
         return np.moveaxis(self.virt, 0, 2)
+
+
+class SlotDetections(NamedTuple):
+    """A slot chain's detections before the velocity hypotheses (`SlotChain.detect`)."""
+
+    virt: np.ndarray      # (n_range, n_dop, n_slots x n_rx) complex64: `SlotMaps.virt`
+    hits: RangeDopplerHits  # inside the field of view's velocity limits
+    d_signed: np.ndarray  # (n,) aliased Doppler bin, signed, interpolated
+    v_est: np.ndarray     # (n,) aliased radial velocity, m/s
+
+
+def detection_key(proc: ProcessingConfig) -> tuple:
+    """The settings `SlotChain.detect` reads, as values: every part of `proc` but the velocity
+    disambiguation, which only the hypotheses after the detections read. Equal keys, the same
+    detections of a frame."""
+    return tuple(getattr(proc, f.name) for f in fields(proc) if f.name != "velocity")
 
 
 def slot_spectra(xw: np.ndarray, n_tx: int, mode: CfarMode | None = None) -> SlotMaps:
@@ -193,25 +213,52 @@ class SlotChain(MimoChain):
         return slots
 
     def process(self, cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) -> pd.DataFrame:
-        n_tx = cfg.n_tx
-        n_dop = cfg.n_chirps // n_tx
-        n_az = proc.angle.n_azimuth_bins
-        maps = slot_maps(cfg, adc, proc)
-        rd, virt_all = maps.power, maps.virt
+        return self.finish(cfg, proc, self.detect(cfg, adc, proc))
 
-        hits = noncoherent_hits(rd, cfg.n_virtual, proc)
+    def process_variants(self, cfg: RadarConfig, adc: np.ndarray,
+                         procs: Sequence[ProcessingConfig]) -> list[pd.DataFrame]:
+        """Settings that differ only in the velocity disambiguation (TDMA and ``tdma_raw``)
+        share their detections: maps, CFAR and peak refinement run once per
+        `detection_key`."""
+        detected: dict[tuple, SlotDetections] = {}
+        clouds = []
+        for proc in procs:
+            key = detection_key(proc)
+            if key not in detected:
+                detected[key] = self.detect(cfg, adc, proc)
+            clouds.append(self.finish(cfg, proc, detected[key]))
+        return clouds
+
+    def detect(self, cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig
+               ) -> SlotDetections:
+        """Slot maps, CFAR on the non-coherent map, peak refinement and the aliased velocity
+        of every hit inside the field of view's velocity limits (read-only for `finish`)."""
+        n_dop = cfg.n_chirps // cfg.n_tx
+        maps = slot_maps(cfg, adc, proc)
+        hits = noncoherent_hits(maps.power, cfg.n_virtual, proc)
         # range and Doppler at the maximum of the slot channels' windowed spectra
         hits = refine_hits(hits, maps.spec, cfg.n_samples)
         d_signed = (hits.doppler_bin + hits.doppler_offset + n_dop / 2) % n_dop - n_dop / 2
-        t_slot = n_tx * cfg.chirp_period_s
+        t_slot = cfg.n_tx * cfg.chirp_period_s
         v_est = -d_signed / (n_dop * t_slot) * cfg.wavelength_m / 2
         # cfarFovCfg Doppler, where TI's CFAR DPU applies it: on the aliased Doppler, before
         # the hypotheses (a target at 1.6 m/s aliased to -0.5 m/s passes a +/-1 m/s limit).
         in_fov = in_interval(v_est, proc.fov.velocity_mps)
         if not in_fov.all():
             hits, d_signed, v_est = hits.select(in_fov), d_signed[in_fov], v_est[in_fov]
+        return SlotDetections(maps.virt, hits, d_signed, v_est)
+
+    def finish(self, cfg: RadarConfig, proc: ProcessingConfig, det: SlotDetections
+               ) -> pd.DataFrame:
+        """The velocity hypotheses of `detect`'s hits, their separation, scoring and angles:
+        the point cloud."""
+        n_tx = cfg.n_tx
+        n_dop = cfg.n_chirps // n_tx
+        n_az = proc.angle.n_azimuth_bins
+        virt_all, hits, d_signed, v_est = det
         if hits.range_bin.size == 0:
             return empty_cloud()
+        t_slot = n_tx * cfg.chirp_period_s
         r, d = hits.range_bin, hits.doppler_bin
         v_max = cfg.max_unambiguous_velocity_mps
         if self.disambiguate(proc):

@@ -158,3 +158,34 @@ def test_random_traffic_runs_at_a_slow_profile_frame_rate():
     from harness.cell import components
     run = components.default_components().run_scenario("dense_highway", 0, 0.5, frame_rate_hz=4.0)
     assert run.ego["frame"].nunique() == 2
+
+
+def test_the_settings_of_one_adc_frame_reach_process_frames_together():
+    """With `Components.process_frames` the cell asks for the clouds of all settings of one ADC
+    frame in one call (the chain shares their common stages): TDMA and tdma_raw together, the
+    same tables as one `process_frame` call per setting."""
+    import dataclasses
+
+    from tests.harness.fakes import fake_process_frame
+    calls = []
+
+    def batch(cfg, adc, procs):
+        calls.append((cfg.mimo, len(procs)))
+        return [fake_process_frame(cfg, adc, p) for p in procs]
+    spec = CellSpec(scenario="fast", seed=0, duration_s=0.5)
+    got = run_cell(spec, dataclasses.replace(FAKE, process_frames=batch)).tables
+    ref = run_cell(spec, FAKE).tables
+    for name in ref:
+        pd.testing.assert_frame_equal(got[name], ref[name], check_exact=True, obj=name)
+    assert set(calls) == {("ddma", 1), ("tdma", 2)}
+
+
+def test_a_replaced_chain_with_the_built_in_batch_chain_is_refused():
+    import dataclasses
+
+    from harness.cell.components import default_components
+    from tests.harness.fakes import fake_process_frame
+    with pytest.raises(ValueError, match="process_frame is replaced but process_frames"):
+        dataclasses.replace(default_components(), process_frame=fake_process_frame)
+    dataclasses.replace(default_components(), process_frame=fake_process_frame,
+                        process_frames=None)
