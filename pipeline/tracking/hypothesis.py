@@ -139,17 +139,32 @@ class GroupGateHypothesiser:
         ti, ni = np.nonzero(np.abs(y_vel) <= cfg.gate_velocity_mps)              # (K,) pairs
         y = np.stack([r[ni] - h[ti, 0], wrap_pi(az[ni] - h[ti, 1]), y_vel[ti, ni]],
                      axis=-1)                                                    # (K, 3)
-        d2 = np.sum((y[:, None, :] @ s_inv[ti])[:, 0, :] * y, axis=-1)           # (K,)
+        d2 = _mahalanobis(y, s_inv[ti])                                          # (K,)
         # Hard limits in depth (along the line of sight to the predicted centroid) and width,
-        # widened by 3 sigma of the point noise so far groups are not cut by the azimuth error.
-        theta_t = h[ti, 1] + self.sensor.mount_yaw_rad
-        los_x, los_y = np.cos(theta_t), np.sin(theta_t)                          # (K,)
+        # widened by 3 sigma of the point noise so far groups are not cut by the azimuth error;
+        # the line of sight and the width limit per track, then per pair.
+        theta_t = h[:, 1] + self.sensor.mount_yaw_rad
+        los_x, los_y = np.cos(theta_t)[ti], np.sin(theta_t)[ti]                  # (K,)
         pts = self.sensor.position(r, az)
-        delta = pts[ni] - tracks.x[ti, :2]                                       # (K, 2)
-        depth = delta[:, 0] * los_x + delta[:, 1] * los_y
-        width = delta[:, 1] * los_x - delta[:, 0] * los_y
-        width_lim = cfg.gate_width_m + 3 * h[ti, 0] * math.radians(noise.azimuth_std_deg)
+        dx = pts[ni, 0] - tracks.x[ti, 0]
+        dy = pts[ni, 1] - tracks.x[ti, 1]
+        depth = dx * los_x + dy * los_y
+        width = dy * los_x - dx * los_y
+        width_lim = (cfg.gate_width_m
+                     + 3 * h[:, 0] * math.radians(noise.azimuth_std_deg))[ti]
         gated = ((d2 <= cfg.gate_mahalanobis)
                  & (np.abs(depth) <= cfg.gate_depth_m + 3 * noise.range_std_m)
                  & (np.abs(width) <= width_lim))
         return Hypotheses(ti, ni, y, d2, gated, logdet, jac, n)
+
+
+def _mahalanobis(y: np.ndarray, s_inv: np.ndarray) -> np.ndarray:
+    """(K,) y_k' S_k y_k of innovations y (K, 3) and inverse covariances s_inv (K, 3, 3): the
+    sums of ``np.sum((y[:, None, :] @ s_inv)[:, 0, :] * y, axis=-1)`` term by term in the same
+    order (the same bits), without the stack of 1 x 3 matrix products (half the time at the
+    ~3 000 pairs of a dense-highway frame)."""
+    y0, y1, y2 = y[:, 0], y[:, 1], y[:, 2]
+    v0 = y0 * s_inv[:, 0, 0] + y1 * s_inv[:, 1, 0] + y2 * s_inv[:, 2, 0]
+    v1 = y0 * s_inv[:, 0, 1] + y1 * s_inv[:, 1, 1] + y2 * s_inv[:, 2, 1]
+    v2 = y0 * s_inv[:, 0, 2] + y1 * s_inv[:, 1, 2] + y2 * s_inv[:, 2, 2]
+    return (v0 * y0 + v1 * y1) + v2 * y2
