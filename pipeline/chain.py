@@ -40,12 +40,14 @@ def _inputs(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig | None):
 
 
 def _checked_frame(cfg: RadarConfig, adc: np.ndarray) -> saturation.SaturationReport:
+    """The frame checked against `cfg` and its saturation report."""
     check_frame(cfg, adc)
     return saturation.monitor(adc)
 
 
 def _checked_processing(cfg: RadarConfig, proc: ProcessingConfig | None
                         ) -> tuple[MimoChain, ProcessingConfig]:
+    """The chain of `cfg` and the settings (None: the default) checked against both."""
     proc = _default_processing() if proc is None else proc
     if not isinstance(proc, ProcessingConfig):
         raise BadInput(f"proc must be a pipeline.ProcessingConfig, got {type(proc).__name__}")
