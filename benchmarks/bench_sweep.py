@@ -2,7 +2,8 @@
 its stages.
 
 A cell frame = scatterers (ray RCS) + 2 ADC simulations (DDMA, TDMA) + 3 chain runs (DDMA,
-TDMA, TDMA raw); the cell then associates and scores the whole run and tracks each scheme.
+TDMA, TDMA raw: one `process_frames` call per ADC frame, so TDMA raw shares TDMA's detections);
+the cell then associates and scores the whole run and tracks each scheme.
 
 The cell is timed twice, alternating with its floor (`benchmarks.bench_floors`: two
 `simulate_frame` calls with K = 100 point scatterers plus three chain floors, on one core):
@@ -38,7 +39,9 @@ def run() -> list[str]:
     frame = int(run_.ego["frame"].iloc[len(run_.ego) // 2])
     sc = frame_scatterers(comps, run_, frame, 0)
     adc = {m: comps.simulate_frame(radar[m], sc, frame_rng(0, frame, m)) for m in radar}
-    chains = [(rs.name, rs.mimo) for rs in result_schemes(spec.schemes)]
+    settings: dict[str, list] = {}  # per ADC frame, as the cell asks for its clouds
+    for rs in result_schemes(spec.schemes):
+        settings.setdefault(rs.mimo, []).append(procs[rs.name])
 
     def stage(fn):
         def call():
@@ -50,8 +53,8 @@ def run() -> list[str]:
         "scatterers": stage(lambda: frame_scatterers(comps, run_, frame, 0)),
         "sims": stage(lambda: [comps.simulate_frame(radar[m], sc, frame_rng(0, frame, m))
                                for m in radar]),
-        "chains": stage(lambda: [pipeline.process_frame(radar[m], adc[m], procs[s])
-                                 for s, m in chains])})
+        "chains": stage(lambda: [pipeline.process_frames(radar[m], adc[m], ps)
+                                 for m, ps in settings.items()])})
     t = alternating_best({"cell": lambda: run_cell(spec, comps, frame_threads=FRAME_THREADS),
                           "cell1": lambda: run_cell(spec, comps, frame_threads=1),
                           "floor": cell_floor()})
