@@ -1,15 +1,18 @@
 """One sweep cell on stand-in parts: tables, seeds, determinism."""
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 import pandas as pd
 import pytest
 
 from core.errors import BadInput
+from harness.cell.components import default_components
 from harness.cell.run import run_cell
 from harness.cell.spec import DEFAULT_SCHEMES, CellSpec, result_schemes
 from harness.sweep.streams import SEED_STREAMS, frame_rng, stream_id
-from tests.harness.fakes import FAKE
+from tests.harness.fakes import FAKE, fake_process_frame
 
 
 def test_cell_tables_and_scheme_rows():
@@ -164,9 +167,6 @@ def test_the_settings_of_one_adc_frame_reach_process_frames_together():
     """With `Components.process_frames` the cell asks for the clouds of all settings of one ADC
     frame in one call (the chain shares their common stages): TDMA and tdma_raw together, the
     same tables as one `process_frame` call per setting."""
-    import dataclasses
-
-    from tests.harness.fakes import fake_process_frame
     calls = []
 
     def batch(cfg, adc, procs):
@@ -181,10 +181,6 @@ def test_the_settings_of_one_adc_frame_reach_process_frames_together():
 
 
 def test_a_replaced_chain_with_the_built_in_batch_chain_is_refused():
-    import dataclasses
-
-    from harness.cell.components import default_components
-    from tests.harness.fakes import fake_process_frame
     with pytest.raises(ValueError, match="process_frame is replaced but process_frames"):
         dataclasses.replace(default_components(), process_frame=fake_process_frame)
     dataclasses.replace(default_components(), process_frame=fake_process_frame,
