@@ -173,6 +173,24 @@ def test_the_hypothesiser_gates_and_the_associator_only_chooses(rng):
     assert (closed.track_index == -1).all()
 
 
+def test_the_gate_distance_is_the_innovation_under_the_group_covariance(rng):
+    """distance2 = y' S^-1 y with S = H P H' + Rm + D per track: bit for bit what numpy's
+    stacked (1 x 3) @ (3 x 3) product gives (the gate sums its terms in that order)."""
+    tracker = GroupTracker(TrackerConfig())
+    for i in range(3):
+        tracker.step(synth_points(rng, [CAR, (60.0, -15.0, 6.0, 0.0, 4.5, 1.8)]), 0.05 * i, 0.0)
+    tracks = tracker.tracks
+    pts = Points.from_frame(synth_points(rng, [CAR, (60.0, -15.0, 6.0, 0.0, 4.5, 1.8)]))
+    hyp = tracker.hypothesiser.hypothesise(tracks, pts)
+    assert hyp.track.size > 0
+    _, jac = tracker.sensor.predict(tracks.x)
+    s_inv = np.linalg.inv(jac @ tracks.p @ jac.transpose(0, 2, 1) + tracker.sensor.noise_cov
+                          + tracks.dispersion)[hyp.track]
+    y = hyp.innovation
+    np.testing.assert_array_equal(hyp.distance2,
+                                  np.sum((y[:, None, :] @ s_inv)[:, 0, :] * y, axis=-1))
+
+
 def test_points_from_frame_reads_the_columns_whatever_else_the_frame_holds():
     """The whole-frame conversion gives each column's own float64 values: float32 and int
     columns, extra bool columns, a string column (the column-by-column path), attrs."""
