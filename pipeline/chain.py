@@ -21,6 +21,7 @@ from core.errors import BadInput
 from radarsim.config import RadarConfig
 
 from . import saturation
+from .chirp_level import idle_mitigation
 from .config import ProcessingConfig
 from .fov import apply_fov
 from .mimo import MIMO_CHAINS, MimoChain, chain_of
@@ -141,8 +142,39 @@ def process_frames(cfg: RadarConfig, adc: np.ndarray,
     if not checked:
         return []
     chain = checked[0][0]
-    clouds = chain.process_variants(cfg, adc, [proc for _, proc in checked])
-    return [_completed(pc, chain, proc, report) for pc, (_, proc) in zip(clouds, checked)]
+    settings = [proc for _, proc in checked]
+    source = _cloud_sources(adc, settings)
+    runs = list(dict.fromkeys(source))
+    raw = dict(zip(runs, chain.process_variants(cfg, adc, [settings[i] for i in runs])))
+    # completion works in place: a cloud that serves several settings is copied for each
+    # further one before any is completed
+    clouds = [raw[i] if n == source.index(i) else raw[i].copy() for n, i in enumerate(source)]
+    return [_completed(pc, chain, proc, report) for pc, proc in zip(clouds, settings)]
+
+
+def _cloud_sources(adc: np.ndarray, settings: list[ProcessingConfig]) -> list[int]:
+    """For each setting, the index of the setting whose cloud it takes on this frame: the
+    first setting equal to it, or, where its interference mitigation has nothing to repair
+    here (`chirp_level.idle_mitigation`), the first one that gives the same cloud without
+    mitigation (an interference case's mitigation reference, ``proc.unmitigated``). The
+    frame's statistics are read only for settings that could share a cloud that way."""
+    classes: dict[ProcessingConfig, list[int]] = {}
+    for i, proc in enumerate(settings):
+        classes.setdefault(proc.unmitigated, []).append(i)
+    source = [settings.index(proc) for proc in settings]
+    idle: dict[ProcessingConfig, bool] = {}
+
+    def unrepaired(proc: ProcessingConfig) -> bool:  # the frame's statistics once per setting
+        if proc.interference.enabled and proc not in idle:
+            idle[proc] = idle_mitigation(adc, proc)
+        return not proc.interference.enabled or idle[proc]
+
+    for members in classes.values():
+        if len({settings[i] for i in members}) > 1:
+            plain = [i for i in members if unrepaired(settings[i])]
+            for i in plain:
+                source[i] = plain[0]
+    return source
 
 
 def _completed(points: pd.DataFrame, chain: MimoChain, proc: ProcessingConfig,

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import dataclasses
 from dataclasses import dataclass, field
+from functools import lru_cache
 from typing import Any
 
 from core.checks import one_of
@@ -20,7 +21,7 @@ from .compensation import CalibrationConfig, check_channel_comp
 from .config_keys import FLAT_KEYS, SUB_CONFIGS, replace_keys
 from .ege_format import CompressionConfig
 from .fov import FovConfig
-from .interference import INTF_THRESHOLD_MODES, InterferenceConfig, IntfThresholdMode
+from .interference import INTF_THRESHOLD_MODES, REPAIR_OFF, InterferenceConfig, IntfThresholdMode
 from .saturation import SATURATION_POLICIES
 
 __all__ = ["CfarConfig", "ProcessingConfig", "WINDOWS", "INTF_THRESHOLD_MODES",
@@ -117,6 +118,14 @@ class ProcessingConfig:
                            f"unfolding candidates of the radar (limit "
                            f"{int((separation_bins - 1) // 2)})")
 
+    @property
+    def unmitigated(self) -> "ProcessingConfig":
+        """These settings with interference mitigation off (``interference.repair = "off"``,
+        every other field kept; the settings themselves when it is off already): an
+        interference case's mitigation reference, and what a frame whose mitigation has
+        nothing to repair gives bit for bit (`pipeline.chirp_level.idle_mitigation`)."""
+        return _unmitigated(self)
+
     def replace(self, **changes: Any) -> "ProcessingConfig":
         """Copy with changes: a top-level field (a sub-config), a dotted path into one
         (``**{"cfar.pfa": 1e-5, "interference.repair": "off"}``), or a dict of a sub-config's
@@ -125,6 +134,16 @@ class ProcessingConfig:
         `pipeline.config_keys.FLAT_KEYS`) still work and warn (`DeprecationWarning`) with the
         new key."""
         return replace_keys(self, changes, {"cfar": _replace_cfar})
+
+
+@lru_cache(maxsize=64)
+def _unmitigated(proc: ProcessingConfig) -> ProcessingConfig:
+    """`ProcessingConfig.unmitigated`, built once per settings value (a frozen config:
+    building one validates every field, and a sweep asks for the same few in every frame)."""
+    if not proc.interference.enabled:
+        return proc
+    return dataclasses.replace(
+        proc, interference=dataclasses.replace(proc.interference, repair=REPAIR_OFF))
 
 
 def _replace_cfar(cfar: CfarConfig, changes: dict[str, Any]) -> CfarConfig:

@@ -15,7 +15,6 @@ information enters the tables (timings go to ``CellResult.elapsed_s``).
 """
 from __future__ import annotations
 
-import dataclasses
 import os
 import time
 from concurrent.futures import ThreadPoolExecutor
@@ -79,8 +78,7 @@ def _reference_procs(procs: dict, case: msc.CaseInfo) -> dict:
     it on, when the case's class asks for that reference (interference cases)."""
     if not msc.CASE_VERDICTS[case.case_class].mitigation_reference:
         return {}
-    return {s: p.replace(interference=dataclasses.replace(p.interference, repair="off"))
-            for s, p in procs.items() if p.interference.enabled}
+    return {s: p.unmitigated for s, p in procs.items() if p.interference.enabled}
 
 
 def _label(points: pd.DataFrame, truth: pd.DataFrame, scat: pd.DataFrame, cfg,

@@ -37,9 +37,15 @@ from .ege import (
                   ege_min_ratio,
 )
 from .noise_floor import NoiseFloor, noise_floor_key, noise_floor_rise
-from .stage import range_stage, range_stage_key, shared_range_stage, windowed_range_stage
+from .stage import (
+                    idle_mitigation,
+                    range_stage,
+                    range_stage_key,
+                    shared_range_stage,
+                    windowed_range_stage,
+)
 
 __all__ = ["range_stage", "windowed_range_stage", "remove_dc", "interference_flags", "zero_flagged",
            "ege_compress", "ege_block_bits", "ege_min_ratio", "NoiseFloor", "noise_floor_rise",
            "noise_floor_key", "INTF_THRESHOLD_MODES", "HWA_OUTPUT_SCALE", "EGE_K_ARRAY",
-           "EGE_HEADER_BITS", "shared_range_stage", "range_stage_key"]
+           "EGE_HEADER_BITS", "shared_range_stage", "range_stage_key", "idle_mitigation"]

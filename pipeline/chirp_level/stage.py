@@ -30,7 +30,7 @@ from .dc import remove_dc, subtract_dc, window_spectrum
 from .ege import HWA_OUTPUT_SCALE, ege_blocks, ege_compress, ege_setup
 
 __all__ = ["range_stage", "windowed_range_stage", "shared_range_stage", "range_stage_key",
-           "blockwise_range_stage", "chirp_statistics", "CHIRP_BLOCK"]
+           "blockwise_range_stage", "chirp_statistics", "idle_mitigation", "CHIRP_BLOCK"]
 
 def range_stage_key(proc: ProcessingConfig) -> tuple:
     """The settings the range stage reads, as values: its sub-configs (range window and DC
@@ -78,10 +78,11 @@ def range_stage(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) -> np
     """
     shared = _SHARED.get()
     if shared is None:
-        return _dc_signature(_range_stage(cfg, adc, proc), proc)
+        return _dc_signature(_range_stage(cfg, adc, proc)[0], proc)
     rf = _shared_cube(shared, cfg, adc, proc)
     if rf is None:
-        rf = _keep(shared, cfg, adc, proc, _dc_signature(_range_stage(cfg, adc, proc), proc))
+        rf, n_flagged = _range_stage(cfg, adc, proc)
+        rf = _keep(shared, cfg, adc, proc, _dc_signature(rf, proc), n_flagged)
     return rf
 
 
@@ -98,10 +99,15 @@ def _shared_cube(shared: list, cfg: RadarConfig, adc: np.ndarray,
 
 
 def _keep(shared: list, cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig,
-          rf: np.ndarray) -> np.ndarray:
-    """`rf`, made read-only and kept in the scope as frame `adc`'s cube of these settings."""
+          rf: np.ndarray, n_flagged: int) -> np.ndarray:
+    """`rf`, made read-only and kept in the scope as frame `adc`'s cube of these settings;
+    where their mitigation flagged none (`n_flagged` rows) of its samples also as the cube of
+    ``proc.unmitigated`` (the same bits, `idle_mitigation`): an interference case's
+    mitigation reference reads it."""
     rf.flags.writeable = False
     shared.append((adc, _cube_key(cfg, proc), rf))
+    if proc.interference.enabled and n_flagged == 0:
+        shared.append((adc, _cube_key(cfg, proc.unmitigated), rf))
     return rf
 
 
@@ -157,7 +163,7 @@ def windowed_range_stage(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConf
         if shared is not None else None
     out = blockwise_range_stage(cfg, adc, proc, dc, chirp_window, keep, rep)
     if shared is not None:
-        _keep(shared, cfg, adc, proc, keep)
+        _keep(shared, cfg, adc, proc, keep, rows.size)
     return out
 
 
@@ -255,6 +261,15 @@ def _chip_statistics(adc: np.ndarray, proc: ProcessingConfig):
     return dc, rows, flags
 
 
+def idle_mitigation(adc: np.ndarray, proc: ProcessingConfig) -> bool:
+    """Whether `proc`'s interference mitigation is on and has nothing to repair in frame `adc`:
+    the chip's statistics flag none of its samples. Then neither the weak-burst search nor a
+    repair runs, and the range stage gives the cube of ``proc.unmitigated`` bit for bit: the
+    DC estimates are the same with and without the statistics (`_fused_statistics`), and no
+    row is swapped for a repaired one. Costs one statistics pass over the frame."""
+    return proc.interference.enabled and _chip_statistics(adc, proc)[1].size == 0
+
+
 def _fused_statistics(adc: np.ndarray, proc: ProcessingConfig):
     """`_chip_statistics` from one compiled pass (`row_statistics`) where it gives
     `remove_dc`'s and the magdiff `flagged_rows`' values bit for bit (an int16 frame, a
@@ -272,13 +287,14 @@ def _fused_statistics(adc: np.ndarray, proc: ProcessingConfig):
     return dc, st.flagged, row_flags(adc, st.flagged, st.threshold)
 
 
-def _range_stage(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) -> np.ndarray:
-    """`range_stage` without the sharing."""
+def _range_stage(cfg: RadarConfig, adc: np.ndarray,
+                 proc: ProcessingConfig) -> tuple[np.ndarray, int]:
+    """`range_stage` without the sharing, and the number of rows its mitigation flagged."""
     win = window(WINDOWS[proc.range.window], cfg.n_samples)
     if not (proc.range.dc_removal or proc.interference.enabled or proc.compression.enabled):
-        return range_fft(adc, win)
+        return range_fft(adc, win), 0
     dc, rows, flags = chirp_statistics(adc, proc)
-    return _range_cube(cfg, adc, proc, dc, rows, flags)
+    return _range_cube(cfg, adc, proc, dc, rows, flags), rows.size
 
 
 def _range_cube(cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig, dc: np.ndarray | None,

@@ -44,3 +44,11 @@ def test_replace_reaches_cfar_fields_and_rejects_unknown():
     assert proc.cfar.pfa == 1e-4 and not proc.velocity.tdma_disambiguation
     with pytest.raises(ValueError, match="unknown ProcessingConfig"):
         ProcessingConfig().replace(colour="red")
+
+
+def test_unmitigated_turns_only_the_repair_off():
+    proc = ProcessingConfig().replace(**{"interference.magdiff_snr_db": 20.0, "cfar.pfa": 1e-5})
+    off = proc.unmitigated
+    assert not off.interference.enabled and off.interference.magdiff_snr_db == 20.0
+    assert off.replace(**{"interference.repair": proc.interference.repair}) == proc
+    assert off.unmitigated == off  # already off: the same settings

@@ -9,6 +9,7 @@ import radarsim
 from core.errors import BadInput
 from pipeline.mimo import MIMO_CHAINS
 from pipeline.mimo import tdma as slot_chain
+from tests.pipeline.chirp_level.helpers import empty, one_interferer
 from tests.pipeline.test_chain import REGISTRY, scene_at_snr
 
 TARGETS = [(40.0, 10.0, 0.0, -12.0, 25.0), (95.0, -25.0, 2.0, 30.0, 20.0),
@@ -91,3 +92,64 @@ def test_a_bad_frame_is_refused_before_any_chain_runs(make_config):
     cfg = make_config("tdma")
     with pytest.raises(BadInput, match="adc"):
         pipeline.process_frames(cfg, np.zeros((2, 2, 2), np.int16), [None])
+
+
+def _spy_runs(monkeypatch, name: str) -> list:
+    """The settings each `process_variants` call of the chain of `name` receives."""
+    chain = MIMO_CHAINS[name]
+    runs = []
+    real = chain.process_variants
+
+    def spy(cfg, adc, procs):
+        runs.append(list(procs))
+        return real(cfg, adc, procs)
+    monkeypatch.setattr(chain, "process_variants", spy)
+    return runs
+
+
+@pytest.mark.parametrize("name", REGISTRY)
+def test_mitigation_with_nothing_to_repair_shares_the_cloud_without_it(name, frame,
+                                                                       monkeypatch):
+    """A frame in which the mitigation flags nothing (`chirp_level.idle_mitigation`) is processed
+    once for the settings with and without it (an interference case's reference): the same
+    clouds as `process_frame` gives each, bit for bit, as separate frames."""
+    cfg, adc = frame(name)
+    on = pipeline.ProcessingConfig()
+    strict = on.replace(**{"cfar.pfa": 1e-8})
+    procs = [on, on.unmitigated, strict, on.unmitigated]
+    runs = _spy_runs(monkeypatch, name)
+    got = pipeline.process_frames(cfg, adc, procs)
+    assert runs == [[on, strict]]
+    for proc, pc in zip(procs, got):
+        ref = pipeline.process_frame(cfg, adc, proc)
+        pd.testing.assert_frame_equal(pc, ref, check_exact=True)
+        assert pc.attrs == ref.attrs
+    assert len({id(pc) for pc in got}) == len(got)  # each caller owns its cloud
+
+
+@pytest.mark.parametrize("name", ["ddma", "tdma"])
+def test_a_frame_with_a_burst_is_processed_with_and_without_mitigation(name, make_config,
+                                                                       monkeypatch):
+    cfg = make_config(name)
+    adc = radarsim.simulate_frame(cfg, empty(), np.random.default_rng(3), one_interferer())
+    on = pipeline.ProcessingConfig()
+    runs = _spy_runs(monkeypatch, name)
+    got = pipeline.process_frames(cfg, adc, [on, on.unmitigated])
+    assert runs == [[on, on.unmitigated]]
+    for proc, pc in zip([on, on.unmitigated], got):
+        pd.testing.assert_frame_equal(pc, pipeline.process_frame(cfg, adc, proc),
+                                      check_exact=True)
+
+
+def test_the_statistics_are_read_only_where_settings_could_share(frame, monkeypatch):
+    from pipeline import chain as chain_mod
+    checked = []
+    real = chain_mod.idle_mitigation
+    monkeypatch.setattr(chain_mod, "idle_mitigation",
+                        lambda adc, proc: checked.append(proc) or real(adc, proc))
+    cfg, adc = frame("ddma")
+    on = pipeline.ProcessingConfig()
+    pipeline.process_frames(cfg, adc, [on, on.replace(**{"cfar.pfa": 1e-8}), on])
+    assert checked == []
+    pipeline.process_frames(cfg, adc, [on, on.unmitigated, on])
+    assert checked == [on]

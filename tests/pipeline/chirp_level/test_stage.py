@@ -115,6 +115,36 @@ def test_shared_range_stage_computes_each_frame_and_setting_once(cfg, monkeypatc
     assert len(calls) == 4
 
 
+@pytest.mark.parametrize("first", ["range_stage", "process_frame"])
+@pytest.mark.parametrize("burst", [False, True])
+def test_a_cube_its_mitigation_left_alone_is_also_the_unmitigated_cube(cfg, monkeypatch, first,
+                                                                        burst):
+    """Inside the scope, the cube of a frame in which the mitigation flags nothing is also kept
+    as the cube of the same settings with mitigation off (`idle_mitigation`), whichever path
+    made it: the mitigation reference reads it without a range stage of its own and gets the
+    bits its own would have. A frame with a burst gets its own."""
+    from pipeline.chirp_level import stage
+    adc = radarsim.simulate_frame(cfg, empty(), np.random.default_rng(2),
+                                  one_interferer() if burst else None)
+    on = pipeline.ProcessingConfig()
+    off = on.unmitigated
+    assert cl.idle_mitigation(adc, on) is not burst
+    assert not cl.idle_mitigation(adc, off)  # no mitigation: nothing to leave alone
+    want = cl.range_stage(cfg, adc, off)
+    calls = []
+    real = stage._range_stage
+    monkeypatch.setattr(stage, "_range_stage", lambda *a: calls.append(a[2]) or real(*a))
+    with cl.shared_range_stage():
+        if first == "range_stage":
+            cl.range_stage(cfg, adc, on)
+        else:  # the windowed, blockwise path
+            pipeline.process_frame(cfg, adc, on)
+        got = cl.range_stage(cfg, adc, off)
+    made_by_first = [on] if first == "range_stage" else []
+    assert calls == (made_by_first + [off] if burst else made_by_first)
+    assert got.tobytes() == want.tobytes()
+
+
 @pytest.mark.parametrize("kw", [{}, dict(compression=False), dict(dc_removal=False),
                                 dict(compression_range_bins_per_block=4, compression_ratio=0.4),
                                 OFF])
