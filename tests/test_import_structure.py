@@ -42,6 +42,19 @@ def _parsed(path: Path, mtime_ns: int, size: int) -> ast.Module:
     return ast.parse(path.read_text(), str(path))
 
 
+def _nodes(path: Path) -> tuple[ast.AST, ...]:
+    """Every node of a source file's tree in `ast.walk` order (read-only): the rules filter
+    this list, walked once per test process while the file is unchanged, instead of walking
+    the tree again each (the walks were most of this module's time)."""
+    st = path.stat()
+    return _walked(path, st.st_mtime_ns, st.st_size)
+
+
+@functools.lru_cache(maxsize=None)
+def _walked(path: Path, mtime_ns: int, size: int) -> tuple[ast.AST, ...]:
+    return tuple(ast.walk(_parsed(path, mtime_ns, size)))
+
+
 def _modules(package: str, root: Path = ROOT) -> dict[str, Path]:
     out = {}
     for path in sorted((root / package).rglob("*.py")):
@@ -61,7 +74,7 @@ def import_graph(package: str, root: Path = ROOT) -> dict[str, set[str]]:
     graph: dict[str, set[str]] = {m: set() for m in mods}
     for mod, path in mods.items():
         is_init = path.name == "__init__.py"
-        for node in ast.walk(_parse(path)):
+        for node in _nodes(path):
             if isinstance(node, ast.Import):
                 targets = [a.name for a in node.names]
             elif isinstance(node, ast.ImportFrom):
@@ -136,7 +149,7 @@ def test_no_import_circle_inside_a_package(package):
 
 
 def _function_lengths(path: Path):
-    for node in ast.walk(_parse(path)):
+    for node in _nodes(path):
         if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)):
             yield node.name, node.lineno, node.end_lineno - node.lineno + 1
 
@@ -163,7 +176,7 @@ def _long_kernels(path: Path) -> list[tuple[str, int]]:
     """(name, argument count) of every ``numba.njit`` function of a source file with more than
     `MAX_KERNEL_ARGUMENTS` arguments."""
     out = []
-    for node in ast.walk(_parse(path)):
+    for node in _nodes(path):
         if isinstance(node, ast.FunctionDef) and any(
                 "njit" in ast.unparse(d) for d in node.decorator_list):
             n = len(node.args.posonlyargs) + len(node.args.args)
@@ -193,7 +206,7 @@ def _imports(path: Path, module: str) -> list[tuple[int, str, list[str]]]:
     resolved (``names`` empty for ``import x``)."""
     is_init = path.name == "__init__.py"
     out = []
-    for node in ast.walk(_parse(path)):
+    for node in _nodes(path):
         if isinstance(node, ast.Import):
             out += [(node.lineno, a.name, []) for a in node.names]
         elif isinstance(node, ast.ImportFrom):
@@ -232,10 +245,11 @@ def test_layer_order():
     assert layer_violations() == []
 
 
-def _third_party_aliases(tree: ast.AST) -> dict[str, str]:
-    """Local name -> dotted third-party module or object of every import of a module."""
+def _third_party_aliases(nodes) -> dict[str, str]:
+    """Local name -> dotted third-party module or object of every import among a module's
+    `nodes` (`_nodes`)."""
     out = {}
-    for node in ast.walk(tree):
+    for node in nodes:
         if isinstance(node, ast.Import):
             for a in node.names:
                 if a.name.split(".")[0] not in PACKAGES:
@@ -275,14 +289,13 @@ def private_crossings(package: str, root: Path = ROOT) -> list[str]:
     bad = []
     for mod, path in _modules(package, root).items():
         white_box = package == "tests" and path.name.startswith("test_")
-        tree = _parse(path)
         for line, src, names in _imports(path, mod):
             if src.split(".")[0] in PACKAGES and not (white_box and not src.startswith("tests")):
                 bad += [f"{mod}:{line} imports {src}.{n}" for n in names if _is_private(n)]
         if white_box:
             continue
-        third = _third_party_aliases(tree)
-        for node in ast.walk(tree):
+        third = _third_party_aliases(_nodes(path))
+        for node in _nodes(path):
             if isinstance(node, ast.Attribute) and _is_private(node.attr):
                 base = _root_name(node)
                 if base in third and f"{third[base]}.{node.attr}" not in PUBLIC_UNDERSCORE:
@@ -334,7 +347,7 @@ def import_time_patches(package: str, root: Path = ROOT) -> list[str]:
     mods = _modules(package, root)
     trees = {m: _parse(p) for m, p in mods.items()}
     patchers = set()  # (module, function) whose body patches a third-party module
-    third = {m: _third_party_aliases(tree) for m, tree in trees.items()}
+    third = {m: _third_party_aliases(_nodes(p)) for m, p in mods.items()}
     for mod, tree in trees.items():
         for node in tree.body:
             if isinstance(node, ast.FunctionDef) and _patches(node, third[mod]):
