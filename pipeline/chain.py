@@ -143,7 +143,7 @@ def process_frames(cfg: RadarConfig, adc: np.ndarray,
         return []
     chain = checked[0][0]
     settings = [proc for _, proc in checked]
-    source = _cloud_sources(adc, settings)
+    source = _cloud_sources(adc, settings, chain.mitigation_in_range_stage)
     runs = list(dict.fromkeys(source))
     raw = dict(zip(runs, chain.process_variants(cfg, adc, [settings[i] for i in runs])))
     # completion works in place: a cloud that serves several settings is copied for each
@@ -152,16 +152,21 @@ def process_frames(cfg: RadarConfig, adc: np.ndarray,
     return [_completed(pc, chain, proc, report) for pc, proc in zip(clouds, settings)]
 
 
-def _cloud_sources(adc: np.ndarray, settings: list[ProcessingConfig]) -> list[int]:
+def _cloud_sources(adc: np.ndarray, settings: list[ProcessingConfig],
+                   idle_shares: bool) -> list[int]:
     """For each setting, the index of the setting whose cloud it takes on this frame: the
-    first setting equal to it, or, where its interference mitigation has nothing to repair
-    here (`chirp_level.idle_mitigation`), the first one that gives the same cloud without
-    mitigation (an interference case's mitigation reference, ``proc.unmitigated``). The
-    frame's statistics are read only for settings that could share a cloud that way."""
+    first setting equal to it, or, for a chain whose interference settings act through the
+    range stage alone (`idle_shares`, `MimoChain.mitigation_in_range_stage`) and where the
+    mitigation has nothing to repair here (`chirp_level.idle_mitigation`), the first one that
+    gives the same cloud without mitigation (an interference case's mitigation reference,
+    ``proc.unmitigated``). The frame's statistics are read only for settings that could
+    share a cloud that way."""
+    source = [settings.index(proc) for proc in settings]
+    if not idle_shares:
+        return source
     classes: dict[ProcessingConfig, list[int]] = {}
     for i, proc in enumerate(settings):
         classes.setdefault(proc.unmitigated, []).append(i)
-    source = [settings.index(proc) for proc in settings]
     idle: dict[ProcessingConfig, bool] = {}
 
     def unrepaired(proc: ProcessingConfig) -> bool:  # the frame's statistics once per setting

@@ -78,12 +78,20 @@ class MimoChain:
         The field-of-view limits (`pipeline.fov.FOV_FIELDS`) `pipeline.process_frame`
         applies to the chain's point cloud; a chain that applies one itself, where TI's demo
         does (the velocity limit on the aliased Doppler, before extension), leaves it out.
+    mitigation_in_range_stage : bool
+        Whether the chain reads the interference settings only through the chirp-level range
+        stage (`pipeline.chirp_level.range_stage`, `windowed_range_stage`): then a frame in
+        which the mitigation has nothing to repair (`pipeline.chirp_level.idle_mitigation`)
+        gives the same cloud with and without it, and `pipeline.process_frames` computes it
+        once. Every built-in chain does; a chain that handles interference itself must not
+        claim it (the default).
     """
 
     name: ClassVar[str] = ""
     variants: ClassVar[dict[str, dict[str, Any]]] = {}
     removes_static_clutter: ClassVar[bool] = False
     multi_azimuth_peaks: ClassVar[bool] = False
+    mitigation_in_range_stage: ClassVar[bool] = False
     fov_fields: ClassVar[tuple[str, ...]] = tuple(FOV_FIELDS)
 
     def process(self, cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) -> pd.DataFrame:

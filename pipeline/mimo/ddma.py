@@ -196,6 +196,7 @@ class DdmaChain(MimoChain):
 
     name = "ddma"
     multi_azimuth_peaks = True  # coherent_detections keeps peaks within azimuth_sidelobe_db
+    mitigation_in_range_stage = True  # interference: through the range stage only
 
     def process(self, cfg: RadarConfig, adc: np.ndarray, proc: ProcessingConfig) -> pd.DataFrame:
         maps = ddma_maps(cfg, adc, proc)

@@ -132,6 +132,7 @@ class ClassicDdmaChain(MimoChain):
     """
 
     name = "ddma_classic"
+    mitigation_in_range_stage = True  # interference: through the range stage only
     #: Azimuth grid of the assignment likelihood.
     score_bins = 256
 

@@ -323,6 +323,7 @@ class FastSlowChain(MimoChain):
     """Receive side of `radarsim.MIMO_SCHEMES["fast_slow"]` ([TI-VEXT] section 3)."""
 
     name = "fast_slow"
+    mitigation_in_range_stage = True  # interference: through the range stage only
 
     def unfold(self, cfg: RadarConfig, maps: FastSlowMaps, hits: RangeDopplerHits,
                proc: ProcessingConfig) -> Unfolding:

@@ -189,6 +189,7 @@ class SlotChain(MimoChain):
     """
 
     removes_static_clutter = True
+    mitigation_in_range_stage = True  # interference: through the range stage only
     #: ``cfarFovCfg`` Doppler applies to the aliased velocity, in the CFAR step (`process`).
     fov_fields = tuple(f for f in FOV_FIELDS if f != "velocity_mps")
 

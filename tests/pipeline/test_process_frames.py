@@ -141,6 +141,23 @@ def test_a_frame_with_a_burst_is_processed_with_and_without_mitigation(name, mak
                                       check_exact=True)
 
 
+def test_a_chain_that_handles_interference_itself_gets_every_setting(frame, monkeypatch):
+    """Only a chain that reads the interference settings through the range stage alone
+    (`MimoChain.mitigation_in_range_stage`, the built-in ones) shares clouds across them."""
+    cfg, adc = frame("ddma")
+    chain = MIMO_CHAINS["ddma"]
+    monkeypatch.setattr(chain, "mitigation_in_range_stage", False)
+    runs = _spy_runs(monkeypatch, "ddma")
+    on = pipeline.ProcessingConfig()
+    pipeline.process_frames(cfg, adc, [on, on.unmitigated, on])
+    assert runs == [[on, on.unmitigated]]
+
+
+@pytest.mark.parametrize("name", REGISTRY)
+def test_every_built_in_chain_reads_interference_through_the_range_stage(name):
+    assert MIMO_CHAINS[name].mitigation_in_range_stage
+
+
 def test_the_statistics_are_read_only_where_settings_could_share(frame, monkeypatch):
     from pipeline import chain as chain_mod
     checked = []
