@@ -123,7 +123,9 @@ def process_frames(cfg: RadarConfig, adc: np.ndarray,
     """`process_frame` of one frame under several processing settings, in order: the same
     point clouds, with the stages the settings have in common computed once where the chain
     shares them (`MimoChain.process_variants`; TDMA and ``tdma_raw`` share everything up to
-    the velocity hypotheses).
+    the velocity hypotheses). Equal settings, and settings that differ only in interference
+    mitigation that has nothing to repair in this frame (`_cloud_sources`), are processed
+    once; each entry still gets a cloud of its own.
 
     Parameters
     ----------
