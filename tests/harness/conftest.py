@@ -10,6 +10,7 @@ from pathlib import Path
 
 import pytest
 
+from harness.cli import main
 from harness.sweep.schedule import run_sweep
 from harness.sweep.spec import SweepSpec
 from tests.harness import real_sweep
@@ -35,6 +36,16 @@ def _once_per_run(tmp_path_factory, name: str, make: Callable[[Path], object]) -
 def _fake_sweep(out: Path) -> None:
     spec = SweepSpec(name="fake", scenarios=("fast", "slow"), seeds=(0,), duration_s=1.0)
     run_sweep(spec, out, components=FAKE, progress=False)
+
+
+@pytest.fixture(scope="session")
+def fake_report(tmp_path_factory) -> Path:
+    """The report.html of ``radar-harness report --no-maps`` on a copy of the stand-in sweep's
+    results, drawn once per run, not once per xdist worker (~1.5-3 s CPU each). Read-only."""
+    def make(out: Path) -> None:
+        shutil.copytree(_once_per_run(tmp_path_factory, "fake_results", _fake_sweep), out)
+        assert main(["report", str(out), "--no-maps"]) == 0
+    return _once_per_run(tmp_path_factory, "fake_report", make) / "report.html"
 
 
 @pytest.fixture(scope="session")
