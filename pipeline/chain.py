@@ -150,7 +150,10 @@ def process_frames(cfg: RadarConfig, adc: np.ndarray,
     raw = dict(zip(runs, chain.process_variants(cfg, adc, [settings[i] for i in runs])))
     # completion works in place: a cloud that serves several settings is copied for each
     # further one before any is completed
-    clouds = [raw[i] if n == source.index(i) else raw[i].copy() for n, i in enumerate(source)]
+    clouds, taken = [], set()
+    for i in source:
+        clouds.append(raw[i].copy() if i in taken else raw[i])
+        taken.add(i)
     return [_completed(pc, chain, proc, report) for pc, proc in zip(clouds, settings)]
 
 
@@ -169,16 +172,13 @@ def _cloud_sources(adc: np.ndarray, settings: list[ProcessingConfig],
     classes: dict[ProcessingConfig, list[int]] = {}
     for i, proc in enumerate(settings):
         classes.setdefault(proc.unmitigated, []).append(i)
-    idle: dict[ProcessingConfig, bool] = {}
-
-    def unrepaired(proc: ProcessingConfig) -> bool:  # the frame's statistics once per setting
-        if proc.interference.enabled and proc not in idle:
-            idle[proc] = idle_mitigation(adc, proc)
-        return not proc.interference.enabled or idle[proc]
-
     for members in classes.values():
-        if len({settings[i] for i in members}) > 1:
-            plain = [i for i in members if unrepaired(settings[i])]
+        distinct = {settings[i] for i in members}
+        if len(distinct) > 1:
+            # the frame's statistics once per distinct setting with mitigation on; the others
+            # give the unmitigated cloud by definition
+            idle = {p: idle_mitigation(adc, p) for p in distinct if p.interference.enabled}
+            plain = [i for i in members if idle.get(settings[i], True)]
             for i in plain:
                 source[i] = plain[0]
     return source

@@ -7,6 +7,7 @@ import pytest
 import pipeline
 import radarsim
 from core.errors import BadInput
+from pipeline import chain as chain_mod
 from pipeline.mimo import MIMO_CHAINS
 from pipeline.mimo import tdma as slot_chain
 from tests.pipeline.chirp_level.helpers import empty, one_interferer
@@ -159,7 +160,6 @@ def test_every_built_in_chain_reads_interference_through_the_range_stage(name):
 
 
 def test_the_statistics_are_read_only_where_settings_could_share(frame, monkeypatch):
-    from pipeline import chain as chain_mod
     checked = []
     real = chain_mod.idle_mitigation
     monkeypatch.setattr(chain_mod, "idle_mitigation",
